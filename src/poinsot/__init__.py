@@ -1,0 +1,65 @@
+"""poinsot: kinematics and dynamics of rigid bodies, built on quaternions.
+
+Conventions (see ``docs/conventions.md``): Hamilton quaternions stored scalar
+first ``(w, x, y, z)``; a rotation maps body components to reference-frame
+components; radians unless ``degrees=True``.
+
+>>> import poinsot
+>>> r = poinsot.Rotation.from_euler("x", 90, degrees=True)
+>>> r.apply([0.0, 1.0, 0.0]).round(12) + 0.0
+array([0., 0., 1.])
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+from .errors import (
+    AccuracyWarning,
+    GimbalLockWarning,
+    IntegrationError,
+    InvalidInputError,
+    InvalidTypeError,
+    PoinsotError,
+    PoinsotWarning,
+    SingularityWarning,
+)
+from .rotations import quaternion
+from .rotations.rotation import Rotation, compose, slerp
+from .trajectory import Trajectory
+
+# `import poinsot.quaternion` works as well as `poinsot.quaternion`.
+sys.modules[__name__ + ".quaternion"] = quaternion
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AccuracyWarning",
+    "GimbalLockWarning",
+    "IntegrationError",
+    "InvalidInputError",
+    "InvalidTypeError",
+    "PoinsotError",
+    "PoinsotWarning",
+    "Rotation",
+    "SingularityWarning",
+    "Trajectory",
+    "compose",
+    "quaternion",
+    "slerp",
+]
+
+# Heavy or optional subpackages load on first access so that `import poinsot`
+# stays fast and never pulls in SymPy or matplotlib.
+_LAZY = {"kinematics", "mass", "dynamics", "symbolic", "plotting", "scenarios", "cli"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | _LAZY)
