@@ -1,0 +1,11 @@
+"""Rotations: quaternion algebra and every representation (SPEC S1-S4).
+
+The unit quaternion is the hub: each representation module converts to and
+from it (``dcm``, ``rotvec``, ``euler``, ``rodrigues``, ``frames``), and
+:class:`~poinsot.Rotation` is the facade over them.
+"""
+
+from . import quaternion
+from .rotation import Rotation, compose, slerp
+
+__all__ = ["Rotation", "compose", "quaternion", "slerp"]

@@ -1,0 +1,218 @@
+"""Compiled kernels: each quaternion formula of SPEC S1-S3 written once.
+
+These are numba ``guvectorize`` kernels: they broadcast over leading dimensions
+like NumPy ufuncs and allocate their outputs. They trust their inputs (shapes,
+finiteness, unit norm where stated); validation happens at the public entry
+points. This module is imported lazily (on first use) so that ``import
+poinsot`` does not pay for numba.
+
+Numba cannot size an output from a literal dimension, so kernels whose output
+size does not appear among their inputs take a small ``dummy`` array of that
+size (``_D3``/``_D4``); the wrappers in the representation modules hide it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import guvectorize
+
+_D3 = np.zeros(3)
+_D4 = np.zeros(4)
+
+_OPTS = {"nopython": True, "cache": True}
+
+
+@guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(n)->(n)", **_OPTS)
+def qmul(p, q, r):  # pragma: no cover - compiled
+    # SPEC S1: L o M = l0 m0 - l.m + l0 m + m0 l + l x m
+    p0, p1, p2, p3 = p[0], p[1], p[2], p[3]
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    r[0] = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
+    r[1] = p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2
+    r[2] = p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3
+    r[3] = p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1
+
+
+@guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(m)->(m)", **_OPTS)
+def qrot(q, v, out):  # pragma: no cover - compiled
+    # The sandwich q o v o q~ expanded (SPEC S2):
+    # v' = (w^2 - |u|^2) v + 2 (u.v) u + 2 w (u x v); for |q| != 1 it scales by |q|^2.
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    a, b, c = v[0], v[1], v[2]
+    s = w * w - (x * x + y * y + z * z)
+    d = 2.0 * (x * a + y * b + z * c)
+    w2 = 2.0 * w
+    out[0] = s * a + d * x + w2 * (y * c - z * b)
+    out[1] = s * b + d * y + w2 * (z * a - x * c)
+    out[2] = s * c + d * z + w2 * (x * b - y * a)
+
+
+@guvectorize(["void(float64[:], float64[:], float64[:,:])"], "(n),(m)->(m,m)", **_OPTS)
+def quat_to_matrix(q, dummy, m):  # pragma: no cover - compiled
+    # SPEC S2: A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T, for a unit quaternion.
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    xx, yy, zz = x * x, y * y, z * z
+    xy, xz, yz = x * y, x * z, y * z
+    wx, wy, wz = w * x, w * y, w * z
+    m[0, 0] = 1.0 - 2.0 * (yy + zz)
+    m[0, 1] = 2.0 * (xy - wz)
+    m[0, 2] = 2.0 * (xz + wy)
+    m[1, 0] = 2.0 * (xy + wz)
+    m[1, 1] = 1.0 - 2.0 * (xx + zz)
+    m[1, 2] = 2.0 * (yz - wx)
+    m[2, 0] = 2.0 * (xz - wy)
+    m[2, 1] = 2.0 * (yz + wx)
+    m[2, 2] = 1.0 - 2.0 * (xx + yy)
+
+
+@guvectorize(
+    ["void(float64[:,:], float64[:], float64[:], float64[:], float64[:])"],
+    "(m,m),(n)->(n),(),()",
+    **_OPTS,
+)
+def matrix_to_quat(a, dummy, q, err, det):  # pragma: no cover - compiled
+    # SPEC S2: 4 l0^2 = 1 + tr A, 4 l1^2 = 1 + a11 - a22 - a33 (cyclic); take the
+    # largest square first (no singular case), signs from off-diagonal sums.
+    # Also reports max |A^T A - E| and det A so the caller can reject or project.
+    e = 0.0
+    for i in range(3):
+        for j in range(3):
+            s = a[0, i] * a[0, j] + a[1, i] * a[1, j] + a[2, i] * a[2, j]
+            if i == j:
+                s -= 1.0
+            e = max(e, abs(s))
+    err[0] = e
+    det[0] = (
+        a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1])
+        - a[0, 1] * (a[1, 0] * a[2, 2] - a[1, 2] * a[2, 0])
+        + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0])
+    )
+    tr = a[0, 0] + a[1, 1] + a[2, 2]
+    d0, d1, d2 = a[0, 0], a[1, 1], a[2, 2]
+    if tr >= d0 and tr >= d1 and tr >= d2:
+        q[0] = 1.0 + tr
+        q[1] = a[2, 1] - a[1, 2]
+        q[2] = a[0, 2] - a[2, 0]
+        q[3] = a[1, 0] - a[0, 1]
+    elif d0 >= d1 and d0 >= d2:
+        q[0] = a[2, 1] - a[1, 2]
+        q[1] = 1.0 + d0 - d1 - d2
+        q[2] = a[0, 1] + a[1, 0]
+        q[3] = a[0, 2] + a[2, 0]
+    elif d1 >= d2:
+        q[0] = a[0, 2] - a[2, 0]
+        q[1] = a[0, 1] + a[1, 0]
+        q[2] = 1.0 + d1 - d0 - d2
+        q[3] = a[1, 2] + a[2, 1]
+    else:
+        q[0] = a[1, 0] - a[0, 1]
+        q[1] = a[0, 2] + a[2, 0]
+        q[2] = a[1, 2] + a[2, 1]
+        q[3] = 1.0 + d2 - d0 - d1
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    for i in range(4):
+        q[i] /= n
+
+
+@guvectorize(["void(float64[:], float64[:], float64[:])"], "(m),(n)->(n)", **_OPTS)
+def rotvec_to_quat(v, dummy, q):  # pragma: no cover - compiled
+    # L = cos(f/2) + e sin(f/2) with phi = f e; sin(f/2)/f by its series for small f.
+    f2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+    f = math.sqrt(f2)
+    if f < 1e-3:
+        # sin(f/2)/f = 1/2 - f^2/48 + f^4/3840 (next term ~ f^6/6e5 < 1e-23)
+        s = 0.5 - f2 / 48.0 + f2 * f2 / 3840.0
+    else:
+        s = math.sin(0.5 * f) / f
+    q[0] = math.cos(0.5 * f)
+    q[1] = s * v[0]
+    q[2] = s * v[1]
+    q[3] = s * v[2]
+
+
+@guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(m)->(m)", **_OPTS)
+def quat_to_rotvec(q, dummy, v):  # pragma: no cover - compiled
+    # f = 2 atan2(|l|, l0) with l0 >= 0 (shortest rotation, f in [0, pi]);
+    # phi = f l / |l|, accurate at every angle because atan2 is.
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    n = math.sqrt(x * x + y * y + z * z)
+    if n == 0.0:
+        s = 2.0 / w
+    else:
+        s = 2.0 * math.atan2(n, w) / n
+    v[0] = s * x
+    v[1] = s * y
+    v[2] = s * z
+
+
+@guvectorize(["void(int64[:], float64[:], float64[:], float64[:])"], "(k),(k),(n)->(n)", **_OPTS)
+def euler_to_quat(axes, angles, dummy, q):  # pragma: no cover - compiled
+    # Intrinsic sequence: L = L_a1(f1) o L_a2(f2) o L_a3(f3) with L_a(f) = cos(f/2) + i_a sin(f/2).
+    q[0], q[1], q[2], q[3] = 1.0, 0.0, 0.0, 0.0
+    for n in range(axes.shape[0]):
+        h = 0.5 * angles[n]
+        c, s = math.cos(h), math.sin(h)
+        a = axes[n] + 1
+        # q <- q o (c + s i_a); with i_a o i_b = i_d (cyclic) only these terms survive.
+        b = 1 + (a % 3)
+        d = 1 + (b % 3)
+        w, ua, ub, ud = q[0], q[a], q[b], q[d]
+        q[0] = c * w - s * ua
+        q[a] = c * ua + s * w
+        q[b] = c * ub + s * ud
+        q[d] = c * ud - s * ub
+
+
+@guvectorize(
+    ["void(float64[:], int64[:], float64[:], float64[:], float64[:])"],
+    "(n),(k),(m)->(m),()",
+    **_OPTS,
+)
+def quat_to_euler(q, seq, dummy, angles, singular):  # pragma: no cover - compiled
+    # Bernardes & Viollet (2022), "Quaternion to Euler angles conversion: a direct,
+    # general and computationally efficient method", PLoS ONE 17(11): e0276302 --
+    # the algorithm SciPy uses. seq = (i, j, k, extrinsic) with i, j, k the axes of
+    # the *extrinsic* order (the caller reverses intrinsic sequences), extrinsic 0/1.
+    i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3]
+    symmetric = i == k
+    if symmetric:
+        k = 3 - i - j
+    sign = float((i - j) * (j - k) * (k - i) // 2)
+    w = q[0]
+    qi, qj, qk = q[1 + i], q[1 + j], q[1 + k]
+    if symmetric:
+        a, b, c, d = w, qi, qj, qk * sign
+    else:
+        a, b, c, d = w - qj, qi + qk * sign, qj + w, qk * sign - qi
+    mid = 2.0 * math.atan2(math.hypot(c, d), math.hypot(a, b))
+    half_sum = math.atan2(b, a)
+    half_diff = math.atan2(d, c)
+    first = 0 if extrinsic else 2
+    third = 2 if extrinsic else 0
+    eps = 1e-7  # documented gimbal-lock threshold (rad)
+    if abs(mid) <= eps:
+        singular[0] = 1.0
+        angles[first] = 2.0 * half_sum
+        angles[third] = 0.0
+    elif abs(mid - math.pi) <= eps:
+        singular[0] = 1.0
+        angles[first] = 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
+        angles[third] = 0.0
+    else:
+        singular[0] = 0.0
+        angles[first] = half_sum - half_diff
+        angles[third] = half_sum + half_diff
+    if not symmetric:
+        angles[third] *= sign
+        mid -= 0.5 * math.pi
+    angles[1] = mid
+    for n in range(3):
+        a_n = angles[n]
+        # wrap to [-pi, pi]
+        if a_n > math.pi or a_n < -math.pi:
+            a_n = (a_n + math.pi) % (2.0 * math.pi) - math.pi
+        angles[n] = a_n

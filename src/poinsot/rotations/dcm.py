@@ -1,0 +1,75 @@
+"""Direction cosine matrices (SPEC S2) <-> unit quaternions.
+
+**Convention:** the matrix ``A`` of a rotation has as columns the images of the
+reference basis vectors written in the reference basis (``a_ij = cos(e_i, e'_j)``),
+so ``v_ref = A v_body``. ``A = E + 2 l0 l^ + 2 l^ l^`` for ``L = (l0, l)``.
+
+Matrices given by users are checked: determinant > 0, and orthogonal within
+:data:`ORTHOGONALITY_ATOL` (``max |A^T A - E|``). A matrix that is orthogonal to
+within :data:`EXACT_ATOL` passes straight to the largest-square formula (machine
+precision); one between the two tolerances is first projected onto the nearest
+rotation in the Frobenius norm (``U diag(1, 1, det(U V^T)) V^T`` from the SVD).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import as_matrix3
+from ..errors import InvalidInputError
+from ._lazy import kernels
+
+__all__ = ["ORTHOGONALITY_ATOL", "EXACT_ATOL", "matrix_from_quat", "quat_from_matrix"]
+
+#: Largest ``max |A^T A - E|`` accepted by :meth:`Rotation.from_matrix` (then projected).
+ORTHOGONALITY_ATOL = 1e-6
+#: Below this ``max |A^T A - E|`` a matrix is used as is (no projection).
+EXACT_ATOL = 1e-14
+
+_D3 = np.zeros(3)
+_D4 = np.zeros(4)
+
+
+def matrix_from_quat(q: np.ndarray) -> np.ndarray:
+    """``A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T`` for unit ``q`` (..., 4) -> (..., 3, 3)."""
+    return kernels().quat_to_matrix(q, _D3)
+
+
+def quat_from_matrix(m: np.ndarray) -> np.ndarray:
+    """Largest-square-first conversion of rotation matrices (..., 3, 3) -> (..., 4).
+
+    Trusts its input (no checks): use :func:`quat_from_user_matrix` for user data.
+    """
+    return kernels().matrix_to_quat(m, _D4)[0]
+
+
+def _nearest_rotation(m: np.ndarray) -> np.ndarray:
+    u, _, vt = np.linalg.svd(m)
+    d = np.sign(np.linalg.det(u @ vt))
+    u = u.copy()
+    u[..., :, 2] *= d[..., None]
+    return u @ vt
+
+
+def quat_from_user_matrix(
+    m, name: str = "matrix", *, atol: float = ORTHOGONALITY_ATOL
+) -> np.ndarray:
+    """Check, project if needed, and convert user matrices (see module notes)."""
+    m = as_matrix3(m, name)
+    q, err, det = kernels().matrix_to_quat(m, _D4)
+    if np.any(det <= 0):
+        bad = np.asarray(det)[det <= 0].ravel()[0]
+        raise InvalidInputError(
+            f"Expected `{name}` to be a proper rotation (determinant > 0), got det = {bad:.6g}."
+        )
+    if np.any(err > atol):
+        worst = float(np.max(err))
+        raise InvalidInputError(
+            f"Expected `{name}` to be orthogonal within {atol:g} (max |A^T A - E|), "
+            f"got {worst:.3g}."
+        )
+    fix = err > EXACT_ATOL
+    if np.any(fix):
+        q = np.array(q)
+        q[fix] = quat_from_matrix(_nearest_rotation(m[fix]))
+    return q

@@ -1,0 +1,114 @@
+"""Euler and Tait-Bryan (Krylov) angles, all 12 sequences in one code path (SPEC S3).
+
+**Convention (as SciPy reads sequences):** upper-case letters (``"ZXZ"``) are
+*intrinsic* rotations about the moving (body) axes, lower-case (``"zxz"``)
+*extrinsic* rotations about the fixed axes. Intrinsic ``abc`` with angles
+``(f1, f2, f3)`` is extrinsic ``cba`` with ``(f3, f2, f1)``, and the rotation is
+``C = A_a(f1) A_b(f2) A_c(f3)`` (SPEC S3: ``C = A_psi A_theta A_phi``). Presets:
+
+========== ======== ==================================================
+preset     sequence angles
+========== ======== ==================================================
+``euler``  ``ZXZ``  precession psi, nutation theta, spin phi (SPEC S3)
+``krylov`` ``ZXY``  heading (yaw), pitch, roll (SPEC S3, ship angles)
+========== ======== ==================================================
+
+**Gimbal lock.** The middle angle is singular at 0 or pi (proper Euler) or at
++-pi/2 (Tait-Bryan). Within :data:`GIMBAL_LOCK_ATOL` of it the first and third
+angles are not separately determined: the third is set to 0, the first keeps
+their sum/difference, and a :class:`~poinsot.GimbalLockWarning` is issued. The
+rotation is still reproduced to within that threshold (the round trip loses at
+most ``GIMBAL_LOCK_ATOL`` rad); elsewhere the conversion (Bernardes and Viollet,
+2022, the algorithm SciPy uses) is accurate to a few ulp.
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+
+import numpy as np
+
+from .._validate import as_float_array
+from ..errors import GimbalLockWarning, InvalidInputError
+from ._lazy import kernels
+
+__all__ = [
+    "PRESETS",
+    "GIMBAL_LOCK_ATOL",
+    "parse_sequence",
+    "quat_from_euler",
+    "euler_from_quat",
+]
+
+PRESETS = {"euler": "ZXZ", "krylov": "ZXY"}
+#: Distance (rad) of the middle angle from its singular value inside which
+#: :func:`euler_from_quat` reports gimbal lock.
+GIMBAL_LOCK_ATOL = 1e-7
+
+_D3 = np.zeros(3)
+_D4 = np.zeros(4)
+_SEQ = re.compile(r"^([xyz]{1,3}|[XYZ]{1,3})$")
+
+
+def parse_sequence(seq: str) -> tuple[tuple[int, ...], bool]:
+    """Axes (0, 1, 2 for x, y, z, in the order listed) and whether ``seq`` is intrinsic.
+
+    Examples
+    --------
+    >>> parse_sequence("ZXZ")
+    ((2, 0, 2), True)
+    >>> parse_sequence("krylov")
+    ((2, 0, 1), True)
+    """
+    if not isinstance(seq, str):
+        raise InvalidInputError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
+    s = PRESETS.get(seq.lower(), seq)
+    if not _SEQ.match(s):
+        raise InvalidInputError(
+            "Expected `seq` to be 1 to 3 axes from 'xyz' (extrinsic) or 'XYZ' (intrinsic), "
+            f"not mixed, or a preset {sorted(PRESETS)}, got {seq!r}."
+        )
+    if any(a == b for a, b in zip(s, s[1:], strict=False)):
+        raise InvalidInputError(f"Expected consecutive axes of `seq` to differ, got {seq!r}.")
+    return tuple("xyz".index(c) for c in s.lower()), s.isupper()
+
+
+def quat_from_euler(seq: str, angles: np.ndarray) -> np.ndarray:
+    """Unit quaternions (..., 4) from angles (..., k) in radians, ``k = len(seq)``."""
+    axes, intrinsic = parse_sequence(seq)
+    ax = np.array(axes, dtype=np.int64)
+    if not intrinsic:  # extrinsic abc (f1, f2, f3) == intrinsic CBA (f3, f2, f1)
+        ax, angles = ax[::-1].copy(), angles[..., ::-1]
+    return kernels().euler_to_quat(ax, angles, _D4)
+
+
+def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray:
+    """Angles (..., 3) in radians, in ``[-pi, pi]``, for unit quaternions (..., 4)."""
+    axes, intrinsic = parse_sequence(seq)
+    if len(axes) != 3:
+        raise InvalidInputError(f"Expected `seq` to have 3 axes to recover angles, got {seq!r}.")
+    ext = axes if not intrinsic else axes[::-1]
+    code = np.array([*ext, 0 if intrinsic else 1], dtype=np.int64)
+    angles, singular = kernels().quat_to_euler(q, code, _D3)
+    if warn and np.any(singular):
+        warnings.warn(
+            f"Gimbal lock: the middle angle of {seq!r} is within {GIMBAL_LOCK_ATOL:g} rad of "
+            "its singular value; the third angle is set to 0 and the first holds the "
+            "sum/difference of the first and third.",
+            GimbalLockWarning,
+            stacklevel=3,
+        )
+    return angles
+
+
+def as_angles(angles, k: int, name: str = "angles") -> np.ndarray:
+    """Validate angles for a ``k``-axis sequence: shape (..., k), or (...) when k == 1."""
+    a = as_float_array(angles, name)
+    if k == 1:
+        return a[..., None]
+    if a.ndim == 0 or a.shape[-1] != k:
+        raise InvalidInputError(
+            f"Expected `{name}` to have shape (..., {k}) for a {k}-axis sequence, got {a.shape}."
+        )
+    return a

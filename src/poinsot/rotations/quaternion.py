@@ -1,0 +1,248 @@
+"""Quaternion algebra (SPEC S1), on arrays of shape ``(..., 4)``.
+
+**Convention:** Hamilton quaternions (``i1 o i2 = i3``), stored scalar first
+``[l0, l1, l2, l3]``. Every function broadcasts over leading dimensions like a
+NumPy ufunc. Quaternions here need not be unit: :func:`norm_squared` is the
+notes' norm ``||L|| = L o L~``, :func:`norm` the length ``|L|``.
+
+Examples
+--------
+>>> from poinsot import quaternion as Q
+>>> i, j = [0, 1, 0, 0], [0, 0, 1, 0]
+>>> Q.multiply(i, j)          # i1 o i2 = i3
+array([0., 0., 0., 1.])
+>>> Q.multiply(j, i)          # anticommuting
+array([ 0.,  0.,  0., -1.])
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import as_float_array, as_trailing, as_vec3
+from ..errors import InvalidInputError
+from ._lazy import kernels
+
+__all__ = [
+    "multiply",
+    "conjugate",
+    "norm",
+    "norm_squared",
+    "inverse",
+    "exp",
+    "log",
+    "power",
+    "rotate",
+    "normalize",
+]
+
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _quat(q, name: str = "q") -> np.ndarray:
+    return as_trailing(q, name, (4,))
+
+
+def _nonzero(q: np.ndarray, name: str) -> np.ndarray:
+    n2 = np.einsum("...i,...i->...", q, q)
+    if np.any(n2 == 0.0):
+        raise InvalidInputError(f"Expected `{name}` to be non-zero quaternions, got a zero one.")
+    return n2
+
+
+def _broadcast(name_a: str, a: np.ndarray, name_b: str, b: np.ndarray) -> None:
+    try:
+        np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
+    except ValueError:
+        raise InvalidInputError(
+            f"Expected the leading shapes of `{name_a}` {a.shape[:-1]} and `{name_b}` "
+            f"{b.shape[:-1]} to broadcast."
+        ) from None
+
+
+def multiply(p, q) -> np.ndarray:
+    """Hamilton product ``P o Q``.
+
+    ``P o Q = p0 q0 - p.q + p0 q + q0 p + p x q`` (SPEC S1).
+
+    Parameters
+    ----------
+    p, q : array_like, shape (..., 4)
+        Scalar-first quaternions; leading shapes broadcast.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Notes
+    -----
+    **Convention:** Hamilton, scalar first. ``multiply(q2, q1)`` is the rotation
+    ``q1`` followed by ``q2`` about fixed axes (SPEC S4).
+
+    Examples
+    --------
+    >>> multiply([1, 2, 3, 4], [5, 6, 7, 8])
+    array([-60.,  12.,  30.,  24.])
+    """
+    p, q = _quat(p, "p"), _quat(q, "q")
+    _broadcast("p", p, "q", q)
+    return kernels().qmul(p, q)
+
+
+def conjugate(q) -> np.ndarray:
+    """Conjugate ``L~ = l0 - l`` (SPEC S1).
+
+    Examples
+    --------
+    >>> conjugate([1.0, 2.0, 3.0, 4.0])
+    array([ 1., -2., -3., -4.])
+    """
+    return _quat(q) * _CONJ
+
+
+def norm_squared(q) -> np.ndarray:
+    """The notes' norm ``||L|| = L o L~ = l0^2 + |l|^2`` (SPEC S1).
+
+    Examples
+    --------
+    >>> float(norm_squared([1.0, 2.0, 3.0, 4.0]))
+    30.0
+    """
+    q = _quat(q)
+    return np.einsum("...i,...i->...", q, q)[()]
+
+
+def norm(q) -> np.ndarray:
+    """Length ``|L| = sqrt(||L||)`` (SPEC S1).
+
+    Examples
+    --------
+    >>> float(norm([0.0, 3.0, 0.0, 4.0]))
+    5.0
+    """
+    return np.sqrt(norm_squared(q))
+
+
+def normalize(q) -> np.ndarray:
+    """``L / |L|``; a zero quaternion raises :class:`~poinsot.InvalidInputError`.
+
+    Examples
+    --------
+    >>> normalize([0.0, 3.0, 0.0, 4.0])
+    array([0. , 0.6, 0. , 0.8])
+    """
+    q = _quat(q)
+    return q / np.sqrt(_nonzero(q, "q"))[..., None]
+
+
+def inverse(q) -> np.ndarray:
+    """Inverse ``L^-1 = L~ / ||L||`` for ``L != 0`` (SPEC S1).
+
+    Examples
+    --------
+    >>> multiply([1.0, 2.0, 3.0, 4.0], inverse([1.0, 2.0, 3.0, 4.0])).round(15) + 0.0
+    array([1., 0., 0., 0.])
+    """
+    q = _quat(q)
+    return q * _CONJ / _nonzero(q, "q")[..., None]
+
+
+def exp(q) -> np.ndarray:
+    """Quaternion exponential ``exp(a + v) = e^a (cos|v| + v/|v| sin|v|)``.
+
+    The analogue of de Moivre's formula (SPEC S1); for a pure quaternion
+    ``(0, f e / 2)`` it gives the unit quaternion of the rotation by ``f``
+    about ``e`` (SPEC S2). ``sin|v|/|v|`` is evaluated without cancellation
+    near ``v = 0``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> exp([0.0, 0.0, 0.0, np.pi / 4]).round(8)     # 90 deg about z
+    array([0.70710678, 0.        , 0.        , 0.70710678])
+    """
+    q = _quat(q)
+    a, v = q[..., 0], q[..., 1:]
+    n = np.sqrt(np.einsum("...i,...i->...", v, v))
+    ea = np.exp(a)
+    out = np.empty(q.shape)
+    out[..., 0] = ea * np.cos(n)
+    out[..., 1:] = (ea * np.sinc(n / np.pi))[..., None] * v
+    return out
+
+
+def log(q) -> np.ndarray:
+    """Quaternion logarithm ``log L = log|L| + e f`` with ``L = |L|(cos f + e sin f)``.
+
+    ``f = atan2(|l|, l0)`` lies in ``[0, pi]``. For a negative real ``L`` the
+    axis ``e`` is undetermined and ``i1`` is used (any unit axis is a valid
+    logarithm). A zero quaternion raises :class:`~poinsot.InvalidInputError`.
+
+    Examples
+    --------
+    >>> log(exp([0.0, 0.1, 0.2, 0.3])).round(15)
+    array([0. , 0.1, 0.2, 0.3])
+    """
+    q = _quat(q)
+    n2 = _nonzero(q, "q")
+    a, v = q[..., 0], q[..., 1:]
+    n = np.sqrt(np.einsum("...i,...i->...", v, v))
+    f = np.arctan2(n, a)
+    # f / n -> 1 / a as n -> 0 with a > 0 (atan2 keeps full accuracy for n > 0).
+    safe = n > 0
+    scale = np.where(safe, f / np.where(safe, n, 1.0), 1.0 / np.where(a != 0, a, 1.0))
+    out = np.empty(q.shape)
+    out[..., 0] = 0.5 * np.log(n2)
+    out[..., 1:] = scale[..., None] * v
+    neg_real = (~safe) & (a < 0)
+    if np.any(neg_real):
+        out[..., 1] = np.where(neg_real, np.pi, out[..., 1])
+    return out
+
+
+def power(q, t) -> np.ndarray:
+    """Real power ``L^t = |L|^t (cos tf + e sin tf) = exp(t log L)`` (SPEC S1, de Moivre).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+    t : array_like, shape (...)
+        Exponents, broadcast against the leading shape of ``q``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = exp([0.0, 0.0, 0.0, np.pi / 4])      # 90 deg about z
+    >>> power(q, 2).round(12) + 0.0               # 180 deg about z
+    array([0., 0., 0., 1.])
+    """
+    t = as_float_array(t, "t")
+    return exp(log(q) * t[..., None])
+
+
+def rotate(q, v) -> np.ndarray:
+    """The sandwich ``q o v o q~`` of a vector ``v`` (as a pure quaternion).
+
+    For a unit ``q = cos(f/2) + e sin(f/2)`` this rotates ``v`` by ``f`` about
+    ``e`` (right-handed, SPEC S2); for a non-unit ``q`` the result is scaled by
+    ``||q||``. Expanded: ``v' = (q0^2 - |q|^2) v + 2 (q.v) q + 2 q0 (q x v)``.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+    v : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = [np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)]   # 90 deg about z
+    >>> rotate(q, [1.0, 0.0, 0.0]).round(12) + 0.0
+    array([0., 1., 0.])
+    """
+    q, v = _quat(q), as_vec3(v, "v")
+    _broadcast("q", q, "v", v)
+    return kernels().qrot(q, v)

@@ -1,0 +1,26 @@
+"""Rotation vectors ``phi = f e`` (SPEC S2, ``A = exp(phi^)``) <-> unit quaternions.
+
+**Convention:** ``f`` in radians, right-handed about ``e``; :func:`rotvec_from_quat`
+returns the shortest rotation, ``|phi| = f in [0, pi]``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._lazy import kernels
+
+__all__ = ["quat_from_rotvec", "rotvec_from_quat"]
+
+_D3 = np.zeros(3)
+_D4 = np.zeros(4)
+
+
+def quat_from_rotvec(v: np.ndarray) -> np.ndarray:
+    """``L = cos(f/2) + e sin(f/2)`` from ``phi = f e`` (..., 3) -> (..., 4)."""
+    return kernels().rotvec_to_quat(v, _D4)
+
+
+def rotvec_from_quat(q: np.ndarray) -> np.ndarray:
+    """``phi = 2 atan2(|l|, l0) l / |l|`` (with ``l0 >= 0``) for unit ``q`` (..., 4) -> (..., 3)."""
+    return kernels().quat_to_rotvec(q, _D3)
