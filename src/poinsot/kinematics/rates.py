@@ -1,0 +1,880 @@
+"""Rates of every attitude representation: the kinematic equations (SPEC S3, S5).
+
+Each representation ``x`` of an attitude has a pair of functions
+
+* ``x_rate(x, omega, *, frame="body")`` -- the time derivative ``x'`` produced by
+  the angular velocity ``omega``;
+* ``omega_from_x_rate(x, xdot, *, frame="body")`` -- the angular velocity that
+  produces a given derivative ``x'`` (the inverse map).
+
+``frame`` names the axes ``omega`` is written in: ``"body"`` (``w_xi``, the
+moving axes) or ``"space"`` (``w_x``, the fixed axes); the two are related by
+``w_x = C w_xi`` where ``C`` maps body components to space components (SPEC S2).
+Angular velocities are always in rad/s.
+
+============================  ====================================================
+representation                kinematic equation (body frame / space frame)
+============================  ====================================================
+quaternion ``L`` (S5)         ``L' = 1/2 L o w_xi``  /  ``L' = 1/2 w_x o L``
+direction cosines ``A`` (S5)  ``A' = A w_xi^``       /  ``A' = w_x^ A``
+Euler angles (S3)             ``w = M(angles) angles'``, any of the 12 sequences
+Gibbs ``g = e tan(f/2)``      ``g' = 1/2 (w + s g x w + (g.w) g)``
+MRP ``p = e tan(f/4)``        ``p' = 1/4 ((1 - p.p) w + 2 s p x w + 2 (p.w) p)``
+rotation vector ``phi = f e``  ``phi' = w + s/2 phi x w + c(f) phi x (phi x w)``
+============================  ====================================================
+
+with ``s = +1`` for the body frame and ``s = -1`` for the space frame, and
+``c(f) = (1 - (f/2) cot(f/2)) / f^2``.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from .._validate import as_choice, as_matrix3, as_quat, as_trailing, as_vec3
+from ..errors import GimbalLockWarning, InvalidInputError, SingularityWarning
+from ..rotations import quaternion as _quat
+from ..rotations.dcm import ORTHOGONALITY_ATOL
+from ..rotations.euler import parse_sequence
+
+__all__ = [
+    "quat_rate",
+    "omega_from_quat_rate",
+    "dcm_rate",
+    "omega_from_dcm_rate",
+    "euler_rates",
+    "omega_from_euler_rates",
+    "euler_rate_matrix",
+    "gibbs_rate",
+    "omega_from_gibbs_rate",
+    "mrp_rate",
+    "omega_from_mrp_rate",
+    "mrp_shadow",
+    "mrp_switch",
+    "rotvec_rate",
+    "omega_from_rotvec_rate",
+    "GIMBAL_WARN_DET",
+    "GIMBAL_ERROR_DET",
+]
+
+FRAMES = ("body", "space")
+
+#: ``euler_rates`` warns (:class:`~poinsot.GimbalLockWarning`) where the
+#: determinant of the Euler rate matrix (``+-sin`` or ``+-cos`` of the middle
+#: angle) is smaller than this in magnitude: the angle rates are then more than
+#: 1000 times larger than ``|omega|`` and lose digits in proportion.
+GIMBAL_WARN_DET = 1e-3
+#: ``euler_rates`` raises :class:`~poinsot.InvalidInputError` where the
+#: determinant is smaller than this (the matrix is numerically singular).
+GIMBAL_ERROR_DET = 1e-12
+#: Below this rotation angle (rad) the rotation-vector coefficients use their
+#: Taylor series (truncation error < 1e-17), above it the closed forms.
+ROTVEC_SERIES_ANGLE = 0.1
+#: ``rotvec_rate`` warns (:class:`~poinsot.SingularityWarning`) where the angle
+#: is within this distance (rad) of ``2 pi``, where ``cot(f/2)`` blows up.
+ROTVEC_WARN_GAP = 1e-2
+
+
+# --------------------------------------------------------------------------
+# small vector kernels (no validation)
+# --------------------------------------------------------------------------
+def _dot(a, b):
+    return np.einsum("...i,...i->...", a, b)
+
+
+def _cross(a, b):
+    a, b = np.broadcast_arrays(a, b)
+    return np.cross(a, b)
+
+
+def _hat(w):
+    """Skew matrices ``w^`` with ``w^ v = w x v``, shape ``(..., 3, 3)``."""
+    w = np.asarray(w, dtype=float)
+    z = np.zeros(w.shape[:-1])
+    x, y, zz = w[..., 0], w[..., 1], w[..., 2]
+    return np.stack(
+        [
+            np.stack([z, -zz, y], axis=-1),
+            np.stack([zz, z, -x], axis=-1),
+            np.stack([-y, x, z], axis=-1),
+        ],
+        axis=-2,
+    )
+
+
+def _vee_antisym(m):
+    """Vector of the antisymmetric part of ``m``: ``vee((m - m^T)/2)``."""
+    return 0.5 * np.stack(
+        [m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]],
+        axis=-1,
+    )
+
+
+def _pure(v):
+    """The pure quaternion ``(0, v)``."""
+    v = np.asarray(v, dtype=float)
+    return np.concatenate([np.zeros(v.shape[:-1] + (1,)), v], axis=-1)
+
+
+def _frame(frame) -> str:
+    return as_choice(frame, "frame", FRAMES)
+
+
+def _sign(frame: str) -> float:
+    return 1.0 if frame == "body" else -1.0
+
+
+def _quat_arg(q, name):
+    """Unit quaternions from an array (scalar first) or a :class:`Rotation`."""
+    if hasattr(q, "as_quat") and not isinstance(q, np.ndarray):
+        q = q.as_quat()
+    return as_quat(q, name)
+
+
+# --------------------------------------------------------------------------
+# quaternion (SPEC S5)
+# --------------------------------------------------------------------------
+def _quat_rate(q, omega, frame):
+    if frame == "body":
+        return 0.5 * _quat.multiply(q, _pure(omega))
+    return 0.5 * _quat.multiply(_pure(omega), q)
+
+
+def _omega_from_quat_rate(q, qdot, frame):
+    if frame == "body":
+        return 2.0 * _quat.multiply(_quat.conjugate(q), qdot)[..., 1:]
+    return 2.0 * _quat.multiply(qdot, _quat.conjugate(q))[..., 1:]
+
+
+def quat_rate(q, omega, *, frame: str = "body") -> np.ndarray:
+    """Time derivative of the attitude quaternion (Poisson's equation, SPEC S5).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4), or Rotation
+        Attitude quaternions, scalar first (body -> space). Non-unit ``q`` is
+        normalised first (``q/|q|`` is used); zero ``q`` raises.
+    omega : array_like, shape (..., 3)
+        Angular velocity (rad/s) in the axes named by ``frame``.
+    frame : {"body", "space"}
+        ``"body"``: ``L' = 1/2 L o w_xi``; ``"space"``: ``L' = 1/2 w_x o L``.
+
+    Returns
+    -------
+    qdot : ndarray, shape (..., 4)
+        Derivative of the unit quaternion ``q/|q|`` (1/s), broadcast over the
+        leading dimensions of ``q`` and ``omega``.
+
+    Notes
+    -----
+    **Convention:** Hamilton product, scalar first; ``omega`` in rad/s, body or
+    space axes as named. ``qdot`` is tangent to the unit sphere (``q . qdot = 0``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = [np.cos(0.25), 0.0, 0.0, np.sin(0.25)]          # 0.5 rad about z
+    >>> quat_rate(q, [0.0, 0.0, 2.0]).round(4)                # spin about z
+    array([-0.2474,  0.    ,  0.    ,  0.9689])
+    """
+    frame = _frame(frame)
+    return _quat_rate(_quat_arg(q, "q"), as_vec3(omega, "omega"), frame)
+
+
+def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
+    """Angular velocity from the quaternion and its derivative (SPEC S5).
+
+    ``w_xi = 2 vec(L~ o L')`` (body) or ``w_x = 2 vec(L' o L~)`` (space).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4), or Rotation
+        Attitude quaternions, scalar first. Normalised first (a non-unit ``q``
+        is read as the rotation ``q/|q|``); zero ``q`` raises.
+    qdot : array_like, shape (..., 4)
+        Derivative of the *unit* quaternion ``q/|q|`` (not normalised). If you
+        have the derivative of a non-unit quaternion path ``Q(t)``, pass
+        ``Qdot/|Q|``: the component of ``qdot`` along ``q`` only changes the
+        scalar part of ``L~ o L'``, which is discarded.
+    frame : {"body", "space"}
+        Axes in which the result is written.
+
+    Returns
+    -------
+    omega : ndarray, shape (..., 3)
+        Angular velocity (rad/s).
+
+    Notes
+    -----
+    **Convention:** Hamilton product, scalar first; result in rad/s in the axes
+    named by ``frame``. Exact inverse of :func:`quat_rate`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = np.array([np.cos(0.25), 0.0, 0.0, np.sin(0.25)])
+    >>> qdot = quat_rate(q, [1.0, 2.0, 3.0])
+    >>> omega_from_quat_rate(q, qdot).round(12)
+    array([1., 2., 3.])
+    """
+    frame = _frame(frame)
+    q = _quat_arg(q, "q")
+    qdot = as_trailing(qdot, "qdot", (4,))
+    return _omega_from_quat_rate(q, qdot, frame)
+
+
+# --------------------------------------------------------------------------
+# direction cosine matrix (SPEC S5)
+# --------------------------------------------------------------------------
+_ORTHO_TOL = ORTHOGONALITY_ATOL
+
+
+def _as_rotation_matrix(C, name):
+    C = as_matrix3(C, name)
+    err = np.abs(np.swapaxes(C, -1, -2) @ C - np.eye(3)).max(axis=(-2, -1), initial=0.0)
+    det = np.linalg.det(C) if C.size else np.ones(C.shape[:-2])
+    if np.any(err > _ORTHO_TOL) or np.any(det < 0):
+        raise InvalidInputError(
+            f"Expected `{name}` to be rotation matrices (C^T C = E within {_ORTHO_TOL:g}, "
+            "det C = +1)."
+        )
+    return C
+
+
+def dcm_rate(C, omega, *, frame: str = "body") -> np.ndarray:
+    """Time derivative of a direction cosine matrix (Poisson, SPEC S5).
+
+    ``A' = A w_xi^`` (body) or ``A' = w_x^ A`` (space); column by column
+    ``a_k' = w_x x a_k``.
+
+    Parameters
+    ----------
+    C : array_like, shape (..., 3, 3)
+        Rotation matrices (body -> space, ``v_space = C v_body``), orthonormal to
+        1e-6.
+    omega : array_like, shape (..., 3)
+        Angular velocity (rad/s) in the axes named by ``frame``.
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    Cdot : ndarray, shape (..., 3, 3)
+
+    Notes
+    -----
+    **Convention:** ``C`` maps body to space components; ``omega`` in rad/s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> dcm_rate(np.eye(3), [0.0, 0.0, 1.0])
+    array([[ 0., -1.,  0.],
+           [ 1.,  0.,  0.],
+           [ 0.,  0.,  0.]])
+    """
+    frame = _frame(frame)
+    C = _as_rotation_matrix(C, "C")
+    w_hat = _hat(as_vec3(omega, "omega"))
+    return C @ w_hat if frame == "body" else w_hat @ C
+
+
+def omega_from_dcm_rate(C, Cdot, *, frame: str = "body") -> np.ndarray:
+    """Angular velocity from a rotation matrix and its derivative (SPEC S5).
+
+    ``w_xi^ = A^T A'`` (body) or ``w_x^ = A' A^T`` (space). The product is
+    antisymmetrised before reading off the vector, so a ``Cdot`` with a small
+    non-tangent (e.g. finite-difference) error still gives the best estimate.
+
+    Parameters
+    ----------
+    C : array_like, shape (..., 3, 3)
+        Rotation matrices (body -> space), orthonormal to 1e-6.
+    Cdot : array_like, shape (..., 3, 3)
+        Their time derivatives.
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    omega : ndarray, shape (..., 3)
+        Angular velocity (rad/s).
+
+    Notes
+    -----
+    **Convention:** ``C`` maps body to space components; result in rad/s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> C = np.eye(3)
+    >>> omega_from_dcm_rate(C, dcm_rate(C, [1.0, 2.0, 3.0]), frame="space")
+    array([1., 2., 3.])
+    """
+    frame = _frame(frame)
+    C = _as_rotation_matrix(C, "C")
+    Cdot = as_matrix3(Cdot, "Cdot")
+    Ct = np.swapaxes(C, -1, -2)
+    return _vee_antisym(Ct @ Cdot if frame == "body" else Cdot @ Ct)
+
+
+# --------------------------------------------------------------------------
+# Euler angles, all 12 sequences (SPEC S3)
+# --------------------------------------------------------------------------
+def _elementary(axis: int, angle):
+    """Rotation matrices about coordinate axis ``axis`` by ``angle``, (..., 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    one, zero = np.ones_like(c), np.zeros_like(c)
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    rows = [[None] * 3 for _ in range(3)]
+    rows[axis][axis] = one
+    rows[axis][i] = rows[axis][j] = rows[i][axis] = rows[j][axis] = zero
+    rows[i][i], rows[i][j], rows[j][i], rows[j][j] = c, -s, s, c
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def _euler_matrix(seq, angles, frame):
+    """Matrix ``M`` with ``omega = M @ angle_rates`` (angles in rad), (..., 3, 3).
+
+    Column ``k`` is the axis of the ``k``-th elementary rotation written in the
+    chosen frame (SPEC S3): the attitude is ``C = F0 F1 F2`` with
+    ``F = (R_a1, R_a2, R_a3)`` for an intrinsic and ``(R_a3, R_a2, R_a1)`` for an
+    extrinsic sequence; the space-frame axis of factor ``k`` is
+    ``F0 .. F(k-1) e_k`` and the body-frame one ``(F(k+1) .. F2)^T e_k``.
+    """
+    axes, intrinsic = parse_sequence(seq)
+    if len(axes) != 3:
+        raise InvalidInputError(f"Expected `seq` to have 3 axes, got {seq!r}.")
+    order = (0, 1, 2) if intrinsic else (2, 1, 0)
+    factors = [(axes[k], k, _elementary(axes[k], angles[..., k])) for k in order]
+    cols = [None, None, None]
+    eye = np.broadcast_to(np.eye(3), angles.shape[:-1] + (3, 3))
+    if frame == "space":
+        P = eye
+        for axis, k, F in factors:
+            cols[k] = P[..., :, axis]
+            P = P @ F
+    else:
+        Q = eye
+        for axis, k, F in reversed(factors):
+            cols[k] = Q[..., axis, :]
+            Q = F @ Q
+    return np.stack(cols, axis=-1)
+
+
+def _euler_args(seq, angles, degrees):
+    if not isinstance(seq, str):
+        raise InvalidInputError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
+    angles = as_vec3(angles, "angles")
+    if degrees:
+        angles = np.deg2rad(angles)
+    return angles
+
+
+def euler_rate_matrix(seq: str, angles, *, frame: str = "body", degrees: bool = False):
+    """The matrix ``M(angles)`` of the Euler kinematic equations ``omega = M angles'``.
+
+    One construction for all 12 sequences (SPEC S3): column ``k`` is the unit
+    axis of the ``k``-th elementary rotation of ``seq`` written in ``frame``
+    axes. ``det M`` is ``+-sin`` (proper Euler) or ``+-cos`` (Tait-Bryan) of the
+    middle angle; it vanishes at gimbal lock.
+
+    Parameters
+    ----------
+    seq : str
+        ``"ZXZ"``-style intrinsic (upper case) or ``"zxz"``-style extrinsic
+        (lower case) sequence, or a preset ``"euler"`` (= ``"ZXZ"``) or
+        ``"krylov"`` (= ``"ZXY"``).
+    angles : array_like, shape (..., 3)
+        The three angles in the order of ``seq``.
+    frame : {"body", "space"}
+    degrees : bool
+        Angles in degrees. ``M`` is dimensionless either way.
+
+    Returns
+    -------
+    M : ndarray, shape (..., 3, 3)
+
+    Notes
+    -----
+    **Convention:** rotations as in :meth:`poinsot.Rotation.from_euler`; omega
+    and angle rates in the same unit.
+
+    Examples
+    --------
+    >>> euler_rate_matrix("euler", [0.0, 0.5, 0.0]).round(4)   # psi, theta, phi
+    array([[0.    , 1.    , 0.    ],
+           [0.4794, 0.    , 0.    ],
+           [0.8776, 0.    , 1.    ]])
+    """
+    frame = _frame(frame)
+    return _euler_matrix(seq, _euler_args(seq, angles, degrees), frame)
+
+
+def omega_from_euler_rates(
+    seq: str, angles, rates, *, frame: str = "body", degrees: bool = False
+) -> np.ndarray:
+    """Angular velocity from Euler angles and their rates (SPEC S3).
+
+    ``omega = sum_k angle_k' * (axis of the k-th elementary rotation)``. For
+    ``seq="euler"`` (z-x-z, angles ``(psi, theta, phi)``) and the body frame this
+    is exactly ``p = psi' sin(theta) sin(phi) + theta' cos(phi)``,
+    ``q = psi' sin(theta) cos(phi) - theta' sin(phi)``,
+    ``r = psi' cos(theta) + phi'``. Never singular.
+
+    Parameters
+    ----------
+    seq : str
+        Any of the 12 sequences, intrinsic (``"ZXZ"``) or extrinsic (``"zxz"``),
+        or ``"euler"`` / ``"krylov"``.
+    angles : array_like, shape (..., 3)
+    rates : array_like, shape (..., 3)
+        Time derivatives of the angles.
+    frame : {"body", "space"}
+        Axes of the returned angular velocity.
+    degrees : bool
+        If True, ``angles`` are in degrees and ``rates`` in deg/s. The angular
+        velocity is always returned in rad/s.
+
+    Returns
+    -------
+    omega : ndarray, shape (..., 3)
+        Angular velocity in rad/s.
+
+    Notes
+    -----
+    **Convention:** angles as in :meth:`poinsot.Rotation.from_euler`; ``omega``
+    always in rad/s, ``degrees`` applies to the angles and their rates only.
+
+    Examples
+    --------
+    >>> omega_from_euler_rates("euler", [0.0, 0.5, 0.0], [1.0, 0.0, 0.0]).round(4)
+    array([0.    , 0.4794, 0.8776])
+    >>> omega_from_euler_rates("ZYX", [10, 20, 30], [0, 0, 90], degrees=True).round(4)
+    array([1.5708, 0.    , 0.    ])
+    """
+    frame = _frame(frame)
+    angles = _euler_args(seq, angles, degrees)
+    rates = as_vec3(rates, "rates")
+    if degrees:
+        rates = np.deg2rad(rates)
+    M = _euler_matrix(seq, angles, frame)
+    return np.einsum("...ij,...j->...i", M, rates)
+
+
+def euler_rates(
+    seq: str, angles, omega, *, frame: str = "body", degrees: bool = False
+) -> np.ndarray:
+    """Euler angle rates from the angular velocity (SPEC S3, inverted).
+
+    Solves ``M(angles) angles' = omega`` in closed form
+    (``M^-1 = adj(M)/det M``, rows ``c2 x c3, c3 x c1, c1 x c2`` over the triple
+    product of the columns). For ``seq="euler"`` and the body frame:
+    ``psi' = (p sin(phi) + q cos(phi))/sin(theta)``,
+    ``theta' = p cos(phi) - q sin(phi)``,
+    ``phi' = r - (p sin(phi) + q cos(phi)) cot(theta)``.
+
+    Parameters
+    ----------
+    seq : str
+        Any of the 12 sequences, intrinsic (``"ZXZ"``) or extrinsic (``"zxz"``),
+        or ``"euler"`` / ``"krylov"``.
+    angles : array_like, shape (..., 3)
+    omega : array_like, shape (..., 3)
+        Angular velocity in rad/s, in the axes named by ``frame``.
+    frame : {"body", "space"}
+    degrees : bool
+        If True, ``angles`` are in degrees and the returned rates in deg/s.
+        ``omega`` is always in rad/s.
+
+    Returns
+    -------
+    rates : ndarray, shape (..., 3)
+
+    Warns
+    -----
+    GimbalLockWarning
+        Where ``|det M| < GIMBAL_WARN_DET`` (1e-3): the middle angle is within
+        about 0.06 deg of gimbal lock and the rates are ill-conditioned.
+
+    Raises
+    ------
+    InvalidInputError
+        Where ``|det M| < GIMBAL_ERROR_DET`` (1e-12): at gimbal lock the rates
+        of the first and third angles are not determined.
+
+    Notes
+    -----
+    **Convention:** angles as in :meth:`poinsot.Rotation.from_euler`; ``omega``
+    always in rad/s, ``degrees`` applies to the angles and their rates only.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> euler_rates("euler", [0.0, np.pi / 2, 0.0], [0.0, 1.0, 0.0]).round(12) + 0.0
+    array([1., 0., 0.])
+    """
+    frame = _frame(frame)
+    angles = _euler_args(seq, angles, degrees)
+    omega = as_vec3(omega, "omega")
+    M = _euler_matrix(seq, angles, frame)
+    c0, c1, c2 = M[..., :, 0], M[..., :, 1], M[..., :, 2]
+    adj = np.stack([_cross(c1, c2), _cross(c2, c0), _cross(c0, c1)], axis=-2)
+    det = _dot(c0, adj[..., 0, :])
+    small = np.abs(det)
+    if np.any(small < GIMBAL_ERROR_DET):
+        raise InvalidInputError(
+            f"Euler kinematic equations of {seq!r} are singular at these `angles` (gimbal "
+            "lock: the middle angle makes det M = 0, so the first and third angle rates "
+            "are not determined)."
+        )
+    if np.any(small < GIMBAL_WARN_DET):
+        warnings.warn(
+            f"`angles` within {GIMBAL_WARN_DET:g} (det M) of gimbal lock for {seq!r}: the "
+            "angle rates are ill-conditioned.",
+            GimbalLockWarning,
+            stacklevel=2,
+        )
+    rates = np.einsum("...ij,...j->...i", adj, omega) / det[..., None]
+    return np.rad2deg(rates) if degrees else rates
+
+
+# --------------------------------------------------------------------------
+# Gibbs vector g = e tan(f/2) = l / l0
+# --------------------------------------------------------------------------
+def gibbs_rate(g, omega, *, frame: str = "body") -> np.ndarray:
+    """Time derivative of the Gibbs vector (Rodrigues parameters).
+
+    ``g' = 1/2 (w + s g x w + (g.w) g)``, ``s = +1`` (body) or ``-1`` (space);
+    from ``g = l/l0`` and SPEC S5.
+
+    Parameters
+    ----------
+    g : array_like, shape (..., 3)
+        Gibbs vectors ``e tan(f/2)`` (infinite at ``f = pi``).
+    omega : array_like, shape (..., 3)
+        Angular velocity (rad/s) in the axes named by ``frame``.
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    gdot : ndarray, shape (..., 3)
+
+    Notes
+    -----
+    **Convention:** ``g`` of the body -> space rotation; ``omega`` in rad/s.
+
+    Examples
+    --------
+    >>> gibbs_rate([0.0, 0.0, 0.0], [2.0, 0.0, 0.0])
+    array([1., 0., 0.])
+    """
+    s = _sign(_frame(frame))
+    g = as_vec3(g, "g")
+    w = as_vec3(omega, "omega")
+    return 0.5 * (w + s * _cross(g, w) + _dot(g, w)[..., None] * g)
+
+
+def omega_from_gibbs_rate(g, gdot, *, frame: str = "body") -> np.ndarray:
+    """Angular velocity from the Gibbs vector and its rate.
+
+    ``w = 2 (g' - s g x g') / (1 + g.g)``: the inverse of
+    ``E + s g^ + g g^T`` is ``(E - s g^)/(1 + g.g)``.
+
+    Parameters
+    ----------
+    g, gdot : array_like, shape (..., 3)
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    omega : ndarray, shape (..., 3)
+        Angular velocity (rad/s).
+
+    Notes
+    -----
+    **Convention:** as :func:`gibbs_rate`, of which this is the exact inverse.
+
+    Examples
+    --------
+    >>> g = [0.1, -0.2, 0.3]
+    >>> omega_from_gibbs_rate(g, gibbs_rate(g, [1.0, 2.0, 3.0])).round(12)
+    array([1., 2., 3.])
+    """
+    s = _sign(_frame(frame))
+    g = as_vec3(g, "g")
+    gd = as_vec3(gdot, "gdot")
+    return 2.0 * (gd - s * _cross(g, gd)) / (1.0 + _dot(g, g))[..., None]
+
+
+# --------------------------------------------------------------------------
+# modified Rodrigues parameters p = e tan(f/4) = l / (1 + l0)
+# --------------------------------------------------------------------------
+def mrp_rate(p, omega, *, frame: str = "body") -> np.ndarray:
+    """Time derivative of modified Rodrigues parameters (MRP).
+
+    ``p' = 1/4 [(1 - p.p) E + 2 s p^ + 2 p p^T] w``, ``s = +1`` (body) or
+    ``-1`` (space). The same equation holds for the shadow set
+    (:func:`mrp_shadow`), so a propagation may switch sets at any time.
+
+    Parameters
+    ----------
+    p : array_like, shape (..., 3)
+        MRPs ``e tan(f/4)`` (either set).
+    omega : array_like, shape (..., 3)
+        Angular velocity (rad/s) in the axes named by ``frame``.
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    pdot : ndarray, shape (..., 3)
+
+    Notes
+    -----
+    **Convention:** ``p`` of the body -> space rotation; ``omega`` in rad/s.
+
+    Examples
+    --------
+    >>> mrp_rate([0.0, 0.0, 0.0], [0.0, 4.0, 0.0])
+    array([0., 1., 0.])
+    """
+    s = _sign(_frame(frame))
+    p = as_vec3(p, "p")
+    w = as_vec3(omega, "omega")
+    pp = _dot(p, p)[..., None]
+    return 0.25 * ((1.0 - pp) * w + 2.0 * s * _cross(p, w) + 2.0 * _dot(p, w)[..., None] * p)
+
+
+def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
+    """Angular velocity from MRPs and their rate.
+
+    ``w = 4 [(1 - p.p) E - 2 s p^ + 2 p p^T] p' / (1 + p.p)^2`` (the MRP rate
+    matrix ``B`` satisfies ``B^T B = (1 + p.p)^2 E``).
+
+    Parameters
+    ----------
+    p, pdot : array_like, shape (..., 3)
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    omega : ndarray, shape (..., 3)
+        Angular velocity (rad/s).
+
+    Notes
+    -----
+    **Convention:** as :func:`mrp_rate`, of which this is the exact inverse.
+
+    Examples
+    --------
+    >>> p = [0.1, -0.2, 0.3]
+    >>> omega_from_mrp_rate(p, mrp_rate(p, [1.0, 2.0, 3.0])).round(12)
+    array([1., 2., 3.])
+    """
+    s = _sign(_frame(frame))
+    p = as_vec3(p, "p")
+    pd = as_vec3(pdot, "pdot")
+    pp = _dot(p, p)[..., None]
+    num = (1.0 - pp) * pd - 2.0 * s * _cross(p, pd) + 2.0 * _dot(p, pd)[..., None] * p
+    return 4.0 * num / (1.0 + pp) ** 2
+
+
+def mrp_shadow(p) -> np.ndarray:
+    """The shadow MRP set ``p_s = -p / (p.p)`` (same rotation, ``|p_s| = 1/|p|``).
+
+    Parameters
+    ----------
+    p : array_like, shape (..., 3)
+        Non-zero MRPs (the identity ``p = 0`` has its shadow at infinity).
+
+    Returns
+    -------
+    p_shadow : ndarray, shape (..., 3)
+
+    Notes
+    -----
+    **Convention:** the shadow set describes the rotation ``f - 2 pi`` about the
+    same axis: ``e tan((f - 2 pi)/4) = -e cot(f/4)``.
+
+    Examples
+    --------
+    >>> mrp_shadow([0.0, 0.0, 2.0])
+    array([-0. , -0. , -0.5])
+    """
+    p = as_vec3(p, "p")
+    pp = _dot(p, p)
+    if np.any(pp == 0.0):
+        raise InvalidInputError("Expected `p` to be non-zero (the shadow of p = 0 is at infinity).")
+    return -p / pp[..., None]
+
+
+def mrp_switch(p, *, threshold: float = 1.0) -> np.ndarray:
+    """Switch MRPs to their shadow set where ``|p| > threshold`` (keeps ``|p| <= 1``).
+
+    The usual rule for propagating MRPs: after each step, replace ``p`` by
+    ``-p/|p|^2`` once it leaves the unit ball, which keeps ``p`` away from the
+    singularity at ``f = 2 pi``.
+
+    Parameters
+    ----------
+    p : array_like, shape (..., 3)
+    threshold : float
+        Switching radius, at least 1 (the two sets swap roles at ``|p| = 1``).
+
+    Returns
+    -------
+    p : ndarray, shape (..., 3)
+
+    Notes
+    -----
+    **Convention:** MRPs of the body -> space rotation, as :func:`mrp_shadow`.
+
+    Examples
+    --------
+    >>> mrp_switch([[0.0, 0.0, 2.0], [0.0, 0.5, 0.0]])
+    array([[ 0. ,  0. , -0.5],
+           [ 0. ,  0.5,  0. ]])
+    """
+    p = as_vec3(p, "p")
+    if not (isinstance(threshold, int | float) and threshold >= 1.0):
+        raise InvalidInputError(f"Expected `threshold` to be a number >= 1, got {threshold!r}.")
+    pp = _dot(p, p)
+    out = pp > threshold**2
+    safe = np.where(out, pp, 1.0)[..., None]
+    return np.where(out[..., None], -p / safe, p) + 0.0
+
+
+# --------------------------------------------------------------------------
+# rotation vector phi = f e
+# --------------------------------------------------------------------------
+def _rotvec_coefficients(f):
+    """``c = (1 - (f/2) cot(f/2))/f^2`` (for ``J^-1``), ``k1 = (1 - cos f)/f^2``,
+    ``k2 = (f - sin f)/f^3`` (for ``J``), with Taylor series below
+    ``ROTVEC_SERIES_ANGLE``."""
+    f = np.asarray(f, dtype=float)
+    small = f < ROTVEC_SERIES_ANGLE
+    fs = np.where(small, ROTVEC_SERIES_ANGLE, f)  # keep the closed forms finite
+    f2 = f * f
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c_big = (1.0 - 0.5 * fs / np.tan(0.5 * fs)) / fs**2
+    c_small = 1 / 12 + f2 * (1 / 720 + f2 * (1 / 30240 + f2 / 1209600))
+    k1_big = (1.0 - np.cos(fs)) / fs**2
+    k1_small = 0.5 - f2 * (1 / 24 - f2 * (1 / 720 - f2 / 40320))
+    k2_big = (fs - np.sin(fs)) / fs**3
+    k2_small = 1 / 6 - f2 * (1 / 120 - f2 * (1 / 5040 - f2 / 362880))
+    return (
+        np.where(small, c_small, c_big),
+        np.where(small, k1_small, k1_big),
+        np.where(small, k2_small, k2_big),
+    )
+
+
+def _rotvec_rate(phi, w, s):
+    """``J^-1 w = w + s/2 phi x w + c phi x (phi x w)`` (no validation)."""
+    f = np.sqrt(_dot(phi, phi))
+    c = _rotvec_coefficients(f)[0][..., None]
+    pxw = _cross(phi, w)
+    return w + 0.5 * s * pxw + c * _cross(phi, pxw)
+
+
+def _rotvec_jacobian_apply(phi, phidot, s):
+    """``J phi' = phi' - s k1 phi x phi' + k2 phi x (phi x phi')`` (no validation).
+
+    ``J = J_r`` (body, ``s = +1``) or ``J_l`` (space, ``s = -1``): the angular
+    velocity of ``exp(phi^)`` when ``phi`` changes at rate ``phi'``.
+    """
+    f = np.sqrt(_dot(phi, phi))
+    _, k1, k2 = _rotvec_coefficients(f)
+    pxd = _cross(phi, phidot)
+    return phidot - s * k1[..., None] * pxd + k2[..., None] * _cross(phi, pxd)
+
+
+def rotvec_rate(rotvec, omega, *, frame: str = "body") -> np.ndarray:
+    """Time derivative of the rotation vector (Bortz's equation).
+
+    ``phi' = w + s/2 phi x w + (1/f^2)(1 - (f/2) cot(f/2)) phi x (phi x w)``
+    with ``f = |phi|``, ``s = +1`` (body) or ``-1`` (space); a Taylor series
+    ``1/12 + f^2/720 + f^4/30240 + ...`` replaces the coefficient below
+    ``f = 0.1``.
+
+    Parameters
+    ----------
+    rotvec : array_like, shape (..., 3)
+        Rotation vectors ``phi = f e``.
+    omega : array_like, shape (..., 3)
+        Angular velocity (rad/s) in the axes named by ``frame``.
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    rotvec_dot : ndarray, shape (..., 3)
+
+    Warns
+    -----
+    SingularityWarning
+        Where ``|phi|`` is within ``ROTVEC_WARN_GAP`` (0.01 rad) of a non-zero
+        multiple of ``2 pi``; raises :class:`InvalidInputError` within 1e-12.
+
+    Notes
+    -----
+    **Convention:** ``exp(phi^)`` maps body to space components; rad, rad/s.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rotvec_rate([0.0, 0.0, 1.0], [0.0, 0.0, 3.0])   # spin about the axis
+    array([0., 0., 3.])
+    >>> rotvec_rate([0.0, 0.0, np.pi / 2], [1.0, 0.0, 0.0]).round(4)
+    array([0.7854, 0.7854, 0.    ])
+    """
+    s = _sign(_frame(frame))
+    phi = as_vec3(rotvec, "rotvec")
+    w = as_vec3(omega, "omega")
+    f = np.sqrt(_dot(phi, phi))
+    k = np.round(f / (2 * np.pi))
+    gap = np.abs(f - 2 * np.pi * k)[k > 0]
+    if np.any(gap < 1e-12):
+        raise InvalidInputError(
+            "Expected `rotvec` to have a norm different from a non-zero multiple of 2 pi "
+            "(the rotation-vector rate is singular there)."
+        )
+    if np.any(gap < ROTVEC_WARN_GAP):
+        warnings.warn(
+            "`rotvec` is close to a non-zero multiple of 2 pi, where its rate is singular.",
+            SingularityWarning,
+            stacklevel=2,
+        )
+    return _rotvec_rate(phi, w, s)
+
+
+def omega_from_rotvec_rate(rotvec, rotvec_dot, *, frame: str = "body") -> np.ndarray:
+    """Angular velocity from the rotation vector and its rate.
+
+    ``w = phi' - s (1 - cos f)/f^2 phi x phi' + (f - sin f)/f^3 phi x (phi x phi')``
+    (``J_r`` for the body frame, ``J_l`` for the space frame); series below
+    ``f = 0.1``. Never singular.
+
+    Parameters
+    ----------
+    rotvec, rotvec_dot : array_like, shape (..., 3)
+    frame : {"body", "space"}
+
+    Returns
+    -------
+    omega : ndarray, shape (..., 3)
+        Angular velocity (rad/s).
+
+    Notes
+    -----
+    **Convention:** as :func:`rotvec_rate`, of which this is the exact inverse.
+
+    Examples
+    --------
+    >>> v = [0.3, -1.0, 2.0]
+    >>> omega_from_rotvec_rate(v, rotvec_rate(v, [1.0, 2.0, 3.0])).round(12)
+    array([1., 2., 3.])
+    """
+    s = _sign(_frame(frame))
+    phi = as_vec3(rotvec, "rotvec")
+    d = as_vec3(rotvec_dot, "rotvec_dot")
+    return _rotvec_jacobian_apply(phi, d, s)
