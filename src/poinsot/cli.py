@@ -1,0 +1,517 @@
+"""The ``poinsot`` command: thin wrappers around library functions.
+
+Subcommands: ``run`` (a scenario file), ``demo`` (the embedded tennis-racket flip),
+``check`` (validate a scenario), ``convert`` (between rotation representations),
+``inertia`` (inertia tensor of a solid). Exit codes: 0 success, 2 invalid input (a
+one-line message, no traceback), 1 unexpected failure (traceback with ``--debug``).
+The scenario format and every option are documented in ``docs/cli.md``.
+
+Examples
+--------
+>>> from poinsot.cli import main
+>>> main(["convert", "euler:ZXZ", "quat", "90", "0", "0", "--degrees"])
+0.707106781186548 0 0 0.707106781186547
+0
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import traceback
+import warnings
+from pathlib import Path
+
+__all__ = ["main", "build_parser"]
+
+PROG = "poinsot"
+
+
+class _Usage(Exception):
+    """Invalid command-line input detected by the CLI itself (exit code 2)."""
+
+
+# ------------------------------------------------------------------------- progress bar
+class ProgressBar:
+    """A progress bar on stderr, drawn only on a terminal, after ``delay`` seconds,
+    and not when ``quiet``."""
+
+    def __init__(self, *, quiet: bool = False, delay: float = 1.0, stream=None):
+        self.stream = sys.stderr if stream is None else stream
+        isatty = getattr(self.stream, "isatty", None)
+        self.enabled = not quiet and bool(isatty and isatty())
+        self.delay = delay
+        self.start = time.monotonic()
+        self.shown = False
+        self._last = -1.0
+
+    def __call__(self, fraction: float, stage: str) -> None:
+        if not self.enabled or time.monotonic() - self.start < self.delay:
+            return
+        fraction = min(max(float(fraction), 0.0), 1.0)
+        now = time.monotonic()
+        if self.shown and now - self._last < 0.1 and fraction < 1.0:
+            return
+        self._last = now
+        width = 30
+        filled = int(round(width * fraction))
+        bar = "#" * filled + "-" * (width - filled)
+        elapsed = now - self.start
+        self.stream.write(f"\r[{bar}] {100 * fraction:5.1f}% {elapsed:6.1f} s  {stage:<28.28}")
+        self.stream.flush()
+        self.shown = True
+
+    def close(self) -> None:
+        if self.shown:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.shown = False
+
+
+# ------------------------------------------------------------------------- subcommands
+def _default_out(name: str) -> Path:
+    return Path("poinsot-out") / name
+
+
+def _print_result(result, out: Path, files, *, quiet: bool, title: str) -> None:
+    if quiet:
+        return
+    from .scenarios.run import describe
+
+    print(describe(result, title=title))
+    names = ", ".join(p.name for p in files)
+    print(f"outputs: {out}{'/' if not str(out).endswith('/') else ''} ({names})")
+
+
+def _cmd_run(args) -> int:
+    from .scenarios import load_scenario, prepare_output_dir, run_scenario
+
+    scenario = load_scenario(args.scenario)
+    out = Path(args.out) if args.out else _default_out(scenario.name)
+    prepare_output_dir(out, force=args.force)
+    bar = ProgressBar(quiet=args.quiet)
+    try:
+        result, files = run_scenario(
+            scenario,
+            out,
+            fmt=args.format,
+            report=not args.no_report,
+            force=True,
+            duration=args.duration,
+            progress=bar,
+        )
+    finally:
+        bar.close()
+    _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} run")
+    return 0
+
+
+def _cmd_demo(args) -> int:
+    from .scenarios import demo_scenario, prepare_output_dir, run_scenario
+
+    scenario = demo_scenario()
+    if args.out:
+        out = Path(args.out)
+    else:
+        # the default directory is never overwritten: a new one is numbered instead
+        out = _default_out(scenario.name)
+        k = 1
+        while not args.force and out.exists() and (not out.is_dir() or any(out.iterdir())):
+            k += 1
+            out = _default_out(f"{scenario.name}-{k}")
+    prepare_output_dir(out, force=args.force)
+    bar = ProgressBar(quiet=args.quiet)
+    try:
+        result, files = run_scenario(
+            scenario,
+            out,
+            fmt=args.format,
+            report=not args.no_report,
+            force=True,
+            duration=args.duration,
+            progress=bar,
+        )
+    finally:
+        bar.close()
+    _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} demo")
+    return 0
+
+
+def _cmd_check(args) -> int:
+    from .scenarios import load_scenario
+    from .scenarios.run import describe_scenario
+
+    scenario = load_scenario(args.scenario)
+    if not args.quiet:
+        print(f"ok: {args.scenario}: {describe_scenario(scenario)}")
+    return 0
+
+
+_REPRS = {
+    "quat": 4,
+    "quat:wxyz": 4,
+    "quat:xyzw": 4,
+    "matrix": 9,
+    "rotvec": 3,
+    "axis-angle": 4,
+    "gibbs": 3,
+    "mrp": 3,
+}
+
+
+def _repr_size(name: str, role: str) -> int:
+    if name.lower().startswith("euler:"):
+        return 3
+    if name not in _REPRS:
+        raise _Usage(
+            f"unknown {role} representation {name!r}: expected one of quat (scalar first "
+            "w,x,y,z), quat:xyzw (scalar last), matrix (9 values, row by row), rotvec, "
+            "axis-angle (x y z angle), euler:SEQ (e.g. euler:ZXZ intrinsic, euler:zxz "
+            "extrinsic, euler:euler, euler:krylov), gibbs, mrp."
+        )
+    return _REPRS[name]
+
+
+def _from(name: str, v, degrees: bool):
+    from .rotations.rotation import Rotation
+
+    if name.lower().startswith("euler:"):
+        return Rotation.from_euler(name[6:], v, degrees=degrees)
+    if name in ("quat", "quat:wxyz"):
+        return Rotation.from_quat(v, scalar_first=True)
+    if name == "quat:xyzw":
+        return Rotation.from_quat(v, scalar_first=False)
+    if name == "matrix":
+        return Rotation.from_matrix(v.reshape(3, 3))
+    if name == "rotvec":
+        return Rotation.from_rotvec(v, degrees=degrees)
+    if name == "axis-angle":
+        return Rotation.from_axis_angle(v[:3], v[3], degrees=degrees)
+    if name == "gibbs":
+        return Rotation.from_gibbs(v)
+    return Rotation.from_mrp(v)
+
+
+def _to(name: str, r, degrees: bool):
+    import numpy as np
+
+    if name.lower().startswith("euler:"):
+        return r.as_euler(name[6:], degrees=degrees)
+    if name in ("quat", "quat:wxyz"):
+        return r.as_quat(scalar_first=True)
+    if name == "quat:xyzw":
+        return r.as_quat(scalar_first=False)
+    if name == "matrix":
+        return r.as_matrix()
+    if name == "rotvec":
+        return r.as_rotvec(degrees=degrees)
+    if name == "axis-angle":
+        axis, angle = r.as_axis_angle(degrees=degrees)
+        return np.append(axis, angle)
+    if name == "gibbs":
+        return r.as_gibbs()
+    return r.as_mrp()
+
+
+def _num(x: float) -> str:
+    s = f"{x:.15g}"
+    return "0" if s in ("0", "-0") else s
+
+
+def _cmd_convert(args) -> int:
+    import numpy as np
+
+    n = _repr_size(args.source, "source")
+    _repr_size(args.target, "target")
+    values = []
+    for s in args.values:
+        try:
+            values.append(float(s))
+        except ValueError:
+            raise _Usage(f"expected numbers as VALUES, found {s!r}.") from None
+    if len(values) != n:
+        raise _Usage(
+            f"{args.source} takes {n} values, found {len(values)}: {' '.join(args.values)}."
+        )
+    r = _from(args.source, np.array(values), args.degrees)
+    out = np.asarray(_to(args.target, r, args.degrees))
+    if out.shape == (3, 3):
+        for row in out:
+            print(" ".join(_num(x) for x in row))
+    else:
+        print(" ".join(_num(x) for x in out))
+    return 0
+
+
+def _cmd_inertia(args) -> int:
+    import numpy as np
+
+    from .mass import solids
+    from .mass.tensor import principal_axes
+    from .scenarios.io import SHAPES
+
+    names = SHAPES[args.shape]
+    if args.dims is None or len(args.dims) != len(names):
+        found = "none" if args.dims is None else f"{len(args.dims)}"
+        raise _Usage(
+            f"a {args.shape} takes {len(names)} dimension(s) with --dims "
+            f"({', '.join(names)}; m), found {found}."
+        )
+    kwargs = {}
+    if args.hollow:
+        if args.shape not in ("sphere", "cylinder"):
+            raise _Usage("--hollow applies to a sphere or a cylinder only.")
+        kwargs["hollow"] = True
+    j = getattr(solids, args.shape)(args.mass, *args.dims, **kwargs)
+    moments, axes = principal_axes(j)
+    m = axes.as_matrix()
+    with np.printoptions(precision=10, suppress=True):
+        kind = ("hollow " if args.hollow else "") + args.shape
+        print(
+            f"{kind}: mass {_num(args.mass)} kg, dims "
+            f"{' x '.join(_num(d) for d in args.dims)} m ({', '.join(names)})"
+        )
+        print("inertia tensor about the centre of mass, body axes (kg m^2):")
+        for row in j:
+            print("  " + "  ".join(f"{_num(x):>14}" for x in row))
+        print("principal moments A <= B <= C (kg m^2): " + "  ".join(_num(x) for x in moments))
+        print("principal axes (columns, in body axes):")
+        for row in m:
+            print("  " + "  ".join(f"{_num(x + 0.0):>6}" for x in row))
+    return 0
+
+
+# ------------------------------------------------------------------------- parser
+_RUN_EPILOG = """\
+example:
+  poinsot run examples/tennis_racket.toml --out out/racket --format npz
+  poinsot run examples/satellite_torque.toml --duration 5 --no-report --force
+
+Writes trajectory.csv (or .npz), summary.json, PNG figures and report.html into
+--out (default ./poinsot-out/<scenario name>). An existing, non-empty output
+directory is only overwritten with --force. Scenario format: docs/cli.md.
+"""
+_DEMO_EPILOG = """\
+example:
+  poinsot demo
+  poinsot demo --out /tmp/demo --force
+
+Runs the embedded tennis-racket flip (spin about the intermediate axis) twice,
+with the exact solution and with a numerical integrator, and writes the same
+outputs as `poinsot run`. Without --out a fresh ./poinsot-out/tennis-racket-flip[-N]
+directory is used, so the demo never overwrites earlier results.
+"""
+_CHECK_EPILOG = """\
+example:
+  poinsot check examples/symmetric_top.toml
+
+Exit code 0 if the file is a valid scenario, 2 with a message naming the file,
+the key and its line otherwise.
+"""
+_CONVERT_EPILOG = """\
+representations:
+  quat        scalar-first unit quaternion w x y z (Hamilton), also quat:xyzw
+  matrix      9 entries of the rotation matrix, row by row
+  rotvec      rotation vector (axis times angle)
+  axis-angle  x y z angle
+  euler:SEQ   three angles of sequence SEQ: upper case intrinsic (euler:ZXZ),
+              lower case extrinsic (euler:zxz), presets euler:euler (= ZXZ) and
+              euler:krylov (= ZXY)
+  gibbs       Gibbs/Rodrigues vector e tan(f/2)
+  mrp         modified Rodrigues parameters e tan(f/4)
+A rotation maps body components to space components (v_space = R v_body).
+--degrees applies to the angles read and printed (euler, rotvec, axis-angle).
+
+examples:
+  poinsot convert euler:ZXZ quat 30 45 60 --degrees
+  poinsot convert quat matrix 0.7071 0.7071 0 0
+  poinsot convert rotvec axis-angle 0 0 90 --degrees
+"""
+_INERTIA_EPILOG = """\
+dimensions (m):
+  box        length x, width y, height z      sphere     radius
+  cylinder   radius, height (axis z)          cone       base radius, height (axis z)
+  ellipsoid  semi-axes a, b, c                rod        length (along z)
+  disc       radius (in the xy plane)         ring       radius (in the xy plane)
+
+example:
+  poinsot inertia box --mass 2 --dims 0.3 0.2 0.1
+  poinsot inertia cylinder --mass 1 --dims 0.05 0.4 --hollow
+"""
+
+
+class _Formatter(argparse.RawDescriptionHelpFormatter):
+    pass
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``poinsot`` command."""
+    from . import __version__
+
+    parser = argparse.ArgumentParser(
+        prog=PROG,
+        description="Kinematics and dynamics of rigid bodies, built on quaternions.",
+        epilog="example: poinsot demo    (run `poinsot COMMAND --help` for each command)",
+        formatter_class=_Formatter,
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument(
+        "--debug", action="store_true", help="show the full traceback of unexpected errors"
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    def common_run(p):
+        p.add_argument(
+            "--out", metavar="DIR", help="output directory (default ./poinsot-out/<scenario name>)"
+        )
+        p.add_argument(
+            "--format",
+            choices=("csv", "npz"),
+            default="csv",
+            help="trajectory file format (default csv)",
+        )
+        p.add_argument("--no-report", action="store_true", help="do not write report.html")
+        p.add_argument(
+            "--quiet",
+            action="store_true",
+            help="print nothing on success and hide the progress bar",
+        )
+        p.add_argument(
+            "--force",
+            action="store_true",
+            help="overwrite the files of an existing output directory",
+        )
+        p.add_argument(
+            "--duration", type=float, metavar="SECONDS", help="override [simulation] duration"
+        )
+        p.add_argument(
+            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+        )
+
+    p = sub.add_parser(
+        "run",
+        help="run a scenario file",
+        epilog=_RUN_EPILOG,
+        formatter_class=_Formatter,
+        description="Run a TOML scenario and write its outputs.",
+    )
+    p.add_argument("scenario", metavar="SCENARIO.toml")
+    common_run(p)
+    p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser(
+        "demo",
+        help="run the embedded tennis-racket flip",
+        epilog=_DEMO_EPILOG,
+        formatter_class=_Formatter,
+        description="Run the embedded demo scenario (the tennis-racket flip).",
+    )
+    common_run(p)
+    p.set_defaults(func=_cmd_demo)
+
+    p = sub.add_parser(
+        "check",
+        help="validate a scenario file",
+        epilog=_CHECK_EPILOG,
+        formatter_class=_Formatter,
+        description="Validate a TOML scenario file without running it.",
+    )
+    p.add_argument("scenario", metavar="SCENARIO.toml")
+    p.add_argument("--quiet", action="store_true", help="print nothing when valid")
+    p.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+    )
+    p.set_defaults(func=_cmd_check)
+
+    p = sub.add_parser(
+        "convert",
+        help="convert a rotation between representations",
+        epilog=_CONVERT_EPILOG,
+        formatter_class=_Formatter,
+        description="Convert one rotation from one representation to another.",
+    )
+    p.add_argument("source", metavar="FROM", help="input representation")
+    p.add_argument("target", metavar="TO", help="output representation")
+    p.add_argument("values", metavar="VALUES", nargs="+", help="the input numbers")
+    p.add_argument("--degrees", action="store_true", help="angles in degrees (in and out)")
+    p.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+    )
+    p.set_defaults(func=_cmd_convert)
+
+    from .scenarios.io import SHAPES
+
+    p = sub.add_parser(
+        "inertia",
+        help="inertia tensor and principal axes of a solid",
+        epilog=_INERTIA_EPILOG,
+        formatter_class=_Formatter,
+        description="Inertia tensor of a uniform solid about its centre of "
+        "mass, its principal moments and axes.",
+    )
+    p.add_argument(
+        "shape", choices=tuple(SHAPES), metavar="SHAPE", help="one of " + ", ".join(SHAPES)
+    )
+    p.add_argument("--mass", type=float, required=True, metavar="M", help="mass (kg)")
+    p.add_argument("--dims", type=float, nargs="+", metavar="D", help="dimensions (m)")
+    p.add_argument("--hollow", action="store_true", help="hollow sphere / thin-walled cylinder")
+    p.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+    )
+    p.set_defaults(func=_cmd_inertia)
+    return parser
+
+
+def _error(message: str) -> None:
+    message = str(message).strip()
+    print(f"{PROG}: error: {message}", file=sys.stderr)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the ``poinsot`` command with ``argv`` (default ``sys.argv[1:]``).
+
+    Returns the exit code: 0 success, 2 invalid input, 1 unexpected failure.
+    """
+    from .errors import InvalidInputError, InvalidTypeError, PoinsotWarning
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    debug = "--debug" in argv
+    try:
+        parser = build_parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:  # --help, --version, or a usage error (code 2)
+            return int(exc.code or 0) if not isinstance(exc.code, str) else 2
+        debug = debug or getattr(args, "debug", False)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", PoinsotWarning)
+            code = args.func(args)
+        for w in caught:
+            if issubclass(w.category, PoinsotWarning):
+                print(f"{PROG}: warning: {w.message}", file=sys.stderr)
+            else:
+                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+        return code
+    except (_Usage, InvalidInputError, InvalidTypeError) as exc:
+        if debug:
+            traceback.print_exc()
+        _error(str(exc))
+        return 2
+    except KeyboardInterrupt:
+        print(f"\n{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # e.g. `poinsot convert ... | head`
+        return 0
+    except Exception as exc:
+        if debug:
+            traceback.print_exc()
+        _error(
+            f"unexpected failure: {type(exc).__name__}: {exc}"
+            + ("" if debug else " (run with --debug for the traceback)")
+        )
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
