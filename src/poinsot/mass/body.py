@@ -1,0 +1,433 @@
+"""Rigid bodies as mass, centre of mass and central inertia; composites; Koenig (SPEC S8).
+
+Conventions
+-----------
+A :class:`RigidBody` is described in its own *body axes* with a *reference
+point* ``O`` (the origin of the body coordinates): ``center_of_mass`` is the
+position of the centre of mass ``C`` relative to ``O`` and ``inertia`` is the
+tensor about ``C`` in the body axes. All vectors passed to the methods
+(``omega``, ``v_cm``, points) are in the same body axes; positions are relative
+to ``O``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_positive, as_vec3
+from ..errors import InvalidInputError, InvalidTypeError
+from . import solids
+from .tensor import _as_rotation_matrix, _principal, _steiner, _transpose, check_inertia
+from .tensor import points as _points
+from .tensor import principal_axes as _principal_axes
+
+__all__ = ["RigidBody", "combine", "kinetic_energy", "angular_momentum"]
+
+
+# ---------------------------------------------------------------------------
+# Kernels (no validation)
+# ---------------------------------------------------------------------------
+
+
+def _kinetic_energy(m, j, w, v):
+    """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2``."""
+    jw = np.einsum("...ij,...j->...i", j, w)
+    return 0.5 * m * np.einsum("...i,...i->...", v, v) + 0.5 * np.einsum("...i,...i->...", w, jw)
+
+
+def _angular_momentum(m, j, w, v, r_oc):
+    """``K_O = J_c w + OC x m V_c``."""
+    jw = np.einsum("...ij,...j->...i", j, w)
+    return jw + np.cross(r_oc, np.asarray(m)[..., None] * v)
+
+
+# ---------------------------------------------------------------------------
+# Module functions
+# ---------------------------------------------------------------------------
+
+
+def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """Kinetic energy of a rigid body by Koenig's theorem.
+
+    ``T = m V_c^2 / 2 + w^T J_c w / 2`` (SPEC S8); in principal axes
+    ``T = m V_c^2 / 2 + (A p^2 + B q^2 + C r^2) / 2``.
+
+    Parameters
+    ----------
+    mass : array_like, shape (...)
+        Mass, > 0.
+    inertia_cm : array_like, shape (..., 3, 3)
+        Inertia about the centre of mass.
+    omega : array_like, shape (..., 3)
+        Angular velocity.
+    v_cm : array_like, shape (..., 3), optional
+        Velocity of the centre of mass (default zero: pure rotation).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``T``.
+
+    Notes
+    -----
+    **Convention:** ``inertia_cm``, ``omega`` and ``v_cm`` in the same axes
+    (usually body axes); SI or any consistent units.
+
+    Examples
+    --------
+    >>> from poinsot.mass import kinetic_energy, sphere
+    >>> float(kinetic_energy(5.0, sphere(5.0, 1.0), [0, 0, 2.0], [1.0, 0, 0]))
+    6.5
+    """
+    m = as_positive(mass, "mass")
+    j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
+    w = as_vec3(omega, "omega")
+    v = as_vec3(v_cm, "v_cm")
+    return _kinetic_energy(m, j, w, v)
+
+
+def angular_momentum(
+    mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0), r_oc=(0.0, 0.0, 0.0)
+) -> np.ndarray:
+    """Angular momentum of a rigid body about a point ``O``.
+
+    ``K_O = J_c w + OC x m V_c`` (SPEC S8): the spin about the centre of mass
+    plus the moment of the linear momentum.
+
+    Parameters
+    ----------
+    mass : array_like, shape (...)
+        Mass, > 0.
+    inertia_cm : array_like, shape (..., 3, 3)
+        Inertia about the centre of mass ``C``.
+    omega : array_like, shape (..., 3)
+        Angular velocity.
+    v_cm : array_like, shape (..., 3), optional
+        Velocity of ``C`` (default zero).
+    r_oc : array_like, shape (..., 3), optional
+        Position of ``C`` relative to ``O`` (the vector ``OC``; default zero:
+        ``O = C``).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``K_O``, in the same axes as the inputs.
+
+    Notes
+    -----
+    **Convention:** all arguments in one set of axes (usually body axes).
+    For a body turning about a fixed point ``O`` (``V_c = w x OC``) this equals
+    ``J_O w``.
+
+    Examples
+    --------
+    >>> from poinsot.mass import angular_momentum, sphere
+    >>> angular_momentum(5.0, sphere(5.0, 1.0), [0, 0, 2.0], [1.0, 0, 0], [0, 1.0, 0])
+    array([ 0.,  0., -1.])
+    """
+    m = as_positive(mass, "mass")
+    j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
+    w = as_vec3(omega, "omega")
+    v = as_vec3(v_cm, "v_cm")
+    r = as_vec3(r_oc, "r_oc")
+    return _angular_momentum(m, j, w, v, r)
+
+
+def combine(*bodies: RigidBody) -> RigidBody:
+    """Composite of rigid bodies described about a common reference point and axes.
+
+    ``m = sum m_i``, ``r_c = sum m_i r_i / m``,
+    ``J_c = sum (J_i + m_i (d_i^T d_i E - d_i d_i^T))`` with ``d_i = r_i - r_c``
+    (Huygens-Steiner, SPEC S8).
+
+    Parameters
+    ----------
+    *bodies : RigidBody
+        At least one body, all in the same axes about the same reference point
+        (use :meth:`RigidBody.placed` to put a part in position first). Batch
+        shapes broadcast.
+
+    Returns
+    -------
+    RigidBody
+        The composite body.
+
+    Notes
+    -----
+    **Convention:** the result uses the common axes and reference point.
+
+    Examples
+    --------
+    >>> from poinsot.mass import RigidBody, combine
+    >>> a = RigidBody.box(1.0, 1.0, 1.0, 1.0).placed(position=[0.5, 0, 0])
+    >>> b = RigidBody.box(1.0, 1.0, 1.0, 1.0).placed(position=[-0.5, 0, 0])
+    >>> body = combine(a, b)   # = RigidBody.box(2.0, 2.0, 1.0, 1.0)
+    >>> body.mass, body.inertia.diagonal().round(12)
+    (2.0, array([0.333333, 0.833333, 0.833333]))
+    """
+    if not bodies:
+        raise InvalidInputError("Expected at least one body to combine, got none.")
+    for k, b in enumerate(bodies):
+        if not isinstance(b, RigidBody):
+            raise InvalidTypeError(
+                f"Expected every body to be a RigidBody, got {type(b).__name__} at position {k}."
+            )
+    masses = [np.asarray(b.mass) for b in bodies]
+    m = sum(masses)
+    com = sum(mi[..., None] * b.center_of_mass for mi, b in zip(masses, bodies, strict=True))
+    com = com / m[..., None]
+    j = sum(
+        b.inertia + _steiner(mi, b.center_of_mass - com)
+        for mi, b in zip(masses, bodies, strict=True)
+    )
+    return RigidBody(m, j, com)
+
+
+# ---------------------------------------------------------------------------
+# RigidBody
+# ---------------------------------------------------------------------------
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class RigidBody:
+    """A rigid body: mass, centre of mass and inertia about the centre of mass.
+
+    Parameters
+    ----------
+    mass : array_like, shape (...)
+        Mass, > 0.
+    inertia : array_like, shape (..., 3, 3)
+        Inertia tensor **about the centre of mass**, in the body axes. Checked
+        by :func:`check_inertia` with ``allow_singular=True`` (a thin rod or a
+        point mass has a zero moment).
+    center_of_mass : array_like, shape (..., 3), optional
+        Position of the centre of mass relative to the body reference point
+        ``O``, in body axes. Default: the origin.
+
+    Notes
+    -----
+    A batch of bodies is one ``RigidBody`` whose parameters have leading
+    dimensions (they broadcast); :attr:`shape` is the batch shape.
+
+    **Convention:** every vector (``omega``, ``v_cm``, points) given to or
+    returned by the methods is in body axes, positions relative to ``O``
+    (SPEC S8).
+
+    Examples
+    --------
+    >>> from poinsot.mass import RigidBody
+    >>> body = RigidBody.box(12.0, 1.0, 2.0, 3.0)
+    >>> body.inertia.diagonal()
+    array([13., 10.,  5.])
+    >>> body.inertia_about([0.5, 0, 0]).diagonal()     # at the middle of a face
+    array([13., 13.,  8.])
+    >>> float(body.kinetic_energy([1.0, 0, 0], v_cm=[0, 1.0, 0]))
+    12.5
+    """
+
+    mass: Any
+    inertia: Any
+    center_of_mass: Any = field(default=(0.0, 0.0, 0.0))
+
+    def __post_init__(self) -> None:
+        m = as_positive(self.mass, "mass")
+        j = check_inertia(self.inertia, "inertia", allow_singular=True)
+        c = as_vec3(self.center_of_mass, "center_of_mass")
+        try:
+            np.broadcast_shapes(m.shape, j.shape[:-2], c.shape[:-1])
+        except ValueError:
+            raise InvalidInputError(
+                f"Expected `mass` (...), `inertia` (..., 3, 3) and `center_of_mass` (..., 3) "
+                f"to have broadcastable batch shapes, got {m.shape}, {j.shape}, {c.shape}."
+            ) from None
+        m = _readonly(m)
+        object.__setattr__(self, "mass", float(m) if m.ndim == 0 else m)
+        object.__setattr__(self, "inertia", _readonly(j))
+        object.__setattr__(self, "center_of_mass", _readonly(c))
+
+    # -- construction ------------------------------------------------------
+
+    @classmethod
+    def box(cls, mass, a, b, c) -> RigidBody:
+        """Uniform box with edges ``a, b, c`` (see :func:`poinsot.mass.box`), centred at ``O``."""
+        return cls(mass, solids.box(mass, a, b, c))
+
+    @classmethod
+    def sphere(cls, mass, radius, *, hollow: bool = False) -> RigidBody:
+        """Uniform ball or shell (see :func:`poinsot.mass.sphere`), centred at ``O``."""
+        return cls(mass, solids.sphere(mass, radius, hollow=hollow))
+
+    @classmethod
+    def cylinder(cls, mass, radius, height, *, hollow: bool = False) -> RigidBody:
+        """Uniform cylinder or tube, axis ``z`` (see :func:`poinsot.mass.cylinder`), centred."""
+        return cls(mass, solids.cylinder(mass, radius, height, hollow=hollow))
+
+    @classmethod
+    def cone(cls, mass, radius, height) -> RigidBody:
+        """Uniform cone, axis ``z`` (see :func:`poinsot.mass.cone`), centre of mass at ``O``."""
+        return cls(mass, solids.cone(mass, radius, height))
+
+    @classmethod
+    def ellipsoid(cls, mass, a, b, c) -> RigidBody:
+        """Uniform ellipsoid (see :func:`poinsot.mass.ellipsoid`), centred at ``O``."""
+        return cls(mass, solids.ellipsoid(mass, a, b, c))
+
+    @classmethod
+    def rod(cls, mass, length) -> RigidBody:
+        """Thin rod along ``z`` (see :func:`poinsot.mass.rod`), midpoint at ``O``."""
+        return cls(mass, solids.rod(mass, length))
+
+    @classmethod
+    def disc(cls, mass, radius) -> RigidBody:
+        """Thin disc, normal ``z`` (see :func:`poinsot.mass.disc`), centred at ``O``."""
+        return cls(mass, solids.disc(mass, radius))
+
+    @classmethod
+    def ring(cls, mass, radius) -> RigidBody:
+        """Thin ring, normal ``z`` (see :func:`poinsot.mass.ring`), centred at ``O``."""
+        return cls(mass, solids.ring(mass, radius))
+
+    @classmethod
+    def from_points(cls, masses, positions) -> RigidBody:
+        """Point masses ``masses`` (..., n) at ``positions`` (..., n, 3) relative to ``O``.
+
+        ``r_c = sum m r / sum m`` and ``J_c = J_O - m (r_c^T r_c E - r_c r_c^T)``
+        with ``J_O`` from :func:`poinsot.mass.points`.
+
+        Examples
+        --------
+        >>> from poinsot.mass import RigidBody
+        >>> b = RigidBody.from_points([1.0, 3.0], [[0, 0, 0], [4.0, 0, 0]])
+        >>> b.mass, b.center_of_mass, b.inertia.diagonal()
+        (4.0, array([3., 0., 0.]), array([ 0., 12., 12.]))
+        """
+        j_o = _points(masses, positions)
+        m_i = np.asarray(masses, dtype=np.float64)
+        r = np.asarray(positions, dtype=np.float64)
+        m = m_i.sum(axis=-1)
+        com = np.einsum("...n,...ni->...i", m_i, r) / m[..., None]
+        return cls(m, j_o - _steiner(m, com), com)
+
+    @classmethod
+    def from_mesh(cls, vertices, faces, *, mass=None, density=None) -> RigidBody:
+        """Uniform solid bounded by a closed triangle mesh (see :func:`poinsot.mass.mesh`)."""
+        from .meshes import mesh
+
+        return mesh(vertices, faces, mass=mass, density=density).to_body()
+
+    def placed(self, rotation=None, position=None) -> RigidBody:
+        """The same body described in an assembly frame ``a``.
+
+        The body's own axes ``b`` have attitude ``rotation = C_ab`` relative to
+        ``a`` and its reference point sits at ``position`` (in ``a``). Then
+        ``r_c,a = C_ab r_c,b + position`` and ``J_a = C_ab J_b C_ab^T`` (SPEC S8).
+
+        Parameters
+        ----------
+        rotation : Rotation or array_like, shape (..., 3, 3), optional
+            ``C_ab`` (body -> assembly components). Default: identity.
+        position : array_like, shape (..., 3), optional
+            Position of the body reference point in the assembly frame. Default:
+            the origin.
+
+        Returns
+        -------
+        RigidBody
+            The body with the assembly frame's axes and origin as its own.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import Rotation
+        >>> from poinsot.mass import RigidBody
+        >>> r = Rotation.from_axis_angle([0, 1.0, 0], np.pi / 2)   # body z -> assembly x
+        >>> b = RigidBody.rod(3.0, 2.0).placed(r, [0, 0, 1.0])
+        >>> b.inertia.diagonal().round(12) + 0.0, b.center_of_mass
+        (array([0., 1., 1.]), array([0., 0., 1.]))
+        """
+        j, c = self.inertia, self.center_of_mass
+        if rotation is not None:
+            s = _as_rotation_matrix(rotation)
+            j = s @ j @ _transpose(s)
+            c = np.einsum("...ij,...j->...i", s, c)
+        if position is not None:
+            c = c + as_vec3(position, "position")
+        return RigidBody(self.mass, j, c)
+
+    # -- queries -------------------------------------------------------------
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Batch shape (``()`` for one body)."""
+        return np.broadcast_shapes(
+            np.shape(self.mass), self.inertia.shape[:-2], self.center_of_mass.shape[:-1]
+        )
+
+    def inertia_about(self, point=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Inertia about ``point`` (relative to ``O``, body axes; default ``O``).
+
+        ``J_P = J_C + m (a^T a E - a a^T)``, ``a = P - C`` (Huygens-Steiner, SPEC S8).
+        """
+        p = as_vec3(point, "point")
+        return self.inertia + _steiner(self.mass, p - self.center_of_mass)
+
+    def principal_axes(self):
+        """Principal moments (ascending) and axes of the central inertia.
+
+        See :func:`poinsot.mass.principal_axes`.
+        """
+        return _principal_axes(self.inertia)
+
+    def principal_moments(self) -> np.ndarray:
+        """Principal moments ``A <= B <= C`` of the central inertia, shape (..., 3)."""
+        return _principal(self.inertia)[0]
+
+    def kinetic_energy(self, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (body axes; see :func:`kinetic_energy`)."""
+        w = as_vec3(omega, "omega")
+        v = as_vec3(v_cm, "v_cm")
+        return _kinetic_energy(self.mass, self.inertia, w, v)
+
+    def angular_momentum(self, omega, v_cm=(0.0, 0.0, 0.0), about=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """``K_P = J_c w + PC x m V_c`` about the point ``about`` (relative to ``O``).
+
+        ``about`` defaults to the reference point ``O``.
+
+        See :func:`angular_momentum`; all vectors in body axes.
+
+        Examples
+        --------
+        >>> from poinsot.mass import RigidBody
+        >>> rod = RigidBody.rod(3.0, 2.0).placed(position=[0, 0, 1.0])
+        >>> w = [1.0, 0, 0]
+        >>> rod.angular_momentum(w, v_cm=[0, -1.0, 0])   # pinned at O: J_O w
+        array([4., 0., 0.])
+        """
+        w = as_vec3(omega, "omega")
+        v = as_vec3(v_cm, "v_cm")
+        p = as_vec3(about, "about")
+        return _angular_momentum(self.mass, self.inertia, w, v, self.center_of_mass - p)
+
+    # -- composition -----------------------------------------------------------
+
+    def __add__(self, other):
+        if not isinstance(other, RigidBody):
+            return NotImplemented
+        return combine(self, other)
+
+    def __radd__(self, other):
+        # lets sum(bodies) work (it starts from 0)
+        if isinstance(other, int) and not isinstance(other, bool) and other == 0:
+            return self
+        return NotImplemented
+
+    combine = staticmethod(combine)

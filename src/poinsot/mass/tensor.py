@@ -1,0 +1,565 @@
+"""Inertia tensors: validation, Huygens-Steiner, change of axes, principal axes (SPEC S8).
+
+Every function accepts inertia tensors of shape ``(..., 3, 3)`` and broadcasts
+over the leading (batch) dimensions.
+
+Conventions
+-----------
+- An inertia tensor about a point ``O`` is ``J_O = sum m (rho^T rho E - rho rho^T)``
+  (``rho`` the position relative to ``O``): diagonal entries are the moments
+  ``int (y^2 + z^2) dm``..., off-diagonal entries the *negative* products of
+  inertia ``-int x y dm``... (SPEC S8).
+- A change of axes is described by ``S = C_ab``, the rotation of frame ``b``
+  relative to frame ``a``: its columns are the ``b`` axes written in ``a``
+  components (``v_a = C_ab v_b``). The tensor transforms as
+  ``J_b = S^T J_a S`` (and back, ``J_a = S J_b S^T``).
+- Units are whatever the caller uses consistently (e.g. kg, m, kg m^2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import as_matrix3, as_positive, as_trailing, as_vec3
+from ..errors import InvalidInputError
+from ..rotations.rotation import Rotation
+
+__all__ = [
+    "check_inertia",
+    "check_principal_moments",
+    "points",
+    "parallel_axis",
+    "to_center_of_mass",
+    "rotate_inertia",
+    "moment_about",
+    "principal_axes",
+    "inertia_ellipsoid",
+]
+
+#: Default relative tolerance of the physical checks (relative to the largest moment).
+RTOL = 1e-9
+
+
+# ---------------------------------------------------------------------------
+# Kernels (no validation)
+# ---------------------------------------------------------------------------
+
+
+def _steiner(mass, offset):
+    """``m (a^T a E - a a^T)``: the inertia of a point mass ``m`` at ``a`` about the origin.
+
+    ``mass`` has shape ``(...)`` and ``offset`` shape ``(..., 3)``; broadcasts.
+    This one kernel serves the Huygens-Steiner theorem and :func:`points`.
+    """
+    a = np.asarray(offset, dtype=np.float64)
+    m = np.asarray(mass, dtype=np.float64)[..., None, None]
+    aa = np.einsum("...i,...i->...", a, a)[..., None, None]
+    return m * (aa * np.eye(3) - a[..., :, None] * a[..., None, :])
+
+
+def _transpose(m):
+    return np.swapaxes(m, -1, -2)
+
+
+def _where(bad: np.ndarray) -> str:
+    """`` at index (i, j)`` for the first bad entry of a batch, or an empty string."""
+    if bad.ndim == 0:
+        return ""
+    idx = tuple(int(i) for i in np.argwhere(bad)[0])
+    return f" at batch index {idx}"
+
+
+def _first(values: np.ndarray, bad: np.ndarray) -> np.ndarray:
+    return values[tuple(np.argwhere(bad)[0])] if bad.ndim else values
+
+
+def _check_moments(moments, tol, name, allow_singular, what):
+    """Raise unless sorted principal ``moments`` (..., 3) are >= / > 0 and satisfy A + B >= C."""
+    a, b, c = moments[..., 0], moments[..., 1], moments[..., 2]
+    bad = a < -tol if allow_singular else a <= tol
+    if np.any(bad):
+        word = "positive semi-definite" if allow_singular else "positive definite"
+        m = _first(moments, bad)
+        raise InvalidInputError(
+            f"Expected `{name}` to be {word} (a physical {what}), but its smallest principal "
+            f"moment is {m[0]:.6g}{_where(bad)} (principal moments {_fmt(m)})."
+        )
+    bad = a + b < c - tol
+    if np.any(bad):
+        m = _first(moments, bad)
+        raise InvalidInputError(
+            f"`{name}` is not a physical {what}: it violates the triangle inequality "
+            f"A + B >= C of the principal moments{_where(bad)}: A + B = {m[0] + m[1]:.6g} < "
+            f"C = {m[2]:.6g} (principal moments {_fmt(m)})."
+        )
+
+
+def _fmt(m) -> str:
+    return "(" + ", ".join(f"{x:.6g}" for x in m) + ")"
+
+
+def _tolerance(scale, rtol, atol):
+    if rtol < 0 or atol < 0:
+        raise InvalidInputError(f"Expected `rtol` and `atol` to be >= 0, got {rtol!r}, {atol!r}.")
+    return atol + rtol * scale
+
+
+# ---------------------------------------------------------------------------
+# Validation
+# ---------------------------------------------------------------------------
+
+
+def check_inertia(
+    inertia,
+    name: str = "inertia",
+    *,
+    rtol: float = RTOL,
+    atol: float = 0.0,
+    allow_singular: bool = False,
+) -> np.ndarray:
+    """Validate a physical inertia tensor and return it as a symmetric float array.
+
+    Checks, in this order, that ``inertia`` has shape ``(..., 3, 3)``, is finite,
+    symmetric, positive definite (or semi-definite if ``allow_singular``) and that
+    its principal moments ``A <= B <= C`` satisfy the triangle inequality
+    ``A + B >= C`` (the cyclic ones, ``B + C >= A`` and ``C + A >= B``, then hold
+    automatically). Each check allows ``atol + rtol * max|J_ij|``.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (..., 3, 3)
+        Inertia tensor(s) about some point, in some axes.
+    name : str, optional
+        Argument name used in error messages.
+    rtol, atol : float, optional
+        Relative (to the largest entry) and absolute tolerances. Defaults
+        ``1e-9`` and ``0``.
+    allow_singular : bool, optional
+        Accept a zero principal moment (a thin rod, a point mass, a plane figure's
+        limit). Default ``False``: positive definite, as the Euler equations need.
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``(J + J^T) / 2`` as float64.
+
+    Raises
+    ------
+    InvalidInputError
+        Naming the argument and the condition that failed (shape, finiteness,
+        symmetry, definiteness, or the triangle inequality).
+
+    Notes
+    -----
+    The principal moments of any mass distribution obey ``A + B >= C`` since
+    ``A + B - C = 2 int z^2 dm >= 0`` in principal axes (SPEC S8); equality holds
+    for plane figures in the ``xy`` plane.
+
+    **Convention:** any consistent units; the axes and point do not matter.
+
+    Examples
+    --------
+    >>> from poinsot.mass import check_inertia
+    >>> check_inertia([[2.0, 0, 0], [0, 3.0, 0], [0, 0, 4.0]]).diagonal()
+    array([2., 3., 4.])
+    >>> check_inertia([[1.0, 0, 0], [0, 1.0, 0], [0, 0, 3.0]])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+        ...
+    poinsot.errors.InvalidInputError: `inertia` is not a physical inertia tensor: ... A + B >= C ...
+    """
+    j = as_matrix3(inertia, name)
+    scale = np.max(np.abs(j), axis=(-2, -1))
+    tol = _tolerance(scale, rtol, atol)
+    asym = np.max(np.abs(j - _transpose(j)), axis=(-2, -1))
+    bad = asym > tol
+    if np.any(bad):
+        tol_b = np.broadcast_to(tol, bad.shape)
+        raise InvalidInputError(
+            f"Expected `{name}` to be symmetric{_where(bad)}, got max |J - J^T| = "
+            f"{_first(asym, bad):.3g} (tolerance {_first(tol_b, bad):.3g})."
+        )
+    js = 0.5 * (j + _transpose(j))
+    moments = np.linalg.eigvalsh(js)
+    _check_moments(moments, tol, name, allow_singular, "inertia tensor")
+    return js
+
+
+def check_principal_moments(
+    moments,
+    name: str = "moments",
+    *,
+    rtol: float = RTOL,
+    atol: float = 0.0,
+    allow_singular: bool = False,
+) -> np.ndarray:
+    """Validate principal moments ``(A, B, C)`` (any order) and return them as floats.
+
+    Same physical conditions as :func:`check_inertia` (positive, and
+    ``A + B >= C`` for every ordering), for a diagonal tensor given by its
+    diagonal.
+
+    Parameters
+    ----------
+    moments : array_like, shape (..., 3)
+        Principal moments of inertia, in any order.
+    name : str, optional
+        Argument name used in error messages.
+    rtol, atol : float, optional
+        Relative (to the largest moment) and absolute tolerances.
+    allow_singular : bool, optional
+        Accept a zero moment.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        The moments as float64, in the order given.
+
+    Notes
+    -----
+    **Convention:** principal axes; any consistent units (SPEC S8).
+
+    Examples
+    --------
+    >>> from poinsot.mass import check_principal_moments
+    >>> check_principal_moments([3.0, 1.0, 2.0])
+    array([3., 1., 2.])
+    """
+    m = as_trailing(moments, name, (3,))
+    tol = _tolerance(np.max(np.abs(m), axis=-1), rtol, atol)
+    _check_moments(np.sort(m, axis=-1), tol, name, allow_singular, "set of principal moments")
+    return m
+
+
+def _as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
+    """``S`` (..., 3, 3) from a :class:`~poinsot.Rotation` or a proper orthogonal matrix."""
+    if isinstance(rotation, Rotation):
+        return np.asarray(rotation.as_matrix(), dtype=np.float64)
+    s = as_matrix3(rotation, name)
+    err = np.max(np.abs(_transpose(s) @ s - np.eye(3)), axis=(-2, -1))
+    bad = err > 1e-9
+    if np.any(bad):
+        raise InvalidInputError(
+            f"Expected `{name}` to be a rotation matrix (S^T S = E){_where(bad)}, "
+            f"got max |S^T S - E| = {_first(err, bad):.3g}."
+        )
+    det = np.linalg.det(s)
+    bad = det < 0
+    if np.any(bad):
+        raise InvalidInputError(
+            f"Expected `{name}` to be a proper rotation matrix (det +1){_where(bad)}, "
+            f"got det = {_first(det, bad):.6g}."
+        )
+    return s
+
+
+# ---------------------------------------------------------------------------
+# Public functions
+# ---------------------------------------------------------------------------
+
+
+def points(masses, positions) -> np.ndarray:
+    """Inertia tensor of point masses about the origin.
+
+    ``J_O = sum_k m_k (rho_k^T rho_k E - rho_k rho_k^T)`` (SPEC S8).
+
+    Parameters
+    ----------
+    masses : array_like, shape (..., n)
+        Positive point masses.
+    positions : array_like, shape (..., n, 3)
+        Their positions relative to the origin ``O``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        Inertia about ``O`` in the axes of ``positions`` (positive semi-definite:
+        collinear points have a zero moment about their line).
+
+    Notes
+    -----
+    **Convention:** ``positions`` and the result share the same axes; any
+    consistent units. The centre of mass is ``sum m rho / sum m``; see
+    :meth:`RigidBody.from_points` for the inertia about it.
+
+    Examples
+    --------
+    >>> from poinsot.mass import points
+    >>> points([1.0, 1.0], [[1.0, 0, 0], [-1.0, 0, 0]]).diagonal()
+    array([0., 2., 2.])
+    """
+    m = as_positive(masses, "masses")
+    r = as_trailing(positions, "positions", (None, 3))
+    if m.ndim == 0:
+        raise InvalidInputError(f"Expected `masses` to have shape (..., n), got {m.shape}.")
+    if m.shape[-1] != r.shape[-2]:
+        raise InvalidInputError(
+            f"Expected `masses` (..., n) and `positions` (..., n, 3) to have the same n, "
+            f"got {m.shape[-1]} and {r.shape[-2]}."
+        )
+    return _steiner(m, r).sum(axis=-3)
+
+
+def parallel_axis(inertia_cm, mass, offset) -> np.ndarray:
+    """Huygens-Steiner: inertia about the point at ``offset`` from the centre of mass.
+
+    ``J_O = J_C + m (a^T a E - a a^T)`` with ``a = offset`` (SPEC S8); about an
+    axis, ``J_Oe = J_Ce + m d^2``.
+
+    Parameters
+    ----------
+    inertia_cm : array_like, shape (..., 3, 3)
+        Inertia about the centre of mass ``C``.
+    mass : array_like, shape (...)
+        Mass, > 0.
+    offset : array_like, shape (..., 3)
+        Position of the new point ``O`` relative to ``C`` (the vector ``CO``; the
+        sign does not matter), in the same axes as ``inertia_cm``.
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        Inertia about ``O``, same axes.
+
+    Notes
+    -----
+    **Convention:** one set of axes for all arguments; any consistent units.
+    Inverse: :func:`to_center_of_mass`.
+
+    Examples
+    --------
+    >>> from poinsot.mass import parallel_axis, rod
+    >>> # a thin rod about its end: m L^2 / 3
+    >>> parallel_axis(rod(3.0, 2.0), 3.0, [0, 0, 1.0]).diagonal()
+    array([4., 4., 0.])
+    """
+    j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
+    m = as_positive(mass, "mass")
+    a = as_vec3(offset, "offset")
+    return j + _steiner(m, a)
+
+
+def to_center_of_mass(inertia_o, mass, offset) -> np.ndarray:
+    """Inverse Huygens-Steiner: inertia about the centre of mass from that about ``O``.
+
+    ``J_C = J_O - m (a^T a E - a a^T)`` with ``a`` the position of ``O``
+    relative to ``C`` (SPEC S8).
+
+    Parameters
+    ----------
+    inertia_o : array_like, shape (..., 3, 3)
+        Inertia about the point ``O``.
+    mass : array_like, shape (...)
+        Mass, > 0.
+    offset : array_like, shape (..., 3)
+        Position of ``O`` relative to the centre of mass (the sign does not matter).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        Inertia about the centre of mass, same axes.
+
+    Raises
+    ------
+    InvalidInputError
+        If the result is not a physical inertia tensor: ``inertia_o``, ``mass``
+        and ``offset`` cannot describe one body.
+
+    Notes
+    -----
+    **Convention:** one set of axes for all arguments; any consistent units.
+
+    Examples
+    --------
+    >>> from poinsot.mass import to_center_of_mass
+    >>> to_center_of_mass([[4.0, 0, 0], [0, 4.0, 0], [0, 0, 0]], 3.0, [0, 0, 1.0]).diagonal()
+    array([1., 1., 0.])
+    """
+    j = check_inertia(inertia_o, "inertia_o", allow_singular=True)
+    m = as_positive(mass, "mass")
+    a = as_vec3(offset, "offset")
+    jc = j - _steiner(m, a)
+    scale = np.max(np.abs(j), axis=(-2, -1))
+    try:
+        _check_moments(np.linalg.eigvalsh(jc), RTOL * scale, "inertia_o", True, "inertia tensor")
+    except InvalidInputError as exc:
+        raise InvalidInputError(
+            "`inertia_o`, `mass` and `offset` are inconsistent: the inertia about the centre "
+            f"of mass would not be physical. {exc}"
+        ) from None
+    return jc
+
+
+def rotate_inertia(inertia, rotation) -> np.ndarray:
+    """Express an inertia tensor in new axes: ``J_b = S^T J_a S`` (SPEC S8).
+
+    Parameters
+    ----------
+    inertia : array_like, shape (..., 3, 3)
+        ``J_a``, the tensor in the old axes ``a``.
+    rotation : Rotation or array_like, shape (..., 3, 3)
+        ``S = C_ab``: the new axes ``b`` relative to the old axes ``a``. Its matrix
+        columns are the new axes written in the old basis (``v_a = S v_b``). A
+        matrix must be proper orthogonal (``S^T S = E``, ``det S = +1``).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``J_b``, the same tensor (same body, same point) in the new axes.
+
+    Notes
+    -----
+    **Convention:** with a body ``b`` whose attitude relative to frame ``a`` is
+    ``R = C_ab`` (body -> frame components), ``rotate_inertia(J_a, R)`` gives the
+    body-axes tensor and ``rotate_inertia(J_b, R.inv())`` the frame-axes one,
+    ``J_a = R J_b R^T``. :func:`principal_axes` returns the ``R`` for which
+    ``rotate_inertia(J, R)`` is diagonal.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot import Rotation
+    >>> from poinsot.mass import rotate_inertia
+    >>> s = Rotation.from_axis_angle([0, 0, 1.0], np.pi / 2)   # new x = old y
+    >>> rotate_inertia(np.diag([1.0, 2.0, 3.0]), s).diagonal().round(12)
+    array([2., 1., 3.])
+    """
+    j = check_inertia(inertia, allow_singular=True)
+    s = _as_rotation_matrix(rotation)
+    return _transpose(s) @ j @ s
+
+
+def moment_about(inertia, axis) -> np.ndarray:
+    """Moment of inertia about an axis through the tensor's point: ``J_e = e^T J e``.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (..., 3, 3)
+        Inertia about a point ``O``.
+    axis : array_like, shape (..., 3)
+        Direction of the axis through ``O`` (normalised here; must be non-zero).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        The moment ``e^T J e`` (SPEC S8).
+
+    Notes
+    -----
+    **Convention:** ``axis`` in the axes of ``inertia``.
+
+    Examples
+    --------
+    >>> from poinsot.mass import box, moment_about
+    >>> float(moment_about(box(12.0, 1.0, 1.0, 1.0), [1.0, 1.0, 1.0]).round(12))
+    2.0
+    """
+    j = check_inertia(inertia, allow_singular=True)
+    v = as_vec3(axis, "axis")
+    n = np.linalg.norm(v, axis=-1)
+    if np.any(n == 0.0):
+        raise InvalidInputError("Expected `axis` to be a non-zero vector, got a zero vector.")
+    e = v / n[..., None]
+    return np.einsum("...i,...ij,...j->...", e, j, e)
+
+
+def _principal(j):
+    """Kernel: ascending moments and a proper rotation matrix of principal axes (columns)."""
+    w, v = np.linalg.eigh(j)
+    v = np.array(v, copy=True)
+    for k in (0, 1):
+        col = v[..., :, k]
+        idx = np.argmax(np.abs(col), axis=-1)[..., None]
+        sign = np.where(np.take_along_axis(col, idx, axis=-1) < 0, -1.0, 1.0)
+        v[..., :, k] = col * sign
+    v[..., :, 2] = np.cross(v[..., :, 0], v[..., :, 1])
+    return w, v
+
+
+def principal_axes(inertia):
+    """Principal moments (ascending) and principal axes as a proper rotation.
+
+    Solves ``S^T J S = diag(A, B, C)``, ``A <= B <= C`` (SPEC S8).
+
+    Parameters
+    ----------
+    inertia : array_like, shape (..., 3, 3)
+        A physical inertia tensor (positive semi-definite allowed).
+
+    Returns
+    -------
+    moments : ndarray, shape (..., 3)
+        Principal moments ``A <= B <= C``.
+    rotation : Rotation, shape (...)
+        ``S = C_ab`` from the input axes ``a`` to the principal axes ``b``: the
+        columns of ``rotation.as_matrix()`` are the principal axes written in the
+        input axes, ``det = +1``, and
+        ``S.T @ J @ S == diag(moments)`` (so ``rotate_inertia(J, rotation)`` is
+        diagonal).
+
+    Notes
+    -----
+    The axes come from ``numpy.linalg.eigh`` (LAPACK ``syevd``), which returns
+    an orthonormal basis even for repeated moments. Each axis is defined up to
+    sign; the first two columns are made deterministic (their largest-magnitude
+    component is positive) and the third is their cross product, which makes the
+    matrix proper. For repeated moments (a sphere, a cube, a symmetric top) any
+    orthonormal basis of the degenerate eigenspace is valid and one of them is
+    returned; only the diagonalisation is guaranteed, not a particular basis.
+
+    **Convention:** the moments are in the input's units; the rotation maps
+    principal-axis components to input-axis components (``v_a = S v_b``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.mass import principal_axes
+    >>> moments, rot = principal_axes(np.diag([3.0, 1.0, 2.0]))
+    >>> moments
+    array([1., 2., 3.])
+    >>> rot.as_matrix().round(12) + 0.0
+    array([[0., 0., 1.],
+           [1., 0., 0.],
+           [0., 1., 0.]])
+    """
+    j = check_inertia(inertia, allow_singular=True)
+    w, v = _principal(j)
+    return w, Rotation.from_matrix(v)
+
+
+def inertia_ellipsoid(inertia):
+    """Semi-axes and orientation of the inertia ellipsoid ``r^T J r = 1`` (SPEC S8).
+
+    In principal axes the ellipsoid is ``A x^2 + B y^2 + C z^2 = 1``; the point
+    on an axis ``e`` is ``r = e / sqrt(J_e)``.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (..., 3, 3)
+        A positive definite inertia tensor about a point ``O`` (the ellipsoid's
+        centre).
+
+    Returns
+    -------
+    semi_axes : ndarray, shape (..., 3)
+        ``1 / sqrt(moments)`` in **descending** order: the ``k``-th semi-axis lies
+        along the ``k``-th principal axis of :func:`principal_axes` (the longest
+        along the axis of smallest moment).
+    rotation : Rotation, shape (...)
+        The principal axes, as returned by :func:`principal_axes`.
+
+    Notes
+    -----
+    **Convention:** lengths in ``1 / sqrt(inertia units)``; the rotation maps
+    ellipsoid (principal) axes to input axes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.mass import inertia_ellipsoid
+    >>> semi, rot = inertia_ellipsoid(np.diag([4.0, 1.0, 4.0]))
+    >>> semi
+    array([1. , 0.5, 0.5])
+    """
+    j = check_inertia(inertia)
+    w, v = _principal(j)
+    return 1.0 / np.sqrt(w), Rotation.from_matrix(v)
