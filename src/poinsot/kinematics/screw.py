@@ -14,7 +14,7 @@ the result (screw, rotation, translation or rest).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -276,7 +276,8 @@ def reduce_motions(
         if slide <= tol_v:
             kind = "rotation"
             # drop the rounding-level slide: the axis of a rotation has parameter 0
-            screw = _screw(velocity - (velocity @ omega) / wn**2 * omega, omega, pole)
+            axis = _screw(velocity - (velocity @ omega) / wn**2 * omega, omega, pole)
+            screw = replace(axis, parameter=np.zeros(()), min_speed=np.zeros(()))
         else:
             kind = "screw"
             screw = _screw(velocity, omega, pole)
