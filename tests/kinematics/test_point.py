@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from poinsot.errors import InvalidInputError, InvalidTypeError, SingularityWarning
-from poinsot.kinematics.point import FrenetFrame, fd_weights, frenet
+from poinsot.kinematics.angular_velocity import _fornberg
+from poinsot.kinematics.point import FrenetFrame, frenet
 
 A, B = 2.0, 0.7
 
@@ -182,7 +183,7 @@ def test_straight_and_stationary_points_warn():
 
 def test_fd_weights_uniform_textbook():
     """Classical central weights: (1, -8, 0, 8, -1)/12 and (-1, 16, -30, 16, -1)/12."""
-    c = fd_weights(np.arange(-2.0, 3.0), 2)
+    c = _fornberg(0.0, np.arange(-2.0, 3.0), 2)  # the kernel frenet uses
     np.testing.assert_allclose(c[:, 1] * 12, [1, -8, 0, 8, -1], atol=1e-13)
     np.testing.assert_allclose(c[:, 2] * 12, [-1, 16, -30, 16, -1], atol=1e-13)
     np.testing.assert_allclose(c[:, 0], [0, 0, 1, 0, 0], atol=1e-15)

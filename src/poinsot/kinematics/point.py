@@ -7,7 +7,8 @@ binormal ``B``, the curvature ``kappa = 1/rho``, the torsion ``tau``, the speed
 ``w = v' T + (v^2 / rho) N``.
 
 Derivatives come from finite differences with weights computed for the actual
-nodes by Fornberg's algorithm (B. Fornberg, *Calculation of weights in finite
+nodes by Fornberg's algorithm (the kernel shared with
+:func:`poinsot.kinematics.angular_velocity`) (B. Fornberg, *Calculation of weights in finite
 difference formulas*, SIAM Rev. 40 (1998) 685-691), or from exact derivative
 callables when the caller has them.
 """
@@ -22,6 +23,7 @@ import numpy as np
 
 from .._validate import as_float_array, as_times, is_integer
 from ..errors import InvalidInputError, SingularityWarning
+from .angular_velocity import _fornberg
 
 __all__ = ["FrenetFrame", "frenet"]
 
@@ -91,44 +93,6 @@ class FrenetFrame:
         return np.divide(1.0, k, out=np.full_like(k, np.inf), where=k > 0)
 
 
-# ---------------------------------------------------------------------------
-# Finite-difference weights (Fornberg 1998), vectorised over evaluation points
-# ---------------------------------------------------------------------------
-
-
-def fd_weights(x: np.ndarray, m: int) -> np.ndarray:
-    """Finite-difference weights at 0 for nodes ``x`` (shape ``(..., w)``).
-
-    Returns ``c`` of shape ``(..., w, m + 1)``: ``f^(k)(0) ~ sum_j c[..., j, k] f(x_j)``
-    for ``k = 0..m``, exact for polynomials of degree ``< w``. Fornberg's
-    recursion, batched over the leading axes. Internal (no validation).
-    """
-    x = np.moveaxis(np.asarray(x, dtype=np.float64), -1, 0)  # (w, ...)
-    w = x.shape[0]
-    batch = x.shape[1:]
-    c = np.zeros((w, m + 1, *batch))
-    c[0, 0] = 1.0
-    c1 = np.ones(batch)
-    c4 = x[0]
-    for i in range(1, w):
-        mn = min(i, m)
-        c2 = np.ones(batch)
-        c5 = c4
-        c4 = x[i]
-        for j in range(i):
-            c3 = x[i] - x[j]
-            c2 = c2 * c3
-            if j == i - 1:
-                for k in range(mn, 0, -1):
-                    c[i, k] = c1 * (k * c[i - 1, k - 1] - c5 * c[i - 1, k]) / c2
-                c[i, 0] = -c1 * c5 * c[i - 1, 0] / c2
-            for k in range(mn, 0, -1):
-                c[j, k] = (c4 * c[j, k] - k * c[j, k - 1]) / c3
-            c[j, 0] = c4 * c[j, 0] / c3
-        c1 = c2
-    return np.moveaxis(np.moveaxis(c, 0, -1), 0, -1)  # (..., w, m+1)
-
-
 def _sample_derivatives(t: np.ndarray, r: np.ndarray, stencil: int):
     """Derivatives 0..3 of samples ``r`` (shape (n, ..., d)) and rounding bounds."""
     n = t.size
@@ -136,7 +100,7 @@ def _sample_derivatives(t: np.ndarray, r: np.ndarray, stencil: int):
     idx = start[:, None] + np.arange(stencil)  # (n, w)
     x = t[idx] - t[:, None]
     h = x[:, -1] - x[:, 0]  # stencil width, > 0
-    c = fd_weights(x / h[:, None], 3)  # (n, w, 4), nodes scaled to O(1)
+    c = _fornberg(0.0, x / h[:, None], 3)  # (n, w, 4), nodes scaled to O(1)
     c = c / h[:, None, None] ** np.arange(4)
     nodes = r[idx]  # (n, w, ..., d)
     d = np.einsum("njk,nj...->kn...", c, nodes)  # (4, n, ..., d)
@@ -373,7 +337,7 @@ def _frenet_callable(t, r, derivatives, step, rtol) -> FrenetFrame:
     if not step > 0:
         raise InvalidInputError(f"Expected `step` to be positive, got {step!r}.")
     offsets = step * np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1, dtype=np.float64)
-    c = fd_weights(np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1.0), 3)
+    c = _fornberg(0.0, np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1.0), 3)
     c = c / step ** np.arange(4)  # (w, 4)
     nodes = _eval_curve(r, t[..., None] + offsets, "r")  # (..., w, 3)
     d = np.einsum("jk,...jd->k...d", c, nodes)
