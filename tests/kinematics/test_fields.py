@@ -388,8 +388,16 @@ def test_plot_acceleration_terms_smoke(tmp_path):
     ax2 = plot_acceleration_terms(t, {"a": np.ones((20, 3))}, component=2, ax=ax)
     assert ax2 is ax
     ax.figure.savefig(tmp_path / "x.png")
+    ax3 = plot_acceleration_terms(t, m, component=m.velocity)  # projection on a moving vector
+    np.testing.assert_allclose(
+        ax3.get_lines()[3].get_ydata(), np.einsum("ni,ni->n", m.acceleration, m.velocity)
+    )
     with pytest.raises(InvalidInputError, match="`component`"):
         plot_acceleration_terms(t, m, component="w")
+    with pytest.raises(InvalidInputError, match=r"`component`.*\(20, 3\)"):
+        plot_acceleration_terms(t, m, component=[1, 0])
+    with pytest.raises(InvalidInputError, match="`component`"):
+        plot_acceleration_terms(t, m, component=True)
     with pytest.raises(InvalidInputError, match=r"`terms\['a'\]` to have shape \(20, 3\)"):
         plot_acceleration_terms(t, {"a": np.ones((19, 3))})
     with pytest.raises(InvalidInputError, match="`terms` to be a CompositeMotion"):
@@ -399,3 +407,23 @@ def test_plot_acceleration_terms_smoke(tmp_path):
     import matplotlib.pyplot as plt
 
     plt.close("all")
+
+
+def test_docs_disc_example(tmp_path):
+    """The docs' worked example runs, matches brute force, and its Coriolis
+    term is the hand result 2 Omega R omega_s sin(phi) e_r."""
+    import runpy
+    from pathlib import Path
+
+    pytest.importorskip("matplotlib")
+    path = Path(__file__).resolve().parents[2] / "docs" / "examples" / "disc_acceleration.py"
+    ns = runpy.run_path(str(path))
+    err = ns["main"](tmp_path / "disc.png")
+    assert (tmp_path / "disc.png").stat().st_size > 10_000
+    assert err < 1e-4
+    t = np.linspace(0, 2, 50)
+    m = ns["disc_motion"](t)
+    e_r = ns["basis"](t)[0]
+    omega = ns["OMEGA0"] + ns["ALPHA"] * t
+    expected = (2 * omega * ns["R"] * ns["OMEGA_S"] * np.sin(ns["OMEGA_S"] * t))[:, None] * e_r
+    np.testing.assert_allclose(m.coriolis_acceleration, expected, atol=1e-12)

@@ -9,7 +9,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .._validate import as_float_array, as_times
+from .._validate import as_float_array, as_times, is_integer
 from ..errors import InvalidInputError
 
 __all__ = ["plot_acceleration_terms"]
@@ -28,6 +28,22 @@ def _composite_terms(m) -> dict[str, np.ndarray]:
     }
 
 
+def _parse_component(component, n: int):
+    """(index, direction): index None = norm; direction an (n, 3) or (3,) array."""
+    if isinstance(component, str) or is_integer(component):
+        key = component if isinstance(component, str) else int(component)
+        if key in _COMPONENTS:
+            return _COMPONENTS[key], None
+    elif not isinstance(component, bool):
+        d = as_float_array(component, "component")
+        if d.shape in ((3,), (n, 3)):
+            return None, d
+    raise InvalidInputError(
+        "Expected `component` to be one of 'norm', 'x', 'y', 'z', 0, 1, 2 or a direction "
+        f"of shape (3,) or ({n}, 3), got {component!r}."
+    )
+
+
 def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
     """Plot the contributions to a point's acceleration against time.
 
@@ -41,8 +57,10 @@ def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
         accelerations and their sum (dashed); or any mapping label -> vectors.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on (default: a new figure).
-    component : {"norm", "x", "y", "z", 0, 1, 2}, optional
-        What to plot of each vector: its magnitude (default) or one component.
+    component : {"norm", "x", "y", "z", 0, 1, 2} or array_like, optional
+        What to plot of each vector: its magnitude (default), one Cartesian
+        component, or its projection ``W . d`` on a direction ``d`` of shape
+        (3,) or (n, 3) (e.g. a moving unit vector; not normalised here).
 
     Returns
     -------
@@ -67,11 +85,7 @@ def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
     array([2., 2., 2., 2., 2.])
     """
     t = as_times(t, "t")
-    if component not in _COMPONENTS or isinstance(component, bool):
-        raise InvalidInputError(
-            f"Expected `component` to be one of 'norm', 'x', 'y', 'z', 0, 1, 2, got {component!r}."
-        )
-    index = _COMPONENTS[component]
+    index, direction = _parse_component(component, t.size)
     if isinstance(terms, Mapping):
         named = dict(terms)
     elif all(hasattr(terms, a) for a in ("transport_acceleration", "coriolis_acceleration")):
@@ -91,7 +105,12 @@ def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
                 f"Expected `terms[{label!r}]` to have shape ({t.size}, 3) to match `t`, "
                 f"got {a.shape}."
             )
-        series[label] = np.linalg.norm(a, axis=-1) if index is None else a[:, index]
+        if direction is not None:
+            series[label] = np.einsum("ni,ni->n", a, np.broadcast_to(direction, a.shape))
+        elif index is None:
+            series[label] = np.linalg.norm(a, axis=-1)
+        else:
+            series[label] = a[:, index]
 
     import matplotlib.pyplot as plt
 
@@ -100,7 +119,10 @@ def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
     for label, y in series.items():
         dashed = label.startswith("total")
         ax.plot(t, y, label=label, ls="--" if dashed else "-", lw=1.2 if dashed else 1.8)
-    what = "magnitude" if index is None else "xyz"[index] + " component"
+    if direction is not None:
+        what = "projection on the given direction"
+    else:
+        what = "magnitude" if index is None else "xyz"[index] + " component"
     ax.set_xlabel("t")
     ax.set_ylabel(f"acceleration ({what})")
     ax.grid(True, alpha=0.3)
