@@ -219,15 +219,17 @@ def test_errors_samples():
         frenet(t, r, stencil=5.0)
     with pytest.raises(InvalidInputError, match="`derivatives` only with a callable"):
         frenet(t, r, derivatives=helix_derivs())
-    with pytest.raises(InvalidInputError, match="`rtol` to be non-negative"):
+    with pytest.raises(InvalidInputError, match="`rtol` to be a non-negative number"):
         frenet(t, r, rtol=-1)
     with pytest.raises(InvalidTypeError, match="`r`"):
         frenet(t, "helix")
 
 
 def test_errors_callable():
-    with pytest.raises(InvalidInputError, match="`step` to be positive"):
+    with pytest.raises(InvalidInputError, match="`step` to be a positive number"):
         frenet(1.0, helix, step=0)
+    with pytest.raises(InvalidInputError, match="`step` to be a positive number"):
+        frenet(1.0, helix, step=[0.1, 0.2])
     with pytest.raises(InvalidInputError, match="Calling `r`.*failed"):
         frenet(1.0, lambda s: float(s))
     with pytest.raises(InvalidInputError, match=r"`r\(t\)` to return shape"):

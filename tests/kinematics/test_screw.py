@@ -249,3 +249,7 @@ def test_reduce_errors():
         reduce_motions([], [], pole=np.zeros((2, 3)))
     with pytest.raises(InvalidTypeError, match="`rtol`"):
         reduce_motions([], [], rtol="x")
+    with pytest.raises(InvalidInputError, match="`atol` to be a non-negative number"):
+        reduce_motions([], [], atol=-1.0)
+    with pytest.raises(InvalidInputError, match="`atol` to be a non-negative number"):
+        screw_axis([0, 0, 1], [0, 0, 1], atol=[1e-9, 1e-9])

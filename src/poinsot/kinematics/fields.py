@@ -27,7 +27,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .._validate import as_vec3
+from .._validate import as_float_array, as_vec3
 from ..errors import InvalidInputError
 
 __all__ = [
@@ -79,6 +79,16 @@ def _vectors(**named) -> list[np.ndarray]:
     arrays = {k: as_vec3(v, k) for k, v in named.items()}
     _broadcast_shape(arrays)
     return list(arrays.values())
+
+
+def _scalar(x, name: str, *, strict: bool = False) -> float:
+    """A real scalar that must be >= 0 (> 0 if ``strict``), e.g. a tolerance or a step."""
+    a = as_float_array(x, name)
+    ok = a.ndim == 0 and (a > 0 if strict else a >= 0)
+    if not ok:
+        word = "positive" if strict else "non-negative"
+        raise InvalidInputError(f"Expected `{name}` to be a {word} number, got {x!r}.")
+    return float(a)
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:

@@ -24,6 +24,7 @@ import numpy as np
 from .._validate import as_float_array, as_times, is_integer
 from ..errors import InvalidInputError, SingularityWarning
 from .angular_velocity import _fornberg
+from .fields import _scalar
 
 __all__ = ["FrenetFrame", "frenet"]
 
@@ -283,9 +284,7 @@ def frenet(
     >>> bool(np.allclose(f.curvature, 0.4, atol=1e-6))
     True
     """
-    rtol = float(as_float_array(rtol, "rtol"))
-    if rtol < 0:
-        raise InvalidInputError(f"Expected `rtol` to be non-negative, got {rtol!r}.")
+    rtol = _scalar(rtol, "rtol")
     if callable(r):
         return _frenet_callable(t, r, derivatives, step, rtol)
     if derivatives is not None:
@@ -333,9 +332,7 @@ def _frenet_callable(t, r, derivatives, step, rtol) -> FrenetFrame:
         )
         zero = np.zeros(t.shape)
         return _frenet_kernel(t, pos, v, a, j, zero, zero, rtol)
-    step = float(as_float_array(step, "step"))
-    if not step > 0:
-        raise InvalidInputError(f"Expected `step` to be positive, got {step!r}.")
+    step = _scalar(step, "step", strict=True)
     offsets = step * np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1, dtype=np.float64)
     c = _fornberg(0.0, np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1.0), 3)
     c = c / step ** np.arange(4)  # (w, 4)

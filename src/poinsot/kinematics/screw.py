@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validate import as_float_array, as_vec3
 from ..errors import InvalidInputError
-from .fields import _broadcast_shape
+from .fields import _broadcast_shape, _scalar
 
 __all__ = ["Screw", "screw_axis", "ReducedMotion", "reduce_motions"]
 
@@ -129,7 +129,7 @@ def screw_axis(v0, omega, *, origin=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -
     omega = as_vec3(omega, "omega")
     origin = as_vec3(origin, "origin")
     _broadcast_shape({"v0": v0, "omega": omega, "origin": origin})
-    atol = float(as_float_array(atol, "atol"))
+    atol = _scalar(atol, "atol")
     wn = np.sqrt(np.einsum("...i,...i->...", omega, omega))
     if np.any(wn <= atol):
         raise InvalidInputError(
@@ -242,8 +242,8 @@ def reduce_motions(
     ('rotation', array([1., 1., 0.]))
     """
     pole = _as_single(pole, "pole")
-    rtol = float(as_float_array(rtol, "rtol"))
-    atol = float(as_float_array(atol, "atol"))
+    rtol = _scalar(rtol, "rtol")
+    atol = _scalar(atol, "atol")
     omega = np.zeros(3)
     velocity = np.zeros(3)
     w_scale = 0.0
