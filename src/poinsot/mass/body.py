@@ -20,7 +20,7 @@ import numpy as np
 from .._validate import as_positive, as_vec3
 from ..errors import InvalidInputError, InvalidTypeError
 from . import solids
-from .tensor import _as_rotation_matrix, _principal, _steiner, _transpose, check_inertia
+from .tensor import _as_rotation_matrix, _steiner, _transpose, check_inertia
 from .tensor import points as _points
 from .tensor import principal_axes as _principal_axes
 
@@ -389,7 +389,7 @@ class RigidBody:
 
     def principal_moments(self) -> np.ndarray:
         """Principal moments ``A <= B <= C`` of the central inertia, shape (..., 3)."""
-        return _principal(self.inertia)[0]
+        return np.linalg.eigvalsh(self.inertia)
 
     def kinetic_energy(self, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (body axes; see :func:`kinetic_energy`)."""

@@ -81,15 +81,17 @@ def _check_closed(f: np.ndarray, n: int) -> None:
     """Each directed edge once, and its reverse present: closed and consistently oriented."""
     tail = f.ravel()
     head = np.roll(f, -1, axis=1).ravel()
-    key = tail * n + head
-    uniq, counts = np.unique(key, return_counts=True)
-    if np.any(counts > 1):
-        k = int(uniq[np.argmax(counts > 1)])
+    keys = np.sort(tail * n + head)
+    dup = keys[1:] == keys[:-1]
+    if np.any(dup):
+        k = int(keys[np.argmax(dup)])
         raise InvalidInputError(
             "Expected `faces` to be consistently oriented (each edge traversed once in each "
             f"direction), but edge ({k // n}, {k % n}) is traversed twice in the same direction."
         )
-    missing = ~np.isin(head * n + tail, uniq)
+    rev = head * n + tail
+    idx = np.minimum(np.searchsorted(keys, rev), keys.size - 1)
+    missing = keys[idx] != rev
     if np.any(missing):
         k = int(np.argmax(missing))
         raise InvalidInputError(

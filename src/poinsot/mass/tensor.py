@@ -109,6 +109,28 @@ def _tolerance(scale, rtol, atol):
 # ---------------------------------------------------------------------------
 
 
+def _validated(inertia, name, rtol=RTOL, atol=0.0, allow_singular=False, vectors=False):
+    """:func:`check_inertia`, also returning the ascending moments (and eigenvectors)."""
+    j = as_matrix3(inertia, name)
+    scale = np.max(np.abs(j), axis=(-2, -1))
+    tol = _tolerance(scale, rtol, atol)
+    asym = np.max(np.abs(j - _transpose(j)), axis=(-2, -1))
+    bad = asym > tol
+    if np.any(bad):
+        tol_b = np.broadcast_to(tol, bad.shape)
+        raise InvalidInputError(
+            f"Expected `{name}` to be symmetric{_where(bad)}, got max |J - J^T| = "
+            f"{_first(asym, bad):.3g} (tolerance {_first(tol_b, bad):.3g})."
+        )
+    js = 0.5 * (j + _transpose(j))
+    if vectors:
+        moments, axes = np.linalg.eigh(js)
+    else:
+        moments, axes = np.linalg.eigvalsh(js), None
+    _check_moments(moments, tol, name, allow_singular, "inertia tensor")
+    return js, moments, axes
+
+
 def check_inertia(
     inertia,
     name: str = "inertia",
@@ -167,21 +189,7 @@ def check_inertia(
         ...
     poinsot.errors.InvalidInputError: `inertia` is not a physical inertia tensor: ... A + B >= C ...
     """
-    j = as_matrix3(inertia, name)
-    scale = np.max(np.abs(j), axis=(-2, -1))
-    tol = _tolerance(scale, rtol, atol)
-    asym = np.max(np.abs(j - _transpose(j)), axis=(-2, -1))
-    bad = asym > tol
-    if np.any(bad):
-        tol_b = np.broadcast_to(tol, bad.shape)
-        raise InvalidInputError(
-            f"Expected `{name}` to be symmetric{_where(bad)}, got max |J - J^T| = "
-            f"{_first(asym, bad):.3g} (tolerance {_first(tol_b, bad):.3g})."
-        )
-    js = 0.5 * (j + _transpose(j))
-    moments = np.linalg.eigvalsh(js)
-    _check_moments(moments, tol, name, allow_singular, "inertia tensor")
-    return js
+    return _validated(inertia, name, rtol, atol, allow_singular)[0]
 
 
 def check_principal_moments(
@@ -465,6 +473,11 @@ def moment_about(inertia, axis) -> np.ndarray:
 def _principal(j):
     """Kernel: ascending moments and a proper rotation matrix of principal axes (columns)."""
     w, v = np.linalg.eigh(j)
+    return w, _proper_axes(v)
+
+
+def _proper_axes(v):
+    """Deterministic signs for eigenvector columns, third = first x second (det +1)."""
     v = np.array(v, copy=True)
     for k in (0, 1):
         col = v[..., :, k]
@@ -472,7 +485,7 @@ def _principal(j):
         sign = np.where(np.take_along_axis(col, idx, axis=-1) < 0, -1.0, 1.0)
         v[..., :, k] = col * sign
     v[..., :, 2] = np.cross(v[..., :, 0], v[..., :, 1])
-    return w, v
+    return v
 
 
 def principal_axes(inertia):
@@ -521,9 +534,8 @@ def principal_axes(inertia):
            [1., 0., 0.],
            [0., 1., 0.]])
     """
-    j = check_inertia(inertia, allow_singular=True)
-    w, v = _principal(j)
-    return w, Rotation.from_matrix(v)
+    _, w, v = _validated(inertia, "inertia", allow_singular=True, vectors=True)
+    return w, Rotation.from_matrix(_proper_axes(v))
 
 
 def inertia_ellipsoid(inertia):
@@ -560,6 +572,5 @@ def inertia_ellipsoid(inertia):
     >>> semi
     array([1. , 0.5, 0.5])
     """
-    j = check_inertia(inertia)
-    w, v = _principal(j)
-    return 1.0 / np.sqrt(w), Rotation.from_matrix(v)
+    _, w, v = _validated(inertia, "inertia", vectors=True)
+    return 1.0 / np.sqrt(w), Rotation.from_matrix(_proper_axes(v))
