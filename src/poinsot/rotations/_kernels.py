@@ -193,21 +193,22 @@ def quat_to_euler(q, seq, dummy, angles, singular):  # pragma: no cover - compil
     half_diff = math.atan2(d, c)
     first = 0 if extrinsic else 2
     third = 2 if extrinsic else 0
+    tb_sign = 1.0 if symmetric else sign
     eps = 1e-7  # documented gimbal-lock threshold (rad)
-    if abs(mid) <= eps:
+    case1 = abs(mid) <= eps
+    case2 = abs(mid - math.pi) <= eps
+    if case1 or case2:
+        # Only the sum (case 1) or difference (case 2) of the outer angles is
+        # determined: the user's third angle is set to 0, the first holds it.
         singular[0] = 1.0
-        angles[first] = 2.0 * half_sum
-        angles[third] = 0.0
-    elif abs(mid - math.pi) <= eps:
-        singular[0] = 1.0
-        angles[first] = 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
-        angles[third] = 0.0
+        combined = 2.0 * half_sum if case1 else 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
+        angles[0] = combined if extrinsic else combined * tb_sign
+        angles[2] = 0.0
     else:
         singular[0] = 0.0
         angles[first] = half_sum - half_diff
-        angles[third] = half_sum + half_diff
+        angles[third] = (half_sum + half_diff) * tb_sign
     if not symmetric:
-        angles[third] *= sign
         mid -= 0.5 * math.pi
     angles[1] = mid
     for n in range(3):
