@@ -182,3 +182,40 @@ def test_rigid_body_errors():
         RigidBody(1.0, np.eye(3)).inertia_about([1.0])
     with pytest.raises(InvalidInputError, match=r"`rotation` to be a rotation matrix"):
         RigidBody(1.0, np.eye(3)).placed(np.ones((3, 3)))
+
+
+def test_against_sympy_physics_mechanics():
+    """Peer check: SymPy's inertia_of_point_mass, RigidBody.kinetic_energy and
+    RigidBody.angular_momentum (sympy.physics.mechanics) on the same data."""
+    pytest.importorskip("sympy")
+    from sympy.physics.mechanics import Point as SymPoint
+    from sympy.physics.mechanics import ReferenceFrame, inertia, inertia_of_point_mass
+    from sympy.physics.mechanics import RigidBody as SymBody
+
+    n = ReferenceFrame("N")
+    r = np.array([1.0, 2.0, 3.0])
+    sym = inertia_of_point_mass(2.0, r[0] * n.x + r[1] * n.y + r[2] * n.z, n).to_matrix(n)
+    np.testing.assert_allclose(points([2.0], [r]), np.array(sym, dtype=float), rtol=1e-14)
+
+    j_c = np.array([[2.0, 0.1, 0.2], [0.1, 3.0, -0.3], [0.2, -0.3, 4.0]])
+    m, r_oc = 1.5, np.array([1.0, -2.0, 0.5])
+    w, v_c = np.array([0.5, -0.7, 0.2]), np.array([0.3, 0.1, -0.2])
+
+    def vec(a):
+        return a[0] * n.x + a[1] * n.y + a[2] * n.z
+
+    o = SymPoint("O")
+    o.set_vel(n, 0)
+    c = o.locatenew("C", vec(r_oc))
+    c.set_vel(n, vec(v_c))
+    b = n.orientnew("B", "Axis", [0, n.z])
+    b.set_ang_vel(n, vec(w))
+    dyad = inertia(n, j_c[0, 0], j_c[1, 1], j_c[2, 2], j_c[0, 1], j_c[1, 2], j_c[2, 0])
+    body = SymBody("body", c, b, m, (dyad, c))
+    np.testing.assert_allclose(
+        kinetic_energy(m, j_c, w, v_c), float(body.kinetic_energy(n)), rtol=1e-14
+    )
+    k_sym = np.array(body.angular_momentum(o, n).to_matrix(n), dtype=float).ravel()
+    np.testing.assert_allclose(angular_momentum(m, j_c, w, v_c, r_oc), k_sym, rtol=1e-14)
+    ours = RigidBody(m, j_c, r_oc)
+    np.testing.assert_allclose(ours.angular_momentum(w, v_c), k_sym, rtol=1e-14)
