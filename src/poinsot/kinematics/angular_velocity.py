@@ -493,9 +493,9 @@ def rotation_spline(t, rotations, *, end_omega="estimate") -> RotationSpline:
             w_first, w_last = r[0] / dt[0], r[-1] / dt[-1]
         else:
             order = 4 if n >= 5 else 2
-            qc = _make_continuous(q)
-            ends = _angular_velocity(t, qc, "body", order)
-            w_first, w_last = ends[0], ends[-1]
+            m = order + 1  # the end stencils only involve the first / last m samples
+            w_first = _angular_velocity(t[:m], _make_continuous(q[:m]), "body", order)[0]
+            w_last = _angular_velocity(t[-m:], _make_continuous(q[-m:]), "body", order)[-1]
     else:
         ends = as_trailing(end_omega, "end_omega", (3,))
         if ends.shape != (2, 3):

@@ -85,8 +85,9 @@ def _dot(a, b):
 
 
 def _cross(a, b):
-    a, b = np.broadcast_arrays(a, b)
-    return np.cross(a, b)
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
 def _hat(w):
