@@ -142,6 +142,28 @@ def test_density_mass_and_to_body():
     np.testing.assert_allclose(body.center_of_mass, [1.0, 1.0, 1.0], atol=1e-12)
 
 
+def test_convex_hulls_against_qhull():
+    """Peer check: volume of random convex polyhedra against SciPy's ConvexHull (Qhull);
+    inertia is invariant under translation and rotates as S J S^T."""
+    from scipy.spatial import ConvexHull
+
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        p = rng.normal(size=(40, 3)) * [1.0, 2.0, 0.5]
+        hull = ConvexHull(p)
+        f = hull.simplices.copy()
+        # orient every face outwards (its normal away from the interior point)
+        centre = p[hull.vertices].mean(axis=0)
+        a, b, c = p[f[:, 0]], p[f[:, 1]], p[f[:, 2]]
+        inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a - centre) < 0
+        f[inward] = f[inward][:, ::-1]
+        props = mesh(p, f)
+        np.testing.assert_allclose(props.volume, hull.volume, rtol=1e-12)
+        s = SciRotation.random(random_state=rng.integers(1 << 30)).as_matrix()
+        moved = mesh(p @ s.T + rng.normal(size=3) * 100, f)
+        np.testing.assert_allclose(moved.inertia, s @ props.inertia @ s.T, rtol=1e-9, atol=1e-11)
+
+
 # -- errors --------------------------------------------------------------------------
 
 
