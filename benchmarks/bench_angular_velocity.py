@@ -54,9 +54,7 @@ def main():
         e_ours = np.abs(angular_velocity(t, q) - w).max()
         e_spl = np.abs(rotation_spline(t, q)(t, 1) - w).max()
         e_sci = np.abs(SciSpline(t, sr)(t, 1) - w).max()
-        rows.append(
-            (n, t_ours, t_spl, t_sci, t_sci / t_ours, t_sci / t_spl, e_ours, e_spl, e_sci)
-        )
+        rows.append((n, t_ours, t_spl, t_sci, t_sci / t_ours, t_sci / t_spl, e_ours, e_spl, e_sci))
     hdr = (
         f"{'n':>8} {'av [ms]':>9} {'spline':>9} {'scipy':>9} {'x av':>6} {'x spl':>6} "
         f"{'err av':>9} {'err spl':>9} {'err scipy':>9}"

@@ -362,6 +362,24 @@ class RotationSpline:
         Knot attitudes.
     coefficients : ndarray, shape (3, n - 1, 3)
         ``a, b, c`` of each interval (``c`` = body angular velocity at ``t_k``).
+
+    Notes
+    -----
+    **Convention:** ``R`` maps body to space components; ``omega(t)`` (rad/s)
+    and ``alpha(t)`` (rad/s^2) in body axes unless ``frame="space"``
+    (``alpha_x = R alpha_xi``).
+
+    Examples
+    --------
+    >>> import numpy as np, poinsot
+    >>> t = np.linspace(0.0, 1.0, 6)
+    >>> s = rotation_spline(t, poinsot.Rotation.from_rotvec(np.outer(t**2, [0, 0, 1.0])))
+    >>> s.rotation(0.5).as_rotvec().round(6) + 0.0      # angle t^2 about z
+    array([0.  , 0.  , 0.25])
+    >>> s.omega([0.5], frame="space").round(6) + 0.0    # 2 t
+    array([[0., 0., 1.]])
+    >>> s(0.5, 2).round(6) + 0.0                         # 2 rad/s^2
+    array([0., 0., 2.])
     """
 
     t: np.ndarray

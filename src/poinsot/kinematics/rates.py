@@ -12,16 +12,16 @@ moving axes) or ``"space"`` (``w_x``, the fixed axes); the two are related by
 ``w_x = C w_xi`` where ``C`` maps body components to space components (SPEC S2).
 Angular velocities are always in rad/s.
 
-============================  ====================================================
-representation                kinematic equation (body frame / space frame)
-============================  ====================================================
-quaternion ``L`` (S5)         ``L' = 1/2 L o w_xi``  /  ``L' = 1/2 w_x o L``
-direction cosines ``A`` (S5)  ``A' = A w_xi^``       /  ``A' = w_x^ A``
-Euler angles (S3)             ``w = M(angles) angles'``, any of the 12 sequences
-Gibbs ``g = e tan(f/2)``      ``g' = 1/2 (w + s g x w + (g.w) g)``
-MRP ``p = e tan(f/4)``        ``p' = 1/4 ((1 - p.p) w + 2 s p x w + 2 (p.w) p)``
-rotation vector ``phi = f e``  ``phi' = w + s/2 phi x w + c(f) phi x (phi x w)``
-============================  ====================================================
+================================  =================================================
+representation                    kinematic equation (body frame / space frame)
+================================  =================================================
+quaternion ``L`` (S5)             ``L' = 1/2 L o w_xi``  /  ``L' = 1/2 w_x o L``
+direction cosines ``A`` (S5)      ``A' = A w_xi^``       /  ``A' = w_x^ A``
+Euler angles (S3)                 ``w = M(angles) angles'``, any of the 12 sequences
+Gibbs ``g = e tan(f/2)``          ``g' = 1/2 (w + s g x w + (g.w) g)``
+MRP ``p = e tan(f/4)``            ``p' = 1/4 ((1 - p.p) w + 2 s p x w + 2 (p.w) p)``
+rotation vector ``phi = f e``     ``phi' = w + s/2 phi x w + c(f) phi x (phi x w)``
+================================  =================================================
 
 with ``s = +1`` for the body frame and ``s = -1`` for the space frame, and
 ``c(f) = (1 - (f/2) cot(f/2)) / f^2``.
