@@ -16,7 +16,7 @@ from typing import Any
 
 from ..errors import InvalidInputError
 
-__all__ = ["ScenarioError", "Table", "locate_keys"]
+__all__ = ["ScenarioError", "Table", "locate_keys", "suggest"]
 
 
 class ScenarioError(InvalidInputError):
@@ -117,6 +117,26 @@ def locate_keys(text: str) -> dict[str, int]:
                 where.setdefault(path, n)
             depth = _bracket_delta(line[m.end() :])
     return where
+
+
+def suggest(word: str, valid) -> list[str]:
+    """The closest valid word (difflib), or one that is a prefix of ``word`` or has it as
+    prefix (``quaternion`` -> ``quat``); empty if none is close.
+
+    >>> suggest("duraton", ["duration", "step"]), suggest("quaternion", ["quat", "euler"])
+    (['duration'], ['quat'])
+    """
+    valid = list(valid)
+    hint = difflib.get_close_matches(word, valid, n=1, cutoff=0.6)
+    if hint:
+        return hint
+    low = word.lower()
+    pref = [
+        v
+        for v in valid
+        if min(len(v), len(low)) >= 3 and (low.startswith(v.lower()) or v.lower().startswith(low))
+    ]
+    return pref[:1]
 
 
 def _describe(value: Any) -> str:
@@ -247,7 +267,7 @@ class Table:
         if not isinstance(v, str):
             raise self.expected(key, what, v)
         if choices is not None and v not in choices:
-            hint = difflib.get_close_matches(v, list(choices), n=1, cutoff=0.6)
+            hint = suggest(v, list(choices))
             extra = f' Did you mean "{hint[0]}"?' if hint else ""
             raise self.error(key, f"expected {what}, found {v!r}.{extra}")
         return v
@@ -346,12 +366,17 @@ class Table:
             if k in self.data:
                 raise self.error(k, f"not allowed here: {reason}.")
 
-    def finish(self, allowed=None) -> None:
+    def known(self, allowed) -> None:
+        """Raise on the first key not in ``allowed`` (checked before reading, so that a
+        misspelt required key is reported as a typo rather than as missing)."""
+        self.finish(allowed, only_unknown=True)
+
+    def finish(self, allowed=None, *, only_unknown: bool = False) -> None:
         """Raise on the first key that was never taken (a typo), suggesting the closest."""
         valid = sorted(set(allowed) if allowed is not None else self._used)
         for key in self.data:
-            if key not in self._used:
-                hint = difflib.get_close_matches(key, valid, n=1, cutoff=0.6)
+            if key not in (valid if only_unknown else self._used):
+                hint = suggest(key, valid)
                 extra = f" Did you mean `{hint[0]}`?" if hint else ""
                 listing = ", ".join(f"`{k}`" for k in valid) if valid else "none"
                 raise self.error(key, f"unknown key.{extra} Valid keys here: {listing}.")

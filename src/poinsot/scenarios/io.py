@@ -60,6 +60,7 @@ _TOP_KEYS = (
     "simulation",
 )
 _ATTITUDE_KEYS = ("quat", "matrix", "rotvec", "axis", "euler", "gibbs", "mrp")
+_EVERY_ATTITUDE_KEY = (*_ATTITUDE_KEYS, "scalar_first", "degrees", "angle", "sequence")
 
 
 def demo_scenario_text() -> str:
@@ -146,11 +147,11 @@ def parse_scenario(text: str, *, source: str = "<string>", name: str | None = No
     ... ''', name="turn")
     >>> s.kind, s.simulation.times().tolist()
     ('kinematics', [0.0, 0.5, 1.0, 1.5, 2.0])
-    >>> parse_scenario('[simulation]\\nduraton = 1')
+    >>> parse_scenario("[simulaton]\\nduration = 1.0")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    poinsot.scenarios._toml.ScenarioError: <string>:2: `simulation.duraton` unknown key. \
-Did you mean `duration`? ...
+    poinsot.scenarios._toml.ScenarioError: <string>:1: `simulaton` unknown key. \
+Did you mean `simulation`? ...
     """
     try:
         data = tomllib.loads(text)
@@ -171,6 +172,7 @@ Did you mean `duration`? ...
 
 # ------------------------------------------------------------------------------------------
 def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenario:
+    top.known(_TOP_KEYS)
     name = top.string("name", default_name)
     if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*", name):
         raise top.expected(
@@ -277,6 +279,7 @@ def _solid(t: Table) -> tuple[str, tuple[float, ...], float, np.ndarray]:
 
 
 def _part(t: Table, index: int) -> PartSpec:
+    t.known(("name", "shape", "dims", "mass", "inertia", "position"))
     name = t.string("name", f"part {index}")
     position = np.array(t.vector("position", 3, required=False, default=(0.0, 0.0, 0.0)))
     if t.has("shape"):
@@ -294,6 +297,7 @@ def _part(t: Table, index: int) -> PartSpec:
 
 
 def _body(t: Table) -> BodySpec:
+    t.known(("mass", "inertia", "center_of_mass", "shape", "dims", "parts"))
     how = t.exclusive(
         ("inertia", "shape", "parts"),
         what="a body is given by `mass` and "
@@ -340,6 +344,7 @@ def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
 
     if t is None:
         return AttitudeSpec("identity", (), np.array([1.0, 0.0, 0.0, 0.0]))
+    t.known(_EVERY_ATTITUDE_KEY)
     rep = t.exclusive(_ATTITUDE_KEYS, what="the initial attitude (body -> space)")
     seq = deg = sf = None
     try:
@@ -401,19 +406,7 @@ def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
 
 
 def _finish_rep(t: Table, rep: str, allowed) -> None:
-    every = (
-        "quat",
-        "scalar_first",
-        "matrix",
-        "rotvec",
-        "degrees",
-        "axis",
-        "angle",
-        "euler",
-        "sequence",
-        "gibbs",
-        "mrp",
-    )
+    every = _EVERY_ATTITUDE_KEY
     for key in t.data:
         if key in every and key not in allowed:
             raise t.error(
@@ -431,6 +424,7 @@ def _units(t: Table, key: str = "units") -> float:
 
 
 def _angular_velocity(t: Table, attitude: AttitudeSpec) -> AngularVelocitySpec:
+    t.known(("vector", "frame", "units"))
     vector = t.vector("vector", 3)
     frame = t.string("frame", choices=("body", "space"), required=True)
     units = t.string("units", "rad/s", choices=tuple(OMEGA_UNITS))
@@ -444,6 +438,7 @@ def _angular_velocity(t: Table, attitude: AttitudeSpec) -> AngularVelocitySpec:
 def _torque(t: Table | None) -> TorqueSpec:
     if t is None:
         return TorqueSpec()
+    t.known(("model", "vector", "g"))
     model = t.string("model", choices=TORQUE_MODELS, required=True)
     if model in ("body", "space"):
         vec = np.array(t.vector("vector", 3))
@@ -459,6 +454,7 @@ def _torque(t: Table | None) -> TorqueSpec:
 
 
 def _omega_profile(t: Table) -> OmegaProfileSpec:
+    t.known(("kind", "frame", "vector", "units", "half_angle", "degrees", "rate", "t", "omega"))
     kind = t.string("kind", choices=("constant", "coning", "samples"), required=True)
     frame = t.string("frame", choices=("body", "space"), required=True)
     if kind == "constant":
@@ -494,6 +490,7 @@ def _omega_profile(t: Table) -> OmegaProfileSpec:
 
 
 def _simulation(t: Table, profile: OmegaProfileSpec | None, torque: TorqueSpec) -> SimulationSpec:
+    t.known(("duration", "step", "samples", "method", "reference", "max_step"))
     duration = t.number("duration", positive=True, required=True)
     how = t.exclusive(("step", "samples"), what="the output times")
     step = samples = None

@@ -502,11 +502,30 @@ def _closed_form(scenario: Scenario) -> dict:
         np.asarray(scenario.angular_velocity.omega_body),
         scenario.attitude.rotation,
     )
-    return _jsonable(
-        fb.properties()
-        if hasattr(fb, "properties")
-        else {k: getattr(fb, k) for k in ("energy", "momentum", "period") if hasattr(fb, k)}
-    )
+    out = {"solution": "Jacobi elliptic functions (SPEC S10, Euler case)"}
+    for key in (
+        "energy",
+        "momentum",
+        "momentum_norm",
+        "principal_moments",
+        "principal_axes",
+        "regime",
+        "polhode_axis",
+        "stable_axes",
+        "period",
+        "precession_per_period",
+        "complementary_parameter",
+    ):
+        try:
+            out[key] = getattr(fb, key)
+        except AttributeError:  # pragma: no cover - depends on the dynamics area
+            continue
+    m = np.asarray(out.get("principal_moments", []))
+    if m.size == 3 and (m[0] == m[1] or m[1] == m[2]) and m[0] != m[2]:
+        # symmetric body: regular precession about K at psi' = K / A (SPEC S10)
+        a = m[0] if m[0] == m[1] else m[1]
+        out["precession_rate"] = out["momentum_norm"] / a
+    return _jsonable(out)
 
 
 def _jsonable(obj):
@@ -933,12 +952,11 @@ def describe_scenario(scenario: Scenario) -> str:
     """
     sim = scenario.simulation
     n = sim.times().size
-    parts = [f"scenario {scenario.name!r} ({scenario.kind})"]
+    head = f"scenario {scenario.name!r} ({scenario.kind}): "
+    parts = []
     b = scenario.body
     if b is not None:
-        what = (
-            f"{b.shape} body" if b.shape else f"body of {len(b.parts)} parts" if b.parts else "body"
-        )
+        what = f"{b.shape} body" if b.shape else f"{len(b.parts)}-part body" if b.parts else "body"
         parts.append(f"{what} of {_g(b.mass)} kg")
     if scenario.kind == "dynamics":
         parts.append(f"omega0 {_vec(scenario.angular_velocity.omega_body)} rad/s (body)")
@@ -949,7 +967,7 @@ def describe_scenario(scenario: Scenario) -> str:
         )
     ref = f", reference {sim.reference}" if sim.reference else ""
     parts.append(f"{n} samples over {_g(sim.duration)} s, method {sim.method}{ref}")
-    return ", ".join(parts)
+    return head + ", ".join(parts)
 
 
 def describe(result: ScenarioResult, *, title: str = "poinsot") -> str:
