@@ -1,0 +1,156 @@
+"""Compiled stepping kernels for :func:`poinsot.dynamics.simulate` (private).
+
+This module imports numba at the top, so it is only imported lazily, from inside
+``simulate``; ``import poinsot`` never loads it. Each kernel loops over bodies
+and steps with scalar arithmetic only (no allocation inside the loops).
+
+State per body: the attitude ``q`` (body -> space, scalar-first unit
+quaternion) and the body angular momentum ``m = J w``; ``W = J^-1`` is the
+inverse inertia tensor in body axes and ``M`` a constant body torque.
+
+Status codes returned by the kernels: 0 = ok, 1 = the implicit step did not
+converge, 2 = the state became non-finite.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# Newton: once an update is below _NEAR * |x| one more iteration brings the
+# quadratically converging iterate to round-off.
+_NEAR = 1e-9
+_MAXIT = 60
+
+
+@njit(cache=True)
+def midpoint(q, m, W, M, t, nsub):
+    """Implicit midpoint (Lie-Poisson) + Cayley attitude for N bodies.
+
+    q (N, 4), m (N, 3), W (NW, 3, 3), M (NM, 3) with NW, NM in {1, N};
+    t (n,), nsub (n-1,) substeps per interval. Returns (Q, MO, status, body,
+    k, iters): outputs (n, N, 4), (n, N, 3), the status code, and where it
+    failed (body index, last output index reached) or the most Newton
+    iterations taken by any step. One function (no calls to other cached
+    functions): numba's cache is then safe across processes.
+    """
+    n = t.shape[0]
+    N = q.shape[0]
+    Q = np.empty((n, N, 4))
+    MO = np.empty((n, N, 3))
+    worst = 0
+    for i in range(N):
+        iw = i if W.shape[0] > 1 else 0
+        im = i if M.shape[0] > 1 else 0
+        w00, w01, w02 = W[iw, 0, 0], W[iw, 0, 1], W[iw, 0, 2]
+        w10, w11, w12 = W[iw, 1, 0], W[iw, 1, 1], W[iw, 1, 2]
+        w20, w21, w22 = W[iw, 2, 0], W[iw, 2, 1], W[iw, 2, 2]
+        M0, M1, M2 = M[im, 0], M[im, 1], M[im, 2]
+        q0, q1, q2, q3 = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
+        m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
+        Q[0, i, 0] = q0
+        Q[0, i, 1] = q1
+        Q[0, i, 2] = q2
+        Q[0, i, 3] = q3
+        MO[0, i, 0] = m0
+        MO[0, i, 1] = m1
+        MO[0, i, 2] = m2
+        for k in range(t.shape[0] - 1):
+            ns = nsub[k]
+            h = (t[k + 1] - t[k]) / ns
+            h2 = 0.5 * h
+            for _s in range(ns):
+                # explicit Euler half step as the first guess of the midpoint momentum
+                o0 = w00 * m0 + w01 * m1 + w02 * m2
+                o1 = w10 * m0 + w11 * m1 + w12 * m2
+                o2 = w20 * m0 + w21 * m1 + w22 * m2
+                x0 = m0 + h2 * (m1 * o2 - m2 * o1 + M0)
+                x1 = m1 + h2 * (m2 * o0 - m0 * o2 + M1)
+                x2 = m2 + h2 * (m0 * o1 - m1 * o0 + M2)
+                done = False
+                near = False
+                it = 0
+                while it < _MAXIT:
+                    it += 1
+                    o0 = w00 * x0 + w01 * x1 + w02 * x2
+                    o1 = w10 * x0 + w11 * x1 + w12 * x2
+                    o2 = w20 * x0 + w21 * x1 + w22 * x2
+                    # residual F(x) = x - m - h/2 (x cross W x + M)
+                    r0 = x0 - m0 - h2 * (x1 * o2 - x2 * o1 + M0)
+                    r1 = x1 - m1 - h2 * (x2 * o0 - x0 * o2 + M1)
+                    r2 = x2 - m2 - h2 * (x0 * o1 - x1 * o0 + M2)
+                    # Jacobian I - h/2 (x^ W - (W x)^)
+                    a00 = 1.0 - h2 * (-x2 * w10 + x1 * w20)
+                    a01 = -h2 * (-x2 * w11 + x1 * w21) - h2 * o2
+                    a02 = -h2 * (-x2 * w12 + x1 * w22) + h2 * o1
+                    a10 = -h2 * (x2 * w00 - x0 * w20) + h2 * o2
+                    a11 = 1.0 - h2 * (x2 * w01 - x0 * w21)
+                    a12 = -h2 * (x2 * w02 - x0 * w22) - h2 * o0
+                    a20 = -h2 * (-x1 * w00 + x0 * w10) - h2 * o1
+                    a21 = -h2 * (-x1 * w01 + x0 * w11) + h2 * o0
+                    a22 = 1.0 - h2 * (-x1 * w02 + x0 * w12)
+                    c00 = a11 * a22 - a12 * a21
+                    c01 = a12 * a20 - a10 * a22
+                    c02 = a10 * a21 - a11 * a20
+                    det = a00 * c00 + a01 * c01 + a02 * c02
+                    c10 = a02 * a21 - a01 * a22
+                    c20 = a01 * a12 - a02 * a11
+                    d0 = (c00 * r0 + c10 * r1 + c20 * r2) / det
+                    c11 = a00 * a22 - a02 * a20
+                    c21 = a02 * a10 - a00 * a12
+                    d1 = (c01 * r0 + c11 * r1 + c21 * r2) / det
+                    c12 = a01 * a20 - a00 * a21
+                    c22 = a00 * a11 - a01 * a10
+                    d2 = (c02 * r0 + c12 * r1 + c22 * r2) / det
+                    x0 -= d0
+                    x1 -= d1
+                    x2 -= d2
+                    nd = max(abs(d0), abs(d1), abs(d2))
+                    nx = max(abs(x0), abs(x1), abs(x2))
+                    if not (nd == nd and nx == nx and nx < math.inf):
+                        return Q, MO, 2, i, k, it
+                    if near or nd <= 1e-16 * nx:
+                        done = True
+                        break
+                    if nd <= _NEAR * nx:
+                        near = True
+                if it > worst:
+                    worst = it
+                if not done:
+                    return Q, MO, 1, i, k, it
+                # midpoint angular velocity; a = h w / 2 is the Gibbs vector of the step
+                o0 = w00 * x0 + w01 * x1 + w02 * x2
+                o1 = w10 * x0 + w11 * x1 + w12 * x2
+                o2 = w20 * x0 + w21 * x1 + w22 * x2
+                a0 = h2 * o0
+                a1 = h2 * o1
+                a2 = h2 * o2
+                aa = 1.0 + a0 * a0 + a1 * a1 + a2 * a2
+                # m+ = (I + a^)^-1 [(I - a^) m + h M]: an exact rotation of m when M = 0
+                u0 = m0 - (a1 * m2 - a2 * m1) + h * M0
+                u1 = m1 - (a2 * m0 - a0 * m2) + h * M1
+                u2 = m2 - (a0 * m1 - a1 * m0) + h * M2
+                au = a0 * u0 + a1 * u1 + a2 * u2
+                m0 = (u0 - (a1 * u2 - a2 * u1) + au * a0) / aa
+                m1 = (u1 - (a2 * u0 - a0 * u2) + au * a1) / aa
+                m2 = (u2 - (a0 * u1 - a1 * u0) + au * a2) / aa
+                # q+ = q o (1, a) / sqrt(1 + |a|^2)  (Cayley map of h w^)
+                p0 = q0 - q1 * a0 - q2 * a1 - q3 * a2
+                p1 = q1 + q0 * a0 + q2 * a2 - q3 * a1
+                p2 = q2 + q0 * a1 + q3 * a0 - q1 * a2
+                p3 = q3 + q0 * a2 + q1 * a1 - q2 * a0
+                s = 1.0 / math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
+                q0 = p0 * s
+                q1 = p1 * s
+                q2 = p2 * s
+                q3 = p3 * s
+            Q[k + 1, i, 0] = q0
+            Q[k + 1, i, 1] = q1
+            Q[k + 1, i, 2] = q2
+            Q[k + 1, i, 3] = q3
+            MO[k + 1, i, 0] = m0
+            MO[k + 1, i, 1] = m1
+            MO[k + 1, i, 2] = m2
+    return Q, MO, 0, -1, n - 1, worst
