@@ -15,6 +15,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from poinsot import GimbalLockWarning, InvalidInputError, Rotation, SingularityWarning
 from poinsot import quaternion as Q
@@ -479,3 +481,86 @@ def test_all_sequences_covered():
     for a, b, c in itertools.product("XYZ", repeat=3):
         if a != b and b != c:
             assert a + b + c in SEQS and (a + b + c).lower() in SEQS
+
+
+# --------------------------------------------------------------------------
+# property tests (hypothesis): exact product-rule derivative of the quaternion
+# --------------------------------------------------------------------------
+
+_angle = st.floats(-3.0, 3.0, allow_nan=False)
+_rate = st.floats(-5.0, 5.0, allow_nan=False)
+
+
+def _elementary_quat(axis, angle, rate):
+    """(e, e') of the elementary quaternion cos(f/2) + sin(f/2) i_axis and its rate."""
+    e = np.zeros(4)
+    d = np.zeros(4)
+    e[0], e[1 + axis] = np.cos(angle / 2), np.sin(angle / 2)
+    d[0], d[1 + axis] = -0.5 * rate * np.sin(angle / 2), 0.5 * rate * np.cos(angle / 2)
+    return e, d
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seq=st.sampled_from(SEQS),
+    angles=st.tuples(_angle, _angle, _angle),
+    rates=st.tuples(_rate, _rate, _rate),
+    frame=st.sampled_from(["body", "space"]),
+)
+def test_euler_rates_against_product_rule(seq, angles, rates, frame):
+    """omega from the exact derivative of q = e1 o e2 o e3 (SPEC S5), any sequence."""
+    from poinsot.rotations.euler import parse_sequence
+
+    axes, intrinsic = parse_sequence(seq)
+    angles, rates = np.array(angles), np.array(rates)
+    order = [0, 1, 2] if intrinsic else [2, 1, 0]
+    factors = [_elementary_quat(axes[k], angles[k], rates[k]) for k in order]
+    (a, da), (b, db), (c, dc) = factors
+    q = Q.multiply(Q.multiply(a, b), c)
+    qdot = (
+        Q.multiply(Q.multiply(da, b), c)
+        + Q.multiply(Q.multiply(a, db), c)
+        + Q.multiply(Q.multiply(a, b), dc)
+    )
+    ref = Rotation.from_euler(seq, angles).as_quat()
+    assert min(np.abs(q - ref).max(), np.abs(q + ref).max()) < 1e-12  # same rotation
+    w = K.omega_from_euler_rates(seq, angles, rates, frame=frame)
+    np.testing.assert_allclose(w, K.omega_from_quat_rate(q, qdot, frame=frame), atol=1e-12)
+    det = abs(np.linalg.det(K.euler_rate_matrix(seq, angles, frame=frame)))
+    if det > 1e-2:
+        np.testing.assert_allclose(
+            K.euler_rates(seq, angles, w, frame=frame), rates, atol=1e-10 / det
+        )
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    q=st.tuples(*[st.floats(-1, 1, allow_nan=False)] * 4).filter(lambda v: 0.1 < np.linalg.norm(v)),
+    w=st.tuples(_rate, _rate, _rate),
+    frame=st.sampled_from(["body", "space"]),
+)
+def test_parameter_rates_against_quaternion_rate(q, w, frame):
+    """Gibbs, MRP and rotation-vector rates = chain rule applied to SPEC S5's L'."""
+    q = np.array(q) / np.linalg.norm(q)
+    q = q if q[0] >= 0 else -q
+    if q[0] < 0.05:  # keep away from f = pi (Gibbs infinite, rotvec wraps)
+        return
+    w = np.array(w)
+    qd = K.quat_rate(q, w, frame=frame)
+    q0, v, d0, dv = q[0], q[1:], qd[0], qd[1:]
+    np.testing.assert_allclose(
+        K.gibbs_rate(v / q0, w, frame=frame), dv / q0 - v * d0 / q0**2, atol=1e-9
+    )
+    np.testing.assert_allclose(
+        K.mrp_rate(v / (1 + q0), w, frame=frame),
+        dv / (1 + q0) - v * d0 / (1 + q0) ** 2,
+        atol=1e-12,
+    )
+    # rotation vector phi = 2 atan2(|v|, q0) v/|v|: its derivative by the chain rule
+    n = np.linalg.norm(v)
+    if n > 1e-3:
+        f = 2 * np.arctan2(n, q0)
+        dn = v @ dv / n
+        df = 2 * (q0 * dn - n * d0)  # d/dt 2 atan2(n, q0) with n^2 + q0^2 = 1
+        dphi = df * v / n + f * (dv / n - v * dn / n**2)
+        np.testing.assert_allclose(K.rotvec_rate(f * v / n, w, frame=frame), dphi, atol=1e-10)
