@@ -74,11 +74,27 @@ def test_helix_samples_nonuniform_and_convergence():
     for n in (200, 400):
         u = np.linspace(0, 4, n)
         t = u + rng.uniform(-0.3, 0.3, n) * (u[1] - u[0])  # jittered, still increasing
-        f = frenet(t, helix(t))
+        f = frenet(t, helix(t), stride=1)
         check_helix(f, t, 1e-7, 1e-7, 1e-5)
         _, _, _, kappa, tau, _ = helix_truth(t)
         errs.append(np.abs(f.torsion - tau).max())
     assert errs[1] < errs[0] / 2**3.5
+
+
+def test_dense_samples_auto_stride():
+    """20,000 samples over 20 s (h = 1e-3): with every sample in the stencil,
+    rounding (~1e-16 |r| / h^3) spoils the third derivative; the automatic
+    stride keeps the torsion to ~1e-7 and the curvature to ~1e-10."""
+    t = np.linspace(0, 20, 20_000)
+    r = helix(t)
+    _, _, _, kappa, tau, _ = helix_truth(t)
+    auto = frenet(t, r)
+    one = frenet(t, r, stride=1)
+    assert np.abs(one.torsion - tau).max() > 1e-5
+    assert np.abs(auto.torsion - tau).max() < 1e-6
+    assert np.abs(auto.curvature - kappa).max() < 1e-9
+    four = frenet(t, r, stride=4)
+    assert np.abs(four.torsion - tau).max() < np.abs(one.torsion - tau).max() / 10
 
 
 def test_stencil_controls_order():
@@ -217,6 +233,12 @@ def test_errors_samples():
         frenet(t, r, stencil=3)
     with pytest.raises(InvalidInputError, match="`stencil`"):
         frenet(t, r, stencil=5.0)
+    with pytest.raises(InvalidInputError, match="`stride` to be 'auto' or an integer >= 1"):
+        frenet(t, r, stride=0)
+    with pytest.raises(InvalidInputError, match=r"stride \* \(stencil - 1\) <= len\(t\) - 1 = 9"):
+        frenet(t, r, stride=2)
+    with pytest.raises(InvalidInputError, match="`stride`"):
+        frenet(t, r, stride="fast")
     with pytest.raises(InvalidInputError, match="`derivatives` only with a callable"):
         frenet(t, r, derivatives=helix_derivs())
     with pytest.raises(InvalidInputError, match="`rtol` to be a non-negative number"):
