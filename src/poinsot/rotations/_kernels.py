@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import guvectorize
+from numba import guvectorize, njit
 
 _D3 = np.zeros(3)
 _D4 = np.zeros(4)
@@ -167,53 +167,53 @@ def euler_to_quat(axes, angles, dummy, q):  # pragma: no cover - compiled
         q[d] = c * ud - s * ub
 
 
-@guvectorize(
-    ["void(float64[:], int64[:], float64[:], float64[:], float64[:])"],
-    "(n),(k),(m)->(m),()",
-    **_OPTS,
-)
-def quat_to_euler(q, seq, dummy, angles, singular):  # pragma: no cover - compiled
+@njit(cache=True)
+def quat_to_euler(q, seq, angles, singular):  # pragma: no cover - compiled
     # Bernardes & Viollet (2022), "Quaternion to Euler angles conversion: a direct,
     # general and computationally efficient method", PLoS ONE 17(11): e0276302 --
-    # the algorithm SciPy uses. seq = (i, j, k, extrinsic) with i, j, k the axes of
-    # the *extrinsic* order (the caller reverses intrinsic sequences), extrinsic 0/1.
+    # the algorithm SciPy uses. q (N, 4) unit; seq = (i, j, k, extrinsic) with i, j, k
+    # the axes in *extrinsic* order (the caller reverses intrinsic sequences).
+    # A plain loop (not a gufunc): per-element gufunc overhead doubled its cost.
     i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3]
     symmetric = i == k
     if symmetric:
         k = 3 - i - j
     sign = float((i - j) * (j - k) * (k - i) // 2)
-    w = q[0]
-    qi, qj, qk = q[1 + i], q[1 + j], q[1 + k]
-    if symmetric:
-        a, b, c, d = w, qi, qj, qk * sign
-    else:
-        a, b, c, d = w - qj, qi + qk * sign, qj + w, qk * sign - qi
-    mid = 2.0 * math.atan2(math.hypot(c, d), math.hypot(a, b))
-    half_sum = math.atan2(b, a)
-    half_diff = math.atan2(d, c)
     first = 0 if extrinsic else 2
     third = 2 if extrinsic else 0
     tb_sign = 1.0 if symmetric else sign
     eps = 1e-7  # documented gimbal-lock threshold (rad)
-    case1 = abs(mid) <= eps
-    case2 = abs(mid - math.pi) <= eps
-    if case1 or case2:
-        # Only the sum (case 1) or difference (case 2) of the outer angles is
-        # determined: the user's third angle is set to 0, the first holds it.
-        singular[0] = 1.0
-        combined = 2.0 * half_sum if case1 else 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
-        angles[0] = combined if extrinsic else combined * tb_sign
-        angles[2] = 0.0
-    else:
-        singular[0] = 0.0
-        angles[first] = half_sum - half_diff
-        angles[third] = (half_sum + half_diff) * tb_sign
-    if not symmetric:
-        mid -= 0.5 * math.pi
-    angles[1] = mid
-    for n in range(3):
-        a_n = angles[n]
-        # wrap to [-pi, pi]
-        if a_n > math.pi or a_n < -math.pi:
-            a_n = (a_n + math.pi) % (2.0 * math.pi) - math.pi
-        angles[n] = a_n
+    for n in range(q.shape[0]):
+        w = q[n, 0]
+        qi, qj, qk = q[n, 1 + i], q[n, 1 + j], q[n, 1 + k]
+        if symmetric:
+            a, b, c, d = w, qi, qj, qk * sign
+        else:
+            a, b, c, d = w - qj, qi + qk * sign, qj + w, qk * sign - qi
+        # |a|, |b|, |c|, |d| <= 2: sqrt(x^2 + y^2) cannot overflow, no need for hypot
+        mid = 2.0 * math.atan2(math.sqrt(c * c + d * d), math.sqrt(a * a + b * b))
+        half_sum = math.atan2(b, a)
+        half_diff = math.atan2(d, c)
+        case1 = abs(mid) <= eps
+        case2 = abs(mid - math.pi) <= eps
+        if case1 or case2:
+            # Only the sum (case 1) or difference (case 2) of the outer angles is
+            # determined: the user's third angle is set to 0, the first holds it.
+            singular[n] = True
+            if case1:
+                combined = 2.0 * half_sum
+            else:
+                combined = 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
+            angles[n, 0] = combined if extrinsic else combined * tb_sign
+            angles[n, 2] = 0.0
+        else:
+            singular[n] = False
+            angles[n, first] = half_sum - half_diff
+            angles[n, third] = (half_sum + half_diff) * tb_sign
+        if not symmetric:
+            mid -= 0.5 * math.pi
+        angles[n, 1] = mid
+        for m in (0, 2):
+            a_m = angles[n, m]
+            if a_m > math.pi or a_m < -math.pi:  # wrap to [-pi, pi]
+                angles[n, m] = (a_m + math.pi) % (2.0 * math.pi) - math.pi

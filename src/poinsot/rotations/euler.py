@@ -46,7 +46,6 @@ PRESETS = {"euler": "ZXZ", "krylov": "ZXY"}
 #: :func:`euler_from_quat` reports gimbal lock.
 GIMBAL_LOCK_ATOL = 1e-7
 
-_D3 = np.zeros(3)
 _D4 = np.zeros(4)
 _SEQ = re.compile(r"^([xyz]{1,3}|[XYZ]{1,3})$")
 
@@ -90,7 +89,11 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
         raise InvalidInputError(f"Expected `seq` to have 3 axes to recover angles, got {seq!r}.")
     ext = axes if not intrinsic else axes[::-1]
     code = np.array([*ext, 0 if intrinsic else 1], dtype=np.int64)
-    angles, singular = kernels().quat_to_euler(q, code, _D3)
+    flat = np.ascontiguousarray(q.reshape(-1, 4))
+    angles = np.empty((flat.shape[0], 3))
+    singular = np.empty(flat.shape[0], dtype=np.bool_)
+    kernels().quat_to_euler(flat, code, angles, singular)
+    angles = angles.reshape(q.shape[:-1] + (3,))
     if warn and np.any(singular):
         warnings.warn(
             f"Gimbal lock: the middle angle of {seq!r} is within {GIMBAL_LOCK_ATOL:g} rad of "

@@ -445,9 +445,14 @@ class Rotation:
         """``self * other``: ``other`` first, then ``self``, about fixed axes (SPEC S4)."""
         if not isinstance(other, Rotation):
             return NotImplemented
-        if self._q.shape != other._q.shape:
-            _broadcast_shapes("the two rotations", self.shape, other.shape)
-        return Rotation._wrap(kernels().qmul(self._q, other._q))
+        p, q = self._q, other._q
+        if p.shape != q.shape:
+            _broadcast_shapes("the two rotations", p.shape[:-1], q.shape[:-1])
+        out = kernels().qmul(p, q)  # fresh, contiguous: no need for _wrap's copy checks
+        out.flags.writeable = False
+        obj = object.__new__(Rotation)
+        obj._q = out
+        return obj
 
     def inv(self) -> Rotation:
         """Inverse rotations (conjugate quaternions).
