@@ -91,6 +91,18 @@ def _scalar(x, name: str, *, strict: bool = False) -> float:
     return float(a)
 
 
+def _rho_args(**named) -> list[np.ndarray]:
+    """Validate the vectors and the pole; return them with ``rho = r - pole`` last."""
+    pole = named.pop("pole")
+    if pole is not None:
+        named["pole"] = pole
+    arrays = _vectors(**named)
+    if pole is None:
+        return arrays
+    *rest, r, pole = arrays
+    return [*rest, r - pole]
+
+
 def _frozen(a: np.ndarray) -> np.ndarray:
     a = np.array(a, dtype=np.float64)  # own copy
     a.setflags(write=False)
@@ -102,7 +114,7 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def velocity_field(v0, omega, r, *, pole=(0.0, 0.0, 0.0)) -> np.ndarray:
+def velocity_field(v0, omega, r, *, pole=None) -> np.ndarray:
     """Velocity of the points ``r`` of a rigid body (Euler's formula, SPEC S6).
 
     Parameters
@@ -114,8 +126,8 @@ def velocity_field(v0, omega, r, *, pole=(0.0, 0.0, 0.0)) -> np.ndarray:
     r : array_like, shape (..., 3)
         Positions of the points.
     pole : array_like, shape (..., 3), optional
-        Position of the pole; ``rho = r - pole``. Default: the coordinate origin,
-        so that ``r`` *is* ``rho``.
+        Position of the pole; ``rho = r - pole``. Default (None): the coordinate
+        origin, so that ``r`` *is* ``rho``.
 
     Returns
     -------
@@ -137,11 +149,11 @@ def velocity_field(v0, omega, r, *, pole=(0.0, 0.0, 0.0)) -> np.ndarray:
     array([[0., 0., 0.],
            [2., 0., 0.]])
     """
-    v0, omega, r, pole = _vectors(v0=v0, omega=omega, r=r, pole=pole)
-    return _euler(v0, omega, r - pole)
+    v0, omega, rho = _rho_args(v0=v0, omega=omega, r=r, pole=pole)
+    return _euler(v0, omega, rho)
 
 
-def acceleration_field(a0, omega, eps, r, *, pole=(0.0, 0.0, 0.0)) -> np.ndarray:
+def acceleration_field(a0, omega, eps, r, *, pole=None) -> np.ndarray:
     """Acceleration of the points ``r`` of a rigid body (Rivals' formula, SPEC S6).
 
     Parameters
@@ -155,7 +167,8 @@ def acceleration_field(a0, omega, eps, r, *, pole=(0.0, 0.0, 0.0)) -> np.ndarray
     r : array_like, shape (..., 3)
         Positions of the points.
     pole : array_like, shape (..., 3), optional
-        Position of the pole; ``rho = r - pole`` (default: the coordinate origin).
+        Position of the pole; ``rho = r - pole`` (default None: the coordinate
+        origin).
 
     Returns
     -------
@@ -177,8 +190,8 @@ def acceleration_field(a0, omega, eps, r, *, pole=(0.0, 0.0, 0.0)) -> np.ndarray
     >>> acceleration_field([0, 0, 0], [0, 0, 3], [0, 0, 0], [2, 0, 0]) + 0.0
     array([-18., 0., 0.])
     """
-    a0, omega, eps, r, pole = _vectors(a0=a0, omega=omega, eps=eps, r=r, pole=pole)
-    w0, rot, cen = _rivals_terms(a0, omega, eps, r - pole)
+    a0, omega, eps, rho = _rho_args(a0=a0, omega=omega, eps=eps, r=r, pole=pole)
+    w0, rot, cen = _rivals_terms(a0, omega, eps, rho)
     return w0 + rot + cen
 
 
