@@ -258,6 +258,8 @@ def test_errors_callable():
         frenet(1.0, lambda s: np.ones(4))
     with pytest.raises(InvalidInputError, match=r"`r\(t\)` to contain only finite"):
         frenet(1.0, lambda s: np.stack([np.full_like(s, np.nan), s, s], -1))
+    with pytest.raises(InvalidTypeError, match=r"`r\(t\)` to be array-like"):
+        frenet(np.array([1.0, 2.0]), lambda s: (np.ones(2), np.ones(3), 0.0))
     with pytest.raises(InvalidInputError, match="tuple of three callables"):
         frenet(1.0, helix, derivatives=helix_derivs()[:2])
     with pytest.raises(InvalidInputError, match=r"`derivatives\[1\]\(t\)` to return shape"):

@@ -249,6 +249,8 @@ def test_reduce_errors():
         reduce_motions([], [], pole=np.zeros((2, 3)))
     with pytest.raises(InvalidTypeError, match="`rtol`"):
         reduce_motions([], [], rtol="x")
+    with pytest.raises(InvalidInputError, match=r"`r` to have shape \(\.\.\., 3\)"):
+        reduce_motions([], [[1, 0, 0]]).velocity_at([1, 2])
     with pytest.raises(InvalidInputError, match="`atol` to be a non-negative number"):
         reduce_motions([], [], atol=-1.0)
     with pytest.raises(InvalidInputError, match="`atol` to be a non-negative number"):
