@@ -201,6 +201,36 @@ def test_chord_spline_matches_scipy():
     np.testing.assert_allclose(ours(tt, 1), ref(tt, 1), atol=1e-7)
 
 
+def test_large_steps_converge_to_scipys_fixed_point():
+    """Random attitudes (steps up to ~pi): Newton converges where SciPy's default 10
+    fixed-point iterations do not; SciPy iterated to convergence gives the same curve."""
+    rng = np.random.default_rng(0)
+    R = Rotation.random(30, rng=rng)
+    t = np.cumsum(rng.uniform(0.1, 2, 30))
+    ours = rotation_spline(t, R, end_omega="chord")
+
+    class Converged(SciSpline):
+        MAX_ITER = 1000
+        TOL = 1e-14
+
+    ref = Converged(t, scipy_rot(R.as_quat()))
+    tt = np.linspace(t[0], t[-1], 500)
+    np.testing.assert_allclose(ours.omega(tt), ref(tt, 1), atol=1e-8)
+    np.testing.assert_allclose(ours.alpha(tt), ref(tt, 2), atol=1e-6)
+    jump = np.abs(ours.alpha(t[1:-1] + 1e-9) - ours.alpha(t[1:-1] - 1e-9)).max()
+    assert jump < 1e-4
+
+
+def test_spline_non_convergence_is_reported(monkeypatch):
+    import sys
+
+    monkeypatch.setattr(sys.modules["poinsot.kinematics.angular_velocity"], "_SPLINE_MAX_ITER", 1)
+    rng = np.random.default_rng(0)
+    R = Rotation.random(10, rng=rng)
+    with pytest.raises(InvalidInputError, match="rotation_spline did not converge"):
+        rotation_spline(np.arange(10.0), R)
+
+
 def test_spline_passes_through_the_samples():
     t = grid(15)
     R = attitude(t)

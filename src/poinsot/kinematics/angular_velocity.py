@@ -294,14 +294,22 @@ def _jr_matrices(r):
     return np.swapaxes(j, -1, -2), np.swapaxes(ji, -1, -2)
 
 
-_SPLINE_MAX_ITER = 50
+_SPLINE_MAX_ITER = 30
 _SPLINE_TOL = 1e-13
 
 
 def _solve_knot_rates(dt, r, w_first, w_last):
     """Body angular velocities at the interior knots making the angular
-    acceleration continuous (fixed-point iteration on the quadratic term; each
-    step solves one block-tridiagonal linear system)."""
+    acceleration continuous.
+
+    The conditions read ``A w + N(w) = b`` with ``A`` block-tridiagonal and
+    ``N`` the quadratic term of the acceleration, which for row ``k`` depends
+    only on ``w_k+1`` (its own unknown). Newton's method therefore only adds a
+    block to the diagonal of ``A``: ``(A + D) w_new = b - N(w) + D w`` with
+    ``D = dN/dw`` exact (``N`` is quadratic). Converges quadratically, also
+    for large rotations between samples where SciPy's fixed-point iteration
+    stops unconverged.
+    """
     from scipy.linalg import solve_banded
 
     m = len(dt) - 1  # interior knots
@@ -325,15 +333,28 @@ def _solve_knot_rates(dt, r, w_first, w_last):
     b0 = 6.0 * (r[:-1] / dt[:-1, None] ** 2 + r[1:] / dt[1:, None] ** 2)
     b0[0] -= 2.0 / dt[0] * (J[0] @ w_first)
     b0[-1] -= 2.0 / dt[-1] * (Ji[-1] @ w_last)
+    r_left, Ji_left = r[:-1], Ji[:-1]  # interval left of interior knot k + 1
+    eye = np.eye(3)
+    n_unit = _rotvec_accel_term(r_left[:, None], eye)  # N(r, e_j), (m, 3, 3)
     w_in = r[:-1] / dt[:-1, None]  # initial guess: chord rates
     converged = False
     for _ in range(_SPLINE_MAX_ITER):
         # r'(dt_k) = J_r(r_k)^-1 w_k+1 on the interval left of interior knot k + 1
-        rd = np.einsum("kij,kj->ki", Ji[:-1], w_in)
-        rhs = b0 - _rotvec_accel_term(r[:-1], rd)
-        new = solve_banded((5, 5), ab, rhs.ravel()).reshape(m, 3)
+        rd = np.einsum("kij,kj->ki", Ji_left, w_in)
+        n_val = _rotvec_accel_term(r_left, rd)
+        # exact derivative of the quadratic N: dN[e_j] = N(rd + e_j) - N(rd) - N(e_j)
+        n_plus = _rotvec_accel_term(r_left[:, None], rd[:, None] + eye)
+        dn = np.swapaxes(n_plus - n_val[:, None] - n_unit, -1, -2) @ Ji_left  # (m, 3, 3)
+        abn = ab.copy()
+        for a in range(3):
+            for b in range(3):
+                abn[u + a - b, 3 * kk + b] += dn[:, a, b]
+        rhs = b0 - n_val + np.einsum("kij,kj->ki", dn, w_in)
+        new = solve_banded((5, 5), abn, rhs.ravel()).reshape(m, 3)
         delta = np.abs(new - w_in)
         w_in = new
+        if not np.all(np.isfinite(new)):
+            break
         if np.all(delta <= _SPLINE_TOL * (1.0 + np.abs(new))):
             converged = True
             break
@@ -448,8 +469,9 @@ def rotation_spline(t, rotations, *, end_omega="estimate") -> RotationSpline:
     The rotation vector of ``R_k^T R(t)`` is a cubic in ``t`` on each interval
     (Hermite form: body angular velocities ``w_k`` at the knots); the interior
     ``w_k`` are chosen so that the angular acceleration is continuous, which
-    gives a block-tridiagonal system solved by fixed-point iteration on its
-    quadratic term -- the construction of SciPy's ``RotationSpline``. The two
+    gives a block-tridiagonal system with a quadratic term, solved here by
+    Newton's method -- the construction of SciPy's ``RotationSpline`` (which
+    uses a fixed-point iteration). The two
     end velocities are the boundary conditions.
 
     Parameters
