@@ -126,6 +126,8 @@ def test_sign_flips_and_inputs_agree():
     np.testing.assert_allclose(b, a, atol=1e-14)
     np.testing.assert_allclose(c, a, atol=1e-14)
     np.testing.assert_allclose(angular_velocity(t, R, frame="space"), R.apply(a), atol=1e-14)
+    d = angular_velocity(t, scipy_rot(R.as_quat()))  # a SciPy Rotation (scalar last inside)
+    np.testing.assert_allclose(d, a, atol=1e-14)
 
 
 def test_batch_of_bodies():

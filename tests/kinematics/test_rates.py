@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation as SciRotation
 
 from poinsot import GimbalLockWarning, InvalidInputError, Rotation, SingularityWarning
 from poinsot import quaternion as Q
@@ -100,6 +101,8 @@ def test_quat_rate_accepts_rotation_and_broadcasts():
     np.testing.assert_allclose(
         K.omega_from_quat_rate(R.as_quat(), qd, frame="space"), R.apply(w), atol=1e-14
     )
+    sci = SciRotation.from_quat(R.as_quat(), scalar_first=True)
+    np.testing.assert_allclose(K.quat_rate(sci, w), qd, atol=1e-15)
 
 
 def test_non_unit_quaternion_is_normalised():

@@ -47,8 +47,8 @@ _ORDERS = (2, 4, 6, 8)
 # --------------------------------------------------------------------------
 def _quat_samples(rotations, name="rotations"):
     """Unit quaternions ``(n, ..., 4)`` from a Rotation or a scalar-first array."""
-    if isinstance(rotations, Rotation):
-        q = rotations.as_quat()
+    if isinstance(rotations, Rotation) or _is_scipy_rotation(rotations):
+        q = rotations.as_quat(scalar_first=True)
         if q.ndim < 2:
             raise InvalidInputError(
                 f"Expected `{name}` to be a sequence of rotations (shape (n, ...)), "
@@ -59,6 +59,11 @@ def _quat_samples(rotations, name="rotations"):
     if q.ndim < 2:
         raise InvalidInputError(f"Expected `{name}` to have shape (n, ..., 4), got {q.shape}.")
     return q
+
+
+def _is_scipy_rotation(obj) -> bool:
+    cls = type(obj)
+    return cls.__name__ == "Rotation" and cls.__module__.startswith("scipy.spatial")
 
 
 def _check_lengths(t, q, name="rotations"):
@@ -194,7 +199,8 @@ def angular_velocity(t, rotations, *, frame: str = "body", order: int = 4) -> np
         Strictly increasing sample times (any spacing), ``n >= order + 1``.
     rotations : Rotation of shape (n, ...) or array_like, shape (n, ..., 4)
         Attitudes (body -> space) at ``t``; arrays are scalar-first quaternions,
-        normalised here. Sign flips ``q -> -q`` between samples are harmless.
+        normalised here (a SciPy ``Rotation`` is accepted too). Sign flips
+        ``q -> -q`` between samples are harmless.
     frame : {"body", "space"}
         Axes of the result (``w_x = R w_xi``).
     order : {2, 4, 6, 8}
@@ -479,9 +485,10 @@ def rotation_spline(t, rotations, *, end_omega="estimate") -> RotationSpline:
     t : array_like, shape (n,)
         Strictly increasing knot times, ``n >= 2``.
     rotations : Rotation of shape (n,) or array_like, shape (n, 4)
-        Attitudes (body -> space); arrays are scalar-first quaternions. Sign
-        flips between samples are harmless (each increment takes the shortest
-        rotation, so consecutive samples must differ by less than ``pi``).
+        Attitudes (body -> space); arrays are scalar-first quaternions (a SciPy
+        ``Rotation`` is accepted too). Sign flips between samples are harmless
+        (each increment takes the shortest rotation, so consecutive samples
+        must differ by less than ``pi``).
     end_omega : {"estimate", "chord"} or array_like, shape (2, 3)
         Body angular velocities at ``t_0`` and ``t_n-1``. ``"estimate"``
         (default): from :func:`angular_velocity` (4th order; 2nd order when

@@ -130,7 +130,7 @@ def _sign(frame: str) -> float:
 def _quat_arg(q, name):
     """Unit quaternions from an array (scalar first) or a :class:`Rotation`."""
     if hasattr(q, "as_quat") and not isinstance(q, np.ndarray):
-        q = q.as_quat()
+        q = q.as_quat(scalar_first=True)  # poinsot's or SciPy's Rotation
     return as_quat(q, name)
 
 
