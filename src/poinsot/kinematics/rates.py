@@ -29,6 +29,7 @@ with ``s = +1`` for the body frame and ``s = -1`` for the space frame, and
 
 from __future__ import annotations
 
+import numbers
 import warnings
 
 import numpy as np
@@ -737,7 +738,7 @@ def mrp_switch(p, *, threshold: float = 1.0) -> np.ndarray:
            [ 0. ,  0.5,  0. ]])
     """
     p = as_vec3(p, "p")
-    if not (isinstance(threshold, int | float) and threshold >= 1.0):
+    if not (isinstance(threshold, numbers.Real) and threshold >= 1.0):
         raise InvalidInputError(f"Expected `threshold` to be a number >= 1, got {threshold!r}.")
     pp = _dot(p, p)
     out = pp > threshold**2
