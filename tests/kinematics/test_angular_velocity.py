@@ -239,6 +239,7 @@ def test_spline_passes_through_the_samples():
     s = rotation_spline(t, R)
     assert np.max(rot_error(s.rotation(t), R)) < 1e-14
     assert isinstance(s, RotationSpline)
+    assert t.flags.writeable and not s.t.flags.writeable  # the caller's array is untouched
     assert s(t[3]).shape == ()
 
 

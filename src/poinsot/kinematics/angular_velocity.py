@@ -559,6 +559,7 @@ def rotation_spline(t, rotations, *, end_omega="estimate") -> RotationSpline:
     a = (-2.0 * r + h * w0 + h * rd_end) / h**3
     b = (3.0 * r - 2.0 * h * w0 - h * rd_end) / h**2
     coeffs = np.stack([a, b, w0])
+    t = t.copy()  # never freeze the caller's array
     for arr in (t, coeffs):
         arr.setflags(write=False)
     return RotationSpline(t=t, knots=Rotation.from_quat(q), coefficients=coeffs)
