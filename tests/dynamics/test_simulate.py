@@ -103,7 +103,11 @@ def test_rk4_and_adaptive_drift_but_stay_accurate():
     ("method", "steps", "order"),
     [
         ("midpoint", (0.04, 0.02, 0.01), 2),
+        ("midpoint", (0.2, 0.1, 0.05), 4),
+        ("midpoint", (0.2, 0.1, 0.05), 6),
         ("splitting", (0.04, 0.02, 0.01), 2),
+        ("splitting", (0.2, 0.1, 0.05), 4),
+        ("splitting", (0.4, 0.2, 0.1), 6),
         ("rk4", (0.2, 0.1, 0.05), 4),
     ],
 )
@@ -111,13 +115,39 @@ def test_observed_order_of_convergence(method, steps, order):
     t = np.array([0.0, 1.0, 3.0, 4.0])
     q_ref, w_ref = _reference(MOMENTS, Q0, OMEGA0, t)
     errors = []
+    kw = {} if method == "rk4" else {"order": order}
     for h in steps:
-        tr = simulate(MOMENTS, Q0, OMEGA0, t, method=method, max_step=h)
+        tr = simulate(MOMENTS, Q0, OMEGA0, t, method=method, max_step=h, **kw)
+        assert tr.info["order"] == order
         err_w = np.abs(tr.omega - w_ref).max()
         err_q = _angle(tr.quat, q_ref).max()
         errors.append(max(err_w, err_q))
     observed = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all(np.abs(observed - order) < 0.25), (errors, observed)
+
+
+def test_higher_order_compositions_keep_the_invariants():
+    t = np.linspace(0.0, 100.0, 11)
+    for order, stages in ((4, 3), (6, 7)):
+        tr = simulate(MOMENTS, Q0, OMEGA0, t, order=order, max_step=0.05)
+        assert tr.info["stages_per_step"] == stages and tr.info["steps"] == 2000
+        assert max(tr.energy_drift, tr.momentum_drift, tr.momentum_vector_drift) < 1e-13
+        sp = simulate(MOMENTS, Q0, OMEGA0, t[:3], method="splitting", order=order, max_step=0.1)
+        assert max(sp.momentum_drift, sp.momentum_vector_drift) < 1e-13
+
+
+def test_agrees_with_exact_free_body_near_the_separatrix():
+    """Dzhanibekov flip: spin close to the middle axis (K^2 slightly above 2 B T, SPEC
+    S10 MacCullagh); the exact Euler-Poinsot solution is ``FreeRigidBody``."""
+    free_body = pytest.importorskip("poinsot.dynamics.free_body")
+    w0 = np.array([1e-3, 2.0, 2e-3])
+    t = np.linspace(0.0, 20.0, 81)
+    exact = free_body.FreeRigidBody(MOMENTS, w0, poinsot.Rotation.from_quat(Q0))
+    w_ex, q_ex = exact.omega(t), exact.rotation(t).as_quat()
+    assert np.ptp(np.sign(w_ex[:, 1])) == 2  # the middle-axis component flips
+    tr = simulate(MOMENTS, Q0, w0, t, order=6, max_step=0.01)
+    np.testing.assert_allclose(tr.omega, w_ex, atol=1e-8)
+    assert _angle(tr.quat, q_ex).max() < 1e-8
 
 
 def test_adaptive_matches_reference():
@@ -364,6 +394,10 @@ def test_bad_inputs_name_the_argument():
         simulate(MOMENTS, Q0, OMEGA0, t, torque=[np.inf, 0, 0])
     with pytest.raises(InvalidInputError, match="`omega0` .* to broadcast"):
         simulate(MOMENTS, Q0, np.ones((3, 3)), t, torque=np.ones((2, 3)))
+    with pytest.raises(InvalidInputError, match="`order` to be one of 2, 4, 6, got 3"):
+        simulate(MOMENTS, Q0, OMEGA0, t, order=3)
+    with pytest.raises(InvalidInputError, match="`order` applies to method='midpoint'"):
+        simulate(MOMENTS, Q0, OMEGA0, t, method="rk4", order=4)
     with pytest.raises(InvalidInputError, match="`solver`"):
         simulate(MOMENTS, Q0, OMEGA0, t, method="adaptive", solver="nope")
 

@@ -26,11 +26,12 @@ _MAXIT = 60
 
 
 @njit(cache=True)
-def midpoint(q, m, W, M, t, nsub):
+def midpoint(q, m, W, M, t, nsub, coef):
     """Implicit midpoint (Lie-Poisson) + Cayley attitude for N bodies.
 
     q (N, 4), m (N, 3), W (NW, 3, 3), M (NM, 3) with NW, NM in {1, N};
-    t (n,), nsub (n-1,) substeps per interval. Returns (Q, MO, status, body,
+    t (n,), nsub (n-1,) substeps per interval, coef the composition
+    coefficients of one step (``[1.0]`` for the plain midpoint rule). Returns (Q, MO, status, body,
     k, iters): outputs (n, N, 4), (n, N, 3), the status code, and where it
     failed (body index, last output index reached) or the most Newton
     iterations taken by any step. One function (no calls to other cached
@@ -41,6 +42,7 @@ def midpoint(q, m, W, M, t, nsub):
     Q = np.empty((n, N, 4))
     MO = np.empty((n, N, 3))
     worst = 0
+    nc = coef.shape[0]
     for i in range(N):
         iw = i if W.shape[0] > 1 else 0
         im = i if M.shape[0] > 1 else 0
@@ -59,9 +61,11 @@ def midpoint(q, m, W, M, t, nsub):
         MO[0, i, 2] = m2
         for k in range(t.shape[0] - 1):
             ns = nsub[k]
-            h = (t[k + 1] - t[k]) / ns
-            h2 = 0.5 * h
-            for _s in range(ns):
+            hk = (t[k + 1] - t[k]) / ns
+            for s_ in range(ns * nc):
+                # a composition stage of length coef[j] * hk (one stage for order 2)
+                h = hk * coef[s_ % nc]
+                h2 = 0.5 * h
                 # explicit Euler half step as the first guess of the midpoint momentum
                 o0 = w00 * m0 + w01 * m1 + w02 * m2
                 o1 = w10 * m0 + w11 * m1 + w12 * m2

@@ -292,6 +292,7 @@ def simulate(
     torque=None,
     method: str = "midpoint",
     max_step: float | None = None,
+    order: int | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
     solver: str = "DOP853",
@@ -327,6 +328,11 @@ def simulate(
         the fewest equal steps no longer than ``max_step`` (one step per
         interval if ``None``: steps are never longer than the output
         spacing). Passed to ``solve_ivp`` for ``"adaptive"``.
+    order : {2, 4, 6}, optional
+        For ``"midpoint"`` and ``"splitting"``: compose the symmetric
+        second-order step into a method of order 4 (3 stages, the "triple
+        jump") or 6 (7 stages, Yoshida 1990). The invariants are kept exactly
+        as by the basic step. Default 2.
     rtol, atol : float, optional
         Tolerances of ``"adaptive"`` (defaults ``1e-10``, ``1e-12``).
     solver : str, optional
@@ -408,6 +414,15 @@ def simulate(
         if not h_max > 0:
             raise InvalidInputError(f"Expected `max_step` to be positive, got {max_step!r}.")
     n_body = math.prod(batch)
+    if order is not None and method not in ("midpoint", "splitting"):
+        raise InvalidInputError(
+            f"`order` applies to method='midpoint' or 'splitting' only, got method={method!r}."
+        )
+    if order is None:
+        order = 2
+    if not (isinstance(order, int | np.integer) and int(order) in COMPOSITIONS):
+        raise InvalidInputError(f"Expected `order` to be one of 2, 4, 6, got {order!r}.")
+    comp = COMPOSITIONS[int(order)]
 
     # flatten the batch to N bodies
     q = np.ascontiguousarray(np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4))
@@ -425,13 +440,15 @@ def simulate(
 
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         if method == "midpoint":
-            qs, ws, info = _run_midpoint(jb, j_inv, q, w, tt, h_max, mc, tfn)
+            qs, ws, info = _run_midpoint(jb, j_inv, q, w, tt, h_max, comp, mc, tfn)
         elif method == "splitting":
-            qs, ws, info = _run_splitting(jb, q, w, tt, h_max, mc, tfn)
+            qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn)
         elif method == "rk4":
             qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
         else:
             qs, ws, info = _run_adaptive(jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, solver)
+    if method != "adaptive":
+        info["order"] = 4 if method == "rk4" else int(order)
     if tfn is not None:
         info["torque_calls"] = tfn.calls
 
@@ -464,19 +481,44 @@ def _fail_nonfinite(method: str, t_reached: float, what: str) -> IntegrationErro
     )
 
 
-def _fixed_step_info(t, nsub):
+def _fixed_step_info(t, nsub, comp=(1.0,)):
     h = np.diff(t) / nsub if t.size > 1 else np.zeros(0)
     return {
         "steps": int(nsub.sum()),
+        "stages_per_step": len(comp),
         "step_size": float(h.max()) if h.size else 0.0,
         "min_step_size": float(h.min()) if h.size else 0.0,
     }
 
 
-def _run_midpoint(j, j_inv, q, w, t, h_max, m_const, tfn):
+# Symmetric compositions of a symmetric 2nd-order step: orders 4 (the triple
+# jump, Yoshida 1990; Suzuki 1990) and 6 (Yoshida 1990, solution A).
+_CBRT2 = 2.0 ** (1.0 / 3.0)
+_Y6 = (0.784513610477560, 0.235573213359357, -1.17767998417887)
+COMPOSITIONS = {
+    2: (1.0,),
+    4: (1.0 / (2.0 - _CBRT2), -_CBRT2 / (2.0 - _CBRT2), 1.0 / (2.0 - _CBRT2)),
+    6: (*_Y6, 1.0 - 2.0 * sum(_Y6), *_Y6[::-1]),
+}
+
+
+def _stages(t, nsub, comp):
+    """Yield ``(k, t_start, h, last)`` for every stage of every step in output interval
+    ``k``; ``last`` marks the stage that ends the interval."""
+    nc = len(comp)
+    for k in range(t.shape[0] - 1):
+        hk = (t[k + 1] - t[k]) / nsub[k]
+        for s in range(nsub[k]):
+            tn = float(t[k]) + s * hk
+            for j, c in enumerate(comp):
+                yield k, tn, hk * c, (s == nsub[k] - 1 and j == nc - 1)
+                tn += hk * c
+
+
+def _run_midpoint(j, j_inv, q, w, t, h_max, comp, m_const, tfn):
     nsub = _substeps(t, h_max)
     m = np.einsum("...ij,...j->...i", j, w)
-    info = _fixed_step_info(t, nsub)
+    info = _fixed_step_info(t, nsub, comp)
     if tfn is None:
         from . import _euler_numba
 
@@ -489,6 +531,7 @@ def _run_midpoint(j, j_inv, q, w, t, h_max, m_const, tfn):
             c(torque, dtype=float),
             c(t, dtype=float),
             c(nsub, dtype=np.int64),
+            c(comp, dtype=float),
         )
         if status == 2:
             raise _fail_nonfinite("midpoint", float(t[k]), f"the state of body {body}")
@@ -499,61 +542,65 @@ def _run_midpoint(j, j_inv, q, w, t, h_max, m_const, tfn):
             )
         info["max_newton_iterations"] = int(it)
     else:
-        Q, MO, it = _midpoint_numpy(j_inv, q, m, t, nsub, tfn)
+        Q, MO, it = _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn)
         info["max_newton_iterations"] = int(it)
     ws = np.einsum("...ij,...j->...i", j_inv, MO)
     return Q, ws, info
 
 
-def _midpoint_numpy(j_inv, q, m, t, nsub, tfn):
+def _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn):
     """The midpoint step of :mod:`._euler_numba`, vectorised over the batch with NumPy,
     for a torque that is a Python function of ``(t, rotation, omega)``."""
     n = t.shape[0]
     Q = np.empty((n,) + q.shape)
     MO = np.empty((n,) + m.shape)
     Q[0], MO[0] = q, m
-    eye = np.eye(3)
     worst = 0
-    for k in range(n - 1):
-        h = (t[k + 1] - t[k]) / nsub[k]
-        h2 = 0.5 * h
-        for s in range(nsub[k]):
-            tn = t[k] + s * h
-            w = np.einsum("...ij,...j->...i", j_inv, m)
-            mt = tfn(tn, q, w)
-            x = m + h2 * (np.cross(m, w) + mt)
-            prev = math.inf
-            it = 0
-            while True:
-                it += 1
-                w = np.einsum("...ij,...j->...i", j_inv, x)
-                qm = _qmul(q, _cayley_quat(0.5 * h2 * w))
-                mt = tfn(tn + h2, qm, w)
-                r = x - m - h2 * (np.cross(x, w) + mt)
-                jac = eye - h2 * (_hat(x) @ j_inv - _hat(w))
-                dx = np.linalg.solve(jac, r[..., None])[..., 0]
-                x = x - dx
-                rel = float(np.max(np.abs(dx).max(-1) / np.abs(x).max(-1)))
-                if rel <= 2 * _EPS or (rel <= 1e-12 and rel >= 0.5 * prev):
-                    break  # converged to round-off (or stagnating there)
-                if it >= _MAXIT or not rel < 1.0:  # too slow, or diverging
-                    raise IntegrationError(
-                        f"midpoint integration failed: the implicit step did not converge at "
-                        f"t = {tn:.6g} (the torque's dependence on the state is too strong "
-                        f"for the step): reduce `max_step`."
-                    )
-                prev = rel
-            worst = max(worst, it)
-            w = np.einsum("...ij,...j->...i", j_inv, x)
-            a = h2 * w
-            u = m - np.cross(a, m) + h * mt
-            au = np.einsum("...i,...i->...", a, u)[..., None]
-            m = (u - np.cross(a, u) + au * a) / (1.0 + np.einsum("...i,...i->...", a, a))[..., None]
-            q = _normalize(_qmul(q, _cayley_quat(a)))
-        if not (np.all(np.isfinite(m)) and np.all(np.isfinite(q))):
-            raise _fail_nonfinite("midpoint", float(t[k]), "the angular momentum")
-        Q[k + 1], MO[k + 1] = q, m
+    for k, tn, h, last in _stages(t, nsub, comp):
+        q, m, it = _midpoint_step_numpy(j_inv, q, m, tn, h, tfn)
+        worst = max(worst, it)
+        if last:
+            if not (np.all(np.isfinite(m)) and np.all(np.isfinite(q))):
+                raise _fail_nonfinite("midpoint", float(t[k]), "the angular momentum")
+            Q[k + 1], MO[k + 1] = q, m
     return Q, MO, worst
+
+
+def _midpoint_step_numpy(j_inv, q, m, tn, h, tfn):
+    """One midpoint step ``(q, m) -> (q+, m+)`` of length ``h`` from ``tn`` (see simulate)."""
+    eye = np.eye(3)
+    h2 = 0.5 * h
+    w = np.einsum("...ij,...j->...i", j_inv, m)
+    mt = tfn(tn, q, w)
+    x = m + h2 * (np.cross(m, w) + mt)
+    prev = math.inf
+    it = 0
+    while True:
+        it += 1
+        w = np.einsum("...ij,...j->...i", j_inv, x)
+        qm = _qmul(q, _cayley_quat(0.5 * h2 * w))
+        mt = tfn(tn + h2, qm, w)
+        r = x - m - h2 * (np.cross(x, w) + mt)
+        jac = eye - h2 * (_hat(x) @ j_inv - _hat(w))
+        dx = np.linalg.solve(jac, r[..., None])[..., 0]
+        x = x - dx
+        rel = float(np.max(np.abs(dx).max(-1) / np.abs(x).max(-1)))
+        if rel <= 2 * _EPS or (rel <= 1e-12 and rel >= 0.5 * prev):
+            break  # converged to round-off (or stagnating there)
+        if it >= _MAXIT or not rel < 1.0:  # too slow, or diverging
+            raise IntegrationError(
+                f"midpoint integration failed: the implicit step did not converge at "
+                f"t = {tn:.6g} (the torque's dependence on the state is too strong "
+                f"for the step): reduce `max_step`."
+            )
+        prev = rel
+    w = np.einsum("...ij,...j->...i", j_inv, x)
+    a = h2 * w
+    u = m - np.cross(a, m) + h * mt
+    au = np.einsum("...i,...i->...", a, u)[..., None]
+    m = (u - np.cross(a, u) + au * a) / (1.0 + np.einsum("...i,...i->...", a, a))[..., None]
+    q = _normalize(_qmul(q, _cayley_quat(a)))
+    return q, m, it
 
 
 def _axis_quat(theta, i):
@@ -564,7 +611,7 @@ def _axis_quat(theta, i):
     return c
 
 
-def _run_splitting(j, q, w, t, h_max, m_const, tfn):
+def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):
     """Strang splitting of the free-body Hamiltonian, with the torque as kicks.
 
     In principal axes (moments ``I0 <= I1 <= I2``) write
@@ -583,7 +630,7 @@ def _run_splitting(j, q, w, t, h_max, m_const, tfn):
     s_bp = np.broadcast_to(np.asarray(rot.as_quat(), dtype=float), (q.shape[0], 4))
     s_pb = s_bp * np.array([1.0, -1.0, -1.0, -1.0])
     inv_i = np.broadcast_to(1.0 / moments, q.shape[:-1] + (3,))
-    coef = inv_i - inv_i[:, 1:2]
+    c_axis = inv_i - inv_i[:, 1:2]
     q_np = _qmul(q, s_bp)
     m = _qrot(s_pb, np.einsum("...ij,...j->...i", j, w))  # principal-axes momentum
 
@@ -597,7 +644,7 @@ def _run_splitting(j, q, w, t, h_max, m_const, tfn):
         return m + dt * _qrot(s_pb, mt)
 
     def axis_flow(q_np, m, i, dt):
-        theta = dt * coef[:, i] * m[:, i]
+        theta = dt * c_axis[:, i] * m[:, i]
         a, b = (i + 1) % 3, (i + 2) % 3
         c, s = np.cos(theta), np.sin(theta)
         ma, mb = m[:, a], m[:, b]
@@ -613,23 +660,21 @@ def _run_splitting(j, q, w, t, h_max, m_const, tfn):
     Q = np.empty((n,) + q.shape)
     Wo = np.empty((n,) + w.shape)
     Q[0], Wo[0] = q, w
-    for k in range(n - 1):
-        h = (t[k + 1] - t[k]) / nsub[k]
-        for s in range(nsub[k]):
-            tn = t[k] + s * h
-            m = kick(tn, q_np, m, 0.5 * h)
-            q_np, m = axis_flow(q_np, m, 0, 0.5 * h)
-            q_np, m = axis_flow(q_np, m, 2, 0.5 * h)
-            q_np = iso_flow(q_np, m, h)
-            q_np, m = axis_flow(q_np, m, 2, 0.5 * h)
-            q_np, m = axis_flow(q_np, m, 0, 0.5 * h)
-            q_np = _normalize(q_np)
-            m = kick(tn + h, q_np, m, 0.5 * h)
-        if not (np.all(np.isfinite(m)) and np.all(np.isfinite(q_np))):
-            raise _fail_nonfinite("splitting", float(t[k]), "the angular momentum")
-        Q[k + 1] = _qmul(q_np, s_pb)
-        Wo[k + 1] = _qrot(s_bp, m * inv_i)
-    return Q, Wo, _fixed_step_info(t, nsub)
+    for k, tn, h, last in _stages(t, nsub, comp):
+        m = kick(tn, q_np, m, 0.5 * h)
+        q_np, m = axis_flow(q_np, m, 0, 0.5 * h)
+        q_np, m = axis_flow(q_np, m, 2, 0.5 * h)
+        q_np = iso_flow(q_np, m, h)
+        q_np, m = axis_flow(q_np, m, 2, 0.5 * h)
+        q_np, m = axis_flow(q_np, m, 0, 0.5 * h)
+        q_np = _normalize(q_np)
+        m = kick(tn + h, q_np, m, 0.5 * h)
+        if last:
+            if not (np.all(np.isfinite(m)) and np.all(np.isfinite(q_np))):
+                raise _fail_nonfinite("splitting", float(t[k]), "the angular momentum")
+            Q[k + 1] = _qmul(q_np, s_pb)
+            Wo[k + 1] = _qrot(s_bp, m * inv_i)
+    return Q, Wo, _fixed_step_info(t, nsub, comp)
 
 
 def _torque_value(m_const, tfn, tn, q, w):
@@ -649,21 +694,19 @@ def _run_rk4(j, j_inv, q, w, t, h_max, m_const, tfn):
         mt = _torque_value(m_const, tfn, tn, q, w)
         return 0.5 * _qmul(q, _pure(w)), _rhs(j, j_inv, w, mt)
 
-    for k in range(n - 1):
-        h = (t[k + 1] - t[k]) / nsub[k]
-        for s in range(nsub[k]):
-            tn = t[k] + s * h
-            k1q, k1w = f(tn, q, w)
-            k2q, k2w = f(tn + h / 2, q + h / 2 * k1q, w + h / 2 * k1w)
-            k3q, k3w = f(tn + h / 2, q + h / 2 * k2q, w + h / 2 * k2w)
-            k4q, k4w = f(tn + h, q + h * k3q, w + h * k3w)
-            q = _normalize(q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q))
-            w = w + h / 6 * (k1w + 2 * k2w + 2 * k3w + k4w)
-        if not np.all(np.isfinite(w)):
-            raise _fail_nonfinite("rk4", float(t[k]), "the angular velocity")
-        if not np.all(np.isfinite(q)):
-            raise _fail_nonfinite("rk4", float(t[k]), "the attitude quaternion")
-        Q[k + 1], Wo[k + 1] = q, w
+    for k, tn, h, last in _stages(t, nsub, (1.0,)):
+        k1q, k1w = f(tn, q, w)
+        k2q, k2w = f(tn + h / 2, q + h / 2 * k1q, w + h / 2 * k1w)
+        k3q, k3w = f(tn + h / 2, q + h / 2 * k2q, w + h / 2 * k2w)
+        k4q, k4w = f(tn + h, q + h * k3q, w + h * k3w)
+        q = _normalize(q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q))
+        w = w + h / 6 * (k1w + 2 * k2w + 2 * k3w + k4w)
+        if last:
+            if not np.all(np.isfinite(w)):
+                raise _fail_nonfinite("rk4", float(t[k]), "the angular velocity")
+            if not np.all(np.isfinite(q)):
+                raise _fail_nonfinite("rk4", float(t[k]), "the attitude quaternion")
+            Q[k + 1], Wo[k + 1] = q, w
     return Q, Wo, _fixed_step_info(t, nsub)
 
 
