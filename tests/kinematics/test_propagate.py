@@ -1,0 +1,392 @@
+"""Attitude propagation (SPEC S5 task (a)): ``propagate`` against closed forms.
+
+Oracles are independent of poinsot: SciPy's ``Rotation`` builds the exact
+attitudes, and the coning motion ``L(t) = exp(A t/2) o exp(B t/2)`` has the
+closed-form angular velocities (SPEC S5, ``w_xi = 2 L~ o L'``, ``w_x = 2 L' o L~``)
+
+``w_xi(t) = R(B t)^T A + B``,    ``w_x(t) = A + R(A t) B``,
+
+where ``R(v)`` is the rotation by the rotation vector ``v``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation as SR
+
+import poinsot
+from poinsot.errors import IntegrationError, InvalidInputError, InvalidTypeError
+from poinsot.kinematics.propagate import propagate
+
+A = np.array([0.3, -0.2, 1.1])
+B = np.array([0.7, 0.5, -0.4])
+T = 3.0
+
+
+def coning_truth(t):
+    """Exact attitude (as SciPy rotations) of the coning motion started at L = 1."""
+    return SR.from_rotvec(np.outer(t, A)) * SR.from_rotvec(np.outer(t, B))
+
+
+def w_body(t):
+    return SR.from_rotvec(B * t).inv().apply(A) + B
+
+
+def w_space(t):
+    return A + SR.from_rotvec(A * t).apply(B)
+
+
+W = {"body": w_body, "space": w_space}
+
+
+def qdist(q, r):
+    """Largest distance between quaternions and SciPy rotations, sign-blind."""
+    qt = r.as_quat(scalar_first=True)
+    d = np.minimum(np.linalg.norm(q - qt, axis=-1), np.linalg.norm(q + qt, axis=-1))
+    return float(np.max(d))
+
+
+def scipy_rot(q):
+    return SR.from_quat(np.asarray(q), scalar_first=True)
+
+
+def test_doc_example_quarter_turn():
+    tr = propagate([1, 0, 0, 0], lambda t: [0.0, 0.0, 1.0], [0.0, np.pi / 2])
+    assert isinstance(tr, poinsot.Trajectory)
+    assert tr.rotation.shape == (2,)
+    np.testing.assert_allclose(tr.rotation.apply([1.0, 0.0, 0.0])[-1], [0, 1, 0], atol=1e-15)
+    assert tr.method == "magnus4"
+
+
+# ----------------------------------------------------------------- constant omega
+
+
+@pytest.mark.parametrize("method", ["exact", "magnus4"])
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_constant_omega_closed_form_to_roundoff(method, frame):
+    """Constant w: L(t) = L0 o exp(w t/2) (body) or exp(w t/2) o L0 (space), exactly."""
+    rng = np.random.default_rng(1)
+    q0 = rng.normal(size=4)
+    w = np.array([2.0, -1.0, 3.5])
+    t = np.sort(rng.uniform(0.0, 10.0, 200))
+    tr = propagate(q0, lambda s: w, t, frame=frame, method=method)
+    r0 = scipy_rot(q0)
+    rw = SR.from_rotvec(np.outer(t - t[0], w))
+    truth = r0 * rw if frame == "body" else rw * r0
+    assert qdist(tr.quat, truth) < 2e-14
+    # omega is returned in body axes: w_xi = L~ o w_x o L
+    expect = np.broadcast_to(w, (len(t), 3)) if frame == "body" else truth.inv().apply(w)
+    np.testing.assert_allclose(tr.omega, expect, atol=1e-13)
+
+
+def test_exact_with_piecewise_constant_samples_is_exact():
+    """Samples under method='exact' are held on [t_k, t_{k+1}): a product of exponentials."""
+    rng = np.random.default_rng(2)
+    t = np.cumsum(rng.uniform(0.05, 0.3, 30))
+    w = rng.normal(size=(30, 3))
+    tr = propagate([1, 0, 0, 0], w, t, method="exact", steps_per_sample=3)
+    r = SR.identity()
+    expect = [r]
+    for k in range(29):
+        r = r * SR.from_rotvec(w[k] * (t[k + 1] - t[k]))
+        expect.append(r)
+    assert qdist(tr.quat, SR.concatenate(expect)) < 1e-14
+    assert tr.info["interpolation"] == "zero-order hold"
+    np.testing.assert_array_equal(tr.omega, w)
+
+
+# ----------------------------------------------------------------- coning motion
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+@pytest.mark.parametrize(
+    ("method", "tol"), [("magnus4", 1e-9), ("rk4", 1e-9), ("exact", 2e-5), ("adaptive", 1e-9)]
+)
+def test_coning_motion_against_closed_form(frame, method, tol):
+    t = np.linspace(0.0, T, 31)
+    kw = {"max_step": 0.01} if method != "adaptive" else {}
+    tr = propagate([1, 0, 0, 0], W[frame], t, frame=frame, method=method, **kw)
+    assert qdist(tr.quat, coning_truth(t)) < tol
+    np.testing.assert_allclose(tr.omega, np.array([w_body(s) for s in t]), atol=10 * tol)
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_adaptive_from_samples_and_tolerance(frame):
+    t = np.linspace(0.0, T, 301)
+    w = np.array([W[frame](s) for s in t])
+    tr = propagate([1, 0, 0, 0], w, t, frame=frame, method="adaptive", rtol=1e-12, atol=1e-14)
+    # error dominated by the cubic spline through samples spaced 0.01 apart (~h^4)
+    assert qdist(tr.quat, coning_truth(t)) < 1e-8
+    assert tr.info["nfev"] > 0 and tr.info["interpolation"].startswith("cubic")
+    loose = propagate([1, 0, 0, 0], W[frame], t, frame=frame, method="adaptive", rtol=1e-4)
+    tight = propagate([1, 0, 0, 0], W[frame], t, frame=frame, method="adaptive", rtol=1e-12)
+    assert qdist(tight.quat, coning_truth(t)) < qdist(loose.quat, coning_truth(t))
+    assert tight.info["nfev"] > loose.info["nfev"]
+
+
+ORDERS = [
+    ("exact", "callable", 2),
+    ("exact", "samples", 1),
+    ("rk4", "callable", 4),
+    ("rk4", "samples", 4),
+    ("magnus4", "callable", 4),
+    ("magnus4", "samples", 4),
+]
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+@pytest.mark.parametrize(("method", "kind", "order"), ORDERS)
+def test_observed_order_matches_claim(frame, method, kind, order):
+    """Halving h divides the global error by 2^p (coning motion, T = 3 s)."""
+    errs = []
+    for n in (24, 48, 96):
+        t = np.linspace(0.0, T, n + 1)
+        w = W[frame] if kind == "callable" else np.array([W[frame](s) for s in t])
+        tr = propagate([1, 0, 0, 0], w, t, frame=frame, method=method)
+        errs.append(qdist(tr.quat, coning_truth(t)))
+    slopes = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    np.testing.assert_allclose(slopes, order, atol=0.15)
+
+
+def test_magnus_beats_rk4_per_evaluation_on_fast_spin():
+    """Lie-group steps keep the error bounded for a fast spin where RK4 degrades."""
+    t = np.linspace(0.0, 10.0, 101)  # 10 rad/s spin: w h = 1 rad per step
+    w = np.array([0.0, 0.0, 10.0])
+    truth = SR.from_rotvec(np.outer(t, w))
+    magnus = propagate([1, 0, 0, 0], lambda s: w, t, method="magnus4")
+    rk4 = propagate([1, 0, 0, 0], lambda s: w, t, method="rk4")
+    assert qdist(magnus.quat, truth) < 1e-13
+    assert qdist(rk4.quat, truth) > 1e-4
+
+
+# ----------------------------------------------------------------- invariants
+
+
+@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact", "adaptive"])
+def test_unit_norm_within_1e15(method):
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 20.0, 2001)
+    tr = propagate(
+        rng.normal(size=(3, 4)) * 5, lambda s: [8.0 * np.sin(s), 5.0, -3.0], t, method=method
+    )
+    assert np.max(np.abs(np.linalg.norm(tr.quat, axis=-1) - 1.0)) <= 1e-15
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact"])
+def test_constant_factor_invariance(frame, method):
+    """SPEC S5: if L* solves the equation, so does L* o L0 (space) / L0 o L* (body)."""
+    rng = np.random.default_rng(4)
+    q0 = rng.normal(size=4)
+    q0 /= np.linalg.norm(q0)
+    t = np.linspace(0.0, T, 40)
+    star = propagate([1, 0, 0, 0], W[frame], t, frame=frame, method=method)
+    tr = propagate(q0, W[frame], t, frame=frame, method=method)
+    rs, r0 = scipy_rot(star.quat), scipy_rot(q0)
+    assert qdist(tr.quat, r0 * rs if frame == "body" else rs * r0) < 1e-14
+
+
+@pytest.mark.parametrize("method", ["magnus4", "rk4", "adaptive"])
+def test_space_and_body_frames_agree(method):
+    """The same motion described by w_x or by w_xi = L~ o w_x o L gives the same L(t)."""
+    t = np.linspace(0.0, T, 61)
+    kw = {"steps_per_sample": 4} if method != "adaptive" else {}
+    trb = propagate([1, 0, 0, 0], w_body, t, frame="body", method=method, **kw)
+    trs = propagate([1, 0, 0, 0], w_space, t, frame="space", method=method, **kw)
+    assert qdist(trb.quat, scipy_rot(trs.quat)) < 1e-9
+    np.testing.assert_allclose(trs.omega, trb.omega, atol=1e-8)
+    np.testing.assert_allclose(trs.omega_space, np.array([w_space(s) for s in t]), atol=1e-8)
+
+
+@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact"])
+def test_substeps_equal_finer_output_grid(method):
+    """steps_per_sample=k on a grid equals one step per sample on the k-times finer grid."""
+    fine = np.linspace(0.0, T, 4 * 15 + 1)
+    coarse = fine[::4]
+    a = propagate([1, 0, 0, 0], w_body, coarse, method=method, steps_per_sample=4)
+    b = propagate([1, 0, 0, 0], w_body, fine, method=method)
+    c = propagate([1, 0, 0, 0], w_body, coarse, method=method, max_step=T / 60)
+    assert qdist(a.quat, scipy_rot(b.quat[::4])) < 1e-14
+    assert qdist(c.quat, scipy_rot(a.quat)) < 1e-14
+    assert a.info["n_steps"] == c.info["n_steps"] == 60
+    np.testing.assert_allclose(a.info["max_h"], T / 60)
+
+
+# ----------------------------------------------------------------- batches
+
+
+def batch_omega(t):
+    k = np.arange(1.0, 6.0)[:, None]
+    return np.column_stack([np.sin(k[:, 0] * t), np.cos(t) * k[:, 0], 0.5 + 0 * k[:, 0]])
+
+
+@pytest.mark.parametrize("n_bodies", [5, 40])  # both the scan and the per-step chaining
+@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact", "adaptive"])
+def test_batch_equals_loop(n_bodies, method):
+    rng = np.random.default_rng(5)
+    q0 = rng.normal(size=(n_bodies, 4))
+    amp = rng.uniform(0.5, 3.0, (n_bodies, 3))
+
+    def w_all(s):
+        return amp * np.array([np.sin(s), np.cos(2 * s), 1.0])
+
+    t = np.linspace(0.0, 2.0, 21)
+    tr = propagate(q0, w_all, t, method=method, steps_per_sample=1 if method == "adaptive" else 3)
+    assert tr.rotation.shape == (21, n_bodies)
+    assert tr.omega.shape == (21, n_bodies, 3)
+    tol = 1e-9 if method == "adaptive" else 1e-14
+    for i in (0, n_bodies - 1):
+        one = propagate(
+            q0[i],
+            lambda s, i=i: w_all(s)[i],
+            t,
+            method=method,
+            steps_per_sample=1 if method == "adaptive" else 3,
+        )
+        assert qdist(tr.quat[:, i], scipy_rot(one.quat)) < tol
+        np.testing.assert_allclose(tr.omega[:, i], one.omega, atol=1e-15)
+
+
+def test_batch_shared_omega_and_samples():
+    """A (3,)-valued callable or (n, 3) samples drive all bodies of a (N, 4) batch."""
+    rng = np.random.default_rng(6)
+    q0 = rng.normal(size=(4, 4))
+    t = np.linspace(0.0, T, 41)
+    shared = propagate(q0, w_body, t)
+    samples = propagate(q0, np.array([w_body(s) for s in t]), t)
+    per_body = propagate(q0, np.repeat(np.array([w_body(s) for s in t])[:, None], 4, 1), t)
+    assert shared.rotation.shape == samples.rotation.shape == per_body.rotation.shape == (41, 4)
+    for i in range(4):
+        expect = scipy_rot(q0[i]) * coning_truth(t)
+        assert qdist(shared.quat[:, i], expect) < 1e-6
+    assert qdist(samples.quat, scipy_rot(per_body.quat)) < 1e-15
+    # one q0 with per-body samples broadcasts to a batch
+    one_q0 = propagate(q0[0], np.repeat(np.array([w_body(s) for s in t])[:, None], 4, 1), t)
+    assert one_q0.rotation.shape == (41, 4)
+
+
+def test_vectorized_callable_equals_scalar_calls():
+    t = np.linspace(0.0, T, 50)
+
+    def w_vec(s):
+        return np.array([w_body(x) for x in np.atleast_1d(s)])
+
+    a = propagate([1, 0, 0, 0], w_body, t, steps_per_sample=2)
+    b = propagate([1, 0, 0, 0], w_vec, t, steps_per_sample=2, vectorized=True)
+    np.testing.assert_allclose(b.quat, a.quat, atol=1e-15)
+    np.testing.assert_allclose(b.omega, a.omega, atol=1e-15)
+
+
+def test_rotation_input_and_normalisation():
+    rng = np.random.default_rng(7)
+    q0 = rng.normal(size=4)
+    t = np.linspace(0.0, 1.0, 5)
+    a = propagate(poinsot.Rotation.from_quat(q0), w_body, t)
+    b = propagate(7.5 * q0, w_body, t)
+    assert qdist(a.quat, scipy_rot(b.quat)) < 1e-15
+    assert qdist(a.quat[:1], scipy_rot(q0)) < 1e-15
+
+
+def test_single_time_returns_q0():
+    tr = propagate([0, 0, 2, 0], w_body, [1.5])
+    np.testing.assert_allclose(tr.quat, [[0, 0, 1, 0]])
+    assert tr.rotation.shape == (1,)
+    tr = propagate([0, 0, 2, 0], w_body, [1.5], method="adaptive")
+    np.testing.assert_allclose(tr.quat, [[0, 0, 1, 0]])
+
+
+# ----------------------------------------------------------------- bad input
+
+
+def test_error_unknown_method_and_frame():
+    with pytest.raises(InvalidInputError, match="Expected `method` to be one of"):
+        propagate([1, 0, 0, 0], w_body, [0, 1], method="euler")
+    with pytest.raises(InvalidInputError, match="Expected `frame` to be one of"):
+        propagate([1, 0, 0, 0], w_body, [0, 1], frame="inertial")
+
+
+def test_error_times():
+    with pytest.raises(InvalidInputError, match="`t` to be strictly increasing"):
+        propagate([1, 0, 0, 0], w_body, [0.0, 2.0, 1.0])
+    with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\)"):
+        propagate([1, 0, 0, 0], w_body, [[0.0, 1.0]])
+    with pytest.raises(InvalidInputError, match="`t` to have at least 1 samples"):
+        propagate([1, 0, 0, 0], w_body, [])
+    with pytest.raises(InvalidInputError, match="`t` to contain only finite"):
+        propagate([1, 0, 0, 0], w_body, [0.0, np.nan])
+
+
+def test_error_q0():
+    with pytest.raises(InvalidInputError, match="`q0` to be non-zero"):
+        propagate([0, 0, 0, 0], w_body, [0, 1])
+    with pytest.raises(InvalidInputError, match=r"`q0` to have shape \(\.\.\., 4\)"):
+        propagate([1, 0, 0], w_body, [0, 1])
+    with pytest.raises(InvalidInputError, match="batch of shape"):
+        propagate(np.ones((2, 3, 4)), w_body, [0, 1])
+
+
+def test_error_samples():
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(InvalidInputError, match=r"`omega` samples to have shape \(len\(t\), 3\)"):
+        propagate([1, 0, 0, 0], np.zeros((4, 3)), t)
+    with pytest.raises(InvalidInputError, match=r"`omega` samples to have shape"):
+        propagate([1, 0, 0, 0], np.zeros((5, 2)), t)
+    with pytest.raises(InvalidInputError, match=r"`omega` samples to have shape"):
+        propagate([1, 0, 0, 0], [1.0, 2.0, 3.0], t)
+    w = np.zeros((5, 3))
+    w[2, 1] = np.nan
+    with pytest.raises(InvalidInputError, match="`omega` to contain only finite"):
+        propagate([1, 0, 0, 0], w, t)
+    with pytest.raises(InvalidInputError, match="at least 4 samples of `omega`.*'magnus4'"):
+        propagate([1, 0, 0, 0], np.zeros((3, 3)), t[:3])
+    with pytest.raises(InvalidInputError, match="at least 2 samples of `omega`.*'exact'"):
+        propagate([1, 0, 0, 0], np.zeros((1, 3)), t[:1], method="exact")
+    with pytest.raises(InvalidInputError, match="same bodies as `q0`"):
+        propagate(np.ones((3, 4)), np.zeros((5, 2, 3)), t)
+    with pytest.raises(InvalidTypeError, match="`omega` to be array-like"):
+        propagate([1, 0, 0, 0], "fast", t)
+
+
+def test_error_callable_output():
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(InvalidInputError, match=r"`omega\(t\)` to return shape \(3,\)"):
+        propagate([1, 0, 0, 0], lambda s: [1.0, 2.0], t)
+    with pytest.raises(InvalidInputError, match=r"`omega\(t\)` to return only finite.*t = 0.5"):
+        propagate([1, 0, 0, 0], lambda s: [0.0, np.nan if s >= 0.5 else 0.0, 0.0], t, method="rk4")
+    with pytest.raises(InvalidInputError, match=r"`omega\(t\)` to return shape \(3,\) at every"):
+        propagate([1, 0, 0, 0], lambda s: np.zeros((2, 3)) if s > 0.5 else np.zeros(3), t)
+    with pytest.raises(InvalidTypeError, match=r"`omega\(t\)` to return an array of real"):
+        propagate([1, 0, 0, 0], lambda s: ["a", "b", "c"], t)
+    with pytest.raises(InvalidInputError, match="same bodies as `q0`"):
+        propagate(np.ones((3, 4)), lambda s: np.zeros((2, 3)), t)
+    with pytest.raises(InvalidInputError, match=r"`vectorized=True` to return shape \(m, 3\)"):
+        propagate([1, 0, 0, 0], lambda s: np.zeros(3), t, vectorized=True)
+    with pytest.raises(
+        InvalidInputError, match=r"`vectorized=True` to return shape \(\d+, 3\), got \(1, 3\)"
+    ):
+        propagate([1, 0, 0, 0], lambda s: np.zeros((1, 3)), t, vectorized=True)
+
+
+def test_error_options():
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(InvalidInputError, match="`steps_per_sample` to be a positive integer"):
+        propagate([1, 0, 0, 0], w_body, t, steps_per_sample=0)
+    with pytest.raises(InvalidInputError, match="`steps_per_sample` to be a positive integer"):
+        propagate([1, 0, 0, 0], w_body, t, steps_per_sample=2.5)
+    with pytest.raises(InvalidInputError, match="`max_step` to be positive"):
+        propagate([1, 0, 0, 0], w_body, t, max_step=0.0)
+    with pytest.raises(InvalidInputError, match="`rtol` and `atol` apply to method='adaptive'"):
+        propagate([1, 0, 0, 0], w_body, t, rtol=1e-6)
+    with pytest.raises(InvalidInputError, match="`steps_per_sample` applies to fixed-step"):
+        propagate([1, 0, 0, 0], w_body, t, method="adaptive", steps_per_sample=3)
+    with pytest.raises(InvalidInputError, match="`rtol` and `atol` to be positive"):
+        propagate([1, 0, 0, 0], w_body, t, method="adaptive", atol=-1.0)
+    with pytest.raises(InvalidTypeError, match="`vectorized` to be a bool"):
+        propagate([1, 0, 0, 0], w_body, t, vectorized="yes")
+
+
+def test_error_adaptive_failure_is_integration_error():
+    """A rate so large that DOP853's step underflows: IntegrationError, not garbage."""
+    with pytest.raises(IntegrationError, match="Adaptive attitude propagation failed"):
+        propagate([1, 0, 0, 0], lambda s: [0.0, 0.0, 1e20], [1.0, 2.0], method="adaptive")
