@@ -181,9 +181,11 @@ def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenari
             name,
         )
     description = top.string("description", "")
-    sim_t = top.table("simulation", required=True)
+    # tables are read in the order they usually appear, so the first error reported is
+    # the first one in the file
     profile_t = top.table("omega_profile")
     body_t = top.table("body", required=profile_t is None)
+    body = _body(body_t) if body_t is not None else None
     attitude = _attitude(top.table("attitude"), top)
     if profile_t is not None:
         top.forbid(
@@ -202,8 +204,7 @@ def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenari
         profile = None
         angular_velocity = _angular_velocity(top.table("angular_velocity", required=True), attitude)
         torque = _torque(top.table("torque"))
-    body = _body(body_t) if body_t is not None else None
-    simulation = _simulation(sim_t, profile, torque)
+    simulation = _simulation(top.table("simulation", required=True), profile, torque)
     top.finish(_TOP_KEYS)
     if torque.model == "gravity" and not np.any(body.center_of_mass):
         raise top.error(

@@ -804,14 +804,19 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
                 "MacCullagh/Poinsot figures skipped: poinsot.plotting.free_body is not available"
             )
         else:
-            for name, func in (
-                ("maccullagh.png", "plot_maccullagh"),
-                ("poinsot.png", "plot_poinsot"),
+            from ..dynamics.free_body import FreeRigidBody
+
+            fb = FreeRigidBody(
+                np.asarray(result.scenario.body.inertia),
+                np.asarray(result.scenario.angular_velocity.omega_body),
+                result.scenario.attitude.rotation,
+            )
+            for name, draw in (
+                ("maccullagh.png", lambda: fbp.plot_maccullagh(fb)),
+                ("poinsot.png", lambda: fbp.plot_poinsot(fb, tr.t)),
             ):
-                if not hasattr(fbp, func):
-                    continue
                 try:
-                    ax = getattr(fbp, func)(tr, inertia=np.asarray(result.scenario.body.inertia))
+                    ax = draw()
                 except Exception as exc:  # a figure must not sink the run
                     notes.append(f"{name} skipped: {type(exc).__name__}: {exc}")
                     plt.close("all")

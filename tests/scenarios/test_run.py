@@ -1,0 +1,274 @@
+"""Running scenarios: every shipped example, physics checks on the outputs, atomic files."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from poinsot import InvalidInputError
+from poinsot.scenarios import (
+    demo_scenario,
+    load_scenario,
+    parse_scenario,
+    run_scenario,
+    simulate_scenario,
+)
+from poinsot.scenarios.run import coning_omega, coning_quat
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLE_FILES = sorted(EXAMPLES.glob("*.toml"))
+
+# short durations keep the whole file fast; each still covers many output samples
+SHORT = {
+    "tennis_racket": 1.0,
+    "symmetric_top": 0.2,
+    "satellite_torque": 60.0,
+    "attitude_propagation": 10.0,
+    "coning": 1.0,
+}
+
+
+def read_csv(path: Path):
+    lines = path.read_text().splitlines()
+    header = [ln for ln in lines if ln.startswith("#")]
+    names = header[-1][2:].split(",")
+    data = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
+    return header, {n: data[:, k] for k, n in enumerate(names)}
+
+
+def test_examples_shipped():
+    names = {p.stem for p in EXAMPLE_FILES}
+    assert {"tennis_racket", "symmetric_top", "satellite_torque", "attitude_propagation"} <= names
+
+
+@pytest.mark.parametrize("path", EXAMPLE_FILES, ids=lambda p: p.stem)
+def test_every_example_runs(path, tmp_path):
+    scenario = load_scenario(path)
+    out = tmp_path / scenario.name
+    result, files = run_scenario(scenario, out, report=False, duration=SHORT.get(path.stem, 1.0))
+    names = {p.name for p in files}
+    assert {"trajectory.csv", "summary.json", "omega.png"} <= names
+    assert sorted(p.name for p in out.iterdir()) == sorted(names)  # no temporary left
+    header, cols = read_csv(out / "trajectory.csv")
+    assert any("scalar first" in h for h in header) and any("rad/s" in h for h in header)
+    q = np.stack([cols[k] for k in ("qw", "qx", "qy", "qz")], axis=-1)
+    np.testing.assert_allclose(np.linalg.norm(q, axis=-1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(cols["t"], result.trajectory.t, rtol=0, atol=0)  # exact repr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["scenario"]["name"] == scenario.name
+    assert summary["scenario"]["file"] == scenario.data
+    assert set(summary["versions"]) >= {"poinsot", "numpy", "scipy", "python"}
+    assert summary["method"] == scenario.simulation.method
+    assert summary["files"][-1] == "summary.json"
+    if scenario.simulation.reference:
+        assert (out / "reference.csv").exists()
+        assert summary["comparison"]["reference"] == scenario.simulation.reference
+
+
+def test_free_body_invariants_and_exact_vs_numerical():
+    """Torque-free: T, |K| and the space vector K are conserved (SPEC S10); the midpoint
+    integrator converges to the exact (Jacobi elliptic) solution."""
+    result = simulate_scenario(demo_scenario(), duration=4.0)
+    inv = result.summary["invariants"]
+    for key in ("energy", "momentum_norm", "momentum_vector"):
+        assert inv[key]["conserved"] and inv[key]["max_relative_drift"] < 1e-12
+    tr, ref = result.trajectory, result.reference
+    assert tr.method == "midpoint" and ref.method == "exact"
+    # second-order method at h = 1 ms on a spin of 6 rad/s: close to the exact solution
+    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-3
+    # the closed form: 2T and |K| from the initial state (SPEC S8)
+    j = np.asarray(result.scenario.body.inertia)
+    w0 = np.asarray(result.scenario.angular_velocity.omega_body)
+    cf = result.summary["closed_form"]
+    assert cf["energy"] == pytest.approx(0.5 * w0 @ j @ w0, rel=1e-14)
+    assert cf["momentum_norm"] == pytest.approx(np.linalg.norm(j @ w0), rel=1e-14)
+
+
+def test_tennis_racket_flips():
+    """Spin about the intermediate axis: omega_y reverses (the flip), within one period."""
+    s = load_scenario(EXAMPLES / "tennis_racket.toml")
+    result = simulate_scenario(s)
+    w = result.trajectory.omega
+    assert w[0, 1] > 10 and w[:, 1].min() < -10
+    period = result.summary["closed_form"]["period"]
+    t_flip = result.trajectory.t[np.argmax(w[:, 1] < 0)]
+    assert 0 < t_flip < period
+
+
+def test_heavy_top_regular_precession():
+    """Lagrange top started on the slow regular precession of SPEC S10
+    (A psi'^2 cos(theta) - H psi' + m g l = 0): the tilt stays 30 deg and the axis
+    precesses at psi' computed here independently."""
+    s = load_scenario(EXAMPLES / "symmetric_top.toml")
+    result = simulate_scenario(s, duration=0.4)
+    m, g, l = s.body.mass, s.torque.g, s.body.center_of_mass[2]
+    r, h = s.body.dims
+    a = m * (3 * r**2 + h**2) / 12 + m * l**2  # about the pin (Huygens-Steiner)
+    c = m * r**2 / 2
+    theta = np.radians(30.0)
+    spin = 150.0
+    big_h = c * spin
+    psi_dot = (big_h - np.sqrt(big_h**2 - 4 * a * np.cos(theta) * m * g * l)) / (
+        2 * a * np.cos(theta)
+    )
+    np.testing.assert_allclose(s.angular_velocity.omega_body, [0, psi_dot * np.sin(theta), spin])
+    tr = result.trajectory
+    axis = tr.rotation.apply(np.array([0.0, 0.0, 1.0]))  # symmetry axis in space
+    tilt = np.arccos(axis[:, 2])
+    np.testing.assert_allclose(tilt, theta, atol=1e-7)
+    psi = np.unwrap(np.arctan2(axis[:, 0], -axis[:, 1]))
+    rate = np.polyfit(tr.t, psi, 1)[0]
+    assert rate == pytest.approx(psi_dot, rel=1e-7)
+    inv = result.summary["invariants"]
+    assert inv["total_energy"]["max_relative_drift"] < 1e-9
+    assert inv["momentum_z"]["max_relative_drift"] < 1e-9
+
+
+def test_constant_space_torque_momentum_balance():
+    """dK/dt = M in space axes: K(t) = K(0) + M t exactly (SPEC S9)."""
+    s = parse_scenario(
+        textwrap.dedent("""
+        [body]
+        mass = 3.0
+        inertia = [1.0, 2.0, 2.5]
+        [attitude]
+        euler = [10.0, 20.0, 30.0]
+        sequence = "zyx"
+        degrees = true
+        [angular_velocity]
+        vector = [0.3, -0.2, 0.5]
+        frame = "body"
+        [torque]
+        model = "space"
+        vector = [0.1, 0.0, -0.05]
+        [simulation]
+        duration = 5.0
+        step = 0.05
+        method = "adaptive"
+        """)
+    )
+    result = simulate_scenario(s)
+    bal = result.summary["invariants"]["momentum_balance"]
+    assert bal["max_relative_error"] < 1e-8
+    assert not result.summary["invariants"]["energy"]["conserved"]
+
+
+def test_constant_body_torque_work_energy():
+    """With a body torque the kinetic energy changes at the rate M . w (SPEC S9)."""
+    s = load_scenario(EXAMPLES / "satellite_torque.toml")
+    tr = simulate_scenario(s, duration=60.0).trajectory
+    power = tr.omega @ np.asarray(s.torque.vector)
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(tr.t))])
+    # trapezoidal quadrature on the 0.5 s output grid limits the agreement
+    np.testing.assert_allclose(tr.energy - tr.energy[0], work, atol=2e-5 * np.abs(work).max())
+    assert abs(tr.energy[-1] - tr.energy[0]) > 1e-3 * tr.energy[0]  # it does change
+
+
+def test_coning_closed_form():
+    """Coning body rates equal 2 q~ o q' of the closed-form attitude (finite differences),
+    and the Magnus integrator reproduces the closed form."""
+    a, w, t = 0.3, 2.0, np.linspace(0.0, 3.0, 31)
+    from poinsot import quaternion as qa
+
+    eps = 1e-6
+    dq = (coning_quat(a, w, t + eps) - coning_quat(a, w, t - eps)) / (2 * eps)
+    omega_fd = 2 * qa.multiply(qa.conjugate(coning_quat(a, w, t)), dq)
+    np.testing.assert_allclose(omega_fd[:, 0], 0.0, atol=1e-8)
+    np.testing.assert_allclose(omega_fd[:, 1:], coning_omega(a, w, t), atol=1e-8)
+    result = simulate_scenario(load_scenario(EXAMPLES / "coning.toml"))
+    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-9
+    q = result.trajectory.quat
+    period = result.summary["closed_form"]["period"]
+    k = int(np.argmin(np.abs(result.trajectory.t - period)))
+    assert abs(abs(q[k] @ q[0]) - 1.0) < 1e-12  # periodic attitude
+
+
+def test_constant_profile_exact_matches_rotvec():
+    s = parse_scenario(
+        '[omega_profile]\nkind = "constant"\nframe = "space"\nvector = [0.0, 90.0, 0.0]\n'
+        'units = "deg/s"\n[attitude]\nrotvec = [0.0, 0.0, 90.0]\ndegrees = true\n'
+        '[simulation]\nduration = 1.0\nsamples = 3\nmethod = "exact"\nreference = "magnus4"\n'
+    )
+    result = simulate_scenario(s)
+    r = result.trajectory.rotation[-1]
+    # 90 deg about space y after 90 deg about z: x_body -> y_space stays y_space
+    np.testing.assert_allclose(r.apply([1.0, 0.0, 0.0]), [0.0, 1.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(r.apply([0.0, 1.0, 0.0]), [0.0, 0.0, 1.0], atol=1e-12)
+    assert result.summary["invariants"] == {
+        "note": "no body given: energy and angular momentum are not computed"
+    }
+    # magnus4 is exact for a constant angular velocity too
+    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-13
+
+
+def test_chunked_run_equals_single_call(monkeypatch):
+    """Progress reporting splits long runs into chunks; fixed-step results are unchanged."""
+    from poinsot.scenarios import run as run_mod
+
+    s = demo_scenario()
+    calls = []
+    whole = simulate_scenario(s, duration=2.0)
+    monkeypatch.setattr(run_mod, "_CHUNK_SAMPLES", 50)
+    chunked = simulate_scenario(s, duration=2.0, progress=lambda f, st: calls.append(f))
+    assert chunked.trajectory.info["chunks"] > 1
+    np.testing.assert_allclose(chunked.trajectory.quat, whole.trajectory.quat, atol=1e-13)
+    np.testing.assert_allclose(chunked.trajectory.omega, whole.trajectory.omega, atol=1e-12)
+    assert (
+        calls[0] == 0.0
+        and calls[-1] == 1.0
+        and calls == sorted(calls[: len(calls) // 2]) + calls[len(calls) // 2 :]
+    )
+
+
+def test_npz_output(tmp_path):
+    result, files = run_scenario(
+        demo_scenario(), tmp_path / "o", fmt="npz", report=False, duration=0.5
+    )
+    with np.load(tmp_path / "o" / "trajectory.npz") as z:
+        np.testing.assert_array_equal(z["t"], result.trajectory.t)
+        np.testing.assert_array_equal(z["quat"], result.trajectory.quat)
+        assert z["omega_body"].shape == (z["t"].size, 3)
+        assert z["momentum_space"].shape == (z["t"].size, 3)
+        assert "scalar first" in str(z["header"])
+
+
+def test_output_directory_not_overwritten(tmp_path):
+    out = tmp_path / "o"
+    run_scenario(demo_scenario(), out, report=False, duration=0.2)
+    before = (out / "summary.json").read_text()
+    with pytest.raises(InvalidInputError, match=r"already exists and is not empty; pass --force"):
+        run_scenario(demo_scenario(), out, report=False, duration=0.3)
+    assert (out / "summary.json").read_text() == before
+    run_scenario(demo_scenario(), out, report=False, duration=0.3, force=True)
+    assert json.loads((out / "summary.json").read_text())["times"]["duration"] == 0.3
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InvalidInputError, match=r"exists and is not a directory"):
+        run_scenario(demo_scenario(), tmp_path / "file", report=False, duration=0.2)
+    with pytest.raises(InvalidInputError, match=r"Expected `format` to be one of"):
+        run_scenario(demo_scenario(), tmp_path / "p", fmt="xlsx")
+    with pytest.raises(InvalidInputError, match=r"Expected `duration` to be a positive"):
+        simulate_scenario(demo_scenario(), duration=-1.0)
+
+
+def test_interrupted_write_leaves_no_complete_file(tmp_path, monkeypatch):
+    """A failure while writing leaves neither the file nor its temporary."""
+    from poinsot.scenarios import run as run_mod
+
+    def boom(fh):
+        fh.write("partial")
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_mod._atomic(tmp_path / "summary.json", boom)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_report_written(tmp_path):
+    pytest.importorskip("plotly")
+    run_scenario(demo_scenario(), tmp_path / "o", duration=0.5)
+    html = (tmp_path / "o" / "report.html").read_text()
+    assert "tennis-racket-flip" in html and '<script src="http' not in html  # offline
