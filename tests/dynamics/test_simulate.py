@@ -16,7 +16,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation as SciRotation
 
 import poinsot
-from poinsot import IntegrationError, InvalidInputError
+from poinsot import IntegrationError, InvalidInputError, InvalidTypeError
 from poinsot.dynamics import simulate
 
 MOMENTS = np.array([1.0, 2.0, 3.0])
@@ -261,19 +261,23 @@ def test_space_fixed_torque_uses_body_to_space_attitude(method):
     np.testing.assert_allclose(tr.momentum, m_s * t[:, None], atol=1e-9)  # K_s' = M_s
 
 
-def test_constant_torque_compiled_path_equals_callable_path():
-    """The compiled midpoint (constant torque) and the NumPy one (callable) are one scheme."""
+@pytest.mark.parametrize("method", ["midpoint", "splitting"])
+@pytest.mark.parametrize("order", [2, 4])
+def test_constant_torque_compiled_path_equals_callable_path(method, order):
+    """The compiled kernels (constant torque) and the NumPy ones (callable) are one scheme."""
     m = np.array([0.1, -0.3, 0.2])
     j = np.array([[2.0, 0.1, 0.0], [0.1, 1.5, -0.2], [0.0, -0.2, 2.5]])
     t = np.linspace(0.0, 5.0, 6)
-    a = simulate(j, Q0, OMEGA0, t, torque=m, max_step=0.05)
-    b = simulate(j, Q0, OMEGA0, t, torque=lambda tn, r, w: m, max_step=0.05)
+    kw = dict(method=method, order=order, max_step=0.05)
+    a = simulate(j, Q0, OMEGA0, t, torque=m, **kw)
+    b = simulate(j, Q0, OMEGA0, t, torque=lambda tn, r, w: m, **kw)
     np.testing.assert_allclose(a.omega, b.omega, rtol=0, atol=1e-12)
     np.testing.assert_allclose(a.quat, b.quat, rtol=0, atol=1e-12)
     # free body: same again
-    a = simulate(j, Q0, OMEGA0, t, max_step=0.05)
-    b = simulate(j, Q0, OMEGA0, t, torque=lambda tn, r, w: np.zeros(3), max_step=0.05)
+    a = simulate(j, Q0, OMEGA0, t, **kw)
+    b = simulate(j, Q0, OMEGA0, t, torque=lambda tn, r, w: np.zeros(3), **kw)
     np.testing.assert_allclose(a.omega, b.omega, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a.quat, b.quat, rtol=0, atol=1e-12)
 
 
 # ---------------------------------------------------------------------------
@@ -349,6 +353,16 @@ def test_batch_shapes_broadcast():
     assert tr.omega.shape == (4, 2, 3, 3)
 
 
+@pytest.mark.parametrize("method", ["midpoint", "splitting", "rk4", "adaptive"])
+def test_body_at_rest_stays_at_rest(method):
+    t = np.linspace(0.0, 1.0, 3)
+    for torque in (None, [0.0, 0.0, 0.0], lambda tn, r, w: np.zeros(3)):
+        tr = simulate(MOMENTS, Q0, np.zeros(3), t, method=method, torque=torque)
+        np.testing.assert_array_equal(tr.omega, 0.0)
+        np.testing.assert_allclose(tr.quat, np.broadcast_to(Q0, (3, 4)), atol=1e-15)
+        assert np.all(tr.energy == 0.0) and np.all(tr.momentum == 0.0)
+
+
 def test_steps_never_longer_than_output_spacing_or_max_step():
     t = np.array([0.0, 0.1, 0.35, 1.0, 1.05])
     tr = simulate(MOMENTS, Q0, OMEGA0, t)
@@ -411,6 +425,8 @@ def test_torque_returning_wrong_shape_or_nan(method):
         simulate(
             MOMENTS, Q0, np.ones((4, 3)), t, method=method, torque=lambda tn, r, w: np.ones((2, 3))
         )
+    with pytest.raises(InvalidTypeError, match="`torque` to return an array"):
+        simulate(MOMENTS, Q0, OMEGA0, t, method=method, torque=lambda tn, r, w: {"x": 1})
     with pytest.raises(IntegrationError, match="`torque` returned NaN"):
         simulate(MOMENTS, Q0, OMEGA0, t, method=method, torque=lambda tn, r, w: np.full(3, np.nan))
 

@@ -158,3 +158,110 @@ def midpoint(q, m, W, M, t, nsub, coef):
             MO[k + 1, i, 1] = m1
             MO[k + 1, i, 2] = m2
     return Q, MO, 0, -1, n - 1, worst
+
+
+@njit(cache=True)
+def splitting(q, m, inv_i, M, t, nsub, coef):
+    """Lie-Poisson splitting in principal axes for N bodies (see ``_run_splitting``).
+
+    q (N, 4) attitudes of the principal frame, m (N, 3) principal-axes momenta,
+    inv_i (NI, 3) inverse principal moments (ascending moments), M (NM, 3)
+    constant principal-axes torques, NI, NM in {1, N}; t, nsub, coef as in
+    :func:`midpoint`. Step: kick h/2, F0 h/2, F2 h/2, F_iso h, F2 h/2, F0 h/2,
+    kick h/2. Returns (Q, MO, status, body, k): status 2 if non-finite.
+    """
+    n = t.shape[0]
+    N = q.shape[0]
+    Q = np.empty((n, N, 4))
+    MO = np.empty((n, N, 3))
+    nc = coef.shape[0]
+    for i in range(N):
+        ii = i if inv_i.shape[0] > 1 else 0
+        im = i if M.shape[0] > 1 else 0
+        g1 = inv_i[ii, 1]
+        c0 = inv_i[ii, 0] - g1
+        c2 = inv_i[ii, 2] - g1
+        M0, M1, M2 = M[im, 0], M[im, 1], M[im, 2]
+        q0, q1, q2, q3 = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
+        m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
+        Q[0, i, 0] = q0
+        Q[0, i, 1] = q1
+        Q[0, i, 2] = q2
+        Q[0, i, 3] = q3
+        MO[0, i, 0] = m0
+        MO[0, i, 1] = m1
+        MO[0, i, 2] = m2
+        for k in range(n - 1):
+            hk = (t[k + 1] - t[k]) / nsub[k]
+            for s_ in range(nsub[k] * nc):
+                h = hk * coef[s_ % nc]
+                hh = 0.5 * h
+                # kick h/2
+                m0 += hh * M0
+                m1 += hh * M1
+                m2 += hh * M2
+                for stage in range(5):
+                    if stage == 0 or stage == 4:  # F0, h/2: about principal axis 0
+                        th = hh * c0 * m0
+                        c = math.cos(th)
+                        s = math.sin(th)
+                        m1, m2 = c * m1 + s * m2, c * m2 - s * m1
+                        c = math.cos(0.5 * th)
+                        s = math.sin(0.5 * th)
+                        q0, q1, q2, q3 = (
+                            q0 * c - q1 * s,
+                            q0 * s + q1 * c,
+                            q2 * c + q3 * s,
+                            q3 * c - q2 * s,
+                        )
+                    elif stage == 1 or stage == 3:  # F2, h/2: about principal axis 2
+                        th = hh * c2 * m2
+                        c = math.cos(th)
+                        s = math.sin(th)
+                        m0, m1 = c * m0 + s * m1, c * m1 - s * m0
+                        c = math.cos(0.5 * th)
+                        s = math.sin(0.5 * th)
+                        q0, q1, q2, q3 = (
+                            q0 * c - q3 * s,
+                            q1 * c + q2 * s,
+                            q2 * c - q1 * s,
+                            q3 * c + q0 * s,
+                        )
+                    else:  # F_iso, h: the body turns about the constant m by h |m| / I1
+                        v0 = h * g1 * m0
+                        v1 = h * g1 * m1
+                        v2 = h * g1 * m2
+                        ang = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+                        c = math.cos(0.5 * ang)
+                        if ang < 1e-4:
+                            sc = 0.5 - ang * ang / 48.0  # sin(ang/2)/ang
+                        else:
+                            sc = math.sin(0.5 * ang) / ang
+                        u0 = sc * v0
+                        u1 = sc * v1
+                        u2 = sc * v2
+                        q0, q1, q2, q3 = (
+                            q0 * c - (q1 * u0 + q2 * u1 + q3 * u2),
+                            q0 * u0 + c * q1 + (q2 * u2 - q3 * u1),
+                            q0 * u1 + c * q2 + (q3 * u0 - q1 * u2),
+                            q0 * u2 + c * q3 + (q1 * u1 - q2 * u0),
+                        )
+                sn = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+                q0 *= sn
+                q1 *= sn
+                q2 *= sn
+                q3 *= sn
+                # kick h/2
+                m0 += hh * M0
+                m1 += hh * M1
+                m2 += hh * M2
+            if not (math.isfinite(m0 + m1 + m2) and math.isfinite(q0 + q1 + q2 + q3)):
+                return Q, MO, 2, i, k
+            Q[k + 1, i, 0] = q0
+            Q[k + 1, i, 1] = q1
+            Q[k + 1, i, 2] = q2
+            Q[k + 1, i, 3] = q3
+            MO[k + 1, i, 0] = m0
+            MO[k + 1, i, 1] = m1
+            MO[k + 1, i, 2] = m2
+    return Q, MO, 0, -1, n - 1

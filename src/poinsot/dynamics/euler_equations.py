@@ -584,7 +584,8 @@ def _midpoint_step_numpy(j_inv, q, m, tn, h, tfn):
         jac = eye - h2 * (_hat(x) @ j_inv - _hat(w))
         dx = np.linalg.solve(jac, r[..., None])[..., 0]
         x = x - dx
-        rel = float(np.max(np.abs(dx).max(-1) / np.abs(x).max(-1)))
+        num, den = np.abs(dx).max(-1), np.abs(x).max(-1)
+        rel = float(np.max(np.where(num == 0.0, 0.0, num / np.where(den == 0.0, 1.0, den))))
         if rel <= 2 * _EPS or (rel <= 1e-12 and rel >= 0.5 * prev):
             break  # converged to round-off (or stagnating there)
         if it >= _MAXIT or not rel < 1.0:  # too slow, or diverging
@@ -655,6 +656,24 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):
 
     def iso_flow(q_np, m, dt):
         return _qmul(q_np, _rotvec_quat(dt * inv_i[:, 1:2] * m))
+
+    if tfn is None:
+        from . import _euler_numba
+
+        mt = np.zeros((1, 3)) if m_const is None else _qrot(s_pb, m_const)
+        c = np.ascontiguousarray
+        Q, MO, status, body, k = _euler_numba.splitting(
+            c(q_np, dtype=float),
+            c(m, dtype=float),
+            c(inv_i, dtype=float),
+            c(mt, dtype=float),
+            c(t, dtype=float),
+            c(nsub, dtype=np.int64),
+            c(comp, dtype=float),
+        )
+        if status == 2:
+            raise _fail_nonfinite("splitting", float(t[k]), f"the state of body {body}")
+        return _qmul(Q, s_pb), _qrot(s_bp, MO * inv_i), _fixed_step_info(t, nsub, comp)
 
     n = t.shape[0]
     Q = np.empty((n,) + q.shape)
