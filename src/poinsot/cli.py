@@ -274,7 +274,7 @@ def _cmd_inertia(args) -> int:
         )
         print("inertia tensor about the centre of mass, body axes (kg m^2):")
         for row in j:
-            print("  " + "  ".join(f"{_num(x):>14}" for x in row))
+            print("  " + "  ".join(f"{_num(x):>20}" for x in row))
         print("principal moments A <= B <= C (kg m^2): " + "  ".join(_num(x) for x in moments))
         print("principal axes (columns, in body axes):")
         for row in m:

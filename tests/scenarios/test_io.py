@@ -428,7 +428,8 @@ def test_body_errors(body, match):
         ("euler = [1.0, 2.0, 3.0]\ndegrees = true", r"`attitude` missing key `sequence`"),
         (
             'euler = [1.0, 2.0, 3.0]\nsequence = "ZXZ"',
-            r"`attitude` missing key `degrees`: expected true or false \(state whether",
+            r"`attitude` missing key `degrees`: expected true or false \(true: angles in degrees; "
+            r"false: in radians\)",
         ),
         (
             'euler = [1.0, 2.0, 3.0]\nsequence = "ZZX"\ndegrees = true',

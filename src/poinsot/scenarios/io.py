@@ -335,9 +335,7 @@ def _body(t: Table) -> BodySpec:
 
 
 def _degrees(t: Table, what: str) -> bool:
-    return t.boolean(
-        "degrees", required=True, why=f" (state whether the {what} is in degrees or radians)"
-    )
+    return t.boolean("degrees", required=True, why=f" (true: {what} in degrees; false: in radians)")
 
 
 def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
@@ -362,7 +360,7 @@ def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
             r = Rotation.from_matrix(values)
         elif rep == "rotvec":
             values = t.vector("rotvec", 3)
-            deg = _degrees(t, "rotation vector's length")
+            deg = _degrees(t, "its length")
             r = Rotation.from_rotvec(values, degrees=deg)
         elif rep == "axis":
             values = t.vector("axis", 3)
@@ -470,7 +468,7 @@ def _omega_profile(t: Table) -> OmegaProfileSpec:
                 f'coning motion is defined by its body rates: expected "body", found {frame!r}.',
             )
         half = t.number("half_angle", required=True, positive=True)
-        deg = _degrees(t, "half angle")
+        deg = _degrees(t, "half_angle")
         half = np.radians(half) if deg else half
         if not half < np.pi / 2:
             raise t.expected("half_angle", "an angle in (0, 90) degrees", t.data["half_angle"])

@@ -788,8 +788,26 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
         else:
             e0 = abs(tr.energy[0]) or 1.0
             kn = np.linalg.norm(tr.momentum, axis=-1)
-            ax.plot(tr.t, (tr.energy - tr.energy[0]) / e0, label="kinetic energy T")
-            ax.plot(tr.t, (kn - kn[0]) / (kn[0] or 1.0), label="|K|")
+            ax.plot(tr.t, (tr.energy - tr.energy[0]) / e0, label=f"kinetic energy T ({tr.method})")
+            ax.plot(tr.t, (kn - kn[0]) / (kn[0] or 1.0), label=f"|K| ({tr.method})")
+            if ref is not None and ref.energy is not None:
+                kr = np.linalg.norm(ref.momentum, axis=-1)
+                ax.plot(
+                    ref.t,
+                    (ref.energy - ref.energy[0]) / e0,
+                    color="C0",
+                    ls="--",
+                    lw=1,
+                    label=f"T ({ref.method})",
+                )
+                ax.plot(
+                    ref.t,
+                    (kr - kr[0]) / (kr[0] or 1.0),
+                    color="C1",
+                    ls="--",
+                    lw=1,
+                    label=f"|K| ({ref.method})",
+                )
             title = "energy and |K| (relative change)"
         ax.set(xlabel="t (s)", ylabel="relative change", title=title)
         ax.legend(fontsize=8)
