@@ -272,3 +272,29 @@ def test_report_written(tmp_path):
     run_scenario(demo_scenario(), tmp_path / "o", duration=0.5)
     html = (tmp_path / "o" / "report.html").read_text()
     assert "tennis-racket-flip" in html and '<script src="http' not in html  # offline
+
+
+def test_free_symmetric_top_regular_precession():
+    """A = B: the symmetry axis precesses about the fixed K at psi' = |K| / A (SPEC S10)."""
+    s = parse_scenario(
+        "[body]\nmass = 1.0\ninertia = [1.0, 1.0, 1.6]\n"
+        '[attitude]\neuler = [0.0, 20.0, 0.0]\nsequence = "ZXZ"\ndegrees = true\n'
+        '[angular_velocity]\nvector = [0.3, 0.0, 1.0]\nframe = "body"\n'
+        '[simulation]\nduration = 3.0\nsamples = 301\nmethod = "exact"\nreference = "rk4"\n'
+        "max_step = 0.002\n"
+    )
+    result = simulate_scenario(s)
+    k_body = np.array([0.3, 0.0, 1.6])
+    rate = np.linalg.norm(k_body) / 1.0
+    cf = result.summary["closed_form"]
+    assert cf["regime"] == "symmetric" and cf["precession_rate"] == pytest.approx(rate)
+    tr = result.trajectory
+    k = tr.momentum[0] / np.linalg.norm(tr.momentum[0])
+    axis = tr.rotation.apply(np.array([0.0, 0.0, 1.0]))
+    e1 = np.cross(k, [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(k, e1)
+    angle = np.unwrap(np.arctan2(axis @ e2, axis @ e1))
+    np.testing.assert_allclose(np.diff(angle) / np.diff(tr.t), rate, rtol=1e-9)
+    np.testing.assert_allclose(axis @ k, axis[0] @ k, atol=1e-13)  # constant nutation
+    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-8

@@ -52,7 +52,7 @@ CONVENTIONS = (
 )
 
 #: Above this many output samples a numerical run is done in chunks (progress reports).
-_CHUNK_SAMPLES = 4000
+_CHUNK_SAMPLES = 1000
 _N_CHUNKS = 40
 
 Progress = Callable[[float, str], None]
@@ -502,7 +502,7 @@ def _closed_form(scenario: Scenario) -> dict:
         np.asarray(scenario.angular_velocity.omega_body),
         scenario.attitude.rotation,
     )
-    out = {"solution": "Jacobi elliptic functions (SPEC S10, Euler case)"}
+    out = {"solution": "Jacobi elliptic functions (SPEC S10)"}
     for key in (
         "energy",
         "momentum",
@@ -1017,13 +1017,41 @@ def describe(result: ScenarioResult, *, title: str = "poinsot") -> str:
         f"over {_g(summ['times']['duration'])} s"
     )
     cf = summ.get("closed_form") or {}
-    facts = [
-        f"{k.replace('_', ' ')} {_g(v) if isinstance(v, float) else v}"
-        for k, v in cf.items()
-        if isinstance(v, float | int | str) and k != "note"
-    ]
-    if facts:
-        lines.append("closed form: " + "; ".join(facts[:6]))
+    if "solution" in cf:  # torque-free body
+        period = cf.get("period")
+        per = (
+            f"omega periodic with period {_g(period)} s"
+            if isinstance(period, float)
+            else "omega not periodic"
+        )
+        lines.append(
+            f"exact solution, {cf['solution']}: T = {_g(cf['energy'])} J, "
+            f"|K| = {_g(cf['momentum_norm'])} kg m^2/s, {per}"
+        )
+        stable, moments = cf.get("stable_axes"), cf.get("principal_moments")
+        if stable and moments and len(set(moments)) == 3:
+            diag = not np.any(np.asarray(s.body.inertia) - np.diag(np.diag(s.body.inertia)))
+            names = [
+                f"{'xyz'[k]} ({_g(m)} kg m^2)" if diag else f"the axis of moment {_g(m)}"
+                for k, m in enumerate(moments)
+            ]
+            lines.append(
+                "permanent rotations: stable about "
+                + " and ".join(n for n, ok in zip(names, stable, strict=True) if ok)
+                + ", unstable about "
+                + " and ".join(n for n, ok in zip(names, stable, strict=True) if not ok)
+                + " (SPEC S10)"
+            )
+        if "precession_rate" in cf:
+            lines.append(f"regular precession about K at {_g(cf['precession_rate'])} rad/s")
+    else:
+        facts = [
+            f"{k.replace('_', ' ')} {_g(v) if isinstance(v, float) else v}"
+            for k, v in cf.items()
+            if isinstance(v, float | int | str) and k != "note"
+        ]
+        if facts:
+            lines.append("closed form: " + "; ".join(facts[:6]))
     inv = summ["invariants"]
     drifts = [
         f"{k.replace('_', ' ')} drift {v['max_relative_drift']:.2e}"
