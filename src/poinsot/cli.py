@@ -473,7 +473,7 @@ def main(argv: list[str] | None = None) -> int:
 
     Returns the exit code: 0 success, 2 invalid input, 1 unexpected failure.
     """
-    from .errors import InvalidInputError, InvalidTypeError, PoinsotWarning
+    from .errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotWarning
 
     argv = sys.argv[1:] if argv is None else list(argv)
     debug = "--debug" in argv
@@ -484,20 +484,32 @@ def main(argv: list[str] | None = None) -> int:
         except SystemExit as exc:  # --help, --version, or a usage error (code 2)
             return int(exc.code or 0) if not isinstance(exc.code, str) else 2
         debug = debug or getattr(args, "debug", False)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", PoinsotWarning)
-            code = args.func(args)
-        for w in caught:
-            if issubclass(w.category, PoinsotWarning):
-                print(f"{PROG}: warning: {w.message}", file=sys.stderr)
+        seen: set[str] = set()
+        original = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            if issubclass(category, PoinsotWarning):
+                text = f"{PROG}: warning: {message}"
+                if text not in seen:  # the same warning once, however often it is issued
+                    seen.add(text)
+                    print(text, file=sys.stderr)
             else:
-                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-        return code
+                original(message, category, filename, lineno, file, line)
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", PoinsotWarning)
+            warnings.showwarning = show
+            return args.func(args)
     except (_Usage, InvalidInputError, InvalidTypeError) as exc:
         if debug:
             traceback.print_exc()
         _error(str(exc))
         return 2
+    except IntegrationError as exc:  # a valid input the chosen method cannot handle
+        if debug:
+            traceback.print_exc()
+        _error(f"the computation failed: {exc}")
+        return 1
     except KeyboardInterrupt:
         print(f"\n{PROG}: interrupted", file=sys.stderr)
         return 130

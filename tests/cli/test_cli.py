@@ -330,3 +330,32 @@ def test_progress_bar_only_on_terminal_after_delay():
     bar(0.5, "x")
     bar.close()
     assert slow.getvalue() == ""
+
+
+def test_integration_failure_exit_1_without_traceback(capsys, monkeypatch):
+    import poinsot.cli as cli
+    from poinsot import IntegrationError
+
+    def fail(args):
+        raise IntegrationError("midpoint integration diverged: reduce `max_step`.")
+
+    monkeypatch.setattr(cli, "_cmd_check", fail)
+    code, _, err = run(capsys, "check", "x.toml")
+    assert code == 1 and "the computation failed: midpoint integration diverged" in err
+    assert "Traceback" not in err
+
+
+def test_library_warning_printed_once(capsys, monkeypatch):
+    import warnings
+
+    import poinsot.cli as cli
+    from poinsot import SingularityWarning
+
+    def warn(args):
+        for _ in range(3):
+            warnings.warn("near the separatrix", SingularityWarning, stacklevel=1)
+        return 0
+
+    monkeypatch.setattr(cli, "_cmd_check", warn)
+    code, _, err = run(capsys, "check", "x.toml")
+    assert code == 0 and err.count("poinsot: warning: near the separatrix") == 1

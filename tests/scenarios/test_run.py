@@ -298,3 +298,16 @@ def test_free_symmetric_top_regular_precession():
     np.testing.assert_allclose(np.diff(angle) / np.diff(tr.t), rate, rtol=1e-9)
     np.testing.assert_allclose(axis @ k, axis[0] @ k, atol=1e-13)  # constant nutation
     assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-8
+
+
+def test_missing_plotly_skips_report_with_note(tmp_path, monkeypatch):
+    import poinsot.plotting.report as report
+
+    def no_plotly(*args, **kwargs):
+        raise ModuleNotFoundError("No module named 'plotly'")
+
+    monkeypatch.setattr(report, "write_report", no_plotly)
+    result, files = run_scenario(demo_scenario(), tmp_path / "o", duration=0.2)
+    assert "report.html" not in {p.name for p in files}
+    notes = json.loads((tmp_path / "o" / "summary.json").read_text())["notes"]
+    assert any("report.html skipped: No module named 'plotly'" in n for n in notes)

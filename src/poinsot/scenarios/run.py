@@ -851,12 +851,18 @@ def _report(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
         return []
     s = result.scenario
     shape = None
-    if s.body is not None and s.body.shape in ("box", "ellipsoid", "sphere", "cylinder"):
-        shape = {"kind": s.body.shape, "dims": list(s.body.dims)}
-    inertia = None if s.body is None else np.asarray(s.body.inertia)
+    inertia = None
+    if s.body is not None:
+        # the report draws the body centred on the origin of the body axes: the solid
+        # itself when its centre of mass is there, else the inertia ellipsoid about the
+        # origin (the fixed point under gravity)
+        centred = not np.any(s.body.center_of_mass)
+        if centred and s.body.shape in ("box", "ellipsoid", "sphere", "cylinder"):
+            shape = {"kind": s.body.shape, "dims": list(s.body.dims)}
+        inertia = _body_inertia(s) if s.kind == "dynamics" else np.asarray(s.body.inertia)
     title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
-    return [
-        write_report(
+    try:
+        path = write_report(
             out / "report.html",
             trajectory=result.trajectory,
             summary=result.summary,
@@ -865,7 +871,10 @@ def _report(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
             inertia=inertia,
             reference=result.reference,
         )
-    ]
+    except ImportError as exc:  # plotly is an optional dependency
+        notes.append(f"report.html skipped: {exc} (pip install 'poinsot[plot]')")
+        return []
+    return [path]
 
 
 def write_outputs(
