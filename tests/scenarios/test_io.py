@@ -133,6 +133,30 @@ def test_parts_combine_with_huygens_steiner():
     assert s.body.mass == total and [p.name for p in s.body.parts][2] == "ballast"
 
 
+def test_part_orientation_turns_its_inertia():
+    """A cylinder whose own axis z is turned onto body x: J = diag(C, A, A) with the
+    textbook A = m (3 r^2 + h^2) / 12, C = m r^2 / 2."""
+    m, r, h = 2.0, 0.1, 0.8
+    s = parse(
+        f"""
+    [[body.parts]]
+    shape = "cylinder"
+    dims = [{r}, {h}]
+    mass = {m}
+    orientation = {{ axis = [0.0, 1.0, 0.0], angle = 90.0, degrees = true }}
+    """
+        + OMEGA
+        + SIM
+    )
+    a, c = m * (3 * r**2 + h**2) / 12, m * r**2 / 2
+    np.testing.assert_allclose(s.body.inertia, np.diag([c, a, a]), atol=1e-15)
+    errors(
+        '[[body.parts]]\nmass = 1.0\nshape = "sphere"\ndims = [0.1]\n'
+        "orientation = { axis = [0, 0, 1], angle = 1.0 }\n" + OMEGA + SIM,
+        r"case\.toml:5: `body\.parts\[0\]\.orientation` missing key `degrees`",
+    )
+
+
 def _scipy_quat(r: SciPyRotation) -> np.ndarray:
     x, y, z, w = r.as_quat()
     q = np.array([w, x, y, z])
@@ -396,6 +420,7 @@ def test_errors_name_key(text, match):
             '[[body.parts]]\nmass = 1.0\nshape = "sphere"\ndims = [0.1]\ninertia = [1, 1, 1]',
             r"`body\.parts\[0\]\.inertia` not allowed here",
         ),
+        ('mass = 1.0\nshape = "rod"\ndims = [1.0]', r"`body\.shape` .*positive definite"),
         (
             "[[body.parts]]\nmass = 1.0\nposition = [1.0, 0.0, 0.0]",
             r"`body\.parts` .*(singular|positive)",

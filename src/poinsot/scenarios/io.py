@@ -280,7 +280,8 @@ def _solid(t: Table) -> tuple[str, tuple[float, ...], float, np.ndarray]:
 
 
 def _part(t: Table, index: int) -> PartSpec:
-    t.known(("name", "shape", "dims", "mass", "inertia", "position"))
+    keys = ("name", "shape", "dims", "mass", "inertia", "position", "orientation")
+    t.known(keys)
     name = t.string("name", f"part {index}")
     position = np.array(t.vector("position", 3, required=False, default=(0.0, 0.0, 0.0)))
     if t.has("shape"):
@@ -293,7 +294,14 @@ def _part(t: Table, index: int) -> PartSpec:
         mass = t.number("mass", positive=True, required=True)
         shape, dims = None, None
         j = _inertia(t) if t.has("inertia") else np.zeros((3, 3))  # a point mass
-    t.finish(("name", "shape", "dims", "mass", "inertia", "position"))
+    orientation = t.table("orientation")
+    if orientation is not None:  # the part's own axes relative to the body axes
+        q = _attitude(orientation, t).quat
+        from ..rotations.rotation import Rotation
+
+        c_bp = Rotation.from_quat(q).as_matrix()
+        j = c_bp @ j @ c_bp.T  # J_b = C J_p C^T (SPEC S8)
+    t.finish(keys)
     return PartSpec(name=name, mass=mass, inertia=j, position=position, shape=shape, dims=dims)
 
 
@@ -310,15 +318,13 @@ def _body(t: Table) -> BodySpec:
             "the mass and centre of mass of a body made of [[body.parts]] follow from its parts",
         )
         parts = tuple(_part(p, i) for i, p in enumerate(t.tables("parts")))
-        from ..mass.tensor import check_inertia, parallel_axis, to_center_of_mass
+        from ..mass.body import RigidBody, combine
+        from ..mass.tensor import check_inertia
 
-        masses = np.array([p.mass for p in parts])
-        mass = float(masses.sum())
-        com = (masses[:, None] * np.array([p.position for p in parts])).sum(axis=0) / mass
-        j_o = sum(parallel_axis(p.inertia, p.mass, p.position) for p in parts)
-        j = to_center_of_mass(j_o, mass, com)
         t.finish(("parts",))
         try:
+            whole = combine(*(RigidBody(p.mass, p.inertia, p.position) for p in parts))
+            mass, j, com = whole.mass, whole.inertia, whole.center_of_mass
             check_inertia(j)
         except PoinsotError as exc:
             raise _wrap(t, "parts", exc) from None
@@ -326,6 +332,12 @@ def _body(t: Table) -> BodySpec:
     com = np.array(t.vector("center_of_mass", 3, required=False, default=(0.0, 0.0, 0.0)))
     if how == "shape":
         shape, dims, mass, j = _solid(t)
+        from ..mass.tensor import check_inertia
+
+        try:
+            check_inertia(j)
+        except PoinsotError as exc:  # a thin rod alone has a zero moment
+            raise _wrap(t, "shape", exc) from None
         t.finish(("shape", "dims", "mass", "center_of_mass"))
         return BodySpec(mass=mass, inertia=j, center_of_mass=com, shape=shape, dims=dims)
     mass = t.number("mass", positive=True, required=True)
