@@ -62,7 +62,7 @@ def test_doc_example_quarter_turn():
 # ----------------------------------------------------------------- constant omega
 
 
-@pytest.mark.parametrize("method", ["exact", "magnus4"])
+@pytest.mark.parametrize("method", ["exact", "magnus4", "magnus6"])
 @pytest.mark.parametrize("frame", ["body", "space"])
 def test_constant_omega_closed_form_to_roundoff(method, frame):
     """Constant w: L(t) = L0 o exp(w t/2) (body) or exp(w t/2) o L0 (space), exactly."""
@@ -101,7 +101,8 @@ def test_exact_with_piecewise_constant_samples_is_exact():
 
 @pytest.mark.parametrize("frame", ["body", "space"])
 @pytest.mark.parametrize(
-    ("method", "tol"), [("magnus4", 1e-9), ("rk4", 1e-9), ("exact", 2e-5), ("adaptive", 1e-9)]
+    ("method", "tol"),
+    [("magnus4", 1e-9), ("magnus6", 1e-13), ("rk4", 1e-9), ("exact", 2e-5), ("adaptive", 1e-9)],
 )
 def test_coning_motion_against_closed_form(frame, method, tol):
     t = np.linspace(0.0, T, 31)
@@ -132,6 +133,8 @@ ORDERS = [
     ("rk4", "samples", 4),
     ("magnus4", "callable", 4),
     ("magnus4", "samples", 4),
+    ("magnus6", "callable", 6),
+    ("magnus6", "samples", 4),  # limited by the cubic spline through the samples
 ]
 
 
@@ -140,7 +143,9 @@ ORDERS = [
 def test_observed_order_matches_claim(frame, method, kind, order):
     """Halving h divides the global error by 2^p (coning motion, T = 3 s)."""
     errs = []
-    for n in (24, 48, 96):
+    # magnus6 through samples reaches its spline-limited order 4 from below: finer grids
+    grids = (96, 192, 384) if (method, kind) == ("magnus6", "samples") else (24, 48, 96)
+    for n in grids:
         t = np.linspace(0.0, T, n + 1)
         w = W[frame] if kind == "callable" else np.array([W[frame](s) for s in t])
         tr = propagate([1, 0, 0, 0], w, t, frame=frame, method=method)
@@ -163,7 +168,7 @@ def test_magnus_beats_rk4_per_evaluation_on_fast_spin():
 # ----------------------------------------------------------------- invariants
 
 
-@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact", "adaptive"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exact", "adaptive"])
 def test_unit_norm_within_1e15(method):
     rng = np.random.default_rng(3)
     t = np.linspace(0.0, 20.0, 2001)
@@ -174,7 +179,7 @@ def test_unit_norm_within_1e15(method):
 
 
 @pytest.mark.parametrize("frame", ["body", "space"])
-@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exact"])
 def test_constant_factor_invariance(frame, method):
     """SPEC S5: if L* solves the equation, so does L* o L0 (space) / L0 o L* (body)."""
     rng = np.random.default_rng(4)
@@ -187,7 +192,7 @@ def test_constant_factor_invariance(frame, method):
     assert qdist(tr.quat, r0 * rs if frame == "body" else rs * r0) < 1e-14
 
 
-@pytest.mark.parametrize("method", ["magnus4", "rk4", "adaptive"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "adaptive"])
 def test_space_and_body_frames_agree(method):
     """The same motion described by w_x or by w_xi = L~ o w_x o L gives the same L(t)."""
     t = np.linspace(0.0, T, 61)
@@ -222,7 +227,7 @@ def batch_omega(t):
 
 
 @pytest.mark.parametrize("n_bodies", [5, 40])  # both the scan and the per-step chaining
-@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact", "adaptive"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exact", "adaptive"])
 def test_batch_equals_loop(n_bodies, method):
     rng = np.random.default_rng(5)
     q0 = rng.normal(size=(n_bodies, 4))
