@@ -88,6 +88,11 @@ def _quiet_progress(fraction: float, stage: str) -> None:
     pass
 
 
+def _span(progress: Progress, lo: float, hi: float) -> Progress:
+    """Map the fractions ``[0, 1]`` of one stage onto ``[lo, hi]`` of the whole run."""
+    return lambda fraction, stage: progress(lo + (hi - lo) * fraction, stage)
+
+
 def _body_inertia(scenario: Scenario) -> np.ndarray:
     """Inertia used by the equations of motion: about the centre of mass for a free
     or torqued body, about the fixed point (the body origin) under gravity."""
@@ -378,11 +383,14 @@ def simulate_scenario(
     progress = progress or _quiet_progress
     t = scenario.simulation.times()
     start = time.perf_counter()
-    tr = _solve(scenario, scenario.simulation.method, t, progress)
+    has_ref = scenario.simulation.reference is not None
+    tr = _solve(
+        scenario, scenario.simulation.method, t, _span(progress, 0.0, 0.5 if has_ref else 1.0)
+    )
     wall = time.perf_counter() - start
     ref = None
     if scenario.simulation.reference is not None:
-        ref = _solve(scenario, scenario.simulation.reference, t, progress)
+        ref = _solve(scenario, scenario.simulation.reference, t, _span(progress, 0.5, 1.0))
     potential = None
     if scenario.torque.model == "gravity":
         r_c_n = tr.rotation.apply(np.asarray(scenario.body.center_of_mass))
@@ -912,8 +920,9 @@ def write_outputs(
     files = [_write_trajectory(result, result.trajectory, out / f"trajectory.{fmt}", fmt)]
     if result.reference is not None:
         files.append(_write_trajectory(result, result.reference, out / f"reference.{fmt}", fmt))
-    progress(0.0, "figures")
+    progress(0.0, "writing the trajectory")
     if figures:
+        progress(0.2, "figures")
         files += _figures(result, out, notes)
     if report:
         progress(0.5, "report")
@@ -959,8 +968,11 @@ def run_scenario(
     if fmt not in ("csv", "npz"):
         raise InvalidInputError(f"Expected `format` to be one of 'csv', 'npz', got {fmt!r}.")
     prepare_output_dir(out, force=force)
-    result = simulate_scenario(scenario, duration=duration, progress=progress)
-    files = write_outputs(result, out, fmt=fmt, report=report, force=True, progress=progress)
+    progress = progress or _quiet_progress
+    result = simulate_scenario(scenario, duration=duration, progress=_span(progress, 0.0, 0.8))
+    files = write_outputs(
+        result, out, fmt=fmt, report=report, force=True, progress=_span(progress, 0.8, 1.0)
+    )
     return result, files
 
 
