@@ -78,21 +78,28 @@ def qerr(q) -> float:
     return float(min(np.linalg.norm(q - Q_T), np.linalg.norm(q + Q_T)))
 
 
-def poinsot_final(n: int, vectorized: bool):
+def poinsot_final(n: int, vectorized: bool, method: str = "magnus4"):
     f = w_space_vec if vectorized else w_space
     tr = propagate(
-        [1, 0, 0, 0], f, [0.0, T], frame="space", steps_per_sample=n, vectorized=vectorized
+        [1, 0, 0, 0],
+        f,
+        [0.0, T],
+        frame="space",
+        method=method,
+        steps_per_sample=n,
+        vectorized=vectorized,
     )
     return tr.quat[-1]
 
 
-def steps_for(err_target: float) -> int:
-    """Fewest magnus4 steps with final error <= err_target (error ~ C h^4, then refined)."""
+def steps_for(err_target: float, method: str) -> int:
+    """Fewest steps with final error <= err_target (error ~ C h^p, then refined)."""
+    p = 4 if method == "magnus4" else 6
     n0 = 64
-    e0 = qerr(poinsot_final(n0, True))
-    n = max(1, int(n0 * (e0 / err_target) ** 0.25 * 0.8))
-    while qerr(poinsot_final(n, True)) > err_target:
-        n = int(n * 1.05) + 1
+    e0 = qerr(poinsot_final(n0, True, method))
+    n = max(1, int(n0 * (e0 / err_target) ** (1.0 / p) * 0.8))
+    while qerr(poinsot_final(n, True, method)) > err_target:
+        n = int(n * 1.03) + 1
     return n
 
 
@@ -130,29 +137,32 @@ def one_body():
         for tol in (1e-8, 1e-10, 1e-12):
             e_peer = qerr(run(tol))
             t_peer = median_time(lambda run=run, tol=tol: run(tol), repeat=5)
-            n = steps_for(e_peer)
-            e_ours = qerr(poinsot_final(n, True))
-            t_scalar = median_time(lambda n=n: poinsot_final(n, False), repeat=5)
-            t_vec = median_time(lambda n=n: poinsot_final(n, True), repeat=7)
-            rows.append(
-                [
-                    name,
-                    f"{tol:.0e}",
-                    f"{e_peer:.1e}",
-                    f"{t_peer * 1e3:.2f}",
-                    f"{n}",
-                    f"{e_ours:.1e}",
-                    f"{t_scalar * 1e3:.2f} ({t_peer / t_scalar:.1f}x)",
-                    f"{t_vec * 1e3:.3f} ({t_peer / t_vec:.0f}x)",
-                ]
-            )
+            for method in ("magnus4", "magnus6"):
+                n = steps_for(e_peer, method)
+                e_ours = qerr(poinsot_final(n, True, method))
+                t_scalar = median_time(lambda n=n, m=method: poinsot_final(n, False, m), repeat=5)
+                t_vec = median_time(lambda n=n, m=method: poinsot_final(n, True, m), repeat=7)
+                rows.append(
+                    [
+                        name,
+                        f"{tol:.0e}",
+                        f"{e_peer:.1e}",
+                        f"{t_peer * 1e3:.2f}",
+                        method,
+                        f"{n}",
+                        f"{e_ours:.1e}",
+                        f"{t_scalar * 1e3:.2f} ({t_peer / t_scalar:.1f}x)",
+                        f"{t_vec * 1e3:.3f} ({t_peer / t_vec:.0f}x)",
+                    ]
+                )
     if rows:
         header = [
             "peer",
             "peer tol",
             "peer err",
             "peer ms",
-            "magnus4 steps",
+            "method",
+            "steps",
             "our err",
             "ours ms, scalar fn (ratio)",
             "ours ms, vectorized (ratio)",
@@ -238,7 +248,7 @@ def batch(n_bodies=100_000, n_steps=20):
 
     w_samples = w_vec(t)
     rows = []
-    for method in ("magnus4", "rk4", "exact"):
+    for method in ("magnus4", "magnus6", "rk4", "exact"):
         for label, omega, vec in (
             ("callable (N,3)", w_scalar, False),
             ("vectorized", w_vec, True),
