@@ -155,6 +155,19 @@ def main(argv=None):
     row("  |K| drift after 10^6 steps", f"{tr.momentum_drift:.2e}")
     row("  space K drift after 10^6 steps", f"{tr.momentum_vector_drift:.2e}")
 
+    for method, order in (("midpoint", 6), ("splitting", 2), ("splitting", 6)):
+        sec, tr = _median_time(
+            lambda m=method, o=order: simulate(
+                [1.0, 2.0, 3.0], q0_one, w0_one, t_long, method=m, order=o, max_step=h
+            ),
+            1,
+        )
+        row(
+            f"{method} order {order}, 1 body, 10^6 steps",
+            f"{tr.info['steps'] / sec:,.0f} body-steps/s",
+            f"energy {tr.energy_drift:.1e}, |K| {tr.momentum_drift:.1e}",
+        )
+
     # ---- batch: speed ----------------------------------------------------------------------
     mb, qb, wb = _bodies(n_batch, seed=7)
     sub = slice(0, n_sub)
@@ -165,14 +178,22 @@ def main(argv=None):
         for i in range(n_sub):
             _scipy(mb[i : i + 1], qb[i : i + 1], wb[i : i + 1], t_end, rtol)
 
-    for order, hh in ((2, 0.01), (4, 0.05), (6, 0.1)):
+    cases = (
+        ("midpoint", 2, 0.01),
+        ("midpoint", 6, 0.1),
+        ("splitting", 2, 0.01),
+        ("splitting", 6, 0.1),
+    )
+    for method, order, hh in cases:
         sec_b, trb = _median_time(
-            lambda o=order, s=hh: simulate(mb, qb, wb, [0.0, t_end], max_step=s, order=o),
+            lambda m=method, o=order, s=hh: simulate(
+                mb, qb, wb, [0.0, t_end], method=m, max_step=s, order=o
+            ),
             repeat,
         )
         body_steps = n_batch * trb.info["steps"]
         row(
-            f"midpoint order {order}, h = {hh}: {n_batch:,} bodies x {trb.info['steps']} steps",
+            f"{method} order {order}, h = {hh}: {n_batch:,} bodies x {trb.info['steps']} steps",
             f"{body_steps / sec_b:,.0f} body-steps/s",
             f"{sec_b:.3f} s",
         )

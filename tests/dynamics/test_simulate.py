@@ -404,6 +404,8 @@ def test_bad_inputs_name_the_argument():
         simulate(MOMENTS, Q0, OMEGA0, [0.0, 1.0, 1.0])
     with pytest.raises(InvalidInputError, match="`max_step` to be positive"):
         simulate(MOMENTS, Q0, OMEGA0, t, max_step=0.0)
+    with pytest.raises(InvalidInputError, match="`max_step` to be a scalar"):
+        simulate(MOMENTS, Q0, OMEGA0, t, max_step=[0.1, 0.2])
     with pytest.raises(InvalidInputError, match="`torque`.*finite"):
         simulate(MOMENTS, Q0, OMEGA0, t, torque=[np.inf, 0, 0])
     with pytest.raises(InvalidInputError, match="`omega0` .* to broadcast"):

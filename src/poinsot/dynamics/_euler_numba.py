@@ -66,13 +66,25 @@ def midpoint(q, m, W, M, t, nsub, coef):
                 # a composition stage of length coef[j] * hk (one stage for order 2)
                 h = hk * coef[s_ % nc]
                 h2 = 0.5 * h
-                # explicit Euler half step as the first guess of the midpoint momentum
+                # first guess of the midpoint momentum m(t + h/2), error O(h^3):
+                # y = m + h/4 f(m), x = m + h/2 f(y), f(m) = m x W m + M
                 o0 = w00 * m0 + w01 * m1 + w02 * m2
                 o1 = w10 * m0 + w11 * m1 + w12 * m2
                 o2 = w20 * m0 + w21 * m1 + w22 * m2
-                x0 = m0 + h2 * (m1 * o2 - m2 * o1 + M0)
-                x1 = m1 + h2 * (m2 * o0 - m0 * o2 + M1)
-                x2 = m2 + h2 * (m0 * o1 - m1 * o0 + M2)
+                h4 = 0.5 * h2
+                y0 = m0 + h4 * (m1 * o2 - m2 * o1 + M0)
+                y1 = m1 + h4 * (m2 * o0 - m0 * o2 + M1)
+                y2 = m2 + h4 * (m0 * o1 - m1 * o0 + M2)
+                o0 = w00 * y0 + w01 * y1 + w02 * y2
+                o1 = w10 * y0 + w11 * y1 + w12 * y2
+                o2 = w20 * y0 + w21 * y1 + w22 * y2
+                x0 = m0 + h2 * (y1 * o2 - y2 * o1 + M0)
+                x1 = m1 + h2 * (y2 * o0 - y0 * o2 + M1)
+                x2 = m2 + h2 * (y0 * o1 - y1 * o0 + M2)
+                # Newton's error obeys e+ <~ (h |w| / 2) e^2 / |m|: once an update is
+                # below 1e-8 |m| and h |w| / 2 <= 1, the next one would be below round-off
+                hw = h2 * max(abs(o0), abs(o1), abs(o2))
+                quick = hw <= 1.0
                 done = False
                 near = False
                 it = 0
@@ -115,7 +127,7 @@ def midpoint(q, m, W, M, t, nsub, coef):
                     nx = max(abs(x0), abs(x1), abs(x2))
                     if not (nd == nd and nx == nx and nx < math.inf):
                         return Q, MO, 2, i, k, it
-                    if near or nd <= 1e-16 * nx:
+                    if near or nd <= 1e-16 * nx or (quick and nd <= 1e-8 * nx):
                         done = True
                         break
                     if nd <= _NEAR * nx:

@@ -16,16 +16,22 @@ one body or a batch of bodies, with a choice of methods:
     midpoint angular velocity. Second order. For the free body it keeps the
     energy, ``|K|`` and the space angular momentum vector to round-off.
 ``"splitting"``
-    Lie-Poisson splitting of the free-body Hamiltonian into the three exact
-    rotations about the principal axes (Touma & Wisdom 1994, McLachlan 1995,
-    Reich 1994), composed symmetrically. Second order; keeps ``|K|`` and the
-    space vector ``K`` to round-off, the energy bounded (no drift).
+    Lie-Poisson splitting of the free-body Hamiltonian into exactly
+    integrable rotations (Touma & Wisdom 1994, McLachlan 1993, Reich 1994, in
+    the form of Dullweber, Leimkuhler & McLachlan 1997), composed
+    symmetrically. Second order; keeps ``|K|`` and the space vector ``K`` to
+    round-off and the energy bounded (no drift); exact for a symmetric body.
 ``"rk4"``
     Classical explicit Runge-Kutta of order 4 on ``(L, w)`` with the quaternion
     renormalised after each step. Conserves nothing exactly.
 ``"adaptive"``
     :func:`scipy.integrate.solve_ivp` (``DOP853`` by default) on ``(L, w)``,
     the quaternion renormalised at the outputs: the reference.
+
+Both symmetric methods can be composed to order 4 or 6 (``order=``) with
+the same invariants. Compiled (numba) kernels step the free body and constant
+torques; a torque given as a Python function is stepped with NumPy,
+vectorised over the batch.
 
 **Convention:** ``rotation`` maps body to space components (``v_s = R v_b``);
 ``omega`` and ``torque`` are in body axes (rad/s, N m); the angular momentum
@@ -255,7 +261,7 @@ class _TorqueCall:
                 f"method='adaptive'."
             )
         rot = Rotation.from_quat(q.reshape(self.batch + (4,)))
-        out = self.fn(float(t), rot, w.reshape(self.batch + (3,)))
+        out = self.fn(float(t), rot, np.array(w).reshape(self.batch + (3,)))
         try:
             m = np.asarray(out, dtype=float)
         except (TypeError, ValueError):
@@ -361,8 +367,9 @@ def simulate(
     -----
     Midpoint step of length ``h`` (``W = J^-1``, body momentum ``m = J w``):
     solve ``m* = m_n + h/2 (m* x W m* + M*)`` by Newton's method to round-off,
-    with ``M* = M(t_n + h/2, L_n o cay(h w*/2), w*)``, ``w* = W m*``; then with
-    the Gibbs vector ``a = h w*/2``
+    with ``w* = W m*``, ``a = h w*/2`` (the Gibbs vector of the step) and the
+    torque at the midpoint ``M* = M(t_n + h/2, L_n o (1, a/2)/sqrt(1 + a.a/4),
+    w*)``; then
 
     ``L_n+1 = L_n o (1, a)/sqrt(1 + a.a)``,
     ``m_n+1 = (E + a^)^-1 ((E - a^) m_n + h M*)``,
@@ -376,8 +383,11 @@ def simulate(
     contracting: ``h |dM/dw| / 2 < |J|`` roughly), otherwise an
     :class:`~poinsot.IntegrationError` asks for a smaller ``max_step``.
 
-    Orders: midpoint 2, splitting 2 (2 with torques that do not depend on
-    ``omega``, 1 otherwise), rk4 4, adaptive as set by ``rtol``/``atol``.
+    Orders: midpoint 2 (4 or 6 with ``order``), splitting 2 (4 or 6 with
+    ``order``; with a torque that depends on ``omega`` the half kicks are
+    explicit and the order drops to 1), rk4 4, adaptive as set by
+    ``rtol``/``atol``. The splitting sub-flows are given in the docs page
+    ``docs/dynamics.md``.
 
     **Convention:** body -> space attitude; ``omega``, ``torque`` in body axes;
     ``momentum`` in space axes; SI units.
@@ -410,7 +420,10 @@ def simulate(
     if max_step is None:
         h_max = math.inf
     else:
-        h_max = float(as_float_array(max_step, "max_step"))
+        h_arr = as_float_array(max_step, "max_step")
+        if h_arr.ndim != 0:
+            raise InvalidInputError(f"Expected `max_step` to be a scalar, got shape {h_arr.shape}.")
+        h_max = float(h_arr)
         if not h_max > 0:
             raise InvalidInputError(f"Expected `max_step` to be positive, got {max_step!r}.")
     n_body = math.prod(batch)
