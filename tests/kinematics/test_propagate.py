@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation as SR
 
 import poinsot
@@ -78,6 +80,47 @@ def test_constant_omega_closed_form_to_roundoff(method, frame):
     # omega is returned in body axes: w_xi = L~ o w_x o L
     expect = np.broadcast_to(w, (len(t), 3)) if frame == "body" else truth.inv().apply(w)
     np.testing.assert_allclose(tr.omega, expect, atol=1e-13)
+
+
+finite = st.floats(-5.0, 5.0, allow_nan=False)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    q0=st.lists(finite, min_size=4, max_size=4).filter(lambda q: np.linalg.norm(q) > 1e-3),
+    w=st.lists(finite, min_size=3, max_size=3),
+    dts=st.lists(st.floats(1e-3, 1.0), min_size=1, max_size=8),
+    method=st.sampled_from(["exact", "magnus4", "magnus6"]),
+    frame=st.sampled_from(["body", "space"]),
+)
+def test_constant_omega_property(q0, w, dts, method, frame):
+    """Any attitude, constant rate and time grid: the Lie-group methods are exact."""
+    t = np.concatenate([[0.0], np.cumsum(dts)])
+    tr = propagate(q0, lambda s: w, t, frame=frame, method=method)
+    rw = SR.from_rotvec(np.outer(t, w))
+    r0 = scipy_rot(q0)
+    assert qdist(tr.quat, r0 * rw if frame == "body" else rw * r0) < 1e-13
+
+
+def test_zero_omega_keeps_attitude():
+    q0 = np.array([0.5, -0.5, 0.5, 0.5])
+    for method in ("exact", "magnus4", "magnus6", "rk4", "adaptive"):
+        tr = propagate(q0, lambda s: np.zeros(3), np.linspace(0.0, 5.0, 11), method=method)
+        np.testing.assert_allclose(tr.quat, np.broadcast_to(q0, (11, 4)), atol=1e-16)
+
+
+@pytest.mark.parametrize(
+    ("method", "kind", "order"),
+    [("magnus6", "callable", 6), ("magnus6", "samples", 4), ("exact", "samples", 1)],
+)
+def test_info_reports_steps_and_order(method, kind, order):
+    t = np.linspace(0.0, 1.0, 6)
+    w = w_body if kind == "callable" else np.array([w_body(s) for s in t])
+    tr = propagate([1, 0, 0, 0], w, t, method=method, steps_per_sample=3)
+    assert tr.info["order"] == order
+    assert tr.info["n_steps"] == 15
+    assert tr.info["omega_input"] == kind
+    assert tr.info["frame"] == "body"
 
 
 def test_exact_with_piecewise_constant_samples_is_exact():

@@ -422,9 +422,10 @@ def propagate(
         ``t``; ``rotation`` of shape ``(n,)`` (or ``(n, N)``), unit norm to
         round-off; ``omega`` in **body** axes at ``t``, shape ``(n, 3)`` (or
         ``(n, N, 3)``), converted by ``w_xi = L~ o w_x o L`` if ``frame="space"``;
-        ``method``; ``info`` with ``frame``, ``n_steps`` (fixed-step: steps per
-        body, ``max_h``; adaptive: ``nfev``, ``status``, ``message``) and, for
-        samples, ``interpolation``.
+        ``method``; ``info`` with ``frame``, ``omega_input``; fixed-step:
+        ``n_steps`` (steps per body), ``max_h`` and ``order`` (of the global
+        error for smooth ``w``); adaptive: ``nfev``, ``status``, ``message``,
+        ``rtol``, ``atol``; for samples, ``interpolation``.
 
     Raises
     ------
@@ -553,6 +554,8 @@ def propagate(
             nsub = np.maximum(nsub, np.ceil(np.diff(t) / max_step * (1.0 - 1e-12)).astype(np.int64))
         states = _fixed_step(method, frame, src, qn, t, nsub)
         info["n_steps"] = int(nsub.sum())
+        key = "exact-samples" if (method == "exact" and src.kind == "samples") else method
+        info["order"] = min(ORDER[key], 4) if src.kind == "samples" else ORDER[key]
         info["max_h"] = float(np.max(np.diff(t) / nsub)) if len(t) > 1 else 0.0
 
     w_out = np.broadcast_to(src.at_outputs(), (len(t), n_bodies, 3))
