@@ -311,3 +311,30 @@ def test_missing_plotly_skips_report_with_note(tmp_path, monkeypatch):
     assert "report.html" not in {p.name for p in files}
     notes = json.loads((tmp_path / "o" / "summary.json").read_text())["notes"]
     assert any("report.html skipped: No module named 'plotly'" in n for n in notes)
+
+
+def test_heavy_top_released_nutation_band_and_period():
+    """A top released with spin only (theta' = psi' = 0) nutates between its initial tilt
+    and the other root of P(u) with cusps (SPEC S10); the closed-form band and period
+    agree with the adaptive integration of Euler's equations."""
+    text = (EXAMPLES / "symmetric_top.toml").read_text()
+    text = text.replace("vector = [0.0, 2.25686547819487, 150.0]", "vector = [0.0, 0.0, 40.0]")
+    text = text.replace("duration = 3.0", "duration = 0.8").replace("step = 0.0005", "step = 0.002")
+    text = text.replace('reference = "splitting"', "")
+    result = simulate_scenario(parse_scenario(text))
+    cf = result.summary["closed_form"]
+    assert cf["motion"] == "cusps"
+    tr = result.trajectory
+    axis = tr.rotation.apply(np.array([0.0, 0.0, 1.0]))
+    tilt = np.arccos(axis[:, 2])
+    assert cf["nutation_theta_min"] == pytest.approx(np.radians(30.0), abs=1e-9)
+    k = int(np.argmax(tilt[: tilt.size // 2 + 50]))  # first lowest point, half a period
+    # parabola through the three samples around the maximum
+    y0, y1, y2 = tilt[k - 1 : k + 2]
+    d = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
+    t_max = tr.t[k] + d * (tr.t[1] - tr.t[0])
+    theta_max = y1 - 0.25 * (y0 - y2) * d
+    assert theta_max == pytest.approx(cf["nutation_theta_max"], rel=1e-5)
+    assert 2 * t_max == pytest.approx(cf["nutation_period"], rel=1e-4)
+    assert tilt.max() <= cf["nutation_theta_max"] + 1e-9
+    assert tilt.min() >= cf["nutation_theta_min"] - 1e-9

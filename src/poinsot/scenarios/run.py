@@ -499,6 +499,18 @@ def _closed_form(scenario: Scenario) -> dict:
                 "note": "the attitude is periodic: q(t + period) = q(t)",
             }
         return {}
+    if scenario.torque.model == "gravity":
+        from ._lagrange import lagrange_top
+
+        props = lagrange_top(
+            scenario.body.inertia_about_origin(),
+            scenario.body.mass,
+            scenario.body.center_of_mass,
+            scenario.torque.g,
+            scenario.attitude.quat,
+            scenario.angular_velocity.omega_body,
+        )
+        return {} if props is None else _jsonable(props)
     if scenario.torque.model != "none":
         return {}
     try:
