@@ -1,0 +1,620 @@
+"""Tests of the exact free rigid body (SPEC S10, Euler case) and its geometry.
+
+Oracles: ``scipy.integrate.solve_ivp(method="DOP853", rtol=1e-13, atol=1e-14)``
+of Euler's equations ``J w' = (J w) x w`` with the quaternion kinematics
+``q' = q o w / 2`` (SPEC S5); mpmath's Jacobi elliptic functions at 40 digits;
+closed forms from Landau & Lifshitz, *Mechanics* (3rd ed.), S33 and S37;
+scipy.special for the special-function kernels.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import mpmath as mp
+import numpy as np
+import pytest
+from scipy import integrate, special
+
+from poinsot import InvalidInputError, InvalidTypeError, Rotation, SingularityWarning
+from poinsot.dynamics import FreeRigidBody
+from poinsot.dynamics import _free_body_numba as kern
+
+TOL = 1e-11
+
+
+def reference(inertia, w0, q0, t):
+    """DOP853 solution of Euler's equations + quaternion kinematics at times ``t``."""
+    j = np.diag(inertia) if np.ndim(inertia) == 1 else np.asarray(inertia, float)
+    j_inv = np.linalg.inv(j)
+
+    def f(_, y):
+        w, q = y[:3], y[3:]
+        dw = j_inv @ np.cross(j @ w, w)
+        dq0 = -0.5 * q[1:] @ w
+        dqv = 0.5 * (q[0] * w + np.cross(q[1:], w))
+        return np.concatenate([dw, [dq0], dqv])
+
+    y0 = np.concatenate([np.asarray(w0, float), q0])
+    sol = integrate.solve_ivp(
+        f, (0.0, t[-1]), y0, method="DOP853", rtol=1e-13, atol=1e-14, t_eval=t
+    )
+    assert sol.success
+    return sol.y[:3].T, Rotation.from_quat(sol.y[3:].T)
+
+
+def compare(body, t, w0, inertia, r0):
+    w, rot = body.state(t)
+    w_ref, rot_ref = reference(inertia, w0, r0.as_quat(), t)
+    err_w = np.max(np.abs(w - w_ref)) / np.linalg.norm(w0)
+    err_r = np.max((rot.inv() * rot_ref).magnitude())
+    return err_w, err_r
+
+
+# ---------------------------------------------------------------------------
+# Exact solution against DOP853
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_bodies_match_dop853(seed):
+    """Random physical bodies and states: omega and attitude to 1e-11 over 3 periods."""
+    rng = np.random.default_rng(seed)
+    while True:
+        moments = rng.uniform(0.5, 3.0, 3)
+        s = np.sort(moments)
+        if s[0] + s[1] > s[2]:
+            break
+    w0 = rng.normal(size=3)
+    r0 = Rotation.random(rng=rng)
+    body = FreeRigidBody(moments, w0, r0)
+    assert body.regime in ("major", "minor")
+    t = np.linspace(0.0, 3.0 * body.period, 151)
+    err_w, err_r = compare(body, t, w0, moments, r0)
+    assert err_w < TOL and err_r < TOL
+
+
+CASES = {
+    # name: (moments, omega0, time span in periods or seconds)
+    "major axis": ([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),
+    "minor axis": ([1.0, 2.0, 3.0], [1.0, 0.3, 0.2]),
+    "order 3,1,2": ([3.0, 1.0, 2.0], [-0.4, 0.7, 0.3]),
+    "Dzhanibekov flip": ([1.0, 2.0, 3.0], [0.03, 1.0, 0.03]),
+    "Dzhanibekov flip, other side": ([0.5, 0.9, 1.2], [0.03, -1.0, -0.01]),
+    "about the major axis": ([1.0, 2.0, 3.0], [0.0, 0.0, 1.5]),
+    "about the minor axis": ([1.0, 2.0, 3.0], [-2.0, 0.0, 0.0]),
+    "about the middle axis": ([1.0, 2.0, 3.0], [0.0, 1.0, 0.0]),
+    "oblate symmetric": ([2.0, 2.0, 1.5], [0.3, 0.4, 1.0]),
+    "prolate symmetric": ([1.0, 2.0, 2.0], [1.0, 0.4, -0.3]),
+    "symmetric, equatorial": ([2.0, 2.0, 1.0], [0.3, 0.4, 0.0]),
+    "spherical": ([2.0, 2.0, 2.0], [0.3, 0.4, 1.0]),
+    "nearly symmetric": ([1.0, 1.0 + 1e-9, 1.5], [0.3, 0.4, 1.0]),
+    "nearly symmetric, thin polhode": ([1.0, 1.0 + 1e-6, 1.5], [0.0, 1.0, 1e-5]),
+    "flat plate (A + B = C)": ([1.0, 2.0, 3.0], [0.5, 0.5, 0.5]),
+    "at rest": ([1.0, 2.0, 3.0], [0.0, 0.0, 0.0]),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_cases_match_dop853(name):
+    """Every regime: omega and attitude to 1e-11 over 4 periods (at most 100 s)."""
+    moments, w0 = CASES[name]
+    r0 = Rotation.from_rotvec([0.3, -0.2, 0.5])
+    body = FreeRigidBody(moments, w0, r0)
+    span = min(4.0 * body.period, 100.0)
+    t = np.linspace(0.0, span, 201)
+    if not np.any(w0):
+        w, rot = body.state(t)
+        assert np.all(w == 0.0) and np.all(rot.approx_equal(r0, atol=0.0))
+        return
+    err_w, err_r = compare(body, t, w0, moments, r0)
+    assert err_w < TOL and err_r < TOL
+
+
+def test_dzhanibekov_flip_happens():
+    """Near the middle axis the body flips: w_2 changes sign every half period
+    (the tennis-racket / Dzhanibekov effect, SPEC S10) and the flip is exact."""
+    body = FreeRigidBody([1.0, 2.0, 3.0], [0.03, 1.0, 0.03])
+    half = body.period / 2
+    w = body.omega([0.0, half, body.period])
+    assert w[0, 1] > 0.99 and w[1, 1] < -0.99 and w[2, 1] > 0.99
+    assert body.stable_axes == (True, False, True)
+
+
+def test_separatrix_exact():
+    """(6, 5, 2), w0 = (1, 1/2, 1) lies exactly on K^2 = 2 B T: w_m = a_m tanh,
+    w_i, w_j ~ sech (Landau & Lifshitz S37, problem); infinite period; DOP853
+    agrees until round-off makes the true motion leave the separatrix."""
+    moments, w0 = [6.0, 5.0, 2.0], [1.0, 0.5, 1.0]
+    r0 = Rotation.from_rotvec([0.1, 0.2, 0.3])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        body = FreeRigidBody(moments, w0, r0)
+    assert body.regime == "separatrix" and body.period == math.inf
+    assert body.polhode_axis is None and math.isnan(body.precession_per_period)
+    two_t = 6 + 5 * 0.25 + 2
+    assert 36 + 25 * 0.25 + 4 == pytest.approx(5 * two_t, rel=0, abs=0)
+    lam = math.sqrt(two_t * (6 - 5) * (5 - 2) / (6 * 5 * 2))  # L&L S37 with M^2 = 2 E I2
+    t = np.linspace(0.0, 10.0 / lam, 101)
+    err_w, err_r = compare(body, t, w0, moments, r0)
+    assert err_w < TOL and err_r < TOL
+    # Asymptotically the body spins about the middle axis with w_m -> +-sqrt(2T/B).
+    w = body.omega(1e3)
+    assert w[1] == pytest.approx(-math.sqrt(two_t / 5), rel=1e-14) or w[1] == pytest.approx(
+        math.sqrt(two_t / 5), rel=1e-14
+    )
+    assert abs(w[0]) < 1e-100 and abs(w[2]) < 1e-100
+    # The closed form independently: w_B = s a tanh(lam t + v0), a = sqrt(2T/B),
+    # with s the sign of w_B' = (C - A) w_C w_A / B at t = 0 (Euler's equation).
+    a_m = math.sqrt(two_t / 5)
+    sgn = np.sign((2.0 - 6.0) * 1.0 * 1.0 / 5.0)
+    v0 = math.atanh(0.5 / (sgn * a_m))
+    tt = np.linspace(0, 20, 7)
+    expected = sgn * a_m * np.tanh(lam * tt + v0)
+    np.testing.assert_allclose(body.omega(tt)[:, 1], expected, rtol=0, atol=1e-14)
+    sech = 1 / np.cosh(lam * tt + v0)
+    np.testing.assert_allclose(
+        body.omega(tt)[:, 0], math.sqrt(two_t * 3 / (6 * 4)) * sech, rtol=0, atol=1e-14
+    )
+
+
+def test_separatrix_within_roundoff_warns():
+    """sqrt(3) is not representable: K^2 - 2BT = 4e-16 is round-off -> separatrix + warning."""
+    with pytest.warns(SingularityWarning, match="within round-off of the separatrix"):
+        body = FreeRigidBody([3.0, 2.0, 1.0], [1.0, 0.0, math.sqrt(3.0)])
+    assert body.regime == "separatrix"
+
+
+def test_near_separatrix_warns_and_stays_exact():
+    """1 - k^2 ~ 2e-9: a SingularityWarning, and omega still matches a 40-digit
+    evaluation of Landau's formulas (S37) from the same double initial data."""
+    w0 = [2e-5, 1.0, 2e-5]
+    with pytest.warns(SingularityWarning, match="close to the separatrix"):
+        body = FreeRigidBody([1.0, 2.0, 3.0], w0)
+    m1 = body.complementary_parameter
+    assert 1e-10 < m1 < 1e-8
+    t = np.linspace(0.0, 3.0 * body.period, 13)
+    np.testing.assert_allclose(body.omega(t), landau_mp([1.0, 2.0, 3.0], w0, t), atol=2e-14)
+
+
+def landau_mp(moments, w0, t):
+    """Landau & Lifshitz S37 (I1 < I2 < I3, M^2 > 2 E I2) evaluated with mpmath.
+
+    Omega1 = sqrt((2E I3 - M^2)/(I1 (I3 - I1))) cn(tau), Omega2 = ... sn(tau),
+    Omega3 = sqrt((M^2 - 2E I1)/(I3 (I3 - I1))) dn(tau),
+    tau = t sqrt((I3 - I2)(M^2 - 2E I1)/(I1 I2 I3)),
+    k^2 = (I2 - I1)(2E I3 - M^2)/((I3 - I2)(M^2 - 2E I1)); initial phase from w0.
+    """
+    mp.mp.dps = 40
+    i1, i2, i3 = (mp.mpf(x) for x in moments)
+    w = [mp.mpf(x) for x in w0]
+    e2 = i1 * w[0] ** 2 + i2 * w[1] ** 2 + i3 * w[2] ** 2
+    m2 = i1**2 * w[0] ** 2 + i2**2 * w[1] ** 2 + i3**2 * w[2] ** 2
+    assert m2 > e2 * i2
+    a1 = mp.sqrt((e2 * i3 - m2) / (i1 * (i3 - i1)))
+    a2 = mp.sqrt((e2 * i3 - m2) / (i2 * (i3 - i2)))
+    a3 = mp.sqrt((m2 - e2 * i1) / (i3 * (i3 - i1)))
+    rate = mp.sqrt((i3 - i2) * (m2 - e2 * i1) / (i1 * i2 * i3))
+    k2 = (i2 - i1) * (e2 * i3 - m2) / ((i3 - i2) * (m2 - e2 * i1))
+    # Signs: Omega3 keeps its sign; Omega1 = s1 a1 cn, Omega2 = s2 a2 sn with
+    # I2 Omega2' = (I3 - I1) Omega3 Omega1.
+    s3 = mp.sign(w[2])
+    s1 = 1
+    s2 = mp.sign((i3 - i1) * s3 * s1)
+    tau0 = mp.ellipf(mp.atan2(w[1] / (s2 * a2), w[0] / (s1 * a1)), k2)
+    out = []
+    for tk in t:
+        tau = rate * mp.mpf(float(tk)) + tau0
+        out.append(
+            [
+                float(s1 * a1 * mp.ellipfun("cn", tau, m=k2)),
+                float(s2 * a2 * mp.ellipfun("sn", tau, m=k2)),
+                float(s3 * a3 * mp.ellipfun("dn", tau, m=k2)),
+            ]
+        )
+    return np.array(out)
+
+
+def test_omega_matches_landau_mpmath():
+    """Generic body over 50 periods: omega to 1e-13 of the 40-digit Landau solution."""
+    w0 = [0.4, -0.8, 0.6]
+    body = FreeRigidBody([1.0, 2.0, 3.0], w0)
+    t = np.linspace(0.0, 50.0 * body.period, 11) + 0.37
+    np.testing.assert_allclose(body.omega(t), landau_mp([1.0, 2.0, 3.0], w0, t), atol=1e-13)
+
+
+def test_inertia_tensor_input():
+    """A full tensor J = V diag V^T: omega0 and rotation(t) in the tensor's axes;
+    DOP853 of the general Euler equations J w' = (J w) x w agrees."""
+    rng = np.random.default_rng(7)
+    v = Rotation.random(rng=rng).as_matrix()
+    jt = v @ np.diag([1.0, 1.7, 2.2]) @ v.T
+    w0 = np.array([0.3, -0.5, 0.9])
+    r0 = Rotation.random(rng=rng)
+    body = FreeRigidBody(jt, w0, r0)
+    np.testing.assert_allclose(body.inertia, jt, atol=1e-15)
+    np.testing.assert_allclose(body.principal_moments, [1.0, 1.7, 2.2], rtol=1e-14)
+    t = np.linspace(0.0, 3.0 * body.period, 101)
+    err_w, err_r = compare(body, t, w0, jt, r0)
+    assert err_w < TOL and err_r < TOL
+    np.testing.assert_allclose(body.omega(0.0), w0, atol=1e-15)
+
+
+def test_rotated_symmetric_tensor_is_symmetric():
+    """eigh splits a repeated moment by ~1e-16: SYMMETRY_RTOL snaps it back."""
+    v = Rotation.from_rotvec([0.4, 0.5, -0.3]).as_matrix()
+    jt = v @ np.diag([2.0, 2.0, 1.0]) @ v.T
+    body = FreeRigidBody(jt, [0.2, 0.3, 1.0])
+    assert body.regime == "symmetric"
+    assert body.stable_axes.count(True) == 1
+
+
+# ---------------------------------------------------------------------------
+# Invariants and structure
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["major axis", "Dzhanibekov flip", "oblate symmetric"])
+def test_invariants(name):
+    """T and |K| constant along omega(t); R(t) J w(t) = K (constant space vector)."""
+    moments, w0 = CASES[name]
+    r0 = Rotation.from_rotvec([1.0, 2.0, -0.5])
+    body = FreeRigidBody(moments, w0, r0)
+    t = np.linspace(0.0, 1e3, 20001)
+    tr = body.trajectory(t)
+    assert tr.energy_drift < 1e-14
+    assert tr.momentum_drift < 1e-14
+    assert tr.momentum_vector_drift < 1e-12
+    k = r0.apply(np.asarray(moments) * w0)
+    np.testing.assert_allclose(body.momentum, k, rtol=1e-15, atol=1e-15)
+    assert body.energy == pytest.approx(0.5 * np.dot(moments, np.square(w0)), rel=1e-15)
+    assert body.momentum_norm == pytest.approx(np.linalg.norm(k), rel=1e-15)
+
+
+def test_kinematics_by_finite_differences():
+    """R' = R w^ (SPEC S5): 2 q~ o q' from a central difference of rotation(t) equals w(t)."""
+    body = FreeRigidBody([1.0, 2.0, 3.0], [0.3, 0.9, -0.4], Rotation.from_rotvec([0, 1, 0]))
+    t = np.linspace(0.0, 40.0, 9)
+    h = 1e-5
+    rp, rm = body.rotation(t + h), body.rotation(t - h)
+    w_fd = (rm.inv() * rp).as_rotvec() / (2 * h)
+    # rm^-1 rp = exp(2 h w(t)^ + O(h^3)) in body axes
+    np.testing.assert_allclose(w_fd, body.omega(t), atol=1e-9)
+
+
+def test_vectorised_shapes():
+    body = FreeRigidBody([1.0, 2.0, 3.0], [0.3, 0.9, -0.4])
+    t = np.arange(6.0).reshape(2, 3)
+    assert body.omega(t).shape == (2, 3, 3)
+    assert body.momentum_body(t).shape == (2, 3, 3)
+    assert body.rotation(t).shape == (2, 3)
+    assert body.omega(1.0).shape == (3,)
+    assert body.rotation(1.0).shape == ()
+    np.testing.assert_array_equal(body.omega(t)[1, 2], body.omega(5.0))
+    np.testing.assert_allclose(body.momentum_body(t), body.omega(t) * [1.0, 2.0, 3.0])
+
+
+def test_quasi_periodicity_many_periods():
+    """After n whole periods omega repeats and R(t + nP) = Rot(K, n dpsi) R(t)
+    (whole periods are added in closed form, not integrated)."""
+    body = FreeRigidBody([1.0, 2.0, 3.0], [0.3, 0.9, -0.4], Rotation.from_rotvec([0.2, 0, 0]))
+    p, n = body.period, 10_000
+    t = np.array([0.0, 0.3 * p, 0.77 * p])
+    np.testing.assert_allclose(body.omega(t + n * p), body.omega(t), atol=1e-10)
+    khat = body.momentum / body.momentum_norm
+    turn = Rotation.from_rotvec(khat * (n * body.precession_per_period % (2 * math.pi)))
+    expected = turn * body.rotation(t)
+    assert np.max((body.rotation(t + n * p).inv() * expected).magnitude()) < 1e-9
+
+
+# ---------------------------------------------------------------------------
+# Period and precession
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("moments", "w0"),
+    [
+        ([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),
+        ([1.0, 2.0, 3.0], [1.0, 0.3, 0.2]),
+        ([2.0, 1.0, 2.5], [0.1, 1.0, 0.1]),
+    ],
+)
+def test_period_landau_and_numerical(moments, w0):
+    """Landau & Lifshitz S37: the period of omega is 4 K(k) sqrt(A B C / ((A - B)
+    (K^2 - 2 T C))) for K^2 > 2 B T (A > B > C); for K^2 < 2 B T exchange A and C.
+    Also against the time between successive zero up-crossings of w_B in DOP853."""
+    mom = np.asarray(moments)
+    w = np.asarray(w0)
+    two_t = np.dot(mom, w**2)
+    k2 = np.dot(mom**2, w**2)
+    a, b, c = np.sort(mom)[::-1]
+    if k2 < two_t * b:
+        a, c = c, a
+    kk2 = (b - c) * (two_t * a - k2) / ((a - b) * (k2 - two_t * c))
+    period = 4 * special.ellipk(kk2) * math.sqrt(a * b * c / ((a - b) * (k2 - two_t * c)))
+    body = FreeRigidBody(moments, w0)
+    assert body.period == pytest.approx(period, rel=1e-13)
+    # numerical: events w_mid = 0 crossing upward
+    mid = int(np.argsort(mom)[1])
+
+    def ev(_, y):
+        return y[mid]
+
+    ev.direction = 1.0
+    j = np.diag(mom)
+    sol = integrate.solve_ivp(
+        lambda _, y: np.linalg.solve(j, np.cross(j @ y, y)),
+        (0, 3.5 * period),
+        w,
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-14,
+        events=ev,
+    )
+    te = sol.t_events[0]
+    assert len(te) >= 3
+    assert np.diff(te) == pytest.approx(body.period, rel=1e-10)
+
+
+def test_euler_period_of_the_earth():
+    """Free (Euler) nutation of a rigid Earth: symmetric body with dynamical
+    ellipticity H = (C - A)/C = 0.0032738 spinning once per sidereal day has a
+    body-frame precession period A / (C - A) ~ 304.5 sidereal days ("about 305
+    days", Euler's prediction; Lambeck, The Earth's Variable Rotation, 1980, S3)."""
+    h = 0.0032738
+    c, a = 1.0, 1.0 - h
+    sidereal = 86164.0905
+    w3 = 2 * math.pi / sidereal
+    body = FreeRigidBody([a, a, c], [1e-9 * w3, 0.0, w3])
+    days = body.period / sidereal
+    assert days == pytest.approx(a / (c - a), rel=1e-12)
+    assert 304 < days < 305.5
+
+
+def test_symmetric_closed_form():
+    """Regular precession (SPEC S10, L&L S33): with K along space z, the z-x-z
+    Euler angles are psi = psi0 + K/A t, theta = const with cos theta = C r/K,
+    phi = phi0 + (A - C) r / A t."""
+    a, c = 2.0, 1.2
+    w0 = np.array([0.3, -0.2, 0.9])
+    k_body = np.array([a, a, c]) * w0
+    kk = np.linalg.norm(k_body)
+    # Start with K along space z: R0 maps k_body to (0, 0, |K|).
+    axis = np.cross(k_body, [0.0, 0.0, 1.0])
+    angle = math.acos(k_body[2] / kk)
+    r0 = Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle)
+    body = FreeRigidBody([a, a, c], w0, r0)
+    assert body.regime == "symmetric"
+    np.testing.assert_allclose(body.momentum, [0, 0, kk], atol=1e-15)
+    psi0, theta0, phi0 = r0.as_euler("ZXZ")
+    assert math.cos(theta0) == pytest.approx(c * w0[2] / kk, rel=1e-14)
+    t = np.linspace(0.0, 50.0, 11)
+    expected = Rotation.from_euler(
+        "ZXZ",
+        np.stack(
+            [psi0 + kk / a * t, np.full_like(t, theta0), phi0 + (a - c) * w0[2] / a * t], axis=-1
+        ),
+    )
+    assert np.max((body.rotation(t).inv() * expected).magnitude()) < 1e-13
+    assert body.period == pytest.approx(2 * math.pi * a / ((a - c) * w0[2]), rel=1e-15)
+    assert body.precession_per_period == pytest.approx(kk / a * body.period, rel=1e-15)
+
+
+def _psi_dot_landau(body, t):
+    """L&L S37: with the Euler z axis along the encircled axis i,
+    psi' = K (I_j w_j^2 + I_m w_m^2) / (I_j^2 w_j^2 + I_m^2 w_m^2)."""
+    i = body.polhode_axis
+    w = body.omega(t)
+    mom = body.principal_moments
+    o = [k for k in range(3) if k != i]
+    num = sum(mom[k] * w[..., k] ** 2 for k in o)
+    den = sum(mom[k] ** 2 * w[..., k] ** 2 for k in o)
+    return body.momentum_norm * num / den
+
+
+@pytest.mark.parametrize(
+    ("moments", "w0"),
+    [
+        ([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),
+        ([1.0, 2.0, 3.0], [1.0, 0.3, 0.2]),
+        ([1.0, 2.0, 3.0], [0.05, 1.0, 0.05]),
+        ([1.0, 1.2, 1.9], [0.5, -0.4, 0.2]),
+    ],
+)
+def test_precession_per_period(moments, w0):
+    """(a) equals the quadrature of Landau's psi' over one period; (b) R(t + P) R(t)^-1
+    is the rotation about K by that angle."""
+    body = FreeRigidBody(moments, w0, Rotation.from_rotvec([0.3, 0.1, -0.2]))
+    p = body.period
+    quad, _ = integrate.quad(
+        lambda s: _psi_dot_landau(body, s), 0, p, epsabs=1e-13, epsrel=1e-13, limit=400
+    )
+    assert body.precession_per_period == pytest.approx(quad, rel=1e-11)
+    t = np.array([0.0, 0.4 * p])
+    d = body.rotation(t + p) * body.rotation(t).inv()
+    khat = body.momentum / body.momentum_norm
+    expected = Rotation.from_rotvec(khat * body.precession_per_period)
+    assert np.max((d.inv() * expected).magnitude()) < 1e-11
+
+
+def test_precession_continuous_at_symmetry():
+    """A nearly symmetric body precesses (per period) like the symmetric one, K/A P."""
+    w0 = [0.3, 0.4, 1.0]
+    sym = FreeRigidBody([2.0, 2.0, 1.5], w0)
+    near = FreeRigidBody([2.0, 2.0 * (1 + 1e-10), 1.5], w0)
+    assert near.regime == "minor"
+    assert near.period == pytest.approx(sym.period, rel=1e-8)
+    assert near.precession_per_period == pytest.approx(sym.precession_per_period, rel=1e-8)
+
+
+# ---------------------------------------------------------------------------
+# Classification
+# ---------------------------------------------------------------------------
+
+
+def test_regimes_and_stability():
+    assert FreeRigidBody([1, 2, 3], [0.1, 0.2, 1]).polhode_axis == 2
+    assert FreeRigidBody([1, 2, 3], [1, 0.2, 0.1]).polhode_axis == 0
+    assert FreeRigidBody([3, 1, 2], [0.1, 1, 0.2]).polhode_axis == 1
+    assert FreeRigidBody([3, 1, 2], [0.1, 1, 0.2]).stable_axes == (True, True, False)
+    mid = FreeRigidBody([1, 2, 3], [0, 1, 0])
+    assert mid.regime == "separatrix" and mid.period == math.inf
+    sym = FreeRigidBody([2, 2, 1], [0.1, 0.1, 1])
+    assert (sym.regime, sym.polhode_axis, sym.stable_axes) == ("symmetric", 2, (False, False, True))
+    sph = FreeRigidBody([2, 2, 2], [0.1, 0.1, 1])
+    assert (sph.regime, sph.polhode_axis, sph.stable_axes) == ("spherical", None, (True,) * 3)
+    rest = FreeRigidBody([1, 2, 3], [0, 0, 0])
+    assert rest.regime == "rest" and rest.momentum_norm == 0 and rest.period == math.inf
+    # the small-oscillation limit about a stable principal axis
+    b = FreeRigidBody([1.0, 2.0, 3.0], [0, 0, 2.0])
+    assert b.period == pytest.approx(2 * math.pi / (2.0 * math.sqrt((3 - 2) * (3 - 1) / (2 * 1))))
+
+
+# ---------------------------------------------------------------------------
+# Special-function kernels
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("m1", [0.9999, 0.5, 1e-3, 1e-8, 1e-14])
+def test_landen_jacobi_against_mpmath(m1):
+    """The descending-Landen sn/cn/dn (fed 1 - k^2 exactly) on [-K, K] match mpmath."""
+    k2 = 1.0 - m1
+    kq = float(special.ellipkm1(m1))
+    table = kern.landen_table(k2, m1)
+    u = np.linspace(-kq, kq, 9)
+    par = np.zeros(kern.N_PAR)
+    par[[kern.P_LAM, kern.P_KQ, kern.P_K2, kern.P_M1, kern.P_KMOM]] = 1.0, kq, k2, m1, 1.0
+    idx = np.array([2, 1, 0])
+    one = np.array([1.0, 0, 0, 0])
+    w, _, _ = kern.elliptic_state(u, par, idx, np.ones(3), np.ones(3), one, one, False, table)
+    mp.mp.dps = 40
+    m_mp = 1 - mp.mpf(m1)
+    for uk, row in zip(u, w, strict=True):
+        sn, cn, dn = (float(mp.ellipfun(f, mp.mpf(float(uk)), m=m_mp)) for f in ("sn", "cn", "dn"))
+        np.testing.assert_allclose(row, [cn, sn, dn], rtol=0, atol=4e-15)
+
+
+def test_carlson_rj_against_scipy():
+    """J(u) = sn^3 R_J(cn^2, dn^2, 1, 1 + n sn^2) / 3 against scipy.special.elliprj."""
+    k2, m1, n2 = 0.7, 0.3, 2.5
+    kq = float(special.ellipk(k2))
+    table = kern.landen_table(k2, m1)
+    u = np.linspace(-kq, kq, 21)
+    par = np.zeros(kern.N_PAR)
+    jh = 2 * special.elliprj(0.0, m1, 1.0, 1.0 + n2) / 3  # J over [-K, K]
+    par[[kern.P_LAM, kern.P_KQ, kern.P_K2, kern.P_M1, kern.P_N2, kern.P_JH, kern.P_KMOM]] = (
+        1.0,
+        kq,
+        k2,
+        m1,
+        n2,
+        jh,
+        1.0,
+    )
+    idx = np.array([2, 1, 0])
+    one = np.array([1.0, 0, 0, 0])
+    _, _, jv = kern.elliptic_state(u, par, idx, np.ones(3), np.ones(3), one, one, True, table)
+    sn, cn, dn, _ = special.ellipj(u, k2)
+    ref = sn**3 * special.elliprj(cn**2, dn**2, 1.0, 1.0 + n2 * sn**2) / 3
+    ref[-1] = jh / 2  # u = K is reduced to -K plus a half period
+    np.testing.assert_allclose(jv, ref, rtol=1e-14, atol=1e-16)
+
+
+# ---------------------------------------------------------------------------
+# Geometry
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("w0", [[0.2, 0.3, 1.0], [1.0, 0.3, 0.2], [1.0, 0.5, 1.0]])
+def test_maccullagh_geometry(w0):
+    """The track lies on the sphere |K| = K and on the energy ellipsoid (SPEC S10);
+    separatrices lie on the ellipsoid and on the sphere of radius sqrt(2 B T)."""
+    mom = np.array([6.0, 5.0, 2.0])
+    body = FreeRigidBody(mom, w0)
+    g = body.maccullagh(100)
+    two_t = 2 * body.energy
+    np.testing.assert_allclose(g.ellipsoid_semi_axes, np.sqrt(two_t * mom), rtol=1e-15)
+    assert g.momentum_radius == body.momentum_norm
+    np.testing.assert_allclose(np.linalg.norm(g.track, axis=-1), body.momentum_norm, rtol=1e-14)
+    np.testing.assert_allclose(np.sum(g.track**2 / mom, axis=-1), two_t, rtol=1e-14)
+    assert g.separatrices.shape == (2, 100, 3)
+    np.testing.assert_allclose(np.sum(g.separatrices**2 / mom, axis=-1), two_t, rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(g.separatrices, axis=-1), math.sqrt(two_t * 5))
+    # on the separatrix the track lies on a separatrix circle (planes through the B axis)
+    if body.regime == "separatrix":
+        normals = np.cross(g.separatrices[:, 3], g.separatrices[:, 17])
+        dist = np.min(np.abs(g.track @ normals.T) / np.linalg.norm(normals, axis=-1), axis=-1)
+        assert np.max(dist) < 1e-12
+
+
+def test_maccullagh_symmetric_has_no_separatrix():
+    g = FreeRigidBody([2.0, 2.0, 1.0], [0.2, 0.3, 1.0]).maccullagh(10)
+    assert g.separatrices.shape == (0, 10, 3)
+
+
+@pytest.mark.parametrize("w0", [[0.2, 0.3, 1.0], [0.05, 1.0, 0.05], [0.3, 0.4, 0.0]])
+def test_poinsot_geometry(w0):
+    """Inertia ellipsoid r^T J r = 1 touches the invariable plane (normal K, at
+    distance sqrt(2T)/K, SPEC S10) at r = w/sqrt(2T); the herpolhode lies in it."""
+    mom = np.array([1.0, 2.0, 3.0]) if w0[2] else np.array([2.0, 2.0, 1.0])
+    body = FreeRigidBody(mom, w0, Rotation.from_rotvec([0.5, -1.0, 0.2]))
+    g = body.poinsot(n=300)
+    d = math.sqrt(2 * body.energy) / body.momentum_norm
+    assert g.plane_distance == pytest.approx(d, rel=1e-15)
+    np.testing.assert_allclose(g.plane_normal, body.momentum / body.momentum_norm, atol=1e-15)
+    np.testing.assert_allclose(np.sum(mom * g.polhode**2, axis=-1), 1.0, rtol=1e-14)
+    np.testing.assert_allclose(g.herpolhode @ g.plane_normal, d, rtol=1e-13)
+    # tangency: the ellipsoid normal J r at the contact point is along K (in space)
+    normal_space = g.rotation.apply(mom * g.polhode)
+    normal_space /= np.linalg.norm(normal_space, axis=-1, keepdims=True)
+    np.testing.assert_allclose(normal_space, np.broadcast_to(g.plane_normal, (300, 3)), atol=1e-13)
+    np.testing.assert_allclose(g.ellipsoid_semi_axes, 1 / np.sqrt(mom))
+    # the contact point has zero velocity (rolling without slipping): it lies on w
+    np.testing.assert_allclose(np.cross(g.polhode, body.omega(g.t)), 0.0, atol=1e-14)
+
+
+# ---------------------------------------------------------------------------
+# Bad input
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("inertia", "match"),
+    [
+        ([1.0, 1.0, 3.0], "triangle inequality"),
+        ([1.0, -2.0, 3.0], "positive definite"),
+        ([1.0, 2.0], r"shape \(3,\) \(principal moments\) or \(3, 3\)"),
+        ([[1.0, 0.5, 0], [0, 2, 0], [0, 0, 2]], "symmetric"),
+        ([1.0, np.nan, 2.0], "`inertia` to contain only finite"),
+    ],
+)
+def test_bad_inertia(inertia, match):
+    with pytest.raises(InvalidInputError, match=match):
+        FreeRigidBody(inertia, [1.0, 0.0, 0.0])
+
+
+def test_bad_omega_rotation_and_times():
+    with pytest.raises(InvalidInputError, match="`omega0` to contain only finite"):
+        FreeRigidBody([1, 2, 3], [np.nan, 0, 1])
+    with pytest.raises(InvalidInputError, match=r"`omega0` to have shape \(..., 3\)"):
+        FreeRigidBody([1, 2, 3], [1, 2])
+    with pytest.raises(InvalidInputError, match=r"`omega0` to have shape \(3,\)"):
+        FreeRigidBody([1, 2, 3], [[1, 2, 3]])
+    with pytest.raises(InvalidTypeError, match="`rotation0` to be a poinsot.Rotation"):
+        FreeRigidBody([1, 2, 3], [1, 2, 3], np.eye(3))
+    with pytest.raises(InvalidInputError, match="`rotation0` to be a single rotation"):
+        FreeRigidBody([1, 2, 3], [1, 2, 3], Rotation.identity(2))
+    body = FreeRigidBody([1, 2, 3], [1, 2, 3])
+    with pytest.raises(InvalidInputError, match="`t` to contain only finite"):
+        body.omega([0.0, np.inf])
+    with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\)"):
+        body.trajectory([[0.0, 1.0]])
+    with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\)"):
+        body.poinsot(t=[[0.0, 1.0]])
+    rest = FreeRigidBody([1, 2, 3], [0, 0, 0])
+    with pytest.raises(InvalidInputError, match="`omega0` is zero"):
+        rest.poinsot()
+    with pytest.raises(InvalidInputError, match="`omega0` is zero"):
+        rest.maccullagh()
