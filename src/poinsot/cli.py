@@ -97,6 +97,7 @@ def _cmd_run(args) -> int:
             out,
             fmt=args.format,
             report=not args.no_report,
+            figures=not args.no_figures,
             force=True,
             duration=args.duration,
             progress=bar,
@@ -128,6 +129,7 @@ def _cmd_demo(args) -> int:
             out,
             fmt=args.format,
             report=not args.no_report,
+            figures=not args.no_figures,
             force=True,
             duration=args.duration,
             progress=bar,
@@ -372,6 +374,7 @@ def build_parser() -> argparse.ArgumentParser:
             help="trajectory file format (default csv)",
         )
         p.add_argument("--no-report", action="store_true", help="do not write report.html")
+        p.add_argument("--no-figures", action="store_true", help="do not write the PNG figures")
         p.add_argument(
             "--quiet",
             action="store_true",

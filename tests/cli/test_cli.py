@@ -269,7 +269,7 @@ def test_run_invalid_scenario_exit_2(capsys, tmp_path):
 
 def test_demo(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    code, out, err = run(capsys, "demo", "--no-report", "--duration", "0.5")
+    code, out, err = run(capsys, "demo", "--no-report", "--no-figures", "--duration", "0.5")
     assert code == 0, err
     lines = out.splitlines()
     assert lines[0].startswith("poinsot demo: tennis-racket-flip")
@@ -279,7 +279,7 @@ def test_demo(capsys, tmp_path, monkeypatch):
     summary = json.loads((first / "summary.json").read_text())
     assert summary["method"] == "midpoint" and summary["reference_method"] == "exact"
     # a second demo never overwrites the first: it takes a numbered directory
-    code, out, _ = run(capsys, "demo", "--no-report", "--duration", "0.5")
+    code, out, _ = run(capsys, "demo", "--no-report", "--no-figures", "--duration", "0.5")
     assert code == 0 and (tmp_path / "poinsot-out" / "tennis-racket-flip-2").is_dir()
     assert "tennis-racket-flip-2" in out
 

@@ -226,7 +226,7 @@ def test_chunked_run_equals_single_call(monkeypatch):
 
 def test_npz_output(tmp_path):
     result, files = run_scenario(
-        demo_scenario(), tmp_path / "o", fmt="npz", report=False, duration=0.5
+        demo_scenario(), tmp_path / "o", fmt="npz", report=False, duration=0.5, figures=False
     )
     with np.load(tmp_path / "o" / "trajectory.npz") as z:
         np.testing.assert_array_equal(z["t"], result.trajectory.t)
@@ -238,18 +238,18 @@ def test_npz_output(tmp_path):
 
 def test_output_directory_not_overwritten(tmp_path):
     out = tmp_path / "o"
-    run_scenario(demo_scenario(), out, report=False, duration=0.2)
+    run_scenario(demo_scenario(), out, report=False, duration=0.2, figures=False)
     before = (out / "summary.json").read_text()
     with pytest.raises(InvalidInputError, match=r"already exists and is not empty; pass --force"):
-        run_scenario(demo_scenario(), out, report=False, duration=0.3)
+        run_scenario(demo_scenario(), out, report=False, duration=0.3, figures=False)
     assert (out / "summary.json").read_text() == before
-    run_scenario(demo_scenario(), out, report=False, duration=0.3, force=True)
+    run_scenario(demo_scenario(), out, report=False, duration=0.3, force=True, figures=False)
     assert json.loads((out / "summary.json").read_text())["times"]["duration"] == 0.3
     (tmp_path / "file").write_text("x")
     with pytest.raises(InvalidInputError, match=r"exists and is not a directory"):
-        run_scenario(demo_scenario(), tmp_path / "file", report=False, duration=0.2)
+        run_scenario(demo_scenario(), tmp_path / "file", report=False, duration=0.2, figures=False)
     with pytest.raises(InvalidInputError, match=r"Expected `format` to be one of"):
-        run_scenario(demo_scenario(), tmp_path / "p", fmt="xlsx")
+        run_scenario(demo_scenario(), tmp_path / "p", fmt="xlsx", figures=False)
     with pytest.raises(InvalidInputError, match=r"Expected `duration` to be a positive"):
         simulate_scenario(demo_scenario(), duration=-1.0)
 
@@ -269,7 +269,7 @@ def test_interrupted_write_leaves_no_complete_file(tmp_path, monkeypatch):
 
 def test_report_written(tmp_path):
     pytest.importorskip("plotly")
-    run_scenario(demo_scenario(), tmp_path / "o", duration=0.5)
+    run_scenario(demo_scenario(), tmp_path / "o", duration=0.5, figures=False)
     html = (tmp_path / "o" / "report.html").read_text()
     assert "tennis-racket-flip" in html and '<script src="http' not in html  # offline
 
@@ -307,7 +307,7 @@ def test_missing_plotly_skips_report_with_note(tmp_path, monkeypatch):
         raise ModuleNotFoundError("No module named 'plotly'")
 
     monkeypatch.setattr(report, "write_report", no_plotly)
-    result, files = run_scenario(demo_scenario(), tmp_path / "o", duration=0.2)
+    result, files = run_scenario(demo_scenario(), tmp_path / "o", duration=0.2, figures=False)
     assert "report.html" not in {p.name for p in files}
     notes = json.loads((tmp_path / "o" / "summary.json").read_text())["notes"]
     assert any("report.html skipped: No module named 'plotly'" in n for n in notes)

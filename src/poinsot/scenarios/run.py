@@ -851,7 +851,7 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
             )
             for name, draw in (
                 ("maccullagh.png", lambda: fbp.plot_maccullagh(fb)),
-                ("poinsot.png", lambda: fbp.plot_poinsot(fb, tr.t)),
+                ("poinsot.png", lambda: fbp.plot_poinsot(fb, tr.t[:: max(1, tr.t.size // 800)])),
             ):
                 try:
                     ax = draw()
@@ -962,6 +962,7 @@ def run_scenario(
     force: bool = False,
     duration: float | None = None,
     progress: Progress | None = None,
+    figures: bool = True,
 ) -> tuple[ScenarioResult, list[Path]]:
     """Solve ``scenario`` and write its outputs into ``out`` (see :func:`write_outputs`).
 
@@ -983,7 +984,13 @@ def run_scenario(
     progress = progress or _quiet_progress
     result = simulate_scenario(scenario, duration=duration, progress=_span(progress, 0.0, 0.8))
     files = write_outputs(
-        result, out, fmt=fmt, report=report, force=True, progress=_span(progress, 0.8, 1.0)
+        result,
+        out,
+        fmt=fmt,
+        report=report,
+        figures=figures,
+        force=True,
+        progress=_span(progress, 0.8, 1.0),
     )
     return result, files
 
