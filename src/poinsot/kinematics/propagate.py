@@ -178,6 +178,7 @@ class _Callable:
                             f"Expected `omega(t)` to return shape {expect[1:]} at every t, "
                             f"got {v.shape} at t = {x!r}."
                         )
+                w = np.stack([self._call(x) for x in s.tolist()])
         if w.shape != expect:
             raise InvalidInputError(
                 f"Expected `omega(t)` with `vectorized=True` to return shape {expect}, "
@@ -216,7 +217,7 @@ def _increments(method, frame, src, a, h):
         theta = 0.5 * hh * (w1 + w2) + (c * hh * hh) * _cross(w1, w2)
         return quat_from_rotvec(theta)
     if method == "magnus6":
-        # Three-point Gauss Magnus (Blanes, Casas, Ros 2000; Blanes et al. 2009, eq. 253)
+        # Three-point Gauss Magnus (Blanes, Casas, Ros 2000; Blanes et al. 2009, sec. 4)
         # written for rotation vectors, where the Lie bracket is the cross product:
         # a1 = h w2, a2 = sqrt(15) h/3 (w3 - w1), a3 = 10 h/3 (w3 - 2 w2 + w1),
         # C1 = [a1, a2], C2 = -1/60 [a1, 2 a3 + C1],
@@ -312,11 +313,11 @@ def _fixed_step(method, frame, src, q, t, nsub):
             slot = dict(zip(want.tolist(), range(k_out, k_out + len(want)), strict=True))
             for j in range(j1 - j0):
                 carry = mul(carry, d[j])
+                n_since += 1
                 if j in slot:
                     out[slot[j]] = carry = _normalize(carry)
                     n_since = 0
-                n_since += 1
-                if n_since == 64:  # the unit norm drifts by ~eps per step: renormalise
+                elif n_since == 64:  # the unit norm drifts by ~eps per step: renormalise
                     carry = _normalize(carry)
                     n_since = 0
         k_out += len(want)
