@@ -1084,6 +1084,17 @@ def describe(result: ScenarioResult, *, title: str = "poinsot") -> str:
             )
         if "precession_rate" in cf:
             lines.append(f"regular precession about K at {_g(cf['precession_rate'])} rad/s")
+    elif "case" in cf:  # Lagrange top
+        line = f"{cf['case']}: {cf['motion']}"
+        if "nutation_theta_min" in cf:
+            line += (
+                f", tilt {np.degrees(cf['nutation_theta_min']):.4f} to "
+                f"{np.degrees(cf['nutation_theta_max']):.4f} deg"
+            )
+        if cf.get("nutation_period"):
+            line += f", nutation period {_g(cf['nutation_period'])} s"
+        line += f"; Maievskii ratio C^2 r^2/(4 A m g l) = {_g(cf['maievskii_ratio'])}"
+        lines.append(line)
     else:
         facts = [
             f"{k.replace('_', ' ')} {_g(v) if isinstance(v, float) else v}"
