@@ -123,20 +123,26 @@ def test_info_reports_steps_and_order(method, kind, order):
     assert tr.info["frame"] == "body"
 
 
-def test_exact_with_piecewise_constant_samples_is_exact():
-    """Samples under method='exact' are held on [t_k, t_{k+1}): a product of exponentials."""
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_exact_with_piecewise_constant_samples_is_exact(frame):
+    """Samples under method='exact' are held on [t_k, t_{k+1}): a product of exponentials,
+    L_{k+1} = L_k o exp(w_k h_k/2) (body) or exp(w_k h_k/2) o L_k (space)."""
     rng = np.random.default_rng(2)
     t = np.cumsum(rng.uniform(0.05, 0.3, 30))
     w = rng.normal(size=(30, 3))
-    tr = propagate([1, 0, 0, 0], w, t, method="exact", steps_per_sample=3)
+    tr = propagate([1, 0, 0, 0], w, t, frame=frame, method="exact", steps_per_sample=3)
     r = SR.identity()
     expect = [r]
     for k in range(29):
-        r = r * SR.from_rotvec(w[k] * (t[k + 1] - t[k]))
+        step = SR.from_rotvec(w[k] * (t[k + 1] - t[k]))
+        r = r * step if frame == "body" else step * r
         expect.append(r)
-    assert qdist(tr.quat, SR.concatenate(expect)) < 1e-14
+    expect = SR.concatenate(expect)
+    assert qdist(tr.quat, expect) < 1e-14
     assert tr.info["interpolation"] == "zero-order hold"
-    np.testing.assert_array_equal(tr.omega, w)
+    np.testing.assert_allclose(
+        tr.omega, w if frame == "body" else expect.inv().apply(w), atol=1e-14
+    )
 
 
 # ----------------------------------------------------------------- coning motion
