@@ -546,7 +546,7 @@ class FreeRigidBody:
     @property
     def energy(self) -> float:
         """Kinetic energy ``T = w^T J w / 2`` (constant)."""
-        return self._motion.energy
+        return float(self._motion.energy)
 
     @property
     def momentum(self) -> np.ndarray:
@@ -556,7 +556,7 @@ class FreeRigidBody:
     @property
     def momentum_norm(self) -> float:
         """``|K|``."""
-        return self._motion.kmom
+        return float(self._motion.kmom)
 
     @property
     def regime(self) -> str:
@@ -601,7 +601,7 @@ class FreeRigidBody:
         axis; ``inf`` on the separatrix, for a spherical body, at rest, and for a
         symmetric body spinning in its equatorial plane.
         """
-        return self._motion.period
+        return float(self._motion.period)
 
     @property
     def precession_per_period(self) -> float:
@@ -613,12 +613,12 @@ class FreeRigidBody:
         ``K / A * period`` for a symmetric body. ``nan`` if the period is
         infinite.
         """
-        return self._motion.precession
+        return float(self._motion.precession)
 
     @property
     def complementary_parameter(self) -> float:
         """``1 - k^2``: the relative distance to the separatrix (``nan`` if not elliptic)."""
-        return self._motion.m1
+        return float(self._motion.m1)
 
     # -- evaluation ---------------------------------------------------------
     def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:

@@ -1,0 +1,70 @@
+"""The free-body figures draw without error and return their axes (Agg backend)."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from poinsot import InvalidInputError, InvalidTypeError  # noqa: E402
+from poinsot.dynamics import FreeRigidBody  # noqa: E402
+from poinsot.plotting import plot_maccullagh, plot_omega, plot_poinsot  # noqa: E402
+
+BODIES = {
+    "major": FreeRigidBody([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),
+    "flip": FreeRigidBody([1.0, 2.0, 3.0], [0.05, 1.0, 0.05]),
+    "separatrix": FreeRigidBody([6.0, 5.0, 2.0], [1.0, 0.5, 1.0]),
+    "symmetric": FreeRigidBody([2.0, 2.0, 1.0], [0.2, 0.3, 1.0]),
+    "spherical": FreeRigidBody([2.0, 2.0, 2.0], [0.2, 0.3, 1.0]),
+}
+
+
+@pytest.fixture(autouse=True)
+def _close():
+    yield
+    plt.close("all")
+
+
+@pytest.mark.parametrize("name", list(BODIES))
+def test_plot_maccullagh(name):
+    ax = plot_maccullagh(BODIES[name], n=60)
+    assert ax.name == "3d"
+    # track + separatrices (two for distinct moments)
+    assert len(ax.lines) == (3 if name in ("major", "flip", "separatrix") else 1)
+    np.testing.assert_allclose(
+        np.asarray(ax.lines[-1].get_data_3d()).T, BODIES[name].maccullagh(60).track
+    )
+
+
+@pytest.mark.parametrize("name", list(BODIES))
+def test_plot_poinsot(name):
+    body = BODIES[name]
+    ax = plot_poinsot(body, n=80)
+    assert ax.name == "3d"
+    herp = np.asarray(ax.lines[1].get_data_3d()).T
+    np.testing.assert_allclose(herp, body.poinsot(n=80).herpolhode)
+
+
+def test_plot_on_given_axes_and_times():
+    fig = plt.figure()
+    ax3 = fig.add_subplot(projection="3d")
+    body = BODIES["flip"]
+    assert plot_poinsot(body, t=np.linspace(0, 10, 50), ax=ax3) is ax3
+    ax = fig.add_subplot(2, 1, 1)
+    t = np.linspace(0.0, 2 * body.period, 200)
+    assert plot_omega(body, t, ax=ax) is ax
+    np.testing.assert_allclose(ax.lines[1].get_ydata(), body.omega(t)[:, 1])
+
+
+def test_plot_errors():
+    with pytest.raises(InvalidTypeError, match="`body` to be a poinsot.dynamics.FreeRigidBody"):
+        plot_maccullagh(object())
+    _, ax2 = plt.subplots()
+    with pytest.raises(InvalidInputError, match="`ax` to be a 3D axes"):
+        plot_maccullagh(BODIES["major"], ax=ax2)
+    with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\)"):
+        plot_omega(BODIES["major"], [[0.0, 1.0]])
