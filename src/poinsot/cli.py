@@ -74,12 +74,14 @@ def _default_out(name: str) -> Path:
     return Path("poinsot-out") / name
 
 
-def _print_result(result, out: Path, files, *, quiet: bool, title: str) -> None:
+def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()) -> None:
     if quiet:
         return
     from .scenarios.run import describe
 
     print(describe(result, title=title))
+    for line in extra:
+        print(line)
     names = ", ".join(p.name for p in files)
     print(f"outputs: {out}{'/' if not str(out).endswith('/') else ''} ({names})")
 
@@ -136,7 +138,16 @@ def _cmd_demo(args) -> int:
         )
     finally:
         bar.close()
-    _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} demo")
+    from .rotations.rotation import Rotation
+
+    a = Rotation.from_axis_angle([1.0, 0.0, 0.0], 90.0, degrees=True)
+    b = Rotation.from_axis_angle([0.0, 1.0, 0.0], 90.0, degrees=True)
+    rows = "; ".join(" ".join(_num(x) for x in row) for row in (b * a).as_matrix().round(12))
+    tour = (
+        "composition (SPEC S4): A = 90 deg about x, then B = 90 deg about y, both about "
+        f"fixed axes: B * A = C = [{rows}]",
+    )
+    _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} demo", extra=tour)
     return 0
 
 

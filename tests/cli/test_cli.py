@@ -275,6 +275,7 @@ def test_demo(capsys, tmp_path, monkeypatch):
     assert lines[0].startswith("poinsot demo: tennis-racket-flip")
     assert lines[1].startswith("conventions: Hamilton quaternions, scalar first (w, x, y, z)")
     assert "vs exact: max attitude difference" in out
+    assert "B * A = C = [0 1 0; 0 0 -1; -1 0 0]" in out  # SPEC S4 worked example
     first = tmp_path / "poinsot-out" / "tennis-racket-flip"
     summary = json.loads((first / "summary.json").read_text())
     assert summary["method"] == "midpoint" and summary["reference_method"] == "exact"
