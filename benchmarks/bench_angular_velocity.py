@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation as SciRotation
 from scipy.spatial.transform import RotationSpline as SciSpline
 
 from poinsot import Rotation
-from poinsot.kinematics.angular_velocity import angular_velocity, rotation_spline
+from poinsot.kinematics.attitude_history import angular_velocity, rotation_spline
 
 W1 = np.array([0.3, -0.7, 1.1])
 W2 = np.array([1.3, 0.4, -0.5])

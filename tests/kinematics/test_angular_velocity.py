@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation as SciRotation
 from scipy.spatial.transform import RotationSpline as SciSpline
 
 from poinsot import InvalidInputError, Rotation
-from poinsot.kinematics.angular_velocity import (
+from poinsot.kinematics.attitude_history import (
     RotationSpline,
     angular_velocity,
     fornberg_weights,
@@ -226,7 +226,7 @@ def test_large_steps_converge_to_scipys_fixed_point():
 def test_spline_non_convergence_is_reported(monkeypatch):
     import sys
 
-    monkeypatch.setattr(sys.modules["poinsot.kinematics.angular_velocity"], "_SPLINE_MAX_ITER", 1)
+    monkeypatch.setattr(sys.modules["poinsot.kinematics.attitude_history"], "_SPLINE_MAX_ITER", 1)
     rng = np.random.default_rng(0)
     R = Rotation.random(10, rng=rng)
     with pytest.raises(InvalidInputError, match="rotation_spline did not converge"):

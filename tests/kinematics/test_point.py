@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from poinsot.errors import InvalidInputError, InvalidTypeError, SingularityWarning
-from poinsot.kinematics.angular_velocity import _fornberg
+from poinsot.kinematics.attitude_history import _fornberg
 from poinsot.kinematics.point import FrenetFrame, frenet
 
 A, B = 2.0, 0.7

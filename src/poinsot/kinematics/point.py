@@ -23,7 +23,7 @@ import numpy as np
 
 from .._validate import as_float_array, as_times, is_integer
 from ..errors import InvalidInputError, SingularityWarning
-from .angular_velocity import _fornberg
+from .attitude_history import _fornberg
 from .fields import _scalar
 
 __all__ = ["FrenetFrame", "frenet"]
