@@ -360,3 +360,14 @@ def test_library_warning_printed_once(capsys, monkeypatch):
     monkeypatch.setattr(cli, "_cmd_check", warn)
     code, _, err = run(capsys, "check", "x.toml")
     assert code == 0 and err.count("poinsot: warning: near the separatrix") == 1
+
+
+def test_keyboard_interrupt_exit_130(capsys, monkeypatch):
+    import poinsot.cli as cli
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "_cmd_check", interrupted)
+    code, _, err = run(capsys, "check", "x.toml")
+    assert code == 130 and "interrupted" in err

@@ -556,3 +556,37 @@ def test_file_errors(tmp_path):
     bad.write_bytes(b"name = '\xff'\n")
     with pytest.raises(ScenarioError, match=r"bad\.toml: not UTF-8"):
         load_scenario(bad)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("body = 3\n" + OMEGA + SIM, r"`body` expected a table, found 3 \(a number\)"),
+        (
+            "[body]\nparts = 3\n" + OMEGA + SIM,
+            r"`body\.parts` expected an array of tables \(\[\[body\.parts\]\]\), found 3",
+        ),
+        (
+            BODY + OMEGA.replace('frame = "body"', "frame = 1") + SIM,
+            r'`angular_velocity\.frame` expected one of "body", "space", found 1 \(a number\)',
+        ),
+        (
+            BODY + OMEGA + SIM.replace("samples = 11", "step = 1e-7"),
+            r"`simulation\.step` expected at most 5e6 steps, found 1e\+07",
+        ),
+        (
+            BODY + OMEGA + SIM.replace("samples = 11", "samples = 6000000"),
+            r"`simulation\.samples` expected at most 5000000 samples, found 6000000",
+        ),
+        (
+            '[body]\nshape = "box"\ndims = [1.0, 1.0, 1.0]\n' + OMEGA + SIM,
+            r"`body` missing key `mass`: expected a positive number",
+        ),
+        (
+            "description = 5\n" + BODY + OMEGA + SIM,
+            r"`description` expected a string, found 5 \(a number\)",
+        ),
+    ],
+)
+def test_more_type_errors(text, match):
+    errors(text, match)

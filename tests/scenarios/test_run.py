@@ -338,3 +338,21 @@ def test_heavy_top_released_nutation_band_and_period():
     assert 2 * t_max == pytest.approx(cf["nutation_period"], rel=1e-4)
     assert tilt.max() <= cf["nutation_theta_max"] + 1e-9
     assert tilt.min() >= cf["nutation_theta_min"] - 1e-9
+
+
+def test_write_outputs_rejects_unknown_format(tmp_path):
+    from poinsot.scenarios import write_outputs
+
+    result = simulate_scenario(demo_scenario(), duration=0.1)
+    with pytest.raises(InvalidInputError, match=r"Expected `format` to be one of 'csv', 'npz'"):
+        write_outputs(result, tmp_path / "o", fmt="xml")
+    assert not (tmp_path / "o").exists()
+
+
+def test_missing_matplotlib_skips_figures_with_note(tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import fails
+    result, files = run_scenario(demo_scenario(), tmp_path / "o", report=False, duration=0.1)
+    assert {p.name for p in files} == {"trajectory.csv", "reference.csv", "summary.json"}
+    assert any("figures skipped: matplotlib is not installed" in n for n in result.summary["notes"])
