@@ -215,11 +215,13 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                 for stage in range(5):
                     if stage == 0 or stage == 4:  # F0, h/2: about principal axis 0
                         th = hh * c0 * m0
-                        c = math.cos(th)
-                        s = math.sin(th)
+                        ch = math.cos(0.5 * th)
+                        sh = math.sin(0.5 * th)
+                        c = 1.0 - 2.0 * sh * sh  # cos th
+                        s = 2.0 * sh * ch  # sin th
                         m1, m2 = c * m1 + s * m2, c * m2 - s * m1
-                        c = math.cos(0.5 * th)
-                        s = math.sin(0.5 * th)
+                        c = ch
+                        s = sh
                         q0, q1, q2, q3 = (
                             q0 * c - q1 * s,
                             q0 * s + q1 * c,
@@ -228,11 +230,13 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                         )
                     elif stage == 1 or stage == 3:  # F2, h/2: about principal axis 2
                         th = hh * c2 * m2
-                        c = math.cos(th)
-                        s = math.sin(th)
+                        ch = math.cos(0.5 * th)
+                        sh = math.sin(0.5 * th)
+                        c = 1.0 - 2.0 * sh * sh  # cos th
+                        s = 2.0 * sh * ch  # sin th
                         m0, m1 = c * m0 + s * m1, c * m1 - s * m0
-                        c = math.cos(0.5 * th)
-                        s = math.sin(0.5 * th)
+                        c = ch
+                        s = sh
                         q0, q1, q2, q3 = (
                             q0 * c - q3 * s,
                             q1 * c + q2 * s,
