@@ -1,0 +1,91 @@
+"""Package-wide promises: import hygiene and speed, one exception hierarchy, and a
+docstring with a runnable example on every public function and class."""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import inspect
+import subprocess
+import sys
+
+import pytest
+
+import poinsot
+
+SUBPACKAGES = [
+    "poinsot",
+    "poinsot.quaternion",
+    "poinsot.kinematics",
+    "poinsot.mass",
+    "poinsot.dynamics",
+]
+
+
+def _run(code: str) -> str:
+    return subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60
+    ).stdout.strip()
+
+
+def test_import_is_light_and_fast():
+    """`import poinsot` loads neither SymPy, matplotlib, plotly nor numba, in < 0.5 s."""
+    code = (
+        "import sys, time; t = time.perf_counter(); import poinsot; "
+        "dt = time.perf_counter() - t; "
+        "print(dt, *[m for m in ('sympy', 'matplotlib', 'plotly', 'numba') if m in sys.modules])"
+    )
+    runs = [_run(code).split() for _ in range(3)]
+    assert all(len(r) == 1 for r in runs), f"heavy modules imported: {runs}"
+    best = min(float(r[0]) for r in runs)
+    assert best < 0.5, f"import poinsot took {best:.2f} s"
+
+
+def test_subpackages_do_not_import_plotting_or_symbolic():
+    code = (
+        "import sys, poinsot.kinematics, poinsot.dynamics, poinsot.mass; "
+        "print(*[m for m in ('sympy', 'matplotlib', 'plotly') if m in sys.modules])"
+    )
+    assert _run(code) == ""
+
+
+def test_exception_hierarchy():
+    assert issubclass(poinsot.InvalidInputError, ValueError)
+    assert issubclass(poinsot.InvalidTypeError, TypeError)
+    assert issubclass(poinsot.IntegrationError, RuntimeError)
+    for exc in (poinsot.InvalidInputError, poinsot.InvalidTypeError, poinsot.IntegrationError):
+        assert issubclass(exc, poinsot.PoinsotError)
+    for w in (poinsot.GimbalLockWarning, poinsot.SingularityWarning, poinsot.AccuracyWarning):
+        assert issubclass(w, poinsot.PoinsotWarning) and issubclass(w, UserWarning)
+
+
+def _public_objects():
+    seen = set()
+    for name in SUBPACKAGES:
+        mod = importlib.import_module(name)
+        for attr in getattr(mod, "__all__", []):
+            obj = getattr(mod, attr)
+            if inspect.ismodule(obj) or id(obj) in seen:
+                continue
+            if inspect.isclass(obj) and issubclass(obj, BaseException | Warning):
+                continue
+            if not (inspect.isfunction(obj) or inspect.isclass(obj)):
+                continue
+            seen.add(id(obj))
+            yield f"{name}.{attr}", obj
+
+
+@pytest.mark.parametrize(
+    ("name", "obj"), list(_public_objects()), ids=lambda x: x if isinstance(x, str) else ""
+)
+def test_public_api_has_docstring_with_example(name, obj):
+    doc = inspect.getdoc(obj) or ""
+    assert len(doc) > 40, f"{name} has no real docstring"
+    if inspect.isclass(obj) and dataclasses.is_dataclass(obj) and "__call__" not in vars(obj):
+        return  # result containers: documented (with examples) by the function returning them
+    if inspect.isclass(obj):
+        # a class is documented with an example on the class or on its constructors
+        docs = doc + "".join(inspect.getdoc(m) or "" for _, m in inspect.getmembers(obj))
+        assert ">>>" in docs, f"{name} has no example"
+    else:
+        assert ">>>" in doc, f"{name} has no doctest example"
