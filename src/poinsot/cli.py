@@ -519,6 +519,12 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc()
         _error(str(exc))
         return 2
+    except OSError as exc:  # an output that cannot be written (permissions, disk full...)
+        if debug:
+            traceback.print_exc()
+        where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
+        _error(f"cannot write the outputs{where}: {exc.strerror or exc}.")
+        return 2
     except IntegrationError as exc:  # a valid input the chosen method cannot handle
         if debug:
             traceback.print_exc()

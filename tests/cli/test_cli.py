@@ -371,3 +371,19 @@ def test_keyboard_interrupt_exit_130(capsys, monkeypatch):
     monkeypatch.setattr(cli, "_cmd_check", interrupted)
     code, _, err = run(capsys, "check", "x.toml")
     assert code == 130 and "interrupted" in err
+
+
+def test_unwritable_output_exit_2(capsys, tmp_path, monkeypatch):
+    import errno
+
+    from poinsot.scenarios import run as run_mod
+
+    def full(path, write, mode="w"):
+        raise OSError(errno.ENOSPC, "No space left on device", str(path))
+
+    monkeypatch.setattr(run_mod, "_atomic", full)
+    code, _, err = run(
+        capsys, "run", str(EXAMPLES / "coning.toml"), "--out", str(tmp_path / "o"), "--quiet"
+    )
+    assert code == 2 and "Traceback" not in err
+    assert "cannot write the outputs: " in err and "No space left on device" in err
