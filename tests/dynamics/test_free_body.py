@@ -178,6 +178,33 @@ def test_near_separatrix_warns_and_stays_exact():
     np.testing.assert_allclose(body.omega(t), landau_mp([1.0, 2.0, 3.0], w0, t), atol=2e-14)
 
 
+def test_near_separatrix_attitude():
+    """1 - k^2 ~ 2e-7 (a slow Dzhanibekov flip), where no double-precision integrator
+    can follow whole periods: (a) DOP853 restarted from the exact state every
+    eighth of a period reproduces the next exact state to 1e-12 (attitude and omega);
+    (b) R(t + P) R(t)^-1 turns about K by the quadrature of Landau's psi'."""
+    moments, w0 = [1.0, 2.0, 3.0], [3e-4, 1.0, 2e-4]
+    with pytest.warns(SingularityWarning):
+        body = FreeRigidBody(moments, w0, Rotation.from_rotvec([0.1, 0.7, -0.2]))
+    assert 1e-8 < body.complementary_parameter < 1e-6
+    p = body.period
+    knots = np.linspace(0.0, 2 * p, 17)
+    w_k, r_k = body.state(knots)
+    for k in range(16):
+        h = knots[k + 1] - knots[k]
+        w_ref, r_ref = reference(moments, w_k[k], r_k[k].as_quat(), np.array([0.0, h]))
+        assert np.max(np.abs(w_ref[-1] - w_k[k + 1])) < 1e-12
+        assert (r_ref[-1].inv() * r_k[k + 1]).magnitude() < 1e-12
+    quad = sum(
+        integrate.quad(lambda s: _psi_dot_landau(body, s), a, b, epsabs=0, epsrel=1e-13)[0]
+        for a, b in zip(knots[:8], knots[1:9], strict=True)
+    )
+    assert body.precession_per_period == pytest.approx(quad, rel=1e-11)
+    d = body.rotation(0.3 + p) * body.rotation(0.3).inv()
+    khat = body.momentum / body.momentum_norm
+    assert (d.inv() * Rotation.from_rotvec(khat * quad)).magnitude() < 1e-11
+
+
 def landau_mp(moments, w0, t):
     """Landau & Lifshitz S37 (I1 < I2 < I3, M^2 > 2 E I2) evaluated with mpmath.
 
@@ -293,6 +320,25 @@ def test_time_reversal_negative_times():
     t = np.linspace(0.0, 3 * fwd.period, 17)
     np.testing.assert_allclose(fwd.omega(-t), -back.omega(t), atol=1e-14)
     assert np.max((fwd.rotation(-t).inv() * back.rotation(t)).magnitude()) < 1e-13
+
+
+@pytest.mark.parametrize(("c", "s"), [(1e-30, 1e-120), (1e20, 1e100), (3.0, 1e-7)])
+def test_scaling_extreme_magnitudes(c, s):
+    """J -> c J leaves w(t) unchanged and w0 -> s w0 gives w(t) -> s w(s t): no
+    overflow, underflow or warning at extreme magnitudes."""
+    w0 = np.array([0.3, 0.9, -0.4])
+    r0 = Rotation.from_rotvec([0.2, -0.1, 0.4])
+    ref = FreeRigidBody([1.0, 2.0, 3.0], w0, r0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        body = FreeRigidBody(c * np.array([1.0, 2.0, 3.0]), s * w0, r0)
+        t = np.linspace(0.0, 3 * ref.period, 9) / s
+        np.testing.assert_allclose(body.omega(t), s * ref.omega(s * t), rtol=0, atol=1e-14 * s)
+        assert np.max((body.rotation(t).inv() * ref.rotation(s * t)).magnitude()) < 1e-13
+    assert body.period == pytest.approx(ref.period / s, rel=1e-14)
+    assert body.energy == pytest.approx(c * s * s * ref.energy, rel=1e-14)
+    assert body.momentum_norm == pytest.approx(c * s * ref.momentum_norm, rel=1e-14)
+    assert body.precession_per_period == pytest.approx(ref.precession_per_period, rel=1e-14)
 
 
 def test_vectorised_shapes():

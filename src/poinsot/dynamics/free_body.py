@@ -161,7 +161,7 @@ class _Motion:
                             "K^2 = 2 B T and is treated as exactly on it (infinite period); "
                             "the true motion may flip back after t ~ 36 / lam.",
                             SingularityWarning,
-                            stacklevel=4,
+                            stacklevel=3,
                         )
                     self._setup_elliptic(imax, mid, imin, d, separatrix=True)
             elif d > 0:
@@ -520,7 +520,17 @@ class FreeRigidBody:
         self._q0 = q0
         wp = self._axes.T @ w0
         qp0 = _quaternion.multiply(q0, self._qv)
-        self._motion = _Motion(self._moments, wp, qp0)
+        jw = self._moments * wp
+        self._energy = 0.5 * float(np.dot(wp, jw))
+        self._kmom = float(np.linalg.norm(jw))
+        self._momentum = _quaternion.rotate(qp0, jw)
+        # The motion is computed for |w0| ~ 1 and max(I) ~ 1 (w(t; s w0) = s w(s t; w0),
+        # and J -> c J leaves w(t) unchanged), so that no magnitude can under/overflow.
+        # Powers of two keep the scaled data exact (e.g. an exact separatrix stays one).
+        wn = float(np.linalg.norm(wp))
+        self._wscale = math.ldexp(1.0, math.frexp(wn)[1]) if wn > 0.0 else 1.0
+        iscale = math.ldexp(1.0, math.frexp(float(np.max(self._moments)))[1])
+        self._motion = _Motion(self._moments / iscale, wp / self._wscale, qp0)
 
     # -- properties ---------------------------------------------------------
     @property
@@ -546,17 +556,17 @@ class FreeRigidBody:
     @property
     def energy(self) -> float:
         """Kinetic energy ``T = w^T J w / 2`` (constant)."""
-        return float(self._motion.energy)
+        return self._energy
 
     @property
     def momentum(self) -> np.ndarray:
         """Angular momentum ``K = R J w`` in space axes (constant)."""
-        return self._motion.momentum.copy()
+        return self._momentum.copy()
 
     @property
     def momentum_norm(self) -> float:
         """``|K|``."""
-        return float(self._motion.kmom)
+        return self._kmom
 
     @property
     def regime(self) -> str:
@@ -601,7 +611,7 @@ class FreeRigidBody:
         axis; ``inf`` on the separatrix, for a spherical body, at rest, and for a
         symmetric body spinning in its equatorial plane.
         """
-        return float(self._motion.period)
+        return float(self._motion.period) / self._wscale
 
     @property
     def precession_per_period(self) -> float:
@@ -621,6 +631,15 @@ class FreeRigidBody:
         return float(self._motion.m1)
 
     # -- evaluation ---------------------------------------------------------
+    def _omega_p(self, t: np.ndarray) -> np.ndarray:
+        """Angular velocity in principal axes at flat times ``t``."""
+        return self._wscale * self._motion.omega(self._wscale * t)
+
+    def _state_p(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Angular velocity (principal axes) and principal-axes attitude quaternions."""
+        w, q = self._motion.state(self._wscale * t)
+        return self._wscale * w, q
+
     def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:
         ta = as_float_array(t, "t")
         return ta.reshape(-1), ta.shape
@@ -652,7 +671,7 @@ class FreeRigidBody:
                [ 0.540302, -0.841471,  2.      ]])
         """
         tf, shape = self._times(t)
-        w = self._motion.omega(tf)
+        w = self._omega_p(tf)
         if not self._identity_axes:
             w = w @ self._axes.T
         return w.reshape(shape + (3,))
@@ -669,14 +688,14 @@ class FreeRigidBody:
         array([1., 2., 3.])
         """
         tf, shape = self._times(t)
-        w = self._motion.omega(tf) * self._moments
+        w = self._omega_p(tf) * self._moments
         if not self._identity_axes:
             w = w @ self._axes.T
         return w.reshape(shape + (3,))
 
     def _state(self, t):
         tf, shape = self._times(t)
-        w, q = self._motion.state(tf)
+        w, q = self._state_p(tf)
         if not self._identity_axes:
             w = w @ self._axes.T
             q = _quaternion.multiply(q, _conj(self._qv))
@@ -749,14 +768,13 @@ class FreeRigidBody:
     def _window(self, n_periods: float) -> float:
         mo = self._motion
         if math.isfinite(mo.period):
-            return n_periods * mo.period
+            return n_periods * mo.period / self._wscale
         if mo.mode == "separatrix":
-            return max(10.0 - mo.u0, 1.0) / mo.lam
-        w = float(np.linalg.norm(mo.w0))
-        return 2.0 * math.pi * n_periods / w if w > 0 else 1.0
+            return max(10.0 - mo.u0, 1.0) / (mo.lam * self._wscale)
+        return 2.0 * math.pi * n_periods / self._wscale
 
     def _require_motion(self, what: str) -> None:
-        if self._motion.kmom == 0.0:
+        if self._kmom == 0.0:
             raise InvalidInputError(
                 f"The {what} picture needs a moving body: `omega0` is zero (T = K = 0)."
             )
@@ -791,12 +809,12 @@ class FreeRigidBody:
         self._require_motion("MacCullagh")
         mo = self._motion
         mom = self._moments
-        two_t = 2.0 * mo.energy
+        two_t = 2.0 * self._energy
         if mo.mode == "separatrix":
-            t = (np.linspace(-10.0, 10.0, n) - mo.u0) / mo.lam
+            t = (np.linspace(-10.0, 10.0, n) - mo.u0) / (mo.lam * self._wscale)
         else:
             t = np.linspace(0.0, self._window(1.0), n)
-        track = mo.omega(t) * mom
+        track = self._omega_p(t) * mom
         equal = [mom[a] == mom[b] for a, b in ((0, 1), (1, 2), (2, 0))]
         if any(equal):
             seps = np.zeros((0, n, 3))
@@ -813,7 +831,7 @@ class FreeRigidBody:
                 seps[k, :, ia] = rad * np.sin(s) * math.cos(alpha)
                 seps[k, :, ic] = sgn * rad * np.sin(s) * math.sin(alpha)
         return MacCullaghGeometry(
-            momentum_radius=mo.kmom,
+            momentum_radius=self._kmom,
             ellipsoid_semi_axes=np.sqrt(two_t * mom),
             track=track,
             separatrices=seps,
@@ -860,13 +878,13 @@ class FreeRigidBody:
             ta = as_float_array(t, "t")
             if ta.ndim != 1:
                 raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
-        w, q = mo.state(ta)
-        r = w / math.sqrt(2.0 * mo.energy)
+        w, q = self._state_p(ta)
+        r = w / math.sqrt(2.0 * self._energy)
         herp = _quaternion.rotate(q, r)
         return PoinsotGeometry(
             ellipsoid_semi_axes=1.0 / np.sqrt(self._moments),
             plane_normal=mo.khat.copy(),
-            plane_distance=math.sqrt(2.0 * mo.energy) / mo.kmom,
+            plane_distance=math.sqrt(2.0 * self._energy) / self._kmom,
             t=ta,
             polhode=r,
             herpolhode=herp,
