@@ -339,7 +339,9 @@ def test_rotation_input_and_normalisation():
     t = np.linspace(0.0, 1.0, 5)
     a = propagate(poinsot.Rotation.from_quat(q0), w_body, t)
     b = propagate(7.5 * q0, w_body, t)
+    c = propagate(scipy_rot(q0), w_body, t)  # SciPy's Rotation (scalar-last inside)
     assert qdist(a.quat, scipy_rot(b.quat)) < 1e-15
+    assert qdist(c.quat, scipy_rot(b.quat)) < 1e-15
     assert qdist(a.quat[:1], scipy_rot(q0)) < 1e-15
 
 

@@ -374,9 +374,9 @@ def propagate(
     Parameters
     ----------
     q0 : Rotation or array_like, shape (4,) or (N, 4)
-        Attitude at ``t[0]`` (body -> space): a :class:`~poinsot.Rotation` or
-        scalar-first quaternions (normalised here; zero is an error). A leading
-        shape ``(N,)`` propagates a batch of N bodies at once.
+        Attitude at ``t[0]`` (body -> space): a :class:`~poinsot.Rotation` (or a
+        SciPy ``Rotation``) or scalar-first quaternions (normalised here; zero is
+        an error). A leading shape ``(N,)`` propagates a batch of N bodies at once.
     omega : callable or array_like
         Angular velocity (rad/s) in the axes named by ``frame``, either
 
@@ -503,10 +503,9 @@ def propagate(
             "use `steps_per_sample` or `max_step`."
         )
 
-    if isinstance(q0, Rotation):
-        q = np.asarray(q0.as_quat(), dtype=np.float64)
-    else:
-        q = as_quat(q0, "q0")
+    if hasattr(q0, "as_quat") and not isinstance(q0, np.ndarray):
+        q0 = q0.as_quat(scalar_first=True)  # poinsot's or SciPy's Rotation
+    q = as_quat(q0, "q0")
 
     if callable(omega):
         t = as_times(t, "t", min_len=1)
