@@ -512,6 +512,15 @@ def test_attitude_errors(attitude, match):
             r"`omega_profile\.half_angle` expected an angle in \(0, 90\) degrees",
         ),
         ('kind = "spin"\nframe = "body"', r'`omega_profile\.kind` expected one of "constant"'),
+        (
+            'kind = "samples"\nframe = "body"\nt = [0.5, 1.0]\nomega = [[0, 0, 1], [0, 0, 1]]',
+            r"`omega_profile\.t` expected the table to start at or before t = 0",
+        ),
+        (
+            'kind = "samples"\nframe = "body"\nt = [0.0, 0.5]\nomega = [[0, 0, 1], [0, 0, 1]]',
+            r"`simulation\.duration` expected at most the last time of \[omega_profile\] t "
+            r"\(0\.5 s\)",
+        ),
     ],
 )
 def test_omega_profile_errors(profile, match):

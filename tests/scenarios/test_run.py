@@ -356,3 +356,9 @@ def test_missing_matplotlib_skips_figures_with_note(tmp_path, monkeypatch):
     result, files = run_scenario(demo_scenario(), tmp_path / "o", report=False, duration=0.1)
     assert {p.name for p in files} == {"trajectory.csv", "reference.csv", "summary.json"}
     assert any("figures skipped: matplotlib is not installed" in n for n in result.summary["notes"])
+
+
+def test_duration_override_beyond_the_table_is_refused():
+    s = load_scenario(EXAMPLES / "attitude_propagation.toml")
+    with pytest.raises(InvalidInputError, match=r"at most the last time of the angular-velocity"):
+        simulate_scenario(s, duration=11.0)

@@ -490,6 +490,12 @@ def _omega_profile(t: Table) -> OmegaProfileSpec:
     times = np.array(t.vector("t", None, what="an array of sample times (s)"))
     if times.size < 2 or np.any(np.diff(times) <= 0):
         raise t.expected("t", "at least 2 strictly increasing times (s)", t.data["t"])
+    if times[0] > 0.0:
+        raise t.error(
+            "t",
+            f"expected the table to start at or before t = 0 (the start of the "
+            f"simulation), found {times[0]:g} s.",
+        )
     omega = np.array(t.matrix("omega", None, 3)) * _units(t)
     if omega.shape[0] != times.size:
         raise t.error(
@@ -538,6 +544,12 @@ def _simulation(t: Table, profile: OmegaProfileSpec | None, torque: TorqueSpec) 
     max_step = t.number("max_step", positive=True)
     if reference is not None and reference == method:
         raise t.error("reference", f"expected a method other than `method` ({method!r}).")
+    if profile is not None and profile.kind == "samples" and duration > profile.t[-1]:
+        raise t.error(
+            "duration",
+            f"expected at most the last time of [omega_profile] t ({profile.t[-1]:g} s): the "
+            f"angular velocity is not known after it, found {duration:g}.",
+        )
     t.finish(("duration", "step", "samples", "method", "reference", "max_step"))
     return SimulationSpec(
         duration=duration,

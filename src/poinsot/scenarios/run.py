@@ -262,7 +262,7 @@ def _omega_callable(profile):
     ts, ws = np.asarray(profile.t), np.asarray(profile.omega)
 
     def sampled(t):
-        # linear interpolation of the table, held constant outside it
+        # linear interpolation of the table (the times are checked to lie inside it)
         return np.array([np.interp(t, ts, ws[:, k]) for k in range(3)])
 
     return sampled
@@ -332,6 +332,12 @@ def _override(scenario: Scenario, duration: float | None) -> Scenario:
     if not (isinstance(duration, int | float) and np.isfinite(duration) and duration > 0):
         raise InvalidInputError(f"Expected `duration` to be a positive number, got {duration!r}.")
     sim = scenario.simulation
+    p = scenario.omega_profile
+    if p is not None and p.kind == "samples" and duration > p.t[-1]:
+        raise InvalidInputError(
+            f"Expected `duration` to be at most the last time of the angular-velocity table "
+            f"({p.t[-1]:g} s), got {duration:g}."
+        )
     step = sim.step if sim.step is None else min(sim.step, duration)
     return dataclasses.replace(
         scenario, simulation=dataclasses.replace(sim, duration=float(duration), step=step)
