@@ -15,6 +15,8 @@ import warnings
 import mpmath as mp
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import integrate, special
 
 from poinsot import InvalidInputError, InvalidTypeError, Rotation, SingularityWarning
@@ -91,6 +93,8 @@ CASES = {
     "spherical": ([2.0, 2.0, 2.0], [0.3, 0.4, 1.0]),
     "nearly symmetric": ([1.0, 1.0 + 1e-9, 1.5], [0.3, 0.4, 1.0]),
     "nearly symmetric, thin polhode": ([1.0, 1.0 + 1e-6, 1.5], [0.0, 1.0, 1e-5]),
+    "symmetric to 1e-13 (above SYMMETRY_RTOL)": ([1.0, 1.5 * (1 - 1e-13), 1.5], [0.3, 0.6, 0.8]),
+    "symmetric to 1e-13, slow thin polhode": ([1.0, 1.5 * (1 - 1e-8), 1.5], [1e-6, 0.6, 0.8]),
     "flat plate (A + B = C)": ([1.0, 2.0, 3.0], [0.5, 0.5, 0.5]),
     "at rest": ([1.0, 2.0, 3.0], [0.0, 0.0, 0.0]),
 }
@@ -297,6 +301,31 @@ def test_invariants(name):
     np.testing.assert_allclose(body.momentum, k, rtol=1e-15, atol=1e-15)
     assert body.energy == pytest.approx(0.5 * np.dot(moments, np.square(w0)), rel=1e-15)
     assert body.momentum_norm == pytest.approx(np.linalg.norm(k), rel=1e-15)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    moments=st.lists(st.floats(0.2, 5.0), min_size=3, max_size=3).filter(
+        lambda m: sorted(m)[0] + sorted(m)[1] >= sorted(m)[2]
+    ),
+    w0=st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3).filter(
+        lambda w: np.linalg.norm(w) > 1e-3
+    ),
+    t=st.floats(-1e3, 1e3),
+)
+def test_invariants_property(moments, w0, t):
+    """For any physical body, state and time: T(t) = T, |K(t)| = |K| and R J w = K."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)
+        body = FreeRigidBody(moments, w0, Rotation.from_rotvec([0.4, 0.1, -0.3]))
+    w, rot = body.state(t)
+    jw = np.asarray(moments) * w
+    scale = np.linalg.norm(w0)
+    assert 0.5 * w @ jw == pytest.approx(body.energy, rel=1e-12)
+    np.testing.assert_allclose(rot.apply(jw), body.momentum, atol=1e-12 * body.momentum_norm)
+    assert np.all(np.isfinite(w)) and np.max(np.abs(w)) <= 1.0001 * scale * max(moments) / min(
+        moments
+    )
 
 
 def test_kinematics_by_finite_differences():
