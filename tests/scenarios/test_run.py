@@ -78,6 +78,8 @@ def test_free_body_invariants_and_exact_vs_numerical():
         assert inv[key]["conserved"] and inv[key]["max_relative_drift"] < 1e-12
     tr, ref = result.trajectory, result.reference
     assert tr.method == "midpoint" and ref.method == "exact"
+    ref_inv = result.summary["reference_invariants"]
+    assert ref_inv["energy"]["max_relative_drift"] < 1e-13  # the exact solution
     # second-order method at h = 1 ms on a spin of 6 rad/s: close to the exact solution
     assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-3
     # the closed form: 2T and |K| from the initial state (SPEC S8)
@@ -126,6 +128,12 @@ def test_heavy_top_regular_precession():
     inv = result.summary["invariants"]
     assert inv["total_energy"]["max_relative_drift"] < 1e-9
     assert inv["momentum_z"]["max_relative_drift"] < 1e-9
+    assert inv["spin_momentum_H"]["initial"] == pytest.approx(big_h, rel=1e-12)
+    assert inv["spin_momentum_H"]["max_relative_drift"] < 1e-9
+    cf = result.summary["closed_form"]
+    assert cf["motion"] == "regular precession" and cf["H"] == pytest.approx(big_h)
+    assert cf["nutation_theta_min"] == pytest.approx(theta, abs=1e-7)
+    assert cf["nutation_theta_max"] == pytest.approx(theta, abs=1e-7)
 
 
 def test_constant_space_torque_momentum_balance():

@@ -397,12 +397,17 @@ def simulate_scenario(
     ref = None
     if scenario.simulation.reference is not None:
         ref = _solve(scenario, scenario.simulation.reference, t, _span(progress, 0.5, 1.0))
-    potential = None
-    if scenario.torque.model == "gravity":
-        r_c_n = tr.rotation.apply(np.asarray(scenario.body.center_of_mass))
-        potential = scenario.body.mass * scenario.torque.g * r_c_n[:, 2]
+    potential = _potential(scenario, tr)
     summary = _summary(scenario, tr, ref, potential, wall)
     return ScenarioResult(scenario, tr, ref, summary, potential)
+
+
+def _potential(scenario: Scenario, tr: Trajectory) -> np.ndarray | None:
+    """Potential energy of gravity ``V = m g z_c`` (``g`` along ``-z`` of space), or None."""
+    if scenario.torque.model != "gravity":
+        return None
+    r_c_n = tr.rotation.apply(np.asarray(scenario.body.center_of_mass))
+    return scenario.body.mass * scenario.torque.g * r_c_n[:, 2]
 
 
 # ----------------------------------------------------------------------------- summary
@@ -441,6 +446,26 @@ def _invariants(scenario: Scenario, tr: Trajectory, potential) -> dict:
             "max_relative_drift": _rel_drift(k[:, 2], np.linalg.norm(k[0])),
             "conserved": True,
         }
+        from ._lagrange import lagrange_top
+
+        if lagrange_top(
+            scenario.body.inertia_about_origin(),
+            scenario.body.mass,
+            scenario.body.center_of_mass,
+            scenario.torque.g,
+            scenario.attitude.quat,
+            scenario.angular_velocity.omega_body,
+        ):
+            # Lagrange top: the momentum about the symmetry axis, H = C r, is conserved
+            e = np.asarray(scenario.body.center_of_mass)
+            e = e / np.linalg.norm(e)
+            h = np.asarray(tr.omega) @ (scenario.body.inertia_about_origin() @ e)
+            out["spin_momentum_H"] = {
+                "initial": _f(h[0]),
+                "units": "kg m^2/s",
+                "max_relative_drift": _rel_drift(h, np.linalg.norm(k[0])),
+                "conserved": True,
+            }
         return out
     conserved = model == "none" and scenario.kind == "dynamics"
     kn = np.linalg.norm(k, axis=-1)
@@ -645,6 +670,9 @@ def _summary(scenario: Scenario, tr: Trajectory, ref, potential, wall: float) ->
         },
         "body": body,
         "invariants": _invariants(scenario, tr, potential),
+        "reference_invariants": None
+        if ref is None
+        else _invariants(scenario, ref, _potential(scenario, ref)),
         "closed_form": _closed_form(scenario),
         "comparison": _comparison(tr, ref),
         "run": {"wall_time_s": wall, "info": _jsonable(dict(tr.info))},
@@ -1077,7 +1105,8 @@ def describe(result: ScenarioResult, *, title: str = "poinsot") -> str:
         )
         stable, moments = cf.get("stable_axes"), cf.get("principal_moments")
         if stable and moments and len(set(moments)) == 3:
-            diag = not np.any(np.asarray(s.body.inertia) - np.diag(np.diag(s.body.inertia)))
+            j = np.asarray(s.body.inertia)
+            diag = np.max(np.abs(j - np.diag(np.diag(j)))) <= 1e-12 * np.max(np.abs(j))
             names = [
                 f"{'xyz'[k]} ({_g(m)} kg m^2)" if diag else f"the axis of moment {_g(m)}"
                 for k, m in enumerate(moments)
@@ -1111,13 +1140,25 @@ def describe(result: ScenarioResult, *, title: str = "poinsot") -> str:
         if facts:
             lines.append("closed form: " + "; ".join(facts[:6]))
     inv = summ["invariants"]
-    drifts = [
-        f"{k.replace('_', ' ')} drift {v['max_relative_drift']:.2e}"
-        for k, v in inv.items()
-        if isinstance(v, dict) and "max_relative_drift" in v and v.get("conserved")
-    ]
-    meth = f"{summ['method']}: " + ("; ".join(drifts) if drifts else "done")
-    lines.append(meth + f" ({summ['run']['wall_time_s']:.2f} s)")
+
+    def drifts(inv: dict) -> str:
+        kept = [
+            f"{k.replace('_', ' ')} drift {v['max_relative_drift']:.2e}"
+            for k, v in inv.items()
+            if isinstance(v, dict) and "max_relative_drift" in v and v.get("conserved")
+        ]
+        if kept:
+            return "; ".join(kept)
+        changes = [
+            f"{k.replace('_', ' ')} {_g(v['initial'])} -> {_g(v['final'])} {v['units']}"
+            for k, v in inv.items()
+            if isinstance(v, dict) and isinstance(v.get("final"), float)
+        ]
+        return ", ".join(changes) if changes else "done"
+
+    lines.append(f"{summ['method']}: {drifts(inv)} ({summ['run']['wall_time_s']:.2f} s)")
+    if summ.get("reference_invariants"):
+        lines.append(f"{summ['reference_method']}: {drifts(summ['reference_invariants'])}")
     cmp_ = summ.get("comparison")
     if cmp_:
         lines.append(
