@@ -36,7 +36,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _timing import median_time, table  # noqa: E402
 
-from poinsot.kinematics.propagate import propagate  # noqa: E402
+from poinsot.kinematics.propagation import propagate  # noqa: E402
 
 A = np.array([0.3, -0.2, 1.1])
 B = np.array([0.7, 0.5, -0.4])

@@ -27,8 +27,9 @@ def main(n: int = 1_000_000) -> None:
     v = rng.standard_normal((n, 3))
     ang = rng.uniform(-3, 3, (n, 3))
     r, r2 = Rotation.from_quat(q), Rotation.random(n, rng=1)
-    s, s2 = SciPyRotation.from_quat(q, scalar_first=True), SciPyRotation.from_quat(
-        r2.as_quat(), scalar_first=True
+    s, s2 = (
+        SciPyRotation.from_quat(q, scalar_first=True),
+        SciPyRotation.from_quat(r2.as_quat(), scalar_first=True),
     )
     m, rv = r.as_matrix(), r.as_rotvec()
     warnings.simplefilter("ignore")
@@ -39,8 +40,18 @@ def main(n: int = 1_000_000) -> None:
     ops = [
         # name, poinsot, scipy, bytes moved (None: not memory-bound)
         ("quat->matrix", lambda: r.as_matrix(), lambda: s.as_matrix(), f8 * (4 + 9)),
-        ("matrix->quat", lambda: Rotation.from_matrix(m), lambda: SciPyRotation.from_matrix(m), None),
-        ("rotvec->quat", lambda: Rotation.from_rotvec(rv), lambda: SciPyRotation.from_rotvec(rv), None),
+        (
+            "matrix->quat",
+            lambda: Rotation.from_matrix(m),
+            lambda: SciPyRotation.from_matrix(m),
+            None,
+        ),
+        (
+            "rotvec->quat",
+            lambda: Rotation.from_rotvec(rv),
+            lambda: SciPyRotation.from_rotvec(rv),
+            None,
+        ),
         ("quat->rotvec", lambda: r.as_rotvec(), lambda: s.as_rotvec(), None),
         (
             "euler->quat",
@@ -60,8 +71,12 @@ def main(n: int = 1_000_000) -> None:
         ratio = t_scipy / t_ours
         ratios.append(ratio)
         floor = f"{t_ours / (per_byte * nbytes):.2f}x" if nbytes else "-"
-        rows.append([name, f"{1e9 * t_ours / n:.1f}", f"{1e9 * t_scipy / n:.1f}", f"{ratio:.2f}x", floor])
-    print(f"N = {n:,} rotations; memory floor from q.copy(): {2 * q.nbytes / floor_s / 1e9:.1f} GB/s")
+        rows.append(
+            [name, f"{1e9 * t_ours / n:.1f}", f"{1e9 * t_scipy / n:.1f}", f"{ratio:.2f}x", floor]
+        )
+    print(
+        f"N = {n:,} rotations; memory floor from q.copy(): {2 * q.nbytes / floor_s / 1e9:.1f} GB/s"
+    )
     print(table(rows, ["operation", "poinsot ns/rot", "scipy ns/rot", "speed-up", "vs floor"]))
     print(f"geometric-mean speed-up over SciPy: {np.exp(np.mean(np.log(ratios))):.2f}x")
 

@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation as SR
 
 import poinsot
 from poinsot.errors import IntegrationError, InvalidInputError, InvalidTypeError
-from poinsot.kinematics.propagate import propagate
+from poinsot.kinematics.propagation import propagate
 
 A = np.array([0.3, -0.2, 1.1])
 B = np.array([0.7, 0.5, -0.4])

@@ -6,7 +6,7 @@
 from importlib import import_module as _import_module
 
 __all__: list[str] = []
-for _name in ['rates', 'attitude_history', 'propagate', 'fields', 'screw', 'point']:
+for _name in ['rates', 'attitude_history', 'propagation', 'fields', 'screw', 'point']:
     try:
         _mod = _import_module(f".{_name}", __name__)
     except ModuleNotFoundError as _exc:
