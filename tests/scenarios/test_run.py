@@ -370,3 +370,14 @@ def test_duration_override_beyond_the_table_is_refused():
     s = load_scenario(EXAMPLES / "attitude_propagation.toml")
     with pytest.raises(InvalidInputError, match=r"at most the last time of the angular-velocity"):
         simulate_scenario(s, duration=11.0)
+
+
+def test_forced_rerun_removes_stale_outputs_only(tmp_path):
+    out = tmp_path / "o"
+    run_scenario(demo_scenario(), out, report=False, duration=0.2)  # csv, figures
+    (out / "notes.txt").write_text("mine")
+    run_scenario(
+        demo_scenario(), out, fmt="npz", report=False, figures=False, duration=0.2, force=True
+    )
+    names = {p.name for p in out.iterdir()}
+    assert names == {"trajectory.npz", "reference.npz", "summary.json", "notes.txt"}

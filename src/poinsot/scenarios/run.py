@@ -8,7 +8,7 @@ name in the same directory and :func:`os.replace`; :func:`run_scenario` does bot
 
 The physics lives in the library: :func:`poinsot.dynamics.free_body.FreeRigidBody`
 (exact torque-free motion), :func:`poinsot.dynamics.euler_equations.simulate`
-(Euler's equations, SPEC S10) and :func:`poinsot.kinematics.propagate.propagate`
+(Euler's equations, SPEC S10) and :func:`poinsot.kinematics.propagate`
 (Poisson's equation, SPEC S5). This module only wires the scenario to them.
 """
 
@@ -49,6 +49,20 @@ CONVENTIONS = (
     "Hamilton quaternions, scalar first (w, x, y, z); attitude R maps body to space "
     "components (v_space = R v_body); omega in body axes (rad/s); angular momentum K in "
     "space axes (kg m^2/s); SI units; angles in radians."
+)
+
+#: Every file a run may write; a forced rerun removes those it does not rewrite.
+OUTPUT_FILES = (
+    "trajectory.csv",
+    "trajectory.npz",
+    "reference.csv",
+    "reference.npz",
+    "omega.png",
+    "invariants.png",
+    "maccullagh.png",
+    "poinsot.png",
+    "report.html",
+    "summary.json",
 )
 
 #: Above this many output samples a numerical run is done in chunks (progress reports).
@@ -271,7 +285,7 @@ def _omega_callable(profile):
 def _solve_kinematics(
     scenario: Scenario, method: str, t: np.ndarray, progress: Progress
 ) -> Trajectory:
-    from ..kinematics.propagate import propagate
+    from ..kinematics.propagation import propagate
     from ..rotations.rotation import Rotation
 
     profile = scenario.omega_profile
@@ -962,6 +976,9 @@ def write_outputs(
         raise InvalidInputError(f"Expected `format` to be one of 'csv', 'npz', got {fmt!r}.")
     progress = progress or _quiet_progress
     out = prepare_output_dir(out, force=force)
+    # a forced rerun first removes the old summary, so that the directory never looks
+    # complete until the new summary is written
+    (out / "summary.json").unlink(missing_ok=True)
     notes = result.summary.setdefault("notes", [])
     files = [_write_trajectory(result, result.trajectory, out / f"trajectory.{fmt}", fmt)]
     if result.reference is not None:
@@ -983,6 +1000,9 @@ def write_outputs(
             lambda fh: json.dump(_jsonable(result.summary), fh, indent=2, allow_nan=False),
         )
     )
+    for name in OUTPUT_FILES:  # outputs of an earlier run that this one did not rewrite
+        if name not in result.summary["files"]:
+            (out / name).unlink(missing_ok=True)
     progress(1.0, "done")
     return files
 
