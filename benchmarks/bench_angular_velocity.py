@@ -11,9 +11,8 @@ Run: ``.venv/bin/python benchmarks/bench_angular_velocity.py``
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
+from _timing import median_time
 from scipy.spatial.transform import Rotation as SciRotation
 from scipy.spatial.transform import RotationSpline as SciSpline
 
@@ -23,15 +22,6 @@ from poinsot.kinematics.attitude_history import angular_velocity, rotation_splin
 W1 = np.array([0.3, -0.7, 1.1])
 W2 = np.array([1.3, 0.4, -0.5])
 
-
-def median_time(fn, repeat=5):
-    fn()  # warm-up (numba compilation, caches)
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def motion(n, T=30.0):

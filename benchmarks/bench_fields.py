@@ -12,21 +12,10 @@ Run: ``.venv/bin/python benchmarks/bench_fields.py``
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
+from _timing import median_time
 
 from poinsot.kinematics import FrameMotion, acceleration_field, frenet, point_motion, velocity_field
-
-
-def median_time(fn, repeat=5):
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def gradient_frenet(t, r):

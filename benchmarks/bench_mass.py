@@ -10,23 +10,12 @@ Run: ``.venv/bin/python benchmarks/bench_mass.py``
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
+from _timing import median_time
 from scipy.spatial.transform import Rotation as SciRotation
 
 from poinsot import Rotation
 from poinsot.mass import mesh, points, principal_axes, rotate_inertia
-
-
-def median_time(fn, repeat=5):
-    fn()  # warm-up (numba compilation, caches)
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def icosphere(level):
