@@ -272,6 +272,20 @@ def test_inertia_tensor_input():
     np.testing.assert_allclose(body.omega(0.0), w0, atol=1e-15)
 
 
+def test_rigid_body_input():
+    """A poinsot.mass.RigidBody: its inertia about the centre of mass (a box:
+    m (b^2 + c^2) / 12 etc.)."""
+    from poinsot.mass import RigidBody
+
+    box = RigidBody.box(12.0, 1.0, 2.0, 3.0)
+    body = FreeRigidBody(box, [0.1, 1.0, 0.2])
+    np.testing.assert_allclose(body.principal_moments, [13.0, 10.0, 5.0], rtol=1e-15)
+    ref = FreeRigidBody([13.0, 10.0, 5.0], [0.1, 1.0, 0.2])
+    np.testing.assert_allclose(body.omega([1.0, 7.0]), ref.omega([1.0, 7.0]), atol=1e-15)
+    with pytest.raises(InvalidInputError, match="single RigidBody"):
+        FreeRigidBody(RigidBody(np.ones(2), np.broadcast_to(np.eye(3), (2, 3, 3))), [1, 0, 0])
+
+
 def test_rotated_symmetric_tensor_is_symmetric():
     """eigh splits a repeated moment by ~1e-16: SYMMETRY_RTOL snaps it back."""
     v = Rotation.from_rotvec([0.4, 0.5, -0.3]).as_matrix()

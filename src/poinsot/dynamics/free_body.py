@@ -417,9 +417,10 @@ class FreeRigidBody:
 
     Parameters
     ----------
-    inertia : array_like, shape (3,) or (3, 3)
+    inertia : array_like, shape (3,) or (3, 3), or RigidBody
         Principal moments ``(A, B, C)`` in any order (the body axes are then the
-        principal axes, in that order), or an inertia tensor in some body axes.
+        principal axes, in that order), or an inertia tensor in some body axes,
+        or a :class:`poinsot.mass.RigidBody` (its inertia about the centre of mass).
         A non-diagonal tensor is diagonalised with
         :func:`poinsot.mass.principal_axes`; ``omega0``, :meth:`omega`,
         :meth:`momentum_body` and :meth:`rotation` still refer to the axes of the
@@ -478,8 +479,14 @@ class FreeRigidBody:
     """
 
     def __init__(self, inertia, omega0, rotation0=None):
-        from ..mass import check_inertia, check_principal_moments, principal_axes
+        from ..mass import RigidBody, check_inertia, check_principal_moments, principal_axes
 
+        if isinstance(inertia, RigidBody):
+            if inertia.shape != ():
+                raise InvalidInputError(
+                    f"Expected `inertia` to be a single RigidBody, got shape {inertia.shape}."
+                )
+            inertia = inertia.inertia  # about the centre of mass, in body axes
         j = as_float_array(inertia, "inertia")
         if j.shape == (3,):
             moments = check_principal_moments(j, "inertia")
