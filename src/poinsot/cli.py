@@ -260,8 +260,7 @@ def _cmd_convert(args) -> int:
 def _cmd_inertia(args) -> int:
     import numpy as np
 
-    from .mass import solids
-    from .mass.tensor import principal_axes
+    from .mass import principal_axes, solids
     from .scenarios.io import SHAPES
 
     names = SHAPES[args.shape]

@@ -250,7 +250,7 @@ def _inertia(t: Table, key: str = "inertia") -> np.ndarray:
                 "[Jxx, Jyy, Jzz, Jxy, Jxz, Jyz] or a 3x3 tensor",
             )
         )
-    from ..mass.tensor import check_inertia
+    from ..mass import check_inertia
 
     try:
         check_inertia(j)
@@ -318,8 +318,7 @@ def _body(t: Table) -> BodySpec:
             "the mass and centre of mass of a body made of [[body.parts]] follow from its parts",
         )
         parts = tuple(_part(p, i) for i, p in enumerate(t.tables("parts")))
-        from ..mass.body import RigidBody, combine
-        from ..mass.tensor import check_inertia
+        from ..mass import RigidBody, check_inertia, combine
 
         t.finish(("parts",))
         try:
@@ -332,7 +331,7 @@ def _body(t: Table) -> BodySpec:
     com = np.array(t.vector("center_of_mass", 3, required=False, default=(0.0, 0.0, 0.0)))
     if how == "shape":
         shape, dims, mass, j = _solid(t)
-        from ..mass.tensor import check_inertia
+        from ..mass import check_inertia
 
         try:
             check_inertia(j)

@@ -155,14 +155,14 @@ def _solve_dynamics(
     w0 = np.asarray(scenario.angular_velocity.omega_body)
     inertia = _body_inertia(scenario)
     if method == "exact":
-        from ..dynamics.free_body import FreeRigidBody
+        from ..dynamics import FreeRigidBody
 
         fb = FreeRigidBody(inertia, w0, r0)
         progress(0.0, "exact solution")
         tr = fb.trajectory(t)
         progress(1.0, "exact solution")
         return tr
-    from ..dynamics.euler_equations import simulate
+    from ..dynamics import simulate
 
     torque = _torque(scenario)
     return _chunked(
@@ -285,7 +285,7 @@ def _omega_callable(profile):
 def _solve_kinematics(
     scenario: Scenario, method: str, t: np.ndarray, progress: Progress
 ) -> Trajectory:
-    from ..kinematics.propagation import propagate
+    from ..kinematics import propagate
     from ..rotations.rotation import Rotation
 
     profile = scenario.omega_profile
@@ -559,7 +559,7 @@ def _closed_form(scenario: Scenario) -> dict:
     if scenario.torque.model != "none":
         return {}
     try:
-        from ..dynamics.free_body import FreeRigidBody
+        from ..dynamics import FreeRigidBody
     except ImportError:  # pragma: no cover - module arrives with the dynamics area
         return {"note": "poinsot.dynamics.free_body not available"}
     fb = FreeRigidBody(
@@ -640,7 +640,7 @@ def _summary(scenario: Scenario, tr: Trajectory, ref, potential, wall: float) ->
     sim = scenario.simulation
     body = None
     if scenario.body is not None:
-        from ..mass.tensor import principal_axes
+        from ..mass import principal_axes
 
         moments, axes = principal_axes(np.asarray(scenario.body.inertia))
         body = {
@@ -890,7 +890,7 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
                 "MacCullagh/Poinsot figures skipped: poinsot.plotting.free_body is not available"
             )
         else:
-            from ..dynamics.free_body import FreeRigidBody
+            from ..dynamics import FreeRigidBody
 
             fb = FreeRigidBody(
                 np.asarray(result.scenario.body.inertia),

@@ -89,7 +89,7 @@ class BodySpec:
 
     def inertia_about_origin(self) -> np.ndarray:
         """Inertia tensor about the origin of the body axes (Huygens-Steiner, SPEC S8)."""
-        from ..mass.tensor import parallel_axis
+        from ..mass import parallel_axis
 
         return np.asarray(parallel_axis(self.inertia, self.mass, self.center_of_mass))
 
