@@ -6,7 +6,16 @@ Euler case) has the integrals ``2T = A p^2 + B q^2 + C r^2`` and
 exact motion at any times: the body angular velocity by Jacobi elliptic
 functions and the attitude through the precession angle about the (constant)
 angular momentum, an elliptic integral of the third kind written with
-Carlson's symmetric integrals (``scipy.special.elliprj``).
+Carlson's symmetric integral ``R_J``.
+
+Per-body constants come from ``scipy.special`` (``ellipkm1``, ``elliprf``,
+``elliprj``). The per-time-point work is one compiled kernel
+(:mod:`poinsot.dynamics._free_body_numba`): Jacobi functions by the descending
+Landen transformation fed ``1 - k^2`` directly (``scipy.special.ellipj`` only
+takes ``k^2``, which loses ``1 - k^2`` near the separatrix, and is 3x slower),
+Carlson's duplication algorithm for ``R_J``, and the attitude quaternion. The
+motion is computed for ``|w0| ~ 1`` and ``max(I) ~ 1`` (exact power-of-two
+scaling; ``w(t; s w0) = s w(s t; w0)``), so no magnitude under- or overflows.
 
 Case analysis (moments relabelled ``A > B > C`` here; the code works in the
 axes as given). Put ``D = K^2 - 2 T B``:
