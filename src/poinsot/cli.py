@@ -10,7 +10,7 @@ Examples
 --------
 >>> from poinsot.cli import main
 >>> main(["convert", "euler:ZXZ", "quat", "90", "0", "0", "--degrees"])
-0.707106781186548 0 0 0.707106781186547
+0.70710678 0 0 0.70710678
 0
 """
 
