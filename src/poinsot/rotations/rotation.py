@@ -28,11 +28,9 @@ from ..errors import InvalidInputError, InvalidTypeError
 from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
 from ._lazy import kernels
+from .quaternion import conjugate_array
 
 __all__ = ["Rotation", "compose", "slerp"]
-
-_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
-
 
 def _canonical(q: np.ndarray) -> np.ndarray:
     """Sign choice that makes ``q`` unique: ``w > 0``, or the first non-zero component > 0."""
@@ -463,7 +461,7 @@ class Rotation:
         >>> bool((r * r.inv()).magnitude() < 1e-15)
         True
         """
-        return Rotation._wrap(self._q * _CONJ)
+        return Rotation._wrap(conjugate_array(self._q))
 
     def apply(self, vectors, *, inverse: bool = False) -> np.ndarray:
         """Rotate vectors (..., 3): ``v' = L o v o L~`` (SPEC S2), or the inverse.
@@ -482,7 +480,7 @@ class Rotation:
         v = as_vec3(vectors, "vectors")
         if v.shape[:-1] != self.shape:
             _broadcast_shapes("the rotations and `vectors`", self.shape, v.shape[:-1])
-        q = self._q * _CONJ if inverse else self._q
+        q = conjugate_array(self._q) if inverse else self._q
         return kernels().qrot(q, v)
 
     def magnitude(self) -> np.ndarray:
