@@ -672,6 +672,11 @@ def test_poinsot_geometry(w0):
     normal_space /= np.linalg.norm(normal_space, axis=-1, keepdims=True)
     np.testing.assert_allclose(normal_space, np.broadcast_to(g.plane_normal, (300, 3)), atol=1e-13)
     np.testing.assert_allclose(g.ellipsoid_semi_axes, 1 / np.sqrt(mom))
+    # with the energy ellipsoid w^T J w = 2T instead the plane is at 2T/K
+    w_space = g.rotation.apply(body.omega(g.t))
+    np.testing.assert_allclose(
+        w_space @ g.plane_normal, 2 * body.energy / body.momentum_norm, rtol=1e-13
+    )
     # the contact point has zero velocity (rolling without slipping): it lies on w
     np.testing.assert_allclose(np.cross(g.polhode, body.omega(g.t)), 0.0, atol=1e-14)
 
