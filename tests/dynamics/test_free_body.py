@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 import warnings
 
-import mpmath as mp
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -217,6 +216,7 @@ def landau_mp(moments, w0, t):
     tau = t sqrt((I3 - I2)(M^2 - 2E I1)/(I1 I2 I3)),
     k^2 = (I2 - I1)(2E I3 - M^2)/((I3 - I2)(M^2 - 2E I1)); initial phase from w0.
     """
+    mp = pytest.importorskip("mpmath")  # ships with SymPy
     mp.mp.dps = 40
     i1, i2, i3 = (mp.mpf(x) for x in moments)
     w = [mp.mpf(x) for x in w0]
@@ -590,6 +590,7 @@ def test_landen_jacobi_against_mpmath(m1):
     idx = np.array([2, 1, 0])
     one = np.array([1.0, 0, 0, 0])
     w, _, _ = kern.elliptic_state(u, par, idx, np.ones(3), np.ones(3), one, one, False, table)
+    mp = pytest.importorskip("mpmath")
     mp.mp.dps = 40
     m_mp = 1 - mp.mpf(m1)
     for uk, row in zip(u, w, strict=True):
