@@ -86,18 +86,21 @@ class Trajectory:
 
     @property
     def energy_drift(self) -> float | None:
-        """``max_k |T_k - T_0| / |T_0|`` (relative drift of the kinetic energy)."""
+        """``max_k |T_k - T_0| / |T_0|`` (relative drift of the kinetic energy).
+
+        Absolute (``max_k |T_k - T_0|``) where ``T_0 = 0``, e.g. a body at rest.
+        """
         if self.energy is None:
             return None
-        return float(np.max(np.abs(self.energy - self.energy[0]) / np.abs(self.energy[0])))
+        return _relative(np.abs(self.energy - self.energy[0]), np.abs(self.energy[0]))
 
     @property
     def momentum_drift(self) -> float | None:
-        """``max_k ||K_k| - |K_0|| / |K_0|`` (relative drift of ``|K|``)."""
+        """``max_k ||K_k| - |K_0|| / |K_0|`` (relative drift of ``|K|``; absolute if ``K_0 = 0``)."""
         k = self.momentum_norm
         if k is None:
             return None
-        return float(np.max(np.abs(k - k[0]) / k[0]))
+        return _relative(np.abs(k - k[0]), k[0])
 
     @property
     def momentum_vector_drift(self) -> float | None:
@@ -105,4 +108,11 @@ class Trajectory:
         if self.momentum is None:
             return None
         d = np.linalg.norm(self.momentum - self.momentum[0], axis=-1)
-        return float(np.max(d / np.linalg.norm(self.momentum[0], axis=-1)))
+        return _relative(d, np.linalg.norm(self.momentum[0], axis=-1))
+
+
+def _relative(diff: np.ndarray, ref: np.ndarray) -> float:
+    """Largest ``diff / ref``, using ``diff`` itself where the reference is zero."""
+    ref = np.broadcast_to(ref, diff.shape)
+    scaled = np.divide(diff, ref, out=np.array(diff, dtype=float), where=ref != 0)
+    return float(np.max(scaled))
