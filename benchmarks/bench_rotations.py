@@ -34,7 +34,7 @@ def main(n: int = 1_000_000) -> None:
     m, rv = r.as_matrix(), r.as_rotvec()
     warnings.simplefilter("ignore")
 
-    floor_s = median_time(lambda: q.copy())
+    floor_s = median_time(lambda: q.copy(), repeat=15)
     per_byte = floor_s / (2 * q.nbytes)
     f8 = 8 * n
     ops = [

@@ -24,15 +24,29 @@ _D4 = np.zeros(4)
 _OPTS = {"nopython": True, "cache": True}
 
 
+@njit(inline="always", cache=True)
+def _hamilton(p0, p1, p2, p3, q0, q1, q2, q3):  # pragma: no cover - compiled
+    # SPEC S1: L o M = l0 m0 - l.m + l0 m + m0 l + l x m
+    return (
+        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+        p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2,
+        p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3,
+        p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1,
+    )
+
+
 @guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(n)->(n)", **_OPTS)
 def qmul(p, q, r):  # pragma: no cover - compiled
-    # SPEC S1: L o M = l0 m0 - l.m + l0 m + m0 l + l x m
-    p0, p1, p2, p3 = p[0], p[1], p[2], p[3]
-    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    r[0] = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
-    r[1] = p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2
-    r[2] = p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3
-    r[3] = p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1
+    r[0], r[1], r[2], r[3] = _hamilton(p[0], p[1], p[2], p[3], q[0], q[1], q[2], q[3])
+
+
+@njit(cache=True)
+def qmul1(p, q):  # pragma: no cover - compiled
+    # One product of two single quaternions: a plain jitted call costs ~0.4 us less
+    # than a gufunc call, which matters when composing single rotations in a loop.
+    r = np.empty(4)
+    r[0], r[1], r[2], r[3] = _hamilton(p[0], p[1], p[2], p[3], q[0], q[1], q[2], q[3])
+    return r
 
 
 @guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(m)->(m)", **_OPTS)

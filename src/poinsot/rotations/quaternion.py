@@ -36,6 +36,7 @@ __all__ = [
     "normalize",
 ]
 
+
 def _quat(q, name: str = "q") -> np.ndarray:
     return as_trailing(q, name, (4,))
 

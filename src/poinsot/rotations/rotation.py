@@ -32,6 +32,7 @@ from .quaternion import conjugate_array
 
 __all__ = ["Rotation", "compose", "slerp"]
 
+
 def _canonical(q: np.ndarray) -> np.ndarray:
     """Sign choice that makes ``q`` unique: ``w > 0``, or the first non-zero component > 0."""
     first_nonzero = np.argmax(q != 0, axis=-1)
@@ -446,7 +447,9 @@ class Rotation:
         p, q = self._q, other._q
         if p.shape != q.shape:
             _broadcast_shapes("the two rotations", p.shape[:-1], q.shape[:-1])
-        out = kernels().qmul(p, q)  # fresh, contiguous: no need for _wrap's copy checks
+        k = kernels()
+        out = k.qmul1(p, q) if p.ndim == 1 and q.ndim == 1 else k.qmul(p, q)
+        # `out` is fresh and contiguous: no need for _wrap's copy checks
         out.flags.writeable = False
         obj = object.__new__(Rotation)
         obj._q = out
