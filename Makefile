@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: venv demo test bench docs clean
+.PHONY: venv demo test bench docs browser clean
 
 venv: $(STAMP)
 
@@ -17,7 +17,11 @@ $(STAMP): pyproject.toml
 demo: venv
 	$(VENV)/bin/poinsot demo
 
-test: venv
+# Debian's chromium for the end-to-end report test (skipped loudly if it cannot be had).
+browser:
+	bash tools/install_browser.sh
+
+test: venv browser
 	$(PY) -m ruff check src tests benchmarks
 	$(PY) -m pytest
 
