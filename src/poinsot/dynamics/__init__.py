@@ -1,18 +1,40 @@
-"""poinsot.dynamics (see the area's page in docs/)."""
+"""Dynamics (SPEC S8, S10): Euler's equations, structure-preserving integrators,
+and the exact Euler-Poinsot motion of the free rigid body.
 
-# Assembled from the area's modules. While they are written in parallel a module
-# that does not exist yet is skipped; the lead replaces this with explicit
-# imports once the area lands.
-from importlib import import_module as _import_module
+**Convention:** angular velocity in body axes, angular momentum in space axes,
+attitude maps body to space components. See ``docs/dynamics.md`` and
+``docs/free-body.md``.
 
-__all__: list[str] = []
-for _name in ['euler_equations', 'free_body']:
-    try:
-        _mod = _import_module(f".{_name}", __name__)
-    except ModuleNotFoundError as _exc:
-        if _exc.name == f"{__name__}.{_name}":
-            continue
-        raise
-    for _public in getattr(_mod, "__all__", []):
-        globals()[_public] = getattr(_mod, _public)
-        __all__.append(_public)
+>>> from poinsot.dynamics import FreeRigidBody
+>>> body = FreeRigidBody([1.0, 2.0, 3.0], [0.0, 0.0, 1.0])
+>>> float(body.energy)
+1.5
+"""
+
+from __future__ import annotations
+
+from .euler_equations import (
+    METHODS,
+    euler_rhs,
+    simulate,
+)
+from .free_body import (
+    NEAR_SEPARATRIX,
+    SEPARATRIX_RTOL,
+    SYMMETRY_RTOL,
+    FreeRigidBody,
+    MacCullaghGeometry,
+    PoinsotGeometry,
+)
+
+__all__ = [
+    "euler_rhs",
+    "simulate",
+    "METHODS",
+    "FreeRigidBody",
+    "MacCullaghGeometry",
+    "PoinsotGeometry",
+    "SYMMETRY_RTOL",
+    "SEPARATRIX_RTOL",
+    "NEAR_SEPARATRIX",
+]

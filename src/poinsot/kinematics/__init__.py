@@ -1,18 +1,102 @@
-"""poinsot.kinematics (see the area's page in docs/)."""
+"""Kinematics (SPEC S3, S5-S7): rates of every attitude representation, angular
+velocity from attitude histories, attitude propagation, velocity and acceleration
+fields, composite motion (Coriolis), screw axis, and the Frenet frame.
 
-# Assembled from the area's modules. While they are written in parallel a module
-# that does not exist yet is skipped; the lead replaces this with explicit
-# imports once the area lands.
-from importlib import import_module as _import_module
+**Convention:** ``omega`` is named by the frame of its components: ``frame="body"``
+(``w_xi``, the default) or ``frame="space"`` (``w_x = C w_xi``); rad/s. See
+``docs/kinematics.md``.
 
-__all__: list[str] = []
-for _name in ['rates', 'attitude_history', 'propagation', 'fields', 'screw', 'point']:
-    try:
-        _mod = _import_module(f".{_name}", __name__)
-    except ModuleNotFoundError as _exc:
-        if _exc.name == f"{__name__}.{_name}":
-            continue
-        raise
-    for _public in getattr(_mod, "__all__", []):
-        globals()[_public] = getattr(_mod, _public)
-        __all__.append(_public)
+>>> from poinsot.kinematics import velocity_field
+>>> velocity_field([1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0])
+array([0., 0., 0.])
+"""
+
+from __future__ import annotations
+
+from .attitude_history import (
+    RotationSpline,
+    angular_velocity,
+    fornberg_weights,
+    rotation_spline,
+)
+from .fields import (
+    AngularMotion,
+    CompositeMotion,
+    FrameMotion,
+    acceleration_field,
+    chain,
+    compose_angular,
+    point_motion,
+    velocity_field,
+)
+from .point import (
+    FrenetFrame,
+    frenet,
+)
+from .propagation import (
+    propagate,
+)
+from .rates import (
+    GIMBAL_ERROR_DET,
+    GIMBAL_WARN_DET,
+    dcm_rate,
+    euler_rate_matrix,
+    euler_rates,
+    gibbs_rate,
+    mrp_rate,
+    mrp_shadow,
+    mrp_switch,
+    omega_from_dcm_rate,
+    omega_from_euler_rates,
+    omega_from_gibbs_rate,
+    omega_from_mrp_rate,
+    omega_from_quat_rate,
+    omega_from_rotvec_rate,
+    quat_rate,
+    rotvec_rate,
+)
+from .screw import (
+    ReducedMotion,
+    Screw,
+    reduce_motions,
+    screw_axis,
+)
+
+__all__ = [
+    "quat_rate",
+    "omega_from_quat_rate",
+    "dcm_rate",
+    "omega_from_dcm_rate",
+    "euler_rates",
+    "omega_from_euler_rates",
+    "euler_rate_matrix",
+    "gibbs_rate",
+    "omega_from_gibbs_rate",
+    "mrp_rate",
+    "omega_from_mrp_rate",
+    "mrp_shadow",
+    "mrp_switch",
+    "rotvec_rate",
+    "omega_from_rotvec_rate",
+    "GIMBAL_WARN_DET",
+    "GIMBAL_ERROR_DET",
+    "angular_velocity",
+    "rotation_spline",
+    "RotationSpline",
+    "fornberg_weights",
+    "propagate",
+    "velocity_field",
+    "acceleration_field",
+    "compose_angular",
+    "AngularMotion",
+    "FrameMotion",
+    "CompositeMotion",
+    "point_motion",
+    "chain",
+    "Screw",
+    "screw_axis",
+    "ReducedMotion",
+    "reduce_motions",
+    "FrenetFrame",
+    "frenet",
+]

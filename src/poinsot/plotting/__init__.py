@@ -1,18 +1,27 @@
-"""poinsot.plotting (see the area's page in docs/)."""
+"""Figures (matplotlib) and the interactive HTML report (Plotly).
 
-# Assembled from the area's modules. While they are written in parallel a module
-# that does not exist yet is skipped; the lead replaces this with explicit
-# imports once the area lands.
-from importlib import import_module as _import_module
+A leaf package: importing it loads matplotlib, so ``import poinsot`` never
+does. Every plot function takes ``ax=None`` and returns the axes it drew on.
+"""
 
-__all__: list[str] = []
-for _name in ['motion', 'free_body', 'report']:
-    try:
-        _mod = _import_module(f".{_name}", __name__)
-    except ModuleNotFoundError as _exc:
-        if _exc.name == f"{__name__}.{_name}":
-            continue
-        raise
-    for _public in getattr(_mod, "__all__", []):
-        globals()[_public] = getattr(_mod, _public)
-        __all__.append(_public)
+from __future__ import annotations
+
+from .free_body import (
+    plot_maccullagh,
+    plot_omega,
+    plot_poinsot,
+)
+from .motion import (
+    plot_acceleration_terms,
+)
+from .report import (
+    write_report,
+)
+
+__all__ = [
+    "plot_acceleration_terms",
+    "plot_maccullagh",
+    "plot_poinsot",
+    "plot_omega",
+    "write_report",
+]
