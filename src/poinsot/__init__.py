@@ -52,7 +52,7 @@ __all__ = [
 
 # Heavy or optional subpackages load on first access so that `import poinsot`
 # stays fast and never pulls in SymPy or matplotlib.
-_LAZY = {"kinematics", "mass", "dynamics", "symbolic", "plotting", "scenarios", "cli"}
+_LAZY = {"kinematics", "mass", "dynamics", "plotting", "scenarios", "cli"}
 
 
 def __getattr__(name: str):
