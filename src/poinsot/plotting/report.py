@@ -52,7 +52,7 @@ _OMEGA_COLOUR = "#ff7f0e"
 _MOMENTUM_COLOUR = "#9467bd"
 _POLHODE_COLOUR = "#e377c2"
 _HERPOLHODE_COLOUR = "#17becf"
-_MAX_TRACK = 240  # points kept for the polhode / herpolhode tracks
+_MAX_TRACK = 300  # points kept for the polhode / herpolhode tracks
 
 
 def write_report(
@@ -305,6 +305,25 @@ def _frame_indices(n: int, max_frames: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, min(n, max_frames))).astype(int))
 
 
+def _track_indices(t: np.ndarray, *curves: np.ndarray, m: int) -> np.ndarray:
+    """At most ``m`` sample indices, even in time plus the arc length of the curves.
+
+    Fast stretches of a track (a flip of the tennis racket) get as many points as
+    slow ones of the same length, so the drawn curves stay smooth.
+    """
+    n = t.size
+    if n <= m:
+        return np.arange(n)
+    measure = np.zeros(n)
+    for y in (t[:, None], *curves):
+        steps = np.linalg.norm(np.diff(y, axis=0), axis=-1)
+        total = steps.sum()
+        if total > 0:
+            measure[1:] += np.cumsum(steps) / total
+    idx = np.searchsorted(measure, np.linspace(0.0, measure[-1], m))
+    return np.unique(np.concatenate([[0], np.clip(idx, 0, n - 1), [n - 1]]))
+
+
 def _scale(vectors: np.ndarray, length: float) -> float:
     m = float(np.max(np.linalg.norm(vectors, axis=-1))) if vectors.size else 0.0
     return length / m if m > 0 else 0.0
@@ -329,17 +348,17 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
     c_K = _scale(K_s, 1.9 * L) if K_s is not None else 0.0
 
     # Polhode point in body axes: e / sqrt(e^T J e) on the inertia ellipsoid, or the w tip.
-    track = _frame_indices(n, _MAX_TRACK)
-    wt = w_b[track]
     if body is None and J is not None:
-        wJw = np.einsum("ni,ij,nj->n", wt, J, wt)
+        wJw = np.einsum("ni,ij,nj->n", w_b, J, w_b)
         with np.errstate(divide="ignore", invalid="ignore"):
-            pol_b = np.where(wJw[:, None] > 0, wt / np.sqrt(wJw)[:, None], 0.0)
+            pol_b = np.where(wJw[:, None] > 0, w_b / np.sqrt(wJw)[:, None], 0.0)
         pol_label = "polhode (on the ellipsoid)"
     else:
-        pol_b = c_w * wt
+        pol_b = c_w * w_b
         pol_label = "polhode (w tip, body-fixed)"
-    her_s = np.einsum("nij,nj->ni", C[track], pol_b)
+    her_s = np.einsum("nij,nj->ni", C, pol_b)
+    track = _track_indices(t, pol_b, her_s, m=_MAX_TRACK)
+    pol_b, her_s = pol_b[track], her_s[track]
 
     C_ref = None
     if ref is not None:
@@ -481,7 +500,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
             ),
             row=r, col=2,
         )  # fmt: skip
-        fig.update_yaxes(range=[lo, hi], row=r, col=2)
+        fig.update_yaxes(range=[lo, hi], exponentformat="e", row=r, col=2)
     cursor_ids = list(range(n3 + n_static, len(fig.data)))
     fig.update_xaxes(range=[float(t[0]), float(t[-1])] if n > 1 else None, col=2)
     fig.update_xaxes(title_text="t (s)", row=rows, col=2)
