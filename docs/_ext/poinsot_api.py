@@ -104,7 +104,13 @@ def _drop_missing_pages(app, docname, source):
     source[0] = _TOCTREE.sub(fix, source[0])
 
 
+def _reread_root(app, env, added, changed, removed):
+    # the root page's toctree depends on which pages exist: read it again every build
+    return [app.config.root_doc]
+
+
 def setup(app):
     app.add_directive("poinsot-api", PoinsotApi)
     app.connect("source-read", _drop_missing_pages)
+    app.connect("env-get-outdated", _reread_root)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}
