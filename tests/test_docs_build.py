@@ -57,3 +57,14 @@ def test_conventions_page_comes_first(site):
 )
 def test_api_reference_documents_public_names(site, page, anchor):
     assert anchor in (site / page).read_text(encoding="utf-8")
+
+
+def test_guide_examples_run():
+    """The `>>>` examples of the rotations guide are doctests (outputs checked)."""
+    import doctest
+
+    flags = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
+    result = doctest.testfile(
+        str(DOCS / "guide-rotations.md"), module_relative=False, optionflags=flags, verbose=False
+    )
+    assert result.attempted > 10 and result.failed == 0, result
