@@ -28,11 +28,14 @@ pytest.importorskip("plotly")
 A_, C_, K_, THETA = 2.0, 1.0, 1.0, 0.6
 
 
-def precession(n=120, t1=20.0, *, invariants=True, rot0=None):
-    """Regular precession of a symmetric free body about space z (closed form)."""
+def precession(n=120, t1=20.0, *, invariants=True, rot0=None, scale=1.0):
+    """Regular precession of a symmetric free body about space z (closed form).
+
+    ``scale`` multiplies the moments of inertia (|K| stays K_)."""
+    A, C = A_ * scale, C_ * scale
     t = np.linspace(0.0, t1, n)
-    r = K_ * np.cos(THETA) / C_
-    psid, phid = K_ / A_, (A_ - C_) * r / A_
+    r = K_ * np.cos(THETA) / C
+    psid, phid = K_ / A, (A - C) * r / A
     psi, phi = psid * t, 0.3 + phid * t
     sci = SciRot.from_euler("ZXZ", np.column_stack([psi, np.full(n, THETA), phi]))
     if rot0 is not None:
@@ -41,7 +44,7 @@ def precession(n=120, t1=20.0, *, invariants=True, rot0=None):
     w = np.column_stack(
         [psid * st * np.sin(phi), psid * st * np.cos(phi), np.full(n, psid * np.cos(THETA) + phid)]
     )
-    J = np.diag([A_, A_, C_])
+    J = np.diag([A, A, C])
     kw = {}
     if invariants:
         kw = {
@@ -133,18 +136,25 @@ def test_body_axes_follow_the_rotation(prec):
             np.testing.assert_allclose(end / np.linalg.norm(end), M[:, a], atol=1e-4)
 
 
-def test_polhode_on_ellipsoid_and_herpolhode_in_invariable_plane(prec):
-    """Poinsot: polhode on r^T J r = 1, herpolhode in the plane n.K = sqrt(2T)/|K| (S10)."""
-    tr, sci, J = prec
+@pytest.mark.parametrize("scale", [1.0, 1e-4])
+def test_polhode_on_ellipsoid_and_herpolhode_in_invariable_plane(scale):
+    """Poinsot (S8, S10): the polhode lies on the drawn inertia ellipsoid, the herpolhode
+    in the invariable plane normal to K at distance s sqrt(2T)/|K| (s: the drawing scale,
+    which makes the longest semi-axis 1 whatever the units of J)."""
+    tr, sci, J = precession(scale=scale)
     fig = report._figure(tr, None, None, J, 10)
+    s = np.sqrt(np.min(np.diag(J)))  # longest semi-axis 1/sqrt(min moment) drawn as 1
+    mesh = sci[0].apply(_xyz(fig.data[0]), inverse=True)
+    assert np.max(np.linalg.norm(mesh, axis=1)) == pytest.approx(1.0, rel=0.02)
+    np.testing.assert_allclose(np.einsum("ni,ij,nj->n", mesh, J, mesh), s**2, rtol=2e-5)
     T = tr.energy[0]
-    dist = np.sqrt(2 * T) / K_
+    dist = s * np.sqrt(2 * T) / K_
     for f in (0, 4, len(fig.frames) - 1):
         k = int(np.argmin(np.abs(tr.t - _frame_time(fig, f))))
         traces = _frame_traces(fig, f)
         p_space = _xyz(traces["polhode (on the ellipsoid)"][0])
         p_body = sci[k].apply(p_space, inverse=True)
-        np.testing.assert_allclose(np.einsum("ni,ij,nj->n", p_body, J, p_body), 1.0, rtol=2e-5)
+        np.testing.assert_allclose(np.einsum("ni,ij,nj->n", p_body, J, p_body), s**2, rtol=2e-5)
         her = _xyz(traces["herpolhode (space)"][0])
         np.testing.assert_allclose(her[:, 2], dist, rtol=2e-5)  # K along space z
         assert len(her) >= 1
@@ -159,18 +169,21 @@ def test_herpolhode_grows_with_time(prec):
 
 
 def test_inertia_ellipsoid_mesh_general_tensor(prec):
-    """Mesh vertices satisfy r^T J r = 1 for a non-diagonal tensor (SPEC S8)."""
+    """Mesh: the ellipsoid r^T J r = 1 (SPEC S8) for a non-diagonal tensor, scaled so that
+    its longest semi-axis (along the principal axis of the smallest moment) is 1."""
     tr, sci, _ = prec
     S = SciRot.from_rotvec([0.3, -0.5, 0.7]).as_matrix()
-    J = S @ np.diag([1.0, 2.0, 2.5]) @ S.T
+    J = S @ np.diag([3.0, 4.0, 5.0]) @ S.T
     fig = report._figure(tr, None, None, J, 5)
     for f in (0, 3):
         k = int(np.argmin(np.abs(tr.t - _frame_time(fig, f))))
-        v = sci[k].apply(_xyz(_frame_traces(fig, f)["inertia ellipsoid"][0]), inverse=True)
-        np.testing.assert_allclose(np.einsum("ni,ij,nj->n", v, J, v), 1.0, rtol=2e-5)
-    # the longest semi-axis is along the smallest moment: 1/sqrt(1)
+        traces = _frame_traces(fig, f)
+        v = sci[k].apply(_xyz(traces["inertia ellipsoid (scaled)"][0]), inverse=True)
+        np.testing.assert_allclose(np.einsum("ni,ij,nj->n", v, J, v), 3.0, rtol=2e-5)
     v0 = sci[0].apply(_xyz(fig.data[0]), inverse=True)
-    assert np.max(np.linalg.norm(v0, axis=1)) == pytest.approx(1.0, rel=0.02)
+    far = v0[np.argmax(np.linalg.norm(v0, axis=1))]
+    assert np.linalg.norm(far) == pytest.approx(1.0, rel=0.02)
+    assert abs(far @ S[:, 0]) == pytest.approx(1.0, rel=0.02)
 
 
 @pytest.mark.parametrize(

@@ -126,7 +126,9 @@ def write_report(
     distance ``sqrt(2T)/|K|`` from the fixed point. Drawn with a ``shape`` or
     without ``inertia``, the track is the tip of the scaled ``w`` instead.
     The vectors ``w`` and ``K`` are scaled to the size of the body (each
-    with its own scale, constant over the animation).
+    with its own scale, constant over the animation). The inertia ellipsoid,
+    the polhode and the herpolhode are drawn with one common scale, making the
+    longest semi-axis 1 (the ellipsoid's size is in ``1/sqrt(kg m^2)``).
 
     **Convention:** the scene is in space axes, ``v_space = R v_body``
     (SPEC S2); ``w`` is read in body axes and drawn in space axes; times in s,
@@ -297,8 +299,15 @@ def _body_mesh(body, J):
     if J is None:
         return v, tri, "body (inertia not given: unit sphere)"
     lam, S = np.linalg.eigh(J)
-    # r^T J r = 1 in principal axes: semi-axes 1/sqrt(lambda_k) along S[:, k] (SPEC S8).
-    return (v / np.sqrt(lam)) @ S.T, tri, "inertia ellipsoid"
+    # r^T J r = 1 in principal axes: semi-axes 1/sqrt(lambda_k) along S[:, k] (SPEC S8),
+    # drawn scaled by sqrt(lambda_min) (longest semi-axis 1): r^T J r = lambda_min.
+    v = (v * np.sqrt(lam[0] / lam)) @ S.T
+    return v, tri, "inertia ellipsoid (scaled)"
+
+
+def _ellipsoid_scale(J) -> float:
+    """Scale ``s`` of the drawn inertia ellipsoid ``r^T J r = s^2`` (longest semi-axis 1)."""
+    return float(np.sqrt(np.linalg.eigvalsh(J)[0]))
 
 
 def _frame_indices(n: int, max_frames: int) -> np.ndarray:
@@ -352,6 +361,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
         wJw = np.einsum("ni,ij,nj->n", w_b, J, w_b)
         with np.errstate(divide="ignore", invalid="ignore"):
             pol_b = np.where(wJw[:, None] > 0, w_b / np.sqrt(wJw)[:, None], 0.0)
+        pol_b = _ellipsoid_scale(J) * pol_b  # on the drawn (scaled) ellipsoid
         pol_label = "polhode (on the ellipsoid)"
     else:
         pol_b = c_w * w_b
@@ -369,7 +379,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
     same_grid = ref is not None and ref.t.shape == t.shape and np.allclose(ref.t, t)
 
     rows = 3 if same_grid else 2
-    titles = ["", "angular velocity, body axes (rad/s)", "relative change of the invariants"]
+    titles = ["", "angular velocity, body axes (rad/s)", "relative change of T and |K|"]
     if same_grid:
         titles.append("attitude error vs reference (rad)")
     specs = [[{"type": "scene", "rowspan": rows}, {"type": "xy"}]] + [
@@ -407,7 +417,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
             go.Mesh3d(
                 x=f32(v[:, 0]), y=f32(v[:, 1]), z=f32(v[:, 2]),
                 i=tri[:, 0], j=tri[:, 1], k=tri[:, 2],
-                color="#b0b7c3", opacity=0.45 if body is None else 0.7,
+                color="#b0b7c3", opacity=0.7 if body else 0.45 if J is not None else 0.25,
                 flatshading=body is not None and body[0] in ("box", "cylinder"),
                 name=body_label, showlegend=True, hoverinfo="skip",
             )
