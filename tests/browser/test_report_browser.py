@@ -179,7 +179,7 @@ def test_report_renders_and_animates_in_chromium(browser, tmp_path):
     assert active0 == 0 and label0 == "t = 0 s"
     page.evaluate(
         f"() => {{ window.__frames = []; {FIG}.on('plotly_animatingframe',"
-        " e => window.__frames.push(e.name)); }}"
+        " e => window.__frames.push(e.name)); }"
     )
     page.locator("#poinsot-figure g.updatemenu-button", has_text="Play").click()
     page.wait_for_function(f"() => {FIG}.layout.sliders[0].active >= 5", timeout=30_000)
