@@ -37,6 +37,7 @@ CHROMIUM_ARGS = [
     "--disable-background-networking",
     "--disable-component-update",
     "--disable-sync",
+    "--disable-dev-shm-usage",  # containers often have a tiny /dev/shm
 ]
 FIG = "document.getElementById('poinsot-figure')"
 
@@ -152,14 +153,17 @@ def test_report_renders_and_animates_in_chromium(browser, tmp_path):
         " && g.querySelector('.gl-container canvas') && g.querySelector('.slider-label'); }",
         timeout=60_000,
     )
-    page.wait_for_timeout(800)  # let WebGL draw the first frame
+    scene_box = _box(page, "#poinsot-figure .gl-container canvas")
+    for _ in range(20):  # WebGL draws asynchronously (slowly on a loaded machine)
+        page.wait_for_timeout(250)
+        scene0 = _png(page.screenshot(clip=scene_box))
+        if _distinct_colours(scene0) > 100:
+            break
 
     assert page.title() == "regular precession"
     assert page.locator("table.summary th", has_text="invariants.energy_drift").count() == 1
 
     # --- the 3-D scene and the plots are drawn (non-blank, with the drawn colours)
-    scene_box = _box(page, "#poinsot-figure .gl-container canvas")
-    scene0 = _png(page.screenshot(clip=scene_box))
     non_white = np.any(scene0 < 245, axis=-1).mean()
     assert _distinct_colours(scene0) > 100, "3-D scene looks blank"
     assert non_white > 0.03, f"3-D scene almost empty ({non_white:.3%} non-white)"
