@@ -382,3 +382,17 @@ def test_errors_missing_directory(tmp_path, prec):
     tr, _, _ = prec
     with pytest.raises(InvalidInputError, match="Expected the directory of `path` to exist"):
         write_report(tmp_path / "nope" / "r.html", trajectory=tr)
+
+
+def test_long_runs_keep_the_page_small():
+    """20001 samples: time series cut to a min/max envelope, tracks and frames bounded."""
+    tr, _, J = precession(n=20001, t1=200.0)
+    fig = report._figure(tr, None, None, J, 150)
+    w1 = next(d for d in fig.data if d.name == "w1 (x)")
+    assert len(w1.x) <= report._MAX_SERIES + 2
+    y = np.asarray(w1.y, float)
+    assert y.max() == pytest.approx(tr.omega[:, 0].max(), rel=1e-6)  # envelope kept
+    assert y.min() == pytest.approx(tr.omega[:, 0].min(), rel=1e-6)
+    assert np.all(np.diff(np.asarray(w1.x, float)) > 0)
+    assert len(fig.frames) == 150
+    assert len(_frame_traces(fig, 149)["polhode (on the ellipsoid)"][0].x) <= report._MAX_TRACK + 2

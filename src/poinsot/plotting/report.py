@@ -53,6 +53,7 @@ _MOMENTUM_COLOUR = "#9467bd"
 _POLHODE_COLOUR = "#e377c2"
 _HERPOLHODE_COLOUR = "#17becf"
 _MAX_TRACK = 300  # points kept for the polhode / herpolhode tracks
+_MAX_SERIES = 4000  # points kept per time series (min/max envelope beyond that)
 
 
 def write_report(
@@ -459,7 +460,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
     for a in range(3):
         fig.add_trace(
             go.Scatter(
-                x=f32(t), y=f32(w_b[:, a]), mode="lines", name=comp[a], legendgroup="ts",
+                **_series(t, w_b[:, a]), mode="lines", name=comp[a], legendgroup="ts",
                 line={"color": _AXIS_COLOURS[a], "width": 2},
             ),
             row=1, col=2,
@@ -467,7 +468,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
         if ref is not None:
             fig.add_trace(
                 go.Scatter(
-                    x=f32(ref.t), y=f32(ref.omega[:, a]), mode="lines",
+                    **_series(ref.t, ref.omega[:, a]), mode="lines",
                     name="reference w" if a == 0 else comp[a] + " ref", showlegend=a == 0,
                     line={"color": _AXIS_COLOURS[a], "width": 2, "dash": "dot"},
                     legendgroup="ref",
@@ -482,7 +483,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
         drift.append(("|K|/|K0| - 1", tr.momentum_norm / tr.momentum_norm[0] - 1.0, "#7f7f7f"))
     for name, y, colour in drift:
         fig.add_trace(
-            go.Scatter(x=f32(t), y=f32(y), mode="lines", name=name, line={"color": colour}),
+            go.Scatter(**_series(t, y), mode="lines", name=name, line={"color": colour}),
             row=2, col=2,
         )  # fmt: skip
     if not drift:
@@ -495,7 +496,7 @@ def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
         err = (ref.rotation.inv() * tr.rotation).magnitude()
         fig.add_trace(
             go.Scatter(
-                x=f32(t), y=f32(err), mode="lines", name="attitude error",
+                **_series(t, err), mode="lines", name="attitude error",
                 line={"color": "#222222"},
             ),
             row=3, col=2,
@@ -637,6 +638,24 @@ def _xyz(v: np.ndarray, cls):
         return cls(x=v[:, 0].tolist(), y=v[:, 1].tolist(), z=v[:, 2].tolist())
     v = np.asarray(v, dtype=np.float32)
     return cls(x=v[:, 0], y=v[:, 1], z=v[:, 2])
+
+
+def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
+    """``x``, ``y`` of a time series, at most about ``m`` points (float32).
+
+    Longer series keep the first and last samples and the minimum and maximum of
+    each of ``m/2`` bins, so the envelope of fast oscillations or noise survives.
+    """
+    n = t.size
+    if n > m:
+        edges = np.linspace(0, n, m // 2 + 1).astype(int)
+        idx = [0, n - 1]
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            seg = y[a:b]
+            idx += [a + int(np.argmin(seg)), a + int(np.argmax(seg))]
+        idx = np.unique(idx)
+        t, y = t[idx], y[idx]
+    return {"x": np.asarray(t, dtype=np.float32), "y": np.asarray(y, dtype=np.float32)}
 
 
 def _yrange(y: np.ndarray) -> tuple[float, float]:
