@@ -96,7 +96,7 @@ class Trajectory:
 
     @property
     def momentum_drift(self) -> float | None:
-        """``max_k ||K_k| - |K_0|| / |K_0|`` (relative drift of ``|K|``; absolute if ``K_0 = 0``)."""
+        """``max_k ||K_k| - |K_0|| / |K_0|`` (relative drift of ``|K|``; absolute at 0)."""
         k = self.momentum_norm
         if k is None:
             return None

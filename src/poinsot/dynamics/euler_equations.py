@@ -45,6 +45,8 @@ import math
 import numpy as np
 
 from .._validate import as_choice, as_float_array, as_quat, as_times, as_vec3
+from .._vec import cross as _cross
+from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..rotations._lazy import kernels as _qkernels
 from ..rotations.rotation import Rotation
@@ -146,26 +148,6 @@ def _rotvec_quat(v):
 
 def _normalize(q):
     return q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
-
-
-def _hat(v):
-    """The cross-product matrices ``v^`` (``v^ u = v x u``), shape (..., 3, 3)."""
-    out = np.zeros(v.shape[:-1] + (3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
-
-
-def _cross(a, b):
-    """``a x b`` over the last axis (``numpy.cross`` costs ~10x more on small arrays)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
 
 
 # ---------------------------------------------------------------------------

@@ -21,6 +21,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .._validate import as_choice, as_float_array, as_quat, as_times, is_integer
+from .._vec import cross as _cross
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..rotations import quaternion as _quat
 from ..rotations._lazy import kernels
@@ -80,14 +81,6 @@ def _chain(mul, d: np.ndarray) -> np.ndarray:
         s[k:] = mul(s[:-k], s[k:])
         k *= 2
     return s
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
-    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
-    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-    return out
 
 
 # --------------------------------------------------------------------------- omega sources

@@ -35,6 +35,9 @@ import warnings
 import numpy as np
 
 from .._validate import as_choice, as_matrix3, as_quat, as_trailing, as_vec3
+from .._vec import cross as _cross
+from .._vec import dot as _dot
+from .._vec import hat as _hat
 from ..errors import GimbalLockWarning, InvalidInputError, SingularityWarning
 from ..rotations import quaternion as _quat
 from ..rotations.dcm import ORTHOGONALITY_ATOL
@@ -81,29 +84,6 @@ ROTVEC_WARN_GAP = 1e-2
 # --------------------------------------------------------------------------
 # small vector kernels (no validation)
 # --------------------------------------------------------------------------
-def _dot(a, b):
-    return np.einsum("...i,...i->...", a, b)
-
-
-def _cross(a, b):
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
-
-
-def _hat(w):
-    """Skew matrices ``w^`` with ``w^ v = w x v``, shape ``(..., 3, 3)``."""
-    w = np.asarray(w, dtype=float)
-    z = np.zeros(w.shape[:-1])
-    x, y, zz = w[..., 0], w[..., 1], w[..., 2]
-    return np.stack(
-        [
-            np.stack([z, -zz, y], axis=-1),
-            np.stack([zz, z, -x], axis=-1),
-            np.stack([-y, x, z], axis=-1),
-        ],
-        axis=-2,
-    )
 
 
 def _vee_antisym(m):
