@@ -1,0 +1,483 @@
+"""Peer cross-checks of poinsot's kinematics against SymPy (``sympy.physics.vector``).
+
+SymPy is an independent oracle: every expected value below is a SymPy expression
+(orientation, ``ang_vel_in``, ``v2pt_theory``, ``a1pt_theory``, symbolic
+differentiation of positions and curves) evaluated numerically at random seeded
+points. Conventions matched (checked, not assumed):
+
+* ``B.orient_body_fixed(N, angles, "zxz")`` is poinsot's intrinsic ``"ZXZ"``;
+  ``B.orient_space_fixed(N, angles, "xyz")`` is poinsot's extrinsic ``"xyz"``,
+  angles in the same order.
+* ``N.dcm(B)`` maps B components to N components (``v_N = N.dcm(B) v_B``), i.e.
+  poinsot's ``Rotation.as_matrix()`` of B relative to N.
+* ``B.orient_quaternion(N, (q0, q1, q2, q3))`` is scalar first and gives
+  ``N.dcm(B)`` equal to the active rotation matrix of the quaternion, i.e.
+  poinsot's ``Rotation.from_quat(q)``.
+* ``B.ang_vel_in(N).to_matrix(B)`` is ``frame="body"``, ``.to_matrix(N)``
+  ``frame="space"``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+sp = pytest.importorskip("sympy")
+me = pytest.importorskip("sympy.physics.mechanics")
+
+from poinsot import Rotation  # noqa: E402
+from poinsot.kinematics import (  # noqa: E402
+    FrameMotion,
+    acceleration_field,
+    chain,
+    euler_rates,
+    frenet,
+    omega_from_euler_rates,
+    omega_from_quat_rate,
+    point_motion,
+    quat_rate,
+    velocity_field,
+)
+
+TOL = 1e-12
+N_POINTS = 12
+
+_PROPER = ["xyx", "xzx", "yxy", "yzy", "zxz", "zyz"]
+_TAIT = ["xyz", "xzy", "yxz", "yzx", "zxy", "zyx"]
+SEQUENCES = _PROPER + _TAIT
+
+
+def _vec(m) -> np.ndarray:
+    return np.asarray(m, dtype=float).reshape(-1)
+
+
+def _mat(m) -> np.ndarray:
+    return np.asarray(m, dtype=float).reshape(3, 3)
+
+
+def _random_angles(rng, seq: str, n: int) -> np.ndarray:
+    """Angles away from gimbal lock (middle angle in (0.2, pi - 0.2) or |.| < pi/2 - 0.2)."""
+    a = rng.uniform(-np.pi, np.pi, size=(n, 3))
+    if seq[0] == seq[2]:
+        a[:, 1] = rng.uniform(0.2, np.pi - 0.2, size=n)
+    else:
+        a[:, 1] = rng.uniform(-np.pi / 2 + 0.2, np.pi / 2 - 0.2, size=n)
+    return a
+
+
+# ---------------------------------------------------------------------------
+# 1. Euler angles: DCM and angular velocity in both frames, and the inverse
+# ---------------------------------------------------------------------------
+
+
+def _sympy_euler(seq: str, kind: str):
+    q = me.dynamicsymbols("q1:4")
+    qd = [x.diff() for x in q]
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    if kind == "body":
+        B.orient_body_fixed(N, q, seq)
+    else:
+        B.orient_space_fixed(N, q, seq)
+    w = B.ang_vel_in(N)
+    return sp.lambdify([q, qd], [w.to_matrix(B), w.to_matrix(N), N.dcm(B)], "numpy")
+
+
+@pytest.mark.parametrize(
+    ("seq", "kind"),
+    [(s, "body") for s in SEQUENCES] + [(s, "space") for s in SEQUENCES],
+)
+def test_euler_dcm_and_omega_vs_sympy(seq, kind):
+    seq_p = seq.upper() if kind == "body" else seq  # intrinsic upper, extrinsic lower
+    f = _sympy_euler(seq, kind)
+    rng = np.random.default_rng(SEQUENCES.index(seq) + (100 if kind == "space" else 0))
+    angles = _random_angles(rng, seq, N_POINTS)
+    rates = rng.normal(size=(N_POINTS, 3))
+    wb = np.empty((N_POINTS, 3))
+    ws = np.empty((N_POINTS, 3))
+    dcm = np.empty((N_POINTS, 3, 3))
+    for k in range(N_POINTS):
+        b, s, c = f(angles[k], rates[k])
+        wb[k], ws[k], dcm[k] = _vec(b), _vec(s), _mat(c)
+
+    np.testing.assert_allclose(
+        Rotation.from_euler(seq_p, angles).as_matrix(), dcm, rtol=0, atol=TOL
+    )
+    np.testing.assert_allclose(
+        omega_from_euler_rates(seq_p, angles, rates, frame="body"), wb, rtol=0, atol=TOL
+    )
+    np.testing.assert_allclose(
+        omega_from_euler_rates(seq_p, angles, rates, frame="space"), ws, rtol=0, atol=TOL
+    )
+    # the inverse: SymPy's omega back to the Euler rates
+    np.testing.assert_allclose(euler_rates(seq_p, angles, wb, frame="body"), rates, atol=1e-11)
+    np.testing.assert_allclose(euler_rates(seq_p, angles, ws, frame="space"), rates, atol=1e-11)
+
+
+@pytest.mark.parametrize(("preset", "seq"), [("euler", "zxz"), ("krylov", "zxy")])
+def test_euler_presets_vs_sympy(preset, seq):
+    f = _sympy_euler(seq, "body")
+    rng = np.random.default_rng(7)
+    angles = _random_angles(rng, seq, 5)
+    rates = rng.normal(size=(5, 3))
+    for k in range(5):
+        b, s, c = f(angles[k], rates[k])
+        np.testing.assert_allclose(
+            Rotation.from_euler(preset, angles[k]).as_matrix(), _mat(c), atol=TOL
+        )
+        np.testing.assert_allclose(
+            omega_from_euler_rates(preset, angles[k], rates[k]), _vec(b), atol=TOL
+        )
+        np.testing.assert_allclose(
+            euler_rates(preset, angles[k], _vec(s), frame="space"), rates[k], atol=1e-11
+        )
+
+
+def test_euler_degrees_vs_sympy():
+    """``degrees=True`` means angles in deg and rates in deg/s; omega stays rad/s."""
+    f = _sympy_euler("zyx", "body")
+    rng = np.random.default_rng(11)
+    angles = _random_angles(rng, "zyx", 4)
+    rates = rng.normal(size=(4, 3))
+    for k in range(4):
+        b, _, _ = f(angles[k], rates[k])
+        got = omega_from_euler_rates(
+            "ZYX", np.degrees(angles[k]), np.degrees(rates[k]), degrees=True
+        )
+        np.testing.assert_allclose(got, _vec(b), atol=TOL)
+
+
+# ---------------------------------------------------------------------------
+# 2. Quaternion orientation and quaternion rates
+# ---------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def sympy_quaternion():
+    e = me.dynamicsymbols("e0:4")
+    ed = [x.diff() for x in e]
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_quaternion(N, e)
+    w = B.ang_vel_in(N)
+    return sp.lambdify([e, ed], [N.dcm(B), w.to_matrix(B), w.to_matrix(N)], "numpy")
+
+
+def _random_unit_quats(rng, n):
+    q = rng.normal(size=(n, 4))
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def test_quaternion_dcm_vs_sympy(sympy_quaternion):
+    rng = np.random.default_rng(3)
+    q = _random_unit_quats(rng, N_POINTS)
+    for k in range(N_POINTS):
+        c, _, _ = sympy_quaternion(q[k], np.zeros(4))
+        np.testing.assert_allclose(Rotation.from_quat(q[k]).as_matrix(), _mat(c), atol=TOL)
+        # scalar-last reading of the same numbers
+        np.testing.assert_allclose(
+            Rotation.from_quat(np.roll(q[k], -1), scalar_first=False).as_matrix(),
+            _mat(c),
+            atol=TOL,
+        )
+
+
+def test_quaternion_rates_vs_sympy(sympy_quaternion):
+    """SymPy's omega from a tangent ``qdot`` (``q . qdot = 0``) in both frames."""
+    rng = np.random.default_rng(4)
+    q = _random_unit_quats(rng, N_POINTS)
+    qd = rng.normal(size=(N_POINTS, 4))
+    qd -= np.sum(qd * q, axis=-1, keepdims=True) * q  # tangent to the unit sphere
+    for k in range(N_POINTS):
+        _, b, s = sympy_quaternion(q[k], qd[k])
+        np.testing.assert_allclose(
+            omega_from_quat_rate(q[k], qd[k], frame="body"), _vec(b), atol=TOL
+        )
+        np.testing.assert_allclose(
+            omega_from_quat_rate(q[k], qd[k], frame="space"), _vec(s), atol=TOL
+        )
+        # and back: poinsot's qdot from SymPy's omega is the tangent qdot
+        np.testing.assert_allclose(quat_rate(q[k], _vec(b), frame="body"), qd[k], atol=TOL)
+        np.testing.assert_allclose(quat_rate(q[k], _vec(s), frame="space"), qd[k], atol=TOL)
+
+
+# ---------------------------------------------------------------------------
+# 3. Point kinematics: Euler/Rivals fields, Coriolis theorem, chains of frames
+# ---------------------------------------------------------------------------
+
+
+def _subs_args(*groups):
+    """Flatten lists of dynamicsymbols with their first and second derivatives."""
+    out = []
+    for g in groups:
+        out += list(g) + [x.diff() for x in g] + [x.diff(me.dynamicsymbols._t, 2) for x in g]
+    return out
+
+
+def _eval(f, rng, n_args, n=N_POINTS):
+    """Evaluate ``f`` at ``n`` random points; one (n, 3) array per output vector."""
+    vals = rng.uniform(-1.5, 1.5, size=(n, n_args))
+    res = [[np.asarray(r, dtype=float).reshape(-1) for r in f(*v)] for v in vals]
+    return [np.array(z) for z in zip(*res, strict=True)]
+
+
+def test_rigid_body_fields_vs_sympy_2pt_theory():
+    """``P.v2pt_theory(O, N, B)`` / ``a2pt_theory`` against Euler / Rivals."""
+    q = me.dynamicsymbols("q1:4")
+    x = me.dynamicsymbols("x1:4")
+    c = sp.symbols("c1:4")
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_body_fixed(N, q, "zyx")
+    N0 = me.Point("N0")
+    N0.set_vel(N, 0)
+    O = N0.locatenew("O", x[0] * N.x + x[1] * N.y + x[2] * N.z)
+    O.set_vel(N, O.pos_from(N0).dt(N))
+    O.set_acc(N, O.pos_from(N0).dt(N).dt(N))
+    P = O.locatenew("P", c[0] * B.x + c[1] * B.y + c[2] * B.z)
+    v = P.v2pt_theory(O, N, B)
+    a = P.a2pt_theory(O, N, B)
+    exprs = [
+        P.pos_from(N0).to_matrix(N),
+        O.pos_from(N0).to_matrix(N),
+        O.vel(N).to_matrix(N),
+        O.acc(N).to_matrix(N),
+        B.ang_vel_in(N).to_matrix(N),
+        B.ang_acc_in(N).to_matrix(N),
+        v.to_matrix(N),
+        a.to_matrix(N),
+        # brute force: differentiate the position of P twice in N
+        P.pos_from(N0).dt(N).to_matrix(N),
+        P.pos_from(N0).dt(N).dt(N).to_matrix(N),
+    ]
+    args = _subs_args(q, x) + list(c)
+    f = sp.lambdify(args, exprs, "numpy")
+    rng = np.random.default_rng(5)
+    r, o, v0, a0, w, eps, v_s, a_s, v_bf, a_bf = _eval(f, rng, len(args))
+    np.testing.assert_allclose(v_s, v_bf, atol=TOL)  # SymPy agrees with itself
+    np.testing.assert_allclose(a_s, a_bf, atol=TOL)
+    np.testing.assert_allclose(velocity_field(v0, w, r, pole=o), v_s, atol=TOL)
+    np.testing.assert_allclose(acceleration_field(a0, w, eps, r, pole=o), a_s, atol=TOL)
+    # rho given directly (pole at the origin)
+    np.testing.assert_allclose(velocity_field(v0, w, r - o), v_s, atol=TOL)
+    np.testing.assert_allclose(acceleration_field(a0, w, eps, r - o), a_s, atol=TOL)
+    # FrameMotion's own field methods
+    fm = FrameMotion(origin_velocity=v0, origin_acceleration=a0, omega=w, eps=eps)
+    np.testing.assert_allclose(fm.velocity_at(r - o), v_s, atol=TOL)
+    np.testing.assert_allclose(fm.acceleration_at(r - o), a_s, atol=TOL)
+
+
+def test_point_motion_vs_sympy_1pt_theory():
+    """A point moving in a moving frame: every term of the Coriolis theorem.
+
+    Expected terms from SymPy: total = ``a1pt_theory`` (and brute-force
+    differentiation); transport = ``a2pt_theory`` of the point of B that
+    coincides with P; relative = ``P.acc(B)``; Coriolis = total - transport -
+    relative.
+    """
+    q = me.dynamicsymbols("q1:4")
+    x = me.dynamicsymbols("x1:4")
+    s = me.dynamicsymbols("s1:4")
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_body_fixed(N, q, "zxz")
+    N0 = me.Point("N0")
+    N0.set_vel(N, 0)
+    O = N0.locatenew("O", x[0] * N.x + x[1] * N.y + x[2] * N.z)
+    O.set_vel(N, O.pos_from(N0).dt(N))
+    O.set_acc(N, O.pos_from(N0).dt(N).dt(N))
+    O.set_vel(B, 0)
+    O.set_acc(B, 0)
+    s_vec = s[0] * B.x + s[1] * B.y + s[2] * B.z
+    P = O.locatenew("P", s_vec)
+    P.set_vel(B, s_vec.dt(B))
+    P.set_acc(B, s_vec.dt(B).dt(B))
+    v = P.v1pt_theory(O, N, B)
+    a = P.a1pt_theory(O, N, B)
+    Q = O.locatenew("Q", s_vec)  # the point of B that coincides with P now
+    v_tr = Q.v2pt_theory(O, N, B)
+    a_tr = Q.a2pt_theory(O, N, B)
+    exprs = [
+        s_vec.to_matrix(N),
+        P.vel(B).to_matrix(N),
+        P.acc(B).to_matrix(N),
+        O.vel(N).to_matrix(N),
+        O.acc(N).to_matrix(N),
+        B.ang_vel_in(N).to_matrix(N),
+        B.ang_acc_in(N).to_matrix(N),
+        v.to_matrix(N),
+        a.to_matrix(N),
+        v_tr.to_matrix(N),
+        a_tr.to_matrix(N),
+        P.pos_from(N0).dt(N).to_matrix(N),
+        P.pos_from(N0).dt(N).dt(N).to_matrix(N),
+    ]
+    args = _subs_args(q, x, s)
+    f = sp.lambdify(args, exprs, "numpy")
+    rng = np.random.default_rng(6)
+    s_n, v_r, a_r, v0, a0, w, eps, v_s, a_s, v_e, a_e, v_bf, a_bf = _eval(f, rng, len(args))
+    np.testing.assert_allclose(a_s, a_bf, atol=TOL)
+    m = point_motion(
+        FrameMotion(origin_velocity=v0, origin_acceleration=a0, omega=w, eps=eps), s_n, v_r, a_r
+    )
+    np.testing.assert_allclose(m.velocity, v_s, atol=TOL)
+    np.testing.assert_allclose(m.velocity, v_bf, atol=TOL)
+    np.testing.assert_allclose(m.transport_velocity, v_e, atol=TOL)
+    np.testing.assert_allclose(m.relative_velocity, v_r, atol=TOL)
+    np.testing.assert_allclose(m.acceleration, a_s, atol=TOL)
+    np.testing.assert_allclose(m.transport_acceleration, a_e, atol=TOL)
+    np.testing.assert_allclose(m.relative_acceleration, a_r, atol=TOL)
+    np.testing.assert_allclose(m.coriolis_acceleration, a_s - a_e - a_r, atol=TOL)
+    np.testing.assert_allclose(m.origin_acceleration, a0, atol=TOL)
+    np.testing.assert_allclose(
+        m.origin_acceleration + m.rotational_acceleration + m.centripetal_acceleration,
+        a_e,
+        atol=TOL,
+    )
+
+
+def test_chain_of_three_frames_vs_sympy():
+    """N -> A -> B -> point: ``chain`` of relative motions vs SymPy's absolute motion."""
+    a = me.dynamicsymbols("a")
+    b = me.dynamicsymbols("b1:4")
+    x = me.dynamicsymbols("x1:4")
+    d = me.dynamicsymbols("d1:4")
+    s = me.dynamicsymbols("s1:4")
+    N = me.ReferenceFrame("N")
+    A = me.ReferenceFrame("A")
+    B = me.ReferenceFrame("B")
+    A.orient_axis(N, N.z, a)
+    B.orient_body_fixed(A, b, "xyz")
+    N0 = me.Point("N0")
+    N0.set_vel(N, 0)
+    OA = N0.locatenew("OA", x[0] * N.x + x[1] * N.y + x[2] * N.z)
+    d_vec = d[0] * A.x + d[1] * A.y + d[2] * A.z
+    OB = OA.locatenew("OB", d_vec)
+    s_vec = s[0] * B.x + s[1] * B.y + s[2] * B.z
+    P = OB.locatenew("P", s_vec)
+    r_p = P.pos_from(N0)
+    r_b = OB.pos_from(N0)
+    w_ba = B.ang_vel_in(A)
+    exprs = [
+        # outer frame A relative to N
+        OA.pos_from(N0).dt(N).to_matrix(N),
+        OA.pos_from(N0).dt(N).dt(N).to_matrix(N),
+        A.ang_vel_in(N).to_matrix(N),
+        A.ang_acc_in(N).to_matrix(N),
+        # inner frame B relative to A (local derivatives in A), N components
+        d_vec.to_matrix(N),
+        d_vec.dt(A).to_matrix(N),
+        d_vec.dt(A).dt(A).to_matrix(N),
+        w_ba.to_matrix(N),
+        w_ba.dt(A).to_matrix(N),
+        # point relative to B
+        s_vec.to_matrix(N),
+        s_vec.dt(B).to_matrix(N),
+        s_vec.dt(B).dt(B).to_matrix(N),
+        # absolute truths
+        r_b.dt(N).to_matrix(N),
+        r_b.dt(N).dt(N).to_matrix(N),
+        B.ang_vel_in(N).to_matrix(N),
+        B.ang_acc_in(N).to_matrix(N),
+        r_p.dt(N).to_matrix(N),
+        r_p.dt(N).dt(N).to_matrix(N),
+    ]
+    args = _subs_args([a], b, x, d, s)
+    f = sp.lambdify(args, exprs, "numpy")
+    rng = np.random.default_rng(8)
+    (va, aa, wa, ea, off, vd, ad, wr, er, s_n, vs, as_, vb, ab, wb, eb, vp, ap) = _eval(
+        f, rng, len(args), n=6
+    )
+    outer = FrameMotion(origin_velocity=va, origin_acceleration=aa, omega=wa, eps=ea)
+    inner = FrameMotion(origin_velocity=vd, origin_acceleration=ad, omega=wr, eps=er)
+    total = chain([outer, inner], [off])
+    np.testing.assert_allclose(total.origin_velocity, vb, atol=TOL)
+    np.testing.assert_allclose(total.origin_acceleration, ab, atol=TOL)
+    np.testing.assert_allclose(total.omega, wb, atol=TOL)
+    np.testing.assert_allclose(total.eps, eb, atol=TOL)
+    m = point_motion(total, s_n, vs, as_)
+    np.testing.assert_allclose(m.velocity, vp, atol=TOL)
+    np.testing.assert_allclose(m.acceleration, ap, atol=TOL)
+
+
+# ---------------------------------------------------------------------------
+# 7. Frenet: curvature and torsion of a helix and a twisted cubic
+# ---------------------------------------------------------------------------
+
+_t = sp.symbols("t", real=True)
+CURVES = {
+    "helix": sp.Matrix([2 * sp.cos(_t), 2 * sp.sin(_t), sp.Rational(7, 10) * _t]),
+    "twisted_cubic": sp.Matrix([_t, _t**2, _t**3]),
+    "conical_spiral": sp.Matrix([_t * sp.cos(3 * _t), _t * sp.sin(3 * _t), 2 * _t]),
+}
+
+
+def _sympy_frenet(r):
+    """Lambdified SymPy Frenet quantities; returns ``f(t) -> list`` of (n, 3) / (n,) arrays."""
+    r1, r2, r3 = r.diff(_t), r.diff(_t, 2), r.diff(_t, 3)
+    c = r1.cross(r2)
+    speed = sp.sqrt(r1.dot(r1))
+    kappa = sp.sqrt(c.dot(c)) / speed**3
+    tau = c.dot(r3) / c.dot(c)
+    tangent = r1 / speed
+    binormal = c / sp.sqrt(c.dot(c))
+    normal = binormal.cross(tangent)
+    a_t = r1.dot(r2) / speed  # d|v|/dt
+    a_n = speed**2 * kappa
+    outs = [r, r1, r2, r3, kappa, tau, speed, tangent, normal, binormal, a_t, a_n]
+    flat, sizes = [], []
+    for o in outs:
+        items = list(o) if isinstance(o, sp.MatrixBase) else [o]
+        flat += items
+        sizes.append(len(items))
+    g = sp.lambdify(_t, flat, "numpy")
+
+    def f(t):
+        t = np.asarray(t, dtype=float)
+        vals = [np.broadcast_to(np.asarray(v, dtype=float), t.shape) for v in g(t)]
+        res, i = [], 0
+        for n in sizes:
+            res.append(np.stack(vals[i : i + n], axis=-1) if n == 3 else vals[i])
+            i += n
+        return res
+
+    return f
+
+
+@pytest.mark.parametrize("name", sorted(CURVES))
+def test_frenet_vs_sympy(name):
+    f = _sympy_frenet(CURVES[name])
+    t = np.linspace(0.3, 2.5, 9)
+    r, r1, r2, r3, kappa, tau, speed, tng, nrm, bnm, a_t, a_n = f(t)
+
+    def curve(tt):
+        return f(tt)[0]
+
+    def deriv(k):
+        return lambda tt: f(tt)[k]
+
+    # with the exact derivatives poinsot only evaluates the formulas
+    ex = frenet(t, curve, derivatives=(deriv(1), deriv(2), deriv(3)))
+    for got, want in [
+        (ex.curvature, kappa),
+        (ex.torsion, tau),
+        (ex.speed, speed),
+        (ex.tangent, tng),
+        (ex.normal, nrm),
+        (ex.binormal, bnm),
+        (ex.tangential_acceleration, a_t),
+        (ex.normal_acceleration, a_n),
+    ]:
+        np.testing.assert_allclose(got, want, rtol=0, atol=TOL)
+    # default: finite differences of the callable (documented O(h^8) / O(h^6))
+    fd = frenet(t, curve)
+    np.testing.assert_allclose(fd.curvature, kappa, rtol=1e-10, atol=0)
+    np.testing.assert_allclose(fd.torsion, tau, rtol=1e-7, atol=0)
+    np.testing.assert_allclose(fd.normal, nrm, atol=1e-9)
+    # samples on a dense grid (7-point stencil)
+    ts = np.linspace(0.0, 3.0, 2001)
+    sm = frenet(ts, curve(ts))
+    inner = (ts > 0.3) & (ts < 2.7)
+    kap_s, tau_s = f(ts)[4:6]
+    np.testing.assert_allclose(sm.curvature[inner], kap_s[inner], rtol=1e-8)
+    np.testing.assert_allclose(sm.torsion[inner], tau_s[inner], rtol=1e-6)
