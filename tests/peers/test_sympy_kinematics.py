@@ -481,3 +481,162 @@ def test_frenet_vs_sympy(name):
     kap_s, tau_s = f(ts)[4:6]
     np.testing.assert_allclose(sm.curvature[inner], kap_s[inner], rtol=1e-8)
     np.testing.assert_allclose(sm.torsion[inner], tau_s[inner], rtol=1e-6)
+
+
+# ---------------------------------------------------------------------------
+# 2b. Other representations: DCM, Gibbs, MRP and rotation-vector rates
+# ---------------------------------------------------------------------------
+
+
+def _quat_of(kind: str, p):
+    """Scalar-first unit quaternion as SymPy expressions of the parameters ``p``."""
+    pp = sum(v**2 for v in p)
+    if kind == "gibbs":  # g = l / l0
+        return [1 / sp.sqrt(1 + pp)] + [v / sp.sqrt(1 + pp) for v in p]
+    if kind == "mrp":  # p = l / (1 + l0)
+        return [(1 - pp) / (1 + pp)] + [2 * v / (1 + pp) for v in p]
+    f = sp.sqrt(pp)  # rotation vector phi = f e
+    return [sp.cos(f / 2)] + [sp.sin(f / 2) * v / f for v in p]
+
+
+@pytest.mark.parametrize("kind", ["gibbs", "mrp", "rotvec"])
+def test_parameter_rates_vs_sympy(kind):
+    from poinsot.kinematics import (
+        gibbs_rate,
+        mrp_rate,
+        omega_from_gibbs_rate,
+        omega_from_mrp_rate,
+        omega_from_rotvec_rate,
+        rotvec_rate,
+    )
+
+    rate, inverse = {
+        "gibbs": (gibbs_rate, omega_from_gibbs_rate),
+        "mrp": (mrp_rate, omega_from_mrp_rate),
+        "rotvec": (rotvec_rate, omega_from_rotvec_rate),
+    }[kind]
+    p = me.dynamicsymbols("p1:4")
+    pd = [v.diff() for v in p]
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_quaternion(N, _quat_of(kind, p))
+    w = B.ang_vel_in(N)
+    f = sp.lambdify([p, pd], [w.to_matrix(B), w.to_matrix(N), N.dcm(B)], "numpy")
+    rng = np.random.default_rng(40)
+    for _ in range(8):
+        x = rng.normal(size=3) * 0.8
+        xd = rng.normal(size=3)
+        wb, ws, c = (np.asarray(v, dtype=float) for v in f(x, xd))
+        wb, ws = wb.reshape(-1), ws.reshape(-1)
+        from_param = {
+            "gibbs": Rotation.from_gibbs,
+            "mrp": Rotation.from_mrp,
+            "rotvec": Rotation.from_rotvec,
+        }[kind]
+        np.testing.assert_allclose(from_param(x).as_matrix(), c, atol=TOL)
+        np.testing.assert_allclose(inverse(x, xd, frame="body"), wb, atol=TOL)
+        np.testing.assert_allclose(inverse(x, xd, frame="space"), ws, atol=TOL)
+        np.testing.assert_allclose(rate(x, wb, frame="body"), xd, atol=TOL)
+        np.testing.assert_allclose(rate(x, ws, frame="space"), xd, atol=TOL)
+
+
+def test_dcm_rates_vs_sympy():
+    from poinsot.kinematics import dcm_rate, omega_from_dcm_rate
+
+    q = me.dynamicsymbols("q1:4")
+    qd = [v.diff() for v in q]
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_body_fixed(N, q, "yzx")
+    w = B.ang_vel_in(N)
+    c = N.dcm(B)
+    f = sp.lambdify([q, qd], [c, c.diff(me.dynamicsymbols._t), w.to_matrix(B), w.to_matrix(N)])
+    rng = np.random.default_rng(41)
+    for _ in range(8):
+        a = _random_angles(rng, "yzx", 1)[0]
+        cc, cd, wb, ws = (np.asarray(v, dtype=float) for v in f(a, rng.normal(size=3)))
+        wb, ws = wb.reshape(-1), ws.reshape(-1)
+        np.testing.assert_allclose(omega_from_dcm_rate(cc, cd, frame="body"), wb, atol=TOL)
+        np.testing.assert_allclose(omega_from_dcm_rate(cc, cd, frame="space"), ws, atol=TOL)
+        np.testing.assert_allclose(dcm_rate(cc, wb, frame="body"), cd, atol=TOL)
+        np.testing.assert_allclose(dcm_rate(cc, ws, frame="space"), cd, atol=TOL)
+
+
+# ---------------------------------------------------------------------------
+# 2c. Attitude histories: propagation and angular velocity from samples
+# ---------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def sympy_history():
+    """A smooth attitude history (Z-X-Y angles as functions of t), its omega and alpha."""
+    t = me.dynamicsymbols._t
+    angles = (0.7 * t + 0.3 * sp.sin(2 * t), 0.6 + 0.4 * sp.cos(1.3 * t), -0.5 * t + 0.2 * t**2)
+    N = me.ReferenceFrame("N")
+    B = me.ReferenceFrame("B")
+    B.orient_body_fixed(N, angles, "zxy")
+    w = B.ang_vel_in(N)
+    eps = B.ang_acc_in(N)
+    outs = [N.dcm(B), w.to_matrix(B), w.to_matrix(N), eps.to_matrix(B), eps.to_matrix(N)]
+    g = sp.lambdify(t, outs, "numpy")
+
+    def f(tt):
+        tt = np.atleast_1d(np.asarray(tt, dtype=float))
+        res = [[np.asarray(v, dtype=float) for v in g(x)] for x in tt]
+        c, wb, ws, eb, es = (np.array(z) for z in zip(*res, strict=True))
+        return c, wb[..., 0], ws[..., 0], eb[..., 0], es[..., 0]
+
+    return f
+
+
+@pytest.mark.parametrize(
+    ("method", "kwargs", "tol"),
+    [
+        ("magnus4", {"max_step": 0.01}, 1e-8),
+        ("magnus6", {"max_step": 0.02}, 1e-10),
+        ("rk4", {"max_step": 0.01}, 1e-8),
+        ("adaptive", {"rtol": 1e-12, "atol": 1e-13}, 1e-9),
+    ],
+)
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_propagate_vs_sympy_attitude(sympy_history, method, kwargs, tol, frame):
+    from poinsot.kinematics import propagate
+
+    t = np.linspace(0.0, 3.0, 31)
+    c, wb, ws, _, _ = sympy_history(t)
+    k = 1 if frame == "body" else 2
+
+    def omega(tt):
+        return sympy_history(tt)[k][0]
+
+    tr = propagate(Rotation.from_matrix(c[0]), omega, t, frame=frame, method=method, **kwargs)
+    np.testing.assert_allclose(tr.rotation.as_matrix(), c, atol=tol)
+    np.testing.assert_allclose(tr.omega, wb, atol=1e-12)  # returned omega is body
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_angular_velocity_from_samples_vs_sympy(sympy_history, frame):
+    from poinsot.kinematics import angular_velocity, rotation_spline
+
+    rng = np.random.default_rng(42)
+    t = np.sort(np.concatenate(([0.0, 3.0], rng.uniform(0.0, 3.0, size=299))))
+    c, wb, ws, eb, es = sympy_history(t)
+    want = wb if frame == "body" else ws
+    rot = Rotation.from_matrix(c)
+    quats = rot.as_quat() * rng.choice([-1.0, 1.0], size=(len(t), 1))  # q/-q flips
+    got4 = angular_velocity(t, quats, frame=frame)
+    got6 = angular_velocity(t, quats, frame=frame, order=6)
+    assert np.abs(got4 - want).max() < 1e-5
+    assert np.abs(got6 - want).max() < 1e-6
+    # the spline, between the knots
+    spl = rotation_spline(t, rot)
+    tm = 0.5 * (t[1:] + t[:-1])
+    cm, wbm, wsm, ebm, esm = sympy_history(tm)
+    np.testing.assert_allclose(spl.rotation(tm).as_matrix(), cm, atol=1e-6)
+    np.testing.assert_allclose(
+        spl.omega(tm, frame=frame), wbm if frame == "body" else wsm, atol=1e-4
+    )
+    inner = (tm > 0.3) & (tm < 2.7)
+    np.testing.assert_allclose(
+        spl.alpha(tm, frame=frame)[inner], (ebm if frame == "body" else esm)[inner], atol=1e-2
+    )
