@@ -212,3 +212,42 @@ def test_simulate_with_torque_vs_dop853():
     ad = simulate(j, r0, w0, t, torque=torque, method="adaptive", rtol=1e-12, atol=1e-13)
     np.testing.assert_allclose(ad.omega, w_ref, atol=1e-9)
     np.testing.assert_allclose(ad.rotation.as_matrix(), c_ref, atol=1e-9)
+
+
+EDGE_CASES = {
+    "flat_plate": ([1.0, 2.0, 3.0], [0.3, 0.8, -0.5]),  # A + B = C
+    "major_axis_exactly": ([1.0, 2.0, 3.0], [0.0, 0.0, 1.3]),
+    "minor_axis_exactly": ([1.0, 2.0, 3.0], [1.3, 0.0, 0.0]),
+    "perturbed_major_axis": ([1.0, 2.0, 3.0], [1e-7, 1e-7, 1.3]),
+    "tiny_body_fast_spin": ([1e-6, 2e-6, 2.5e-6], [3e3, -2e3, 1e3]),
+    "moments_unordered": ([2.5, 1.0, 2.0], [0.3, 0.8, -0.5]),
+    "near_symmetric_1e-9": ([1.0, 1.0 + 1e-9, 1.8], [0.5, 0.2, 1.0]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(EDGE_CASES))
+def test_free_body_edge_cases_vs_dop853(name):
+    """Permanent rotations, the flat plate, extreme scales, unordered moments."""
+    moments, w0 = (np.array(v) for v in EDGE_CASES[name])
+    r0 = Rotation.from_rotvec([0.2, -0.4, 0.7])
+    body = FreeRigidBody(moments, w0, r0)
+    period, _ = _landau_period(moments, w0)
+    assert abs(body.period - period) <= 1e-12 * period
+    t = np.linspace(0.0, 2.0 * period, 101)
+    w_ref, c_ref = _reference(np.diag(moments), w0, r0.as_quat(), t)
+    w, rot = body.state(t)
+    np.testing.assert_allclose(w, w_ref, rtol=0, atol=1e-11 * np.linalg.norm(w0))
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, rtol=0, atol=1e-10)
+
+
+def test_middle_axis_rotation_vs_dop853():
+    """Exactly about the middle axis: a uniform (unstable) permanent rotation."""
+    w0 = np.array([0.0, 1.3, 0.0])
+    body = FreeRigidBody([1.0, 2.0, 3.0], w0)
+    assert body.regime == "separatrix"
+    assert body.period == np.inf
+    t = np.linspace(0.0, 10.0, 21)
+    w_ref, c_ref = _reference(np.diag([1.0, 2.0, 3.0]), w0, np.array([1.0, 0, 0, 0]), t)
+    w, rot = body.state(t)
+    np.testing.assert_allclose(w, w_ref, atol=1e-12)
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=1e-10)
