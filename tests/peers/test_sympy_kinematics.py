@@ -640,3 +640,45 @@ def test_angular_velocity_from_samples_vs_sympy(sympy_history, frame):
     np.testing.assert_allclose(
         spl.alpha(tm, frame=frame)[inner], (ebm if frame == "body" else esm)[inner], atol=1e-2
     )
+
+
+@pytest.mark.parametrize("kind", ["body", "space"])
+def test_as_euler_round_trip_through_sympy(kind):
+    """``as_euler`` of SymPy's DCM gives angles whose SymPy DCM is the same matrix.
+
+    Including exactly singular middle angles and ones 1e-9 rad away: within
+    ``GIMBAL_LOCK_ATOL`` of the singularity poinsot (like SciPy) sets the third
+    angle to 0 and warns, so the matrix is then reproduced to about twice the
+    distance to the singularity.
+    """
+    import warnings
+
+    from poinsot.errors import GimbalLockWarning
+    from poinsot.rotations.euler import GIMBAL_LOCK_ATOL
+
+    q = me.dynamicsymbols("q1:4")
+    rng = np.random.default_rng(43 if kind == "body" else 44)
+    for seq in SEQUENCES:
+        N = me.ReferenceFrame("N")
+        B = me.ReferenceFrame("B")
+        (B.orient_body_fixed if kind == "body" else B.orient_space_fixed)(N, q, seq)
+        f = sp.lambdify([q], N.dcm(B), "numpy")
+        seq_p = seq.upper() if kind == "body" else seq
+        if seq[0] == seq[2]:
+            special = [0.0, np.pi, 1e-9, np.pi - 1e-9, 1e-5]
+        else:
+            special = [np.pi / 2, -np.pi / 2, np.pi / 2 - 1e-9, -np.pi / 2 + 1e-5]
+        for mid in special + list(_random_angles(rng, seq, 4)[:, 1]):
+            a = np.array([rng.uniform(-np.pi, np.pi), mid, rng.uniform(-np.pi, np.pi)])
+            c = np.asarray(f(a), dtype=float)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                back = Rotation.from_matrix(c).as_euler(seq_p)
+            locked = any(issubclass(w.category, GimbalLockWarning) for w in caught)
+            if seq[0] == seq[2]:  # proper Euler: singular at 0 and pi
+                dist = min(abs(mid), abs(abs(mid) - np.pi))
+            else:  # Tait-Bryan: singular at +-pi/2
+                dist = abs(abs(mid) - np.pi / 2)
+            assert locked == (dist < GIMBAL_LOCK_ATOL)
+            tol = 2.5 * GIMBAL_LOCK_ATOL if locked else 1e-14
+            np.testing.assert_allclose(np.asarray(f(back), dtype=float), c, atol=tol)
