@@ -393,3 +393,64 @@ def test_euler_rhs_vs_kane(kane_euler):
     np.testing.assert_allclose(
         euler_rhs(np.array(js), np.array(ws), np.array(ms)), np.array(want), rtol=1e-12, atol=1e-12
     )
+
+
+def test_mesh_tetrahedron_vs_sympy_integral():
+    """A random tetrahedron as a mesh vs SymPy integrals over the mapped unit simplex."""
+    u, v, w = sp.symbols("u v w", nonnegative=True)
+    rng = np.random.default_rng(26)
+    verts = rng.normal(size=(4, 3))
+    if np.linalg.det(verts[1:] - verts[0]) < 0:
+        verts[[1, 2]] = verts[[2, 1]]
+    # x = v0 + u (v1 - v0) + v (v2 - v0) + w (v3 - v0) over the unit simplex
+    e = sp.Matrix(verts[1:] - verts[0]).T
+    x = sp.Matrix(verts[0]) + e * sp.Matrix([u, v, w])
+    det = abs(float(np.linalg.det(verts[1:] - verts[0])))
+
+    def integ(f):
+        g = sp.integrate(f * det, (w, 0, 1 - u - v))
+        g = sp.integrate(g, (v, 0, 1 - u))
+        return float(sp.integrate(g, (u, 0, 1)))
+
+    vol = integ(sp.Integer(1))
+    com = np.array([integ(x[i]) for i in range(3)]) / vol
+    p = np.array([[integ(x[i] * x[k]) for k in range(3)] for i in range(3)])
+    p -= vol * np.outer(com, com)  # int (r - c)(r - c)^T dV
+    j_want = np.trace(p) * np.eye(3) - p
+    faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    props = pm.mesh(verts, faces)
+    assert abs(props.volume - vol) < 1e-14
+    np.testing.assert_allclose(props.center_of_mass, com, atol=1e-14)
+    np.testing.assert_allclose(props.inertia, j_want, atol=1e-14)
+    props = pm.mesh(verts, faces, mass=2.5)
+    np.testing.assert_allclose(props.inertia, j_want * 2.5 / vol, atol=1e-13)
+
+
+def test_placed_vs_sympy_dyadic_and_parallel_axis():
+    """``RigidBody.placed(C_ab, position)``: SymPy dyadic in b read in a, moved to a's origin."""
+    rng = np.random.default_rng(27)
+    for _ in range(2):
+        j_c = _random_inertia(rng)
+        m = float(rng.uniform(0.5, 3.0))
+        c_b = rng.normal(size=3)  # centre of mass from the body reference point, b axes
+        pos = rng.normal(size=3)  # body reference point in a
+        R = Rotation.random(rng=rng)  # C_ab
+        A = me.ReferenceFrame("A")
+        Bf = me.ReferenceFrame("B")
+        Bf.orient_explicit(A, sp.Matrix(R.as_matrix()))  # takes A.dcm(B)
+        OA = me.Point("OA")
+        ref = OA.locatenew("ref", sum(float(v) * e for v, e in zip(pos, A, strict=True)))
+        C = ref.locatenew("C", sum(float(v) * e for v, e in zip(c_b, Bf, strict=True)))
+        body = me.RigidBody("b", C, Bf, m, (me.inertia(Bf, *_as_sympy_args(j_c)), C))
+        placed = pm.RigidBody(m, j_c, center_of_mass=c_b).placed(R, pos)
+        np.testing.assert_allclose(
+            placed.center_of_mass, _vec(C.pos_from(OA).to_matrix(A)), atol=1e-14
+        )
+        np.testing.assert_allclose(
+            placed.inertia, np.asarray(body.central_inertia.to_matrix(A), dtype=float), atol=1e-12
+        )
+        np.testing.assert_allclose(
+            placed.inertia_about([0, 0, 0]),
+            np.asarray(body.parallel_axis(OA, A).to_matrix(A), dtype=float),
+            atol=1e-12,
+        )
