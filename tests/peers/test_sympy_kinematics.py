@@ -715,3 +715,55 @@ def test_propagate_batch_vs_sympy(sympy_history):
     want = np.einsum("bij,kj,tkl->tbil", r0.as_matrix(), c[0], c)
     assert tr.rotation.shape == (16, 4)
     np.testing.assert_allclose(tr.rotation.as_matrix(), want, atol=1e-10)
+
+
+# ---------------------------------------------------------------------------
+# 3b. Screw axis and reduction of motions (SymPy solves the axis equations)
+# ---------------------------------------------------------------------------
+
+
+def test_screw_axis_vs_sympy_linsolve():
+    """The axis point nearest ``origin``: ``V0 + w x (r - O) = lam w``, ``(r - O) . w = 0``."""
+    from poinsot.kinematics import screw_axis
+
+    rng = np.random.default_rng(46)
+    r = sp.symbols("r1:4")
+    lam = sp.Symbol("lam")
+    for _ in range(5):
+        v0, w, o = rng.normal(size=(3, 3))
+        rv = sp.Matrix(r)
+        rel = rv - sp.Matrix(o)
+        eqs = list(sp.Matrix(v0) + sp.Matrix(w).cross(rel) - lam * sp.Matrix(w))
+        eqs.append(rel.dot(sp.Matrix(w)))
+        (sol,) = sp.linsolve(eqs, [*r, lam])
+        point = np.array([float(x) for x in sol[:3]])
+        lam_v = float(sol[3])
+        s = screw_axis(v0, w, origin=o)
+        np.testing.assert_allclose(s.point, point, atol=1e-12)
+        np.testing.assert_allclose(s.direction, w / np.linalg.norm(w), atol=TOL)
+        assert abs(float(s.parameter) - lam_v) < 1e-12
+        assert abs(float(s.min_speed) - abs(lam_v) * np.linalg.norm(w)) < 1e-12
+
+
+def test_reduce_motions_vs_sympy_velocity_field():
+    """Sum of rotation and translation fields (SymPy) at the pole, and the resulting axis."""
+    from poinsot.kinematics import reduce_motions
+
+    rng = np.random.default_rng(47)
+    x = sp.Matrix(sp.symbols("x1:4"))
+    rotations = [(rng.normal(size=3), rng.normal(size=3)) for _ in range(3)]
+    translations = [rng.normal(size=3) for _ in range(2)]
+    field = sum(
+        (sp.Matrix(w).cross(x - sp.Matrix(p)) for w, p in rotations), start=sp.zeros(3, 1)
+    ) + sum((sp.Matrix(v) for v in translations), start=sp.zeros(3, 1))
+    pole = rng.normal(size=3)
+    want_v = np.array([float(c) for c in field.subs(dict(zip(x, pole, strict=True)))])
+    m = reduce_motions(rotations, translations, pole=pole)
+    np.testing.assert_allclose(m.omega, sum(w for w, _ in rotations), atol=TOL)
+    np.testing.assert_allclose(m.velocity, want_v, atol=1e-12)
+    assert m.kind == "screw"
+    # every point of the axis moves along it with the field's velocity lam w
+    for s in (0.0, 1.7, -2.3):
+        pt = m.screw.point + s * m.screw.direction
+        v_pt = np.array([float(c) for c in field.subs(dict(zip(x, pt, strict=True)))])
+        np.testing.assert_allclose(v_pt, float(m.screw.parameter) * m.omega, atol=1e-12)
