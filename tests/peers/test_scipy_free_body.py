@@ -251,3 +251,26 @@ def test_middle_axis_rotation_vs_dop853():
     w, rot = body.state(t)
     np.testing.assert_allclose(w, w_ref, atol=1e-12)
     np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=1e-10)
+
+
+@pytest.mark.parametrize("case", range(len(CASES)))
+def test_poinsot_picture_vs_dop853(case):
+    """Polhode ``w / sqrt(2T)`` and herpolhode ``R w / sqrt(2T)`` from the reference motion."""
+    moments, w0, r0 = CASES[case]
+    body = FreeRigidBody(moments, w0, r0)  # diagonal moments: principal axes = body axes
+    t = np.linspace(0.0, 1.5 * body.period, 61)
+    w_ref, c_ref = _reference(np.diag(moments), w0, r0.as_quat(), t)
+    two_t = float(w0 @ (moments * w0))
+    k = np.linalg.norm(moments * w0)
+    g = body.poinsot(t)
+    # given principal moments keep their order (docs: "body axes = principal axes")
+    np.testing.assert_array_equal(body.principal_moments, moments)
+    np.testing.assert_allclose(g.polhode, w_ref / np.sqrt(two_t), atol=1e-11)
+    herp = np.einsum("nij,nj->ni", c_ref, w_ref) / np.sqrt(two_t)
+    np.testing.assert_allclose(g.herpolhode, herp, atol=1e-11)
+    assert abs(g.plane_distance - np.sqrt(two_t) / k) < 1e-14
+    np.testing.assert_allclose(herp @ g.plane_normal, np.sqrt(two_t) / k, atol=1e-11)
+    np.testing.assert_allclose(g.ellipsoid_semi_axes, 1.0 / np.sqrt(moments), atol=1e-15)
+    mc = body.maccullagh(50)
+    assert abs(mc.momentum_radius - k) < 1e-13 * k
+    np.testing.assert_allclose(mc.ellipsoid_semi_axes, np.sqrt(two_t * moments), rtol=1e-14)
