@@ -145,6 +145,8 @@ def test_euler_degrees_vs_sympy():
             "ZYX", np.degrees(angles[k]), np.degrees(rates[k]), degrees=True
         )
         np.testing.assert_allclose(got, _vec(b), atol=TOL)
+        back = euler_rates("ZYX", np.degrees(angles[k]), _vec(b), degrees=True)
+        np.testing.assert_allclose(back, np.degrees(rates[k]), atol=1e-10)
 
 
 # ---------------------------------------------------------------------------
