@@ -133,8 +133,13 @@ def matrix_to_quat(a, dummy, q, err, det):  # pragma: no cover - compiled
 @guvectorize(["void(float64[:], float64[:], float64[:])"], "(m),(n)->(n)", **_OPTS)
 def rotvec_to_quat(v, dummy, q):  # pragma: no cover - compiled
     # L = cos(f/2) + e sin(f/2) with phi = f e; sin(f/2)/f by its series for small f.
-    f2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-    f = math.sqrt(f2)
+    m = max(abs(v[0]), abs(v[1]), abs(v[2]))
+    if m > 1e150:  # |phi|^2 would overflow: take the length scaled
+        f = m * math.sqrt((v[0] / m) ** 2 + (v[1] / m) ** 2 + (v[2] / m) ** 2)
+        f2 = 0.0  # unused: only the small-angle series needs it
+    else:
+        f2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+        f = math.sqrt(f2)
     if f < 1e-3:
         # sin(f/2)/f = 1/2 - f^2/48 + f^4/3840 (next term ~ f^6/6e5 < 1e-23)
         s = 0.5 - f2 / 48.0 + f2 * f2 / 3840.0
@@ -151,7 +156,9 @@ def quat_to_rotvec(q, dummy, v):  # pragma: no cover - compiled
     # f = 2 atan2(|l|, l0) with l0 >= 0 (shortest rotation, f in [0, pi]);
     # phi = f l / |l|, accurate at every angle because atan2 is.
     w, x, y, z = q[0], q[1], q[2], q[3]
-    if w < 0.0:
+    # Canonical sign (as SciPy): w > 0, or at exactly pi (w = 0) the first
+    # non-zero vector component positive, so that f e is unique there too.
+    if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
         w, x, y, z = -w, -x, -y, -z
     n = math.sqrt(x * x + y * y + z * z)
     if n == 0.0:

@@ -106,10 +106,17 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
 
 
 def as_angles(angles, k: int, name: str = "angles") -> np.ndarray:
-    """Validate angles for a ``k``-axis sequence: shape (..., k), or (...) when k == 1."""
+    """Validate angles for a ``k``-axis sequence: shape (..., k), or (...) when k == 1.
+
+    For one axis, an array of two or more dimensions whose last axis has length 1
+    is read as SciPy reads it, shape (..., 1): ``(N, 1)`` angles give ``N``
+    rotations. Otherwise every element is one angle (a scalar gives a single
+    rotation, shape ``(N,)`` gives ``N`` rotations -- also for ``N = 1``, where
+    SciPy returns a single rotation).
+    """
     a = as_float_array(angles, name)
     if k == 1:
-        return a[..., None]
+        return a if a.ndim >= 2 and a.shape[-1] == 1 else a[..., None]
     if a.ndim == 0 or a.shape[-1] != k:
         raise InvalidInputError(
             f"Expected `{name}` to have shape (..., {k}) for a {k}-axis sequence, got {a.shape}."

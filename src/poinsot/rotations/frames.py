@@ -59,19 +59,26 @@ def quat_from_basis(e1, e2, e3, *, atol: float = ORTHOGONALITY_ATOL) -> np.ndarr
     return np.where(best[..., :1] < 0, -best, best)
 
 
-def align_vectors(a, b, weights=None) -> tuple[np.ndarray, float]:
+def align_vectors(a, b, weights=None, *, return_sensitivity: bool = False):
     """Optimal rotation matrix ``C`` for Wahba's problem ``a_i ~ C b_i`` and the RSSD.
 
     Minimises ``sum_i w_i |a_i - C b_i|^2`` by the SVD of ``B = sum_i w_i a_i b_i^T``
     (Kabsch/Markley): ``C = U diag(1, 1, det(U V^T)) V^T``. Needs at least two
     linearly independent (weighted) vector pairs, otherwise the rotation is not
-    determined and :class:`~poinsot.InvalidInputError` is raised.
+    determined and :class:`~poinsot.InvalidInputError` is raised: the pairs count
+    as dependent when the second singular value of ``B`` is below ``1e-12`` times
+    the first (two unit pairs less than about ``1.4e-6`` rad apart). ``B`` is
+    formed from ``a``, ``b`` and ``w`` scaled to a largest entry of 1 (the optimal
+    ``C`` does not change), so vectors of any magnitude (``1e-200``, ``1e200``)
+    are handled. With ``return_sensitivity`` the covariance-like sensitivity
+    matrix of SciPy (Markley & Crassidis) is returned as a third value.
     """
     a = as_vec3(a, "a")
     b = as_vec3(b, "b")
     if a.ndim != 2 or b.ndim != 2 or a.shape != b.shape:
         raise InvalidInputError(
-            f"Expected `a` and `b` to have the same shape (n, 3), got {a.shape} and {b.shape}."
+            "Expected `a` and `b` to have the same shape (n, 3) with n >= 2 vector pairs, "
+            f"got {a.shape} and {b.shape}."
         )
     n = a.shape[0]
     if weights is None:
@@ -82,16 +89,33 @@ def align_vectors(a, b, weights=None) -> tuple[np.ndarray, float]:
             raise InvalidInputError(f"Expected `weights` to have shape ({n},), got {w.shape}.")
         if np.any(w < 0):
             raise InvalidInputError("Expected `weights` to be non-negative.")
-    bmat = np.einsum("i,ij,ik->jk", w, a, b)
+    # Scale everything to a largest entry of 1: B then neither overflows (an SVD of
+    # an inf matrix never returns) nor underflows; C is invariant to the scales.
+    sa = float(np.max(np.abs(a), initial=0.0))
+    sb = float(np.max(np.abs(b), initial=0.0))
+    sw = float(np.max(w, initial=0.0))
+    degenerate = InvalidInputError(
+        "Expected `a` and `b` to contain at least two linearly independent vector pairs "
+        "(with non-zero weight); the rotation is not determined."
+    )
+    if n < 2 or sa == 0.0 or sb == 0.0 or sw == 0.0:
+        raise degenerate
+    a_s, b_s, w_s = a / sa, b / sb, w / sw
+    bmat = np.einsum("i,ij,ik->jk", w_s, a_s, b_s)
     u, sv, vt = np.linalg.svd(bmat)
-    scale = max(float(sv[0]), np.finfo(float).tiny)
-    if n < 2 or sv[1] <= 1e-12 * scale:
-        raise InvalidInputError(
-            "Expected `a` and `b` to contain at least two linearly independent vector pairs "
-            "(with non-zero weight); the rotation is not determined."
-        )
+    if sv[1] <= 1e-12 * sv[0]:
+        raise degenerate
     d = np.sign(np.linalg.det(u @ vt))
     c = u @ np.diag([1.0, 1.0, d]) @ vt
-    resid = a - b @ c.T
-    rssd = float(np.sqrt(np.sum(w * np.einsum("ij,ij->i", resid, resid))))
-    return c, rssd
+    s = max(sa, sb)
+    resid = a / s - (b / s) @ c.T
+    with np.errstate(over="ignore"):  # inf only if the true RSSD exceeds float64
+        rssd = s * np.sqrt(sw) * float(np.sqrt(np.sum(w_s * np.einsum("ij,ij->i", resid, resid))))
+    if not return_sensitivity:
+        return c, float(rssd)
+    sv = sv * np.array([1.0, 1.0, d])
+    zeta = (sv[0] + sv[1]) * (sv[1] + sv[2]) * (sv[2] + sv[0])
+    kappa = sv[0] * sv[1] + sv[1] * sv[2] + sv[2] * sv[0]
+    # SciPy: mean(w) / zeta * (kappa E + B B^T) for the unscaled B = (sa sb sw) B_s.
+    sens = np.mean(w_s) / zeta * (kappa * _EYE + bmat @ bmat.T) / (sa * sb)
+    return c, float(rssd), sens

@@ -37,15 +37,58 @@ __all__ = [
 ]
 
 
+#: Largest real part whose exponential is finite in float64 (``log(DBL_MAX)``).
+_LOG_MAX = float(np.log(np.finfo(np.float64).max))
+# Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
+_N2_LO, _N2_HI = 1e-290, 1e290
+
+
 def _quat(q, name: str = "q") -> np.ndarray:
     return as_trailing(q, name, (4,))
 
 
+def length_array(x: np.ndarray) -> np.ndarray:
+    """Euclidean length over the last axis, free of overflow and underflow.
+
+    The plain ``sqrt(sum x_i^2)`` is used unless the sum leaves ``[1e-290, 1e290]``;
+    those entries are recomputed as ``m sqrt(sum (x_i / m)^2)`` with ``m = max |x_i|``,
+    so quaternions like ``(1e200, 1e200, 0, 0)`` or ``(1e-200, 0, 0, 0)`` keep their
+    true length instead of ``inf``/``0``.
+    """
+    n2 = np.einsum("...i,...i->...", x, x)
+    odd = (n2 < _N2_LO) | (n2 > _N2_HI)
+    if not np.any(odd):
+        return np.sqrt(n2)
+    m = np.max(np.abs(x), axis=-1)
+    safe_m = np.where(m > 0, m, 1.0)
+    y = x / safe_m[..., None]
+    scaled = m * np.sqrt(np.einsum("...i,...i->...", y, y))
+    return np.where(odd, scaled, np.sqrt(n2))
+
+
 def _nonzero(q: np.ndarray, name: str) -> np.ndarray:
-    n2 = np.einsum("...i,...i->...", q, q)
-    if np.any(n2 == 0.0):
+    """Lengths ``|q|`` (robust, see :func:`length_array`); a zero quaternion raises."""
+    n = length_array(q)
+    if np.any(n == 0.0):
         raise InvalidInputError(f"Expected `{name}` to be non-zero quaternions, got a zero one.")
-    return n2
+    return n
+
+
+def normalize_array(q: np.ndarray, name: str = "quat") -> np.ndarray:
+    """``q / |q|`` for validated float arrays (..., 4); a zero quaternion raises."""
+    return q / _nonzero(q, name)[..., None]
+
+
+def _checked(kernel, what: str, *args) -> np.ndarray:
+    # A float64 overflow inside a kernel becomes a named error instead of inf/NaN
+    # and a RuntimeWarning.
+    with np.errstate(over="raise", invalid="raise"):
+        try:
+            return kernel(*args)
+        except FloatingPointError:
+            raise InvalidInputError(
+                f"Expected {what} to stay within float64 range, but it overflows."
+            ) from None
 
 
 def _broadcast(name_a: str, a: np.ndarray, name_b: str, b: np.ndarray) -> None:
@@ -84,7 +127,7 @@ def multiply(p, q) -> np.ndarray:
     """
     p, q = _quat(p, "p"), _quat(q, "q")
     _broadcast("p", p, "q", q)
-    return kernels().qmul(p, q)
+    return _checked(kernels().qmul, "the product of `p` and `q`", p, q)
 
 
 def conjugate(q) -> np.ndarray:
@@ -104,6 +147,13 @@ def conjugate_array(q: np.ndarray) -> np.ndarray:
     out = np.negative(q)
     out[..., 0] = q[..., 0]
     return out
+
+
+def canonical_array(q: np.ndarray) -> np.ndarray:
+    """Sign choice making ``q`` unique (as SciPy): ``w > 0``, or the first non-zero ``> 0``."""
+    first_nonzero = np.argmax(q != 0, axis=-1)
+    lead = np.take_along_axis(q, first_nonzero[..., None], axis=-1)
+    return np.where(lead < 0, -q, q)
 
 
 def norm_squared(q) -> np.ndarray:
@@ -126,7 +176,7 @@ def norm(q) -> np.ndarray:
     >>> float(norm([0.0, 3.0, 0.0, 4.0]))
     5.0
     """
-    return np.sqrt(norm_squared(q))
+    return length_array(_quat(q))[()]
 
 
 def normalize(q) -> np.ndarray:
@@ -137,8 +187,7 @@ def normalize(q) -> np.ndarray:
     >>> normalize([0.0, 3.0, 0.0, 4.0])
     array([0. , 0.6, 0. , 0.8])
     """
-    q = _quat(q)
-    return q / np.sqrt(_nonzero(q, "q"))[..., None]
+    return normalize_array(_quat(q), "q")
 
 
 def inverse(q) -> np.ndarray:
@@ -150,7 +199,8 @@ def inverse(q) -> np.ndarray:
     array([1., 0., 0., 0.])
     """
     q = _quat(q)
-    return conjugate_array(q) / _nonzero(q, "q")[..., None]
+    n = _nonzero(q, "q")[..., None]
+    return conjugate_array(q) / n / n  # two divisions: |q|^2 may over/underflow
 
 
 def exp(q) -> np.ndarray:
@@ -167,9 +217,14 @@ def exp(q) -> np.ndarray:
     >>> exp([0.0, 0.0, 0.0, np.pi / 4]).round(8)     # 90 deg about z
     array([0.70710678, 0.        , 0.        , 0.70710678])
     """
-    q = _quat(q)
+    return _exp(_quat(q), "Expected the scalar part of `q` to be at most")
+
+
+def _exp(q: np.ndarray, message: str) -> np.ndarray:
     a, v = q[..., 0], q[..., 1:]
-    n = np.sqrt(np.einsum("...i,...i->...", v, v))
+    if np.any(a > _LOG_MAX):
+        raise InvalidInputError(f"{message} {_LOG_MAX:.6g} (e^a overflows float64).")
+    n = length_array(v)
     ea = np.exp(a)
     out = np.empty(q.shape)
     out[..., 0] = ea * np.cos(n)
@@ -190,15 +245,15 @@ def log(q) -> np.ndarray:
     array([0. , 0.1, 0.2, 0.3])
     """
     q = _quat(q)
-    n2 = _nonzero(q, "q")
+    length_q = _nonzero(q, "q")
     a, v = q[..., 0], q[..., 1:]
-    n = np.sqrt(np.einsum("...i,...i->...", v, v))
+    n = length_array(v)
     f = np.arctan2(n, a)
     # f / n -> 1 / a as n -> 0 with a > 0 (atan2 keeps full accuracy for n > 0).
     safe = n > 0
     scale = np.where(safe, f / np.where(safe, n, 1.0), 1.0 / np.where(a != 0, a, 1.0))
     out = np.empty(q.shape)
-    out[..., 0] = 0.5 * np.log(n2)
+    out[..., 0] = np.log(length_q)
     out[..., 1:] = scale[..., None] * v
     neg_real = (~safe) & (a < 0)
     if np.any(neg_real):
@@ -223,7 +278,11 @@ def power(q, t) -> np.ndarray:
     array([0., 0., 0., 1.])
     """
     t = as_float_array(t, "t")
-    return exp(log(q) * t[..., None])
+    with np.errstate(over="ignore", invalid="ignore"):
+        lt = log(q) * t[..., None]
+    if not np.all(np.isfinite(lt[..., 1:])):
+        raise InvalidInputError("Expected `t` times the angle of `q` to stay within float64 range.")
+    return _exp(lt, "Expected `t` log|q| to be at most")
 
 
 def rotate(q, v) -> np.ndarray:
@@ -251,4 +310,4 @@ def rotate(q, v) -> np.ndarray:
     """
     q, v = _quat(q), as_vec3(v, "v")
     _broadcast("q", q, "v", v)
-    return kernels().qrot(q, v)
+    return _checked(kernels().qrot, "`rotate(q, v)`", q, v)

@@ -2,9 +2,12 @@
 
 **Convention:** Gibbs vector ``g = e tan(f/2) = l / l0``; MRP
 ``p = e tan(f/4) = l / (1 + l0)``. Both are taken from the quaternion with
-``l0 >= 0`` (shortest rotation), so ``|p| <= 1``. The Gibbs vector is infinite
-for ``f = pi``: :func:`gibbs_from_quat` then returns ``+-inf`` components along
-the axis and issues a :class:`~poinsot.SingularityWarning`.
+``l0 >= 0`` (shortest rotation), so ``|p| <= 1``; at exactly ``f = pi``
+(``l0 = 0``) the sign makes the first non-zero component positive, as
+:meth:`Rotation.as_rotvec` does (SciPy's ``as_mrp`` keeps the stored sign there:
+both are valid). The Gibbs vector is infinite for ``f = pi``:
+:func:`gibbs_from_quat` then returns ``+-inf`` components along the axis and
+issues a :class:`~poinsot.SingularityWarning`.
 """
 
 from __future__ import annotations
@@ -14,12 +17,15 @@ import warnings
 import numpy as np
 
 from ..errors import SingularityWarning
+from .quaternion import canonical_array
 
 __all__ = ["quat_from_gibbs", "gibbs_from_quat", "quat_from_mrp", "mrp_from_quat"]
 
 
 def _positive_scalar(q: np.ndarray) -> np.ndarray:
-    return np.where(q[..., :1] < 0, -q, q)
+    # The canonical sign (l0 > 0, or at exactly pi the first non-zero component > 0),
+    # shared with the rotation vector and axis-angle outputs.
+    return canonical_array(q)
 
 
 def quat_from_gibbs(g: np.ndarray) -> np.ndarray:

@@ -23,21 +23,30 @@ from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
-from .._validate import as_choice, as_float_array, as_quat, as_vec3
+from .._validate import as_choice, as_float_array, as_trailing, as_vec3
 from ..errors import InvalidInputError, InvalidTypeError
 from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
 from ._lazy import kernels
-from .quaternion import conjugate_array
+from .quaternion import canonical_array as _canonical
+from .quaternion import conjugate_array, normalize_array
 
 __all__ = ["Rotation", "compose", "slerp"]
 
 
-def _canonical(q: np.ndarray) -> np.ndarray:
-    """Sign choice that makes ``q`` unique: ``w > 0``, or the first non-zero component > 0."""
-    first_nonzero = np.argmax(q != 0, axis=-1)
-    lead = np.take_along_axis(q, first_nonzero[..., None], axis=-1)
-    return np.where(lead < 0, -q, q)
+def _as_shape(shape, name: str = "shape") -> tuple[int, ...]:
+    """A leading shape: ``None`` or ``()`` (single), an int, or a sequence of ints >= 0."""
+    if shape is None:
+        return ()
+    dims = (shape,) if np.ndim(shape) == 0 else tuple(np.asarray(shape).ravel().tolist())
+    for d in dims:
+        if isinstance(d, bool) or not isinstance(d, int | np.integer):
+            raise InvalidTypeError(
+                f"Expected `{name}` to be an int or a tuple of ints, got {shape!r}."
+            )
+        if d < 0:
+            raise InvalidInputError(f"Expected `{name}` to have no negative sizes, got {shape!r}.")
+    return tuple(int(d) for d in dims)
 
 
 def _broadcast_shapes(what: str, *shapes: tuple[int, ...]) -> tuple[int, ...]:
@@ -77,7 +86,10 @@ class Rotation:
         if _trusted:
             q = quat
         else:
-            q = as_quat(quat, "quat", normalize=normalize)
+            q = as_trailing(quat, "quat", (4,))
+            n = normalize_array(q, "quat")  # also rejects zero quaternions
+            if normalize:
+                q = n
         q = np.array(q, dtype=np.float64, copy=not _trusted)
         q.setflags(write=False)
         self._q = q
@@ -122,7 +134,12 @@ class Rotation:
         """A view with another leading shape."""
         if len(shape) == 1 and isinstance(shape[0], tuple | list):
             shape = tuple(shape[0])
-        return Rotation._wrap(self._q.reshape(*shape, 4))
+        try:
+            return Rotation._wrap(self._q.reshape(*shape, 4))
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"Expected a shape with {int(np.prod(self.shape))} rotations, got {shape!r}."
+            ) from None
 
     def __repr__(self) -> str:
         return f"Rotation(quat={np.array2string(self._q, precision=6, separator=', ')})"
@@ -144,7 +161,7 @@ class Rotation:
         >>> Rotation.from_quat([0, 0, 0, 1], scalar_first=False).as_quat()
         array([1., 0., 0., 0.])
         """
-        q = as_quat(quat, "quat")
+        q = normalize_array(as_trailing(quat, "quat", (4,)), "quat")
         if not scalar_first:
             q = np.roll(q, 1, axis=-1)
         return cls._wrap(q)
@@ -280,12 +297,15 @@ class Rotation:
         return cls._wrap(frames.quat_from_basis(e1, e2, e3))
 
     @classmethod
-    def align_vectors(cls, a, b, weights=None) -> tuple[Rotation, float]:
+    def align_vectors(cls, a, b, weights=None, *, return_sensitivity: bool = False):
         """Solve Wahba's problem: the rotation ``R`` minimising ``sum w_i |a_i - R b_i|^2``.
 
         Same argument order as SciPy (``a ~ R b``). Returns ``(R, rssd)`` with
-        ``rssd = sqrt(sum w_i |a_i - R b_i|^2)``. Needs two or more linearly
-        independent pairs.
+        ``rssd = sqrt(sum w_i |a_i - R b_i|^2)``, and SciPy's sensitivity matrix
+        (3, 3) as a third value if ``return_sensitivity=True``. Needs two or more
+        linearly independent pairs (with non-zero weight) and finite weights:
+        unlike SciPy there is no single-pair or infinite-weight mode, an
+        undetermined rotation raises :class:`~poinsot.InvalidInputError`.
 
         Examples
         --------
@@ -293,8 +313,8 @@ class Rotation:
         >>> r.as_rotvec(degrees=True).round(9) + 0.0, round(rssd, 12)
         (array([ 0.,  0., 90.]), 0.0)
         """
-        c, rssd = frames.align_vectors(a, b, weights)
-        return cls._wrap(dcm.quat_from_matrix(c)), rssd
+        out = frames.align_vectors(a, b, weights, return_sensitivity=return_sensitivity)
+        return (cls._wrap(dcm.quat_from_matrix(out[0])), *out[1:])
 
     @classmethod
     def identity(cls, shape: int | Sequence[int] = ()) -> Rotation:
@@ -306,7 +326,7 @@ class Rotation:
         array([[1., 0., 0., 0.],
                [1., 0., 0., 0.]])
         """
-        shape = (shape,) if np.ndim(shape) == 0 else tuple(shape)
+        shape = _as_shape(shape)
         q = np.zeros((*shape, 4))
         q[..., 0] = 1.0
         return cls._wrap(q)
@@ -322,7 +342,7 @@ class Rotation:
         >>> Rotation.random(3, rng=42).shape
         (3,)
         """
-        shape = (shape,) if np.ndim(shape) == 0 else tuple(shape)
+        shape = _as_shape(shape)
         g = np.random.default_rng(rng)
         q = g.standard_normal((*shape, 4))
         return cls._wrap(q / np.linalg.norm(q, axis=-1, keepdims=True))
@@ -336,9 +356,18 @@ class Rotation:
         >>> Rotation.concatenate([Rotation.identity(), Rotation.identity(2)]).shape
         (3,)
         """
+        if isinstance(rotations, Rotation):
+            rotations = [rotations]
         qs = [np.atleast_2d(_as_rotation(r, "rotations")._q) for r in rotations]
         if not qs:
             raise InvalidInputError("Expected `rotations` to contain at least one rotation.")
+        tails = {q.shape[1:] for q in qs}
+        if len(tails) > 1:
+            shapes = [q.shape[:-1] for q in qs]
+            raise InvalidInputError(
+                "Expected `rotations` to have the same shape after the first axis, "
+                f"got shapes {shapes}."
+            )
         return cls._wrap(np.concatenate(qs, axis=0))
 
     # ----------------------------------------------------------------- output
@@ -384,7 +413,8 @@ class Rotation:
         """Unit axis (..., 3) and angle (...) in ``[0, pi]``.
 
         For the identity (angle 0) the axis is undetermined and ``(1, 0, 0)`` is
-        returned.
+        returned. At exactly pi the axis sign is that of :meth:`as_rotvec` (first
+        non-zero component positive, as SciPy's canonical quaternion).
 
         Examples
         --------
@@ -392,7 +422,7 @@ class Rotation:
         >>> axis + 0.0, float(angle)
         (array([ 0.,  0., -1.]), 0.5)
         """
-        q = np.where(self._q[..., :1] < 0, -self._q, self._q)
+        q = _canonical(self._q)
         v = q[..., 1:]
         n = np.sqrt(np.einsum("...i,...i->...", v, v))
         angle = 2.0 * np.arctan2(n, q[..., 0])
@@ -516,8 +546,11 @@ class Rotation:
             return self.inv()
         return Rotation._wrap(rotvec_mod.quat_from_rotvec(p[..., None] * self.as_rotvec()))
 
-    def approx_equal(self, other: Rotation, *, atol: float = 1e-8) -> np.ndarray:
-        """Whether the rotations differ by an angle ``<= atol`` radians (q and -q are equal).
+    def approx_equal(self, other: Rotation, *, atol=None, degrees: bool = False) -> np.ndarray:
+        """Whether the rotations differ by an angle ``<= atol`` (q and -q are equal).
+
+        ``atol`` is in radians (degrees if ``degrees=True``); ``None`` means 1e-8
+        rad, as in SciPy. Shapes broadcast.
 
         Examples
         --------
@@ -526,13 +559,24 @@ class Rotation:
         True
         """
         other = _as_rotation(other, "other")
-        return (other.inv() * self).magnitude() <= atol
+        if atol is None:
+            tol = 1e-8
+        else:
+            tol = float(as_float_array(atol, "atol"))  # type/finiteness named
+            if tol < 0:
+                raise InvalidInputError(f"Expected `atol` to be non-negative, got {atol!r}.")
+            if degrees:
+                tol = float(np.deg2rad(tol))
+        return (other.inv() * self).magnitude() <= tol
 
-    def mean(self, weights=None) -> Rotation:
-        """Chordal L2 mean of all rotations (Markley et al. 2007).
+    def mean(self, weights=None, axis=None) -> Rotation:
+        """Chordal L2 mean (Markley et al. 2007), over all rotations or along ``axis``.
 
         The quaternion maximising ``sum w_i (q . q_i)^2``: the eigenvector of the
         largest eigenvalue of ``M = sum w_i q_i q_i^T`` (insensitive to q/-q).
+        ``weights`` (non-negative, not all zero) broadcast to the rotations'
+        shape; ``axis`` (int or tuple, default all) as in SciPy. An empty set
+        raises :class:`~poinsot.InvalidInputError`.
 
         Examples
         --------
@@ -540,23 +584,57 @@ class Rotation:
         >>> r.mean().as_rotvec().round(15) + 0.0
         array([0., 0., 0.])
         """
-        q = self._q.reshape(-1, 4)
-        if weights is None:
-            w = np.ones(q.shape[0])
+        q, shape = self._q, self.shape
+        nd = len(shape)
+        if axis is None:
+            axes = tuple(range(nd))
         else:
-            w = as_float_array(weights, "weights").reshape(-1)
-            if w.shape != (q.shape[0],) or np.any(w < 0) or not np.any(w > 0):
-                raise InvalidInputError(
-                    f"Expected `weights` to be {q.shape[0]} non-negative numbers, not all zero."
+            raw = (axis,) if np.ndim(axis) == 0 else tuple(axis)
+            if not all(isinstance(a, int | np.integer) and not isinstance(a, bool) for a in raw):
+                raise InvalidTypeError(
+                    f"Expected `axis` to be an int or a tuple of ints, got {axis!r}."
                 )
-        m = np.einsum("i,ij,ik->jk", w, q, q)
+            if any(not -nd <= a < nd for a in raw):
+                raise InvalidInputError(
+                    f"Expected `axis` within the rotations' {nd} dimensions, got {axis!r}."
+                )
+            axes = tuple(sorted({int(a) % nd for a in raw}))
+        kept = tuple(k for k in range(nd) if k not in axes)
+        if weights is None:
+            w = np.ones(shape)
+        else:
+            w = as_float_array(weights, "weights")
+            try:
+                w = np.broadcast_to(w, shape)
+            except ValueError:
+                raise InvalidInputError(
+                    f"Expected `weights` to broadcast to the rotations' shape {shape}, "
+                    f"got {w.shape}."
+                ) from None
+            if np.any(w < 0):
+                raise InvalidInputError("Expected `weights` to be non-negative.")
+        kept_shape = tuple(shape[k] for k in kept)
+        n = int(np.prod([shape[k] for k in axes]))
+        if n == 0:
+            raise InvalidInputError("Expected at least one rotation to average, got none.")
+        qk = np.transpose(q, (*kept, *axes, nd)).reshape(*kept_shape, n, 4)
+        wk = np.transpose(w, (*kept, *axes)).reshape(*kept_shape, n)
+        if np.any(np.sum(wk, axis=-1) == 0):
+            raise InvalidInputError("Expected `weights` not to be all zero.")
+        m = np.einsum("...i,...ij,...ik->...jk", wk, qk, qk)
         _, vecs = np.linalg.eigh(m)
-        return Rotation._wrap(vecs[:, -1])
+        return Rotation._wrap(vecs[..., :, -1])
 
 
 def _as_rotation(r, name: str) -> Rotation:
     if not isinstance(r, Rotation):
-        raise InvalidTypeError(f"Expected `{name}` to be a Rotation, got {type(r).__name__}.")
+        kind = type(r)
+        raise InvalidTypeError(
+            f"Expected `{name}` to be a poinsot.Rotation, got {kind.__module__}.{kind.__qualname__}"
+            " (convert SciPy rotations with Rotation.from_quat(r.as_quat(scalar_first=True)))."
+            if kind.__name__ == "Rotation"
+            else f"Expected `{name}` to be a poinsot.Rotation, got {kind.__name__}."
+        )
     return r
 
 
@@ -609,7 +687,7 @@ def slerp(r0: Rotation, r1: Rotation, t) -> Rotation:
     """
     r0, r1 = _as_rotation(r0, "r0"), _as_rotation(r1, "r1")
     t = as_float_array(t, "t")
+    shape = _broadcast_shapes("`r0`, `r1` and `t`", r0.shape, r1.shape, t.shape)
     delta = (r1 * r0.inv()).as_rotvec()
     step = rotvec_mod.quat_from_rotvec(t[..., None] * delta)
-    shape = _broadcast_shapes("`r0`, `r1` and `t`", step.shape[:-1], r0.shape)
     return Rotation._wrap(kernels().qmul(step, np.broadcast_to(r0._q, (*shape, 4))))
