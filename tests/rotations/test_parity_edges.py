@@ -165,3 +165,44 @@ def test_bad_vectors_raise_named_errors(bad, error, match):
         with pytest.raises(error, match=match) as info:
             fn(bad)
         assert f"`{name}`" in str(info.value)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e200, 1e300])
+def test_axis_gibbs_and_mrp_of_extreme_length(scale):
+    # axis-angle: only the direction of the axis matters
+    got = Rotation.from_axis_angle([scale, scale, 0.0], 1.0).as_quat()
+    want = [np.cos(0.5), np.sin(0.5) / np.sqrt(2), np.sin(0.5) / np.sqrt(2), 0.0]
+    np.testing.assert_allclose(got, want, atol=2e-16)
+    if scale > 1:
+        # Gibbs g = e tan(f/2): |g| -> inf is f -> pi, L -> (1/|g|, e)
+        np.testing.assert_allclose(
+            Rotation.from_gibbs([0.0, scale, 0.0]).as_quat(), [1 / scale, 0, 1, 0], rtol=1e-15
+        )
+        # MRP p = e tan(f/4): |p| -> inf is f -> 2 pi, L -> (-1, 2 e / |p|) (SciPy: NaN)
+        np.testing.assert_allclose(
+            Rotation.from_mrp([0.0, 0.0, scale]).as_quat(), [-1, 0, 0, 2 / scale], rtol=1e-15
+        )
+
+
+def test_mrp_beyond_one_keeps_scipys_quaternion():
+    p = np.array([[2.0, 0.0, 0.0], [0.3, -4.0, 1e3], [0.1, 0.2, 0.3]])
+    np.testing.assert_allclose(
+        Rotation.from_mrp(p).as_quat(),
+        SciPyRotation.from_mrp(p).as_quat(scalar_first=True),
+        rtol=0,
+        atol=2e-16,
+    )
+
+
+def test_from_matrix_tolerance_and_from_basis_messages():
+    with pytest.raises(InvalidInputError, match="`atol` to be non-negative"):
+        Rotation.from_matrix(np.eye(3), atol=-1.0)
+    with pytest.raises(InvalidInputError, match="`atol` to contain only finite"):
+        Rotation.from_matrix(np.eye(3), atol=np.nan)
+    # far from orthogonal: rejected (SciPy would silently orthogonalise 2 I)
+    with pytest.raises(InvalidInputError, match="orthogonal within 1e-06"):
+        Rotation.from_matrix(2.0 * np.eye(3))
+    with pytest.raises(InvalidInputError, match="orthonormal"):
+        Rotation.from_basis([1e-200, 0, 0], [0, 1e-200, 0], [0, 0, 1e-200])
+    with pytest.raises(InvalidInputError, match="right-handed"):
+        Rotation.from_basis([1, 0, 0], [0, 1, 0], [0, 0, -1])

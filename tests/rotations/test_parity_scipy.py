@@ -14,7 +14,7 @@ import pytest
 from scipy.spatial.transform import Rotation as SciPyRotation
 from scipy.spatial.transform import Slerp
 
-from poinsot import GimbalLockWarning, InvalidInputError, Rotation, slerp
+from poinsot import GimbalLockWarning, InvalidInputError, Rotation, compose, slerp
 from rotation_cases import all_quaternions, assert_same_rotation, quat_distance
 
 SEQS = [a + b + c for a, b, c in itertools.product("xyz", repeat=3) if a != b and b != c]
@@ -186,3 +186,11 @@ def test_align_vectors_matches_scipy_and_is_scale_free():
         np.testing.assert_allclose(rssd_s, rssd * scale, rtol=1e-12)
     rs = Rotation.align_vectors(a * 1e200, b * 1e-200, w * 1e-300)[0]  # different scales
     assert_same_rotation(rs.as_quat(), r.as_quat(), 1e-14)
+
+
+def test_compose_matches_products_and_accepts_a_single_rotation():
+    a, b, c = (Rotation.random(rng=k) for k in (1, 2, 3))
+    sa, sb, sc = (scipy(r.as_quat()) for r in (a, b, c))
+    assert_same_rotation(compose([a, b, c]).as_quat(), sq(sc * sb * sa), 1e-15)
+    assert_same_rotation(compose([a, b, c], axes="body").as_quat(), sq(sa * sb * sc), 1e-15)
+    assert compose(a) is a

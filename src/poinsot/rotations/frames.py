@@ -29,14 +29,14 @@ def quat_from_basis(e1, e2, e3, *, atol: float = ORTHOGONALITY_ATOL) -> np.ndarr
     gram = np.swapaxes(e, -1, -2) @ e
     err = np.max(np.abs(gram - _EYE), axis=(-2, -1))
     det = np.linalg.det(e)
-    if np.any(det <= 0):
-        raise InvalidInputError(
-            "Expected `e1, e2, e3` to form a right-handed basis (e1 x e2 . e3 > 0)."
-        )
     if np.any(err > atol):
         raise InvalidInputError(
             f"Expected `e1, e2, e3` to be orthonormal within {atol:g}, got max |e_i.e_j - "
             f"delta_ij| = {float(np.max(err)):.3g}."
+        )
+    if np.any(det <= 0):
+        raise InvalidInputError(
+            "Expected `e1, e2, e3` to form a right-handed basis (e1 x e2 . e3 > 0)."
         )
     if np.any(err > EXACT_ATOL):
         e = np.where((err > EXACT_ATOL)[..., None, None], _nearest_rotation(e), e)

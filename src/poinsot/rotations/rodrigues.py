@@ -17,7 +17,7 @@ import warnings
 import numpy as np
 
 from ..errors import SingularityWarning
-from .quaternion import canonical_array
+from .quaternion import canonical_array, length_array
 
 __all__ = ["quat_from_gibbs", "gibbs_from_quat", "quat_from_mrp", "mrp_from_quat"]
 
@@ -29,9 +29,13 @@ def _positive_scalar(q: np.ndarray) -> np.ndarray:
 
 
 def quat_from_gibbs(g: np.ndarray) -> np.ndarray:
-    """``L = (1 + g) / sqrt(1 + |g|^2)`` for Gibbs vectors (..., 3)."""
+    """``L = (1 + g) / sqrt(1 + |g|^2)`` for Gibbs vectors (..., 3).
+
+    The length is taken without overflow, so ``|g|`` up to ``1e308`` (angles
+    within ``1e-308`` of pi) still gives a unit quaternion.
+    """
     q = np.concatenate([np.ones(g.shape[:-1] + (1,)), g], axis=-1)
-    return q / np.sqrt(1.0 + np.einsum("...i,...i->...", g, g))[..., None]
+    return q / length_array(q)[..., None]
 
 
 def gibbs_from_quat(q: np.ndarray) -> np.ndarray:
@@ -51,9 +55,19 @@ def gibbs_from_quat(q: np.ndarray) -> np.ndarray:
 
 
 def quat_from_mrp(p: np.ndarray) -> np.ndarray:
-    """``L = ((1 - |p|^2) + 2 p) / (1 + |p|^2)`` for MRPs (..., 3)."""
+    """``L = ((1 - |p|^2) + 2 p) / (1 + |p|^2)`` for MRPs (..., 3).
+
+    For ``|p| > 1e100`` (where ``|p|^2`` could overflow) the shadow set
+    ``-p / |p|^2`` (the same rotation, ``-L``) is used and the sign restored.
+    """
+    n = length_array(p)
+    big = n > 1e100
+    if np.any(big):
+        safe = np.where(big, n, 1.0)[..., None]
+        p = np.where(big[..., None], -p / safe / safe, p)
     n2 = np.einsum("...i,...i->...", p, p)[..., None]
-    return np.concatenate([1.0 - n2, 2.0 * p], axis=-1) / (1.0 + n2)
+    q = np.concatenate([1.0 - n2, 2.0 * p], axis=-1) / (1.0 + n2)
+    return np.where(big[..., None], -q, q) if np.any(big) else q
 
 
 def mrp_from_quat(q: np.ndarray) -> np.ndarray:

@@ -29,7 +29,7 @@ from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
 from ._lazy import kernels
 from .quaternion import canonical_array as _canonical
-from .quaternion import conjugate_array, normalize_array
+from .quaternion import conjugate_array, length_array, normalize_array
 
 __all__ = ["Rotation", "compose", "slerp"]
 
@@ -181,7 +181,10 @@ class Rotation:
         >>> Rotation.from_matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]).as_rotvec(degrees=True)
         array([ 0.,  0., 90.])
         """
-        return cls._wrap(dcm.quat_from_user_matrix(matrix, "matrix", atol=atol))
+        tol = float(as_float_array(atol, "atol"))
+        if tol < 0:
+            raise InvalidInputError(f"Expected `atol` to be non-negative, got {atol!r}.")
+        return cls._wrap(dcm.quat_from_user_matrix(matrix, "matrix", atol=tol))
 
     @classmethod
     def from_rotvec(cls, rotvec, *, degrees: bool = False) -> Rotation:
@@ -211,7 +214,7 @@ class Rotation:
         """
         ax = as_vec3(axis, "axis")
         f = as_float_array(angle, "angle")
-        n = np.sqrt(np.einsum("...i,...i->...", ax, ax))
+        n = length_array(ax)  # no overflow/underflow for huge or tiny axes
         if np.any(n == 0):
             raise InvalidInputError("Expected `axis` to be non-zero vectors, got a zero one.")
         if degrees:
@@ -644,6 +647,7 @@ def compose(rotations: Sequence[Rotation] | Rotation, *, axes: str = "fixed") ->
     Parameters
     ----------
     rotations : sequence of Rotation, or a Rotation whose first axis lists them
+        (a single Rotation is returned as is)
     axes : {"fixed", "body"}
         ``"fixed"`` (one point of view): each rotation is about the fixed axes,
         ``N = L_n o ... o L_1`` (``C = A_n ... A_1``). ``"body"`` (two points of
@@ -662,6 +666,8 @@ def compose(rotations: Sequence[Rotation] | Rotation, *, axes: str = "fixed") ->
     True
     """
     as_choice(axes, "axes", ("fixed", "body"))
+    if isinstance(rotations, Rotation) and rotations.single:
+        return rotations
     items = list(rotations)
     if not items:
         raise InvalidInputError("Expected `rotations` to contain at least one rotation.")
