@@ -206,3 +206,12 @@ def test_from_matrix_tolerance_and_from_basis_messages():
         Rotation.from_basis([1e-200, 0, 0], [0, 1e-200, 0], [0, 0, 1e-200])
     with pytest.raises(InvalidInputError, match="right-handed"):
         Rotation.from_basis([1, 0, 0], [0, 1, 0], [0, 0, -1])
+
+
+def test_power_shapes_must_broadcast():
+    r = Rotation.random(5, rng=0)
+    assert (r ** np.ones((3, 1))).shape == (3, 5)  # an extension: SciPy takes scalars only
+    with pytest.raises(InvalidInputError, match="the rotations and `n` to broadcast"):
+        r ** np.ones(3)
+    with pytest.raises(InvalidInputError, match="shape of `t` .* to broadcast"):
+        Q.power(np.ones((5, 4)), np.ones(3))

@@ -278,6 +278,14 @@ def power(q, t) -> np.ndarray:
     array([0., 0., 0., 1.])
     """
     t = as_float_array(t, "t")
+    q = _quat(q)
+    try:
+        np.broadcast_shapes(q.shape[:-1], t.shape)
+    except ValueError:
+        raise InvalidInputError(
+            f"Expected the leading shape of `q` {q.shape[:-1]} and the shape of `t` {t.shape} "
+            "to broadcast."
+        ) from None
     with np.errstate(over="ignore", invalid="ignore"):
         lt = log(q) * t[..., None]
     if not np.all(np.isfinite(lt[..., 1:])):

@@ -547,6 +547,8 @@ class Rotation:
             return self
         if p.ndim == 0 and p == -1:
             return self.inv()
+        if p.shape != self.shape:
+            _broadcast_shapes("the rotations and `n`", self.shape, p.shape)
         return Rotation._wrap(rotvec_mod.quat_from_rotvec(p[..., None] * self.as_rotvec()))
 
     def approx_equal(self, other: Rotation, *, atol=None, degrees: bool = False) -> np.ndarray:
