@@ -227,6 +227,10 @@ def quat_to_euler(q, seq, angles, singular):  # pragma: no cover - compiled
                 combined = 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
             angles[n, 0] = combined if extrinsic else combined * tb_sign
             angles[n, 2] = 0.0
+            # The middle angle snaps to its singular value: the returned angles then
+            # reproduce the rotation to within |mid - singular| <= eps exactly (keeping
+            # the computed middle angle, as SciPy does, could be off by up to 2 eps).
+            mid = 0.0 if case1 else math.pi
         else:
             singular[n] = False
             angles[n, first] = half_sum - half_diff

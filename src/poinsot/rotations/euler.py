@@ -16,10 +16,13 @@ preset     sequence angles
 **Gimbal lock.** The middle angle is singular at 0 or pi (proper Euler) or at
 +-pi/2 (Tait-Bryan). Within :data:`GIMBAL_LOCK_ATOL` of it the first and third
 angles are not separately determined: the third is set to 0, the first keeps
-their sum/difference, and a :class:`~poinsot.GimbalLockWarning` is issued. The
-rotation is still reproduced to within that threshold (the round trip loses at
-most ``GIMBAL_LOCK_ATOL`` rad); elsewhere the conversion (Bernardes and Viollet,
-2022, the algorithm SciPy uses) is accurate to a few ulp.
+their sum/difference, the middle one is set to its singular value, and a
+:class:`~poinsot.GimbalLockWarning` is issued. The rotation is then reproduced
+to within the distance of the true middle angle from the singular one (the round
+trip loses at most ``GIMBAL_LOCK_ATOL`` rad; SciPy, which keeps the computed
+middle angle there, can lose up to twice that). Elsewhere the conversion
+(Bernardes and Viollet, 2022, the algorithm SciPy uses) is accurate to a few ulp
+and equals SciPy's.
 """
 
 from __future__ import annotations

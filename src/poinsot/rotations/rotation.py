@@ -440,8 +440,9 @@ class Rotation:
         See :meth:`from_euler` for sequences and presets. The middle angle is in
         ``[0, pi]`` (proper Euler) or ``[-pi/2, pi/2]`` (Tait-Bryan). At gimbal
         lock (middle angle within ``1e-7`` rad of singular) a
-        :class:`~poinsot.GimbalLockWarning` is issued, the third angle is set to 0
-        and the first holds the sum/difference.
+        :class:`~poinsot.GimbalLockWarning` is issued, the third angle is set to 0,
+        the first holds the sum/difference and the middle one is set to its
+        singular value, so the angles reproduce the rotation to within 1e-7 rad.
 
         Examples
         --------
