@@ -247,8 +247,20 @@ def _cmd_convert(args) -> int:
         raise _Usage(
             f"{args.source} takes {n} values, found {len(values)}: {' '.join(args.values)}."
         )
-    r = _from(args.source, np.array(values), args.degrees)
-    out = np.asarray(_to(args.target, r, args.degrees))
+    # Values so large that the conversion overflows must give a clear error, not a
+    # NumPy warning followed by "nan" or a zero quaternion.
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        r = _from(args.source, np.array(values), args.degrees)
+        q = np.asarray(r.as_quat(), dtype=float)
+        if not (np.all(np.isfinite(q)) and abs(float(q @ q) - 1.0) < 1e-6):
+            raise _Usage(
+                f"the {args.source} values {' '.join(args.values)} are out of the range "
+                "that can be converted in double precision."
+            )
+        out = np.asarray(_to(args.target, r, args.degrees))
+    if np.any(np.isnan(out)):
+        raise _Usage(f"the conversion to {args.target} overflowed for these values.")
     if out.shape == (3, 3):
         for row in out:
             print(" ".join(_num(x) for x in row))

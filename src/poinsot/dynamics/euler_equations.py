@@ -216,6 +216,22 @@ def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
+#: ``scipy.integrate.solve_ivp`` methods accepted by ``simulate(..., method="adaptive")``.
+SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+def _tolerances(rtol, atol) -> tuple[float, float]:
+    """``rtol > 0`` and ``atol >= 0`` as floats (scalars; solve_ivp's own floor still applies)."""
+    out = []
+    for name, x, strict in (("rtol", rtol, True), ("atol", atol, False)):
+        a = as_float_array(x, name)
+        if a.ndim != 0 or not (a > 0 if strict else a >= 0):
+            word = "positive" if strict else "non-negative"
+            raise InvalidInputError(f"Expected `{name}` to be a {word} scalar, got {x!r}.")
+        out.append(float(a))
+    return out[0], out[1]
+
+
 def _broadcast_batch(named_shapes) -> tuple[int, ...]:
     try:
         return np.broadcast_shapes(*(s for _, s in named_shapes))
@@ -426,6 +442,8 @@ def simulate(
         raise InvalidInputError(
             f"`order` applies to method='midpoint' or 'splitting' only, got method={method!r}."
         )
+    rtol, atol = _tolerances(rtol, atol)
+    solver = as_choice(solver, "solver", SOLVERS)
     if order is None:
         order = 2
     if not (isinstance(order, int | np.integer) and int(order) in COMPOSITIONS):

@@ -58,7 +58,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import as_float_array, as_vec3
+from .._validate import as_float_array, as_vec3, is_integer
 from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
 from ..rotations import quaternion as _quaternion
 from ..rotations.rotation import Rotation
@@ -419,6 +419,13 @@ def _snap_symmetric(moments: np.ndarray) -> np.ndarray:
         if mom[a] != mom[b] and abs(mom[a] - mom[b]) <= tol:
             mom[a] = mom[b] = 0.5 * (mom[a] + mom[b])
     return mom
+
+
+def _samples(n) -> int:
+    """A number of curve samples: an integer >= 2."""
+    if not (is_integer(n) or isinstance(n, np.integer)) or n < 2:
+        raise InvalidInputError(f"Expected `n` to be an integer >= 2, got {n!r}.")
+    return int(n)
 
 
 class FreeRigidBody:
@@ -822,6 +829,7 @@ class FreeRigidBody:
         >>> g.ellipsoid_semi_axes.round(4), g.track.shape, g.separatrices.shape
         (array([2.4495, 3.4641, 4.2426]), (50, 3), (2, 50, 3))
         """
+        n = _samples(n)
         self._require_motion("MacCullagh")
         mo = self._motion
         mom = self._moments
@@ -886,14 +894,17 @@ class FreeRigidBody:
         >>> round(g.plane_distance, 6), round((2 * body.energy) ** 0.5 / body.momentum_norm, 6)
         (0.654654, 0.654654)
         """
+        n = _samples(n)
         self._require_motion("Poinsot")
         mo = self._motion
         if t is None:
             ta = np.linspace(0.0, self._window(3.0), n)
         else:
             ta = as_float_array(t, "t")
-            if ta.ndim != 1:
-                raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
+            if ta.ndim != 1 or ta.size == 0:
+                raise InvalidInputError(
+                    f"Expected `t` to have shape (n,) with n >= 1, got {ta.shape}."
+                )
         w, q = self._state_p(ta)
         r = w / math.sqrt(2.0 * self._energy)
         herp = _quaternion.rotate(q, r)

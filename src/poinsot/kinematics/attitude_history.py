@@ -152,7 +152,8 @@ def fornberg_weights(x0, x, deriv: int = 1) -> np.ndarray:
     x0 = as_float_array(x0, "x0")
     if x.ndim < 1 or x.shape[-1] < 1:
         raise InvalidInputError(f"Expected `x` to have shape (..., N), got {x.shape}.")
-    if not (isinstance(deriv, int | np.integer) and 0 <= deriv < x.shape[-1]):
+    ok = isinstance(deriv, int | np.integer) and not isinstance(deriv, bool | np.bool_)
+    if not (ok and 0 <= deriv < x.shape[-1]):
         raise InvalidInputError(
             f"Expected `deriv` to be an integer in [0, {x.shape[-1] - 1}], got {deriv!r}."
         )

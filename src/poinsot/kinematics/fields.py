@@ -28,7 +28,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .._validate import as_float_array, as_vec3
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
     "velocity_field",
@@ -79,6 +79,13 @@ def _vectors(**named) -> list[np.ndarray]:
     arrays = {k: as_vec3(v, k) for k, v in named.items()}
     _broadcast_shape(arrays)
     return list(arrays.values())
+
+
+def _as_list(x, name: str, what: str) -> list:
+    """``list(x)`` for a sequence argument; a non-iterable (or a string) is a type error."""
+    if isinstance(x, str | bytes) or not hasattr(x, "__iter__"):
+        raise InvalidTypeError(f"Expected `{name}` to be {what}, got {type(x).__name__}.")
+    return list(x)
 
 
 def _scalar(x, name: str, *, strict: bool = False) -> float:
@@ -397,8 +404,8 @@ def chain(motions: Sequence[FrameMotion], offsets: Sequence) -> FrameMotion:
     >>> m.eps + 0.0
     array([0., 1., 0.])
     """
-    motions = list(motions)
-    offsets = list(offsets)
+    motions = _as_list(motions, "motions", "a sequence of FrameMotion")
+    offsets = _as_list(offsets, "offsets", "a sequence of 3-vectors")
     if not motions:
         raise InvalidInputError("Expected `motions` to hold at least one FrameMotion, got none.")
     if len(offsets) != len(motions) - 1:

@@ -38,7 +38,7 @@ from .._validate import as_choice, as_matrix3, as_quat, as_trailing, as_vec3
 from .._vec import cross as _cross
 from .._vec import dot as _dot
 from .._vec import hat as _hat
-from ..errors import GimbalLockWarning, InvalidInputError, SingularityWarning
+from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError, SingularityWarning
 from ..rotations import quaternion as _quat
 from ..rotations.dcm import ORTHOGONALITY_ATOL
 from ..rotations.euler import parse_sequence
@@ -108,6 +108,39 @@ def _sign(frame: str) -> float:
     return 1.0 if frame == "body" else -1.0
 
 
+def _batch(**named) -> tuple[int, ...]:
+    """Check that the batch (leading) shapes of named arrays broadcast together.
+
+    ``named`` maps an argument name to ``(array, core_ndim)``, where ``core_ndim``
+    trailing axes are the per-item shape (1 for vectors, 2 for matrices).
+    """
+    shapes = {k: a.shape[: a.ndim - nd] for k, (a, nd) in named.items()}
+    try:
+        return np.broadcast_shapes(*shapes.values())
+    except ValueError:
+        desc = ", ".join(f"`{k}` {s}" for k, s in shapes.items())
+        raise InvalidInputError(
+            f"Expected the batch (leading) shapes of {desc} to broadcast."
+        ) from None
+
+
+def _flag(value, name: str) -> bool:
+    """A Python or NumPy bool (e.g. ``degrees``); anything else is a type error."""
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidTypeError(f"Expected `{name}` to be a bool, got {value!r}.")
+    return bool(value)
+
+
+def _finite_result(out, name: str):
+    """Raise instead of returning inf/NaN produced by an overflowing magnitude."""
+    if not np.all(np.isfinite(out)):
+        raise InvalidInputError(
+            f"Expected `{name}` to have a moderate magnitude: the result overflows "
+            "(inf/NaN) for these values."
+        )
+    return out
+
+
 def _quat_arg(q, name):
     """Unit quaternions from an array (scalar first) or a :class:`Rotation`."""
     if hasattr(q, "as_quat") and not isinstance(q, np.ndarray):
@@ -162,7 +195,10 @@ def quat_rate(q, omega, *, frame: str = "body") -> np.ndarray:
     array([-0.2474,  0.    ,  0.    ,  0.9689])
     """
     frame = _frame(frame)
-    return _quat_rate(_quat_arg(q, "q"), as_vec3(omega, "omega"), frame)
+    q = _quat_arg(q, "q")
+    omega = as_vec3(omega, "omega")
+    _batch(q=(q, 1), omega=(omega, 1))
+    return _quat_rate(q, omega, frame)
 
 
 def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
@@ -204,6 +240,7 @@ def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
     frame = _frame(frame)
     q = _quat_arg(q, "q")
     qdot = as_trailing(qdot, "qdot", (4,))
+    _batch(q=(q, 1), qdot=(qdot, 1))
     return _omega_from_quat_rate(q, qdot, frame)
 
 
@@ -258,7 +295,9 @@ def dcm_rate(C, omega, *, frame: str = "body") -> np.ndarray:
     """
     frame = _frame(frame)
     C = _as_rotation_matrix(C, "C")
-    w_hat = _hat(as_vec3(omega, "omega"))
+    omega = as_vec3(omega, "omega")
+    _batch(C=(C, 2), omega=(omega, 1))
+    w_hat = _hat(omega)
     return C @ w_hat if frame == "body" else w_hat @ C
 
 
@@ -296,6 +335,7 @@ def omega_from_dcm_rate(C, Cdot, *, frame: str = "body") -> np.ndarray:
     frame = _frame(frame)
     C = _as_rotation_matrix(C, "C")
     Cdot = as_matrix3(Cdot, "Cdot")
+    _batch(C=(C, 2), Cdot=(Cdot, 2))
     Ct = np.swapaxes(C, -1, -2)
     return _vee_antisym(Ct @ Cdot if frame == "body" else Cdot @ Ct)
 
@@ -348,7 +388,7 @@ def _euler_args(seq, angles, degrees):
     if not isinstance(seq, str):
         raise InvalidInputError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
     angles = as_vec3(angles, "angles")
-    if degrees:
+    if _flag(degrees, "degrees"):
         angles = np.deg2rad(angles)
     return angles
 
@@ -438,6 +478,7 @@ def omega_from_euler_rates(
     frame = _frame(frame)
     angles = _euler_args(seq, angles, degrees)
     rates = as_vec3(rates, "rates")
+    _batch(angles=(angles, 1), rates=(rates, 1))
     if degrees:
         rates = np.deg2rad(rates)
     M = _euler_matrix(seq, angles, frame)
@@ -499,6 +540,7 @@ def euler_rates(
     frame = _frame(frame)
     angles = _euler_args(seq, angles, degrees)
     omega = as_vec3(omega, "omega")
+    _batch(angles=(angles, 1), omega=(omega, 1))
     M = _euler_matrix(seq, angles, frame)
     c0, c1, c2 = M[..., :, 0], M[..., :, 1], M[..., :, 2]
     adj = np.stack([_cross(c1, c2), _cross(c2, c0), _cross(c0, c1)], axis=-2)
@@ -554,7 +596,10 @@ def gibbs_rate(g, omega, *, frame: str = "body") -> np.ndarray:
     s = _sign(_frame(frame))
     g = as_vec3(g, "g")
     w = as_vec3(omega, "omega")
-    return 0.5 * (w + s * _cross(g, w) + _dot(g, w)[..., None] * g)
+    _batch(g=(g, 1), omega=(w, 1))
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = 0.5 * (w + s * _cross(g, w) + _dot(g, w)[..., None] * g)
+    return _finite_result(out, "g")
 
 
 def omega_from_gibbs_rate(g, gdot, *, frame: str = "body") -> np.ndarray:
@@ -586,6 +631,7 @@ def omega_from_gibbs_rate(g, gdot, *, frame: str = "body") -> np.ndarray:
     s = _sign(_frame(frame))
     g = as_vec3(g, "g")
     gd = as_vec3(gdot, "gdot")
+    _batch(g=(g, 1), gdot=(gd, 1))
     return 2.0 * (gd - s * _cross(g, gd)) / (1.0 + _dot(g, g))[..., None]
 
 
@@ -623,8 +669,11 @@ def mrp_rate(p, omega, *, frame: str = "body") -> np.ndarray:
     s = _sign(_frame(frame))
     p = as_vec3(p, "p")
     w = as_vec3(omega, "omega")
-    pp = _dot(p, p)[..., None]
-    return 0.25 * ((1.0 - pp) * w + 2.0 * s * _cross(p, w) + 2.0 * _dot(p, w)[..., None] * p)
+    _batch(p=(p, 1), omega=(w, 1))
+    with np.errstate(over="ignore", invalid="ignore"):
+        pp = _dot(p, p)[..., None]
+        out = 0.25 * ((1.0 - pp) * w + 2.0 * s * _cross(p, w) + 2.0 * _dot(p, w)[..., None] * p)
+    return _finite_result(out, "p")
 
 
 def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
@@ -656,9 +705,12 @@ def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
     s = _sign(_frame(frame))
     p = as_vec3(p, "p")
     pd = as_vec3(pdot, "pdot")
-    pp = _dot(p, p)[..., None]
-    num = (1.0 - pp) * pd - 2.0 * s * _cross(p, pd) + 2.0 * _dot(p, pd)[..., None] * p
-    return 4.0 * num / (1.0 + pp) ** 2
+    _batch(p=(p, 1), pdot=(pd, 1))
+    with np.errstate(over="ignore", invalid="ignore"):
+        pp = _dot(p, p)[..., None]
+        num = (1.0 - pp) * pd - 2.0 * s * _cross(p, pd) + 2.0 * _dot(p, pd)[..., None] * p
+        out = 4.0 * num / (1.0 + pp) ** 2
+    return _finite_result(out, "p")
 
 
 def mrp_shadow(p) -> np.ndarray:
@@ -684,10 +736,14 @@ def mrp_shadow(p) -> np.ndarray:
     array([-0. , -0. , -0.5])
     """
     p = as_vec3(p, "p")
-    pp = _dot(p, p)
-    if np.any(pp == 0.0):
+    # scaled by the largest component so that |p|^2 neither overflows nor underflows
+    m = np.max(np.abs(p), axis=-1, initial=0.0)[..., None]
+    if np.any(m == 0.0):
         raise InvalidInputError("Expected `p` to be non-zero (the shadow of p = 0 is at infinity).")
-    return -p / pp[..., None]
+    u = p / m
+    with np.errstate(over="ignore"):
+        out = -(u / _dot(u, u)[..., None]) / m
+    return _finite_result(out, "p")
 
 
 def mrp_switch(p, *, threshold: float = 1.0) -> np.ndarray:
@@ -718,8 +774,14 @@ def mrp_switch(p, *, threshold: float = 1.0) -> np.ndarray:
            [ 0. ,  0.5,  0. ]])
     """
     p = as_vec3(p, "p")
-    if not (isinstance(threshold, numbers.Real) and threshold >= 1.0):
-        raise InvalidInputError(f"Expected `threshold` to be a number >= 1, got {threshold!r}.")
+    if not (
+        isinstance(threshold, numbers.Real)
+        and not isinstance(threshold, bool)
+        and 1.0 <= threshold < 1e150
+    ):
+        raise InvalidInputError(
+            f"Expected `threshold` to be a number >= 1 (and < 1e150), got {threshold!r}."
+        )
     pp = _dot(p, p)
     out = pp > threshold**2
     safe = np.where(out, pp, 1.0)[..., None]
@@ -771,6 +833,19 @@ def _rotvec_jacobian_apply(phi, phidot, s):
     return phidot - s * k1[..., None] * pxd + k2[..., None] * _cross(phi, pxd)
 
 
+#: Largest rotation angle (rad) the rotation-vector rates accept: beyond it the
+#: spacing of doubles exceeds 1e-3 rad and ``cot(f/2)`` has no correct digit left.
+ROTVEC_MAX_ANGLE = 1e12
+
+
+def _check_rotvec_angle(f):
+    if np.any(f > ROTVEC_MAX_ANGLE):
+        raise InvalidInputError(
+            f"Expected `rotvec` to have a norm (rotation angle) below {ROTVEC_MAX_ANGLE:g} rad, "
+            f"got {float(np.max(f)):g}: reduce the angle modulo 2 pi first."
+        )
+
+
 def rotvec_rate(rotvec, omega, *, frame: str = "body") -> np.ndarray:
     """Time derivative of the rotation vector (Bortz's equation).
 
@@ -812,7 +887,9 @@ def rotvec_rate(rotvec, omega, *, frame: str = "body") -> np.ndarray:
     s = _sign(_frame(frame))
     phi = as_vec3(rotvec, "rotvec")
     w = as_vec3(omega, "omega")
+    _batch(rotvec=(phi, 1), omega=(w, 1))
     f = np.sqrt(_dot(phi, phi))
+    _check_rotvec_angle(f)
     k = np.round(f / (2 * np.pi))
     gap = np.abs(f - 2 * np.pi * k)[k > 0]
     if np.any(gap < 1e-12):
@@ -859,4 +936,6 @@ def omega_from_rotvec_rate(rotvec, rotvec_dot, *, frame: str = "body") -> np.nda
     s = _sign(_frame(frame))
     phi = as_vec3(rotvec, "rotvec")
     d = as_vec3(rotvec_dot, "rotvec_dot")
+    _batch(rotvec=(phi, 1), rotvec_dot=(d, 1))
+    _check_rotvec_angle(np.sqrt(_dot(phi, phi)))
     return _rotvec_jacobian_apply(phi, d, s)

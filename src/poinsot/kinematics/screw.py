@@ -19,8 +19,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._validate import as_float_array, as_vec3
+from .._vec import cross as _cross
 from ..errors import InvalidInputError
-from .fields import _broadcast_shape, _scalar
+from .fields import _as_list, _broadcast_shape, _scalar
 
 __all__ = ["Screw", "screw_axis", "ReducedMotion", "reduce_motions"]
 
@@ -63,18 +64,29 @@ class Screw:
         return self.point + np.einsum("...i,...i->...", x - self.point, d)[..., None] * d
 
 
+def _norm_dir(omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(|w|, w/|w|)`` scaled by the largest component: no overflow or underflow in w.w."""
+    m = np.max(np.abs(omega), axis=-1, initial=0.0)
+    u = omega / np.where(m > 0, m, 1.0)[..., None]
+    un = np.sqrt(np.einsum("...i,...i->...", u, u))
+    return m * un, u / np.where(un > 0, un, 1.0)[..., None]
+
+
 def _screw(v0: np.ndarray, omega: np.ndarray, origin: np.ndarray) -> Screw:
-    """Kernel: screw of the field ``v0 + w x (r - origin)``, ``w != 0``."""
-    w2 = np.einsum("...i,...i->...", omega, omega)
-    vw = np.einsum("...i,...i->...", v0, omega)
-    wn = np.sqrt(w2)
-    point = origin + np.cross(omega, v0) / w2[..., None]
+    """Kernel: screw of the field ``v0 + w x (r - origin)``, ``w != 0``.
+
+    Written with the unit direction ``e = w/|w|`` (``point = origin + e x v0/|w|``,
+    ``lam = v0.e/|w|``) so that any scale of ``w`` and ``v0`` works.
+    """
+    wn, e = _norm_dir(omega)
+    ve = np.einsum("...i,...i->...", v0, e)
+    point = origin + _cross(e, v0) / wn[..., None]
     shape = np.broadcast_shapes(v0.shape, omega.shape, origin.shape)
     return Screw(
         point=np.broadcast_to(point, shape).copy(),
-        direction=np.broadcast_to(omega / wn[..., None], shape).copy(),
-        parameter=np.broadcast_to(vw / w2, shape[:-1]).copy(),
-        min_speed=np.broadcast_to(np.abs(vw) / wn, shape[:-1]).copy(),
+        direction=np.broadcast_to(e, shape).copy(),
+        parameter=np.broadcast_to(ve / wn, shape[:-1]).copy(),
+        min_speed=np.broadcast_to(np.abs(ve), shape[:-1]).copy(),
     )
 
 
@@ -130,7 +142,7 @@ def screw_axis(v0, omega, *, origin=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -
     origin = as_vec3(origin, "origin")
     _broadcast_shape({"v0": v0, "omega": omega, "origin": origin})
     atol = _scalar(atol, "atol")
-    wn = np.sqrt(np.einsum("...i,...i->...", omega, omega))
+    wn = _norm_dir(omega)[0]
     if np.any(wn <= atol):
         raise InvalidInputError(
             f"Expected `omega` to be non-zero (|omega| > {atol:g}), got |omega| = "
@@ -248,6 +260,8 @@ def reduce_motions(
     velocity = np.zeros(3)
     w_scale = 0.0
     v_scale = 0.0
+    rotations = _as_list(rotations, "rotations", "a sequence of (omega, point) pairs")
+    translations = _as_list(translations, "translations", "a sequence of 3-vectors")
     for i, item in enumerate(rotations):
         try:
             w_i, p_i = item

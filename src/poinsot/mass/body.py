@@ -32,6 +32,18 @@ __all__ = ["RigidBody", "combine", "kinetic_energy", "angular_momentum"]
 # ---------------------------------------------------------------------------
 
 
+def _same_batch(**named) -> None:
+    """Raise unless the batch (leading) shapes of ``name=(array, core_ndim)`` broadcast."""
+    shapes = {k: np.shape(a)[: np.ndim(a) - nd] for k, (a, nd) in named.items()}
+    try:
+        np.broadcast_shapes(*shapes.values())
+    except ValueError:
+        desc = ", ".join(f"`{k}` {s}" for k, s in shapes.items())
+        raise InvalidInputError(
+            f"Expected the batch (leading) shapes of {desc} to broadcast."
+        ) from None
+
+
 def _kinetic_energy(m, j, w, v):
     """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2``."""
     jw = np.einsum("...ij,...j->...i", j, w)
@@ -86,6 +98,7 @@ def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
     j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
     w = as_vec3(omega, "omega")
     v = as_vec3(v_cm, "v_cm")
+    _same_batch(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1))
     return _kinetic_energy(m, j, w, v)
 
 
@@ -133,6 +146,7 @@ def angular_momentum(
     w = as_vec3(omega, "omega")
     v = as_vec3(v_cm, "v_cm")
     r = as_vec3(r_oc, "r_oc")
+    _same_batch(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1), r_oc=(r, 1))
     return _angular_momentum(m, j, w, v, r)
 
 
@@ -395,6 +409,7 @@ class RigidBody:
         """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (body axes; see :func:`kinetic_energy`)."""
         w = as_vec3(omega, "omega")
         v = as_vec3(v_cm, "v_cm")
+        _same_batch(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1))
         return _kinetic_energy(self.mass, self.inertia, w, v)
 
     def angular_momentum(self, omega, v_cm=(0.0, 0.0, 0.0), about=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -415,6 +430,7 @@ class RigidBody:
         w = as_vec3(omega, "omega")
         v = as_vec3(v_cm, "v_cm")
         p = as_vec3(about, "about")
+        _same_batch(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1), about=(p, 1))
         return _angular_momentum(self.mass, self.inertia, w, v, self.center_of_mass - p)
 
     # -- composition -----------------------------------------------------------

@@ -49,7 +49,13 @@ class MeshProperties:
 
 
 def _as_faces(faces, n_vertices: int) -> np.ndarray:
-    f = np.asarray(faces)
+    try:
+        f = np.asarray(faces)
+    except (TypeError, ValueError):
+        raise InvalidTypeError(
+            "Expected `faces` to be an integer array of vertex indices of shape (m, 3), "
+            "got a ragged sequence."
+        ) from None
     if f.dtype == object or not np.issubdtype(f.dtype, np.integer):
         raise InvalidTypeError(
             f"Expected `faces` to be an integer array of vertex indices, got dtype {f.dtype}."

@@ -29,9 +29,12 @@ References
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._validate import as_positive
+from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = ["box", "sphere", "cylinder", "cone", "ellipsoid", "rod", "disc", "ring"]
 
@@ -46,6 +49,48 @@ def _diag(jxx, jyy, jzz) -> np.ndarray:
     return out
 
 
+def _positive(**named) -> list[np.ndarray]:
+    """Validate positive arguments and check that their shapes broadcast together."""
+    arrays = {k: as_positive(v, k) for k, v in named.items()}
+    try:
+        np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        desc = ", ".join(f"`{k}` {a.shape}" for k, a in arrays.items())
+        raise InvalidInputError(f"Expected the shapes of {desc} to broadcast.") from None
+    return list(arrays.values())
+
+
+def _flag(value, name: str) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidTypeError(f"Expected `{name}` to be a bool, got {value!r}.")
+    return bool(value)
+
+
+def _representable(*, zero_zz: bool = False):
+    """Decorator: a mass or dimension so large (small) that ``m d^2`` overflows
+    (underflows to 0) raises :class:`InvalidInputError` instead of returning inf/0."""
+
+    def deco(fn):
+        @functools.wraps(fn)
+        def wrapper(*args, **kwargs):
+            with np.errstate(over="ignore", under="ignore"):
+                out = fn(*args, **kwargs)
+            d = np.diagonal(out, axis1=-2, axis2=-1)
+            d = d[..., :2] if zero_zz else d
+            if not (np.all(np.isfinite(out)) and np.all(d > 0)):
+                raise InvalidInputError(
+                    f"Expected the mass and dimensions of the {fn.__name__} to give a "
+                    "representable inertia: m d^2 overflows or underflows in float64 "
+                    "(use units that keep the numbers moderate)."
+                )
+            return out
+
+        return wrapper
+
+    return deco
+
+
+@_representable()
 def box(mass, a, b, c) -> np.ndarray:
     """Uniform rectangular box (cuboid) with edges ``a, b, c`` along ``x, y, z``.
 
@@ -73,12 +118,12 @@ def box(mass, a, b, c) -> np.ndarray:
     >>> box(12.0, 1.0, 2.0, 3.0).diagonal()
     array([13., 10.,  5.])
     """
-    m = as_positive(mass, "mass")
-    a, b, c = (as_positive(x, n) for x, n in ((a, "a"), (b, "b"), (c, "c")))
+    m, a, b, c = _positive(mass=mass, a=a, b=b, c=c)
     a2, b2, c2 = a * a, b * b, c * c
     return _diag(m * (b2 + c2) / 12.0, m * (a2 + c2) / 12.0, m * (a2 + b2) / 12.0)
 
 
+@_representable()
 def sphere(mass, radius, *, hollow: bool = False) -> np.ndarray:
     """Uniform solid ball, or thin spherical shell if ``hollow``.
 
@@ -108,12 +153,12 @@ def sphere(mass, radius, *, hollow: bool = False) -> np.ndarray:
     >>> sphere(3.0, 1.0, hollow=True).diagonal()
     array([2., 2., 2.])
     """
-    m = as_positive(mass, "mass")
-    r = as_positive(radius, "radius")
-    k = m * r * r * (2.0 / 3.0 if hollow else 0.4)
+    m, r = _positive(mass=mass, radius=radius)
+    k = m * r * r * (2.0 / 3.0 if _flag(hollow, "hollow") else 0.4)
     return _diag(k, k, k)
 
 
+@_representable()
 def cylinder(mass, radius, height, *, hollow: bool = False) -> np.ndarray:
     """Uniform solid circular cylinder, or thin-walled tube if ``hollow``; axis ``z``.
 
@@ -142,15 +187,14 @@ def cylinder(mass, radius, height, *, hollow: bool = False) -> np.ndarray:
     >>> cylinder(12.0, 1.0, 3.0).diagonal()
     array([12., 12.,  6.])
     """
-    m = as_positive(mass, "mass")
-    r = as_positive(radius, "radius")
-    h = as_positive(height, "height")
+    m, r, h = _positive(mass=mass, radius=radius, height=height)
     r2, h2 = r * r, h * h
-    if hollow:
+    if _flag(hollow, "hollow"):
         return _diag(m * (6.0 * r2 + h2) / 12.0, m * (6.0 * r2 + h2) / 12.0, m * r2)
     return _diag(m * (3.0 * r2 + h2) / 12.0, m * (3.0 * r2 + h2) / 12.0, 0.5 * m * r2)
 
 
+@_representable()
 def cone(mass, radius, height) -> np.ndarray:
     """Uniform solid right circular cone about its centre of mass; axis ``z``.
 
@@ -179,13 +223,12 @@ def cone(mass, radius, height) -> np.ndarray:
     >>> cone(10.0, 2.0, 2.0).diagonal()
     array([ 7.5,  7.5, 12. ])
     """
-    m = as_positive(mass, "mass")
-    r = as_positive(radius, "radius")
-    h = as_positive(height, "height")
+    m, r, h = _positive(mass=mass, radius=radius, height=height)
     t = 3.0 / 80.0 * m * (4.0 * r * r + h * h)
     return _diag(t, t, 0.3 * m * r * r)
 
 
+@_representable()
 def ellipsoid(mass, a, b, c) -> np.ndarray:
     """Uniform solid ellipsoid with semi-axes ``a, b, c`` along ``x, y, z``.
 
@@ -213,12 +256,12 @@ def ellipsoid(mass, a, b, c) -> np.ndarray:
     >>> ellipsoid(5.0, 1.0, 2.0, 3.0).diagonal()
     array([13., 10.,  5.])
     """
-    m = as_positive(mass, "mass")
-    a, b, c = (as_positive(x, n) for x, n in ((a, "a"), (b, "b"), (c, "c")))
+    m, a, b, c = _positive(mass=mass, a=a, b=b, c=c)
     a2, b2, c2 = a * a, b * b, c * c
     return _diag(m * (b2 + c2) / 5.0, m * (a2 + c2) / 5.0, m * (a2 + b2) / 5.0)
 
 
+@_representable(zero_zz=True)
 def rod(mass, length) -> np.ndarray:
     """Thin uniform rod along ``z``: ``J_xx = J_yy = m L^2 / 12``, ``J_zz = 0``.
 
@@ -244,12 +287,12 @@ def rod(mass, length) -> np.ndarray:
     >>> rod(3.0, 2.0).diagonal()
     array([1., 1., 0.])
     """
-    m = as_positive(mass, "mass")
-    ell = as_positive(length, "length")
+    m, ell = _positive(mass=mass, length=length)
     t = m * ell * ell / 12.0
     return _diag(t, t, np.zeros_like(t))
 
 
+@_representable()
 def disc(mass, radius) -> np.ndarray:
     """Thin uniform disc with normal ``z``: ``J_zz = m r^2 / 2``, ``J_xx = J_yy = m r^2 / 4``.
 
@@ -273,12 +316,12 @@ def disc(mass, radius) -> np.ndarray:
     >>> disc(4.0, 1.0).diagonal()
     array([1., 1., 2.])
     """
-    m = as_positive(mass, "mass")
-    r = as_positive(radius, "radius")
+    m, r = _positive(mass=mass, radius=radius)
     t = 0.25 * m * r * r
     return _diag(t, t, 2.0 * t)
 
 
+@_representable()
 def ring(mass, radius) -> np.ndarray:
     """Thin uniform ring (hoop) with normal ``z``: ``J_zz = m r^2``, ``J_xx = J_yy = m r^2 / 2``.
 
@@ -302,7 +345,6 @@ def ring(mass, radius) -> np.ndarray:
     >>> ring(2.0, 1.0).diagonal()
     array([1., 1., 2.])
     """
-    m = as_positive(mass, "mass")
-    r = as_positive(radius, "radius")
+    m, r = _positive(mass=mass, radius=radius)
     t = 0.5 * m * r * r
     return _diag(t, t, 2.0 * t)

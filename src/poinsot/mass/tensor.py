@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_matrix3, as_positive, as_trailing, as_vec3
-from ..errors import InvalidInputError
+from .._validate import as_float_array, as_matrix3, as_positive, as_trailing, as_vec3
+from ..errors import InvalidInputError, InvalidTypeError
 from ..rotations.rotation import Rotation
 
 __all__ = [
@@ -75,6 +75,8 @@ def _first(values: np.ndarray, bad: np.ndarray) -> np.ndarray:
 
 def _check_moments(moments, tol, name, allow_singular, what):
     """Raise unless sorted principal ``moments`` (..., 3) are >= / > 0 and satisfy A + B >= C."""
+    if not isinstance(allow_singular, bool | np.bool_):
+        raise InvalidTypeError(f"Expected `allow_singular` to be a bool, got {allow_singular!r}.")
     a, b, c = moments[..., 0], moments[..., 1], moments[..., 2]
     bad = a < -tol if allow_singular else a <= tol
     if np.any(bad):
@@ -99,8 +101,12 @@ def _fmt(m) -> str:
 
 
 def _tolerance(scale, rtol, atol):
-    if rtol < 0 or atol < 0:
-        raise InvalidInputError(f"Expected `rtol` and `atol` to be >= 0, got {rtol!r}, {atol!r}.")
+    rtol, atol = as_float_array(rtol, "rtol"), as_float_array(atol, "atol")
+    if rtol.ndim or atol.ndim or rtol < 0 or atol < 0:
+        raise InvalidInputError(
+            "Expected `rtol` and `atol` to be >= 0 (scalars), "
+            f"got {rtol.tolist()!r}, {atol.tolist()!r}."
+        )
     return atol + rtol * scale
 
 
@@ -463,11 +469,19 @@ def moment_about(inertia, axis) -> np.ndarray:
     """
     j = check_inertia(inertia, allow_singular=True)
     v = as_vec3(axis, "axis")
-    n = np.linalg.norm(v, axis=-1)
-    if np.any(n == 0.0):
+    # scale by the largest component first: no overflow/underflow for any |axis|
+    big = np.max(np.abs(v), axis=-1, initial=0.0)
+    if np.any(big == 0.0):
         raise InvalidInputError("Expected `axis` to be a non-zero vector, got a zero vector.")
-    e = v / n[..., None]
-    return np.einsum("...i,...ij,...j->...", e, j, e)
+    u = v / big[..., None]
+    e = u / np.linalg.norm(u, axis=-1)[..., None]
+    try:
+        return np.einsum("...i,...ij,...j->...", e, j, e)
+    except ValueError:
+        raise InvalidInputError(
+            f"Expected the batch shapes of `inertia` {j.shape[:-2]} and `axis` {v.shape[:-1]} "
+            "to broadcast."
+        ) from None
 
 
 def _principal(j):

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_float_array
+from .._validate import as_times
 from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = ["plot_maccullagh", "plot_poinsot", "plot_omega"]
@@ -207,9 +207,7 @@ def plot_omega(body, t, ax=None):
     import matplotlib.pyplot as plt
 
     body = _body(body)
-    ta = as_float_array(t, "t")
-    if ta.ndim != 1:
-        raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
+    ta = as_times(t, "t", min_len=2)
     w = body.omega(ta)
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 3.5))

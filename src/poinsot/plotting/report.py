@@ -164,11 +164,17 @@ def write_report(
         raise InvalidInputError(f"Expected `max_frames` to be in [2, 1000], got {max_frames}.")
     body = _check_shape(shape)
     J = _check_inertia(inertia)
+    if not isinstance(path, str | os.PathLike):
+        raise InvalidTypeError(
+            f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
+        )
     path = Path(os.fspath(path))
     if not path.parent.is_dir():
         raise InvalidInputError(
             f"Expected the directory of `path` to exist, got {str(path.parent)!r}."
         )
+    if path.is_dir():
+        raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
 
     fig = _figure(tr, ref, body, J, max_frames)
     page = _page(fig, title=title, tr=tr, summary=summary)

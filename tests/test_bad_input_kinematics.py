@@ -1,0 +1,144 @@
+"""Bad-input and singularity regressions for ``poinsot.kinematics`` (audit).
+
+Each case used to end in a raw NumPy traceback, a silent inf/NaN or a wrong
+answer; now it raises a :class:`poinsot.PoinsotError` naming the argument, or
+returns the accurate value.
+"""
+
+import numpy as np
+import pytest
+
+import poinsot.kinematics as K
+from poinsot import InvalidInputError, InvalidTypeError, PoinsotError, Rotation
+
+W2 = np.ones((2, 3))
+W5 = np.ones((5, 3))
+Q2 = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+C2 = np.tile(np.eye(3), (2, 1, 1))
+
+# (function, args, regex of the message): leading batch shapes that do not broadcast
+MISMATCHED_BATCH = [
+    (K.quat_rate, (Q2, W5), r"`q` \(2,\), `omega` \(5,\)"),
+    (K.omega_from_quat_rate, (Q2, np.ones((5, 4))), r"`q` \(2,\), `qdot` \(5,\)"),
+    (K.dcm_rate, (C2, W5), r"`C` \(2,\), `omega` \(5,\)"),
+    (K.omega_from_dcm_rate, (C2, np.zeros((5, 3, 3))), r"`C` \(2,\), `Cdot` \(5,\)"),
+    (lambda a, w: K.euler_rates("ZXZ", a, w), (0.5 * W2, W5), r"`angles` \(2,\), `omega`"),
+    (
+        lambda a, r: K.omega_from_euler_rates("ZXZ", a, r),
+        (0.5 * W2, W5),
+        r"`angles` \(2,\), `rates`",
+    ),
+    (K.gibbs_rate, (W2, W5), r"`g` \(2,\), `omega` \(5,\)"),
+    (K.omega_from_gibbs_rate, (W2, W5), r"`g` \(2,\), `gdot` \(5,\)"),
+    (K.mrp_rate, (0.1 * W2, W5), r"`p` \(2,\), `omega` \(5,\)"),
+    (K.omega_from_mrp_rate, (0.1 * W2, W5), r"`p` \(2,\), `pdot` \(5,\)"),
+    (K.rotvec_rate, (0.1 * W2, W5), r"`rotvec` \(2,\), `omega` \(5,\)"),
+    (K.omega_from_rotvec_rate, (0.1 * W2, W5), r"`rotvec` \(2,\), `rotvec_dot` \(5,\)"),
+]
+
+
+@pytest.mark.parametrize(("fn", "args", "match"), MISMATCHED_BATCH)
+def test_rates_mismatched_batch_shapes(fn, args, match):
+    with pytest.raises(InvalidInputError, match="batch .leading. shapes of " + match):
+        fn(*args)
+
+
+@pytest.mark.parametrize("degrees", [np.ones(3), np.empty(0), "yes", None, 1.0])
+@pytest.mark.parametrize("fn", [K.euler_rates, K.omega_from_euler_rates])
+def test_euler_degrees_must_be_bool(fn, degrees):
+    with pytest.raises(InvalidTypeError, match="`degrees` to be a bool"):
+        fn("ZXZ", [0.1, 0.5, 0.2], [1.0, 2.0, 3.0], degrees=degrees)
+
+
+def test_euler_rate_matrix_degrees_must_be_bool():
+    with pytest.raises(InvalidTypeError, match="`degrees` to be a bool"):
+        K.euler_rate_matrix("ZXZ", [0.1, 0.5, 0.2], degrees=np.ones(2))
+    # numpy bools are bools
+    m = K.euler_rate_matrix("ZXZ", [0.0, 90.0, 0.0], degrees=np.bool_(True))
+    np.testing.assert_allclose(m, K.euler_rate_matrix("ZXZ", [0.0, np.pi / 2, 0.0]))
+
+
+def test_mrp_overflow_is_an_error_not_nan():
+    with pytest.raises(InvalidInputError, match="`p` to have a moderate magnitude"):
+        K.mrp_rate([1e200, 0.0, 0.0], [0.0, 1.0, 0.0])
+    with pytest.raises(InvalidInputError, match="`p` to have a moderate magnitude"):
+        K.omega_from_mrp_rate([1e154, 0.0, 0.0], [0.0, 1.0, 0.0])
+
+
+def test_mrp_shadow_scale_free():
+    # shadow = -p / |p|^2 must not underflow to 0 nor overflow to inf
+    np.testing.assert_allclose(K.mrp_shadow([1e200, 0.0, 0.0]), [-1e-200, 0.0, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(K.mrp_shadow([0.0, 1e-200, 0.0]), [0.0, -1e200, 0.0], rtol=1e-15)
+    p = np.array([0.3, -0.4, 1.2])
+    np.testing.assert_allclose(K.mrp_shadow(p), -p / (p @ p), rtol=1e-15)
+    with pytest.raises(InvalidInputError, match="`p` to be non-zero"):
+        K.mrp_shadow([0.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("threshold", [1e200, True, np.inf])
+def test_mrp_switch_threshold_range(threshold):
+    with pytest.raises(InvalidInputError, match="`threshold` to be a number >= 1"):
+        K.mrp_switch([0.1, 0.2, 0.3], threshold=threshold)
+
+
+@pytest.mark.parametrize("fn", [K.rotvec_rate, K.omega_from_rotvec_rate])
+def test_rotvec_huge_angle(fn):
+    with pytest.raises(InvalidInputError, match="`rotvec` to have a norm .rotation angle. below"):
+        fn([1e200, 0.0, 0.0], [0.0, 1.0, 0.0])
+
+
+def test_fornberg_deriv_bool_rejected():
+    # True used to index as a boolean mask and return a (3, 2, 1) array
+    with pytest.raises(InvalidInputError, match="`deriv` to be an integer"):
+        K.fornberg_weights(0.0, [-1.0, 0.0, 1.0], deriv=True)
+    np.testing.assert_allclose(K.fornberg_weights(0.0, [-1.0, 0.0, 1.0], deriv=1), [-0.5, 0, 0.5])
+
+
+@pytest.mark.parametrize("bad", [None, 3.0, object()])
+def test_chain_non_sequence(bad):
+    m = K.FrameMotion(omega=[0.0, 0.0, 1.0])
+    with pytest.raises(InvalidTypeError, match="`motions` to be a sequence"):
+        K.chain(bad, [])
+    with pytest.raises(InvalidTypeError, match="`offsets` to be a sequence"):
+        K.chain([m, m], bad)
+
+
+@pytest.mark.parametrize("bad", [None, 3.0, "ab", object()])
+def test_reduce_motions_non_sequence(bad):
+    with pytest.raises(InvalidTypeError, match="`rotations` to be a sequence"):
+        K.reduce_motions(bad, [])
+    with pytest.raises(InvalidTypeError, match="`translations` to be a sequence"):
+        K.reduce_motions([], bad)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1.0, 1e200])
+def test_screw_axis_scale_free(scale):
+    """The Mozzi axis of (s v0, s w) is that of (v0, w): point, direction unchanged,
+    parameter unchanged, min_speed scaled (closed form: point = w x v0 / |w|^2)."""
+    v0, w = np.array([0.0, -2.0, 0.5]), np.array([0.0, 0.0, 2.0])
+    s = K.screw_axis(scale * v0, scale * w, atol=0.0)
+    np.testing.assert_allclose(s.point, [1.0, 0.0, 0.0], atol=1e-15)
+    np.testing.assert_allclose(s.direction, [0.0, 0.0, 1.0])
+    np.testing.assert_allclose(s.parameter, 0.25, rtol=1e-15)
+    np.testing.assert_allclose(s.min_speed, 0.5 * scale, rtol=1e-15)
+
+
+def test_screw_axis_reports_tiny_omega_correctly():
+    with pytest.raises(InvalidInputError, match=r"\|omega\| = 1e-200"):
+        K.screw_axis([1.0, 0.0, 0.0], [0.0, 0.0, 1e-200])
+
+
+def test_already_fine_cases_stay_errors():
+    """Cases found fine in the audit: keep them that way."""
+    t = np.linspace(0.0, 1.0, 11)
+    r = Rotation.from_rotvec(np.outer(t, [0.1, 0.2, 0.3]))
+    with pytest.raises(InvalidInputError, match="strictly increasing"):
+        K.angular_velocity(t[::-1], r)
+    with pytest.raises(InvalidInputError, match="11 samples along axis 0"):
+        K.angular_velocity(t, r.as_quat()[:5])
+    with pytest.raises(InvalidInputError, match="`omega.t.` to return only finite"):
+        K.propagate([1.0, 0, 0, 0], lambda s: np.full(3, np.nan), t, method="adaptive")
+    with pytest.raises(InvalidInputError, match="`method` to be one of"):
+        K.propagate([1.0, 0, 0, 0], np.ones((11, 3)), t, method="cfree4")
+    with pytest.raises(PoinsotError, match="singular"):
+        K.euler_rates("ZXZ", [0.1, 0.0, 0.2], [1.0, 2.0, 3.0])
