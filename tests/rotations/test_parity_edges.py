@@ -215,3 +215,10 @@ def test_power_shapes_must_broadcast():
         r ** np.ones(3)
     with pytest.raises(InvalidInputError, match="shape of `t` .* to broadcast"):
         Q.power(np.ones((5, 4)), np.ones(3))
+
+
+def test_repr_round_trips_including_empty_batches():
+    for r in (Rotation.identity(), Rotation.identity((0, 2)), Rotation.from_rotvec([0, 0, 0.5])):
+        back = eval(repr(r), {"Rotation": Rotation, "np": np})
+        assert back.shape == r.shape
+        assert np.all(back.approx_equal(r, atol=1e-6))

@@ -15,6 +15,24 @@ the hub, each representation converts to and from it.
   "one point of view": ``C = B A``, ``N = M o L``).
 * Radians unless ``degrees=True``; quaternions scalar first unless
   ``scalar_first=False``.
+
+**Differences from SciPy's** ``Rotation`` (deliberate; everything else matches
+it to a few ulp, see ``tests/rotations/test_parity_scipy.py``):
+
+* scalar-first quaternions by default; keyword-only options
+  (``approx_equal(other, atol=...)``, ``as_euler(seq, degrees=...)``);
+* ``from_matrix`` rejects matrices farther than ``atol`` (1e-6) from orthogonal
+  instead of silently orthogonalising them; ``align_vectors`` raises for fewer
+  than two independent pairs (no single-pair or infinite-weight mode);
+* one-axis ``from_euler``: a 1-D array is a list of angles, also of length 1
+  (SciPy returns a single rotation for ``[a]``), and any shape is accepted;
+* gimbal lock: the middle Euler angle is set to its singular value, so the
+  round trip loses at most the 1e-7 rad threshold (SciPy: up to 2e-7);
+* ``as_mrp`` at exactly pi uses the canonical sign of ``as_rotvec``;
+* extreme inputs (quaternions or vectors of size 1e-300 .. 1e300, rotation
+  vectors beyond 1e154) are handled where SciPy returns zeros or NaN, and an
+  empty set has no mean (SciPy returns the identity for all-zero weights);
+* ``r ** n`` accepts an array ``n`` broadcasting with the shape.
 """
 
 from __future__ import annotations
@@ -142,6 +160,8 @@ class Rotation:
             ) from None
 
     def __repr__(self) -> str:
+        if self._q.size == 0:
+            return f"Rotation(quat=np.empty({self._q.shape}))"
         return f"Rotation(quat={np.array2string(self._q, precision=6, separator=', ')})"
 
     def __reduce__(self):
