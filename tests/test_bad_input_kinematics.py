@@ -142,3 +142,25 @@ def test_already_fine_cases_stay_errors():
         K.propagate([1.0, 0, 0, 0], np.ones((11, 3)), t, method="cfree4")
     with pytest.raises(PoinsotError, match="singular"):
         K.euler_rates("ZXZ", [0.1, 0.0, 0.2], [1.0, 2.0, 3.0])
+
+
+def _helix(s):
+    return np.stack([np.cos(s), np.sin(s), 0.5 * s], axis=-1)
+
+
+@pytest.mark.parametrize("stencil", [None, "7", 3, 0, True])
+def test_frenet_stencil_checked_for_callables_too(stencil):
+    with pytest.raises(InvalidInputError, match="`stencil` to be an integer >= 4"):
+        K.frenet(np.linspace(0.0, 1.0, 5), _helix, stencil=stencil)
+
+
+def test_frenet_unresolvable_or_overflowing_step():
+    # t + step == t: used to return NaN silently (with only a SingularityWarning)
+    with pytest.raises(InvalidInputError, match="`step` .* to be resolvable at the times"):
+        K.frenet(np.array([1e200]), _helix)
+    # step**3 underflows: used to raise a RuntimeWarning and return inf
+    with pytest.raises(InvalidInputError, match="the derivatives overflow"):
+        K.frenet(np.array([0.0]), _helix, step=1e-200)
+    # a moderate step stays accurate: helix curvature a/(a^2 + b^2) = 0.8
+    f = K.frenet(np.array([0.0, 1.0]), _helix, step=0.01)
+    np.testing.assert_allclose(f.curvature, 0.8, rtol=1e-8)

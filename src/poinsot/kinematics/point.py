@@ -341,14 +341,14 @@ def frenet(
     True
     """
     rtol = _scalar(rtol, "rtol")
+    if not is_integer(stencil) or stencil < 4:
+        raise InvalidInputError(f"Expected `stencil` to be an integer >= 4, got {stencil!r}.")
     if callable(r):
         return _frenet_callable(t, r, derivatives, step, rtol)
     if derivatives is not None:
         raise InvalidInputError(
             "Expected `derivatives` only with a callable `r`, got samples for `r`."
         )
-    if not is_integer(stencil) or stencil < 4:
-        raise InvalidInputError(f"Expected `stencil` to be an integer >= 4, got {stencil!r}.")
     r = as_float_array(r, "r")
     t_arr = as_float_array(t, "t")
     if t_arr.ndim != 1:
@@ -401,11 +401,25 @@ def _frenet_callable(t, r, derivatives, step, rtol) -> FrenetFrame:
         zero = np.zeros(t.shape)
         return _frenet_kernel(t, pos, v, a, j, zero, zero, rtol)
     step = _scalar(step, "step", strict=True)
+    # the finite-difference nodes t + k step must be distinct to ~1e-6 of the step
+    if np.any(np.spacing(np.abs(t)) > 1e-6 * step):
+        raise InvalidInputError(
+            f"Expected `step` ({step:g}) to be resolvable at the times `t` (max |t| = "
+            f"{float(np.max(np.abs(t))):g}): t + step must differ from t by more than "
+            "rounding; use a larger step or shift the time origin."
+        )
     offsets = step * np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1, dtype=np.float64)
     c = _fornberg(0.0, np.arange(-_CALLABLE_HALF, _CALLABLE_HALF + 1.0), 3)
-    c = c / step ** np.arange(4)  # (w, 4)
-    nodes = _eval_curve(r, t[..., None] + offsets, "r")  # (..., w, 3)
-    d = np.einsum("jk,...jd->k...d", c, nodes)
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        c = c / step ** np.arange(4)  # (w, 4)
+        nodes = _eval_curve(r, t[..., None] + offsets, "r")  # (..., w, 3)
+        d = np.einsum("jk,...jd->k...d", c, nodes)
+    if not np.all(np.isfinite(d)):
+        raise InvalidInputError(
+            f"Expected `step` ({step:g}) and the scale of the curve to give finite "
+            "differences, but the derivatives overflow; use a moderate step (e.g. 1e-3 "
+            "to 1e-1 of the time scale of the curve)."
+        )
     size = _norm(nodes)
     noise = np.einsum("jk,...j->k...", np.abs(c), size)
     return _frenet_kernel(

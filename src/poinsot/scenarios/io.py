@@ -9,6 +9,7 @@ the closest valid key suggested. The format is documented in ``docs/cli.md``.
 from __future__ import annotations
 
 import copy
+import os
 import re
 import tomllib
 from importlib import resources
@@ -16,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import PoinsotError
+from ..errors import InvalidTypeError, PoinsotError
 from ._toml import ScenarioError, Table, locate_keys
 from .schema import (
     DYNAMICS_METHODS,
@@ -110,6 +111,10 @@ def load_scenario(path) -> Scenario:
     >>> s.name, s.kind, s.simulation.times().size
     ('spin', 'dynamics', 11)
     """
+    if not isinstance(path, str | os.PathLike):
+        raise InvalidTypeError(
+            f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
+        )
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
@@ -153,6 +158,11 @@ def parse_scenario(text: str, *, source: str = "<string>", name: str | None = No
     poinsot.scenarios._toml.ScenarioError: <string>:1: `simulaton` unknown key. \
 Did you mean `simulation`? ...
     """
+    if not isinstance(text, str):
+        raise InvalidTypeError(
+            f"Expected `text` to be a str (TOML), got {type(text).__name__}; "
+            "decode bytes first or use load_scenario(path)."
+        )
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Trajectory
 from .schema import Scenario
 
@@ -399,6 +399,7 @@ def simulate_scenario(
     >>> round(r.summary["invariants"]["energy"]["initial"], 6)
     1.5
     """
+    _expect(scenario, Scenario, "scenario", "a Scenario (from load_scenario/parse_scenario)")
     scenario = _override(scenario, duration)
     progress = progress or _quiet_progress
     t = scenario.simulation.times()
@@ -697,6 +698,11 @@ def _summary(scenario: Scenario, tr: Trajectory, ref, potential, wall: float) ->
 
 
 # ----------------------------------------------------------------------------- writing
+def _expect(value, kind, name: str, what: str) -> None:
+    if not isinstance(value, kind):
+        raise InvalidTypeError(f"Expected `{name}` to be {what}, got {type(value).__name__}.")
+
+
 def prepare_output_dir(out, *, force: bool = False) -> Path:
     """Create the output directory; refuse to overwrite a non-empty one unless ``force``.
 
@@ -705,6 +711,7 @@ def prepare_output_dir(out, *, force: bool = False) -> Path:
     InvalidInputError
         ``out`` is a file, or a non-empty directory and ``force`` is false.
     """
+    _expect(out, str | os.PathLike, "out", "a str or os.PathLike")
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise InvalidInputError(f"Output path {str(out)!r} exists and is not a directory.")
@@ -972,6 +979,7 @@ def write_outputs(
     -----
     **Convention:** see :data:`CONVENTIONS` (written in the files' headers).
     """
+    _expect(result, ScenarioResult, "result", "a ScenarioResult (from simulate_scenario)")
     if fmt not in ("csv", "npz"):
         raise InvalidInputError(f"Expected `format` to be one of 'csv', 'npz', got {fmt!r}.")
     progress = progress or _quiet_progress
@@ -1033,6 +1041,7 @@ def run_scenario(
     >>> sorted(p.name for p in files)
     ['reference.csv', 'summary.json', 'trajectory.csv']
     """
+    _expect(scenario, Scenario, "scenario", "a Scenario (from load_scenario/parse_scenario)")
     if fmt not in ("csv", "npz"):
         raise InvalidInputError(f"Expected `format` to be one of 'csv', 'npz', got {fmt!r}.")
     prepare_output_dir(out, force=force)
