@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ._vec import length
 from .errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
@@ -37,6 +38,8 @@ def as_float_array(x, name: str, *, finite: bool = True) -> np.ndarray:
     """Convert ``x`` to a float64 array, checking it is numeric (and finite)."""
     if isinstance(x, str | bytes):
         raise InvalidTypeError(f"Expected `{name}` to be array-like of numbers, got a string.")
+    if x is None:
+        raise InvalidTypeError(f"Expected `{name}` to be array-like of numbers, got None.")
     try:
         a = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -65,11 +68,11 @@ def as_trailing(x, name: str, tail: Sequence[int | None], *, finite: bool = True
 def as_quat(q, name: str = "quat", *, normalize: bool = True) -> np.ndarray:
     """Quaternions of shape ``(..., 4)``, scalar first; non-zero; normalised if asked."""
     a = as_trailing(q, name, (4,))
-    n2 = np.einsum("...i,...i->...", a, a)
-    if np.any(n2 == 0.0):
+    n = length(a)  # overflow/underflow-free: (1e200, 1e200, 0, 0) is a valid quaternion
+    if np.any(n == 0.0):
         raise InvalidInputError(f"Expected `{name}` to be non-zero quaternions, got a zero one.")
     if normalize:
-        a = a / np.sqrt(n2)[..., None]
+        a = a / n[..., None]
     return a
 
 

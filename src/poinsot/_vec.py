@@ -8,7 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "dot", "hat"]
+__all__ = ["cross", "dot", "hat", "length"]
+
+# Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
+_N2_LO, _N2_HI = 1e-290, 1e290
 
 
 def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -35,3 +38,22 @@ def hat(v: np.ndarray) -> np.ndarray:
     out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
     out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
     return out
+
+
+def length(x: np.ndarray) -> np.ndarray:
+    """Euclidean length over the last axis, free of overflow and underflow.
+
+    The plain ``sqrt(sum x_i^2)`` is used unless the sum leaves ``[1e-290, 1e290]``;
+    those entries are recomputed as ``m sqrt(sum (x_i / m)^2)`` with ``m = max |x_i|``,
+    so quaternions like ``(1e200, 1e200, 0, 0)`` or ``(1e-200, 0, 0, 0)`` keep their
+    true length instead of ``inf``/``0``.
+    """
+    n2 = np.einsum("...i,...i->...", x, x)
+    odd = (n2 < _N2_LO) | (n2 > _N2_HI)
+    if not np.any(odd):
+        return np.sqrt(n2)
+    m = np.max(np.abs(x), axis=-1)
+    safe_m = np.where(m > 0, m, 1.0)
+    y = x / safe_m[..., None]
+    scaled = m * np.sqrt(np.einsum("...i,...i->...", y, y))
+    return np.where(odd, scaled, np.sqrt(n2))

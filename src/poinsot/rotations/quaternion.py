@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import as_float_array, as_trailing, as_vec3
+from .._vec import length as length_array
 from ..errors import InvalidInputError
 from ._lazy import kernels
 
@@ -39,31 +40,10 @@ __all__ = [
 
 #: Largest real part whose exponential is finite in float64 (``log(DBL_MAX)``).
 _LOG_MAX = float(np.log(np.finfo(np.float64).max))
-# Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
-_N2_LO, _N2_HI = 1e-290, 1e290
 
 
 def _quat(q, name: str = "q") -> np.ndarray:
     return as_trailing(q, name, (4,))
-
-
-def length_array(x: np.ndarray) -> np.ndarray:
-    """Euclidean length over the last axis, free of overflow and underflow.
-
-    The plain ``sqrt(sum x_i^2)`` is used unless the sum leaves ``[1e-290, 1e290]``;
-    those entries are recomputed as ``m sqrt(sum (x_i / m)^2)`` with ``m = max |x_i|``,
-    so quaternions like ``(1e200, 1e200, 0, 0)`` or ``(1e-200, 0, 0, 0)`` keep their
-    true length instead of ``inf``/``0``.
-    """
-    n2 = np.einsum("...i,...i->...", x, x)
-    odd = (n2 < _N2_LO) | (n2 > _N2_HI)
-    if not np.any(odd):
-        return np.sqrt(n2)
-    m = np.max(np.abs(x), axis=-1)
-    safe_m = np.where(m > 0, m, 1.0)
-    y = x / safe_m[..., None]
-    scaled = m * np.sqrt(np.einsum("...i,...i->...", y, y))
-    return np.where(odd, scaled, np.sqrt(n2))
 
 
 def _nonzero(q: np.ndarray, name: str) -> np.ndarray:

@@ -100,15 +100,12 @@ class Rotation:
 
     __slots__ = ("_q",)
 
-    def __init__(self, quat, *, normalize: bool = True, _trusted: bool = False):
-        if _trusted:
-            q = quat
-        else:
-            q = as_trailing(quat, "quat", (4,))
-            n = normalize_array(q, "quat")  # also rejects zero quaternions
-            if normalize:
-                q = n
-        q = np.array(q, dtype=np.float64, copy=not _trusted)
+    def __init__(self, quat, *, normalize: bool = True):
+        q = as_trailing(quat, "quat", (4,))
+        n = normalize_array(q, "quat")  # also rejects zero quaternions
+        if normalize:
+            q = n
+        q = np.array(q, dtype=np.float64)
         q.setflags(write=False)
         self._q = q
 
