@@ -336,3 +336,20 @@ def test_random_is_uniform():
 
 def test_edge_set_is_complete():
     assert len(edge_quaternions()) >= 80 + 28 + 12
+
+
+def test_rotvec_to_quat_against_high_precision():
+    """cos(f/2), e sin(f/2) against 40-digit mpmath over (0, pi] and at the edges."""
+    mp = pytest.importorskip("mpmath")
+    mp.mp.dps = 40
+    rng = np.random.default_rng(1)
+    angles = [*rng.uniform(0, np.pi, 300), 1e-300, 1e-12, 1e-8, 1e-4, np.pi - 1e-8, np.pi, 4.0, 7.5]
+    worst = 0.0
+    for f in angles:
+        e = rng.standard_normal(3)
+        v = f * e / np.linalg.norm(e)
+        q = Rotation.from_rotvec(v).as_quat()
+        big_f = mp.sqrt(sum(mp.mpf(x) ** 2 for x in v))
+        ref = [mp.cos(big_f / 2)] + [mp.sin(big_f / 2) / big_f * mp.mpf(x) for x in v]
+        worst = max(worst, max(abs(float(q[i] - ref[i])) for i in range(4)))
+    assert worst <= 5e-16, worst
