@@ -164,3 +164,24 @@ def test_frenet_unresolvable_or_overflowing_step():
     # a moderate step stays accurate: helix curvature a/(a^2 + b^2) = 0.8
     f = K.frenet(np.array([0.0, 1.0]), _helix, step=0.01)
     np.testing.assert_allclose(f.curvature, 0.8, rtol=1e-8)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-100, 1e100, 1e300])
+def test_frenet_any_length_scale(scale):
+    """A helix (cos t, sin t, t/2) scaled by L has kappa = 0.8/L and tau = 0.4/L.
+    At L = 1e-200 every point used to be reported straight (|v x a| underflowed),
+    at L = 1e200 the rounding bound overflowed (RuntimeWarning, NaN)."""
+    t = np.linspace(0.0, 2 * np.pi, 60)
+    f = K.frenet(t, scale * _helix(t))
+    assert not f.singular.any()
+    np.testing.assert_allclose(f.curvature * scale, 0.8, rtol=1e-5)
+    np.testing.assert_allclose(f.torsion * scale, 0.4, rtol=1e-3)
+    g = K.frenet(t[10:12], lambda s: scale * _helix(s))
+    np.testing.assert_allclose(g.curvature * scale, 0.8, rtol=1e-9)
+    np.testing.assert_allclose(g.torsion * scale, 0.4, rtol=1e-7)
+
+
+def test_frenet_unrepresentable_derivatives():
+    t = np.linspace(0.0, 2 * np.pi, 60)
+    with pytest.raises(InvalidInputError, match="finite first to third derivatives"):
+        K.frenet(1e-200 * t, _helix(t))  # r''' ~ 1e600

@@ -198,26 +198,54 @@ def _norm(a: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("...i,...i->...", a, a))
 
 
-def _frenet_kernel(t, r, v, a, j, noise_v, noise_a, rtol) -> FrenetFrame:
-    """The trihedron from the derivatives; ``noise_*`` bound their rounding errors."""
-    speed = _norm(v)
-    vxa = np.cross(v, a)
-    cross = _norm(vxa)
-    stationary = speed <= _NOISE * noise_v
-    # normal acceleration |v x a| / |v| against the size of a and its rounding error
-    straight = ~stationary & (cross <= speed * (rtol * _norm(a) + _NOISE * noise_a))
-    singular = stationary | straight
-    regular = ~singular
+def _scaled(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(m, x/m)`` with ``m`` the largest |component| per point (1 where x = 0), so that
+    products of the scaled vectors neither overflow nor underflow."""
+    m = np.max(np.abs(x), axis=-1)
+    m = np.where(m > 0, m, 1.0)
+    return m, x / m[..., None]
 
-    safe_speed = np.where(stationary, 1.0, speed)
-    safe_cross = np.where(singular, 1.0, cross)
-    tangent = np.where(stationary[..., None], 0.0, v / safe_speed[..., None])
-    binormal = np.where(singular[..., None], 0.0, vxa / safe_cross[..., None])
-    normal = np.cross(binormal, tangent)
-    curvature = np.where(singular, 0.0, cross / safe_speed**3)
-    torsion = np.where(regular, np.einsum("...i,...i->...", vxa, j) / safe_cross**2, 0.0)
-    a_t = np.einsum("...i,...i->...", a, tangent)
-    a_n = np.where(singular, 0.0, cross / safe_speed)
+
+def _frenet_kernel(t, r, v, a, j, noise_v, noise_a, rtol) -> FrenetFrame:
+    """The trihedron from the derivatives; ``noise_*`` bound their rounding errors.
+
+    Every product is formed from per-point scaled vectors ``v = V v^``, ``a = A a^``,
+    ``j = J j^`` (``V, A, J`` the largest components), e.g.
+    ``kappa = (A/V^2) |v^ x a^| / |v^|^3``: curves of any length scale work.
+    """
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        V, vs = _scaled(v)
+        A, as_ = _scaled(a)
+        Jm, js = _scaled(j)
+        speed_s = _norm(vs)
+        speed = V * speed_s
+        vxa_s = np.cross(vs, as_)
+        cross_s = _norm(vxa_s)
+        stationary = speed <= _NOISE * noise_v
+        # normal acceleration |v x a| / |v| against the size of a and its rounding error
+        # (|v x a| <= |v| (rtol |a| + noise), divided by V A)
+        straight = ~stationary & (cross_s <= speed_s * (rtol * _norm(as_) + _NOISE * noise_a / A))
+        singular = stationary | straight
+        regular = ~singular
+
+        safe_speed = np.where(stationary, 1.0, speed_s)
+        safe_cross = np.where(singular, 1.0, cross_s)
+        tangent = np.where(stationary[..., None], 0.0, vs / safe_speed[..., None])
+        binormal = np.where(singular[..., None], 0.0, vxa_s / safe_cross[..., None])
+        normal = np.cross(binormal, tangent)
+        curvature = np.where(singular, 0.0, (A / V / V) * (cross_s / safe_speed**3))
+        torsion = np.where(
+            regular,
+            (Jm / V / A) * np.einsum("...i,...i->...", vxa_s, js) / safe_cross**2,
+            0.0,
+        )
+        a_t = np.einsum("...i,...i->...", a, tangent)
+        a_n = np.where(singular, 0.0, A * (cross_s / safe_speed))
+    if not (np.all(np.isfinite(curvature)) and np.all(np.isfinite(torsion))):
+        raise InvalidInputError(
+            "Expected the curve to have a curvature and torsion representable in "
+            "float64; they overflow for these `t` and `r` (rescale the time or length unit)."
+        )
 
     count = int(np.count_nonzero(singular))
     if count:
@@ -372,7 +400,20 @@ def frenet(
             )
     r = _pad3(r)
     batch = r.shape[1:-1]
-    (v, a, j), (nv, na, _), _ = _sample_derivatives(t_arr, r.reshape(n, -1, 3), stencil, stride)
+    # differences of r / L (L ~ max |r|, a power of 2 so that the scaling is exact):
+    # the rounding bounds (|c| |r| sums) cannot overflow for any length scale of the
+    # curve; the derivatives are scaled back
+    L = float(np.ldexp(1.0, np.frexp(np.max(np.abs(r), initial=0.0))[1]))
+    with np.errstate(all="ignore"):
+        (v, a, j), (nv, na, _), _ = _sample_derivatives(
+            t_arr, r.reshape(n, -1, 3) / L, stencil, stride
+        )
+        v, a, j, nv, na = (L * x for x in (v, a, j, nv, na))
+    if not (np.all(np.isfinite(v)) and np.all(np.isfinite(a)) and np.all(np.isfinite(j))):
+        raise InvalidInputError(
+            "Expected `t` and `r` to give finite first to third derivatives in float64; "
+            "they overflow (rescale the time or length unit)."
+        )
 
     def back(x):
         return x.reshape((n, *batch) + x.shape[2:])
@@ -420,7 +461,8 @@ def _frenet_callable(t, r, derivatives, step, rtol) -> FrenetFrame:
             "differences, but the derivatives overflow; use a moderate step (e.g. 1e-3 "
             "to 1e-1 of the time scale of the curve)."
         )
-    size = _norm(nodes)
+    m, unit = _scaled(nodes)  # |r| without overflow in r.r
+    size = m * _norm(unit)
     noise = np.einsum("jk,...j->k...", np.abs(c), size)
     return _frenet_kernel(
         t, nodes[..., _CALLABLE_HALF, :], d[1], d[2], d[3], noise[1], noise[2], rtol
