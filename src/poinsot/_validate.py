@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._vec import length
+from ._vec import length, unit
 from .errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
@@ -72,7 +72,7 @@ def as_quat(q, name: str = "quat", *, normalize: bool = True) -> np.ndarray:
     if np.any(n == 0.0):
         raise InvalidInputError(f"Expected `{name}` to be non-zero quaternions, got a zero one.")
     if normalize:
-        a = a / n[..., None]
+        a = unit(a, n)
     return a
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "dot", "hat", "length"]
+__all__ = ["cross", "dot", "hat", "length", "unit"]
 
 # Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
 _N2_LO, _N2_HI = 1e-290, 1e290
@@ -57,3 +57,19 @@ def length(x: np.ndarray) -> np.ndarray:
     y = x / safe_m[..., None]
     scaled = m * np.sqrt(np.einsum("...i,...i->...", y, y))
     return np.where(odd, scaled, np.sqrt(n2))
+
+
+_EPS = float(np.finfo(np.float64).eps)
+
+
+def unit(x: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """``x / n`` over the last axis, leaving rows already unit (``|n - 1| <= 4 eps``) as they are.
+
+    Normalising is then idempotent: a unit quaternion passes through bit for bit,
+    so ``Rotation.from_quat(r.as_quat())`` is exactly ``r``. ``n`` are the lengths
+    (non-zero; see :func:`length`).
+    """
+    exact = np.abs(n - 1.0) <= 4.0 * _EPS
+    if np.all(exact):
+        return x
+    return np.where(exact[..., None], x, x / n[..., None])

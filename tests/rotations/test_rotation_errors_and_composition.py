@@ -118,3 +118,10 @@ def test_poisson_identity_quaternion_components_same_in_both_bases():
     axis, _ = r.as_axis_angle()
     np.testing.assert_allclose(r.apply(axis), axis, atol=1e-14)
     np.testing.assert_allclose(r.apply(axis, inverse=True), axis, atol=1e-14)
+
+
+def test_normalising_a_unit_quaternion_is_exact():
+    """from_quat(r.as_quat()) reproduces r bit for bit (normalisation is idempotent)."""
+    r = Rotation.random(10_000, rng=3)
+    np.testing.assert_array_equal(Rotation.from_quat(r.as_quat()).as_quat(), r.as_quat())
+    np.testing.assert_array_equal(Rotation(r.as_quat()).as_quat(), r.as_quat())

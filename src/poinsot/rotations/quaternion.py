@@ -21,6 +21,7 @@ import numpy as np
 
 from .._validate import as_float_array, as_trailing, as_vec3
 from .._vec import length as length_array
+from .._vec import unit
 from ..errors import InvalidInputError
 from ._lazy import kernels
 
@@ -56,7 +57,7 @@ def _nonzero(q: np.ndarray, name: str) -> np.ndarray:
 
 def normalize_array(q: np.ndarray, name: str = "quat") -> np.ndarray:
     """``q / |q|`` for validated float arrays (..., 4); a zero quaternion raises."""
-    return q / _nonzero(q, name)[..., None]
+    return unit(q, _nonzero(q, name))
 
 
 def _checked(kernel, what: str, *args) -> np.ndarray:
