@@ -27,3 +27,19 @@ def test_drifts_relative_and_at_rest():
     assert rest.momentum_vector_drift == 0.0
     assert tr.quat.shape == (3, 4) and tr.omega_space.shape == (3, 3)
     assert not tr.t.flags.writeable
+
+
+def test_bad_construction_is_named():
+    import pytest
+
+    from poinsot import InvalidInputError, InvalidTypeError
+
+    t = np.linspace(0, 1, 3)
+    with pytest.raises(InvalidTypeError, match="`rotation`"):
+        Trajectory(t, np.zeros((3, 4)), np.zeros((3, 3)), "x")
+    with pytest.raises(InvalidTypeError, match="`t`"):
+        Trajectory("abc", Rotation.identity(3), np.zeros((3, 3)), "x")
+    with pytest.raises(InvalidInputError, match=r"`omega` to have shape \(3, 3\)"):
+        Trajectory(t, Rotation.identity(3), np.zeros((3, 2)), "x")
+    with pytest.raises(InvalidInputError, match="`t` to have shape"):
+        Trajectory(t[:2], Rotation.identity(3), np.zeros((3, 3)), "x")

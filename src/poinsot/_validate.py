@@ -24,6 +24,7 @@ __all__ = [
     "as_vec3",
     "as_matrix3",
     "as_positive",
+    "as_bool",
     "as_choice",
     "as_times",
 ]
@@ -92,8 +93,17 @@ def as_positive(x, name: str, *, strict: bool = True) -> np.ndarray:
     bad = a <= 0 if strict else a < 0
     if np.any(bad):
         word = "positive" if strict else "non-negative"
-        raise InvalidInputError(f"Expected `{name}` to be {word}, got {a[bad].ravel()[0]!r}.")
+        raise InvalidInputError(
+            f"Expected `{name}` to be {word}, got {float(a[bad].ravel()[0])!r}."
+        )
     return a
+
+
+def as_bool(value, name: str) -> bool:
+    """A Python or NumPy bool (e.g. ``degrees``); anything else is a type error."""
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidTypeError(f"Expected `{name}` to be a bool, got {value!r}.")
+    return bool(value)
 
 
 def as_choice(value, name: str, choices: Sequence[str]) -> str:

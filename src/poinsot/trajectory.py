@@ -17,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import as_float_array
+from .errors import InvalidInputError, InvalidTypeError
 from .rotations.rotation import Rotation
 
 __all__ = ["Trajectory"]
@@ -61,13 +63,32 @@ class Trajectory:
     info: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.rotation, Rotation):
+            raise InvalidTypeError(
+                f"Expected `rotation` to be a poinsot.Rotation, got {type(self.rotation).__name__}."
+            )
+        if not isinstance(self.method, str):
+            raise InvalidTypeError(f"Expected `method` to be a string, got {self.method!r}.")
         object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
-        for name in ("t", "omega", "energy", "momentum"):
+        n = self.rotation.shape[:1]
+        expected = {
+            "t": n,
+            "omega": (*self.rotation.shape, 3),
+            "energy": self.rotation.shape,
+            "momentum": (*self.rotation.shape, 3),
+        }
+        for name, shape in expected.items():
             a = getattr(self, name)
-            if a is not None:
-                a = np.array(a, dtype=float)
-                a.setflags(write=False)
-                object.__setattr__(self, name, a)
+            if a is None:
+                continue
+            a = np.array(as_float_array(a, name, finite=False), dtype=float)
+            if a.shape != shape:
+                raise InvalidInputError(
+                    f"Expected `{name}` to have shape {shape} to match `rotation` "
+                    f"{self.rotation.shape}, got {a.shape}."
+                )
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
 
     @property
     def quat(self) -> np.ndarray:

@@ -20,7 +20,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .._validate import as_choice, as_float_array, as_quat, as_times, is_integer
+from .._validate import as_bool, as_choice, as_float_array, as_quat, as_times, is_integer
 from .._vec import cross as _cross
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..rotations import quaternion as _quat
@@ -468,8 +468,7 @@ def propagate(
     """
     method = as_choice(method, "method", METHODS)
     frame = as_choice(frame, "frame", FRAMES)
-    if not isinstance(vectorized, bool | np.bool_):
-        raise InvalidTypeError(f"Expected `vectorized` to be a bool, got {vectorized!r}.")
+    vectorized = as_bool(vectorized, "vectorized")
     if not is_integer(steps_per_sample) or steps_per_sample < 1:
         raise InvalidInputError(
             f"Expected `steps_per_sample` to be a positive integer, got {steps_per_sample!r}."

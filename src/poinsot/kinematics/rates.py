@@ -34,11 +34,11 @@ import warnings
 
 import numpy as np
 
-from .._validate import as_choice, as_matrix3, as_quat, as_trailing, as_vec3
+from .._validate import as_bool, as_choice, as_matrix3, as_quat, as_trailing, as_vec3
 from .._vec import cross as _cross
 from .._vec import dot as _dot
 from .._vec import hat as _hat
-from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError, SingularityWarning
+from ..errors import GimbalLockWarning, InvalidInputError, SingularityWarning
 from ..rotations import quaternion as _quat
 from ..rotations.dcm import ORTHOGONALITY_ATOL
 from ..rotations.euler import parse_sequence
@@ -122,13 +122,6 @@ def _batch(**named) -> tuple[int, ...]:
         raise InvalidInputError(
             f"Expected the batch (leading) shapes of {desc} to broadcast."
         ) from None
-
-
-def _flag(value, name: str) -> bool:
-    """A Python or NumPy bool (e.g. ``degrees``); anything else is a type error."""
-    if not isinstance(value, bool | np.bool_):
-        raise InvalidTypeError(f"Expected `{name}` to be a bool, got {value!r}.")
-    return bool(value)
 
 
 def _finite_result(out, name: str):
@@ -388,7 +381,7 @@ def _euler_args(seq, angles, degrees):
     if not isinstance(seq, str):
         raise InvalidInputError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
     angles = as_vec3(angles, "angles")
-    if _flag(degrees, "degrees"):
+    if as_bool(degrees, "degrees"):
         angles = np.deg2rad(angles)
     return angles
 

@@ -33,8 +33,8 @@ import functools
 
 import numpy as np
 
-from .._validate import as_positive
-from ..errors import InvalidInputError, InvalidTypeError
+from .._validate import as_bool, as_positive
+from ..errors import InvalidInputError
 
 __all__ = ["box", "sphere", "cylinder", "cone", "ellipsoid", "rod", "disc", "ring"]
 
@@ -58,12 +58,6 @@ def _positive(**named) -> list[np.ndarray]:
         desc = ", ".join(f"`{k}` {a.shape}" for k, a in arrays.items())
         raise InvalidInputError(f"Expected the shapes of {desc} to broadcast.") from None
     return list(arrays.values())
-
-
-def _flag(value, name: str) -> bool:
-    if not isinstance(value, bool | np.bool_):
-        raise InvalidTypeError(f"Expected `{name}` to be a bool, got {value!r}.")
-    return bool(value)
 
 
 def _representable(*, zero_zz: bool = False):
@@ -154,7 +148,7 @@ def sphere(mass, radius, *, hollow: bool = False) -> np.ndarray:
     array([2., 2., 2.])
     """
     m, r = _positive(mass=mass, radius=radius)
-    k = m * r * r * (2.0 / 3.0 if _flag(hollow, "hollow") else 0.4)
+    k = m * r * r * (2.0 / 3.0 if as_bool(hollow, "hollow") else 0.4)
     return _diag(k, k, k)
 
 
@@ -189,7 +183,7 @@ def cylinder(mass, radius, height, *, hollow: bool = False) -> np.ndarray:
     """
     m, r, h = _positive(mass=mass, radius=radius, height=height)
     r2, h2 = r * r, h * h
-    if _flag(hollow, "hollow"):
+    if as_bool(hollow, "hollow"):
         return _diag(m * (6.0 * r2 + h2) / 12.0, m * (6.0 * r2 + h2) / 12.0, m * r2)
     return _diag(m * (3.0 * r2 + h2) / 12.0, m * (3.0 * r2 + h2) / 12.0, 0.5 * m * r2)
 

@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_float_array, as_matrix3, as_positive, as_trailing, as_vec3
-from ..errors import InvalidInputError, InvalidTypeError
+from .._validate import as_bool, as_float_array, as_matrix3, as_positive, as_trailing, as_vec3
+from ..errors import InvalidInputError
 from ..rotations.rotation import Rotation
 
 __all__ = [
@@ -75,8 +75,7 @@ def _first(values: np.ndarray, bad: np.ndarray) -> np.ndarray:
 
 def _check_moments(moments, tol, name, allow_singular, what):
     """Raise unless sorted principal ``moments`` (..., 3) are >= / > 0 and satisfy A + B >= C."""
-    if not isinstance(allow_singular, bool | np.bool_):
-        raise InvalidTypeError(f"Expected `allow_singular` to be a bool, got {allow_singular!r}.")
+    allow_singular = as_bool(allow_singular, "allow_singular")
     a, b, c = moments[..., 0], moments[..., 1], moments[..., 2]
     bad = a < -tol if allow_singular else a <= tol
     if np.any(bad):
