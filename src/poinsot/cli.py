@@ -86,15 +86,13 @@ def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()
     print(f"outputs: {out}{'/' if not str(out).endswith('/') else ''} ({names})")
 
 
-def _cmd_run(args) -> int:
-    from .scenarios import load_scenario, prepare_output_dir, run_scenario
+def _run_with_progress(scenario, out: Path, args):
+    """Run ``scenario`` into ``out`` (already prepared) with the options of ``run``/``demo``."""
+    from .scenarios import run_scenario
 
-    scenario = load_scenario(args.scenario)
-    out = Path(args.out) if args.out else _default_out(scenario.name)
-    prepare_output_dir(out, force=args.force)
     bar = ProgressBar(quiet=args.quiet)
     try:
-        result, files = run_scenario(
+        return run_scenario(
             scenario,
             out,
             fmt=args.format,
@@ -106,12 +104,21 @@ def _cmd_run(args) -> int:
         )
     finally:
         bar.close()
+
+
+def _cmd_run(args) -> int:
+    from .scenarios import load_scenario, prepare_output_dir
+
+    scenario = load_scenario(args.scenario)
+    out = Path(args.out) if args.out else _default_out(scenario.name)
+    prepare_output_dir(out, force=args.force)
+    result, files = _run_with_progress(scenario, out, args)
     _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} run")
     return 0
 
 
 def _cmd_demo(args) -> int:
-    from .scenarios import demo_scenario, prepare_output_dir, run_scenario
+    from .scenarios import demo_scenario, prepare_output_dir
 
     scenario = demo_scenario()
     if args.out:
@@ -124,20 +131,7 @@ def _cmd_demo(args) -> int:
             k += 1
             out = _default_out(f"{scenario.name}-{k}")
     prepare_output_dir(out, force=args.force)
-    bar = ProgressBar(quiet=args.quiet)
-    try:
-        result, files = run_scenario(
-            scenario,
-            out,
-            fmt=args.format,
-            report=not args.no_report,
-            figures=not args.no_figures,
-            force=True,
-            duration=args.duration,
-            progress=bar,
-        )
-    finally:
-        bar.close()
+    result, files = _run_with_progress(scenario, out, args)
     from .rotations.rotation import Rotation
 
     a = Rotation.from_axis_angle([1.0, 0.0, 0.0], 90.0, degrees=True)
