@@ -57,7 +57,7 @@ def test_scenario_is_frozen():
     s = parse(BODY + OMEGA + SIM)
     with pytest.raises(dataclasses.FrozenInstanceError):
         s.name = "y"
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         s.body.inertia[0, 0] = 5.0  # read-only arrays
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation as SciRotation
 
 from poinsot import InvalidInputError
 from poinsot.scenarios import (
@@ -78,10 +79,23 @@ def test_free_body_invariants_and_exact_vs_numerical():
         assert inv[key]["conserved"] and inv[key]["max_relative_drift"] < 1e-12
     tr, ref = result.trajectory, result.reference
     assert tr.method == "midpoint" and ref.method == "exact"
-    ref_inv = result.summary["reference_invariants"]
-    assert ref_inv["energy"]["max_relative_drift"] < 1e-13  # the exact solution
+    # the invariants recomputed here from the raw states, not read from the summary
+    j = np.asarray(result.scenario.body.inertia)
+    for traj, tol in ((tr, 1e-12), (ref, 1e-13)):
+        w = np.asarray(traj.omega)
+        energy = 0.5 * np.einsum("ni,ij,nj->n", w, j, w)
+        k_space = traj.rotation.apply(w @ j)  # K_n = C_nb J w_b
+        assert np.max(np.abs(energy / energy[0] - 1)) < tol
+        k0 = np.linalg.norm(k_space[0])
+        assert np.max(np.linalg.norm(k_space - k_space[0], axis=-1)) / k0 < tol
     # second-order method at h = 1 ms on a spin of 6 rad/s: close to the exact solution
-    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-3
+    angle = SciRotation.from_quat(ref.quat, scalar_first=True).inv() * SciRotation.from_quat(
+        tr.quat, scalar_first=True
+    )
+    assert 1e-9 < angle.magnitude().max() < 1e-3  # an O(h^2) error, neither zero nor large
+    assert result.summary["comparison"]["max_attitude_error_rad"] == pytest.approx(
+        angle.magnitude().max(), rel=1e-6
+    )
     # the closed form: 2T and |K| from the initial state (SPEC S8)
     j = np.asarray(result.scenario.body.inertia)
     w0 = np.asarray(result.scenario.angular_velocity.omega_body)
@@ -160,8 +174,15 @@ def test_constant_space_torque_momentum_balance():
         """)
     )
     result = simulate_scenario(s)
-    bal = result.summary["invariants"]["momentum_balance"]
-    assert bal["max_relative_error"] < 1e-8
+    tr = result.trajectory
+    j = np.diag([1.0, 2.0, 2.5])
+    # K_n = C_nb J w_b from the raw states, against K(0) + M t with K(0) from the input
+    r0 = SciRotation.from_euler("zyx", [10.0, 20.0, 30.0], degrees=True)
+    k0 = r0.apply(j @ np.array([0.3, -0.2, 0.5]))
+    expected = k0 + np.outer(tr.t, [0.1, 0.0, -0.05])
+    k_space = tr.rotation.apply(np.asarray(tr.omega) @ j)
+    np.testing.assert_allclose(k_space, expected, atol=1e-8 * np.abs(expected).max())
+    assert result.summary["invariants"]["momentum_balance"]["max_relative_error"] < 1e-8
     assert not result.summary["invariants"]["energy"]["conserved"]
 
 
@@ -187,7 +208,29 @@ def test_coning_closed_form():
     omega_fd = 2 * qa.multiply(qa.conjugate(coning_quat(a, w, t)), dq)
     np.testing.assert_allclose(omega_fd[:, 0], 0.0, atol=1e-8)
     np.testing.assert_allclose(omega_fd[:, 1:], coning_omega(a, w, t), atol=1e-8)
+    # Lc(t) written out here from the textbook form (not via coning_quat)
+    lc = np.stack(
+        [np.full_like(t, np.cos(a / 2)), np.sin(a / 2) * np.cos(w * t)]
+        + [np.sin(a / 2) * np.sin(w * t), 0 * t],
+        axis=-1,
+    )
+    np.testing.assert_allclose(coning_quat(a, w, t), lc, atol=1e-15)
     result = simulate_scenario(load_scenario(EXAMPLES / "coning.toml"))
+    # the example: half-angle 5 deg, 2 Hz, identity start: L(t) = Lc(0)~ o Lc(t)
+    a5, w2, tt = np.radians(5.0), 4 * np.pi, result.trajectory.t
+    lc0 = SciRotation.from_quat([np.cos(a5 / 2), np.sin(a5 / 2), 0, 0], scalar_first=True)
+    lct = SciRotation.from_quat(
+        np.stack(
+            [np.full_like(tt, np.cos(a5 / 2)), np.sin(a5 / 2) * np.cos(w2 * tt)]
+            + [np.sin(a5 / 2) * np.sin(w2 * tt), 0 * tt],
+            axis=-1,
+        ),
+        scalar_first=True,
+    )
+    truth = lc0.inv() * lct
+    for traj in (result.trajectory, result.reference):  # exact, then magnus4
+        got = SciRotation.from_quat(traj.quat, scalar_first=True)
+        assert (truth.inv() * got).magnitude().max() < 1e-9, traj.method
     assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-9
     q = result.trajectory.quat
     period = result.summary["closed_form"]["period"]
