@@ -306,10 +306,26 @@ def test_gimbal_lock(seq, lock):
 
 
 def test_euler_batch_shapes():
+    """Batched angles: every entry's rates reproduce omega through SciPy's matrices
+    (central difference of C(angles + s rates): C^T C' = w_b^, C' C^T = w_n^)."""
     ang = np.random.default_rng(0).uniform(0.2, 1.2, (4, 2, 3))
-    rates = K.euler_rates("ZYZ", ang, [1.0, 0.0, 0.0])
+    w_b = np.array([1.0, 0.0, 0.0])
+    rates = K.euler_rates("ZYZ", ang, w_b)
     assert rates.shape == (4, 2, 3)
-    assert K.euler_rate_matrix("ZYZ", ang, frame="space").shape == (4, 2, 3, 3)
+    m_space = K.euler_rate_matrix("ZYZ", ang, frame="space")
+    assert m_space.shape == (4, 2, 3, 3)
+    h = 1e-5
+    for idx in np.ndindex(4, 2):
+
+        def c(s, idx=idx):
+            return SciRotation.from_euler("ZYZ", ang[idx] + s * rates[idx]).as_matrix()
+
+        dc = (c(h) - c(-h)) / (2 * h)
+        wb_hat, wn_hat = c(0.0).T @ dc, dc @ c(0.0).T
+        np.testing.assert_allclose(wb_hat[[2, 0, 1], [1, 2, 0]], w_b, atol=1e-9)
+        wn = wn_hat[[2, 0, 1], [1, 2, 0]]
+        np.testing.assert_allclose(m_space[idx] @ rates[idx], wn, atol=1e-9)
+        np.testing.assert_allclose(wn, c(0.0) @ w_b, atol=1e-9)
 
 
 def test_euler_errors():

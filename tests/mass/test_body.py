@@ -120,11 +120,20 @@ def test_batch_bodies():
     np.testing.assert_allclose(body.kinetic_energy(w), 0.5 * 0.4 * masses)
     moments = body.principal_moments()
     assert moments.shape == (3, 3)
+    np.testing.assert_allclose(moments, 0.4 * masses[:, None] * np.ones(3))  # 2/5 m r^2
     mom, rot = body.principal_axes()
     np.testing.assert_allclose(mom, moments)
     both = body + RigidBody(1.0, sphere(1.0, 1.0))
     assert both.shape == (3,)
     np.testing.assert_allclose(both.mass, masses + 1.0)
+    # two balls 1 apart on z: each moved d = m_other / M from the common centre of mass
+    # (Huygens-Steiner): J_xx = J_yy = 0.4 (m + 1) + m * 1 / (m + 1), J_zz = 0.4 (m + 1)
+    np.testing.assert_allclose(both.center_of_mass[:, 2], masses / (masses + 1.0))
+    side = 0.4 * (masses + 1.0) + masses / (masses + 1.0)
+    np.testing.assert_allclose(
+        both.inertia,
+        np.stack([np.diag([s, s, 0.4 * (m + 1.0)]) for s, m in zip(side, masses, strict=True)]),
+    )
     with pytest.raises(ValueError, match="read-only"):
         body.inertia[0, 0, 0] = 5.0
 
@@ -168,7 +177,7 @@ def test_rigid_body_errors():
         combine()
     with pytest.raises(InvalidTypeError, match="every body to be a RigidBody, got ndarray at"):
         combine(RigidBody(1.0, np.eye(3)), np.eye(3))
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="unsupported operand"):
         RigidBody(1.0, np.eye(3)) + 1.0
     with pytest.raises(InvalidInputError, match=r"`omega` to have shape \(\.\.\., 3\)"):
         RigidBody(1.0, np.eye(3)).kinetic_energy([1.0, 2.0])
