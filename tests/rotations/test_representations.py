@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation as SciPyRotation
 from scipy.spatial.transform import Slerp
 
-from poinsot import GimbalLockWarning, Rotation
+from poinsot import GimbalLockWarning, InvalidTypeError, Rotation
 from rotation_cases import (
     all_quaternions,
     assert_same_rotation,
@@ -315,7 +315,7 @@ def test_shapes_and_container_protocol():
     assert len(r) == 5 and r[1].shape == (3,) and r[1, 2].shape == () and r[..., 0].shape == (5,)
     assert len(list(r)) == 5
     np.testing.assert_array_equal(r[2, 1].as_quat(), r.as_quat()[2, 1])
-    with pytest.raises(TypeError):
+    with pytest.raises(InvalidTypeError, match="single rotation has no len"):
         len(Rotation.identity())
     import pickle
 

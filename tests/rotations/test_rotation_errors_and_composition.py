@@ -58,7 +58,7 @@ def test_type_errors():
         Rotation.from_quat("1, 0, 0, 0")
     with pytest.raises(InvalidTypeError, match="Rotation"):
         compose([Rotation.identity(), np.eye(3)])
-    with pytest.raises(TypeError):
+    with pytest.raises(InvalidTypeError, match="single rotation is not subscriptable"):
         Rotation.identity()[0]
     assert Rotation.identity().__mul__(3) is NotImplemented
     assert issubclass(InvalidInputError, PoinsotError) and issubclass(InvalidInputError, ValueError)
