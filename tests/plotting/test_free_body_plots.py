@@ -14,13 +14,14 @@ from poinsot import InvalidInputError, InvalidTypeError  # noqa: E402
 from poinsot.dynamics import FreeRigidBody  # noqa: E402
 from poinsot.plotting import plot_maccullagh, plot_omega, plot_poinsot  # noqa: E402
 
-BODIES = {
-    "major": FreeRigidBody([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),
-    "flip": FreeRigidBody([1.0, 2.0, 3.0], [0.05, 1.0, 0.05]),
-    "separatrix": FreeRigidBody([6.0, 5.0, 2.0], [1.0, 0.5, 1.0]),
-    "symmetric": FreeRigidBody([2.0, 2.0, 1.0], [0.2, 0.3, 1.0]),
-    "spherical": FreeRigidBody([2.0, 2.0, 2.0], [0.2, 0.3, 1.0]),
+CASES = {
+    "major": ([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),
+    "flip": ([1.0, 2.0, 3.0], [0.05, 1.0, 0.05]),
+    "separatrix": ([6.0, 5.0, 2.0], [1.0, 0.5, 1.0]),
+    "symmetric": ([2.0, 2.0, 1.0], [0.2, 0.3, 1.0]),
+    "spherical": ([2.0, 2.0, 2.0], [0.2, 0.3, 1.0]),
 }
+BODIES = {name: FreeRigidBody(m, w) for name, (m, w) in CASES.items()}
 
 
 @pytest.fixture(autouse=True)
@@ -35,9 +36,14 @@ def test_plot_maccullagh(name):
     assert ax.name == "3d"
     # track + separatrices (two for distinct moments)
     assert len(ax.lines) == (3 if name in ("major", "flip", "separatrix") else 1)
-    np.testing.assert_allclose(
-        np.asarray(ax.lines[-1].get_data_3d()).T, BODIES[name].maccullagh(60).track
-    )
+    track = np.asarray(ax.lines[-1].get_data_3d()).T
+    np.testing.assert_allclose(track, BODIES[name].maccullagh(60).track)
+    # the drawn body-axes K lies on the momentum sphere and the energy ellipsoid (SPEC S10),
+    # both computed here from the initial state
+    moments, w0 = (np.asarray(x) for x in CASES[name])
+    k2, two_t = np.sum((moments * w0) ** 2), np.sum(moments * w0**2)
+    np.testing.assert_allclose(np.sum(track**2, axis=-1), k2, rtol=1e-12)
+    np.testing.assert_allclose(np.sum(track**2 / moments, axis=-1), two_t, rtol=1e-12)
 
 
 @pytest.mark.parametrize("name", list(BODIES))
@@ -47,6 +53,12 @@ def test_plot_poinsot(name):
     assert ax.name == "3d"
     herp = np.asarray(ax.lines[1].get_data_3d()).T
     np.testing.assert_allclose(herp, body.poinsot(n=80).herpolhode)
+    # in the invariable plane: normal K (= J w0 in space, identity start) at distance
+    # sqrt(2T) / |K| from the fixed point (SPEC S10), computed here from the initial state
+    moments, w0 = (np.asarray(x) for x in CASES[name])
+    k = moments * w0
+    dist = np.sqrt(np.sum(moments * w0**2)) / np.linalg.norm(k)
+    np.testing.assert_allclose(herp @ (k / np.linalg.norm(k)), dist, rtol=1e-12)
 
 
 def test_plot_on_given_axes_and_times():
