@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation as SciPyRotation
 from poinsot.cli import ProgressBar, main
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+CSVS = ("trajectory.csv", "reference.csv")
 
 
 def run(capsys, *argv):
@@ -279,6 +280,22 @@ def test_demo(capsys, tmp_path, monkeypatch):
     first = tmp_path / "poinsot-out" / "tennis-racket-flip"
     summary = json.loads((first / "summary.json").read_text())
     assert summary["method"] == "midpoint" and summary["reference_method"] == "exact"
+    # the written files against hand values: box 0.3 x 0.1 x 0.02 m of 0.35 kg, moments
+    # m (b^2 + c^2) / 12 etc.; T = w.Jw/2 and K = R J w conserved; printed difference
+    tr, ref = (np.loadtxt(first / f, delimiter=",", comments="#") for f in CSVS)
+    moments = 0.35 / 12 * np.array([0.1**2 + 0.02**2, 0.3**2 + 0.02**2, 0.3**2 + 0.1**2])
+    for data in (tr, ref):
+        q, w, k, energy = data[:, 1:5], data[:, 5:8], data[:, 8:11], data[:, 11]
+        np.testing.assert_allclose(w[0], [0.02, 6.0, 0.02], rtol=1e-14)
+        np.testing.assert_allclose(energy, 0.5 * np.sum(moments * w**2, axis=-1), rtol=1e-12)
+        np.testing.assert_allclose(energy, 0.5 * np.sum(moments * w[0] ** 2), rtol=1e-12)
+        k_space = SciPyRotation.from_quat(q, scalar_first=True).apply(moments * w)
+        np.testing.assert_allclose(k, k_space, atol=1e-15)
+        np.testing.assert_allclose(k, np.broadcast_to(k[0], k.shape), atol=1e-15)
+    rq = SciPyRotation.from_quat(ref[:, 1:5], scalar_first=True)
+    diff = (rq.inv() * SciPyRotation.from_quat(tr[:, 1:5], scalar_first=True)).magnitude()
+    printed = float(out.split("vs exact: max attitude difference ")[1].split()[0])
+    assert printed == pytest.approx(diff.max(), rel=1e-2) and 0 < printed < 1e-3
     # a second demo never overwrites the first: it takes a numbered directory
     code, out, _ = run(capsys, "demo", "--no-report", "--no-figures", "--duration", "0.5")
     assert code == 0 and (tmp_path / "poinsot-out" / "tennis-racket-flip-2").is_dir()
