@@ -155,6 +155,7 @@ def test_callable_layouts_and_batch():
     t = np.array([[0.1, 0.2], [0.3, 0.4]])
     ref = frenet(t, helix)
     assert ref.tangent.shape == (2, 2, 3) and ref.curvature.shape == (2, 2)
+    check_helix(ref, t, 1e-10, 1e-11, 1e-8)  # the (2, 2) batch against the closed form
     f2 = frenet(t, lambda s: np.array([A * np.cos(s), A * np.sin(s), B * s]))
     f3 = frenet(t, lambda s: (A * np.cos(s), A * np.sin(s), B * s))
     np.testing.assert_allclose(f2.torsion, ref.torsion)
@@ -166,6 +167,10 @@ def test_callable_layouts_and_batch():
     fb = frenet(ts, two)
     assert fb.curvature.shape == (50, 2)
     np.testing.assert_allclose(fb.curvature[:, 1], fb.curvature[:, 0] / 2, rtol=1e-12)
+    kappa = helix_truth(ts)[3]  # a / (a^2 + b^2); the curve scaled by 2 has half of it
+    np.testing.assert_allclose(
+        fb.curvature, np.stack([kappa, kappa / 2], -1) + 0 * ts[:, None], rtol=1e-6
+    )
 
 
 def test_straight_and_stationary_points_warn():
