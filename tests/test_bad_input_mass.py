@@ -48,12 +48,20 @@ def test_huge_mass_is_fine():
     np.testing.assert_allclose(M.sphere(1e200, 1.0).diagonal(), [0.4e200] * 3)
 
 
-@pytest.mark.parametrize("tol", [None, "x", np.ones(2), [[1, 2], [3]]])
+@pytest.mark.parametrize(
+    ("tol", "exc", "match"),
+    [
+        (None, InvalidTypeError, "`{}` to be array-like of numbers"),
+        ("x", InvalidTypeError, "`{}` to be array-like of numbers"),
+        (np.ones(2), InvalidInputError, r"`rtol` and `atol` to be >= 0 \(scalars\)"),
+        ([[1, 2], [3]], InvalidTypeError, "`{}` to be array-like of real numbers"),
+    ],
+)
 @pytest.mark.parametrize("which", ["rtol", "atol"])
-def test_check_inertia_tolerances(tol, which):
-    with pytest.raises((InvalidInputError, InvalidTypeError), match=f"`{which}`"):
+def test_check_inertia_tolerances(tol, exc, match, which):
+    with pytest.raises(exc, match=match.format(which)):
         M.check_inertia(np.diag([1.0, 2.0, 3.0]), **{which: tol})
-    with pytest.raises((InvalidInputError, InvalidTypeError), match=f"`{which}`"):
+    with pytest.raises(exc, match=match.format(which)):
         M.check_principal_moments([1.0, 2.0, 3.0], **{which: tol})
 
 
