@@ -121,5 +121,6 @@ def test_orthogonal_transform_commutes_with_product():
     ],
 )
 def test_errors(call, match):
-    with pytest.raises(poinsot.PoinsotError, match=match):
+    exc = poinsot.InvalidTypeError if match == "string" else poinsot.InvalidInputError
+    with pytest.raises(exc, match=match):
         call()
