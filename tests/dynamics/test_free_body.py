@@ -654,6 +654,9 @@ def test_maccullagh_geometry(w0):
 def test_maccullagh_symmetric_has_no_separatrix():
     g = FreeRigidBody([2.0, 2.0, 1.0], [0.2, 0.3, 1.0]).maccullagh(10)
     assert g.separatrices.shape == (0, 10, 3)
+    # A = B: the track is the circle K_3 = C r = 1 on the sphere |K| = |J w0| (SPEC S10)
+    np.testing.assert_allclose(g.track[:, 2], 1.0, rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(g.track, axis=-1), math.hypot(0.4, 0.6, 1.0))
 
 
 @pytest.mark.parametrize("w0", [[0.2, 0.3, 1.0], [0.05, 1.0, 0.05], [0.3, 0.4, 0.0]])
