@@ -159,7 +159,8 @@ def test_dumbbell_textbook():
     """Two spheres on a massless rod: J = 2 (2/5 m r^2 + m d^2) about the transverse axis."""
     s = RigidBody.sphere(1.0, 0.1)
     bell = s.placed(position=[0, 0, 1.0]) + s.placed(position=[0, 0, -1.0])
-    np.testing.assert_allclose(bell.inertia.diagonal(), [2 * (0.004 + 1)] * 2 + [2 * 0.004])
+    np.testing.assert_allclose(bell.inertia, np.diag([2 * (0.004 + 1)] * 2 + [2 * 0.004]))
+    np.testing.assert_allclose(bell.center_of_mass, 0.0, atol=1e-15)
 
 
 def test_rigid_body_errors():
