@@ -379,6 +379,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
+    def command(name: str, **kwargs) -> argparse.ArgumentParser:
+        # every subcommand also accepts --debug after its own arguments (hidden)
+        p = sub.add_parser(name, formatter_class=_Formatter, **kwargs)
+        p.add_argument(
+            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+        )
+        return p
+
     def common_run(p):
         p.add_argument(
             "--out", metavar="DIR", help="output directory (default ./poinsot-out/<scenario name>)"
@@ -404,68 +412,54 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(
             "--duration", type=float, metavar="SECONDS", help="override [simulation] duration"
         )
-        p.add_argument(
-            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
-        )
 
-    p = sub.add_parser(
+    p = command(
         "run",
         help="run a scenario file",
         epilog=_RUN_EPILOG,
-        formatter_class=_Formatter,
         description="Run a TOML scenario and write its outputs.",
     )
     p.add_argument("scenario", metavar="SCENARIO.toml")
     common_run(p)
     p.set_defaults(func=_cmd_run)
 
-    p = sub.add_parser(
+    p = command(
         "demo",
         help="run the embedded tennis-racket flip",
         epilog=_DEMO_EPILOG,
-        formatter_class=_Formatter,
         description="Run the embedded demo scenario (the tennis-racket flip).",
     )
     common_run(p)
     p.set_defaults(func=_cmd_demo)
 
-    p = sub.add_parser(
+    p = command(
         "check",
         help="validate a scenario file",
         epilog=_CHECK_EPILOG,
-        formatter_class=_Formatter,
         description="Validate a TOML scenario file without running it.",
     )
     p.add_argument("scenario", metavar="SCENARIO.toml")
     p.add_argument("--quiet", action="store_true", help="print nothing when valid")
-    p.add_argument(
-        "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
-    )
     p.set_defaults(func=_cmd_check)
 
-    p = sub.add_parser(
+    p = command(
         "convert",
         help="convert a rotation between representations",
         epilog=_CONVERT_EPILOG,
-        formatter_class=_Formatter,
         description="Convert one rotation from one representation to another.",
     )
     p.add_argument("source", metavar="FROM", help="input representation")
     p.add_argument("target", metavar="TO", help="output representation")
     p.add_argument("values", metavar="VALUES", nargs="+", help="the input numbers")
     p.add_argument("--degrees", action="store_true", help="angles in degrees (in and out)")
-    p.add_argument(
-        "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
-    )
     p.set_defaults(func=_cmd_convert)
 
     from .scenarios.io import SHAPES
 
-    p = sub.add_parser(
+    p = command(
         "inertia",
         help="inertia tensor and principal axes of a solid",
         epilog=_INERTIA_EPILOG,
-        formatter_class=_Formatter,
         description="Inertia tensor of a uniform solid about its centre of "
         "mass, its principal moments and axes.",
     )
@@ -475,9 +469,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--mass", type=float, required=True, metavar="M", help="mass (kg)")
     p.add_argument("--dims", type=float, nargs="+", metavar="D", help="dimensions (m)")
     p.add_argument("--hollow", action="store_true", help="hollow sphere / thin-walled cylinder")
-    p.add_argument(
-        "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
-    )
     p.set_defaults(func=_cmd_inertia)
     return parser
 
