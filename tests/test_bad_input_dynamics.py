@@ -21,7 +21,7 @@ W0 = [0.1, 1.0, 0.1]
         ({"atol": "x"}, InvalidTypeError, "`atol` to be array-like of numbers"),
         ({"atol": -1e-9}, InvalidInputError, "`atol` to be a non-negative scalar"),
         ({"solver": "bogus"}, InvalidInputError, "`solver` to be one of"),
-        ({"solver": None}, InvalidInputError, "`solver` to be one of"),
+        ({"solver": "rk4"}, InvalidInputError, "`solver` to be one of"),
     ],
 )
 def test_simulate_adaptive_options(kwargs, exc, match):

@@ -43,3 +43,50 @@ def test_bad_construction_is_named():
         Trajectory(t, Rotation.identity(3), np.zeros((3, 2)), "x")
     with pytest.raises(InvalidInputError, match="`t` to have shape"):
         Trajectory(t[:2], Rotation.identity(3), np.zeros((3, 3)), "x")
+
+
+def test_pickles_with_info_and_translational_part():
+    import pickle
+
+    import pytest
+
+    from poinsot import InvalidInputError
+    from poinsot.dynamics import simulate
+
+    t = np.linspace(0.0, 1.0, 4)
+    tr = simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 1.0, 0.1], t, method="rk4")
+    back = pickle.loads(pickle.dumps(tr))
+    np.testing.assert_array_equal(back.quat, tr.quat)
+    np.testing.assert_array_equal(back.omega, tr.omega)
+    np.testing.assert_array_equal(back.momentum, tr.momentum)
+    assert dict(back.info) == dict(tr.info) and back.info["steps"] == 3
+    with pytest.raises(TypeError):
+        back.info["steps"] = 1  # read-only mapping
+    pos = np.arange(12.0).reshape(4, 3)
+    moving = Trajectory(t, tr.rotation, tr.omega, "x", position=pos, velocity=np.ones((4, 3)))
+    again = pickle.loads(pickle.dumps(moving))
+    np.testing.assert_array_equal(again.position, pos)
+    assert not again.position.flags.writeable and again.velocity.shape == (4, 3)
+    with pytest.raises(InvalidInputError, match=r"`position` to have shape \(4, 3\)"):
+        Trajectory(t, tr.rotation, tr.omega, "x", position=np.ones((3, 3)))
+
+
+def test_info_keys_used_by_the_library_are_documented():
+    from poinsot.dynamics import simulate
+    from poinsot.kinematics import propagate
+    from poinsot.trajectory import INFO_KEYS
+
+    t = np.linspace(0.0, 1.0, 3)
+    runs = [
+        simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 1.0, 0.1], t, method=m)
+        for m in ("midpoint", "splitting", "rk4", "adaptive")
+    ]
+    runs.append(
+        simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 1.0, 0.1], t, torque=lambda tn, r, w: -w)
+    )
+    t4 = np.linspace(0.0, 1.0, 4)
+    w = np.tile([0.0, 0.0, 1.0], (4, 1))
+    runs.append(propagate([1.0, 0, 0, 0], w, t4))
+    runs.append(propagate([1.0, 0, 0, 0], w, t4, method="adaptive"))
+    for tr in runs:
+        assert set(tr.info) <= set(INFO_KEYS), (tr.method, set(tr.info) - set(INFO_KEYS))

@@ -27,7 +27,18 @@ __all__ = [
     "as_bool",
     "as_choice",
     "as_times",
+    "as_rotation_quat",
+    "batch_shape",
+    "check_rotation_matrix",
+    "ROTATION_MATRIX_ATOL",
 ]
+
+#: The ONE rotation-matrix tolerance of poinsot: a user matrix is a rotation when
+#: ``max |S^T S - E| <= 1e-6`` (absolute) and ``det S > 0``. 1e-6 accepts matrices
+#: typed with six or more significant digits (``0.707107``) and rejects anything
+#: that is not a rotation; it equals ``poinsot.rotations.dcm.ORTHOGONALITY_ATOL``
+#: (``Rotation.from_matrix``, which then projects onto the nearest rotation).
+ROTATION_MATRIX_ATOL = 1e-6
 
 
 def _shape_str(tail: Sequence[int | None]) -> str:
@@ -130,3 +141,105 @@ def as_times(t, name: str = "t", *, min_len: int = 1, strictly_increasing: bool 
 
 def is_integer(x) -> bool:
     return isinstance(x, numbers.Integral) and not isinstance(x, bool)
+
+
+def batch_shape(**named) -> tuple[int, ...]:
+    """The broadcast batch (leading) shape of ``name=(array_or_shape, core_ndim)`` pairs.
+
+    The ONE batch-broadcast checker: each argument contributes its shape minus its
+    ``core_ndim`` trailing (core) dimensions, e.g. ``omega=(w, 1)`` for ``(..., 3)``,
+    ``inertia=(j, 2)`` for ``(..., 3, 3)``, ``mass=(m, 0)``. A shape (a tuple of ints)
+    may be given instead of an array. Raises
+    ``InvalidInputError("Expected the batch (leading) shapes of `a` (2,), `b` (3,) to
+    broadcast.")`` when they do not.
+
+    >>> import numpy as np
+    >>> batch_shape(omega=(np.zeros((4, 3)), 1), mass=(np.ones(()), 0))
+    (4,)
+    """
+    shapes = {}
+    for k, (a, nd) in named.items():
+        s = tuple(a) if isinstance(a, tuple) else np.shape(a)
+        shapes[k] = s[: len(s) - nd]
+    try:
+        return np.broadcast_shapes(*shapes.values())
+    except ValueError:
+        desc = ", ".join(f"`{k}` {s}" for k, s in shapes.items())
+        raise InvalidInputError(
+            f"Expected the batch (leading) shapes of {desc} to broadcast."
+        ) from None
+
+
+def _is_scipy_rotation(x) -> bool:
+    cls = type(x)
+    return cls.__name__ == "Rotation" and cls.__module__.startswith("scipy.spatial")
+
+
+def as_rotation_quat(x, name: str = "rotation0") -> np.ndarray:
+    """Unit scalar-first quaternions ``(..., 4)`` from any accepted attitude.
+
+    The ONE attitude converter at public entry points (docs/conventions.md, "one
+    contract"): a poinsot :class:`~poinsot.Rotation` (its quaternions), a SciPy
+    ``scipy.spatial.transform.Rotation`` (converted with
+    ``as_quat(scalar_first=True)``, or by moving SciPy's trailing scalar to the front
+    on SciPy < 1.14, so it is never misread), or an array of scalar-first
+    quaternions ``(w, x, y, z)`` (normalised; zero rejected). Anything else is an
+    :class:`InvalidTypeError`.
+
+    >>> from scipy.spatial.transform import Rotation as SciPyRotation
+    >>> as_rotation_quat(SciPyRotation.from_quat([0.0, 0.0, 1.0, 1.0])).round(6)
+    array([0.707107, 0.      , 0.      , 0.707107])
+    """
+    from .rotations.rotation import Rotation
+
+    if isinstance(x, Rotation):
+        return np.asarray(x.as_quat(), dtype=np.float64)
+    if _is_scipy_rotation(x):
+        try:
+            q = x.as_quat(scalar_first=True)
+        except TypeError:  # SciPy < 1.14: (x, y, z, w)
+            q = np.roll(x.as_quat(), 1, axis=-1)
+        return as_quat(q, name)
+    if isinstance(x, dict | set) or (hasattr(x, "as_quat") and not hasattr(x, "__array__")):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be a poinsot Rotation, a SciPy Rotation or scalar-first "
+            f"quaternions (..., 4), got {type(x).__name__}."
+        )
+    return as_quat(x, name)
+
+
+def _first_bad(values: np.ndarray, bad: np.ndarray) -> tuple[str, float]:
+    """`` at batch index (i, ...)`` of the first bad entry (empty if unbatched), and its value."""
+    if bad.ndim == 0:
+        return "", float(values)
+    idx = tuple(int(i) for i in np.argwhere(bad)[0])
+    return f" at batch index {idx}", float(values[idx])
+
+
+def check_rotation_matrix(matrix, name: str = "matrix", *, atol: float = ROTATION_MATRIX_ATOL):
+    """Proper rotation matrices ``(..., 3, 3)``: ``max |S^T S - E| <= atol`` and ``det S > 0``.
+
+    The ONE rotation-matrix validator; its default tolerance is
+    :data:`ROTATION_MATRIX_ATOL` (``1e-6``). Returns the float64 array unchanged.
+
+    >>> check_rotation_matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]).shape
+    (3, 3)
+    """
+    s = as_matrix3(matrix, name)
+    err = np.max(np.abs(np.swapaxes(s, -1, -2) @ s - np.eye(3)), axis=(-2, -1))
+    bad = err > atol
+    if np.any(bad):
+        where, worst = _first_bad(err, bad)
+        raise InvalidInputError(
+            f"Expected `{name}` to be a rotation matrix (S^T S = E within {atol:g}){where}, "
+            f"got max |S^T S - E| = {worst:.3g}."
+        )
+    det = np.linalg.det(s)
+    bad = det <= 0
+    if np.any(bad):
+        where, worst = _first_bad(det, bad)
+        raise InvalidInputError(
+            f"Expected `{name}` to be a proper rotation matrix (det +1){where}, "
+            f"got det = {worst:.6g}."
+        )
+    return s

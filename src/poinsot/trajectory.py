@@ -4,8 +4,12 @@ Both attitude propagation (:func:`poinsot.kinematics.propagate`, SPEC S5) and
 rigid-body simulation (:func:`poinsot.dynamics.simulate`, SPEC S10) return one.
 
 Conventions: ``rotation[k]`` maps body components to space components at time
-``t[k]`` (``v_space = R v_body``, SPEC S2); ``omega`` is the angular velocity in
-**body** axes (rad/s); ``momentum`` is the angular momentum in **space** axes.
+``t[k]`` (``v_space = R v_body``, theory §2); ``omega`` is the angular velocity in
+**body** axes (rad/s); ``momentum`` is the angular momentum in **space** axes;
+``position`` and ``velocity`` (optional translational part) are in space axes.
+
+The keys of :attr:`Trajectory.info` are listed once, in :data:`INFO_KEYS` (and in
+``docs/conventions.md``); every method uses these names and only these.
 """
 
 from __future__ import annotations
@@ -21,7 +25,29 @@ from ._validate import as_float_array
 from .errors import InvalidInputError, InvalidTypeError
 from .rotations.rotation import Rotation
 
-__all__ = ["Trajectory"]
+__all__ = ["Trajectory", "INFO_KEYS"]
+
+#: The documented keys of ``Trajectory.info`` (a method sets those that apply to it).
+INFO_KEYS = {
+    "steps": "number of steps taken per body (int; fixed-step methods)",
+    "step_size": "longest step taken (s)",
+    "min_step_size": "shortest step taken (s)",
+    "order": "order of accuracy of the method (int)",
+    "stages_per_step": "stages of a composed step (int; 1, 3 or 7)",
+    "rtol": "relative tolerance (adaptive methods)",
+    "atol": "absolute tolerance (adaptive methods)",
+    "solver": "scipy.integrate.solve_ivp method (adaptive methods)",
+    "evaluations": "right-hand-side evaluations (adaptive methods, int)",
+    "status": "solve_ivp status (adaptive propagation, int)",
+    "message": "solver message (adaptive methods)",
+    "torque_calls": "calls of a torque model evaluated in Python (int)",
+    "max_newton_iterations": "most Newton iterations of one implicit step (int)",
+    "regime": "motion regime of an exact solution (e.g. 'symmetric', 'rotating')",
+    "frame": "axes of a prescribed angular velocity ('body' or 'space')",
+    "omega_input": "kind of prescribed angular velocity ('constant', 'callable', 'samples')",
+    "interpolation": "interpolation of sampled angular velocities",
+    "chunks": "number of pieces a long run was split into (int)",
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -41,9 +67,24 @@ class Trajectory:
     energy : ndarray, shape (n,) or (n, N), optional
         Rotational kinetic energy ``T = w^T J w / 2`` (SPEC S8).
     momentum : ndarray, shape (n, 3) or (n, N, 3), optional
-        Angular momentum ``K = R J w`` in space axes (SPEC S8, S10).
+        Angular momentum ``K = R J w`` in space axes (theory §8, §10).
     info : mapping
-        Method-specific details (step size, number of steps, solver status...).
+        Read-only details of the method, with the keys of :data:`INFO_KEYS`:
+        ``steps``, ``step_size``, ``min_step_size``, ``order``,
+        ``stages_per_step``, ``rtol``, ``atol``, ``solver``, ``evaluations``,
+        ``status``, ``message``, ``torque_calls``, ``max_newton_iterations``,
+        ``regime``, ``frame``, ``omega_input``, ``interpolation``, ``chunks``
+        (each method sets those that apply).
+    position : ndarray, shape (n, 3) or (n, N, 3), optional
+        Translational part: position of the body's reference point (or a
+        particle) in space axes (m).
+    velocity : ndarray, shape (n, 3) or (n, N, 3), optional
+        Its velocity in space axes (m/s).
+
+    Notes
+    -----
+    Frozen and picklable (ensembles send trajectories between processes); the
+    arrays are read-only.
 
     Examples
     --------
@@ -52,6 +93,9 @@ class Trajectory:
     >>> tr = Trajectory(t, poinsot.Rotation.identity((3,)), np.zeros((3, 3)), "none")
     >>> tr.quat.shape
     (3, 4)
+    >>> import pickle
+    >>> pickle.loads(pickle.dumps(tr)).omega.shape
+    (3, 3)
     """
 
     t: np.ndarray
@@ -61,6 +105,13 @@ class Trajectory:
     energy: np.ndarray | None = None
     momentum: np.ndarray | None = None
     info: Mapping[str, Any] = field(default_factory=dict)
+    position: np.ndarray | None = None
+    velocity: np.ndarray | None = None
+
+    def __reduce__(self):
+        # MappingProxyType does not pickle: rebuild from a plain dict
+        args = (self.t, self.rotation, self.omega, self.method, self.energy, self.momentum)
+        return (_rebuild, (args, dict(self.info), self.position, self.velocity))
 
     def __post_init__(self) -> None:
         if not isinstance(self.rotation, Rotation):
@@ -76,6 +127,8 @@ class Trajectory:
             "omega": (*self.rotation.shape, 3),
             "energy": self.rotation.shape,
             "momentum": (*self.rotation.shape, 3),
+            "position": (*self.rotation.shape, 3),
+            "velocity": (*self.rotation.shape, 3),
         }
         for name, shape in expected.items():
             a = getattr(self, name)
@@ -130,6 +183,10 @@ class Trajectory:
             return None
         d = np.linalg.norm(self.momentum - self.momentum[0], axis=-1)
         return _relative(d, np.linalg.norm(self.momentum[0], axis=-1))
+
+
+def _rebuild(args, info, position, velocity) -> Trajectory:
+    return Trajectory(*args, info=info, position=position, velocity=velocity)
 
 
 def _relative(diff: np.ndarray, ref: np.ndarray) -> float:

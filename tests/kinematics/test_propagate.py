@@ -118,7 +118,7 @@ def test_info_reports_steps_and_order(method, kind, order):
     w = w_body if kind == "callable" else np.array([w_body(s) for s in t])
     tr = propagate([1, 0, 0, 0], w, t, method=method, steps_per_sample=3)
     assert tr.info["order"] == order
-    assert tr.info["n_steps"] == 15
+    assert tr.info["steps"] == 15
     assert tr.info["omega_input"] == kind
     assert tr.info["frame"] == "body"
 
@@ -168,11 +168,11 @@ def test_adaptive_from_samples_and_tolerance(frame):
     tr = propagate([1, 0, 0, 0], w, t, frame=frame, method="adaptive", rtol=1e-12, atol=1e-14)
     # error dominated by the cubic spline through samples spaced 0.01 apart (~h^4)
     assert qdist(tr.quat, coning_truth(t)) < 1e-8
-    assert tr.info["nfev"] > 0 and tr.info["interpolation"].startswith("cubic")
+    assert tr.info["evaluations"] > 0 and tr.info["interpolation"].startswith("cubic")
     loose = propagate([1, 0, 0, 0], W[frame], t, frame=frame, method="adaptive", rtol=1e-4)
     tight = propagate([1, 0, 0, 0], W[frame], t, frame=frame, method="adaptive", rtol=1e-12)
     assert qdist(tight.quat, coning_truth(t)) < qdist(loose.quat, coning_truth(t))
-    assert tight.info["nfev"] > loose.info["nfev"]
+    assert tight.info["evaluations"] > loose.info["evaluations"]
 
 
 def hamilton(p, q):
@@ -291,8 +291,8 @@ def test_substeps_equal_finer_output_grid(method):
     c = propagate([1, 0, 0, 0], w_body, coarse, method=method, max_step=T / 60)
     assert qdist(a.quat, scipy_rot(b.quat[::4])) < 1e-14
     assert qdist(c.quat, scipy_rot(a.quat)) < 1e-14
-    assert a.info["n_steps"] == c.info["n_steps"] == 60
-    np.testing.assert_allclose(a.info["max_h"], T / 60)
+    assert a.info["steps"] == c.info["steps"] == 60
+    np.testing.assert_allclose(a.info["step_size"], T / 60)
 
 
 # ----------------------------------------------------------------- batches

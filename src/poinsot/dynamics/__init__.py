@@ -26,6 +26,16 @@ from .free_body import (
     MacCullaghGeometry,
     PoinsotGeometry,
 )
+from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
+from .torques import (
+    STANDARD_GRAVITY,
+    CallableTorque,
+    ConstantBodyTorque,
+    ConstantSpaceTorque,
+    GravityTorque,
+    TorqueModel,
+    as_torque,
+)
 
 __all__ = [
     "euler_rhs",
@@ -37,4 +47,15 @@ __all__ = [
     "SYMMETRY_RTOL",
     "SEPARATRIX_RTOL",
     "NEAR_SEPARATRIX",
+    "kinetic_energy",
+    "angular_momentum",
+    "invariants",
+    "Invariants",
+    "TorqueModel",
+    "ConstantBodyTorque",
+    "ConstantSpaceTorque",
+    "GravityTorque",
+    "CallableTorque",
+    "as_torque",
+    "STANDARD_GRAVITY",
 ]

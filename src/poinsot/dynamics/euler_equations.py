@@ -44,13 +44,21 @@ import math
 
 import numpy as np
 
-from .._validate import as_choice, as_float_array, as_quat, as_times, as_vec3
+from .._validate import (
+    as_choice,
+    as_float_array,
+    as_rotation_quat,
+    as_times,
+    as_vec3,
+    batch_shape,
+)
 from .._vec import cross as _cross
 from .._vec import hat as _hat
-from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..errors import IntegrationError, InvalidInputError
 from ..rotations._lazy import kernels as _qkernels
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
+from .torques import ConstantBodyTorque, as_torque
 
 __all__ = ["euler_rhs", "simulate", "METHODS"]
 
@@ -67,23 +75,9 @@ _MAXIT = 100
 
 
 def _as_inertia(inertia, name: str) -> tuple[np.ndarray, bool]:
-    """Validated inertia: ``(moments (..., 3), True)`` or ``(tensor (..., 3, 3), False)``.
+    from ..mass.tensor import as_inertia
 
-    A 1-D array of 3 numbers, or an array of shape ``(..., 3)`` whose last two
-    dimensions are not ``(3, 3)``, holds principal moments; ``(..., 3, 3)`` is a
-    tensor in body axes.
-    """
-    from ..mass import check_inertia, check_principal_moments
-
-    a = as_float_array(inertia, name)
-    if a.ndim >= 2 and a.shape[-2:] == (3, 3):
-        return check_inertia(a, name), False
-    if a.ndim >= 1 and a.shape[-1] == 3:
-        return check_principal_moments(a, name), True
-    raise InvalidInputError(
-        f"Expected `{name}` to have shape (..., 3) (principal moments) or (..., 3, 3) "
-        f"(a tensor), got {a.shape}."
-    )
+    return as_inertia(inertia, name)
 
 
 def _body_inertia(body) -> np.ndarray:
@@ -201,10 +195,10 @@ def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
     j, principal = _as_inertia(inertia, "inertia")
     w = as_vec3(omega, "omega")
     m = None if torque is None else as_vec3(torque, "torque")
-    shapes = [("inertia", j.shape[:-1] if principal else j.shape[:-2]), ("omega", w.shape[:-1])]
+    shapes = {"inertia": (j, 1 if principal else 2), "omega": (w, 1)}
     if m is not None:
-        shapes.append(("torque", m.shape[:-1]))
-    _broadcast_batch(shapes)
+        shapes["torque"] = (m, 1)
+    batch_shape(**shapes)
     if principal:
         rhs = -_cross(w, j * w) if m is None else m - _cross(w, j * w)
         return rhs / j
@@ -232,27 +226,11 @@ def _tolerances(rtol, atol) -> tuple[float, float]:
     return out[0], out[1]
 
 
-def _broadcast_batch(named_shapes) -> tuple[int, ...]:
-    try:
-        return np.broadcast_shapes(*(s for _, s in named_shapes))
-    except ValueError:
-        desc = ", ".join(f"`{n}` {s}" for n, s in named_shapes)
-        raise InvalidInputError(
-            f"Expected the batch (leading) shapes of {desc} to broadcast."
-        ) from None
-
-
-def _as_rotation_quat(rotation0) -> np.ndarray:
-    if isinstance(rotation0, Rotation):
-        return np.asarray(rotation0.as_quat(), dtype=float)
-    return as_quat(rotation0, "rotation0")
-
-
 class _TorqueCall:
-    """Wraps a user torque ``torque(t, rotation, omega)`` for a flattened batch."""
+    """Evaluates a :class:`~poinsot.dynamics.TorqueModel` on a flattened batch."""
 
-    def __init__(self, fn, batch: tuple[int, ...], method: str):
-        self.fn = fn
+    def __init__(self, model, batch: tuple[int, ...], method: str):
+        self.model = model
         self.method = method
         self.batch = batch
         self.n = math.prod(batch)
@@ -270,15 +248,9 @@ class _TorqueCall:
                 f"may be stiff or the step too long: reduce `max_step` or use "
                 f"method='adaptive'."
             )
-        rot = Rotation.from_quat(q.reshape(self.batch + (4,)))
-        out = self.fn(float(t), rot, np.array(w).reshape(self.batch + (3,)))
-        try:
-            m = np.asarray(out, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidTypeError(
-                f"Expected `torque` to return an array of shape {self.batch + (3,)} or (3,), "
-                f"got {type(out).__name__}."
-            ) from None
+        qb = np.asarray(q).reshape(self.batch + (4,))
+        wb = np.array(w).reshape(self.batch + (3,))
+        m = np.asarray(self.model.body_torque(float(t), qb, wb), dtype=float)
         if m.shape not in (self.batch + (3,), (3,)):
             raise InvalidInputError(
                 f"Expected `torque` to return shape {self.batch + (3,)} (body axes) or (3,), "
@@ -309,9 +281,9 @@ def simulate(
     method: str = "midpoint",
     max_step: float | None = None,
     order: int | None = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    solver: str = "DOP853",
+    rtol: float | None = None,
+    atol: float | None = None,
+    solver: str | None = None,
 ) -> Trajectory:
     """Integrate Euler's dynamic equations with the attitude (SPEC S10, S5).
 
@@ -329,14 +301,16 @@ def simulate(
         Initial angular velocity in body axes (rad/s).
     t : array_like, shape (n,)
         Output times, strictly increasing; the motion starts at ``t[0]``.
-    torque : None, array_like (..., 3) or callable, optional
-        External torque about the centre of mass, in **body** axes: ``None``
-        (free body), a constant body vector, or a function
-        ``torque(t, rotation, omega) -> (..., 3)`` of the time (float), the
-        attitude (a :class:`~poinsot.Rotation` with the batch shape) and the
-        body angular velocity (batch shape + ``(3,)``), returning body
-        components with the batch shape (or ``(3,)``). A space-fixed torque
-        ``M_s`` is ``rotation.apply(M_s, inverse=True)``.
+    torque : None, TorqueModel, array_like (..., 3) or callable, optional
+        External torque about the centre of mass (or the fixed point), in
+        **body** axes: ``None`` (free body); a
+        :class:`~poinsot.dynamics.TorqueModel` (``GravityTorque``,
+        ``ConstantSpaceTorque``, ``ConstantBodyTorque``, ``CallableTorque``...);
+        a constant body vector; or a function ``torque(t, rotation, omega) ->
+        (..., 3)`` of the time (float), the attitude (a
+        :class:`~poinsot.Rotation` with the batch shape) and the body angular
+        velocity (batch shape + ``(3,)``), returning body components with the
+        batch shape (or ``(3,)``). See :func:`~poinsot.dynamics.as_torque`.
     method : {"midpoint", "splitting", "rk4", "adaptive"}, optional
         Integrator (see the module docs). Default ``"midpoint"``.
     max_step : float, optional
@@ -350,7 +324,10 @@ def simulate(
         jump") or 6 (7 stages, Yoshida 1990). The invariants are kept exactly
         as by the basic step. Default 2.
     rtol, atol : float, optional
-        Tolerances of ``"adaptive"`` (defaults ``1e-10``, ``1e-12``).
+        Tolerances of ``"adaptive"`` (defaults ``1e-10``, ``1e-12``). The
+        fixed-step methods have none: passing ``rtol``/``atol`` (or ``solver``)
+        with them raises :class:`~poinsot.InvalidInputError` instead of being
+        ignored.
     solver : str, optional
         ``solve_ivp`` method for ``"adaptive"`` (default ``"DOP853"``).
 
@@ -359,8 +336,10 @@ def simulate(
     Trajectory
         ``t`` (n,), ``rotation`` (n, ...), ``omega`` (n, ..., 3) in body axes,
         ``energy`` ``T = w.J w / 2`` (n, ...), ``momentum`` ``K_s = R J w``
-        (n, ..., 3) in space axes, ``method`` and ``info`` (``steps`` per body,
-        ``step_size`` the longest step, and solver details). The invariants'
+        (n, ..., 3) in space axes, ``method`` and ``info`` (keys of
+        :data:`poinsot.trajectory.INFO_KEYS`: ``steps`` per body, ``step_size``
+        the longest step, ``order``...; ``rtol``, ``atol``, ``solver``,
+        ``evaluations`` for ``"adaptive"``). The invariants'
         drifts are ``energy_drift``, ``momentum_drift``,
         ``momentum_vector_drift``.
 
@@ -416,18 +395,19 @@ def simulate(
     """
     method = as_choice(method, "method", METHODS)
     j = _body_inertia(body)
-    q0 = _as_rotation_quat(rotation0)
+    q0 = as_rotation_quat(rotation0, "rotation0")
     w0 = as_vec3(omega0, "omega0")
     tt = as_times(t, "t")
-    named = [("body", j.shape[:-2]), ("rotation0", q0.shape[:-1]), ("omega0", w0.shape[:-1])]
+    named = {"body": (j, 2), "rotation0": (q0, 1), "omega0": (w0, 1)}
+    model = as_torque(torque)
     torque_fn = None
     m_const = None
-    if callable(torque):
-        torque_fn = torque
-    elif torque is not None:
-        m_const = as_vec3(torque, "torque")
-        named.append(("torque", m_const.shape[:-1]))
-    batch = _broadcast_batch(named)
+    if isinstance(model, ConstantBodyTorque):
+        m_const = model.torque
+        named["torque"] = (m_const, 1)
+    elif model is not None:
+        torque_fn = model
+    batch = batch_shape(**named)
     if max_step is None:
         h_max = math.inf
     else:
@@ -442,8 +422,18 @@ def simulate(
         raise InvalidInputError(
             f"`order` applies to method='midpoint' or 'splitting' only, got method={method!r}."
         )
-    rtol, atol = _tolerances(rtol, atol)
-    solver = as_choice(solver, "solver", SOLVERS)
+    if method != "adaptive":
+        options = {"rtol": rtol, "atol": atol, "solver": solver}
+        given = [(n, v) for n, v in options.items() if v is not None]
+        if given:
+            name, value = given[0]
+            raise InvalidInputError(
+                f"`{name}` applies to method='adaptive' only (method={method!r} is a "
+                f"fixed-step method without tolerances: set its accuracy with `max_step` "
+                f"and `order`), got {name}={value!r}."
+            )
+    rtol, atol = _tolerances(1e-10 if rtol is None else rtol, 1e-12 if atol is None else atol)
+    solver = as_choice("DOP853" if solver is None else solver, "solver", SOLVERS)
     if order is None:
         order = 2
     if not (isinstance(order, int | np.integer) and int(order) in COMPOSITIONS):
@@ -782,7 +772,7 @@ def _run_adaptive(j, j_inv, q, w, t, h_max, m_const, tfn, rtol, atol, solver):
     n = t.shape[0]
     if n == 1:
         ys = y0[None]
-        info = {"nfev": 0, "solver": solver, "rtol": rtol, "atol": atol, "message": ""}
+        info = {"evaluations": 0, "solver": solver, "rtol": rtol, "atol": atol, "message": ""}
     else:
         try:
             sol = solve_ivp(
@@ -808,7 +798,7 @@ def _run_adaptive(j, j_inv, q, w, t, h_max, m_const, tfn, rtol, atol, solver):
             )
         ys = sol.y.T
         info = {
-            "nfev": int(sol.nfev),
+            "evaluations": int(sol.nfev),
             "solver": solver,
             "rtol": rtol,
             "atol": atol,

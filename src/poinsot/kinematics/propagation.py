@@ -322,7 +322,7 @@ def _adaptive(frame, src, q, t, rtol, atol, max_step):
 
     n_bodies = q.shape[0]
     if len(t) == 1:
-        return q[None].copy(), {"nfev": 0, "status": 0, "message": "nothing to integrate"}
+        return q[None].copy(), {"evaluations": 0, "status": 0, "message": "nothing to integrate"}
 
     def rhs(s, y):
         lq = y.reshape(n_bodies, 4)
@@ -343,7 +343,7 @@ def _adaptive(frame, src, q, t, rtol, atol, max_step):
     if not sol.success:
         raise IntegrationError(f"Adaptive attitude propagation failed: {sol.message}")
     states = _normalize(sol.y.T.reshape(len(t), n_bodies, 4))
-    return states, {"nfev": int(sol.nfev), "status": int(sol.status), "message": sol.message}
+    return states, {"evaluations": int(sol.nfev), "status": int(sol.status), "message": sol.message}
 
 
 # --------------------------------------------------------------------------- public
@@ -417,8 +417,8 @@ def propagate(
         round-off; ``omega`` in **body** axes at ``t``, shape ``(n, 3)`` (or
         ``(n, N, 3)``), converted by ``w_xi = L~ o w_x o L`` if ``frame="space"``;
         ``method``; ``info`` with ``frame``, ``omega_input``; fixed-step:
-        ``n_steps`` (steps per body), ``max_h`` and ``order`` (of the global
-        error for smooth ``w``); adaptive: ``nfev``, ``status``, ``message``,
+        ``steps`` (steps per body), ``step_size`` (the longest) and ``order`` (of the global
+        error for smooth ``w``); adaptive: ``evaluations``, ``status``, ``message``,
         ``rtol``, ``atol``; for samples, ``interpolation``.
 
     Raises
@@ -545,10 +545,10 @@ def propagate(
         if max_step is not None and len(t) > 1:
             nsub = np.maximum(nsub, np.ceil(np.diff(t) / max_step * (1.0 - 1e-12)).astype(np.int64))
         states = _fixed_step(method, frame, src, qn, t, nsub)
-        info["n_steps"] = int(nsub.sum())
+        info["steps"] = int(nsub.sum())
         key = "exact-samples" if (method == "exact" and src.kind == "samples") else method
         info["order"] = min(ORDER[key], 4) if src.kind == "samples" else ORDER[key]
-        info["max_h"] = float(np.max(np.diff(t) / nsub)) if len(t) > 1 else 0.0
+        info["step_size"] = float(np.max(np.diff(t) / nsub)) if len(t) > 1 else 0.0
 
     w_out = np.broadcast_to(src.at_outputs(), (len(t), n_bodies, 3))
     if frame == "space":

@@ -243,6 +243,27 @@ def check_principal_moments(
     return m
 
 
+def as_inertia(inertia, name: str = "inertia") -> tuple[np.ndarray, bool]:
+    """Validated inertia: ``(moments (..., 3), True)`` or ``(tensor (..., 3, 3), False)``.
+
+    The one reader of "principal moments or a tensor" used by every entry point
+    that takes an inertia (``euler_rhs``, ``simulate``, ``invariants``,
+    ``RigidBody``). An array whose last two dimensions are ``(3, 3)`` is a tensor
+    in body axes; any other array of shape ``(..., 3)`` holds principal moments
+    (body axes then principal axes). Both are checked physical (positive definite,
+    ``A + B >= C``).
+    """
+    a = as_float_array(inertia, name)
+    if a.ndim >= 2 and a.shape[-2:] == (3, 3):
+        return check_inertia(a, name), False
+    if a.ndim >= 1 and a.shape[-1] == 3:
+        return check_principal_moments(a, name), True
+    raise InvalidInputError(
+        f"Expected `{name}` to have shape (..., 3) (principal moments) or (..., 3, 3) "
+        f"(a tensor), got {a.shape}."
+    )
+
+
 def _as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
     """``S`` (..., 3, 3) from a :class:`~poinsot.Rotation` or a proper orthogonal matrix."""
     if isinstance(rotation, Rotation):

@@ -1,0 +1,359 @@
+"""Torque models for Euler's equations, with their potential energy (theory §10).
+
+A :class:`TorqueModel` gives the external torque about the centre of mass or the
+fixed point, in **body** axes, as a function of the time, the attitude and the
+body angular velocity; where the torque derives from a potential it also gives
+the potential energy, so that :func:`poinsot.dynamics.invariants` can report the
+total energy ``T + V``. :func:`poinsot.dynamics.simulate` takes any of them.
+
+Models
+------
+:class:`ConstantBodyTorque`
+    ``M_b`` fixed in the body (a thruster). No potential.
+:class:`ConstantSpaceTorque`
+    ``M_s`` fixed in space, ``M_b = R^T M_s``. No potential (its work depends
+    on the path), but ``dK_s/dt = M_s``: ``K_s(t) = K_s(0) + M_s t``.
+:class:`GravityTorque`
+    Uniform gravity ``g`` along ``-z`` of space acting on a body of mass ``m``
+    turning about a fixed point ``O``, with centre of mass at ``c`` (body axes,
+    from ``O``). With ``gamma = R^T e_z`` the upward vertical in body axes,
+    ``M_b = m g (gamma x c)`` and ``V = m g (R c)_z = m g c . gamma``.
+:class:`CallableTorque`
+    Any function ``function(t, quat, omega) -> (..., 3)``, in body or space axes.
+
+:func:`as_torque` turns what ``simulate(torque=...)`` accepts (``None``, a
+constant body vector, a callable or a model) into a model.
+
+**Convention:** attitude as scalar-first unit quaternions ``(..., 4)`` mapping
+body to space components (``v_s = R v_b``); ``omega`` in body axes (rad/s);
+torques in N m, energies in J; parameters broadcast with the state's batch
+shape.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_choice, as_positive, as_vec3, batch_shape
+from .._vec import cross
+from ..errors import InvalidInputError, InvalidTypeError
+
+__all__ = [
+    "TorqueModel",
+    "ConstantBodyTorque",
+    "ConstantSpaceTorque",
+    "GravityTorque",
+    "CallableTorque",
+    "as_torque",
+    "STANDARD_GRAVITY",
+]
+
+#: Standard acceleration of gravity (m/s^2).
+STANDARD_GRAVITY = 9.80665
+
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _to_body(quat: np.ndarray, v_space: np.ndarray) -> np.ndarray:
+    """``R^T v`` for unit quaternions ``quat`` (..., 4) and vectors (..., 3)."""
+    from ..rotations._lazy import kernels
+
+    shape = np.broadcast_shapes(quat.shape[:-1], v_space.shape[:-1])
+    return kernels().qrot(
+        np.broadcast_to(quat * _CONJ, shape + (4,)), np.broadcast_to(v_space, shape + (3,))
+    )
+
+
+def _up_body(quat: np.ndarray) -> np.ndarray:
+    """``gamma = R^T e_z``, the upward vertical in body axes (third row of ``R``)."""
+    return _to_body(quat, np.array([0.0, 0.0, 1.0]))
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=np.float64)
+    a.setflags(write=False)
+    return a
+
+
+class TorqueModel:
+    """Base class of torque models: override :meth:`body_torque` (and :meth:`potential`).
+
+    Subclasses are frozen dataclasses (hashable by identity, picklable when
+    their parameters are).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import TorqueModel
+    >>> class Damping(TorqueModel):
+    ...     def body_torque(self, t, quat, omega):
+    ...         return -0.1 * np.asarray(omega)
+    >>> Damping().body_torque(0.0, [1.0, 0, 0, 0], [0.0, 0.0, 2.0])
+    array([-0. , -0. , -0.2])
+    """
+
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        """Torque in body axes (N m), shape ``(..., 3)``.
+
+        ``t`` the time (s), ``quat`` (..., 4) the attitude (scalar-first, body ->
+        space), ``omega`` (..., 3) the body angular velocity (rad/s).
+        """
+        raise NotImplementedError
+
+    def potential(self, quat: np.ndarray) -> np.ndarray | None:
+        """Potential energy ``V`` (J), shape ``(...)``, or ``None`` if the torque has none."""
+        return None
+
+    @property
+    def conservative(self) -> bool:
+        """Whether the torque derives from a potential of the attitude."""
+        return type(self).potential is not TorqueModel.potential
+
+
+@dataclass(frozen=True, eq=False)
+class ConstantBodyTorque(TorqueModel):
+    """A torque fixed in the body, ``M_b`` (N m, body axes).
+
+    Parameters
+    ----------
+    torque : array_like, shape (..., 3)
+        ``M_b`` in body axes (N m); a leading shape gives one per body of a batch.
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import ConstantBodyTorque
+    >>> ConstantBodyTorque([0.0, 0.0, 2.0]).body_torque(0.0, [1.0, 0, 0, 0], [0.0, 0, 0])
+    array([0., 0., 2.])
+    """
+
+    torque: Any
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "torque", _readonly(as_vec3(self.torque, "torque")))
+
+    def body_torque(self, t, quat, omega) -> np.ndarray:
+        shape = batch_shape(torque=(self.torque, 1), quat=(np.shape(quat), 1))
+        return np.broadcast_to(self.torque, shape + (3,))
+
+
+@dataclass(frozen=True, eq=False)
+class ConstantSpaceTorque(TorqueModel):
+    """A torque fixed in space, ``M_s`` (N m, space axes): ``M_b = R^T M_s``.
+
+    It has no potential (the work ``int M_s . w_s dt`` depends on the path), but
+    the space angular momentum grows linearly, ``K_s(t) = K_s(0) + M_s t``
+    (theory §9).
+
+    Parameters
+    ----------
+    torque : array_like, shape (..., 3)
+        ``M_s`` in space axes (N m).
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import ConstantSpaceTorque
+    >>> quarter_z = [2 ** -0.5, 0.0, 0.0, 2 ** -0.5]   # body x -> space y
+    >>> ConstantSpaceTorque([0.0, 1.0, 0.0]).body_torque(0.0, quarter_z, [0.0, 0, 0]).round(12)
+    array([1., 0., 0.])
+    """
+
+    torque: Any
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "torque", _readonly(as_vec3(self.torque, "torque")))
+
+    def body_torque(self, t, quat, omega) -> np.ndarray:
+        return _to_body(np.asarray(quat, dtype=float), self.torque)
+
+
+@dataclass(frozen=True, eq=False)
+class GravityTorque(TorqueModel):
+    """Uniform gravity on a body turning about a fixed point ``O`` (theory §10).
+
+    Gravity ``g`` points along ``-z`` of space. With ``gamma = R^T e_z`` the
+    upward vertical in body axes and ``c`` the centre of mass from ``O`` in body
+    axes, the torque about ``O`` is
+
+    ``M_b = c x (R^T (-m g e_z)) = m g (gamma x c)``,
+
+    and the potential energy ``V = m g (R c)_z = m g c . gamma`` (zero when the
+    centre of mass is level with ``O``). For a symmetric top with ``c = l e_3``
+    tilted by the nutation angle ``theta``, ``|M| = m g l sin(theta)`` and
+    ``V = m g l cos(theta)``. Use the inertia about ``O`` (not about the centre
+    of mass) in the equations of motion.
+
+    Parameters
+    ----------
+    mass : array_like, shape (...)
+        Mass ``m`` (kg), > 0.
+    center_of_mass : array_like, shape (..., 3)
+        ``c``, the centre of mass relative to the fixed point, in body axes (m).
+    g : float, optional
+        Acceleration of gravity (m/s^2), >= 0; default ``9.80665``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot import Rotation
+    >>> from poinsot.dynamics import GravityTorque
+    >>> top = GravityTorque(2.0, [0.0, 0.0, 0.5], g=10.0)
+    >>> q = Rotation.from_euler("x", 30, degrees=True).as_quat()   # tilted by 30 deg
+    >>> m = top.body_torque(0.0, q, np.zeros(3))
+    >>> round(float(np.linalg.norm(m)), 12)   # m g l sin(theta) = 2 * 10 * 0.5 * 0.5
+    5.0
+    >>> round(float(top.potential(q)), 12)    # m g l cos(theta) = 10 * cos(30 deg)
+    8.660254037844
+    """
+
+    mass: Any
+    center_of_mass: Any
+    g: float = STANDARD_GRAVITY
+
+    def __post_init__(self) -> None:
+        m = _readonly(as_positive(self.mass, "mass"))
+        c = _readonly(as_vec3(self.center_of_mass, "center_of_mass"))
+        g = as_positive(self.g, "g", strict=False)
+        if g.ndim != 0:
+            raise InvalidInputError(f"Expected `g` to be a scalar (m/s^2), got shape {g.shape}.")
+        batch_shape(mass=(m, 0), center_of_mass=(c, 1))
+        object.__setattr__(self, "mass", m)
+        object.__setattr__(self, "center_of_mass", c)
+        object.__setattr__(self, "g", float(g))
+
+    @property
+    def moment(self) -> np.ndarray:
+        """``m g c`` (N m), the vector whose cross product with ``gamma`` is the torque."""
+        return (self.mass * self.g)[..., None] * self.center_of_mass
+
+    def body_torque(self, t, quat, omega) -> np.ndarray:
+        return cross(_up_body(np.asarray(quat, dtype=float)), self.moment)
+
+    def potential(self, quat) -> np.ndarray:
+        gamma = _up_body(np.asarray(quat, dtype=float))
+        return np.einsum("...i,...i->...", gamma, self.moment)
+
+
+@dataclass(frozen=True, eq=False)
+class CallableTorque(TorqueModel):
+    """A torque given by a Python function of the time, attitude and angular velocity.
+
+    Parameters
+    ----------
+    function : callable
+        ``function(t, attitude, omega) -> array_like (..., 3)`` with ``t`` the
+        time (float, s), ``attitude`` the attitude (see ``attitude``), ``omega``
+        the body angular velocity ``(..., 3)`` (rad/s). It returns the torque
+        (N m) in the axes named by ``frame``, with the batch shape of the state
+        or shape ``(3,)``.
+    frame : {"body", "space"}, optional
+        Axes of the returned torque; a space torque is turned into body axes by
+        ``R^T``. Default ``"body"``.
+    attitude : {"quat", "rotation"}, optional
+        What the function receives: scalar-first quaternions ``(..., 4)``
+        (default) or a :class:`poinsot.Rotation` (as ``simulate`` passes to a
+        plain callable, see :func:`as_torque`).
+    potential_function : callable, optional
+        ``potential_function(quat) -> (...)``, the potential energy (J) if the
+        torque derives from one; default none.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import CallableTorque
+    >>> drag = CallableTorque(lambda t, q, w: -0.5 * w)
+    >>> drag.body_torque(0.0, [1.0, 0, 0, 0], np.array([0.0, 0.0, 2.0]))
+    array([-0., -0., -1.])
+    """
+
+    function: Callable
+    frame: str = "body"
+    attitude: str = "quat"
+    potential_function: Callable | None = None
+
+    def __post_init__(self) -> None:
+        if not callable(self.function):
+            raise InvalidTypeError(
+                f"Expected `function` to be callable, got {type(self.function).__name__}."
+            )
+        as_choice(self.frame, "frame", ("body", "space"))
+        as_choice(self.attitude, "attitude", ("quat", "rotation"))
+        if self.potential_function is not None and not callable(self.potential_function):
+            raise InvalidTypeError(
+                "Expected `potential_function` to be callable or None, got "
+                f"{type(self.potential_function).__name__}."
+            )
+
+    @property
+    def conservative(self) -> bool:
+        return self.potential_function is not None
+
+    def body_torque(self, t, quat, omega) -> np.ndarray:
+        quat = np.asarray(quat, dtype=float)
+        omega = np.asarray(omega, dtype=float)
+        if self.attitude == "rotation":
+            from ..rotations.rotation import Rotation
+
+            att = Rotation.from_quat(quat)
+        else:
+            att = quat
+        out = self.function(t, att, omega)
+        try:
+            m = np.asarray(out, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidTypeError(
+                f"Expected `torque` to return an array of shape (..., 3), got {type(out).__name__}."
+            ) from None
+        batch = np.broadcast_shapes(quat.shape[:-1], omega.shape[:-1])
+        if m.shape not in (batch + (3,), (3,)):
+            raise InvalidInputError(
+                f"Expected `torque` to return shape {batch + (3,)} ({self.frame} axes) "
+                f"or (3,), got {m.shape}."
+            )
+        if self.frame == "space":
+            m = _to_body(quat, m)
+        return np.broadcast_to(m, batch + (3,))
+
+    def potential(self, quat) -> np.ndarray | None:
+        if self.potential_function is None:
+            return None
+        return np.asarray(self.potential_function(np.asarray(quat, dtype=float)), dtype=float)
+
+
+def as_torque(torque) -> TorqueModel | None:
+    """The torque model for what ``simulate(torque=...)`` accepts.
+
+    Parameters
+    ----------
+    torque : None, TorqueModel, array_like (..., 3) or callable
+        ``None`` (no torque) -> ``None``; a :class:`TorqueModel` -> itself; an
+        array -> :class:`ConstantBodyTorque` (body axes); a callable
+        ``f(t, rotation, omega)`` -> ``CallableTorque(f, attitude="rotation")``
+        (it receives a :class:`poinsot.Rotation`, as ``simulate`` has always
+        passed; wrap it in ``CallableTorque(f)`` to receive quaternions).
+
+    Returns
+    -------
+    TorqueModel or None
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import as_torque
+    >>> as_torque([0.0, 0.0, 1.0])
+    ConstantBodyTorque(torque=array([0., 0., 1.]))
+    >>> as_torque(None) is None
+    True
+    """
+    if torque is None or isinstance(torque, TorqueModel):
+        return torque
+    if callable(torque):
+        return CallableTorque(torque, attitude="rotation")
+    if isinstance(torque, str | bytes | dict):
+        raise InvalidTypeError(
+            "Expected `torque` to be None, a TorqueModel, a (..., 3) body vector or a "
+            f"callable, got {type(torque).__name__}."
+        )
+    return ConstantBodyTorque(torque)
