@@ -248,7 +248,7 @@ def batch(n_bodies=100_000, n_steps=20):
 
     w_samples = w_vec(t)
     rows = []
-    for method in ("magnus4", "magnus6", "rk4", "exact"):
+    for method in ("magnus4", "magnus6", "rk4", "exponential"):
         for label, omega, vec in (
             ("callable (N,3)", w_scalar, False),
             ("vectorized", w_vec, True),

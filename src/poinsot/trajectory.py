@@ -47,6 +47,7 @@ INFO_KEYS = {
     "omega_input": "kind of prescribed angular velocity ('constant', 'callable', 'samples')",
     "interpolation": "interpolation of sampled angular velocities",
     "chunks": "number of pieces a long run was split into (int)",
+    "closed_form": "name of the closed-form solution used (e.g. 'coning')",
 }
 
 
@@ -73,7 +74,8 @@ class Trajectory:
         ``steps``, ``step_size``, ``min_step_size``, ``order``,
         ``stages_per_step``, ``rtol``, ``atol``, ``solver``, ``evaluations``,
         ``status``, ``message``, ``torque_calls``, ``max_newton_iterations``,
-        ``regime``, ``frame``, ``omega_input``, ``interpolation``, ``chunks``
+        ``regime``, ``frame``, ``omega_input``, ``interpolation``, ``chunks``,
+        ``closed_form``
         (each method sets those that apply).
     position : ndarray, shape (n, 3) or (n, N, 3), optional
         Translational part: position of the body's reference point (or a

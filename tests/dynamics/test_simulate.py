@@ -456,3 +456,25 @@ def test_diverging_or_stiff_runs_raise_instead_of_returning_nan():
     # overflow inside the compiled step
     with pytest.raises(IntegrationError, match="midpoint integration diverged.*non-finite"):
         simulate(MOMENTS, Q0, [1e200, 1e200, 0.0], [0.0, 1.0])
+
+
+def test_attitude_inputs_and_options_contract():
+    """One contract: poinsot/SciPy Rotation or scalar-first quaternions; ``rtol``/``atol``
+    only where the method has tolerances (never silently ignored)."""
+    from scipy.spatial.transform import Rotation as SciRotation
+
+    from poinsot import Rotation
+
+    t = np.linspace(0.0, 1.0, 3)
+    r0 = SciRotation.from_rotvec([0.5, -0.1, 0.3])
+    q0 = r0.as_quat(scalar_first=True)
+    ref = simulate(MOMENTS, q0, OMEGA0, t)
+    for attitude in (r0, Rotation.from_quat(q0)):
+        np.testing.assert_array_equal(simulate(MOMENTS, attitude, OMEGA0, t).quat, ref.quat)
+    for method in ("midpoint", "splitting", "rk4"):
+        for option in ("rtol", "atol", "solver"):
+            value = "RK45" if option == "solver" else 1e-8
+            with pytest.raises(InvalidInputError, match=f"`{option}` applies to method='adaptive'"):
+                simulate(MOMENTS, q0, OMEGA0, t, method=method, **{option: value})
+    with pytest.raises(InvalidTypeError, match="`rotation0`"):
+        simulate(MOMENTS, {"w": 1.0}, OMEGA0, t)

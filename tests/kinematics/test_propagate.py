@@ -64,7 +64,7 @@ def test_doc_example_quarter_turn():
 # ----------------------------------------------------------------- constant omega
 
 
-@pytest.mark.parametrize("method", ["exact", "magnus4", "magnus6"])
+@pytest.mark.parametrize("method", ["exponential", "magnus4", "magnus6"])
 @pytest.mark.parametrize("frame", ["body", "space"])
 def test_constant_omega_closed_form_to_roundoff(method, frame):
     """Constant w: L(t) = L0 o exp(w t/2) (body) or exp(w t/2) o L0 (space), exactly."""
@@ -90,7 +90,7 @@ finite = st.floats(-5.0, 5.0, allow_nan=False)
     q0=st.lists(finite, min_size=4, max_size=4).filter(lambda q: np.linalg.norm(q) > 1e-3),
     w=st.lists(finite, min_size=3, max_size=3),
     dts=st.lists(st.floats(1e-3, 1.0), min_size=1, max_size=8),
-    method=st.sampled_from(["exact", "magnus4", "magnus6"]),
+    method=st.sampled_from(["exponential", "magnus4", "magnus6"]),
     frame=st.sampled_from(["body", "space"]),
 )
 def test_constant_omega_property(q0, w, dts, method, frame):
@@ -104,14 +104,14 @@ def test_constant_omega_property(q0, w, dts, method, frame):
 
 def test_zero_omega_keeps_attitude():
     q0 = np.array([0.5, -0.5, 0.5, 0.5])
-    for method in ("exact", "magnus4", "magnus6", "rk4", "adaptive"):
+    for method in ("exponential", "magnus4", "magnus6", "rk4", "adaptive"):
         tr = propagate(q0, lambda s: np.zeros(3), np.linspace(0.0, 5.0, 11), method=method)
         np.testing.assert_allclose(tr.quat, np.broadcast_to(q0, (11, 4)), atol=1e-16)
 
 
 @pytest.mark.parametrize(
     ("method", "kind", "order"),
-    [("magnus6", "callable", 6), ("magnus6", "samples", 4), ("exact", "samples", 1)],
+    [("magnus6", "callable", 6), ("magnus6", "samples", 4), ("exponential", "samples", 1)],
 )
 def test_info_reports_steps_and_order(method, kind, order):
     t = np.linspace(0.0, 1.0, 6)
@@ -125,12 +125,12 @@ def test_info_reports_steps_and_order(method, kind, order):
 
 @pytest.mark.parametrize("frame", ["body", "space"])
 def test_exact_with_piecewise_constant_samples_is_exact(frame):
-    """Samples under method='exact' are held on [t_k, t_{k+1}): a product of exponentials,
+    """Samples under method="exponential" are held on [t_k, t_{k+1}): a product of exponentials,
     L_{k+1} = L_k o exp(w_k h_k/2) (body) or exp(w_k h_k/2) o L_k (space)."""
     rng = np.random.default_rng(2)
     t = np.cumsum(rng.uniform(0.05, 0.3, 30))
     w = rng.normal(size=(30, 3))
-    tr = propagate([1, 0, 0, 0], w, t, frame=frame, method="exact", steps_per_sample=3)
+    tr = propagate([1, 0, 0, 0], w, t, frame=frame, method="exponential", steps_per_sample=3)
     r = SR.identity()
     expect = [r]
     for k in range(29):
@@ -151,7 +151,13 @@ def test_exact_with_piecewise_constant_samples_is_exact(frame):
 @pytest.mark.parametrize("frame", ["body", "space"])
 @pytest.mark.parametrize(
     ("method", "tol"),
-    [("magnus4", 1e-9), ("magnus6", 1e-13), ("rk4", 1e-9), ("exact", 2e-5), ("adaptive", 1e-9)],
+    [
+        ("magnus4", 1e-9),
+        ("magnus6", 1e-13),
+        ("rk4", 1e-9),
+        ("exponential", 2e-5),
+        ("adaptive", 1e-9),
+    ],
 )
 def test_coning_motion_against_closed_form(frame, method, tol):
     t = np.linspace(0.0, T, 31)
@@ -203,8 +209,8 @@ def test_generic_rates_against_tight_scipy_integration(frame, method):
 
 
 ORDERS = [
-    ("exact", "callable", 2),
-    ("exact", "samples", 1),
+    ("exponential", "callable", 2),
+    ("exponential", "samples", 1),
     ("rk4", "callable", 4),
     ("rk4", "samples", 4),
     ("magnus4", "callable", 4),
@@ -245,7 +251,7 @@ def test_magnus_beats_rk4_per_evaluation_on_fast_spin():
 
 
 @pytest.mark.parametrize("n_bodies", [3, 40])  # scan chaining / step-by-step chaining
-@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exact", "adaptive"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exponential", "adaptive"])
 def test_unit_norm_within_1e15(method, n_bodies):
     rng = np.random.default_rng(3)
     t = np.linspace(0.0, 20.0, 201)
@@ -256,7 +262,7 @@ def test_unit_norm_within_1e15(method, n_bodies):
 
 
 @pytest.mark.parametrize("frame", ["body", "space"])
-@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exact"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exponential"])
 def test_constant_factor_invariance(frame, method):
     """SPEC S5: if L* solves the equation, so does L* o L0 (space) / L0 o L* (body)."""
     rng = np.random.default_rng(4)
@@ -281,7 +287,7 @@ def test_space_and_body_frames_agree(method):
     np.testing.assert_allclose(trs.omega_space, np.array([w_space(s) for s in t]), atol=1e-8)
 
 
-@pytest.mark.parametrize("method", ["magnus4", "rk4", "exact"])
+@pytest.mark.parametrize("method", ["magnus4", "rk4", "exponential"])
 def test_substeps_equal_finer_output_grid(method):
     """steps_per_sample=k on a grid equals one step per sample on the k-times finer grid."""
     fine = np.linspace(0.0, T, 4 * 15 + 1)
@@ -304,7 +310,7 @@ def batch_omega(t):
 
 
 @pytest.mark.parametrize("n_bodies", [5, 40])  # both the scan and the per-step chaining
-@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exact", "adaptive"])
+@pytest.mark.parametrize("method", ["magnus4", "magnus6", "rk4", "exponential", "adaptive"])
 def test_batch_equals_loop(n_bodies, method):
     rng = np.random.default_rng(5)
     q0 = rng.normal(size=(n_bodies, 4))
@@ -402,9 +408,9 @@ def test_error_times():
 
 
 def test_error_q0():
-    with pytest.raises(InvalidInputError, match="`q0` to be non-zero"):
+    with pytest.raises(InvalidInputError, match="`rotation0` to be non-zero"):
         propagate([0, 0, 0, 0], w_body, [0, 1])
-    with pytest.raises(InvalidInputError, match=r"`q0` to have shape \(\.\.\., 4\)"):
+    with pytest.raises(InvalidInputError, match=r"`rotation0` to have shape \(\.\.\., 4\)"):
         propagate([1, 0, 0], w_body, [0, 1])
     with pytest.raises(InvalidInputError, match="batch of shape"):
         propagate(np.ones((2, 3, 4)), w_body, [0, 1])
@@ -424,9 +430,9 @@ def test_error_samples():
         propagate([1, 0, 0, 0], w, t)
     with pytest.raises(InvalidInputError, match="at least 4 samples of `omega`.*'magnus4'"):
         propagate([1, 0, 0, 0], np.zeros((3, 3)), t[:3])
-    with pytest.raises(InvalidInputError, match="at least 2 samples of `omega`.*'exact'"):
-        propagate([1, 0, 0, 0], np.zeros((1, 3)), t[:1], method="exact")
-    with pytest.raises(InvalidInputError, match="same bodies as `q0`"):
+    with pytest.raises(InvalidInputError, match="at least 2 samples of `omega`.*'exponential'"):
+        propagate([1, 0, 0, 0], np.zeros((1, 3)), t[:1], method="exponential")
+    with pytest.raises(InvalidInputError, match="same bodies as `rotation0`"):
         propagate(np.ones((3, 4)), np.zeros((5, 2, 3)), t)
     with pytest.raises(InvalidTypeError, match="`omega` to be array-like"):
         propagate([1, 0, 0, 0], "fast", t)
@@ -442,7 +448,7 @@ def test_error_callable_output():
         propagate([1, 0, 0, 0], lambda s: np.zeros((2, 3)) if s > 0.5 else np.zeros(3), t)
     with pytest.raises(InvalidTypeError, match=r"`omega\(t\)` to return an array of real"):
         propagate([1, 0, 0, 0], lambda s: ["a", "b", "c"], t)
-    with pytest.raises(InvalidInputError, match="same bodies as `q0`"):
+    with pytest.raises(InvalidInputError, match="same bodies as `rotation0`"):
         propagate(np.ones((3, 4)), lambda s: np.zeros((2, 3)), t)
     with pytest.raises(InvalidInputError, match=r"`vectorized=True` to return shape \(m, 3\)"):
         propagate([1, 0, 0, 0], lambda s: np.zeros(3), t, vectorized=True)
@@ -474,3 +480,19 @@ def test_error_adaptive_failure_is_integration_error():
     """A rate so large that DOP853's step underflows: IntegrationError, not garbage."""
     with pytest.raises(IntegrationError, match="Adaptive attitude propagation failed"):
         propagate([1, 0, 0, 0], lambda s: [0.0, 0.0, 1e20], [1.0, 2.0], method="adaptive")
+
+
+def test_exact_is_reserved_for_exact_solutions_and_scipy_rotations_are_converted():
+    from scipy.spatial.transform import Rotation as SciRotation
+
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(InvalidInputError, match="method='exact' means an exact solution only"):
+        propagate([1, 0, 0, 0], lambda s: [0.0, 0.0, 1.0], t, method="exact")
+    r0 = SciRotation.from_rotvec([0.2, -0.4, 1.0])
+    a = propagate(r0, lambda s: [0.0, 0.0, 1.0], t)
+    b = propagate(r0.as_quat(scalar_first=True), lambda s: [0.0, 0.0, 1.0], t)
+    np.testing.assert_array_equal(a.quat, b.quat)
+    # SciPy's own scalar-last order is never read as scalar-first
+    assert not np.allclose(a.quat[0], r0.as_quat())
+    with pytest.raises(InvalidInputError, match="rtol.*adaptive"):
+        propagate(r0, lambda s: [0.0, 0.0, 1.0], t, rtol=1e-6)

@@ -172,7 +172,9 @@ def test_rigid_body_errors():
         RigidBody(1.0, np.diag([-1.0, 1.0, 1.0]))
     with pytest.raises(InvalidInputError, match=r"`center_of_mass` to have shape \(\.\.\., 3\)"):
         RigidBody(1.0, np.eye(3), [0.0, 1.0])
-    with pytest.raises(InvalidInputError, match="broadcastable batch shapes"):
+    with pytest.raises(
+        InvalidInputError, match="batch .leading. shapes of .mass. .2,.*to broadcast"
+    ):
         RigidBody([1.0, 2.0], np.eye(3), np.zeros((3, 3)))
     with pytest.raises(InvalidInputError, match="at least one body"):
         combine()
@@ -229,3 +231,36 @@ def test_against_sympy_physics_mechanics():
     np.testing.assert_allclose(angular_momentum(m, j_c, w, v_c, r_oc), k_sym, rtol=1e-14)
     ours = RigidBody(m, j_c, r_oc)
     np.testing.assert_allclose(ours.angular_momentum(w, v_c), k_sym, rtol=1e-14)
+
+
+def test_principal_moments_accepted_like_every_entry_point():
+    """``RigidBody(m, (A, B, C))`` is ``RigidBody(m, diag(A, B, C))`` (issue 9), checked
+    physical the same way (a rod's zero moment allowed, the triangle inequality not)."""
+    a = RigidBody(2.0, [1.0, 2.0, 2.5], [0.0, 0.0, 1.0])
+    b = RigidBody(2.0, np.diag([1.0, 2.0, 2.5]), [0.0, 0.0, 1.0])
+    np.testing.assert_array_equal(a.inertia, b.inertia)
+    np.testing.assert_array_equal(a.inertia_about(), b.inertia_about())
+    rod = RigidBody(3.0, [1.0, 1.0, 0.0])
+    np.testing.assert_array_equal(rod.inertia, np.diag([1.0, 1.0, 0.0]))
+    batch = RigidBody([1.0, 2.0], [[1.0, 1.0, 1.0], [2.0, 3.0, 4.0]])
+    assert batch.shape == (2,) and batch.inertia.shape == (2, 3, 3)
+    with pytest.raises(InvalidInputError, match="triangle inequality"):
+        RigidBody(1.0, [1.0, 1.0, 5.0])
+
+
+def test_one_way_from_a_mesh_and_scipy_rotations_in_placed():
+    from scipy.spatial.transform import Rotation as SciRotation
+
+    import poinsot.mass.meshes as meshes
+
+    assert not hasattr(meshes.MeshProperties, "to_body")
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    body = RigidBody.from_mesh(v, f, mass=6.0)
+    props = meshes.mesh(v, f, mass=6.0)
+    np.testing.assert_array_equal(body.inertia, props.inertia)
+    np.testing.assert_array_equal(body.center_of_mass, props.center_of_mass)
+    r = SciRotation.from_rotvec([0.3, -0.2, 0.9])
+    moved = body.placed(r)
+    s = r.as_matrix()
+    np.testing.assert_allclose(moved.inertia, s @ body.inertia @ s.T, atol=1e-15)

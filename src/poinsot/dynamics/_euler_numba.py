@@ -10,6 +10,10 @@ inverse inertia tensor in body axes and ``M`` a constant body torque.
 
 Status codes returned by the kernels: 0 = ok, 1 = the implicit step did not
 converge, 2 = the state became non-finite.
+
+The small formulas (Euler's momentum rate, quaternion products, normalisation)
+come from :mod:`poinsot._numba_helpers`, inlined; the cache stamp includes that
+file (:func:`poinsot._numba_cache.depends_on`).
 """
 
 from __future__ import annotations
@@ -18,6 +22,12 @@ import math
 
 import numpy as np
 from numba import njit
+
+from .. import _numba_helpers as nh
+from .._numba_cache import depends_on
+
+# the kernels inline helpers of another file: let their cache see its edits
+depends_on(__file__, nh)
 
 # Newton: once an update is below _NEAR * |x| one more iteration brings the
 # quadratically converging iterate to round-off.
@@ -34,8 +44,8 @@ def midpoint(q, m, W, M, t, nsub, coef):
     coefficients of one step (``[1.0]`` for the plain midpoint rule). Returns (Q, MO, status, body,
     k, iters): outputs (n, N, 4), (n, N, 3), the status code, and where it
     failed (body index, last output index reached) or the most Newton
-    iterations taken by any step. One function (no calls to other cached
-    functions): numba's cache is then safe across processes.
+    iterations taken by any step. The helpers it calls are inlined and its
+    cache stamp covers their file (see the module notes).
     """
     n = t.shape[0]
     N = q.shape[0]
@@ -68,19 +78,17 @@ def midpoint(q, m, W, M, t, nsub, coef):
                 h2 = 0.5 * h
                 # first guess of the midpoint momentum m(t + h/2), error O(h^3):
                 # y = m + h/4 f(m), x = m + h/2 f(y), f(m) = m x W m + M
-                o0 = w00 * m0 + w01 * m1 + w02 * m2
-                o1 = w10 * m0 + w11 * m1 + w12 * m2
-                o2 = w20 * m0 + w21 * m1 + w22 * m2
+                o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, m0, m1, m2)
                 h4 = 0.5 * h2
-                y0 = m0 + h4 * (m1 * o2 - m2 * o1 + M0)
-                y1 = m1 + h4 * (m2 * o0 - m0 * o2 + M1)
-                y2 = m2 + h4 * (m0 * o1 - m1 * o0 + M2)
-                o0 = w00 * y0 + w01 * y1 + w02 * y2
-                o1 = w10 * y0 + w11 * y1 + w12 * y2
-                o2 = w20 * y0 + w21 * y1 + w22 * y2
-                x0 = m0 + h2 * (y1 * o2 - y2 * o1 + M0)
-                x1 = m1 + h2 * (y2 * o0 - y0 * o2 + M1)
-                x2 = m2 + h2 * (y0 * o1 - y1 * o0 + M2)
+                f0, f1, f2 = nh.euler_momentum_rate(m0, m1, m2, o0, o1, o2, M0, M1, M2)
+                y0 = m0 + h4 * f0
+                y1 = m1 + h4 * f1
+                y2 = m2 + h4 * f2
+                o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, y0, y1, y2)
+                f0, f1, f2 = nh.euler_momentum_rate(y0, y1, y2, o0, o1, o2, M0, M1, M2)
+                x0 = m0 + h2 * f0
+                x1 = m1 + h2 * f1
+                x2 = m2 + h2 * f2
                 # Newton's error obeys e+ <~ (h |w| / 2) e^2 / |m|: once an update is
                 # below 1e-8 |m| and h |w| / 2 <= 1, the next one would be below round-off
                 hw = h2 * max(abs(o0), abs(o1), abs(o2))
@@ -90,13 +98,12 @@ def midpoint(q, m, W, M, t, nsub, coef):
                 it = 0
                 while it < _MAXIT:
                     it += 1
-                    o0 = w00 * x0 + w01 * x1 + w02 * x2
-                    o1 = w10 * x0 + w11 * x1 + w12 * x2
-                    o2 = w20 * x0 + w21 * x1 + w22 * x2
+                    o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
                     # residual F(x) = x - m - h/2 (x cross W x + M)
-                    r0 = x0 - m0 - h2 * (x1 * o2 - x2 * o1 + M0)
-                    r1 = x1 - m1 - h2 * (x2 * o0 - x0 * o2 + M1)
-                    r2 = x2 - m2 - h2 * (x0 * o1 - x1 * o0 + M2)
+                    f0, f1, f2 = nh.euler_momentum_rate(x0, x1, x2, o0, o1, o2, M0, M1, M2)
+                    r0 = x0 - m0 - h2 * f0
+                    r1 = x1 - m1 - h2 * f1
+                    r2 = x2 - m2 - h2 * f2
                     # Jacobian I - h/2 (x^ W - (W x)^)
                     a00 = 1.0 - h2 * (-x2 * w10 + x1 * w20)
                     a01 = -h2 * (-x2 * w11 + x1 * w21) - h2 * o2
@@ -137,31 +144,24 @@ def midpoint(q, m, W, M, t, nsub, coef):
                 if not done:
                     return Q, MO, 1, i, k, it
                 # midpoint angular velocity; a = h w / 2 is the Gibbs vector of the step
-                o0 = w00 * x0 + w01 * x1 + w02 * x2
-                o1 = w10 * x0 + w11 * x1 + w12 * x2
-                o2 = w20 * x0 + w21 * x1 + w22 * x2
+                o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
                 a0 = h2 * o0
                 a1 = h2 * o1
                 a2 = h2 * o2
                 aa = 1.0 + a0 * a0 + a1 * a1 + a2 * a2
                 # m+ = (I + a^)^-1 [(I - a^) m + h M]: an exact rotation of m when M = 0
-                u0 = m0 - (a1 * m2 - a2 * m1) + h * M0
-                u1 = m1 - (a2 * m0 - a0 * m2) + h * M1
-                u2 = m2 - (a0 * m1 - a1 * m0) + h * M2
+                c0, c1, c2 = nh.cross(a0, a1, a2, m0, m1, m2)
+                u0 = m0 - c0 + h * M0
+                u1 = m1 - c1 + h * M1
+                u2 = m2 - c2 + h * M2
                 au = a0 * u0 + a1 * u1 + a2 * u2
-                m0 = (u0 - (a1 * u2 - a2 * u1) + au * a0) / aa
-                m1 = (u1 - (a2 * u0 - a0 * u2) + au * a1) / aa
-                m2 = (u2 - (a0 * u1 - a1 * u0) + au * a2) / aa
+                c0, c1, c2 = nh.cross(a0, a1, a2, u0, u1, u2)
+                m0 = (u0 - c0 + au * a0) / aa
+                m1 = (u1 - c1 + au * a1) / aa
+                m2 = (u2 - c2 + au * a2) / aa
                 # q+ = q o (1, a) / sqrt(1 + |a|^2)  (Cayley map of h w^)
-                p0 = q0 - q1 * a0 - q2 * a1 - q3 * a2
-                p1 = q1 + q0 * a0 + q2 * a2 - q3 * a1
-                p2 = q2 + q0 * a1 + q3 * a0 - q1 * a2
-                p3 = q3 + q0 * a2 + q1 * a1 - q2 * a0
-                s = 1.0 / math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
-                q0 = p0 * s
-                q1 = p1 * s
-                q2 = p2 * s
-                q3 = p3 * s
+                p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0, a1, a2)
+                q0, q1, q2, q3 = nh.qnormalize(p0, p1, p2, p3)
             Q[k + 1, i, 0] = q0
             Q[k + 1, i, 1] = q1
             Q[k + 1, i, 2] = q2
@@ -220,14 +220,7 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                         c = 1.0 - 2.0 * sh * sh  # cos th
                         s = 2.0 * sh * ch  # sin th
                         m1, m2 = c * m1 + s * m2, c * m2 - s * m1
-                        c = ch
-                        s = sh
-                        q0, q1, q2, q3 = (
-                            q0 * c - q1 * s,
-                            q0 * s + q1 * c,
-                            q2 * c + q3 * s,
-                            q3 * c - q2 * s,
-                        )
+                        q0, q1, q2, q3 = nh.qaxis(q0, q1, q2, q3, ch, sh, 0)
                     elif stage == 1 or stage == 3:  # F2, h/2: about principal axis 2
                         th = hh * c2 * m2
                         ch = math.cos(0.5 * th)
@@ -235,14 +228,7 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                         c = 1.0 - 2.0 * sh * sh  # cos th
                         s = 2.0 * sh * ch  # sin th
                         m0, m1 = c * m0 + s * m1, c * m1 - s * m0
-                        c = ch
-                        s = sh
-                        q0, q1, q2, q3 = (
-                            q0 * c - q3 * s,
-                            q1 * c + q2 * s,
-                            q2 * c - q1 * s,
-                            q3 * c + q0 * s,
-                        )
+                        q0, q1, q2, q3 = nh.qaxis(q0, q1, q2, q3, ch, sh, 2)
                     else:  # F_iso, h: the body turns about the constant m by h |m| / I1
                         v0 = h * g1 * m0
                         v1 = h * g1 * m1
@@ -253,20 +239,8 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                             sc = 0.5 - ang * ang / 48.0  # sin(ang/2)/ang
                         else:
                             sc = math.sin(0.5 * ang) / ang
-                        u0 = sc * v0
-                        u1 = sc * v1
-                        u2 = sc * v2
-                        q0, q1, q2, q3 = (
-                            q0 * c - (q1 * u0 + q2 * u1 + q3 * u2),
-                            q0 * u0 + c * q1 + (q2 * u2 - q3 * u1),
-                            q0 * u1 + c * q2 + (q3 * u0 - q1 * u2),
-                            q0 * u2 + c * q3 + (q1 * u1 - q2 * u0),
-                        )
-                sn = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-                q0 *= sn
-                q1 *= sn
-                q2 *= sn
-                q3 *= sn
+                        q0, q1, q2, q3 = nh.qmul(q0, q1, q2, q3, c, sc * v0, sc * v1, sc * v2)
+                q0, q1, q2, q3 = nh.qnormalize(q0, q1, q2, q3)
                 # kick h/2
                 m0 += hh * M0
                 m1 += hh * M1

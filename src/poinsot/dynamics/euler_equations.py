@@ -44,6 +44,7 @@ import math
 
 import numpy as np
 
+from .. import _quat
 from .._validate import (
     as_choice,
     as_float_array,
@@ -55,9 +56,9 @@ from .._validate import (
 from .._vec import cross as _cross
 from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError
-from ..rotations._lazy import kernels as _qkernels
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
+from .invariants import _invariants, _momentum
 from .torques import ConstantBodyTorque, as_torque
 
 __all__ = ["euler_rhs", "simulate", "METHODS"]
@@ -104,44 +105,29 @@ def _body_inertia(body) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def _rhs(j, j_inv, w, torque):
-    """``w' = J^-1 (M - w x J w)`` for tensors ``j``/``j_inv`` of shape (..., 3, 3)."""
-    k = np.einsum("...ij,...j->...i", j, w)
-    rhs = -_cross(w, k) if torque is None else torque - _cross(w, k)
+def _rhs(j, j_inv, w, torque, principal=False):
+    """Euler's right-hand side ``w' = J^-1 (M - w x J w)``: the one implementation.
+
+    ``j`` principal moments (..., 3) when ``principal`` (then ``j_inv`` is
+    unused) or a tensor (..., 3, 3) with its inverse ``j_inv``; ``torque`` (..., 3)
+    in body axes or ``None``. The compiled steppers of :mod:`._euler_numba` use the
+    scalar form of the same formula from :mod:`poinsot._numba_helpers`.
+    """
+    rhs = -_cross(w, _momentum(j, principal, w))
+    if torque is not None:
+        rhs = rhs + torque
+    if principal:
+        return rhs / j
     return np.einsum("...ij,...j->...i", j_inv, rhs)
 
 
-def _qmul(p, q):
-    return _qkernels().qmul(p, q)
-
-
-def _qrot(q, v):
-    return _qkernels().qrot(q, v)
-
-
-def _pure(w):
-    """The pure quaternion ``(0, w)``."""
-    return np.concatenate([np.zeros(w.shape[:-1] + (1,)), w], axis=-1)
-
-
-def _cayley_quat(a):
-    """Unit quaternion of the Cayley map of ``2 a^``: ``(1, a) / sqrt(1 + |a|^2)``.
-
-    ``a`` is the Gibbs vector ``tan(f/2) e`` of the rotation.
-    """
-    c = np.concatenate([np.ones(a.shape[:-1] + (1,)), a], axis=-1)
-    return c / np.sqrt(1.0 + np.einsum("...i,...i->...", a, a))[..., None]
-
-
-def _rotvec_quat(v):
-    """Unit quaternion of the rotation vector ``v`` (N, 3)."""
-    from ..rotations.rotvec import quat_from_rotvec
-
-    return quat_from_rotvec(v)
-
-
-def _normalize(q):
-    return q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+_qmul = _quat.mul
+_qrot = _quat.rotate
+_pure = _quat.pure
+_normalize = _quat.normalize
+_cayley_quat = _quat.from_gibbs
+_rotvec_quat = _quat.from_rotvec
+_axis_quat = _quat.axis_angle_principal
 
 
 # ---------------------------------------------------------------------------
@@ -199,10 +185,7 @@ def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
     if m is not None:
         shapes["torque"] = (m, 1)
     batch_shape(**shapes)
-    if principal:
-        rhs = -_cross(w, j * w) if m is None else m - _cross(w, j * w)
-        return rhs / j
-    return _rhs(j, np.linalg.inv(j), w, m)
+    return _rhs(j, None if principal else np.linalg.inv(j), w, m, principal)
 
 
 # ---------------------------------------------------------------------------
@@ -469,9 +452,8 @@ def simulate(
         info["torque_calls"] = tfn.calls
 
     n = tt.shape[0]
-    ms = np.einsum("...ij,...j->...i", jb, ws)
-    energy = 0.5 * np.einsum("...i,...i->...", ws, ms)
-    momentum = _qrot(qs, ms)
+    inv = _invariants(jb, False, qs, ws, None)
+    energy, momentum = inv.kinetic, inv.momentum_space
     out = batch
     return Trajectory(
         t=tt,
@@ -629,14 +611,6 @@ def _midpoint_step_numpy(j_inv, q, m, tn, h, tfn, mt=None):
     m = (u - _cross(a, u) + au * a) / (1.0 + np.einsum("...i,...i->...", a, a))[..., None]
     q = _normalize(_qmul(q, _cayley_quat(a)))
     return q, m, mt, it
-
-
-def _axis_quat(theta, i):
-    """Quaternions of rotations by ``theta`` (N,) about body axis ``i``."""
-    c = np.zeros(theta.shape + (4,))
-    c[..., 0] = np.cos(0.5 * theta)
-    c[..., 1 + i] = np.sin(0.5 * theta)
-    return c
 
 
 def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):

@@ -20,22 +20,29 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .._validate import as_bool, as_choice, as_float_array, as_quat, as_times, is_integer
+from .. import _quat as _q
+from .._validate import (
+    as_bool,
+    as_choice,
+    as_float_array,
+    as_rotation_quat,
+    as_times,
+    is_integer,
+)
 from .._vec import cross as _cross
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..rotations import quaternion as _quat
-from ..rotations._lazy import kernels
 from ..rotations.rotation import Rotation
 from ..rotations.rotvec import quat_from_rotvec
 from ..trajectory import Trajectory
 
 __all__ = ["propagate"]
 
-METHODS = ("magnus4", "magnus6", "rk4", "exact", "adaptive")
+METHODS = ("magnus4", "magnus6", "rk4", "exponential", "adaptive")
 FRAMES = ("body", "space")
 
 #: Order of accuracy of each fixed-step method for smooth ``w(t)`` (global error ~ h^p).
-ORDER = {"magnus4": 4, "magnus6": 6, "rk4": 4, "exact": 2, "exact-samples": 1}
+ORDER = {"magnus4": 4, "magnus6": 6, "rk4": 4, "exponential": 2, "exponential-samples": 1}
 
 # Offset of the two Gauss-Legendre nodes from the step midpoint, in units of h.
 _GAUSS = math.sqrt(3.0) / 6.0
@@ -52,25 +59,9 @@ _SCAN_MAX_BODIES = 32
 # --------------------------------------------------------------------------- kernels
 
 
-def _pure(v: np.ndarray) -> np.ndarray:
-    """Pure quaternion ``(0, v)`` from vectors ``(..., 3)``."""
-    out = np.zeros(v.shape[:-1] + (4,))
-    out[..., 1:] = v
-    return out
-
-
-def _mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """``P o Q``: the kernel behind :func:`poinsot.quaternion.multiply`, unvalidated."""
-    return kernels().qmul(p, q)
-
-
-def _normalize(q: np.ndarray) -> np.ndarray:
-    """``q / |q|`` for non-zero quaternions (no validation; column sums beat einsum here)."""
-    f = q.reshape(-1, 4)
-    n2 = f[:, 0] * f[:, 0]
-    for i in (1, 2, 3):
-        n2 += f[:, i] * f[:, i]
-    return (f * (1.0 / np.sqrt(n2))[:, None]).reshape(q.shape)
+_pure = _q.pure
+_mul = _q.mul
+_normalize = _q.normalize
 
 
 def _chain(mul, d: np.ndarray) -> np.ndarray:
@@ -196,7 +187,7 @@ class _Callable:
 def _increments(method, frame, src, a, h):
     """Increment quaternions ``D_j`` of the steps ``[a_j, a_j + h_j]``, shape ``(m, Nw, 4)``."""
     hh = h[:, None, None]
-    if method == "exact":
+    if method == "exponential":
         # Constant w on the step: D = exp(w h / 2) (exact for constant w; midpoint value
         # for a callable = exponential midpoint rule; left sample for held samples).
         w = src.at(a if src.kind == "samples" else a + 0.5 * h)
@@ -350,7 +341,7 @@ def _adaptive(frame, src, q, t, rtol, atol, max_step):
 
 
 def propagate(
-    q0,
+    rotation0,
     omega,
     t,
     *,
@@ -366,10 +357,11 @@ def propagate(
 
     Parameters
     ----------
-    q0 : Rotation or array_like, shape (4,) or (N, 4)
-        Attitude at ``t[0]`` (body -> space): a :class:`~poinsot.Rotation` (or a
-        SciPy ``Rotation``) or scalar-first quaternions (normalised here; zero is
-        an error). A leading shape ``(N,)`` propagates a batch of N bodies at once.
+    rotation0 : Rotation or array_like, shape (4,) or (N, 4)
+        Attitude at ``t[0]`` (body -> space): a :class:`~poinsot.Rotation`, a
+        SciPy ``Rotation`` (converted with ``as_quat(scalar_first=True)``) or
+        scalar-first quaternions (normalised here; zero is an error). A leading
+        shape ``(N,)`` propagates a batch of N bodies at once.
     omega : callable or array_like
         Angular velocity (rad/s) in the axes named by ``frame``, either
 
@@ -379,14 +371,14 @@ def propagate(
         - samples on ``t``, shape ``(len(t), 3)`` or ``(len(t), N, 3)``. Between
           samples, ``"magnus4"``, ``"magnus6"``, ``"rk4"`` and ``"adaptive"`` evaluate the
           not-a-knot cubic spline through the samples (needs at least 4
-          samples); ``"exact"`` holds ``w_k`` constant on ``[t_k, t_{k+1})``
+          samples); ``"exponential"`` holds ``w_k`` constant on ``[t_k, t_{k+1})``
           (zero-order hold, needs at least 2 samples).
     t : array_like, shape (n,)
-        Strictly increasing output times (s); ``q0`` is the attitude at ``t[0]``.
+        Strictly increasing output times (s); ``rotation0`` is the attitude at ``t[0]``.
     frame : {"body", "space"}
         Axes of ``omega``: ``"body"`` for ``L' = 1/2 L o w_xi``, ``"space"`` for
         ``L' = 1/2 w_x o L``.
-    method : {"magnus4", "magnus6", "rk4", "exact", "adaptive"}
+    method : {"magnus4", "magnus6", "rk4", "exponential", "adaptive"}
         ``"magnus4"`` (default): 4th-order Magnus (Lie-group) method with two
         Gauss points, ``L_{j+1} = L_j o exp(Omega/2)`` with
         ``Omega = h/2 (w1 + w2) + sqrt(3) h^2/12 (w1 x w2)`` (body; the
@@ -394,9 +386,11 @@ def propagate(
         6th-order Magnus method with three Gauss points (for a callable; with
         samples the cubic spline limits it to order 4). ``"rk4"``: classical
         RK4 on the quaternion equation, renormalised every step (order 4).
-        ``"exact"``: ``L_{j+1} = L_j o exp(w h/2)`` with ``w`` constant on the
+        ``"exponential"``: ``L_{j+1} = L_j o exp(w h/2)`` with ``w`` constant on the
         step, exact for constant ``w`` (order 2 for a callable, evaluated at the
-        step midpoint; order 1 for samples, zero-order hold). ``"adaptive"``:
+        step midpoint; order 1 for samples, zero-order hold). It was called
+        ``"exact"`` before 0.2; ``method="exact"`` now means an exact solution
+        only and is rejected here. ``"adaptive"``:
         :func:`scipy.integrate.solve_ivp` (DOP853) with ``rtol``/``atol``,
         outputs renormalised.
     steps_per_sample : int, optional
@@ -424,7 +418,7 @@ def propagate(
     Raises
     ------
     InvalidInputError
-        Bad shapes, zero ``q0``, non-increasing ``t``, non-finite ``omega``,
+        Bad shapes, zero ``rotation0``, non-increasing ``t``, non-finite ``omega``,
         too few samples for the method, unknown ``frame`` or ``method``.
     IntegrationError
         If ``solve_ivp`` fails (``"adaptive"``).
@@ -441,7 +435,7 @@ def propagate(
     ``1``, normalised). All increments are formed at once and chained by an
     associative scan; for a batch the chaining runs over steps with all bodies
     vectorised. Observed orders (global error ~ ``h^p``): ``magnus4`` 4,
-    ``magnus6`` 6, ``rk4`` 4, ``exact`` 2 (callable) or 1 (samples); ``exact``,
+    ``magnus6`` 6, ``rk4`` 4, ``exponential`` 2 (callable) or 1 (samples); ``exponential``,
     ``magnus4`` and ``magnus6`` are exact when ``w`` is constant, and the two
     Magnus methods keep ``|L| = 1`` by construction (products of unit
     quaternions). With samples the not-a-knot cubic spline adds an ``O(h^4)``
@@ -466,6 +460,12 @@ def propagate(
     >>> tr.rotation.apply([1.0, 0.0, 0.0])[-1].round(12) + 0.0
     array([0., 1., 0.])
     """
+    if method == "exact":
+        raise InvalidInputError(
+            "Expected `method` to be one of 'magnus4', 'magnus6', 'rk4', 'exponential', "
+            "'adaptive', got 'exact': method='exact' means an exact solution only; the "
+            "exponential step exact for constant `omega` is method='exponential'."
+        )
     method = as_choice(method, "method", METHODS)
     frame = as_choice(frame, "frame", FRAMES)
     vectorized = as_bool(vectorized, "vectorized")
@@ -495,16 +495,14 @@ def propagate(
             "use `steps_per_sample` or `max_step`."
         )
 
-    if hasattr(q0, "as_quat") and not isinstance(q0, np.ndarray):
-        q0 = q0.as_quat(scalar_first=True)  # poinsot's or SciPy's Rotation
-    q = as_quat(q0, "q0")
+    q = as_rotation_quat(rotation0, "rotation0")
 
     if callable(omega):
         t = as_times(t, "t", min_len=1)
         src = _Callable(omega, t, vectorized)
         wshape = src.bshape
     else:
-        need = 2 if method == "exact" else 4
+        need = 2 if method == "exponential" else 4
         t = as_times(t, "t", min_len=1)
         w = as_float_array(omega, "omega")
         if w.ndim < 2 or w.shape[0] != len(t) or w.shape[-1] != 3:
@@ -519,13 +517,13 @@ def propagate(
                 f"({why}), got {len(t)}."
             )
         wshape = w.shape[1:-1]
-        src = _Samples(t, w.reshape(len(t), -1, 3), hold=method == "exact")
+        src = _Samples(t, w.reshape(len(t), -1, 3), hold=method == "exponential")
     try:
         bshape = np.broadcast_shapes(q.shape[:-1], wshape)
     except ValueError:
         raise InvalidInputError(
-            f"Expected `omega` to be for the same bodies as `q0`: `q0` has batch shape "
-            f"{q.shape[:-1]}, `omega` has {wshape}."
+            f"Expected `omega` to be for the same bodies as `rotation0`: `rotation0` has "
+            f"batch shape {q.shape[:-1]}, `omega` has {wshape}."
         ) from None
     if len(bshape) > 1:
         raise InvalidInputError(
@@ -546,7 +544,9 @@ def propagate(
             nsub = np.maximum(nsub, np.ceil(np.diff(t) / max_step * (1.0 - 1e-12)).astype(np.int64))
         states = _fixed_step(method, frame, src, qn, t, nsub)
         info["steps"] = int(nsub.sum())
-        key = "exact-samples" if (method == "exact" and src.kind == "samples") else method
+        key = (
+            "exponential-samples" if (method == "exponential" and src.kind == "samples") else method
+        )
         info["order"] = min(ORDER[key], 4) if src.kind == "samples" else ORDER[key]
         info["step_size"] = float(np.max(np.diff(t) / nsub)) if len(t) > 1 else 0.0
 

@@ -17,10 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_positive, as_vec3
+from .._validate import as_positive, as_vec3, batch_shape
+from .._vec import cross
 from ..errors import InvalidInputError, InvalidTypeError
 from . import solids
-from .tensor import _as_rotation_matrix, _steiner, _transpose, check_inertia
+from .meshes import mesh as _mesh
+from .tensor import _as_rotation_matrix, _steiner, _transpose, as_inertia, check_inertia
 from .tensor import points as _points
 from .tensor import principal_axes as _principal_axes
 
@@ -32,28 +34,19 @@ __all__ = ["RigidBody", "combine", "kinetic_energy", "angular_momentum"]
 # ---------------------------------------------------------------------------
 
 
-def _same_batch(**named) -> None:
-    """Raise unless the batch (leading) shapes of ``name=(array, core_ndim)`` broadcast."""
-    shapes = {k: np.shape(a)[: np.ndim(a) - nd] for k, (a, nd) in named.items()}
-    try:
-        np.broadcast_shapes(*shapes.values())
-    except ValueError:
-        desc = ", ".join(f"`{k}` {s}" for k, s in shapes.items())
-        raise InvalidInputError(
-            f"Expected the batch (leading) shapes of {desc} to broadcast."
-        ) from None
-
-
 def _kinetic_energy(m, j, w, v):
-    """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2``."""
-    jw = np.einsum("...ij,...j->...i", j, w)
-    return 0.5 * m * np.einsum("...i,...i->...", v, v) + 0.5 * np.einsum("...i,...i->...", w, jw)
+    """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (the rotational part from
+    :mod:`poinsot.dynamics.invariants`, the one place of ``w^T J w / 2``)."""
+    from ..dynamics.invariants import _kinetic
+
+    return 0.5 * m * np.einsum("...i,...i->...", v, v) + _kinetic(j, False, w)
 
 
 def _angular_momentum(m, j, w, v, r_oc):
-    """``K_O = J_c w + OC x m V_c``."""
-    jw = np.einsum("...ij,...j->...i", j, w)
-    return jw + np.cross(r_oc, np.asarray(m)[..., None] * v)
+    """``K_O = J_c w + OC x m V_c`` (``J_c w`` from :mod:`poinsot.dynamics.invariants`)."""
+    from ..dynamics.invariants import _momentum
+
+    return _momentum(j, False, w) + cross(r_oc, np.asarray(m)[..., None] * v)
 
 
 # ---------------------------------------------------------------------------
@@ -98,7 +91,7 @@ def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
     j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
     w = as_vec3(omega, "omega")
     v = as_vec3(v_cm, "v_cm")
-    _same_batch(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1))
+    batch_shape(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1))
     return _kinetic_energy(m, j, w, v)
 
 
@@ -146,7 +139,7 @@ def angular_momentum(
     w = as_vec3(omega, "omega")
     v = as_vec3(v_cm, "v_cm")
     r = as_vec3(r_oc, "r_oc")
-    _same_batch(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1), r_oc=(r, 1))
+    batch_shape(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1), r_oc=(r, 1))
     return _angular_momentum(m, j, w, v, r)
 
 
@@ -219,10 +212,12 @@ class RigidBody:
     ----------
     mass : array_like, shape (...)
         Mass, > 0.
-    inertia : array_like, shape (..., 3, 3)
-        Inertia tensor **about the centre of mass**, in the body axes. Checked
-        by :func:`check_inertia` with ``allow_singular=True`` (a thin rod or a
-        point mass has a zero moment).
+    inertia : array_like, shape (..., 3, 3) or (..., 3)
+        Inertia **about the centre of mass**, in the body axes: a tensor, or
+        principal moments ``(A, B, C)`` (then the body axes are principal axes),
+        read as everywhere in poinsot (an array whose last two dimensions are
+        ``(3, 3)`` is a tensor). Checked physical with ``allow_singular=True``
+        (a thin rod or a point mass has a zero moment). Stored as the tensor.
     center_of_mass : array_like, shape (..., 3), optional
         Position of the centre of mass relative to the body reference point
         ``O``, in body axes. Default: the origin.
@@ -246,6 +241,8 @@ class RigidBody:
     array([13., 13.,  8.])
     >>> float(body.kinetic_energy([1.0, 0, 0], v_cm=[0, 1.0, 0]))
     12.5
+    >>> RigidBody(2.0, [1.0, 2.0, 2.5]).inertia.diagonal()   # principal moments
+    array([1. , 2. , 2.5])
     """
 
     mass: Any
@@ -254,15 +251,11 @@ class RigidBody:
 
     def __post_init__(self) -> None:
         m = as_positive(self.mass, "mass")
-        j = check_inertia(self.inertia, "inertia", allow_singular=True)
+        j, principal = as_inertia(self.inertia, "inertia", allow_singular=True)
+        if principal:
+            j = j[..., :, None] * np.eye(3)
         c = as_vec3(self.center_of_mass, "center_of_mass")
-        try:
-            np.broadcast_shapes(m.shape, j.shape[:-2], c.shape[:-1])
-        except ValueError:
-            raise InvalidInputError(
-                f"Expected `mass` (...), `inertia` (..., 3, 3) and `center_of_mass` (..., 3) "
-                f"to have broadcastable batch shapes, got {m.shape}, {j.shape}, {c.shape}."
-            ) from None
+        batch_shape(mass=(m, 0), inertia=(j, 2), center_of_mass=(c, 1))
         m = _readonly(m)
         object.__setattr__(self, "mass", float(m) if m.ndim == 0 else m)
         object.__setattr__(self, "inertia", _readonly(j))
@@ -334,9 +327,8 @@ class RigidBody:
     @classmethod
     def from_mesh(cls, vertices, faces, *, mass=None, density=None) -> RigidBody:
         """Uniform solid bounded by a closed triangle mesh (see :func:`poinsot.mass.mesh`)."""
-        from .meshes import mesh
-
-        return mesh(vertices, faces, mass=mass, density=density).to_body()
+        props = _mesh(vertices, faces, mass=mass, density=density)
+        return cls(props.mass, props.inertia, props.center_of_mass)
 
     def placed(self, rotation=None, position=None) -> RigidBody:
         """The same body described in an assembly frame ``a``.
@@ -409,7 +401,7 @@ class RigidBody:
         """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (body axes; see :func:`kinetic_energy`)."""
         w = as_vec3(omega, "omega")
         v = as_vec3(v_cm, "v_cm")
-        _same_batch(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1))
+        batch_shape(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1))
         return _kinetic_energy(self.mass, self.inertia, w, v)
 
     def angular_momentum(self, omega, v_cm=(0.0, 0.0, 0.0), about=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -430,7 +422,7 @@ class RigidBody:
         w = as_vec3(omega, "omega")
         v = as_vec3(v_cm, "v_cm")
         p = as_vec3(about, "about")
-        _same_batch(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1), about=(p, 1))
+        batch_shape(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1), about=(p, 1))
         return _angular_momentum(self.mass, self.inertia, w, v, self.center_of_mass - p)
 
     # -- composition -----------------------------------------------------------

@@ -33,6 +33,11 @@ class MeshProperties:
         Centre of mass (the centroid), in the mesh's coordinates.
     inertia : ndarray, shape (3, 3)
         Inertia tensor about the centre of mass, in the mesh's axes.
+
+    Notes
+    -----
+    A :class:`~poinsot.mass.RigidBody` is made from a mesh in one way,
+    :meth:`RigidBody.from_mesh` (this module does not know about bodies).
     """
 
     mass: float
@@ -40,12 +45,6 @@ class MeshProperties:
     density: float
     center_of_mass: np.ndarray
     inertia: np.ndarray
-
-    def to_body(self):
-        """The :class:`~poinsot.mass.RigidBody` with these properties."""
-        from .body import RigidBody
-
-        return RigidBody(self.mass, self.inertia, self.center_of_mass)
 
 
 def _as_faces(faces, n_vertices: int) -> np.ndarray:

@@ -20,7 +20,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_bool, as_float_array, as_matrix3, as_positive, as_trailing, as_vec3
+from .._validate import (
+    _is_scipy_rotation,
+    as_bool,
+    as_float_array,
+    as_matrix3,
+    as_positive,
+    as_trailing,
+    as_vec3,
+    check_rotation_matrix,
+)
 from ..errors import InvalidInputError
 from ..rotations.rotation import Rotation
 
@@ -243,7 +252,9 @@ def check_principal_moments(
     return m
 
 
-def as_inertia(inertia, name: str = "inertia") -> tuple[np.ndarray, bool]:
+def as_inertia(
+    inertia, name: str = "inertia", *, allow_singular: bool = False
+) -> tuple[np.ndarray, bool]:
     """Validated inertia: ``(moments (..., 3), True)`` or ``(tensor (..., 3, 3), False)``.
 
     The one reader of "principal moments or a tensor" used by every entry point
@@ -251,13 +262,15 @@ def as_inertia(inertia, name: str = "inertia") -> tuple[np.ndarray, bool]:
     ``RigidBody``). An array whose last two dimensions are ``(3, 3)`` is a tensor
     in body axes; any other array of shape ``(..., 3)`` holds principal moments
     (body axes then principal axes). Both are checked physical (positive definite,
-    ``A + B >= C``).
+    or semi-definite with ``allow_singular``; ``A + B >= C``). A batch of three
+    bodies' principal moments has shape ``(3, 3)`` and would read as one tensor:
+    pass it as tensors, ``moments[..., None] * np.eye(3)``.
     """
     a = as_float_array(inertia, name)
     if a.ndim >= 2 and a.shape[-2:] == (3, 3):
-        return check_inertia(a, name), False
+        return check_inertia(a, name, allow_singular=allow_singular), False
     if a.ndim >= 1 and a.shape[-1] == 3:
-        return check_principal_moments(a, name), True
+        return check_principal_moments(a, name, allow_singular=allow_singular), True
     raise InvalidInputError(
         f"Expected `{name}` to have shape (..., 3) (principal moments) or (..., 3, 3) "
         f"(a tensor), got {a.shape}."
@@ -265,25 +278,11 @@ def as_inertia(inertia, name: str = "inertia") -> tuple[np.ndarray, bool]:
 
 
 def _as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
-    """``S`` (..., 3, 3) from a :class:`~poinsot.Rotation` or a proper orthogonal matrix."""
-    if isinstance(rotation, Rotation):
+    """``S`` (..., 3, 3) from a poinsot or SciPy ``Rotation`` or a proper orthogonal matrix
+    (checked by :func:`poinsot._validate.check_rotation_matrix`, tolerance 1e-6)."""
+    if isinstance(rotation, Rotation) or _is_scipy_rotation(rotation):
         return np.asarray(rotation.as_matrix(), dtype=np.float64)
-    s = as_matrix3(rotation, name)
-    err = np.max(np.abs(_transpose(s) @ s - np.eye(3)), axis=(-2, -1))
-    bad = err > 1e-9
-    if np.any(bad):
-        raise InvalidInputError(
-            f"Expected `{name}` to be a rotation matrix (S^T S = E){_where(bad)}, "
-            f"got max |S^T S - E| = {_first(err, bad):.3g}."
-        )
-    det = np.linalg.det(s)
-    bad = det < 0
-    if np.any(bad):
-        raise InvalidInputError(
-            f"Expected `{name}` to be a proper rotation matrix (det +1){_where(bad)}, "
-            f"got det = {_first(det, bad):.6g}."
-        )
-    return s
+    return check_rotation_matrix(rotation, name)
 
 
 # ---------------------------------------------------------------------------

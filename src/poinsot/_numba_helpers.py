@@ -1,0 +1,101 @@
+"""Scalar ``@njit`` helpers shared by the compiled kernels: one place for each formula.
+
+Every helper works on scalars and returns a tuple, and is compiled with
+``inline="always"``, so a kernel that calls it runs exactly the code it would
+run if the formula were written in place (no call, no allocation). Kernel modules
+import this module and declare it with :func:`poinsot._numba_cache.depends_on`,
+so that editing a helper invalidates their on-disk caches (see
+``docs/conventions.md``, "Compiled kernels").
+
+Formulas (theory §1, §5, §10):
+
+- :func:`qmul` Hamilton product ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)``;
+- :func:`qmul_gibbs` ``L o (1, a)`` (unnormalised Cayley step);
+- :func:`qnormalize` ``L / |L|``;
+- :func:`qaxis` ``L o (c, s e_i)``: a turn about body axis ``i`` given ``cos``
+  and ``sin`` of the half angle;
+- :func:`cross` ``a x b``; :func:`matvec` ``W x`` for a 3x3 matrix given by rows;
+- :func:`euler_momentum_rate` Euler's equations in momentum form,
+  ``dm/dt = m x W m + M`` (``m = J w`` body momentum, ``W = J^-1``, ``M``
+  the body torque).
+
+Importing this module imports numba: only kernel modules (imported lazily) do.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+__all__ = [
+    "qmul",
+    "qmul_gibbs",
+    "qnormalize",
+    "qaxis",
+    "cross",
+    "matvec",
+    "euler_momentum_rate",
+]
+
+_INLINE = {"inline": "always"}
+
+
+@njit(**_INLINE)
+def qmul(p0, p1, p2, p3, q0, q1, q2, q3):  # pragma: no cover - compiled
+    """``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1)."""
+    return (
+        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+        p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2,
+        p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3,
+        p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1,
+    )
+
+
+@njit(**_INLINE)
+def qmul_gibbs(q0, q1, q2, q3, a0, a1, a2):  # pragma: no cover - compiled
+    """``L o (1, a)``: the (unnormalised) Cayley step with Gibbs vector ``a``."""
+    return qmul(q0, q1, q2, q3, 1.0, a0, a1, a2)
+
+
+@njit(**_INLINE)
+def qnormalize(q0, q1, q2, q3):  # pragma: no cover - compiled
+    """``L / |L|`` for a non-zero ``L``."""
+    s = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    return q0 * s, q1 * s, q2 * s, q3 * s
+
+
+@njit(**_INLINE)
+def qaxis(q0, q1, q2, q3, c, s, i):  # pragma: no cover - compiled
+    """``L o (c, s e_i)``, ``c, s = cos(f/2), sin(f/2)``: turn by ``f`` about body axis ``i``."""
+    if i == 0:
+        return qmul(q0, q1, q2, q3, c, s, 0.0, 0.0)
+    if i == 1:
+        return qmul(q0, q1, q2, q3, c, 0.0, s, 0.0)
+    return qmul(q0, q1, q2, q3, c, 0.0, 0.0, s)
+
+
+@njit(**_INLINE)
+def cross(a0, a1, a2, b0, b1, b2):  # pragma: no cover - compiled
+    """``a x b``."""
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+@njit(**_INLINE)
+def matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2):  # pragma: no cover
+    """``W x`` for the 3x3 matrix with rows ``(w00, w01, w02)``..."""
+    return (
+        w00 * x0 + w01 * x1 + w02 * x2,
+        w10 * x0 + w11 * x1 + w12 * x2,
+        w20 * x0 + w21 * x1 + w22 * x2,
+    )
+
+
+@njit(**_INLINE)
+def euler_momentum_rate(m0, m1, m2, o0, o1, o2, t0, t1, t2):  # pragma: no cover - compiled
+    """Euler's equations for the body momentum: ``dm/dt = m x w + M`` with ``w = W m``.
+
+    Same as ``J w' = M - w x J w`` (theory §10); ``o`` is ``w = W m``, ``t`` is ``M``.
+    """
+    c0, c1, c2 = cross(m0, m1, m2, o0, o1, o2)
+    return c0 + t0, c1 + t1, c2 + t2

@@ -1,0 +1,123 @@
+"""Small unvalidated quaternion helpers for the integrators: the one place for each.
+
+Arrays ``(..., 4)`` of scalar-first quaternions ``(w, x, y, z)`` and vectors
+``(..., 3)``; inputs are trusted (validated float64 arrays), outputs broadcast
+like NumPy. The public, validated operations are in
+:mod:`poinsot.rotations.quaternion`; the compiled products in
+:mod:`poinsot.rotations._kernels`. Every NumPy-level integrator
+(``simulate``, ``propagate``, ``FreeRigidBody``) takes its small helpers from here:
+
+- :func:`pure` ``(0, v)``; :func:`conj` ``L~ = (l0, -l)``;
+- :func:`mul` ``P o Q`` and :func:`rotate` ``L o (0, v) o L~`` (compiled kernels);
+- :func:`normalize` ``L / |L|`` (non-zero ``L``);
+- :func:`axis_angle` ``(cos(f/2), sin(f/2) e)``; :func:`axis_angle_principal`
+  the same about body axis ``i``;
+- :func:`from_gibbs` (Cayley map) ``(1, g) / sqrt(1 + g.g)`` for the Gibbs vector
+  ``g = tan(f/2) e``; :func:`from_rotvec` ``exp((0, v)/2)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "pure",
+    "conj",
+    "mul",
+    "rotate",
+    "normalize",
+    "axis_angle",
+    "axis_angle_principal",
+    "from_gibbs",
+    "from_rotvec",
+]
+
+
+def pure(v: np.ndarray) -> np.ndarray:
+    """The pure quaternion ``(0, v)`` of vectors ``(..., 3)``.
+
+    >>> pure(np.array([1.0, 2.0, 3.0]))
+    array([0., 1., 2., 3.])
+    """
+    v = np.asarray(v, dtype=np.float64)
+    out = np.zeros(v.shape[:-1] + (4,))
+    out[..., 1:] = v
+    return out
+
+
+def conj(q: np.ndarray) -> np.ndarray:
+    """``L~ = (l0, -l)``.
+
+    >>> conj(np.array([1.0, 2.0, 3.0, 4.0]))
+    array([ 1., -2., -3., -4.])
+    """
+    from .rotations.quaternion import conjugate_array
+
+    return conjugate_array(q)
+
+
+def mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Hamilton product ``P o Q`` (theory §1), compiled kernel, broadcasting."""
+    from .rotations._lazy import kernels
+
+    return kernels().qmul(p, q)
+
+
+def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``L o (0, v) o L~`` for unit ``L``: body components -> space components."""
+    from .rotations._lazy import kernels
+
+    return kernels().qrot(q, v)
+
+
+def normalize(q: np.ndarray) -> np.ndarray:
+    """``q / |q|`` for non-zero quaternions (no checks; column sums beat einsum here).
+
+    >>> normalize(np.array([0.0, 3.0, 0.0, 4.0]))
+    array([0. , 0.6, 0. , 0.8])
+    """
+    f = q.reshape(-1, 4)
+    n2 = f[:, 0] * f[:, 0]
+    for i in (1, 2, 3):
+        n2 = n2 + f[:, i] * f[:, i]
+    return (f * (1.0 / np.sqrt(n2))[:, None]).reshape(q.shape)
+
+
+def axis_angle(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """Unit quaternions ``(cos(f/2), sin(f/2) e)`` of rotations by ``angle`` (...) about
+    unit ``axis`` (..., 3) (radians, right-handed).
+
+    >>> axis_angle(np.array([0.0, 0.0, 1.0]), np.pi).round(12) + 0.0
+    array([0., 0., 0., 1.])
+    """
+    h = 0.5 * np.asarray(angle, dtype=np.float64)
+    s = np.sin(h)[..., None] * axis
+    return np.concatenate([np.broadcast_to(np.cos(h)[..., None], s.shape[:-1] + (1,)), s], -1)
+
+
+def axis_angle_principal(angle: np.ndarray, i: int) -> np.ndarray:
+    """:func:`axis_angle` about body axis ``e_i`` (``i`` in 0, 1, 2) for angles (...)."""
+    h = 0.5 * np.asarray(angle, dtype=np.float64)
+    out = np.zeros(h.shape + (4,))
+    out[..., 0] = np.cos(h)
+    out[..., 1 + i] = np.sin(h)
+    return out
+
+
+def from_gibbs(g: np.ndarray) -> np.ndarray:
+    """Cayley map: the unit quaternion ``(1, g) / sqrt(1 + g.g)`` of Gibbs vectors
+    ``g = tan(f/2) e`` (..., 3).
+
+    >>> from_gibbs(np.array([0.0, 0.0, 1.0])).round(6)
+    array([0.707107, 0.      , 0.      , 0.707107])
+    """
+    from .rotations.rodrigues import quat_from_gibbs
+
+    return quat_from_gibbs(g)
+
+
+def from_rotvec(v: np.ndarray) -> np.ndarray:
+    """``exp((0, v) / 2)``: the unit quaternion of rotation vectors ``v = f e`` (..., 3)."""
+    from .rotations.rotvec import quat_from_rotvec
+
+    return quat_from_rotvec(v)

@@ -1,0 +1,23 @@
+"""The ``>>>`` examples of the library docs pages run and give what they show.
+
+The pages are Markdown read by MyST; their examples are plain doctest blocks,
+so ``doctest.testfile`` runs them exactly as a reader would type them.
+"""
+
+from __future__ import annotations
+
+import doctest
+from pathlib import Path
+
+import pytest
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+PAGES = ["mass.md", "dynamics.md", "conventions.md", "math-to-code.md"]
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_page_examples_run(page):
+    path = DOCS / page
+    flags = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
+    result = doctest.testfile(str(path), module_relative=False, optionflags=flags, verbose=False)
+    assert result.failed == 0, f"{result.failed} example(s) of docs/{page} failed"
