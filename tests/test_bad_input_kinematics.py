@@ -89,7 +89,7 @@ def test_rotvec_huge_angle(fn):
 
 def test_fornberg_deriv_bool_rejected():
     # True used to index as a boolean mask and return a (3, 2, 1) array
-    with pytest.raises(InvalidInputError, match="`deriv` to be an integer"):
+    with pytest.raises(InvalidTypeError, match="`deriv` to be an integer"):
         K.fornberg_weights(0.0, [-1.0, 0.0, 1.0], deriv=True)
     np.testing.assert_allclose(K.fornberg_weights(0.0, [-1.0, 0.0, 1.0], deriv=1), [-0.5, 0, 0.5])
 
@@ -150,7 +150,11 @@ def _helix(s):
 
 @pytest.mark.parametrize("stencil", [None, "7", 3, 0, True])
 def test_frenet_stencil_checked_for_callables_too(stencil):
-    with pytest.raises(InvalidInputError, match="`stencil` to be an integer >= 4"):
+    # a wrong type is a type error, a wrong integer a value error (both name `stencil`)
+    exc = (
+        InvalidInputError if isinstance(stencil, int) and stencil is not True else InvalidTypeError
+    )
+    with pytest.raises(exc, match="`stencil` to be an integer"):
         K.frenet(np.linspace(0.0, 1.0, 5), _helix, stencil=stencil)
 
 

@@ -26,6 +26,7 @@ __all__ = [
     "as_positive",
     "as_bool",
     "as_choice",
+    "as_int",
     "as_times",
     "as_rotation_quat",
     "batch_shape",
@@ -118,11 +119,41 @@ def as_bool(value, name: str) -> bool:
 
 
 def as_choice(value, name: str, choices: Sequence[str]) -> str:
-    """A string that must be one of ``choices``."""
-    if not isinstance(value, str) or value not in choices:
-        opts = ", ".join(repr(c) for c in choices)
+    """A string that must be one of ``choices`` (a non-string is a type error)."""
+    opts = ", ".join(repr(c) for c in choices)
+    if not isinstance(value, str):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be one of {opts} (a string), got {type(value).__name__} "
+            f"{value!r}."
+        )
+    if value not in choices:
         raise InvalidInputError(f"Expected `{name}` to be one of {opts}, got {value!r}.")
     return value
+
+
+def as_int(value, name: str, *, minimum: int | None = None, choices=None, what: str = "") -> int:
+    """A Python or NumPy integer (not a bool, float or string: those are type errors),
+    ``>= minimum`` and in ``choices`` when given (else a value error).
+
+    >>> as_int(4, "order", choices=(2, 4, 6))
+    4
+    """
+    if not is_integer(value) and not (
+        isinstance(value, np.integer) and not isinstance(value, np.bool_)
+    ):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be an integer{what}, got {type(value).__name__} {value!r}."
+        )
+    v = int(value)
+    if (minimum is not None and v < minimum) or (choices is not None and v not in choices):
+        if what:
+            want = f" to be an integer{what}"
+        elif choices is not None:
+            want = " to be one of " + ", ".join(str(c) for c in choices)
+        else:
+            want = f" to be an integer >= {minimum}"
+        raise InvalidInputError(f"Expected `{name}`{want}, got {value!r}.")
+    return v
 
 
 def as_times(t, name: str = "t", *, min_len: int = 1, strictly_increasing: bool = True):

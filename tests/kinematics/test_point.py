@@ -236,7 +236,7 @@ def test_errors_samples():
         frenet(np.where(t > 0.5, np.inf, t), r)
     with pytest.raises(InvalidInputError, match="`stencil` to be an integer >= 4"):
         frenet(t, r, stencil=3)
-    with pytest.raises(InvalidInputError, match="`stencil`"):
+    with pytest.raises(InvalidTypeError, match="`stencil` to be an integer, got float"):
         frenet(t, r, stencil=5.0)
     with pytest.raises(InvalidInputError, match="`stride` to be 'auto' or an integer >= 1"):
         frenet(t, r, stride=0)

@@ -432,7 +432,7 @@ def test_error_samples():
         propagate([1, 0, 0, 0], np.zeros((3, 3)), t[:3])
     with pytest.raises(InvalidInputError, match="at least 2 samples of `omega`.*'exponential'"):
         propagate([1, 0, 0, 0], np.zeros((1, 3)), t[:1], method="exponential")
-    with pytest.raises(InvalidInputError, match="same bodies as `rotation0`"):
+    with pytest.raises(InvalidInputError, match="batch .leading. shapes of `rotation0`"):
         propagate(np.ones((3, 4)), np.zeros((5, 2, 3)), t)
     with pytest.raises(InvalidTypeError, match="`omega` to be array-like"):
         propagate([1, 0, 0, 0], "fast", t)
@@ -448,7 +448,7 @@ def test_error_callable_output():
         propagate([1, 0, 0, 0], lambda s: np.zeros((2, 3)) if s > 0.5 else np.zeros(3), t)
     with pytest.raises(InvalidTypeError, match=r"`omega\(t\)` to return an array of real"):
         propagate([1, 0, 0, 0], lambda s: ["a", "b", "c"], t)
-    with pytest.raises(InvalidInputError, match="same bodies as `rotation0`"):
+    with pytest.raises(InvalidInputError, match="batch .leading. shapes of `rotation0`"):
         propagate(np.ones((3, 4)), lambda s: np.zeros((2, 3)), t)
     with pytest.raises(InvalidInputError, match=r"`vectorized=True` to return shape \(m, 3\)"):
         propagate([1, 0, 0, 0], lambda s: np.zeros(3), t, vectorized=True)
@@ -460,9 +460,9 @@ def test_error_callable_output():
 
 def test_error_options():
     t = np.linspace(0.0, 1.0, 5)
-    with pytest.raises(InvalidInputError, match="`steps_per_sample` to be a positive integer"):
+    with pytest.raises(InvalidInputError, match="`steps_per_sample` to be an integer >= 1"):
         propagate([1, 0, 0, 0], w_body, t, steps_per_sample=0)
-    with pytest.raises(InvalidInputError, match="`steps_per_sample` to be a positive integer"):
+    with pytest.raises(InvalidTypeError, match="`steps_per_sample` to be an integer, got float"):
         propagate([1, 0, 0, 0], w_body, t, steps_per_sample=2.5)
     with pytest.raises(InvalidInputError, match="`max_step` to be positive"):
         propagate([1, 0, 0, 0], w_body, t, max_step=0.0)

@@ -99,7 +99,7 @@ def test_screw_axis_errors():
         screw_axis([1, 0], [0, 0, 1])
     with pytest.raises(InvalidInputError, match="`omega` to contain only finite"):
         screw_axis([1, 0, 0], [0, np.nan, 1])
-    with pytest.raises(InvalidInputError, match="broadcastable"):
+    with pytest.raises(InvalidInputError, match="shapes of .* to broadcast"):
         screw_axis(np.zeros((2, 3)), np.ones((3, 3)))
     with pytest.raises(InvalidInputError, match="`origin`"):
         screw_axis([1, 0, 0], [0, 0, 1], origin=[0, 0])

@@ -24,7 +24,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import as_choice, as_float_array, as_quat, as_times, as_trailing
+from .._validate import (
+    _is_scipy_rotation,
+    as_choice,
+    as_float_array,
+    as_int,
+    as_rotation_quat,
+    as_times,
+    as_trailing,
+)
 from ..errors import InvalidInputError
 from ..rotations import quaternion as _quat
 from ..rotations.rotation import Rotation
@@ -47,23 +55,16 @@ _ORDERS = (2, 4, 6, 8)
 # --------------------------------------------------------------------------
 def _quat_samples(rotations, name="rotations"):
     """Unit quaternions ``(n, ..., 4)`` from a Rotation or a scalar-first array."""
-    if isinstance(rotations, Rotation) or _is_scipy_rotation(rotations):
-        q = rotations.as_quat(scalar_first=True)
-        if q.ndim < 2:
-            raise InvalidInputError(
-                f"Expected `{name}` to be a sequence of rotations (shape (n, ...)), "
-                "got a single rotation."
-            )
-        return q
-    q = as_quat(rotations, name)
+    single = isinstance(rotations, Rotation) or _is_scipy_rotation(rotations)
+    q = as_rotation_quat(rotations, name)
+    if single and q.ndim < 2:
+        raise InvalidInputError(
+            f"Expected `{name}` to be a sequence of rotations (shape (n, ...)), "
+            "got a single rotation."
+        )
     if q.ndim < 2:
         raise InvalidInputError(f"Expected `{name}` to have shape (n, ..., 4), got {q.shape}.")
     return q
-
-
-def _is_scipy_rotation(obj) -> bool:
-    cls = type(obj)
-    return cls.__name__ == "Rotation" and cls.__module__.startswith("scipy.spatial")
 
 
 def _check_lengths(t, q, name="rotations"):
@@ -152,11 +153,7 @@ def fornberg_weights(x0, x, deriv: int = 1) -> np.ndarray:
     x0 = as_float_array(x0, "x0")
     if x.ndim < 1 or x.shape[-1] < 1:
         raise InvalidInputError(f"Expected `x` to have shape (..., N), got {x.shape}.")
-    ok = isinstance(deriv, int | np.integer) and not isinstance(deriv, bool | np.bool_)
-    if not (ok and 0 <= deriv < x.shape[-1]):
-        raise InvalidInputError(
-            f"Expected `deriv` to be an integer in [0, {x.shape[-1] - 1}], got {deriv!r}."
-        )
+    deriv = as_int(deriv, "deriv", choices=range(x.shape[-1]), what=f" in [0, {x.shape[-1] - 1}]")
     xs = np.sort(x, axis=-1)
     if np.any(np.diff(xs, axis=-1) == 0):
         raise InvalidInputError("Expected `x` to have distinct nodes.")
@@ -234,8 +231,7 @@ def angular_velocity(t, rotations, *, frame: str = "body", order: int = 4) -> np
            [0., 0., 2.]])
     """
     frame = as_choice(frame, "frame", FRAMES)
-    if not (isinstance(order, int | np.integer) and order in _ORDERS):
-        raise InvalidInputError(f"Expected `order` to be one of {_ORDERS}, got {order!r}.")
+    order = as_int(order, "order", choices=_ORDERS)
     t = as_times(t, "t", min_len=order + 1)
     q = _quat_samples(rotations)
     _check_lengths(t, q)

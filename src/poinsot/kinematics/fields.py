@@ -27,7 +27,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .._validate import as_float_array, as_vec3
+from .._validate import as_float_array, as_vec3, batch_shape
 from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
@@ -65,13 +65,8 @@ def _compose_angular(omega_e, eps_e, omega_r, eps_r):
 
 
 def _broadcast_shape(arrays: dict[str, np.ndarray]) -> tuple[int, ...]:
-    try:
-        return np.broadcast_shapes(*(a.shape for a in arrays.values()))
-    except ValueError:
-        shapes = ", ".join(f"`{k}` {a.shape}" for k, a in arrays.items())
-        raise InvalidInputError(
-            f"Expected arguments with broadcastable shapes (..., 3), got {shapes}."
-        ) from None
+    """The broadcast shape of named arrays (``poinsot._validate.batch_shape``)."""
+    return batch_shape(**{k: (a, 0) for k, a in arrays.items()})
 
 
 def _vectors(**named) -> list[np.ndarray]:
@@ -368,7 +363,7 @@ class FrameMotion:
         (array([0., 2., 0.]), array([0., 0., 4.]))
         """
         if not isinstance(inner, FrameMotion):
-            raise InvalidInputError(
+            raise InvalidTypeError(
                 f"Expected `inner` to be a FrameMotion, got {type(inner).__name__}."
             )
         offset = as_vec3(offset, "offset")
@@ -415,7 +410,7 @@ def chain(motions: Sequence[FrameMotion], offsets: Sequence) -> FrameMotion:
         )
     for k, m in enumerate(motions):
         if not isinstance(m, FrameMotion):
-            raise InvalidInputError(
+            raise InvalidTypeError(
                 f"Expected `motions[{k}]` to be a FrameMotion, got {type(m).__name__}."
             )
     total = motions[0]
@@ -535,7 +530,7 @@ def point_motion(
     array([-2., 4., 0.])
     """
     if not isinstance(frame, FrameMotion):
-        raise InvalidInputError(
+        raise InvalidTypeError(
             f"Expected `frame` to be a FrameMotion, got {type(frame).__name__}."
         )
     s, v_rel, a_rel = _vectors(s=s, v_rel=v_rel, a_rel=a_rel)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import as_float_array, as_times, is_integer
+from .._validate import as_float_array, as_int, as_times, is_integer
 from ..errors import InvalidInputError, SingularityWarning
 from .attitude_history import _fornberg
 from .fields import _scalar
@@ -369,8 +369,7 @@ def frenet(
     True
     """
     rtol = _scalar(rtol, "rtol")
-    if not is_integer(stencil) or stencil < 4:
-        raise InvalidInputError(f"Expected `stencil` to be an integer >= 4, got {stencil!r}.")
+    stencil = as_int(stencil, "stencil", minimum=4)
     if callable(r):
         return _frenet_callable(t, r, derivatives, step, rtol)
     if derivatives is not None:

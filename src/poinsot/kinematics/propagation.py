@@ -25,9 +25,10 @@ from .._validate import (
     as_bool,
     as_choice,
     as_float_array,
+    as_int,
     as_rotation_quat,
     as_times,
-    is_integer,
+    batch_shape,
 )
 from .._vec import cross as _cross
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
@@ -469,10 +470,7 @@ def propagate(
     method = as_choice(method, "method", METHODS)
     frame = as_choice(frame, "frame", FRAMES)
     vectorized = as_bool(vectorized, "vectorized")
-    if not is_integer(steps_per_sample) or steps_per_sample < 1:
-        raise InvalidInputError(
-            f"Expected `steps_per_sample` to be a positive integer, got {steps_per_sample!r}."
-        )
+    steps_per_sample = as_int(steps_per_sample, "steps_per_sample", minimum=1)
     if max_step is not None:
         max_step = float(as_float_array(max_step, "max_step"))
         if not max_step > 0:
@@ -518,13 +516,7 @@ def propagate(
             )
         wshape = w.shape[1:-1]
         src = _Samples(t, w.reshape(len(t), -1, 3), hold=method == "exponential")
-    try:
-        bshape = np.broadcast_shapes(q.shape[:-1], wshape)
-    except ValueError:
-        raise InvalidInputError(
-            f"Expected `omega` to be for the same bodies as `rotation0`: `rotation0` has "
-            f"batch shape {q.shape[:-1]}, `omega` has {wshape}."
-        ) from None
+    bshape = batch_shape(rotation0=(q, 1), omega=(wshape, 0))
     if len(bshape) > 1:
         raise InvalidInputError(
             f"Expected one body or a batch of shape (N,), got batch shape {bshape}."

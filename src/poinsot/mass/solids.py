@@ -33,7 +33,7 @@ import functools
 
 import numpy as np
 
-from .._validate import as_bool, as_positive
+from .._validate import as_bool, as_positive, batch_shape
 from ..errors import InvalidInputError
 
 __all__ = ["box", "sphere", "cylinder", "cone", "ellipsoid", "rod", "disc", "ring"]
@@ -52,11 +52,7 @@ def _diag(jxx, jyy, jzz) -> np.ndarray:
 def _positive(**named) -> list[np.ndarray]:
     """Validate positive arguments and check that their shapes broadcast together."""
     arrays = {k: as_positive(v, k) for k, v in named.items()}
-    try:
-        np.broadcast_shapes(*(a.shape for a in arrays.values()))
-    except ValueError:
-        desc = ", ".join(f"`{k}` {a.shape}" for k, a in arrays.items())
-        raise InvalidInputError(f"Expected the shapes of {desc} to broadcast.") from None
+    batch_shape(**{k: (a, 0) for k, a in arrays.items()})
     return list(arrays.values())
 
 
