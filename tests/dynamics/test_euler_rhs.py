@@ -101,3 +101,42 @@ def test_bad_omega_and_torque():
         euler_rhs([1.0, 2.0, 3.0], "abc")
     with pytest.raises(InvalidInputError, match="to broadcast"):
         euler_rhs(np.ones((2, 3)) + [0, 1, 1], np.ones((5, 3)))
+
+
+def test_single_state_short_path_matches_the_batch_path_bit_for_bit():
+    """The scalar short path (issue 9: one state within 2x of hand NumPy) computes the
+    same floating-point operations as the vectorised path and keeps its checks."""
+    rng = np.random.default_rng(9)
+    for _ in range(200):
+        j = np.sort(rng.uniform(0.5, 3.0, 3))
+        j[2] = min(j[2], j[0] + j[1])
+        w, m = rng.normal(size=3), rng.normal(size=3)
+        for inertia, omega, torque in ((j, w, None), (list(j), tuple(w), list(m)), (j, w, m)):
+            fast = euler_rhs(inertia, omega, torque)
+            slow = euler_rhs(
+                np.asarray(inertia)[None],
+                np.asarray(omega)[None],
+                None if torque is None else np.asarray(torque)[None],
+            )[0]
+            np.testing.assert_array_equal(fast, slow)
+            assert fast.shape == (3,) and fast.dtype == np.float64
+    # the checks are the general path's: same errors, same messages
+    with pytest.raises(InvalidInputError, match="triangle inequality"):
+        euler_rhs([1.0, 1.0, 2.5], [0.0, 0.0, 1.0])
+    with pytest.raises(InvalidInputError, match="positive definite"):
+        euler_rhs([0.0, 1.0, 1.0], [0.0, 0.0, 1.0])
+    with pytest.raises(InvalidInputError, match="`omega` to contain only finite"):
+        euler_rhs([1.0, 2.0, 3.0], [np.nan, 0.0, 1.0])
+    with pytest.raises(InvalidInputError, match="`torque` to contain only finite"):
+        euler_rhs([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], [np.inf, 0.0, 0.0])
+    with pytest.raises(InvalidTypeError, match="`omega`"):
+        euler_rhs([1.0, 2.0, 3.0], ["a", "b", "c"])
+    # integers are numbers, booleans and tensors take the general path
+    np.testing.assert_array_equal(
+        euler_rhs([1, 2, 3], [1, 1, 1]), euler_rhs([1.0, 2.0, 3.0], [1.0, 1.0, 1.0])
+    )
+    np.testing.assert_allclose(
+        euler_rhs(np.diag([1.0, 2.0, 3.0]), [1.0, 1.0, 1.0]),
+        euler_rhs([1.0, 2.0, 3.0], [1.0, 1.0, 1.0]),
+        rtol=1e-15,
+    )

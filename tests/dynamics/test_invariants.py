@@ -86,3 +86,18 @@ def test_batch_broadcast_and_errors():
         invariants([1.0, 1.0, 1.0], {"w": 1}, [1.0, 0, 0])
     with pytest.raises(InvalidTypeError, match="`inertia`"):
         kinetic_energy("J", [1.0, 0, 0])
+
+
+def test_single_state_short_path_agrees_and_keeps_checks():
+    rng = np.random.default_rng(5)
+    for _ in range(100):
+        j = np.sort(rng.uniform(0.5, 3.0, 3))
+        j[2] = min(j[2], j[0] + j[1])
+        w = rng.normal(size=3)
+        one = kinetic_energy(j, w)
+        batch = kinetic_energy(j[None], w[None])[0]
+        assert one.shape == () and abs(one - batch) <= 1e-15 * batch
+    with pytest.raises(InvalidInputError, match="triangle"):
+        kinetic_energy([1.0, 1.0, 2.5], [1.0, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match="`omega` to contain only finite"):
+        kinetic_energy([1.0, 1.0, 1.0], [np.nan, 0.0, 0.0])

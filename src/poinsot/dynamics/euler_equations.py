@@ -65,10 +65,12 @@ from .._validate import (
     as_times,
     as_vec3,
     batch_shape,
+    plain_vec3,
 )
 from .._vec import cross as _cross
 from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError
+from ..mass.tensor import single_principal_moments
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 from .invariants import _invariants, _momentum
@@ -148,6 +150,36 @@ _axis_quat = _quat.axis_angle_principal
 # ---------------------------------------------------------------------------
 
 
+def _euler_rhs_single(inertia, omega, torque):
+    """Short path of :func:`euler_rhs` for one state given by principal moments.
+
+    Same checks as the general path (finite numbers, positive moments with
+    ``A + B >= C`` within the same tolerance) and the same floating-point
+    operations, so the result is bit-identical; anything else (a batch, a
+    tensor, a bad value or type) returns ``None`` and goes the general way,
+    which raises the documented error.
+    """
+    j = single_principal_moments(inertia)
+    if j is None:
+        return None
+    w = plain_vec3(omega)
+    if w is None:
+        return None
+    a, b, c = j
+    p, q, r = w
+    k0, k1, k2 = a * p, b * q, c * r
+    # -(w x K), as _vec.cross computes w x K
+    f0 = -(q * k2 - r * k1)
+    f1 = -(r * k0 - p * k2)
+    f2 = -(p * k1 - q * k0)
+    if torque is not None:
+        m = plain_vec3(torque)
+        if m is None:
+            return None
+        f0, f1, f2 = f0 + m[0], f1 + m[1], f2 + m[2]
+    return np.array((f0 / a, f1 / b, f2 / c))
+
+
 def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
     """Angular acceleration from Euler's dynamic equations, ``J w' = M - w x J w``.
 
@@ -191,6 +223,9 @@ def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
     >>> euler_rhs([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], torque=[0.0, 0.0, 3.0])
     array([0., 0., 1.])
     """
+    fast = _euler_rhs_single(inertia, omega, torque)
+    if fast is not None:
+        return fast
     j, principal = _as_inertia(inertia, "inertia")
     w = as_vec3(omega, "omega")
     m = None if torque is None else as_vec3(torque, "torque")
@@ -472,8 +507,9 @@ def simulate(
 
             fused = _fused.integrate(jb, q, w, tt, model, rtol=rtol, atol=atol, max_step=h_max)
             if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
-                qs, ws, info = _run_adaptive(jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol,
-                                             "DOP853")
+                qs, ws, info = _run_adaptive(
+                    jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, "DOP853"
+                )
                 info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
             else:
                 qs, ws, info = _fused_info(fused, tt, rtol, atol)

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import as_rotation_quat, as_vec3, batch_shape
+from .._validate import as_rotation_quat, as_vec3, batch_shape, plain_vec3
+from ..mass.tensor import single_principal_moments
 
 __all__ = ["kinetic_energy", "angular_momentum", "invariants", "Invariants"]
 
@@ -89,6 +90,12 @@ def kinetic_energy(inertia, omega) -> np.ndarray:
     >>> float(kinetic_energy([1.0, 2.0, 3.0], [1.0, 1.0, 1.0]))
     3.0
     """
+    j = single_principal_moments(inertia)
+    w = None if j is None else plain_vec3(omega)
+    if w is not None:  # one state: same checks and operations, no array overhead
+        return np.float64(
+            0.5 * (w[0] * (j[0] * w[0]) + w[1] * (j[1] * w[1]) + w[2] * (j[2] * w[2]))
+        )
     j, principal, w = _checked(inertia, omega)
     return _kinetic(j, principal, w)
 

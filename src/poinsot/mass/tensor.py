@@ -29,6 +29,7 @@ from .._validate import (
     as_trailing,
     as_vec3,
     check_rotation_matrix,
+    plain_vec3,
 )
 from ..errors import InvalidInputError
 from ..rotations.rotation import Rotation
@@ -250,6 +251,20 @@ def check_principal_moments(
     tol = _tolerance(np.max(np.abs(m), axis=-1), rtol, atol)
     _check_moments(np.sort(m, axis=-1), tol, name, allow_singular, "set of principal moments")
     return m
+
+
+def single_principal_moments(x) -> tuple[float, float, float] | None:
+    """Short path of :func:`check_principal_moments` for one plain 3-vector: the moments as
+    Python floats when they pass the same checks (finite, positive, ``A + B >= C`` within
+    ``RTOL`` of the largest), else ``None`` (the caller's general path then raises)."""
+    j = plain_vec3(x)
+    if j is None:
+        return None
+    lo, mid, hi = sorted(j)
+    tol = RTOL * max(abs(j[0]), abs(j[1]), abs(j[2]))
+    if lo <= tol or lo + mid < hi - tol:
+        return None
+    return j
 
 
 def as_inertia(
