@@ -118,11 +118,13 @@ def test_batch_bodies():
     assert body.shape == (3,)
     w = np.array([[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]])
     np.testing.assert_allclose(body.kinetic_energy(w), 0.5 * 0.4 * masses)
-    moments = body.principal_moments()
+    moments = body.principal_moments
     assert moments.shape == (3, 3)
     np.testing.assert_allclose(moments, 0.4 * masses[:, None] * np.ones(3))  # 2/5 m r^2
-    mom, rot = body.principal_axes()
-    np.testing.assert_allclose(mom, moments)
+    rot = body.principal_axes
+    s = rot.as_matrix()
+    diag = np.swapaxes(s, -1, -2) @ body.inertia @ s
+    np.testing.assert_allclose(diag, moments[..., None] * np.eye(3), atol=1e-14)
     both = body + RigidBody(1.0, sphere(1.0, 1.0))
     assert both.shape == (3,)
     np.testing.assert_allclose(both.mass, masses + 1.0)

@@ -63,7 +63,7 @@ def _checked(inertia, omega):
 
 
 def kinetic_energy(inertia, omega) -> np.ndarray:
-    """Rotational kinetic energy ``T = w . J w / 2`` (theory §8).
+    """Rotational kinetic energy ``T = w^T J w / 2`` (theory §8).
 
     Parameters
     ----------

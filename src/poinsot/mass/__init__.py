@@ -17,9 +17,9 @@ Examples
 ...     position=[0.0, 0.0, 2.0])
 >>> body.mass, body.center_of_mass
 (2.0, array([0., 0., 1.]))
->>> moments, axes = body.principal_axes()
->>> moments.round(4)
+>>> body.principal_moments.round(4)
 array([0.5167, 2.9333, 3.1833])
+>>> moments, axes = principal_axes(body.inertia)   # axes: a Rotation (columns of its matrix)
 """
 
 from __future__ import annotations

@@ -386,13 +386,18 @@ class RigidBody:
         p = as_vec3(point, "point")
         return self.inertia + _steiner(self.mass, p - self.center_of_mass)
 
+    @property
     def principal_axes(self):
-        """Principal moments (ascending) and axes of the central inertia.
+        """Principal axes of the central inertia: a :class:`~poinsot.Rotation` ``S``
+        (batch shape) whose matrix has the axes as columns, in body axes, ordered like
+        :attr:`principal_moments`; ``S^T J S = diag(A, B, C)``.
 
-        See :func:`poinsot.mass.principal_axes`.
+        A property, like :attr:`poinsot.dynamics.FreeRigidBody.principal_axes`; see
+        :func:`poinsot.mass.principal_axes` for the choice of axes.
         """
-        return _principal_axes(self.inertia)
+        return _principal_axes(self.inertia)[1]
 
+    @property
     def principal_moments(self) -> np.ndarray:
         """Principal moments ``A <= B <= C`` of the central inertia, shape (..., 3)."""
         return np.linalg.eigvalsh(self.inertia)
