@@ -122,3 +122,33 @@ def test_cli_convert_guards_non_finite_results(monkeypatch, capsys):
     monkeypatch.setattr(cli, "_to", lambda *a: np.array([np.nan, 0.0, 0.0]))
     assert main(["convert", "mrp", "rotvec", "0", "0", "0"]) == 2
     assert "overflowed" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        ({"method": 3}, InvalidTypeError, "`method` to be one of .* got int"),
+        ({"method": "exact"}, InvalidInputError, "`method` to be one of"),
+        ({"order": 4.0}, InvalidTypeError, "`order` to be an integer, got float"),
+        ({"order": "4"}, InvalidTypeError, "`order` to be an integer, got str"),
+        ({"order": True}, InvalidTypeError, "`order` to be an integer, got bool"),
+        ({"order": 3}, InvalidInputError, "`order` to be one of 2, 4, 6, got 3"),
+        ({"torque": "gravity"}, InvalidTypeError, "`torque`"),
+        ({"torque": {"x": 1.0}}, InvalidTypeError, "`torque`"),
+        ({"max_step": "0.1"}, InvalidTypeError, "`max_step`"),
+    ],
+)
+def test_simulate_wrong_types_are_type_errors(kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        D.simulate(J, [1.0, 0, 0, 0], W0, T, **kwargs)
+
+
+def test_invariants_and_torques_wrong_types():
+    with pytest.raises(InvalidTypeError, match="`rotation`"):
+        D.invariants([1.0, 2.0, 3.0], "identity", W0)
+    with pytest.raises(InvalidTypeError, match="`mass`"):
+        D.GravityTorque("heavy", [0.0, 0.0, 1.0])
+    with pytest.raises(InvalidTypeError, match="`frame` to be one of"):
+        D.CallableTorque(lambda t, q, w: w, frame=None)
+    with pytest.raises(InvalidTypeError, match="`inertia`"):
+        D.kinetic_energy(None, W0)

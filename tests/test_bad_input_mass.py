@@ -100,3 +100,14 @@ def test_energy_and_momentum_mismatched_batch():
         body.kinetic_energy(np.ones((2, 3)), v_cm=np.ones((5, 3)))
     with pytest.raises(InvalidInputError, match=r"`omega` \(2,\), `v_cm` \(5,\)"):
         body.angular_momentum(np.ones((2, 3)), v_cm=np.ones((5, 3)))
+
+
+def test_rigid_body_wrong_types():
+    from poinsot.mass import RigidBody
+
+    with pytest.raises(InvalidTypeError, match="`inertia` to be array-like"):
+        RigidBody(1.0, "diag(1, 2, 3)")
+    with pytest.raises(InvalidInputError, match=r"`inertia` to have shape \(\.\.\., 3\)"):
+        RigidBody(1.0, [1.0, 2.0])
+    with pytest.raises(InvalidTypeError, match="`rotation`"):
+        RigidBody(1.0, [1.0, 2.0, 2.5]).placed(rotation="x")
