@@ -335,7 +335,7 @@ def test_frame_compose_carousel():
 def test_errors_shapes_and_values():
     with pytest.raises(InvalidInputError, match=r"Expected `omega` to have shape \(\.\.\., 3\)"):
         velocity_field([0, 0, 0], [0, 1], [1, 0, 0])
-    with pytest.raises(InvalidInputError, match="`r` to contain only finite"):
+    with pytest.raises(InvalidInputError, match="`point` to contain only finite"):
         velocity_field([0, 0, 0], [0, 0, 1], [np.nan, 0, 0])
     with pytest.raises(InvalidInputError, match="shapes of .* to broadcast"):
         acceleration_field(np.zeros((4, 3)), [0, 0, 1], [0, 0, 0], np.zeros((5, 3)))
@@ -365,7 +365,7 @@ def test_errors_composite():
         chain([fm, fm], [])
     with pytest.raises(InvalidTypeError, match=r"`motions\[1\]` to be a FrameMotion"):
         chain([fm, 3], [[0, 0, 0]])
-    with pytest.raises(InvalidInputError, match="`rho`"):
+    with pytest.raises(InvalidInputError, match="`offset`"):
         fm.velocity_at([1, 2])
 
 

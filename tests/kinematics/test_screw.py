@@ -33,7 +33,7 @@ def test_axis_points_move_along_omega(v0, w, origin):
     perpendicular from `origin`; |direction| = 1 along w."""
     wn = np.linalg.norm(w)
     assume(wn >= 1e-3)
-    s = screw_axis(v0, w, origin=origin)
+    s = screw_axis(v0, w, pole=origin)
     assert isinstance(s, Screw)
     np.testing.assert_allclose(np.linalg.norm(s.direction), 1.0)
     np.testing.assert_allclose(s.direction, w / wn, atol=1e-12)
@@ -49,7 +49,7 @@ def test_min_speed_is_minimum_and_invariant():
     and the axis computed from another point's velocity is the same line."""
     rng = np.random.default_rng(0)
     v0, w, origin = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
-    s = screw_axis(v0, w, origin=origin)
+    s = screw_axis(v0, w, pole=origin)
     pts = rng.normal(scale=3, size=(2000, 3))
     V = field(v0, w, origin, pts)
     np.testing.assert_allclose(V @ w, v0 @ w, atol=1e-12)
@@ -58,7 +58,7 @@ def test_min_speed_is_minimum_and_invariant():
     np.testing.assert_allclose(np.linalg.norm(field(v0, w, origin, s.point)), s.min_speed)
     # the same field described from another pole
     q = pts[7]
-    s2 = screw_axis(V[7], w, origin=q)
+    s2 = screw_axis(V[7], w, pole=q)
     np.testing.assert_allclose(s2.parameter, s.parameter, rtol=1e-12)
     np.testing.assert_allclose(s2.closest_point(s.point), s.point, atol=1e-12)
     np.testing.assert_allclose(s2.point, s.closest_point(q), atol=1e-12)
@@ -101,9 +101,9 @@ def test_screw_axis_errors():
         screw_axis([1, 0, 0], [0, np.nan, 1])
     with pytest.raises(InvalidInputError, match="shapes of .* to broadcast"):
         screw_axis(np.zeros((2, 3)), np.ones((3, 3)))
-    with pytest.raises(InvalidInputError, match="`origin`"):
-        screw_axis([1, 0, 0], [0, 0, 1], origin=[0, 0])
-    with pytest.raises(InvalidInputError, match="`x`"):
+    with pytest.raises(InvalidInputError, match="`pole`"):
+        screw_axis([1, 0, 0], [0, 0, 1], pole=[0, 0])
+    with pytest.raises(InvalidInputError, match="`point`"):
         screw_axis([1, 0, 0], [0, 0, 1]).closest_point([1, 2])
 
 
@@ -248,7 +248,7 @@ def test_reduce_errors():
         reduce_motions([], [], pole=np.zeros((2, 3)))
     with pytest.raises(InvalidTypeError, match="`rtol`"):
         reduce_motions([], [], rtol="x")
-    with pytest.raises(InvalidInputError, match=r"`r` to have shape \(\.\.\., 3\)"):
+    with pytest.raises(InvalidInputError, match=r"`point` to have shape \(\.\.\., 3\)"):
         reduce_motions([], [[1, 0, 0]]).velocity_at([1, 2])
     with pytest.raises(InvalidInputError, match="`atol` to be a non-negative number"):
         reduce_motions([], [], atol=-1.0)

@@ -93,7 +93,7 @@ def test_koenig_energy_and_momentum_against_point_cloud():
     np.testing.assert_allclose(kinetic_energy(body.mass, body.inertia, w, v_cm), t_sum, rtol=1e-13)
     for p in (np.zeros(3), body.center_of_mass, np.array([3.0, -1.0, 0.5])):
         k_sum = np.sum(m[:, None] * np.cross(r - p, v), axis=0)
-        np.testing.assert_allclose(body.angular_momentum(w, v_cm, about=p), k_sum, atol=1e-12)
+        np.testing.assert_allclose(body.angular_momentum(w, v_cm, point=p), k_sum, atol=1e-12)
         np.testing.assert_allclose(
             angular_momentum(body.mass, body.inertia, w, v_cm, body.center_of_mass - p),
             k_sum,

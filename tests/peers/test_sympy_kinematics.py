@@ -740,7 +740,7 @@ def test_screw_axis_vs_sympy_linsolve():
         (sol,) = sp.linsolve(eqs, [*r, lam])
         point = np.array([float(x) for x in sol[:3]])
         lam_v = float(sol[3])
-        s = screw_axis(v0, w, origin=o)
+        s = screw_axis(v0, w, pole=o)
         np.testing.assert_allclose(s.point, point, atol=1e-12)
         np.testing.assert_allclose(s.direction, w / np.linalg.norm(w), atol=TOL)
         assert abs(float(s.parameter) - lam_v) < 1e-12

@@ -177,7 +177,7 @@ def test_kinetic_energy_and_momentum_vs_sympy_rigid_body(sympy_moving_body):
         rb = pm.RigidBody(m, j_c, center_of_mass=r_oc_b)
         assert abs(float(rb.kinetic_energy(w_b, v_b)) - t) < TOL * scale
         np.testing.assert_allclose(rb.angular_momentum(w_b, v_b), k_o_b, atol=1e-11)
-        np.testing.assert_allclose(rb.angular_momentum(w_b, v_b, about=r_oc_b), k_c_b, atol=1e-11)
+        np.testing.assert_allclose(rb.angular_momentum(w_b, v_b, point=r_oc_b), k_c_b, atol=1e-11)
 
 
 def test_composite_body_vs_sympy():

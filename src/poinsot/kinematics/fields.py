@@ -94,15 +94,15 @@ def _scalar(x, name: str, *, strict: bool = False) -> float:
 
 
 def _rho_args(**named) -> list[np.ndarray]:
-    """Validate the vectors and the pole; return them with ``rho = r - pole`` last."""
+    """Validate the vectors and the pole; return them with ``rho = point - pole`` last."""
     pole = named.pop("pole")
     if pole is not None:
         named["pole"] = pole
     arrays = _vectors(**named)
     if pole is None:
         return arrays
-    *rest, r, pole = arrays
-    return [*rest, r - pole]
+    *rest, point, pole = arrays
+    return [*rest, point - pole]
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
@@ -116,8 +116,8 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def velocity_field(v0, omega, r, *, pole=None) -> np.ndarray:
-    """Velocity of the points ``r`` of a rigid body (Euler's formula, SPEC S6).
+def velocity_field(v0, omega, point, *, pole=None) -> np.ndarray:
+    """Velocity of the points ``point`` of a rigid body (Euler's formula, theory §6).
 
     Parameters
     ----------
@@ -125,11 +125,12 @@ def velocity_field(v0, omega, r, *, pole=None) -> np.ndarray:
         Velocity of the pole.
     omega : array_like, shape (..., 3)
         Angular velocity of the body.
-    r : array_like, shape (..., 3)
+    point : array_like, shape (..., 3)
         Positions of the points.
     pole : array_like, shape (..., 3), optional
-        Position of the pole; ``rho = r - pole``. Default (None): the coordinate
-        origin, so that ``r`` *is* ``rho``.
+        Position of the pole (the reference point whose velocity is ``v0``);
+        ``rho = point - pole`` is the offset. Default (None): the coordinate
+        origin, so that ``point`` *is* ``rho``.
 
     Returns
     -------
@@ -151,12 +152,12 @@ def velocity_field(v0, omega, r, *, pole=None) -> np.ndarray:
     array([[0., 0., 0.],
            [2., 0., 0.]])
     """
-    v0, omega, rho = _rho_args(v0=v0, omega=omega, r=r, pole=pole)
+    v0, omega, rho = _rho_args(v0=v0, omega=omega, point=point, pole=pole)
     return _euler(v0, omega, rho)
 
 
-def acceleration_field(a0, omega, eps, r, *, pole=None) -> np.ndarray:
-    """Acceleration of the points ``r`` of a rigid body (Rivals' formula, SPEC S6).
+def acceleration_field(a0, omega, eps, point, *, pole=None) -> np.ndarray:
+    """Acceleration of the points ``point`` of a rigid body (Rivals' formula, theory §6).
 
     Parameters
     ----------
@@ -166,10 +167,10 @@ def acceleration_field(a0, omega, eps, r, *, pole=None) -> np.ndarray:
         Angular velocity of the body.
     eps : array_like, shape (..., 3)
         Angular acceleration ``eps = dw/dt``.
-    r : array_like, shape (..., 3)
+    point : array_like, shape (..., 3)
         Positions of the points.
     pole : array_like, shape (..., 3), optional
-        Position of the pole; ``rho = r - pole`` (default None: the coordinate
+        Position of the pole; ``rho = point - pole`` (default None: the coordinate
         origin).
 
     Returns
@@ -192,7 +193,7 @@ def acceleration_field(a0, omega, eps, r, *, pole=None) -> np.ndarray:
     >>> acceleration_field([0, 0, 0], [0, 0, 3], [0, 0, 0], [2, 0, 0]) + 0.0
     array([-18., 0., 0.])
     """
-    a0, omega, eps, rho = _rho_args(a0=a0, omega=omega, eps=eps, r=r, pole=pole)
+    a0, omega, eps, rho = _rho_args(a0=a0, omega=omega, eps=eps, point=point, pole=pole)
     w0, rot, cen = _rivals_terms(a0, omega, eps, rho)
     return w0 + rot + cen
 
@@ -314,18 +315,18 @@ class FrameMotion:
         """Batch shape of the attributes (without the trailing 3)."""
         return self.omega.shape[:-1]
 
-    def velocity_at(self, rho) -> np.ndarray:
-        """Velocity ``V0 + w x rho`` of the point fixed in the frame at ``rho``
-        (measured from the frame's origin, fixed-frame components)."""
-        rho = as_vec3(rho, "rho")
-        _broadcast_shape({"rho": rho, "omega": self.omega})
+    def velocity_at(self, offset) -> np.ndarray:
+        """Velocity ``V0 + w x rho`` of the point fixed in the frame at the offset
+        ``rho = offset`` from the frame's origin (fixed-frame components)."""
+        rho = as_vec3(offset, "offset")
+        _broadcast_shape({"offset": rho, "omega": self.omega})
         return _euler(self.origin_velocity, self.omega, rho)
 
-    def acceleration_at(self, rho) -> np.ndarray:
+    def acceleration_at(self, offset) -> np.ndarray:
         """Acceleration ``W0 + eps x rho + w x (w x rho)`` of the point fixed in
-        the frame at ``rho`` (measured from the frame's origin)."""
-        rho = as_vec3(rho, "rho")
-        _broadcast_shape({"rho": rho, "omega": self.omega})
+        the frame at the offset ``rho = offset`` from the frame's origin."""
+        rho = as_vec3(offset, "offset")
+        _broadcast_shape({"offset": rho, "omega": self.omega})
         w0, rot, cen = _rivals_terms(self.origin_acceleration, self.omega, self.eps, rho)
         return w0 + rot + cen
 
@@ -530,9 +531,7 @@ def point_motion(
     array([-2., 4., 0.])
     """
     if not isinstance(frame, FrameMotion):
-        raise InvalidTypeError(
-            f"Expected `frame` to be a FrameMotion, got {type(frame).__name__}."
-        )
+        raise InvalidTypeError(f"Expected `frame` to be a FrameMotion, got {type(frame).__name__}.")
     s, v_rel, a_rel = _vectors(s=s, v_rel=v_rel, a_rel=a_rel)
     _broadcast_shape({"s": s, "v_rel": v_rel, "a_rel": a_rel, "frame": frame.omega})
     return _point_motion(frame, s, v_rel, a_rel)

@@ -40,8 +40,8 @@ class Screw:
     Attributes
     ----------
     point : ndarray, shape (..., 3)
-        The point of the axis nearest the reference point (the ``origin``
-        argument of :func:`screw_axis`, the pole of :func:`reduce_motions`).
+        The point of the axis nearest the reference point (the ``pole`` of
+        :func:`screw_axis` and of :func:`reduce_motions`).
     direction : ndarray, shape (..., 3)
         Unit vector along ``omega``.
     parameter : ndarray, shape (...)
@@ -57,9 +57,9 @@ class Screw:
     parameter: np.ndarray
     min_speed: np.ndarray
 
-    def closest_point(self, x) -> np.ndarray:
-        """The point of the axis nearest ``x`` (shape ``(..., 3)``)."""
-        x = as_vec3(x, "x")
+    def closest_point(self, point) -> np.ndarray:
+        """The point of the axis nearest ``point`` (shape ``(..., 3)``)."""
+        x = as_vec3(point, "point")
         d = self.direction
         return self.point + np.einsum("...i,...i->...", x - self.point, d)[..., None] * d
 
@@ -90,25 +90,26 @@ def _screw(v0: np.ndarray, omega: np.ndarray, origin: np.ndarray) -> Screw:
     )
 
 
-def screw_axis(v0, omega, *, origin=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -> Screw:
+def screw_axis(v0, omega, *, pole=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -> Screw:
     """Instantaneous screw axis of a rigid body (Chasles/Mozzi, SPEC S6).
 
     Parameters
     ----------
     v0 : array_like, shape (..., 3)
-        Velocity of the body point at ``origin``.
+        Velocity of the body point at ``pole``.
     omega : array_like, shape (..., 3)
         Angular velocity of the body; must be non-zero.
-    origin : array_like, shape (..., 3), optional
-        The point whose velocity is ``v0`` (the pole); default the coordinate
-        origin. :attr:`Screw.point` is the point of the axis nearest it.
+    pole : array_like, shape (..., 3), optional
+        The reference point whose velocity is ``v0`` (as in
+        :func:`velocity_field`); default the coordinate origin.
+        :attr:`Screw.point` is the point of the axis nearest it.
     atol : float, optional
         ``|omega| <= atol`` (rad/s) counts as zero. Default ``1e-12``.
 
     Returns
     -------
     Screw
-        ``point = origin + (w x v0) / |w|^2``, ``direction = w / |w|``,
+        ``point = pole + (w x v0) / |w|^2``, ``direction = w / |w|``,
         ``parameter = (v0 . w) / |w|^2``, ``min_speed = |v0 . w| / |w|``.
 
     Raises
@@ -119,9 +120,9 @@ def screw_axis(v0, omega, *, origin=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -
 
     Notes
     -----
-    The axis is the set of points ``r`` with ``v0 + w x (r - origin) = lam w``.
+    The axis is the set of points ``r`` with ``v0 + w x (r - pole) = lam w``.
     ``V . w`` is the same at every point of the body, so any point's velocity
-    can be given as ``v0`` if ``origin`` is that point.
+    can be given as ``v0`` if ``pole`` is that point.
 
     **Convention:** all vectors in one frame at the instant (m, m/s, rad/s).
 
@@ -139,8 +140,8 @@ def screw_axis(v0, omega, *, origin=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -
     """
     v0 = as_vec3(v0, "v0")
     omega = as_vec3(omega, "omega")
-    origin = as_vec3(origin, "origin")
-    _broadcast_shape({"v0": v0, "omega": omega, "origin": origin})
+    origin = as_vec3(pole, "pole")
+    _broadcast_shape({"v0": v0, "omega": omega, "pole": origin})
     atol = _scalar(atol, "atol")
     wn = _norm_dir(omega)[0]
     if np.any(wn <= atol):
@@ -181,10 +182,10 @@ class ReducedMotion:
     kind: str
     screw: Screw | None
 
-    def velocity_at(self, r) -> np.ndarray:
-        """Velocity ``v + w x (r - O)`` of the body point at ``r``."""
-        r = as_vec3(r, "r")
-        return self.velocity + np.cross(self.omega, r - self.pole)
+    def velocity_at(self, point) -> np.ndarray:
+        """Velocity ``v + w x (point - pole)`` of the body point at ``point``."""
+        r = as_vec3(point, "point")
+        return self.velocity + _cross(self.omega, r - self.pole)
 
 
 def _as_single(v, name: str) -> np.ndarray:

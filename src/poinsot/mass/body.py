@@ -409,10 +409,10 @@ class RigidBody:
         batch_shape(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1))
         return _kinetic_energy(self.mass, self.inertia, w, v)
 
-    def angular_momentum(self, omega, v_cm=(0.0, 0.0, 0.0), about=(0.0, 0.0, 0.0)) -> np.ndarray:
-        """``K_P = J_c w + PC x m V_c`` about the point ``about`` (relative to ``O``).
+    def angular_momentum(self, omega, v_cm=(0.0, 0.0, 0.0), point=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """``K_P = J_c w + PC x m V_c`` about ``point`` ``P`` (relative to ``O``).
 
-        ``about`` defaults to the reference point ``O``.
+        ``point`` defaults to the reference point ``O``.
 
         See :func:`angular_momentum`; all vectors in body axes.
 
@@ -426,8 +426,8 @@ class RigidBody:
         """
         w = as_vec3(omega, "omega")
         v = as_vec3(v_cm, "v_cm")
-        p = as_vec3(about, "about")
-        batch_shape(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1), about=(p, 1))
+        p = as_vec3(point, "point")
+        batch_shape(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1), point=(p, 1))
         return _angular_momentum(self.mass, self.inertia, w, v, self.center_of_mass - p)
 
     # -- composition -----------------------------------------------------------
