@@ -1,10 +1,12 @@
 """The ``poinsot`` command: thin wrappers around library functions.
 
 Subcommands: ``run`` (a scenario file), ``demo`` (the embedded tennis-racket flip),
-``check`` (validate a scenario), ``convert`` (between rotation representations),
-``inertia`` (inertia tensor of a solid). Exit codes: 0 success, 2 invalid input (a
-one-line message, no traceback), 1 unexpected failure (traceback with ``--debug``).
-The scenario format and every option are documented in ``docs/cli.md``.
+``check`` (validate a scenario and estimate its cost), ``convert`` (between rotation
+representations), ``inertia`` (inertia tensor of a solid). Exit codes: 0 success,
+2 invalid input, a run refused by its limits or a diverging integration (a
+one-line message with advice, no traceback), 1 unexpected failure (a bug;
+traceback with ``--debug``). The scenario format and every option are documented
+in ``docs/cli.md``.
 
 Examples
 --------
@@ -17,6 +19,7 @@ Examples
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 import traceback
@@ -74,12 +77,29 @@ def _default_out(name: str) -> Path:
     return Path("poinsot-out") / name
 
 
+def _warn(message: str) -> None:
+    print(f"{PROG}: warning: {message}", file=sys.stderr)
+
+
 def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()) -> None:
+    acc = result.summary["accuracy"]
+    for w in acc["warnings"]:  # on stderr, also with --quiet: results may be poor
+        _warn(f"accuracy: {w}")
+    if acc["warnings"]:
+        if acc["suggested_max_step"]:
+            _warn(
+                f"suggestion: set [simulation] max_step = {acc['suggested_max_step']:g} s "
+                f"(the integration step is {acc['integration_step']:g} s; thresholds in "
+                "docs/cli.md, 'Accuracy')"
+            )
+        else:
+            _warn("suggestion: a shorter `step` or `max_step` (docs/cli.md, 'Accuracy')")
     if quiet:
         return
-    from .scenarios.run import describe
+    from .scenarios.describe import describe
 
-    print(describe(result, title=title))
+    text = describe(result, title=title, notes=getattr(files, "notes", ()))
+    print("\n".join(ln for ln in text.splitlines() if not ln.startswith("accuracy warning")))
     for line in extra:
         print(line)
     names = ", ".join(p.name for p in files)
@@ -101,15 +121,24 @@ def _run_with_progress(scenario, out: Path, args):
             force=True,
             duration=args.duration,
             progress=bar,
+            allow_large=args.allow_large,
         )
     finally:
         bar.close()
+
+
+def _refuse_large(scenario, args) -> None:
+    """Refuse a run beyond the limits before anything is created (exit 2)."""
+    from .scenarios.solve import check_cost
+
+    check_cost(scenario, duration=args.duration, allow_large=args.allow_large)
 
 
 def _cmd_run(args) -> int:
     from .scenarios import load_scenario, prepare_output_dir
 
     scenario = load_scenario(args.scenario)
+    _refuse_large(scenario, args)
     out = Path(args.out) if args.out else _default_out(scenario.name)
     prepare_output_dir(out, force=args.force)
     result, files = _run_with_progress(scenario, out, args)
@@ -121,6 +150,7 @@ def _cmd_demo(args) -> int:
     from .scenarios import demo_scenario, prepare_output_dir
 
     scenario = demo_scenario()
+    _refuse_large(scenario, args)
     if args.out:
         out = Path(args.out)
     else:
@@ -136,9 +166,9 @@ def _cmd_demo(args) -> int:
 
     a = Rotation.from_axis_angle([1.0, 0.0, 0.0], 90.0, degrees=True)
     b = Rotation.from_axis_angle([0.0, 1.0, 0.0], 90.0, degrees=True)
-    rows = "; ".join(" ".join(_num(x) for x in row) for row in (b * a).as_matrix().round(12))
+    rows = "; ".join(" ".join(_nums(row)) for row in (b * a).as_matrix())
     tour = (
-        "composition (SPEC S4): A = 90 deg about x, then B = 90 deg about y, both about "
+        "composition (docs/theory.md §4): A = 90 deg about x, then B = 90 deg about y, both about "
         f"fixed axes: B * A = C = [{rows}]",
     )
     _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} demo", extra=tour)
@@ -146,12 +176,20 @@ def _cmd_demo(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from .scenarios import load_scenario
-    from .scenarios.run import describe_scenario
+    from .scenarios import describe_scenario, estimate_cost, load_scenario
 
     scenario = load_scenario(args.scenario)
+    cost = estimate_cost(scenario, duration=args.duration)
+    problems = cost.problems(allow_large=args.allow_large)
+    if problems:
+        raise _Usage(
+            f"{args.scenario}: valid, but `poinsot run` would refuse it: "
+            + "; ".join(problems)
+            + "."
+        )
     if not args.quiet:
         print(f"ok: {args.scenario}: {describe_scenario(scenario)}")
+        print(f"{cost.describe()} (rough; limits in docs/cli.md)")
     return 0
 
 
@@ -180,7 +218,7 @@ def _repr_size(name: str, role: str) -> int:
     return _REPRS[name]
 
 
-def _from(name: str, v, degrees: bool):
+def _from(name: str, v, degrees: bool, tolerance: float):
     from .rotations.rotation import Rotation
 
     if name.lower().startswith("euler:"):
@@ -190,7 +228,9 @@ def _from(name: str, v, degrees: bool):
     if name == "quat:xyzw":
         return Rotation.from_quat(v, scalar_first=False)
     if name == "matrix":
-        return Rotation.from_matrix(v.reshape(3, 3))
+        from .scenarios.io import rotation_from_matrix
+
+        return rotation_from_matrix(v.reshape(3, 3), tolerance, where="convert", knob="--tolerance")
     if name == "rotvec":
         return Rotation.from_rotvec(v, degrees=degrees)
     if name == "axis-angle":
@@ -206,9 +246,9 @@ def _to(name: str, r, degrees: bool):
     if name.lower().startswith("euler:"):
         return r.as_euler(name[6:], degrees=degrees)
     if name in ("quat", "quat:wxyz"):
-        return r.as_quat(scalar_first=True)
+        return _canonical(r.as_quat(scalar_first=True), 0)
     if name == "quat:xyzw":
-        return r.as_quat(scalar_first=False)
+        return _canonical(r.as_quat(scalar_first=False), 3)
     if name == "matrix":
         return r.as_matrix()
     if name == "rotvec":
@@ -221,13 +261,56 @@ def _to(name: str, r, degrees: bool):
     return r.as_mrp()
 
 
+def _canonical(q, scalar: int):
+    """The sign of ``q`` (``q`` and ``-q`` are the same rotation) with the scalar part
+    ``w >= 0``; if ``w = 0``, the first non-zero vector component positive."""
+    import numpy as np
+
+    q = np.asarray(q, dtype=float)
+    order = [scalar] + [k for k in range(4) if k != scalar]
+    for k in order:
+        if q[k] != 0.0:
+            return -q if q[k] < 0 else q
+    return q
+
+
 def _num(x: float) -> str:
     s = f"{x:.15g}"
     return "0" if s in ("0", "-0") else s
 
 
+def _nums(values, scale: float | None = None) -> list[str]:
+    """15 significant digits, round-off noise (below 1e-12 of the largest) as 0."""
+    from .scenarios.describe import clean
+
+    return [_num(x) for x in clean(values, scale)]
+
+
+#: Library argument names -> the names a user of `convert` sees.
+_CONVERT_NAMES = {
+    "seq": "the Euler sequence (euler:SEQ)",
+    "sequence": "the Euler sequence (euler:SEQ)",
+    "angles": "the angles (VALUES)",
+    "quat": "the quaternion (VALUES)",
+    "rotvec": "the rotation vector (VALUES)",
+    "axis": "the axis (first 3 VALUES)",
+    "angle": "the angle (last VALUE)",
+    "gibbs": "the Gibbs vector (VALUES)",
+    "mrp": "the MRP vector (VALUES)",
+}
+
+
+def _user_names(message: str, names: dict[str, str]) -> str:
+    """Replace the library's argument names (`seq`) by what the user typed."""
+    for internal, user in names.items():
+        message = message.replace(f"`{internal}`", user)
+    return message
+
+
 def _cmd_convert(args) -> int:
     import numpy as np
+
+    from .errors import PoinsotError
 
     n = _repr_size(args.source, "source")
     _repr_size(args.target, "target")
@@ -245,7 +328,10 @@ def _cmd_convert(args) -> int:
     # NumPy warning followed by "nan" or a zero quaternion.
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        r = _from(args.source, np.array(values), args.degrees)
+        try:
+            r = _from(args.source, np.array(values), args.degrees, args.tolerance)
+        except PoinsotError as exc:
+            raise _Usage(_user_names(str(exc), _CONVERT_NAMES)) from None
         q = np.asarray(r.as_quat(), dtype=float)
         if not (np.all(np.isfinite(q)) and abs(float(q @ q) - 1.0) < 1e-6):
             raise _Usage(
@@ -257,9 +343,10 @@ def _cmd_convert(args) -> int:
         raise _Usage(f"the conversion to {args.target} overflowed for these values.")
     if out.shape == (3, 3):
         for row in out:
-            print(" ".join(_num(x) for x in row))
+            print(" ".join(_nums(row, 1.0)))
     else:
-        print(" ".join(_num(x) for x in out))
+        # angles: noise relative to the largest value; other representations: to 1
+        print(" ".join(_nums(out, None if args.degrees else max(1.0, np.max(np.abs(out))))))
     return 0
 
 
@@ -281,7 +368,19 @@ def _cmd_inertia(args) -> int:
         if args.shape not in ("sphere", "cylinder"):
             raise _Usage("--hollow applies to a sphere or a cylinder only.")
         kwargs["hollow"] = True
-    j = getattr(solids, args.shape)(args.mass, *args.dims, **kwargs)
+    import inspect
+
+    from .errors import PoinsotError
+
+    fn = getattr(solids, args.shape)
+    params = [p for p in inspect.signature(fn).parameters if p not in ("mass", "hollow")]
+    names_map = {"mass": "--mass"}
+    for k, (p, what) in enumerate(zip(params, names, strict=False)):
+        names_map[p] = f"--dims value {k + 1} ({what})"
+    try:
+        j = fn(args.mass, *args.dims, **kwargs)
+    except PoinsotError as exc:
+        raise _Usage(_user_names(str(exc), names_map)) from None
     moments, axes = principal_axes(j)
     m = axes.as_matrix()
     with np.printoptions(precision=10, suppress=True):
@@ -291,12 +390,13 @@ def _cmd_inertia(args) -> int:
             f"{' x '.join(_num(d) for d in args.dims)} m ({', '.join(names)})"
         )
         print("inertia tensor about the centre of mass, body axes (kg m^2):")
+        scale = float(np.max(np.abs(j)))
         for row in j:
-            print("  " + "  ".join(f"{_num(x):>20}" for x in row))
-        print("principal moments A <= B <= C (kg m^2): " + "  ".join(_num(x) for x in moments))
+            print("  " + "  ".join(f"{x:>20}" for x in _nums(row, scale)))
+        print("principal moments A <= B <= C (kg m^2): " + "  ".join(_nums(moments, scale)))
         print("principal axes (columns, in body axes):")
         for row in m:
-            print("  " + "  ".join(f"{_num(x + 0.0):>6}" for x in row))
+            print("  " + "  ".join(f"{x:>6}" for x in _nums(row, 1.0)))
     return 0
 
 
@@ -412,6 +512,15 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument(
             "--duration", type=float, metavar="SECONDS", help="override [simulation] duration"
         )
+        allow_large(p)
+
+    def allow_large(p):
+        p.add_argument(
+            "--allow-large",
+            action="store_true",
+            help="run even if the estimated memory (> 2 GiB) or integration steps (> 5e7) "
+            "exceed the limits (the limit of 5000000 output samples always holds)",
+        )
 
     p = command(
         "run",
@@ -440,6 +549,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("scenario", metavar="SCENARIO.toml")
     p.add_argument("--quiet", action="store_true", help="print nothing when valid")
+    p.add_argument("--duration", type=float, metavar="SECONDS", help="check with this duration (s)")
+    allow_large(p)
     p.set_defaults(func=_cmd_check)
 
     p = command(
@@ -452,6 +563,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("target", metavar="TO", help="output representation")
     p.add_argument("values", metavar="VALUES", nargs="+", help="the input numbers")
     p.add_argument("--degrees", action="store_true", help="angles in degrees (in and out)")
+    p.add_argument(
+        "--tolerance",
+        type=float,
+        default=1e-6,
+        metavar="TOL",
+        help="largest max|A^T A - E| of a `matrix` input (default 1e-6); a matrix that "
+        "is not orthogonal to round-off is projected onto the nearest rotation, with a warning",
+    )
     p.set_defaults(func=_cmd_convert)
 
     from .scenarios.io import SHAPES
@@ -481,7 +600,8 @@ def _error(message: str) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Run the ``poinsot`` command with ``argv`` (default ``sys.argv[1:]``).
 
-    Returns the exit code: 0 success, 2 invalid input, 1 unexpected failure.
+    Returns the exit code: 0 success, 2 invalid input (also a run refused by its
+    limits, or an integration that diverged), 1 unexpected failure (a bug).
     """
     from .errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotWarning
 
@@ -515,22 +635,29 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc()
         _error(str(exc))
         return 2
+    except IntegrationError as exc:  # a valid input the chosen method cannot handle
+        if debug:
+            traceback.print_exc()
+        _error(
+            f"the integration failed: {exc} Advice: set a shorter [simulation] max_step, "
+            "or method = \"adaptive\" (docs/cli.md, 'Accuracy')."
+        )
+        return 2
+    except KeyboardInterrupt:
+        print(f"\n{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # e.g. `poinsot convert ... | head` (an OSError: caught first)
+        try:
+            sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - no flush error at exit
+        except OSError:
+            pass
+        return 0
     except OSError as exc:  # an output that cannot be written (permissions, disk full...)
         if debug:
             traceback.print_exc()
         where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
         _error(f"cannot write the outputs{where}: {exc.strerror or exc}.")
         return 2
-    except IntegrationError as exc:  # a valid input the chosen method cannot handle
-        if debug:
-            traceback.print_exc()
-        _error(f"the computation failed: {exc}")
-        return 1
-    except KeyboardInterrupt:
-        print(f"\n{PROG}: interrupted", file=sys.stderr)
-        return 130
-    except BrokenPipeError:  # e.g. `poinsot convert ... | head`
-        return 0
     except Exception as exc:
         if debug:
             traceback.print_exc()

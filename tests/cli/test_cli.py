@@ -276,10 +276,10 @@ def test_demo(capsys, tmp_path, monkeypatch):
     assert lines[0].startswith("poinsot demo: tennis-racket-flip")
     assert lines[1].startswith("conventions: Hamilton quaternions, scalar first (w, x, y, z)")
     assert "vs exact: max attitude difference" in out
-    assert "B * A = C = [0 1 0; 0 0 -1; -1 0 0]" in out  # SPEC S4 worked example
+    assert "B * A = C = [0 1 0; 0 0 -1; -1 0 0]" in out  # docs/theory.md §4 worked example
     first = tmp_path / "poinsot-out" / "tennis-racket-flip"
     summary = json.loads((first / "summary.json").read_text())
-    assert summary["method"] == "midpoint" and summary["reference_method"] == "exact"
+    assert summary["run"]["method"] == "midpoint" and summary["run"]["reference_method"] == "exact"
     # the written files against hand values: box 0.3 x 0.1 x 0.02 m of 0.35 kg, moments
     # m (b^2 + c^2) / 12 etc.; T = w.Jw/2 and K = R J w conserved; printed difference
     tr, ref = (np.loadtxt(first / f, delimiter=",", comments="#") for f in CSVS)
@@ -350,7 +350,7 @@ def test_progress_bar_only_on_terminal_after_delay():
     assert slow.getvalue() == ""
 
 
-def test_integration_failure_exit_1_without_traceback(capsys, monkeypatch):
+def test_integration_failure_exit_2_with_advice(capsys, monkeypatch):
     import poinsot.cli as cli
     from poinsot import IntegrationError
 
@@ -359,7 +359,8 @@ def test_integration_failure_exit_1_without_traceback(capsys, monkeypatch):
 
     monkeypatch.setattr(cli, "_cmd_check", fail)
     code, _, err = run(capsys, "check", "x.toml")
-    assert code == 1 and "the computation failed: midpoint integration diverged" in err
+    assert code == 2 and "the integration failed: midpoint integration diverged" in err
+    assert "max_step" in err and "adaptive" in err  # advice
     assert "Traceback" not in err
 
 
@@ -393,12 +394,12 @@ def test_keyboard_interrupt_exit_130(capsys, monkeypatch):
 def test_unwritable_output_exit_2(capsys, tmp_path, monkeypatch):
     import errno
 
-    from poinsot.scenarios import run as run_mod
+    from poinsot.scenarios import output as output_mod
 
     def full(path, write, mode="w"):
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
 
-    monkeypatch.setattr(run_mod, "_atomic", full)
+    monkeypatch.setattr(output_mod, "_atomic", full)
     code, _, err = run(
         capsys, "run", str(EXAMPLES / "coning.toml"), "--out", str(tmp_path / "o"), "--quiet"
     )

@@ -44,7 +44,7 @@ def errors(text: str, match: str):
 # --------------------------------------------------------------------------- valid files
 def test_minimal_dynamics_scenario():
     s = parse(BODY + OMEGA + SIM, name="x")
-    assert s.kind == "dynamics" and s.name == "x" and s.source == "case.toml"
+    assert s.kind == "free-body" and s.name == "x" and s.source == "case.toml"
     np.testing.assert_array_equal(s.body.inertia, np.diag([1.0, 2.0, 3.0]))
     np.testing.assert_array_equal(s.attitude.quat, [1.0, 0.0, 0.0, 0.0])  # default identity
     np.testing.assert_allclose(s.angular_velocity.omega_body, [0.1, 0.2, 0.3])
@@ -229,7 +229,7 @@ def test_omega_profile_scenarios():
         "t = [0.0, 1.0, 2.0]\nomega = [[0, 0, 90], [0, 0, 90], [0, 0, 0]]\n"
         '[simulation]\nduration = 2.0\nstep = 0.5\nmethod = "magnus4"\n'
     )
-    assert s.kind == "kinematics" and s.body is None
+    assert s.kind == "attitude" and s.body is None
     np.testing.assert_allclose(s.omega_profile.omega[0], [0, 0, np.pi / 2])
     s = parse(
         '[omega_profile]\nkind = "coning"\nframe = "body"\nhalf_angle = 10.0\n'
@@ -372,7 +372,7 @@ def test_unknown_choice_suggests():
             BODY + OMEGA + 'units = "rad/sec"\n' + SIM,
             r'`angular_velocity\.units` .*Did you mean "rad/s"\?',
         ),
-        ('name = "a b"\n' + BODY + OMEGA + SIM, r"`name` expected a name made of letters"),
+        ('name = "a b"\n' + BODY + OMEGA + SIM, r"`name` expected a name of at most 100 letters"),
     ],
 )
 def test_errors_name_key(text, match):
@@ -581,7 +581,8 @@ def test_file_errors(tmp_path):
         ),
         (
             BODY + OMEGA + SIM.replace("samples = 11", "step = 1e-7"),
-            r"`simulation\.step` expected at most 5e6 steps, found 1e\+07",
+            r"`simulation\.step` expected at most 5000000 output samples "
+            r"\(duration / step\), found 1e\+07",
         ),
         (
             BODY + OMEGA + SIM.replace("samples = 11", "samples = 6000000"),

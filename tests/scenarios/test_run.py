@@ -11,6 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation as SciRotation
 
 from poinsot import InvalidInputError
+from poinsot.kinematics import coning_omega, coning_quat
 from poinsot.scenarios import (
     demo_scenario,
     load_scenario,
@@ -18,7 +19,6 @@ from poinsot.scenarios import (
     run_scenario,
     simulate_scenario,
 )
-from poinsot.scenarios.run import coning_omega, coning_quat
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 EXAMPLE_FILES = sorted(EXAMPLES.glob("*.toml"))
@@ -62,19 +62,19 @@ def test_every_example_runs(path, tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["scenario"]["name"] == scenario.name
     assert summary["scenario"]["file"] == scenario.data
-    assert set(summary["versions"]) >= {"poinsot", "numpy", "scipy", "python"}
-    assert summary["method"] == scenario.simulation.method
-    assert summary["files"][-1] == "summary.json"
+    assert set(summary["run"]["versions"]) >= {"poinsot", "numpy", "scipy", "python"}
+    assert summary["run"]["method"] == scenario.simulation.method
+    assert summary["run"]["files"][-1] == "summary.json"
     if scenario.simulation.reference:
         assert (out / "reference.csv").exists()
-        assert summary["comparison"]["reference"] == scenario.simulation.reference
+        assert summary["accuracy"]["comparison"]["reference"] == scenario.simulation.reference
 
 
 def test_free_body_invariants_and_exact_vs_numerical():
-    """Torque-free: T, |K| and the space vector K are conserved (SPEC S10); the midpoint
+    """Torque-free: T, |K| and the space vector K are conserved (theory §10); the midpoint
     integrator converges to the exact (Jacobi elliptic) solution."""
     result = simulate_scenario(demo_scenario(), duration=4.0)
-    inv = result.summary["invariants"]
+    inv = result.summary["accuracy"]["invariants"]
     for key in ("energy", "momentum_norm", "momentum_vector"):
         assert inv[key]["conserved"] and inv[key]["max_relative_drift"] < 1e-12
     tr, ref = result.trajectory, result.reference
@@ -93,13 +93,13 @@ def test_free_body_invariants_and_exact_vs_numerical():
         tr.quat, scalar_first=True
     )
     assert 1e-9 < angle.magnitude().max() < 1e-3  # an O(h^2) error, neither zero nor large
-    assert result.summary["comparison"]["max_attitude_error_rad"] == pytest.approx(
+    assert result.summary["accuracy"]["comparison"]["max_attitude_error_rad"] == pytest.approx(
         angle.magnitude().max(), rel=1e-6
     )
-    # the closed form: 2T and |K| from the initial state (SPEC S8)
+    # the closed form: 2T and |K| from the initial state (theory §8)
     j = np.asarray(result.scenario.body.inertia)
     w0 = np.asarray(result.scenario.angular_velocity.omega_body)
-    cf = result.summary["closed_form"]
+    cf = result.summary["results"]
     assert cf["energy"] == pytest.approx(0.5 * w0 @ j @ w0, rel=1e-14)
     assert cf["momentum_norm"] == pytest.approx(np.linalg.norm(j @ w0), rel=1e-14)
 
@@ -110,13 +110,13 @@ def test_tennis_racket_flips():
     result = simulate_scenario(s)
     w = result.trajectory.omega
     assert w[0, 1] > 10 and w[:, 1].min() < -10
-    period = result.summary["closed_form"]["period"]
+    period = result.summary["results"]["period"]
     t_flip = result.trajectory.t[np.argmax(w[:, 1] < 0)]
     assert 0 < t_flip < period
 
 
 def test_heavy_top_regular_precession():
-    """Lagrange top started on the slow regular precession of SPEC S10
+    """Lagrange top started on the slow regular precession of theory §10
     (A psi'^2 cos(theta) - H psi' + m g l = 0): the tilt stays 30 deg and the axis
     precesses at psi' computed here independently."""
     s = load_scenario(EXAMPLES / "symmetric_top.toml")
@@ -139,19 +139,19 @@ def test_heavy_top_regular_precession():
     psi = np.unwrap(np.arctan2(axis[:, 0], -axis[:, 1]))
     rate = np.polyfit(tr.t, psi, 1)[0]
     assert rate == pytest.approx(psi_dot, rel=1e-7)
-    inv = result.summary["invariants"]
+    inv = result.summary["accuracy"]["invariants"]
     assert inv["total_energy"]["max_relative_drift"] < 1e-9
     assert inv["momentum_z"]["max_relative_drift"] < 1e-9
     assert inv["spin_momentum_H"]["initial"] == pytest.approx(big_h, rel=1e-12)
     assert inv["spin_momentum_H"]["max_relative_drift"] < 1e-9
-    cf = result.summary["closed_form"]
+    cf = result.summary["results"]
     assert cf["motion"] == "regular precession" and cf["H"] == pytest.approx(big_h)
     assert cf["nutation_theta_min"] == pytest.approx(theta, abs=1e-7)
     assert cf["nutation_theta_max"] == pytest.approx(theta, abs=1e-7)
 
 
 def test_constant_space_torque_momentum_balance():
-    """dK/dt = M in space axes: K(t) = K(0) + M t exactly (SPEC S9)."""
+    """dK/dt = M in space axes: K(t) = K(0) + M t exactly (theory §9)."""
     s = parse_scenario(
         textwrap.dedent("""
         [body]
@@ -182,12 +182,12 @@ def test_constant_space_torque_momentum_balance():
     expected = k0 + np.outer(tr.t, [0.1, 0.0, -0.05])
     k_space = tr.rotation.apply(np.asarray(tr.omega) @ j)
     np.testing.assert_allclose(k_space, expected, atol=1e-8 * np.abs(expected).max())
-    assert result.summary["invariants"]["momentum_balance"]["max_relative_error"] < 1e-8
-    assert not result.summary["invariants"]["energy"]["conserved"]
+    assert result.summary["accuracy"]["invariants"]["momentum_balance"]["max_relative_drift"] < 1e-8
+    assert not result.summary["accuracy"]["invariants"]["energy"]["conserved"]
 
 
 def test_constant_body_torque_work_energy():
-    """With a body torque the kinetic energy changes at the rate M . w (SPEC S9)."""
+    """With a body torque the kinetic energy changes at the rate M . w (theory §9)."""
     s = load_scenario(EXAMPLES / "satellite_torque.toml")
     tr = simulate_scenario(s, duration=60.0).trajectory
     power = tr.omega @ np.asarray(s.torque.vector)
@@ -231,9 +231,9 @@ def test_coning_closed_form():
     for traj in (result.trajectory, result.reference):  # exact, then magnus4
         got = SciRotation.from_quat(traj.quat, scalar_first=True)
         assert (truth.inv() * got).magnitude().max() < 1e-9, traj.method
-    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-9
+    assert result.summary["accuracy"]["comparison"]["max_attitude_error_rad"] < 1e-9
     q = result.trajectory.quat
-    period = result.summary["closed_form"]["period"]
+    period = result.summary["results"]["period"]
     k = int(np.argmin(np.abs(result.trajectory.t - period)))
     assert abs(abs(q[k] @ q[0]) - 1.0) < 1e-12  # periodic attitude
 
@@ -249,9 +249,7 @@ def test_constant_profile_exact_matches_rotvec():
     # 90 deg about space y after 90 deg about z: x_body -> y_space stays y_space
     np.testing.assert_allclose(r.apply([1.0, 0.0, 0.0]), [0.0, 1.0, 0.0], atol=1e-12)
     np.testing.assert_allclose(r.apply([0.0, 1.0, 0.0]), [0.0, 0.0, 1.0], atol=1e-12)
-    assert result.summary["invariants"] == {
-        "note": "no body given: energy and angular momentum are not computed"
-    }
+    assert result.summary["accuracy"]["invariants"] == {}  # no body: no T, no K
     # magnus4 is exact for a constant angular velocity too: the reference trajectory
     # against R(t) = Ry(90 deg t) Rz(90 deg) built here with SciPy
     tt = result.reference.t
@@ -261,17 +259,17 @@ def test_constant_profile_exact_matches_rotvec():
     got = SciRotation.from_quat(result.reference.quat, scalar_first=True)
     assert result.reference.method == "magnus4"
     assert (truth.inv() * got).magnitude().max() < 1e-13
-    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-13
+    assert result.summary["accuracy"]["comparison"]["max_attitude_error_rad"] < 1e-13
 
 
 def test_chunked_run_equals_single_call(monkeypatch):
     """Progress reporting splits long runs into chunks; fixed-step results are unchanged."""
-    from poinsot.scenarios import run as run_mod
+    from poinsot.scenarios import solve as solve_mod
 
     s = demo_scenario()
     calls = []
     whole = simulate_scenario(s, duration=2.0)
-    monkeypatch.setattr(run_mod, "_CHUNK_SAMPLES", 50)
+    monkeypatch.setattr(solve_mod, "_CHUNK_SAMPLES", 50)
     chunked = simulate_scenario(s, duration=2.0, progress=lambda f, st: calls.append(f))
     assert chunked.trajectory.info["chunks"] > 1
     np.testing.assert_allclose(chunked.trajectory.quat, whole.trajectory.quat, atol=1e-13)
@@ -303,26 +301,30 @@ def test_output_directory_not_overwritten(tmp_path):
         run_scenario(demo_scenario(), out, report=False, duration=0.3, figures=False)
     assert (out / "summary.json").read_text() == before
     run_scenario(demo_scenario(), out, report=False, duration=0.3, force=True, figures=False)
-    assert json.loads((out / "summary.json").read_text())["times"]["duration"] == 0.3
+    assert json.loads((out / "summary.json").read_text())["run"]["times"]["duration"] == 0.3
     (tmp_path / "file").write_text("x")
     with pytest.raises(InvalidInputError, match=r"exists and is not a directory"):
         run_scenario(demo_scenario(), tmp_path / "file", report=False, duration=0.2, figures=False)
-    with pytest.raises(InvalidInputError, match=r"Expected `format` to be one of"):
+    with pytest.raises(
+        InvalidInputError, match=r"Expected `format` \(--format\) to be 'csv' or 'npz'"
+    ):
         run_scenario(demo_scenario(), tmp_path / "p", fmt="xlsx", figures=False)
-    with pytest.raises(InvalidInputError, match=r"Expected `duration` to be a positive"):
+    with pytest.raises(
+        InvalidInputError, match=r"Expected `duration` \(--duration\) to be a positive"
+    ):
         simulate_scenario(demo_scenario(), duration=-1.0)
 
 
 def test_interrupted_write_leaves_no_complete_file(tmp_path, monkeypatch):
     """A failure while writing leaves neither the file nor its temporary."""
-    from poinsot.scenarios import run as run_mod
+    from poinsot.scenarios import output as output_mod
 
     def boom(fh):
         fh.write("partial")
         raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        run_mod._atomic(tmp_path / "summary.json", boom)
+        output_mod._atomic(tmp_path / "summary.json", boom)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -334,7 +336,7 @@ def test_report_written(tmp_path):
 
 
 def test_free_symmetric_top_regular_precession():
-    """A = B: the symmetry axis precesses about the fixed K at psi' = |K| / A (SPEC S10)."""
+    """A = B: the symmetry axis precesses about the fixed K at psi' = |K| / A (theory §10)."""
     s = parse_scenario(
         "[body]\nmass = 1.0\ninertia = [1.0, 1.0, 1.6]\n"
         '[attitude]\neuler = [0.0, 20.0, 0.0]\nsequence = "ZXZ"\ndegrees = true\n'
@@ -345,7 +347,7 @@ def test_free_symmetric_top_regular_precession():
     result = simulate_scenario(s)
     k_body = np.array([0.3, 0.0, 1.6])
     rate = np.linalg.norm(k_body) / 1.0
-    cf = result.summary["closed_form"]
+    cf = result.summary["results"]
     assert cf["regime"] == "symmetric" and cf["precession_rate"] == pytest.approx(rate)
     tr = result.trajectory
     k = tr.momentum[0] / np.linalg.norm(tr.momentum[0])
@@ -356,7 +358,7 @@ def test_free_symmetric_top_regular_precession():
     angle = np.unwrap(np.arctan2(axis @ e2, axis @ e1))
     np.testing.assert_allclose(np.diff(angle) / np.diff(tr.t), rate, rtol=1e-9)
     np.testing.assert_allclose(axis @ k, axis[0] @ k, atol=1e-13)  # constant nutation
-    assert result.summary["comparison"]["max_attitude_error_rad"] < 1e-8
+    assert result.summary["accuracy"]["comparison"]["max_attitude_error_rad"] < 1e-8
 
 
 def test_missing_plotly_skips_report_with_note(tmp_path, monkeypatch):
@@ -368,20 +370,21 @@ def test_missing_plotly_skips_report_with_note(tmp_path, monkeypatch):
     monkeypatch.setattr(report, "write_report", no_plotly)
     result, files = run_scenario(demo_scenario(), tmp_path / "o", duration=0.2, figures=False)
     assert "report.html" not in {p.name for p in files}
-    notes = json.loads((tmp_path / "o" / "summary.json").read_text())["notes"]
+    notes = json.loads((tmp_path / "o" / "summary.json").read_text())["run"]["notes"]
+    assert notes == files.notes
     assert any("report.html skipped: No module named 'plotly'" in n for n in notes)
 
 
 def test_heavy_top_released_nutation_band_and_period():
     """A top released with spin only (theta' = psi' = 0) nutates between its initial tilt
-    and the other root of P(u) with cusps (SPEC S10); the closed-form band and period
+    and the other root of P(u) with cusps (theory §10); the closed-form band and period
     agree with the adaptive integration of Euler's equations."""
     text = (EXAMPLES / "symmetric_top.toml").read_text()
     text = text.replace("vector = [0.0, 2.25686547819487, 150.0]", "vector = [0.0, 0.0, 40.0]")
     text = text.replace("duration = 3.0", "duration = 0.8").replace("step = 0.0005", "step = 0.002")
     text = text.replace('reference = "splitting"', "")
     result = simulate_scenario(parse_scenario(text))
-    cf = result.summary["closed_form"]
+    cf = result.summary["results"]
     assert cf["motion"] == "cusps"
     tr = result.trajectory
     axis = tr.rotation.apply(np.array([0.0, 0.0, 1.0]))
@@ -403,7 +406,9 @@ def test_write_outputs_rejects_unknown_format(tmp_path):
     from poinsot.scenarios import write_outputs
 
     result = simulate_scenario(demo_scenario(), duration=0.1)
-    with pytest.raises(InvalidInputError, match=r"Expected `format` to be one of 'csv', 'npz'"):
+    with pytest.raises(
+        InvalidInputError, match=r"Expected `format` \(--format\) to be 'csv' or 'npz'"
+    ):
         write_outputs(result, tmp_path / "o", fmt="xml")
     assert not (tmp_path / "o").exists()
 
@@ -414,12 +419,16 @@ def test_missing_matplotlib_skips_figures_with_note(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)  # import fails
     result, files = run_scenario(demo_scenario(), tmp_path / "o", report=False, duration=0.1)
     assert {p.name for p in files} == {"trajectory.csv", "reference.csv", "summary.json"}
-    assert any("figures skipped: matplotlib is not installed" in n for n in result.summary["notes"])
+    assert any("figures skipped: matplotlib is not installed" in n for n in files.notes)
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["run"]["notes"] == files.notes
 
 
 def test_duration_override_beyond_the_table_is_refused():
     s = load_scenario(EXAMPLES / "attitude_propagation.toml")
-    with pytest.raises(InvalidInputError, match=r"at most the last time of the angular-velocity"):
+    with pytest.raises(
+        InvalidInputError, match=r"at most the last time of \[omega_profile\] t \(10 s\)"
+    ):
         simulate_scenario(s, duration=11.0)
 
 

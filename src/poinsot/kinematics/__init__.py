@@ -19,6 +19,10 @@ from .attitude_history import (
     fornberg_weights,
     rotation_spline,
 )
+from .coning import (
+    coning_omega,
+    coning_quat,
+)
 from .fields import (
     AngularMotion,
     CompositeMotion,
@@ -99,4 +103,6 @@ __all__ = [
     "reduce_motions",
     "FrenetFrame",
     "frenet",
+    "coning_quat",
+    "coning_omega",
 ]

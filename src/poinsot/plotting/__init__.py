@@ -14,6 +14,10 @@ from .free_body import (
 from .motion import (
     plot_acceleration_terms,
 )
+from .scenario import (
+    plot_angular_velocity,
+    plot_relative_change,
+)
 from .report import (
     write_report,
 )
@@ -24,4 +28,6 @@ __all__ = [
     "plot_poinsot",
     "plot_omega",
     "write_report",
+    "plot_angular_velocity",
+    "plot_relative_change",
 ]

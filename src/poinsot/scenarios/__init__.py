@@ -1,28 +1,28 @@
 """Scenario files: describe a rigid body and its motion in TOML, run it, write outputs.
 
-- :func:`load_scenario` / :func:`parse_scenario`: read and validate a file into a
-  frozen :class:`Scenario` (errors name the file, key and line);
-- :func:`simulate_scenario`: solve it with the library (exact solution, Euler's
-  equations or attitude propagation);
-- :func:`run_scenario` / :func:`write_outputs`: write ``trajectory.csv``,
-  ``summary.json``, figures and ``report.html`` atomically.
+- :func:`load_scenario` / :func:`parse_scenario` (``io``): read and validate a file
+  into a frozen :class:`Scenario` (errors name the file, key and line);
+- :func:`estimate_cost` / :func:`simulate_scenario` (``solve``): the cost of a run,
+  and the run itself by the scenario's kind (its adapter in ``kinds/``, listed in
+  ``registry.KINDS``);
+- :class:`ScenarioResult` (``summary``): the trajectories and a summary in sections
+  with units; :func:`describe` / :func:`describe_scenario` (``describe``): text;
+- :func:`run_scenario` / :func:`write_outputs` (``output``): write
+  ``trajectory.csv``, ``summary.json``, figures and ``report.html`` atomically.
 
-The format is documented in ``docs/cli.md``; ``examples/*.toml`` are worked cases
-and :func:`demo_scenario` is the embedded tennis-racket flip run by ``poinsot demo``.
+The format is documented in ``docs/cli.md``, the way to add a kind of motion in
+``docs/adding-a-motion.md``; ``examples/*.toml`` are worked cases and
+:func:`demo_scenario` is the embedded tennis-racket flip run by ``poinsot demo``.
 """
 
 from __future__ import annotations
 
 from ._toml import ScenarioError
+from .describe import describe, describe_scenario
 from .io import SHAPES, demo_scenario_text, load_scenario, parse_scenario
-from .run import (
-    CONVENTIONS,
-    ScenarioResult,
-    prepare_output_dir,
-    run_scenario,
-    simulate_scenario,
-    write_outputs,
-)
+from .kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from .output import OutputFiles, prepare_output_dir, run_scenario, write_outputs
+from .registry import KINDS
 from .schema import (
     AngularVelocitySpec,
     AttitudeSpec,
@@ -33,9 +33,24 @@ from .schema import (
     SimulationSpec,
     TorqueSpec,
 )
+from .solve import Cost, estimate_cost, simulate_scenario
+from .summary import ATTITUDE_THRESHOLD, CONVENTIONS, DRIFT_THRESHOLD, ScenarioResult
 
 __all__ = [
+    "ATTITUDE_THRESHOLD",
     "AngularVelocitySpec",
+    "Check",
+    "Cost",
+    "DRIFT_THRESHOLD",
+    "Entry",
+    "Facts",
+    "FigureSpec",
+    "KINDS",
+    "OutputFiles",
+    "ScenarioKind",
+    "describe",
+    "describe_scenario",
+    "estimate_cost",
     "AttitudeSpec",
     "BodySpec",
     "CONVENTIONS",

@@ -1,4 +1,4 @@
-"""Closed-form properties of the Lagrange top (heavy symmetric top), SPEC S10.
+"""Closed-form properties of the Lagrange top (heavy symmetric top), docs/theory.md §10.
 
 Used by :mod:`poinsot.scenarios.run` to report, for a gravity scenario whose body is
 a Lagrange top, the first integrals, the nutation band and period, and the type of
@@ -54,7 +54,7 @@ def lagrange_top(inertia_o, mass: float, r_c, g: float, quat0, omega0) -> dict |
 
     Notes
     -----
-    **Convention:** SPEC S10; ``theta`` measured from the upward vertical ``+z``.
+    **Convention:** docs/theory.md §10; ``theta`` measured from the upward vertical ``+z``.
 
     Examples
     --------
@@ -93,7 +93,7 @@ def lagrange_top(inertia_o, mass: float, r_c, g: float, quat0, omega0) -> dict |
     u0 = float(rot.apply(e)[2])
     energy = 0.5 * float(w @ j @ w) - 0.5 * c * r * r + mgl * u0
     out: dict = {
-        "case": "Lagrange top (SPEC S10)",
+        "case": "Lagrange top (docs/theory.md §10)",
         "A": a,
         "C": c,
         "l": l,

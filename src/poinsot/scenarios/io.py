@@ -20,8 +20,7 @@ import numpy as np
 from ..errors import InvalidTypeError, PoinsotError
 from ._toml import ScenarioError, Table, locate_keys
 from .schema import (
-    DYNAMICS_METHODS,
-    KINEMATICS_METHODS,
+    MAX_SAMPLES,
     OMEGA_UNITS,
     STANDARD_GRAVITY,
     TORQUE_MODELS,
@@ -35,7 +34,21 @@ from .schema import (
     TorqueSpec,
 )
 
-__all__ = ["load_scenario", "parse_scenario", "demo_scenario_text", "ScenarioError", "SHAPES"]
+__all__ = [
+    "load_scenario",
+    "parse_scenario",
+    "demo_scenario_text",
+    "ScenarioError",
+    "SHAPES",
+    "MAX_NAME_LENGTH",
+    "MATRIX_TOLERANCE",
+    "rotation_from_matrix",
+    "read_attitude",
+    "read_body",
+    "read_angular_velocity",
+    "read_torque",
+    "read_omega_profile",
+]
 
 #: Solids accepted by ``shape =`` and the meaning of their ``dims`` (m), in order.
 #: Axisymmetric solids have their axis along body ``z``; a rod lies along ``z``.
@@ -50,18 +63,17 @@ SHAPES: dict[str, tuple[str, ...]] = {
     "ring": ("radius",),
 }
 
-_TOP_KEYS = (
-    "name",
-    "description",
-    "body",
-    "attitude",
-    "angular_velocity",
-    "torque",
-    "omega_profile",
-    "simulation",
-)
+#: Top-level keys read for every kind (each kind adds its own tables).
+_COMMON_KEYS = ("name", "description", "kind", "attitude", "simulation")
 _ATTITUDE_KEYS = ("quat", "matrix", "rotvec", "axis", "euler", "gibbs", "mrp")
-_EVERY_ATTITUDE_KEY = (*_ATTITUDE_KEYS, "scalar_first", "degrees", "angle", "sequence")
+_EVERY_ATTITUDE_KEY = (
+    *_ATTITUDE_KEYS,
+    "scalar_first",
+    "degrees",
+    "angle",
+    "sequence",
+    "tolerance",
+)
 
 
 def demo_scenario_text() -> str:
@@ -109,7 +121,7 @@ def load_scenario(path) -> Scenario:
     ... ''')
     >>> s = load_scenario(d / "spin.toml")
     >>> s.name, s.kind, s.simulation.times().size
-    ('spin', 'dynamics', 11)
+    ('spin', 'free-body', 11)
     """
     if not isinstance(path, str | os.PathLike):
         raise InvalidTypeError(
@@ -117,7 +129,7 @@ def load_scenario(path) -> Scenario:
         )
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a UTF-8 byte-order mark is skipped
     except FileNotFoundError:
         raise ScenarioError("no such file.", file=str(path)) from None
     except IsADirectoryError:
@@ -151,7 +163,7 @@ def parse_scenario(text: str, *, source: str = "<string>", name: str | None = No
     ... method = "exact"
     ... ''', name="turn")
     >>> s.kind, s.simulation.times().tolist()
-    ('kinematics', [0.0, 0.5, 1.0, 1.5, 2.0])
+    ('attitude', [0.0, 0.5, 1.0, 1.5, 2.0])
     >>> parse_scenario("[simulaton]\\nduration = 1.0")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
@@ -163,6 +175,7 @@ Did you mean `simulation`? ...
             f"Expected `text` to be a str (TOML), got {type(text).__name__}; "
             "decode bytes first or use load_scenario(path)."
         )
+    text = text.removeprefix("\ufeff")  # a byte-order mark left by some editors
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -181,59 +194,49 @@ Did you mean `simulation`? ...
 
 
 # ------------------------------------------------------------------------------------------
+#: Longest scenario name: it names the output directory (file names have 255 bytes).
+MAX_NAME_LENGTH = 100
+
+
 def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenario:
-    top.known(_TOP_KEYS)
+    from .registry import KINDS, get_kind, kind_for
+
+    kind_tables = tuple(dict.fromkeys(t for k in KINDS.values() for t in k.tables))
+    top.known(_COMMON_KEYS + kind_tables)
     name = top.string("name", default_name)
-    if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*", name):
+    if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*", name) or len(name) > MAX_NAME_LENGTH:
         raise top.expected(
             "name",
-            "a name made of letters, digits, '.', '_', '-' (it names the output directory)",
-            name,
+            f"a name of at most {MAX_NAME_LENGTH} letters, digits, '.', '_', '-' "
+            "(it names the output directory)",
+            name if len(name) <= 40 else f"{name[:40]}... ({len(name)} characters)",
         )
     description = top.string("description", "")
-    # tables are read in the order they usually appear, so the first error reported is
-    # the first one in the file
-    profile_t = top.table("omega_profile")
-    body_t = top.table("body", required=profile_t is None)
-    body = _body(body_t) if body_t is not None else None
-    attitude = _attitude(top.table("attitude"), top)
-    if profile_t is not None:
-        top.forbid(
-            ["angular_velocity"],
-            "a scenario with [omega_profile] takes its angular "
-            "velocity from the profile (remove [angular_velocity])",
-        )
-        top.forbid(
-            ["torque"],
-            "[omega_profile] scenarios propagate the attitude only (no dynamics, no torque)",
-        )
-        profile = _omega_profile(profile_t)
-        angular_velocity = None
-        torque = TorqueSpec()
+    if top.has("kind"):
+        kind = get_kind(top.string("kind", choices=tuple(KINDS)))
     else:
-        profile = None
-        angular_velocity = _angular_velocity(top.table("angular_velocity", required=True), attitude)
-        torque = _torque(top.table("torque"))
-    simulation = _simulation(top.table("simulation", required=True), profile, torque)
-    top.finish(_TOP_KEYS)
-    if torque.model == "gravity" and not np.any(body.center_of_mass):
-        raise top.error(
-            "body.center_of_mass",
-            "gravity about a fixed point needs the centre "
-            "of mass away from the fixed point (the origin of the body axes), "
-            "found [0, 0, 0]: add `center_of_mass = [x, y, z]` to [body].",
-        )
+        kind = kind_for(data)
+    attitude = read_attitude(top.table("attitude"), top)
+    fields = kind.parse(top, attitude)
+    for other in kind_tables:
+        if other not in kind.tables and top.has(other):
+            raise top.error(
+                other,
+                f"not used by a {kind.name!r} scenario ({kind.title}), which reads "
+                + ", ".join(f"[{t}]" for t in kind.tables)
+                + ".",
+            )
+    simulation = _simulation(top.table("simulation", required=True), kind, fields)
+    top.finish(_COMMON_KEYS + kind.tables)
     return Scenario(
         name=name,
         source=source,
         description=description,
-        body=body,
         attitude=attitude,
-        angular_velocity=angular_velocity,
-        torque=torque,
-        omega_profile=profile,
         simulation=simulation,
         data=copy.deepcopy(data),
+        kind=kind.name,
+        **fields,
     )
 
 
@@ -306,16 +309,16 @@ def _part(t: Table, index: int) -> PartSpec:
         j = _inertia(t) if t.has("inertia") else np.zeros((3, 3))  # a point mass
     orientation = t.table("orientation")
     if orientation is not None:  # the part's own axes relative to the body axes
-        q = _attitude(orientation, t).quat
+        q = read_attitude(orientation, t).quat
         from ..rotations.rotation import Rotation
 
         c_bp = Rotation.from_quat(q).as_matrix()
-        j = c_bp @ j @ c_bp.T  # J_b = C J_p C^T (SPEC S8)
+        j = c_bp @ j @ c_bp.T  # J_b = C J_p C^T (docs/theory.md §8)
     t.finish(keys)
     return PartSpec(name=name, mass=mass, inertia=j, position=position, shape=shape, dims=dims)
 
 
-def _body(t: Table) -> BodySpec:
+def read_body(t: Table) -> BodySpec:
     t.known(("mass", "inertia", "center_of_mass", "shape", "dims", "parts"))
     how = t.exclusive(
         ("inertia", "shape", "parts"),
@@ -359,7 +362,7 @@ def _degrees(t: Table, what: str) -> bool:
     return t.boolean("degrees", required=True, why=f" (true: {what} in degrees; false: in radians)")
 
 
-def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
+def read_attitude(t: Table | None, top: Table) -> AttitudeSpec:
     from ..rotations.rotation import Rotation
 
     if t is None:
@@ -378,7 +381,8 @@ def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
             r = Rotation.from_quat(values, scalar_first=sf)
         elif rep == "matrix":
             values = t.matrix("matrix", 3, 3)
-            r = Rotation.from_matrix(values)
+            tol = t.number("tolerance", MATRIX_TOLERANCE, positive=True)
+            r = rotation_from_matrix(values, tol, where=f"{t.file}: `{t.key_path('matrix')}`")
         elif rep == "rotvec":
             values = t.vector("rotvec", 3)
             deg = _degrees(t, "its length")
@@ -414,7 +418,7 @@ def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
         raise _wrap(t, rep, exc) from None
     allowed = {
         "quat": ("quat", "scalar_first"),
-        "matrix": ("matrix",),
+        "matrix": ("matrix", "tolerance"),
         "rotvec": ("rotvec", "degrees"),
         "axis": ("axis", "angle", "degrees"),
         "euler": ("euler", "sequence", "degrees"),
@@ -423,6 +427,60 @@ def _attitude(t: Table | None, top: Table) -> AttitudeSpec:
     }[rep]
     _finish_rep(t, rep, allowed)
     return AttitudeSpec(rep, values, r.as_quat(), sequence=seq, degrees=deg, scalar_first=sf)
+
+
+#: Default of ``[attitude] tolerance``: the largest ``max |A^T A - E|`` of a matrix that
+#: is accepted (and projected onto the nearest rotation).
+MATRIX_TOLERANCE = 1e-6
+#: A projection that moves an entry by more than this is reported with a warning.
+PROJECTION_WARN = 1e-12
+
+
+def rotation_from_matrix(
+    values,
+    tolerance: float = MATRIX_TOLERANCE,
+    *,
+    where: str = "matrix",
+    knob: str = "`tolerance`",
+):
+    """A rotation from a nearly orthogonal matrix, projected onto the nearest rotation
+    (SVD) when it is not orthogonal to round-off, with an
+    :class:`~poinsot.errors.AccuracyWarning` saying by how much it moved.
+
+    ``tolerance`` bounds ``max |A^T A - E|`` (the matrix is refused above it, with a
+    message naming ``knob``, the setting that raises it); ``where`` starts the warning.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     r = rotation_from_matrix([[0, -1, 0], [1, 0, 0.0001], [0, 0, 1]], 1e-3)
+    >>> "projected" in str(w[0].message)
+    True
+    """
+    import warnings
+
+    from ..errors import AccuracyWarning
+    from ..rotations.rotation import Rotation
+
+    m = np.asarray(values, dtype=float)
+    try:
+        r = Rotation.from_matrix(m, atol=tolerance)
+    except PoinsotError as exc:
+        msg = str(exc)
+        if "orthogonal within" in msg:
+            msg += f" Raise {knob} to accept it (it is then projected)."
+        raise type(exc)(msg.replace("`matrix`", "the matrix")) from None
+    moved = float(np.max(np.abs(r.as_matrix() - m)))
+    if moved > PROJECTION_WARN:
+        warnings.warn(
+            f"{where}: the matrix is not orthogonal (tolerance {tolerance:g}); it was "
+            f"projected onto the nearest rotation, which moved an entry by up to {moved:.3g}.",
+            AccuracyWarning,
+            stacklevel=2,
+        )
+    return r
 
 
 def _finish_rep(t: Table, rep: str, allowed) -> None:
@@ -443,7 +501,7 @@ def _units(t: Table, key: str = "units") -> float:
     return OMEGA_UNITS[units]
 
 
-def _angular_velocity(t: Table, attitude: AttitudeSpec) -> AngularVelocitySpec:
+def read_angular_velocity(t: Table, attitude: AttitudeSpec) -> AngularVelocitySpec:
     t.known(("vector", "frame", "units"))
     vector = t.vector("vector", 3)
     frame = t.string("frame", choices=("body", "space"), required=True)
@@ -455,7 +513,7 @@ def _angular_velocity(t: Table, attitude: AttitudeSpec) -> AngularVelocitySpec:
     return AngularVelocitySpec(vector=vector, frame=frame, units=units, omega_body=w)
 
 
-def _torque(t: Table | None) -> TorqueSpec:
+def read_torque(t: Table | None) -> TorqueSpec:
     if t is None:
         return TorqueSpec()
     t.known(("model", "vector", "g"))
@@ -473,7 +531,7 @@ def _torque(t: Table | None) -> TorqueSpec:
     return TorqueSpec()
 
 
-def _omega_profile(t: Table) -> OmegaProfileSpec:
+def read_omega_profile(t: Table) -> OmegaProfileSpec:
     t.known(("kind", "frame", "vector", "units", "half_angle", "degrees", "rate", "t", "omega"))
     kind = t.string("kind", choices=("constant", "coning", "samples"), required=True)
     frame = t.string("frame", choices=("body", "space"), required=True)
@@ -515,8 +573,18 @@ def _omega_profile(t: Table) -> OmegaProfileSpec:
     return OmegaProfileSpec(kind, frame, t=times, omega=omega)
 
 
-def _simulation(t: Table, profile: OmegaProfileSpec | None, torque: TorqueSpec) -> SimulationSpec:
-    t.known(("duration", "step", "samples", "method", "reference", "max_step"))
+def _simulation(t: Table, kind, fields) -> SimulationSpec:
+    keys = (
+        "duration",
+        "step",
+        "samples",
+        "method",
+        "reference",
+        "max_step",
+        "drift_threshold",
+        "attitude_threshold",
+    )
+    t.known(keys)
     duration = t.number("duration", positive=True, required=True)
     how = t.exclusive(("step", "samples"), what="the output times")
     step = samples = None
@@ -524,47 +592,40 @@ def _simulation(t: Table, profile: OmegaProfileSpec | None, torque: TorqueSpec) 
         step = t.number("step", positive=True)
         if step > duration:
             raise t.error("step", f"expected a step <= duration ({duration:g} s), found {step:g}.")
-        if duration / step > 5e6:
-            raise t.error("step", f"expected at most 5e6 steps, found {duration / step:.3g}.")
+        if duration / step > MAX_SAMPLES:
+            raise t.error(
+                "step",
+                f"expected at most {MAX_SAMPLES} output samples (duration / step), found "
+                f"{duration / step:.3g}: choose a longer step.",
+            )
     else:
         samples = t.integer("samples", minimum=2)
-        if samples > 5_000_000:
-            raise t.expected("samples", "at most 5000000 samples", samples)
-    methods = KINEMATICS_METHODS if profile is not None else DYNAMICS_METHODS
+        if samples > MAX_SAMPLES:
+            raise t.expected("samples", f"at most {MAX_SAMPLES} samples", samples)
+    methods = kind.methods
     method = t.string("method", choices=methods, required=True)
     reference = t.string("reference", choices=methods)
     for key, m in (("method", method), ("reference", reference)):
-        if m == "exact" and profile is not None and profile.kind == "samples":
-            raise t.error(
-                key,
-                '"exact" needs a closed form, and a tabulated angular '
-                "velocity has none: expected one of "
-                + ", ".join(f'"{x}"' for x in methods if x != "exact")
-                + ".",
-            )
-        if m == "exact" and torque.model != "none":
-            raise t.error(
-                key,
-                f'"exact" is the closed-form torque-free solution (SPEC S10), '
-                f'but [torque] model is "{torque.model}": expected one of '
-                + ", ".join(f'"{x}"' for x in methods if x != "exact")
-                + ".",
-            )
+        why = None if m is None else kind.refuse_method(m, fields)
+        if why:
+            raise t.error(key, why)
     max_step = t.number("max_step", positive=True)
+    drift_threshold = t.number("drift_threshold", positive=True)
+    attitude_threshold = t.number("attitude_threshold", positive=True)
     if reference is not None and reference == method:
         raise t.error("reference", f"expected a method other than `method` ({method!r}).")
-    if profile is not None and profile.kind == "samples" and duration > profile.t[-1]:
-        raise t.error(
-            "duration",
-            f"expected at most the last time of [omega_profile] t ({profile.t[-1]:g} s): the "
-            f"angular velocity is not known after it, found {duration:g}.",
-        )
-    t.finish(("duration", "step", "samples", "method", "reference", "max_step"))
-    return SimulationSpec(
+    sim = SimulationSpec(
         duration=duration,
         method=method,
         step=step,
         samples=samples,
         reference=reference,
         max_step=max_step,
+        drift_threshold=drift_threshold,
+        attitude_threshold=attitude_threshold,
     )
+    bad = kind.check_simulation(sim, fields)
+    if bad is not None:
+        raise t.error(*bad)
+    t.finish(keys)
+    return sim

@@ -1,9 +1,12 @@
 """The scenario, as frozen dataclasses (what a TOML scenario file describes).
 
-A scenario is either a **dynamics** scenario (a rigid body, its initial attitude and
-angular velocity, a torque model: Euler's equations, SPEC S10) or a
-**kinematics** scenario (an attitude propagated from a given angular-velocity
-profile: Poisson's equation, SPEC S5). :func:`poinsot.scenarios.load_scenario`
+Every scenario has a ``kind``: the name of the adapter in
+:data:`poinsot.scenarios.registry.KINDS` that reads its tables, solves it and
+summarises it (``docs/adding-a-motion.md``). The built-in kinds are rigid-body
+motions (``"free-body"``: Euler's case, docs/theory.md §10; ``"torqued-body"``: a
+body torque, a space torque or gravity about a fixed point) and attitude
+propagation from a prescribed angular velocity (``"attitude"`` and ``"coning"``:
+Poisson's equation, docs/theory.md §5). :func:`poinsot.scenarios.load_scenario`
 builds one from a file; the format is documented in ``docs/cli.md``.
 
 Convention: SI units (kg, m, s, N m); the attitude maps body components to space
@@ -33,6 +36,7 @@ __all__ = [
     "TORQUE_MODELS",
     "OMEGA_UNITS",
     "STANDARD_GRAVITY",
+    "MAX_SAMPLES",
 ]
 
 #: Integrators of Euler's equations accepted in ``[simulation] method`` (plus ``"exact"``).
@@ -43,6 +47,8 @@ TORQUE_MODELS = ("none", "body", "space", "gravity")
 #: Angular velocity units and their factor to rad/s.
 OMEGA_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0, "rpm": 2.0 * np.pi / 60.0, "Hz": 2.0 * np.pi}
 STANDARD_GRAVITY = 9.80665
+#: Most output samples a scenario may have, after every override (``--duration``).
+MAX_SAMPLES = 5_000_000
 
 
 def _frozen_array(a) -> np.ndarray:
@@ -88,7 +94,8 @@ class BodySpec:
         object.__setattr__(self, "center_of_mass", _frozen_array(self.center_of_mass))
 
     def inertia_about_origin(self) -> np.ndarray:
-        """Inertia tensor about the origin of the body axes (Huygens-Steiner, SPEC S8)."""
+        """Inertia tensor about the origin of the body axes (Huygens-Steiner,
+        docs/theory.md §8)."""
         from ..mass import parallel_axis
 
         return np.asarray(parallel_axis(self.inertia, self.mass, self.center_of_mass))
@@ -171,7 +178,32 @@ class OmegaProfileSpec:
 class SimulationSpec:
     """Output times and method: ``duration`` (s) and either ``step`` (s) or ``samples``;
     ``reference`` is an optional second method run on the same times for comparison;
-    ``max_step`` (s) bounds the integration step (default: the output spacing)."""
+    ``max_step`` (s) bounds the integration step (default: the output spacing);
+    ``drift_threshold`` (relative) and ``attitude_threshold`` (rad) replace the
+    default accuracy thresholds of :mod:`poinsot.scenarios.summary`."""
+
+    def n_samples(self) -> int:
+        """The number of output times, computed without building them."""
+        if self.samples is not None:
+            return int(self.samples)
+        ratio = self.duration / self.step
+        if not ratio < 1e15:
+            return 10**15  # beyond any limit: refused before anything is allocated
+        n = int(np.floor(ratio + 1e-9))
+        last = self.step * n
+        return n + 1 + (1 if self.duration - last > 1e-9 * self.duration else 0)
+
+    def spacing(self) -> float:
+        """The output spacing (s): ``step``, or ``duration / (samples - 1)``."""
+        if self.step is not None:
+            return float(self.step)
+        return self.duration / (self.samples - 1)
+
+    def integration_step(self) -> float:
+        """The longest integration step of a fixed-step method (s): ``max_step`` when
+        given and shorter than the output spacing, else the output spacing."""
+        h = self.spacing()
+        return min(h, self.max_step) if self.max_step is not None else h
 
     duration: float
     method: str
@@ -179,6 +211,8 @@ class SimulationSpec:
     samples: int | None = None
     reference: str | None = None
     max_step: float | None = None
+    drift_threshold: float | None = None
+    attitude_threshold: float | None = None
 
     def times(self) -> np.ndarray:
         """The output times ``0 .. duration`` (s)."""
@@ -195,9 +229,13 @@ class SimulationSpec:
 class Scenario:
     """A parsed scenario file.
 
-    ``kind`` is ``"dynamics"`` (``body`` and ``angular_velocity`` set) or
-    ``"kinematics"`` (``omega_profile`` set; ``body`` optional, used only to report
-    energy and angular momentum). ``data`` is the file's content, echoed in outputs.
+    ``kind`` names the adapter that solves it (a key of
+    :data:`poinsot.scenarios.registry.KINDS`): ``"free-body"`` and
+    ``"torqued-body"`` (``body`` and ``angular_velocity`` set), ``"attitude"`` and
+    ``"coning"`` (``omega_profile`` set; ``body`` optional, used only to report
+    energy and angular momentum). A kind added later keeps what it reads from its
+    own tables in ``spec`` (its own frozen dataclass). ``data`` is the file's
+    content, echoed in outputs.
     """
 
     name: str
@@ -210,7 +248,12 @@ class Scenario:
     torque: TorqueSpec = field(default_factory=TorqueSpec)
     omega_profile: OmegaProfileSpec | None = None
     data: dict[str, Any] = field(default_factory=dict)
+    kind: str = "free-body"
+    spec: Any = None
 
     @property
-    def kind(self) -> str:
-        return "kinematics" if self.omega_profile is not None else "dynamics"
+    def adapter(self):
+        """The :class:`~poinsot.scenarios.kind.ScenarioKind` that solves this scenario."""
+        from .registry import get_kind
+
+        return get_kind(self.kind)

@@ -1,0 +1,158 @@
+"""Describing scenarios and runs in text (``poinsot check``, ``poinsot run``).
+
+Numbers are printed without round-off noise: in a vector, a component smaller
+than :data:`NOISE` times the largest one prints as ``0`` (see :func:`clean`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .schema import Scenario
+
+__all__ = ["describe", "describe_scenario", "clean", "fmt", "fmt_vector", "NOISE"]
+
+#: Relative size below which a component is round-off noise and printed as 0.
+NOISE = 1e-12
+
+
+def clean(values, scale: float | None = None) -> np.ndarray:
+    """``values`` with the entries smaller than ``NOISE * scale`` set to 0
+    (``scale``: the largest ``|value|`` by default); ``-0.0`` becomes ``0.0``.
+
+    Examples
+    --------
+    >>> clean([1.0, 2.2e-16, -0.0]).tolist()
+    [1.0, 0.0, 0.0]
+    """
+    a = np.array(values, dtype=float, copy=True)
+    if scale is None:
+        finite = a[np.isfinite(a)]
+        scale = float(np.max(np.abs(finite), initial=0.0))
+    a[np.abs(a) < NOISE * scale] = 0.0
+    return a + 0.0
+
+
+def fmt(x, digits: int = 4) -> str:
+    """A number with ``digits`` significant digits (``-0`` printed as ``0``).
+
+    Examples
+    --------
+    >>> fmt(0.123456), fmt(-0.0)
+    ('0.1235', '0')
+    """
+    return f"{float(x) + 0.0:.{digits}g}"
+
+
+def fmt_vector(v, digits: int = 4) -> str:
+    """``[a, b, c]`` with round-off noise printed as 0.
+
+    Examples
+    --------
+    >>> fmt_vector([0.1, 12.0, 1e-17])
+    '[0.1, 12, 0]'
+    """
+    return "[" + ", ".join(fmt(x, digits) for x in clean(np.ravel(v))) + "]"
+
+
+def describe_scenario(scenario: Scenario) -> str:
+    """One line describing a scenario (used by ``poinsot check``).
+
+    Examples
+    --------
+    >>> from poinsot.scenarios import demo_scenario
+    >>> print(describe_scenario(demo_scenario()))  # doctest: +ELLIPSIS
+    scenario 'tennis-racket-flip' (free-body): torque-free ..., 0.35 kg box body, ...
+    """
+    sim = scenario.simulation
+    n = sim.n_samples()
+    kind = scenario.adapter
+    head = f"scenario {scenario.name!r} ({scenario.kind}): "
+    parts = kind.describe_scenario(scenario)
+    b = scenario.body
+    if b is not None:
+        what = (
+            f"{b.shape} body" if b.shape else f"body of {len(b.parts)} parts" if b.parts else "body"
+        )
+        parts.append(f"{fmt(b.mass)} kg {what}")
+    if scenario.angular_velocity is not None:
+        parts.append(f"omega0 {fmt_vector(scenario.angular_velocity.omega_body)} rad/s (body)")
+    ref = f", reference {sim.reference}" if sim.reference else ""
+    parts.append(f"{n} samples over {fmt(sim.duration)} s, method {sim.method}{ref}")
+    if sim.method in kind.orders or (sim.reference in kind.orders):
+        parts.append(f"integration step {fmt(sim.integration_step())} s")
+    return head + ", ".join(parts)
+
+
+def _drifts(inv: dict) -> str:
+    kept = [
+        f"{k.replace('_', ' ')} drift {v['max_relative_drift']:.2e}"
+        for k, v in inv.items()
+        if isinstance(v, dict) and "max_relative_drift" in v and v.get("conserved")
+    ]
+    if kept:
+        return "; ".join(kept)
+    changes = [
+        f"{k.replace('_', ' ')} {fmt(v['initial'])} -> {fmt(v['final'])} {v['units']}"
+        for k, v in inv.items()
+        if isinstance(v, dict) and isinstance(v.get("final"), float)
+    ]
+    return ", ".join(changes) if changes else "done"
+
+
+def describe(result, *, title: str = "poinsot", notes=()) -> str:
+    """A short human summary of a run (printed by ``poinsot run`` and ``poinsot demo``).
+
+    Examples
+    --------
+    >>> from poinsot.scenarios import demo_scenario, simulate_scenario
+    >>> print(describe(simulate_scenario(demo_scenario(), duration=0.5)))  # doctest: +ELLIPSIS
+    poinsot: tennis-racket-flip - ...
+    conventions: ...
+    """
+    s = result.scenario
+    summ = result.sections()
+    lines = [f"{title}: {s.name}" + (f" - {s.description}" if s.description else "")]
+    lines.append("conventions: " + summ["conventions"])
+    if s.body is not None:
+        b = summ["body"]
+        shape = (
+            f"{s.body.shape} {' x '.join(fmt(d) for d in s.body.dims)} m, "
+            if s.body.shape
+            else f"{len(s.body.parts)} parts, "
+            if s.body.parts
+            else ""
+        )
+        lines.append(
+            f"body: {shape}{fmt(s.body.mass)} kg; principal moments "
+            f"{fmt_vector(b['principal_moments'])} kg m^2"
+        )
+    init = summ["initial_state"]
+    times = summ["run"]["times"]
+    lines.append(
+        f"start: omega {fmt_vector(init['omega_body'])} rad/s (body), "
+        f"quat {fmt_vector(init['quat'])}; {times['samples']} samples "
+        f"over {fmt(times['duration'])} s"
+    )
+    lines += result.facts.describe()
+    acc = summ["accuracy"]
+    lines.append(f"{acc['method']}: {_drifts(acc['invariants'])} ({result.wall_time:.2f} s)")
+    if acc["reference_invariants"]:
+        lines.append(f"{acc['reference']}: {_drifts(acc['reference_invariants'])}")
+    cmp_ = acc["comparison"]
+    if cmp_:
+        lines.append(
+            f"vs {cmp_['reference']}: max attitude difference "
+            f"{cmp_['max_attitude_error_rad']:.2e} rad, max |omega| difference "
+            f"{cmp_['max_omega_error']:.2e} rad/s"
+        )
+    for w in acc["warnings"]:
+        lines.append(f"accuracy warning: {w}")
+    if acc["warnings"] and acc["suggested_max_step"]:
+        lines.append(
+            f"suggestion: set [simulation] max_step = {acc['suggested_max_step']:g} "
+            f"(the integration step is now {acc['integration_step']:g} s)"
+        )
+    for note in notes:
+        lines.append(f"note: {note}")
+    return "\n".join(lines)

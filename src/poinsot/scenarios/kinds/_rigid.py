@@ -1,0 +1,63 @@
+"""What the rigid-body kinds share: reading [body], [angular_velocity], [torque],
+solving with :func:`poinsot.dynamics.simulate`, and the invariants of a trajectory."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..io import read_angular_velocity, read_body, read_torque
+
+TABLES = ("body", "angular_velocity", "torque")
+
+
+def parse_rigid(top, attitude) -> dict:
+    """The fields of a rigid-body scenario: ``body``, ``angular_velocity``, ``torque``."""
+    body = read_body(top.table("body", required=True))
+    angular_velocity = read_angular_velocity(top.table("angular_velocity", required=True), attitude)
+    torque = read_torque(top.table("torque"))
+    if torque.model == "gravity" and not np.any(body.center_of_mass):
+        raise top.error(
+            "body.center_of_mass",
+            "gravity about a fixed point needs the centre "
+            "of mass away from the fixed point (the origin of the body axes), "
+            "found [0, 0, 0]: add `center_of_mass = [x, y, z]` to [body].",
+        )
+    return {"body": body, "angular_velocity": angular_velocity, "torque": torque}
+
+
+def simulate_rigid(scenario, inertia, torque, method, t, progress):
+    """Euler's equations with the attitude (docs/theory.md §10), in chunks."""
+    from ...dynamics import simulate
+    from ..solve import chunked
+
+    return chunked(
+        lambda rot, w, tt: simulate(
+            inertia,
+            rot,
+            w,
+            tt,
+            torque=torque,
+            method=method,
+            max_step=scenario.simulation.max_step,
+        ),
+        scenario.attitude.rotation,
+        np.asarray(scenario.angular_velocity.omega_body),
+        t,
+        progress,
+        f"integrating ({method})",
+    )
+
+
+def with_invariants(inertia, tr):
+    """``tr`` with the kinetic energy and the space angular momentum filled in
+    (docs/theory.md §8) when they are missing."""
+    if tr.energy is not None and tr.momentum is not None:
+        return tr
+    from ...dynamics.invariants import angular_momentum, kinetic_energy
+
+    omega = np.asarray(tr.omega)
+    energy = kinetic_energy(inertia, omega)
+    momentum = tr.rotation.apply(angular_momentum(inertia, omega))
+    return dataclasses.replace(tr, energy=energy, momentum=momentum)

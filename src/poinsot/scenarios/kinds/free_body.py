@@ -1,0 +1,166 @@
+"""Adapter: a torque-free rigid body (Euler-Poinsot case, docs/theory.md §10).
+
+Tables: [body], [angular_velocity], [torque] (absent or ``model = "none"``).
+Solved by :class:`poinsot.dynamics.FreeRigidBody` (``method = "exact"``: Jacobi
+elliptic functions) or :func:`poinsot.dynamics.simulate` (integrators). Checks:
+``T``, ``|K|`` and the space vector ``K`` are conserved.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..describe import fmt
+from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from ..schema import DYNAMICS_METHODS
+from . import _rigid
+
+
+def _free_body(scenario):
+    from ...dynamics import FreeRigidBody
+
+    return FreeRigidBody(
+        np.asarray(scenario.body.inertia),
+        omega0=np.asarray(scenario.angular_velocity.omega_body),
+        rotation0=scenario.attitude.rotation,
+    )
+
+
+@dataclass(frozen=True)
+class FreeBodyFacts(Facts):
+    """The closed-form properties of a torque-free motion (a FreeRigidBody)."""
+
+    body: object = None  # the FreeRigidBody
+    diagonal: bool = True  # body axes are principal (axes named x, y, z in text)
+
+    def entries_(self):
+        fb = self.body
+        out = {"solution": Entry("Jacobi elliptic functions (docs/theory.md §10)")}
+        for key, units in (
+            ("energy", "J"),
+            ("momentum", "kg m^2/s"),
+            ("momentum_norm", "kg m^2/s"),
+            ("principal_moments", "kg m^2"),
+            ("principal_axes", "1"),
+            ("regime", ""),
+            ("polhode_axis", ""),
+            ("stable_axes", ""),
+            ("period", "s"),
+            ("precession_per_period", "rad"),
+            ("complementary_parameter", "1"),
+        ):
+            value = getattr(fb, key, None)
+            if value is not None:
+                out[key] = Entry(np.asarray(value) if key == "principal_axes" else value, units)
+        rate = self.precession_rate
+        if rate is not None:
+            out["precession_rate"] = Entry(rate, "rad/s")
+        return out
+
+    @property
+    def precession_rate(self) -> float | None:
+        """Symmetric body: regular precession about ``K`` at ``|K| / A`` (``A`` the
+        moment of the two equal axes), docs/theory.md §10."""
+        m = np.asarray(self.body.principal_moments)
+        if (m[0] == m[1] or m[1] == m[2]) and m[0] != m[2]:
+            a = m[0] if m[0] == m[1] else m[1]
+            return float(self.body.momentum_norm / a)
+        return None
+
+    def describe(self):
+        fb = self.body
+        period = fb.period
+        per = (
+            f"omega periodic with period {fmt(period)} s"
+            if np.isfinite(period)
+            else "omega not periodic"
+        )
+        lines = [
+            f"exact solution, Jacobi elliptic functions (docs/theory.md §10): "
+            f"T = {fmt(fb.energy)} J, |K| = {fmt(fb.momentum_norm)} kg m^2/s, {per}"
+        ]
+        stable, moments = fb.stable_axes, np.asarray(fb.principal_moments)
+        if len(set(moments.tolist())) == 3:
+            names = [
+                f"{'xyz'[k]} ({fmt(m)} kg m^2)" if self.diagonal else f"the axis of moment {fmt(m)}"
+                for k, m in enumerate(moments)
+            ]
+            good = " and ".join(n for n, ok in zip(names, stable, strict=True) if ok)
+            bad = " and ".join(n for n, ok in zip(names, stable, strict=True) if not ok)
+            lines.append(
+                f"permanent rotations: stable about {good}, unstable about {bad} "
+                "(docs/theory.md §10)"
+            )
+        if self.precession_rate is not None:
+            lines.append(f"regular precession about K at {fmt(self.precession_rate)} rad/s")
+        return lines
+
+
+class FreeBody(ScenarioKind):
+    name = "free-body"
+    title = "torque-free rigid body (Euler-Poinsot case)"
+    tables = _rigid.TABLES
+    methods = DYNAMICS_METHODS
+    orders = {"midpoint": 2, "splitting": 2, "rk4": 4}
+    theory = "docs/theory.md §10"
+
+    def claims(self, data):
+        return "body" in data or "angular_velocity" in data
+
+    def parse(self, top, attitude):
+        fields = _rigid.parse_rigid(top, attitude)
+        if fields["torque"].model != "none":
+            raise top.error(
+                "torque.model",
+                f'a "free-body" scenario has no torque: expected "none", found '
+                f'"{fields["torque"].model}" (remove `kind` to solve it with the torque).',
+            )
+        return fields
+
+    def solve(self, scenario, method, t, progress):
+        if method == "exact":
+            fb = _free_body(scenario)
+            progress(0.0, "exact solution")
+            tr = fb.trajectory(t)
+            progress(1.0, "exact solution")
+            return tr
+        inertia = np.asarray(scenario.body.inertia)
+        return _rigid.simulate_rigid(scenario, inertia, None, method, t, progress)
+
+    def facts(self, scenario):
+        j = np.asarray(scenario.body.inertia)
+        diagonal = bool(np.max(np.abs(j - np.diag(np.diag(j)))) <= 1e-12 * np.max(np.abs(j)))
+        return FreeBodyFacts(body=_free_body(scenario), diagonal=diagonal)
+
+    def checks(self, scenario, tr):
+        tr = _rigid.with_invariants(np.asarray(scenario.body.inertia), tr)
+        k = np.asarray(tr.momentum)
+        return (
+            Check("energy", "kinetic energy T", "J", np.asarray(tr.energy)),
+            Check("momentum_norm", "|K|", "kg m^2/s", np.linalg.norm(k, axis=-1)),
+            Check("momentum_vector", "K (space axes)", "kg m^2/s", k),
+        )
+
+    def figures(self, result):
+        figs = super().figures(result)
+        fb = result.facts.body
+        t = result.trajectory.t
+
+        def maccullagh(ax):
+            from ...plotting.free_body import plot_maccullagh
+
+            return plot_maccullagh(fb, ax=ax)
+
+        def poinsot(ax):
+            from ...plotting.free_body import plot_poinsot
+
+            return plot_poinsot(fb, t[:: max(1, t.size // 800)], ax=ax)
+
+        figs.append(FigureSpec("maccullagh.png", maccullagh, (6.0, 6.0), "3d"))
+        figs.append(FigureSpec("poinsot.png", poinsot, (6.0, 6.0), "3d"))
+        return figs
+
+
+KIND = FreeBody()

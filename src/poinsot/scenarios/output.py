@@ -1,0 +1,350 @@
+"""Writing the outputs of a run, atomically, into an output directory.
+
+:func:`write_outputs` writes ``trajectory.csv`` (or ``.npz``), the PNG figures of
+the scenario's kind, ``report.html`` and ``summary.json`` (last, so that its
+presence marks a complete run), every file through a temporary name in the same
+directory and :func:`os.replace`; :func:`run_scenario` solves and writes.
+
+Figures are drawn on :class:`matplotlib.figure.Figure` objects made here, never
+through pyplot: the caller's backend and figures are left alone.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError
+from ..trajectory import Trajectory
+from .kind import Progress
+from .schema import Scenario
+from .solve import _expect, check_cost, quiet_progress, simulate_scenario, span
+from .summary import CONVENTIONS, ScenarioResult, versions
+
+__all__ = ["write_outputs", "run_scenario", "prepare_output_dir", "OutputFiles", "OUTPUT_FILES"]
+
+#: Every file a run may write; a forced rerun removes those it does not rewrite.
+OUTPUT_FILES = (
+    "trajectory.csv",
+    "trajectory.npz",
+    "reference.csv",
+    "reference.npz",
+    "omega.png",
+    "invariants.png",
+    "maccullagh.png",
+    "poinsot.png",
+    "report.html",
+    "summary.json",
+)
+
+_ROWS_PER_WRITE = 10000
+
+
+class OutputFiles(list):
+    """The paths written (a list), with the ``notes`` of the writing (skipped figures,
+    a missing optional dependency...), also recorded in ``summary.json``."""
+
+    def __init__(self, paths=(), notes=()):
+        super().__init__(paths)
+        self.notes = list(notes)
+
+
+def prepare_output_dir(out, *, force: bool = False) -> Path:
+    """Create the output directory; refuse to overwrite a non-empty one unless ``force``.
+
+    Raises
+    ------
+    InvalidInputError
+        ``out`` is a file, or a non-empty directory and ``force`` is false.
+    """
+    _expect(out, str | os.PathLike, "out", "a str or os.PathLike")
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InvalidInputError(f"Output path {str(out)!r} exists and is not a directory.")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        raise InvalidInputError(
+            f"Output directory {str(out)!r} already exists and is not "
+            "empty; pass --force to overwrite its files, or choose "
+            "another --out."
+        )
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+def _atomic(path: Path, write: Callable[[Any], None], mode: str = "w") -> Path:
+    """Write ``path`` through a temporary file in the same directory, then rename."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.partial")
+    try:
+        if mode == "w":
+            with open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+                write(fh)
+                fh.flush()
+                os.fsync(fh.fileno())
+        else:
+            with open(tmp, "wb") as fh:
+                write(fh)
+                fh.flush()
+                os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+# ----------------------------------------------------------------------------- trajectory
+def _columns(result: ScenarioResult, tr: Trajectory):
+    names = ["t", "qw", "qx", "qy", "qz", "wx", "wy", "wz"]
+    units = ["s"] + ["1"] * 4 + ["rad/s"] * 3
+    cols = [tr.t[:, None], tr.quat, tr.omega]
+    if tr.momentum is not None:
+        names += ["Kx", "Ky", "Kz", "T"]
+        units += ["kg m^2/s"] * 3 + ["J"]
+        cols += [tr.momentum, tr.energy[:, None]]
+    extra = result.scenario.adapter.series(result.scenario, tr)
+    for name, (values, unit) in extra.items():
+        names.append(name)
+        units.append(unit)
+        cols.append(np.asarray(values)[:, None])
+    return names, units, np.hstack(cols)
+
+
+def _header(result: ScenarioResult, tr: Trajectory, names, units) -> list[str]:
+    s = result.scenario
+    gravity = s.torque is not None and s.torque.model == "gravity"
+    point = "the fixed point (origin of the body axes)" if gravity else "the centre of mass"
+    lines = [
+        f"poinsot {versions()['poinsot']} trajectory of scenario {s.name!r} "
+        f"(kind {s.kind}, method {tr.method}, {tr.t.size} samples)",
+        "conventions: " + CONVENTIONS,
+        "t: time (s); qw,qx,qy,qz: unit quaternion of the attitude, scalar first, body -> "
+        "space (v_space = q o v_body o q~)",
+        "wx,wy,wz: angular velocity in BODY axes (rad/s)",
+    ]
+    if "Kx" in names:
+        lines += [
+            f"Kx,Ky,Kz: angular momentum about {point} in SPACE axes (kg m^2/s)",
+            "T: rotational kinetic energy (J)",
+        ]
+    if "V" in names:
+        lines.append("V: potential energy of gravity m g z_c, g along -z of space (J)")
+    lines.append("units: " + ",".join(units))
+    lines.append(",".join(names))
+    return lines
+
+
+def _write_trajectory(result: ScenarioResult, tr: Trajectory, path: Path, fmt: str) -> Path:
+    names, units, data = _columns(result, tr)
+    header = _header(result, tr, names, units)
+    if fmt == "csv":
+
+        def write(fh):
+            fh.write("".join(f"# {line}\n" for line in header))
+            for k in range(0, len(data), _ROWS_PER_WRITE):  # repr: shortest round-trip
+                rows = data[k : k + _ROWS_PER_WRITE].tolist()
+                fh.write("".join(",".join(map(repr, r)) + "\n" for r in rows))
+
+        return _atomic(path, write)
+
+    arrays = {"t": tr.t, "quat": tr.quat, "omega_body": np.asarray(tr.omega)}
+    if tr.momentum is not None:
+        arrays["momentum_space"] = np.asarray(tr.momentum)
+        arrays["energy"] = np.asarray(tr.energy)
+    for name, (values, _) in result.scenario.adapter.series(result.scenario, tr).items():
+        arrays["potential" if name == "V" else name] = np.asarray(values)
+    arrays["header"] = np.array("\n".join(header))
+    return _atomic(path, lambda fh: np.savez(fh, **arrays), mode="b")
+
+
+# ----------------------------------------------------------------------------- figures
+def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
+    try:
+        import matplotlib  # noqa: F401 - optional dependency
+        from matplotlib.figure import Figure
+    except ImportError:
+        notes.append("figures skipped: matplotlib is not installed (pip install 'poinsot[plot]')")
+        return []
+    files = []
+    for spec in result.figures():
+        # a Figure of its own (no pyplot): the caller's backend and figures are untouched
+        fig = Figure(figsize=spec.size, layout="constrained")
+        try:
+            ax = fig.add_subplot(projection=spec.projection)
+            spec.draw(ax)
+        except Exception as exc:  # a figure must not sink the run
+            notes.append(f"{spec.name} skipped: {type(exc).__name__}: {exc}")
+            continue
+        files.append(
+            _atomic(out / spec.name, lambda fh, f=fig: f.savefig(fh, format="png", dpi=110), "b")
+        )
+    return files
+
+
+def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) -> list[Path]:
+    try:
+        from ..plotting.report import write_report
+    except ImportError as exc:
+        notes.append(f"report.html skipped: {exc}")
+        return []
+    s = result.scenario
+    shape = None
+    inertia = None
+    if s.body is not None:
+        # the report draws the body centred on the origin of the body axes: the solid
+        # itself when its centre of mass is there, else the inertia ellipsoid about the
+        # origin (the fixed point under gravity)
+        centred = not np.any(s.body.center_of_mass)
+        if centred and s.body.shape in ("box", "ellipsoid", "sphere", "cylinder"):
+            shape = {"kind": s.body.shape, "dims": list(s.body.dims)}
+        inertia = s.adapter.motion_inertia(s)
+    title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
+    try:
+        path = write_report(
+            out / "report.html",
+            trajectory=result.trajectory,
+            summary=summary,
+            title=title,
+            shape=shape,
+            inertia=inertia,
+            reference=result.reference,
+        )
+    except ImportError as exc:  # plotly is an optional dependency
+        notes.append(f"report.html skipped: {exc} (pip install 'poinsot[plot]')")
+        return []
+    return [path]
+
+
+# ----------------------------------------------------------------------------- public
+def _check_fmt(fmt) -> None:
+    if fmt not in ("csv", "npz"):
+        raise InvalidInputError(f"Expected `format` (--format) to be 'csv' or 'npz', got {fmt!r}.")
+
+
+def write_outputs(
+    result: ScenarioResult,
+    out,
+    *,
+    fmt: str = "csv",
+    report: bool = True,
+    figures: bool = True,
+    force: bool = False,
+    progress: Progress | None = None,
+) -> OutputFiles:
+    """Write the outputs of a run into directory ``out``.
+
+    Files: ``trajectory.csv`` or ``trajectory.npz`` (and ``reference.csv``/``.npz``
+    with a reference method), the figures of the scenario's kind (``omega.png``,
+    ``invariants.png``, and MacCullagh's and Poinsot's pictures for a free body),
+    ``report.html`` and, last, ``summary.json``. Each file is written to a
+    temporary name in ``out`` and renamed. ``result`` is not modified: writing
+    twice gives the same files.
+
+    Returns
+    -------
+    OutputFiles
+        The paths written, with the ``notes`` of the writing.
+
+    Raises
+    ------
+    InvalidInputError
+        ``fmt`` is not ``"csv"`` or ``"npz"``; ``out`` exists, is not empty and
+        ``force`` is false.
+
+    Notes
+    -----
+    **Convention:** see :data:`~poinsot.scenarios.CONVENTIONS` (written in the
+    files' headers).
+    """
+    _expect(result, ScenarioResult, "result", "a ScenarioResult (from simulate_scenario)")
+    _check_fmt(fmt)
+    progress = progress or quiet_progress
+    out = prepare_output_dir(out, force=force)
+    # a forced rerun first removes the old summary, so that the directory never looks
+    # complete until the new summary is written
+    (out / "summary.json").unlink(missing_ok=True)
+    summary = result.sections()  # a fresh dict: the result itself is never changed
+    notes: list[str] = summary["run"]["notes"]
+    files = [_write_trajectory(result, result.trajectory, out / f"trajectory.{fmt}", fmt)]
+    if result.reference is not None:
+        files.append(_write_trajectory(result, result.reference, out / f"reference.{fmt}", fmt))
+    progress(0.0, "writing the trajectory")
+    if figures:
+        progress(0.2, "figures")
+        files += _figures(result, out, notes)
+    if report:
+        progress(0.5, "report")
+        files += _report(result, summary, out, notes)
+    else:
+        notes.append("report.html not written (--no-report)")
+    summary_path = out / "summary.json"
+    summary["run"]["files"] = [p.name for p in files] + [summary_path.name]
+    files.append(
+        _atomic(summary_path, lambda fh: json.dump(summary, fh, indent=2, allow_nan=False))
+    )
+    for name in OUTPUT_FILES:  # outputs of an earlier run that this one did not rewrite
+        if name not in summary["run"]["files"]:
+            (out / name).unlink(missing_ok=True)
+    progress(1.0, "done")
+    return OutputFiles(files, notes)
+
+
+def run_scenario(
+    scenario: Scenario,
+    out,
+    *,
+    fmt: str = "csv",
+    report: bool = True,
+    force: bool = False,
+    duration: float | None = None,
+    progress: Progress | None = None,
+    figures: bool = True,
+    allow_large: bool = False,
+) -> tuple[ScenarioResult, OutputFiles]:
+    """Solve ``scenario`` and write its outputs into ``out`` (see :func:`write_outputs`).
+
+    The limits (:func:`~poinsot.scenarios.estimate_cost`) and the output directory
+    are checked before the computation, so a refused run costs nothing; a run that
+    fails leaves no empty directory it created behind.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, json
+    >>> from poinsot.scenarios import demo_scenario, run_scenario
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "demo"
+    >>> result, files = run_scenario(demo_scenario(), out, report=False, figures=False,
+    ...                              duration=1.0)
+    >>> sorted(p.name for p in files)
+    ['reference.csv', 'summary.json', 'trajectory.csv']
+    """
+    _expect(scenario, Scenario, "scenario", "a Scenario (from load_scenario/parse_scenario)")
+    _check_fmt(fmt)
+    check_cost(scenario, duration=duration, allow_large=allow_large)
+    created = not Path(out).exists() if isinstance(out, str | os.PathLike) else False
+    prepare_output_dir(out, force=force)
+    progress = progress or quiet_progress
+    try:
+        result = simulate_scenario(
+            scenario,
+            duration=duration,
+            progress=span(progress, 0.0, 0.8),
+            allow_large=allow_large,
+        )
+        files = write_outputs(
+            result,
+            out,
+            fmt=fmt,
+            report=report,
+            figures=figures,
+            force=True,
+            progress=span(progress, 0.8, 1.0),
+        )
+    except BaseException:
+        if created and Path(out).is_dir() and not any(Path(out).iterdir()):
+            Path(out).rmdir()  # leave nothing behind for a run that did not happen
+        raise
+    return result, files

@@ -1,0 +1,64 @@
+"""The registry of scenario kinds: one line per kind (``docs/adding-a-motion.md``).
+
+A file names its kind with a top-level ``kind = "..."``; without it, the kinds are
+asked in the order below (:meth:`~poinsot.scenarios.kind.ScenarioKind.claims` on
+the raw TOML) and the first that claims the file reads it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Any
+
+from .kind import ScenarioKind
+from .kinds import attitude, coning, free_body, torqued_body
+
+__all__ = ["KINDS", "get_kind", "kind_for"]
+
+#: name -> adapter, in the order kinds are asked to claim a file without ``kind``.
+KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
+    {
+        k.name: k
+        for k in (
+            coning.KIND,  # [omega_profile] kind = "coning"
+            attitude.KIND,  # any other [omega_profile]
+            torqued_body.KIND,  # [torque] with a model other than "none"
+            free_body.KIND,  # a [body] with an [angular_velocity] (the default)
+        )
+    }
+)
+
+
+def get_kind(name: str) -> ScenarioKind:
+    """The adapter registered as ``name``.
+
+    Examples
+    --------
+    >>> get_kind("free-body").title
+    'torque-free rigid body (Euler-Poinsot case)'
+    """
+    try:
+        return KINDS[name]
+    except KeyError:
+        from ..errors import InvalidInputError
+
+        raise InvalidInputError(
+            f"Expected a scenario kind, one of {', '.join(map(repr, KINDS))}; got {name!r}."
+        ) from None
+
+
+def kind_for(data: Mapping[str, Any]) -> ScenarioKind:
+    """The kind that claims a file without a ``kind`` key (``data``: the raw TOML).
+
+    Examples
+    --------
+    >>> kind_for({"omega_profile": {"kind": "coning"}}).name
+    'coning'
+    >>> kind_for({"body": {}, "angular_velocity": {}}).name
+    'free-body'
+    """
+    for k in KINDS.values():
+        if k.claims(data):
+            return k
+    return KINDS["free-body"]

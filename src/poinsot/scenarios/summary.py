@@ -1,0 +1,345 @@
+"""The result of a run and its summary, grouped in sections with units.
+
+:class:`ScenarioResult` holds the scenario, the trajectories and what the kind
+knows about the motion (:class:`~poinsot.scenarios.kind.Facts`, the
+:class:`~poinsot.scenarios.kind.Check` quantities); it summarises itself
+(:attr:`ScenarioResult.summary`, a fresh dict each time), describes itself
+(:meth:`ScenarioResult.describe`) and lists its figures
+(:meth:`ScenarioResult.figures`).
+
+Sections of ``summary.json`` (each numeric entry's units in the section's
+``"units"`` object):
+
+- ``scenario``: name, description, source file, kind, the parsed file echoed;
+- ``conventions``: one line;
+- ``body``: mass, inertia, centre of mass, principal moments and axes;
+- ``initial_state``: attitude quaternion, angular velocity in body and space axes;
+- ``results``: what is known in closed form for this kind;
+- ``accuracy``: the method and reference, the integration step, the drift of every
+  conserved quantity (``invariants``, ``reference_invariants``), the comparison with
+  the reference, the thresholds, ``warnings`` and a ``suggested_max_step``;
+- ``run``: output times, wall time, the cost estimate, solver details, versions,
+  notes and (once written) the list of files.
+
+Accuracy thresholds (docs/cli.md): a conserved quantity whose maximum relative
+drift exceeds :data:`DRIFT_THRESHOLD`, or an attitude that differs from the
+reference by more than :data:`ATTITUDE_THRESHOLD` rad, gives a warning (printed by
+``poinsot run``, recorded in ``accuracy.warnings``) with a suggested ``max_step``.
+A scenario may set its own in ``[simulation] drift_threshold`` and
+``attitude_threshold``.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import platform
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from ..trajectory import Trajectory
+from .kind import Check, Entry, Facts, jsonable, section
+from .schema import Scenario
+
+__all__ = [
+    "ScenarioResult",
+    "CONVENTIONS",
+    "DRIFT_THRESHOLD",
+    "ATTITUDE_THRESHOLD",
+    "versions",
+]
+
+#: The conventions of every output, in one line.
+CONVENTIONS = (
+    "Hamilton quaternions, scalar first (w, x, y, z); attitude R maps body to space "
+    "components (v_space = R v_body); omega in body axes (rad/s); angular momentum K in "
+    "space axes (kg m^2/s); SI units; angles in radians."
+)
+
+#: Largest maximum relative drift of a conserved quantity accepted without a warning.
+DRIFT_THRESHOLD = 1e-6
+#: Largest attitude difference from the reference (rad) accepted without a warning.
+ATTITUDE_THRESHOLD = 1e-2
+
+
+def versions() -> dict:
+    """Versions of poinsot, Python, NumPy and SciPy (for ``summary.json``).
+
+    Examples
+    --------
+    >>> sorted(versions())
+    ['numpy', 'poinsot', 'python', 'scipy']
+    """
+    import scipy
+
+    from .. import __version__
+
+    return {
+        "poinsot": __version__,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+    }
+
+
+def _comparison(tr: Trajectory, ref: Trajectory | None) -> dict | None:
+    if ref is None:
+        return None
+    err = (ref.rotation.inv() * tr.rotation).magnitude()
+    dw = np.linalg.norm(np.asarray(tr.omega) - np.asarray(ref.omega), axis=-1)
+    wmax = float(np.max(np.linalg.norm(ref.omega, axis=-1)))
+    return {
+        "reference": ref.method,
+        "max_attitude_error_rad": float(np.max(err)),
+        "final_attitude_error_rad": float(err[-1]),
+        "max_omega_error": float(np.max(dw)),
+        "max_relative_omega_error": float(np.max(dw) / wmax) if wmax > 0 else None,
+        "units": {
+            "max_attitude_error_rad": "rad",
+            "final_attitude_error_rad": "rad",
+            "max_omega_error": "rad/s",
+        },
+    }
+
+
+def _round_step(h: float) -> float:
+    """``h`` rounded down to one significant digit (0.0347 -> 0.03)."""
+    if not (h > 0 and math.isfinite(h)):
+        return h
+    e = math.floor(math.log10(h))
+    return math.floor(h / 10**e) * 10**e
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """The accuracy assessment of a run: warnings and a suggested step."""
+
+    drift_threshold: float
+    attitude_threshold: float
+    integration_step: float | None
+    warnings: tuple[str, ...] = ()
+    suggested_max_step: float | None = None
+
+
+def _assess(scenario: Scenario, checks, ref_checks, comparison) -> Accuracy:
+    kind = scenario.adapter
+    sim = scenario.simulation
+    drift_tol = getattr(sim, "drift_threshold", None) or DRIFT_THRESHOLD
+    att_tol = getattr(sim, "attitude_threshold", None) or ATTITUDE_THRESHOLD
+    numerical = [m for m in (sim.method, sim.reference) if m is not None and m in kind.orders]
+    h = sim.integration_step() if numerical else None
+    warnings: list[str] = []
+    factors: list[tuple[float, int]] = []  # (measured / threshold, order)
+    for method, cks in ((sim.method, checks), (sim.reference, ref_checks)):
+        for c in cks or ():
+            if not c.conserved:
+                continue
+            drift = c.max_relative_deviation
+            if drift > drift_tol:
+                what = f"deviates from {c.law}" if c.law else "drifts"
+                warnings.append(
+                    f"{c.label} {what} by {drift:.2g} (relative) with method {method!r}, "
+                    f"more than the threshold {drift_tol:g}"
+                )
+                if method in kind.orders:
+                    factors.append((drift / drift_tol, kind.orders[method]))
+    if comparison is not None and comparison["max_attitude_error_rad"] > att_tol:
+        err = comparison["max_attitude_error_rad"]
+        warnings.append(
+            f"the attitudes of {sim.method!r} and {sim.reference!r} differ by up to "
+            f"{err:.2g} rad, more than the threshold {att_tol:g} rad"
+        )
+        orders = [kind.orders[m] for m in (sim.method, sim.reference) if m in kind.orders]
+        if orders:
+            factors.append((err / att_tol, min(orders)))
+    suggested = None
+    if factors and h is not None:
+        # error ~ C h^p: a step that brings the worst quantity 10x below its threshold
+        suggested = min(h * (0.1 / ratio) ** (1.0 / p) for ratio, p in factors)
+        suggested = _round_step(suggested)
+    return Accuracy(drift_tol, att_tol, h, tuple(warnings), suggested)
+
+
+@dataclass(frozen=True, eq=False)
+class ScenarioResult:
+    """Outcome of :func:`~poinsot.scenarios.simulate_scenario`.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        The scenario run (with any override applied).
+    trajectory : Trajectory
+        The motion computed by ``simulation.method``.
+    reference : Trajectory or None
+        The motion computed by ``simulation.reference``, on the same times.
+    facts : Facts
+        What the kind knows in closed form (the ``results`` section).
+    checks, reference_checks : tuple of Check
+        Conserved quantities (or known laws) along each trajectory.
+    accuracy : Accuracy
+        Thresholds, warnings and a suggested step.
+    wall_time : float
+        Seconds spent by ``simulation.method``.
+    cost : Cost or None
+        The cost estimated before the run.
+    """
+
+    scenario: Scenario
+    trajectory: Trajectory
+    reference: Trajectory | None
+    facts: Facts = field(default_factory=Facts)
+    checks: tuple[Check, ...] = ()
+    reference_checks: tuple[Check, ...] = ()
+    accuracy: Accuracy | None = None
+    wall_time: float = 0.0
+    cost: Any = None
+
+    @classmethod
+    def build(
+        cls, scenario: Scenario, tr: Trajectory, ref: Trajectory | None, *, wall_time=0.0, cost=None
+    ) -> ScenarioResult:
+        """Ask the scenario's kind for its facts and checks and assess the accuracy."""
+        kind = scenario.adapter
+        checks = tuple(kind.checks(scenario, tr))
+        ref_checks = tuple(kind.checks(scenario, ref)) if ref is not None else ()
+        accuracy = _assess(scenario, checks, ref_checks, _comparison(tr, ref))
+        return cls(
+            scenario,
+            tr,
+            ref,
+            kind.facts(scenario),
+            checks,
+            ref_checks,
+            accuracy,
+            float(wall_time),
+            cost,
+        )
+
+    # ------------------------------------------------------------------ pieces
+    @property
+    def potential(self) -> np.ndarray | None:
+        """Potential energy (J) at each sample of ``trajectory``, or None."""
+        series = self.scenario.adapter.series(self.scenario, self.trajectory)
+        return series["V"][0] if "V" in series else None
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Accuracy warnings (also in ``summary["accuracy"]["warnings"]``)."""
+        return () if self.accuracy is None else self.accuracy.warnings
+
+    def sections(self) -> dict[str, Any]:
+        """The summary sections (a new dict at every call; see the module notes)."""
+        return copy.deepcopy(self._sections)
+
+    @cached_property
+    def _sections(self) -> dict[str, Any]:
+        s = self.scenario
+        kind = s.adapter
+        tr, ref = self.trajectory, self.reference
+        out: dict[str, Any] = {
+            "scenario": {
+                "name": s.name,
+                "description": s.description,
+                "source": s.source,
+                "kind": s.kind,
+                "kind_title": kind.title,
+                "file": jsonable(s.data),
+            },
+            "conventions": CONVENTIONS,
+            "body": self._body(),
+            "initial_state": section(
+                {
+                    "quat": Entry(s.attitude.quat, "1"),
+                    "omega_body": Entry(tr.omega[0], "rad/s"),
+                    "omega_space": Entry(tr.rotation[0].apply(tr.omega[0]), "rad/s"),
+                }
+            ),
+            "results": self.facts.section(),
+        }
+        acc = self.accuracy
+        comparison = _comparison(tr, ref)
+        out["accuracy"] = {
+            "method": tr.method,
+            "reference": None if ref is None else ref.method,
+            "integration_step": None if acc is None else acc.integration_step,
+            "invariants": {c.name: c.entry() for c in self.checks},
+            "reference_invariants": (
+                None if ref is None else {c.name: c.entry() for c in self.reference_checks}
+            ),
+            "comparison": comparison,
+            "drift_threshold": None if acc is None else acc.drift_threshold,
+            "attitude_threshold": None if acc is None else acc.attitude_threshold,
+            "warnings": [] if acc is None else list(acc.warnings),
+            "suggested_max_step": None if acc is None else acc.suggested_max_step,
+            "units": {
+                "integration_step": "s",
+                "attitude_threshold": "rad",
+                "suggested_max_step": "s",
+            },
+        }
+        sim = s.simulation
+        out["run"] = {
+            "method": tr.method,
+            "reference_method": None if ref is None else ref.method,
+            "times": {
+                "duration": sim.duration,
+                "samples": int(tr.t.size),
+                "step": sim.step,
+                "units": "s",
+            },
+            "wall_time_s": self.wall_time,
+            "cost": None
+            if self.cost is None
+            else {
+                "samples": self.cost.samples,
+                "integration_steps": self.cost.steps,
+                "memory_bytes": self.cost.memory_bytes,
+                "seconds": self.cost.seconds,
+            },
+            "info": jsonable(dict(tr.info)),
+            "versions": versions(),
+            "notes": [],
+            "units": {"wall_time_s": "s"},
+        }
+        return out
+
+    def _body(self) -> dict | None:
+        s = self.scenario
+        if s.body is None:
+            return None
+        from ..mass import principal_axes
+
+        b = s.body
+        moments, axes = principal_axes(np.asarray(b.inertia))
+        entries = {
+            "mass": Entry(b.mass, "kg"),
+            "inertia": Entry(b.inertia, "kg m^2"),
+            "center_of_mass": Entry(b.center_of_mass, "m"),
+            "principal_moments": Entry(moments, "kg m^2"),
+            "principal_axes_columns": Entry(axes.as_matrix(), "1"),
+            "shape": b.shape,
+            "dims": Entry(b.dims, "m") if b.dims else None,
+            "parts": [p.name for p in b.parts] or None,
+        }
+        entries.update(s.adapter.body_entries(s))
+        return section(entries)
+
+    @property
+    def summary(self) -> dict:
+        """The JSON-ready summary: :meth:`sections` (a new dict at every access, so
+        that writing the outputs never changes the result)."""
+        return self.sections()
+
+    # ------------------------------------------------------------------ text, figures
+    def describe(self, *, title: str = "poinsot") -> str:
+        """A short human summary (printed by ``poinsot run`` and ``poinsot demo``)."""
+        from .describe import describe
+
+        return describe(self, title=title)
+
+    def figures(self):
+        """The :class:`~poinsot.scenarios.kind.FigureSpec` figures of this run."""
+        return self.scenario.adapter.figures(self)
