@@ -446,7 +446,7 @@ def test_error_callable_output():
         propagate([1, 0, 0, 0], lambda s: [0.0, np.nan if s >= 0.5 else 0.0, 0.0], t, method="rk4")
     with pytest.raises(InvalidInputError, match=r"`omega\(t\)` to return shape \(3,\) at every"):
         propagate([1, 0, 0, 0], lambda s: np.zeros((2, 3)) if s > 0.5 else np.zeros(3), t)
-    with pytest.raises(InvalidTypeError, match=r"`omega\(t\)` to return an array of real"):
+    with pytest.raises(InvalidTypeError, match=r"`omega\(t\)` to be array-like of"):
         propagate([1, 0, 0, 0], lambda s: ["a", "b", "c"], t)
     with pytest.raises(InvalidInputError, match="batch .leading. shapes of `rotation0`"):
         propagate(np.ones((3, 4)), lambda s: np.zeros((2, 3)), t)

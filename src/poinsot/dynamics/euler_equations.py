@@ -614,6 +614,21 @@ def _stages(t, nsub, comp):
                 tn += hk * c
 
 
+def _kernel_args(q, m, inertia, torque, t, nsub, comp):
+    """Contiguous float64 (int64 for ``nsub``) arrays in the order the compiled
+    steppers of :mod:`._euler_numba` take them."""
+    c = np.ascontiguousarray
+    return (
+        c(q, dtype=float),
+        c(m, dtype=float),
+        c(inertia, dtype=float),
+        c(torque, dtype=float),
+        c(t, dtype=float),
+        c(nsub, dtype=np.int64),
+        c(comp, dtype=float),
+    )
+
+
 def _run_midpoint(j, j_inv, q, w, t, h_max, comp, m_const, tfn):
     nsub = _substeps(t, h_max)
     m = np.einsum("...ij,...j->...i", j, w)
@@ -622,16 +637,8 @@ def _run_midpoint(j, j_inv, q, w, t, h_max, comp, m_const, tfn):
         from . import _euler_numba
 
         torque = np.zeros((1, 3)) if m_const is None else m_const
-        c = np.ascontiguousarray
-        Q, MO, status, body, k, it = _euler_numba.midpoint(
-            c(q, dtype=float),
-            c(m, dtype=float),
-            c(j_inv, dtype=float),
-            c(torque, dtype=float),
-            c(t, dtype=float),
-            c(nsub, dtype=np.int64),
-            c(comp, dtype=float),
-        )
+        args = _kernel_args(q, m, j_inv, torque, t, nsub, comp)
+        Q, MO, status, body, k, it = _euler_numba.midpoint(*args)
         if status == 2:
             raise _fail_nonfinite("midpoint", float(t[k]), f"the state of body {body}")
         if status == 1:
@@ -763,16 +770,8 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):
         from . import _euler_numba
 
         mt = np.zeros((1, 3)) if m_const is None else _qrot(s_pb, m_const)
-        c = np.ascontiguousarray
-        Q, MO, status, body, k = _euler_numba.splitting(
-            c(q_np, dtype=float),
-            c(m, dtype=float),
-            c(inv_i, dtype=float),
-            c(mt, dtype=float),
-            c(t, dtype=float),
-            c(nsub, dtype=np.int64),
-            c(comp, dtype=float),
-        )
+        args = _kernel_args(q_np, m, inv_i, mt, t, nsub, comp)
+        Q, MO, status, body, k = _euler_numba.splitting(*args)
         if status == 2:
             raise _fail_nonfinite("splitting", float(t[k]), f"the state of body {body}")
         return _qmul(Q, s_pb), _qrot(s_bp, MO * inv_i), _fixed_step_info(t, nsub, comp)

@@ -31,7 +31,7 @@ from .._validate import (
     batch_shape,
 )
 from .._vec import cross as _cross
-from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..errors import IntegrationError, InvalidInputError
 from ..rotations import quaternion as _quat
 from ..rotations.rotation import Rotation
 from ..rotations.rotvec import quat_from_rotvec
@@ -135,14 +135,8 @@ class _Callable:
         self.nw = math.prod(self.bshape)
 
     def _call(self, s) -> np.ndarray:
-        w = self.fun(s)
-        try:
-            w = np.asarray(w, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InvalidTypeError(
-                f"Expected `omega(t)` to return an array of real numbers: {exc}"
-            ) from None
-        return w
+        # finiteness is checked by the callers, which know the time
+        return as_float_array(self.fun(s), "omega(t)", finite=False)
 
     def at(self, s: np.ndarray) -> np.ndarray:
         """Values at the times ``s`` (1-D), shape ``(len(s), Nw, 3)``, checked finite."""
