@@ -266,3 +266,13 @@ def test_one_way_from_a_mesh_and_scipy_rotations_in_placed():
     moved = body.placed(r)
     s = r.as_matrix()
     np.testing.assert_allclose(moved.inertia, s @ body.inertia @ s.T, atol=1e-15)
+
+
+def test_module_functions_take_principal_moments_too():
+    from poinsot.mass import angular_momentum, kinetic_energy
+
+    m, j, w, v, r = 2.0, [1.0, 2.0, 2.5], [0.3, -1.0, 0.4], [0.1, 0.2, -0.3], [0.0, 1.0, 0.5]
+    assert kinetic_energy(m, j, w, v) == kinetic_energy(m, np.diag(j), w, v)
+    np.testing.assert_array_equal(
+        angular_momentum(m, j, w, v, r), angular_momentum(m, np.diag(j), w, v, r)
+    )

@@ -22,7 +22,7 @@ from .._vec import cross
 from ..errors import InvalidInputError, InvalidTypeError
 from . import solids
 from .meshes import mesh as _mesh
-from .tensor import _as_rotation_matrix, _steiner, _transpose, as_inertia, check_inertia
+from .tensor import _as_rotation_matrix, _steiner, _transpose, as_inertia
 from .tensor import points as _points
 from .tensor import principal_axes as _principal_axes
 
@@ -34,19 +34,19 @@ __all__ = ["RigidBody", "combine", "kinetic_energy", "angular_momentum"]
 # ---------------------------------------------------------------------------
 
 
-def _kinetic_energy(m, j, w, v):
+def _kinetic_energy(m, j, w, v, principal=False):
     """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (the rotational part from
     :mod:`poinsot.dynamics.invariants`, the one place of ``w^T J w / 2``)."""
     from ..dynamics.invariants import _kinetic
 
-    return 0.5 * m * np.einsum("...i,...i->...", v, v) + _kinetic(j, False, w)
+    return 0.5 * m * np.einsum("...i,...i->...", v, v) + _kinetic(j, principal, w)
 
 
-def _angular_momentum(m, j, w, v, r_oc):
+def _angular_momentum(m, j, w, v, r_oc, principal=False):
     """``K_O = J_c w + OC x m V_c`` (``J_c w`` from :mod:`poinsot.dynamics.invariants`)."""
     from ..dynamics.invariants import _momentum
 
-    return _momentum(j, False, w) + cross(r_oc, np.asarray(m)[..., None] * v)
+    return _momentum(j, principal, w) + cross(r_oc, np.asarray(m)[..., None] * v)
 
 
 # ---------------------------------------------------------------------------
@@ -64,8 +64,9 @@ def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
     ----------
     mass : array_like, shape (...)
         Mass, > 0.
-    inertia_cm : array_like, shape (..., 3, 3)
-        Inertia about the centre of mass.
+    inertia_cm : array_like, shape (..., 3, 3) or (..., 3)
+        Inertia about the centre of mass: a tensor, or principal moments (then
+        the vectors are in principal axes).
     omega : array_like, shape (..., 3)
         Angular velocity.
     v_cm : array_like, shape (..., 3), optional
@@ -88,11 +89,11 @@ def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
     6.5
     """
     m = as_positive(mass, "mass")
-    j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
+    j, principal = as_inertia(inertia_cm, "inertia_cm", allow_singular=True)
     w = as_vec3(omega, "omega")
     v = as_vec3(v_cm, "v_cm")
-    batch_shape(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1))
-    return _kinetic_energy(m, j, w, v)
+    batch_shape(mass=(m, 0), inertia_cm=(j, 1 if principal else 2), omega=(w, 1), v_cm=(v, 1))
+    return _kinetic_energy(m, j, w, v, principal)
 
 
 def angular_momentum(
@@ -107,8 +108,9 @@ def angular_momentum(
     ----------
     mass : array_like, shape (...)
         Mass, > 0.
-    inertia_cm : array_like, shape (..., 3, 3)
-        Inertia about the centre of mass ``C``.
+    inertia_cm : array_like, shape (..., 3, 3) or (..., 3)
+        Inertia about the centre of mass ``C``: a tensor, or principal moments
+        (then the vectors are in principal axes).
     omega : array_like, shape (..., 3)
         Angular velocity.
     v_cm : array_like, shape (..., 3), optional
@@ -135,12 +137,13 @@ def angular_momentum(
     array([ 0.,  0., -1.])
     """
     m = as_positive(mass, "mass")
-    j = check_inertia(inertia_cm, "inertia_cm", allow_singular=True)
+    j, principal = as_inertia(inertia_cm, "inertia_cm", allow_singular=True)
     w = as_vec3(omega, "omega")
     v = as_vec3(v_cm, "v_cm")
     r = as_vec3(r_oc, "r_oc")
-    batch_shape(mass=(m, 0), inertia_cm=(j, 2), omega=(w, 1), v_cm=(v, 1), r_oc=(r, 1))
-    return _angular_momentum(m, j, w, v, r)
+    nd = 1 if principal else 2
+    batch_shape(mass=(m, 0), inertia_cm=(j, nd), omega=(w, 1), v_cm=(v, 1), r_oc=(r, 1))
+    return _angular_momentum(m, j, w, v, r, principal)
 
 
 def combine(*bodies: RigidBody) -> RigidBody:
