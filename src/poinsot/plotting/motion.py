@@ -68,7 +68,7 @@ def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
 
     Notes
     -----
-    **Convention:** vectors in fixed-frame components (SPEC S6); units those of
+    **Convention:** vectors in fixed-frame components (theory §6); units those of
     the data (m/s^2 with SI input).
 
     Examples

@@ -5,10 +5,10 @@ JavaScript is embedded once (no CDN, no network access), followed by a single
 figure holding
 
 - an animated 3-D scene in space axes: the body (its shape, or else its
-  inertia ellipsoid ``r^T J r = 1``, SPEC S8), the body axes as three coloured
+  inertia ellipsoid ``r^T J r = 1``, theory §8), the body axes as three coloured
   lines, the angular velocity ``w`` and angular momentum ``K`` vectors, the
   polhode (the track of ``w`` fixed in the body, drawn on the moving body) and
-  the herpolhode (the track of the same point in space, SPEC S10), with
+  the herpolhode (the track of the same point in space, theory §10), with
   play/pause buttons and a time slider;
 - the time series of ``w`` (body axes) and of the relative change of the
   invariants ``T`` and ``|K|`` (their drift for a free body), with a cursor
@@ -122,7 +122,7 @@ def write_report(
     Notes
     -----
     The polhode point is ``r = e / sqrt(e^T J e)`` with ``e = w / |w|`` (the
-    point of the inertia ellipsoid on the instantaneous axis, SPEC S8, S10);
+    point of the inertia ellipsoid on the instantaneous axis, theory §8, §10);
     for a free body the herpolhode then lies in the invariable plane at
     distance ``sqrt(2T)/|K|`` from the fixed point. Drawn with a ``shape`` or
     without ``inertia``, the track is the tip of the scaled ``w`` instead.
@@ -132,7 +132,7 @@ def write_report(
     longest semi-axis 1 (the ellipsoid's size is in ``1/sqrt(kg m^2)``).
 
     **Convention:** the scene is in space axes, ``v_space = R v_body``
-    (SPEC S2); ``w`` is read in body axes and drawn in space axes; times in s,
+    (theory §2); ``w`` is read in body axes and drawn in space axes; times in s,
     angular velocities in rad/s.
 
     Examples
@@ -306,7 +306,7 @@ def _body_mesh(body, J):
     if J is None:
         return v, tri, "body (inertia not given: unit sphere)"
     lam, S = np.linalg.eigh(J)
-    # r^T J r = 1 in principal axes: semi-axes 1/sqrt(lambda_k) along S[:, k] (SPEC S8),
+    # r^T J r = 1 in principal axes: semi-axes 1/sqrt(lambda_k) along S[:, k] (theory §8),
     # drawn scaled by sqrt(lambda_min) (longest semi-axis 1): r^T J r = lambda_min.
     v = (v * np.sqrt(lam[0] / lam)) @ S.T
     return v, tri, "inertia ellipsoid (scaled)"

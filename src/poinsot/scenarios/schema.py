@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from ..dynamics.torques import STANDARD_GRAVITY  # the one value (m/s^2)
+
 __all__ = [
     "PartSpec",
     "BodySpec",
@@ -46,7 +48,6 @@ KINEMATICS_METHODS = ("exact", "magnus4", "rk4", "adaptive")
 TORQUE_MODELS = ("none", "body", "space", "gravity")
 #: Angular velocity units and their factor to rad/s.
 OMEGA_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0, "rpm": 2.0 * np.pi / 60.0, "Hz": 2.0 * np.pi}
-STANDARD_GRAVITY = 9.80665
 #: Most output samples a scenario may have, after every override (``--duration``).
 MAX_SAMPLES = 5_000_000
 

@@ -50,14 +50,31 @@ def simulate_rigid(scenario, inertia, torque, method, t, progress):
     )
 
 
+def torque_model(scenario):
+    """The scenario's ``[torque]`` as a :class:`poinsot.dynamics.TorqueModel` (or None)."""
+    from ...dynamics import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
+
+    tq = scenario.torque
+    if tq is None or tq.model == "none":
+        return None
+    if tq.model == "body":
+        return ConstantBodyTorque(tq.vector)
+    if tq.model == "space":
+        return ConstantSpaceTorque(tq.vector)
+    return GravityTorque(scenario.body.mass, scenario.body.center_of_mass, g=tq.g)
+
+
+def invariants_of(inertia, tr, torque=None):
+    """:func:`poinsot.dynamics.invariants` along a trajectory (docs/theory.md §8, §10)."""
+    from ...dynamics import invariants
+
+    return invariants(inertia, tr.rotation, tr.omega, torque=torque)
+
+
 def with_invariants(inertia, tr):
     """``tr`` with the kinetic energy and the space angular momentum filled in
     (docs/theory.md §8) when they are missing."""
     if tr.energy is not None and tr.momentum is not None:
         return tr
-    from ...dynamics.invariants import angular_momentum, kinetic_energy
-
-    omega = np.asarray(tr.omega)
-    energy = kinetic_energy(inertia, omega)
-    momentum = tr.rotation.apply(angular_momentum(inertia, omega))
-    return dataclasses.replace(tr, energy=energy, momentum=momentum)
+    inv = invariants_of(inertia, tr)
+    return dataclasses.replace(tr, energy=inv.kinetic, momentum=inv.momentum_space)
