@@ -127,10 +127,11 @@ def test_space_torque_momentum_balance_in_simulate():
         [0.3, 1.0, -0.2],
         t,
         torque=ConstantSpaceTorque(m_s),
-        max_step=1e-3,
+        max_step=0.02,
+        order=4,
     )
-    # second-order midpoint with h = 1e-3: observed error 1.4e-7
-    np.testing.assert_allclose(tr.momentum, tr.momentum[0] + t[:, None] * m_s, atol=2e-6)
+    # fourth-order midpoint with h = 0.02: observed error 2.3e-8
+    np.testing.assert_allclose(tr.momentum, tr.momentum[0] + t[:, None] * m_s, atol=5e-7)
 
 
 def test_gravity_model_in_simulate_conserves_energy_and_area_integral():
@@ -138,14 +139,15 @@ def test_gravity_model_in_simulate_conserves_energy_and_area_integral():
 
     top = GravityTorque(1.0, [0.05, 0.0, 0.3], g=9.81)
     j = [1.2, 1.0, 0.5]
-    t = np.linspace(0.0, 3.0, 31)
+    t = np.linspace(0.0, 1.5, 16)
     q0 = SciRotation.from_euler("ZXZ", [0.0, 0.5, 0.0]).as_quat(scalar_first=True)
-    tr = simulate(j, q0, [0.5, 0.2, 12.0], t, torque=top, method="midpoint", order=4, max_step=1e-3)
+    tr = simulate(j, q0, [0.5, 0.2, 12.0], t, torque=top, method="midpoint", order=4, max_step=5e-3)
     inv = invariants(j, tr.rotation, tr.omega, torque=top)
     e = inv.energy
-    assert np.ptp(inv.potential) > 0.05  # the top does nutate
-    assert np.max(np.abs(e - e[0])) < 1e-9 * abs(e[0])
-    assert np.max(np.abs(inv.momentum_z - inv.momentum_z[0])) < 1e-9
+    assert np.ptp(inv.potential) > 0.5  # the top does nutate (V changes by 0.77 J)
+    # order 4, h = 5e-3: observed 1.9e-8 (relative energy), 5.4e-8 (K_z, kg m^2/s)
+    assert np.max(np.abs(e - e[0])) < 5e-7 * abs(e[0])
+    assert np.max(np.abs(inv.momentum_z - inv.momentum_z[0])) < 1e-6
     np.testing.assert_allclose(inv.kinetic, tr.energy, rtol=1e-13)
     np.testing.assert_allclose(inv.momentum_space, tr.momentum, atol=1e-12)
 
