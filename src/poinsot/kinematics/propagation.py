@@ -122,17 +122,18 @@ class _Callable:
             if first.ndim < 2 or first.shape[0] != 1 or first.shape[-1] != 3:
                 raise InvalidInputError(
                     "Expected `omega(t)` with `vectorized=True` to return shape (m, 3) or "
-                    f"(m, N, 3) for m = len(t), got {first.shape} for m = 1."
+                    f"(m, ..., 3) for m = len(t), got {first.shape} for m = 1."
                 )
             self.bshape = first.shape[1:-1]
         else:
             first = self._call(float(t[0]))
             if first.ndim < 1 or first.shape[-1] != 3:
                 raise InvalidInputError(
-                    f"Expected `omega(t)` to return shape (3,) or (N, 3), got {first.shape}."
+                    f"Expected `omega(t)` to return shape (..., 3), got {first.shape}."
                 )
             self.bshape = first.shape[:-1]
         self.nw = math.prod(self.bshape)
+        self.expand_to: tuple[int, ...] | None = None  # batch shape to broadcast to
 
     def _call(self, s) -> np.ndarray:
         # finiteness is checked by the callers, which know the time
@@ -170,6 +171,11 @@ class _Callable:
                 f"Expected `omega(t)` to return only finite values, got {w[bad][0]} "
                 f"at t = {float(s[k])!r}."
             )
+        if self.expand_to is not None:
+            pad = (1,) * (len(self.expand_to) - len(self.bshape))
+            w = w.reshape((len(s),) + pad + self.bshape + (3,))
+            w = np.broadcast_to(w, (len(s),) + self.expand_to + (3,))
+            return w.reshape(len(s), -1, 3)
         return w.reshape(len(s), self.nw, 3)
 
     def at_outputs(self) -> np.ndarray:
@@ -352,18 +358,19 @@ def propagate(
 
     Parameters
     ----------
-    rotation0 : Rotation or array_like, shape (4,) or (N, 4)
+    rotation0 : Rotation or array_like, shape (..., 4)
         Attitude at ``t[0]`` (body -> space): a :class:`~poinsot.Rotation`, a
         SciPy ``Rotation`` (converted with ``as_quat(scalar_first=True)``) or
-        scalar-first quaternions (normalised here; zero is an error). A leading
-        shape ``(N,)`` propagates a batch of N bodies at once.
+        scalar-first quaternions (normalised here; zero is an error). Leading
+        (batch) dimensions propagate many bodies at once; they broadcast with
+        those of ``omega``.
     omega : callable or array_like
         Angular velocity (rad/s) in the axes named by ``frame``, either
 
-        - a callable ``omega(t) -> (3,)`` (shared by all bodies) or ``(N, 3)``;
+        - a callable ``omega(t) -> (3,)`` (shared by all bodies) or ``(..., 3)``;
           with ``vectorized=True`` it receives an array of times of shape ``(m,)``
-          and returns ``(m, 3)`` or ``(m, N, 3)``;
-        - samples on ``t``, shape ``(len(t), 3)`` or ``(len(t), N, 3)``. Between
+          and returns ``(m, 3)`` or ``(m, ..., 3)``;
+        - samples on ``t``, shape ``(len(t), 3)`` or ``(len(t), ..., 3)``. Between
           samples, ``"magnus4"``, ``"magnus6"``, ``"rk4"`` and ``"adaptive"`` evaluate the
           not-a-knot cubic spline through the samples (needs at least 4
           samples); ``"exponential"`` holds ``w_k`` constant on ``[t_k, t_{k+1})``
@@ -402,7 +409,7 @@ def propagate(
     Returns
     -------
     Trajectory
-        ``t``; ``rotation`` of shape ``(n,)`` (or ``(n, N)``), unit norm to
+        ``t``; ``rotation`` of shape ``(n,)`` (or ``(n, *batch)``), unit norm to
         round-off; ``omega`` in **body** axes at ``t``, shape ``(n, 3)`` (or
         ``(n, N, 3)``), converted by ``w_xi = L~ o w_x o L`` if ``frame="space"``;
         ``method``; ``info`` with ``frame``, ``omega_input``; fixed-step:
@@ -499,7 +506,7 @@ def propagate(
         w = as_float_array(omega, "omega")
         if w.ndim < 2 or w.shape[0] != len(t) or w.shape[-1] != 3:
             raise InvalidInputError(
-                f"Expected `omega` samples to have shape (len(t), 3) or (len(t), N, 3) "
+                f"Expected `omega` samples to have shape (len(t), 3) or (len(t), ..., 3) "
                 f"with len(t) = {len(t)}, got {w.shape}."
             )
         if len(t) < need:
@@ -509,12 +516,18 @@ def propagate(
                 f"({why}), got {len(t)}."
             )
         wshape = w.shape[1:-1]
-        src = _Samples(t, w.reshape(len(t), -1, 3), hold=method == "exponential")
     bshape = batch_shape(rotation0=(q, 1), omega=(wshape, 0))
-    if len(bshape) > 1:
-        raise InvalidInputError(
-            f"Expected one body or a batch of shape (N,), got batch shape {bshape}."
-        )
+    # flattened omega must be one row or one row per body: broadcast it to the batch
+    # when its batch shape differs from the bodies' (e.g. (3,) against (2, 3))
+    padded = (1,) * (len(bshape) - len(wshape)) + tuple(wshape)
+    expand = padded != bshape and math.prod(wshape) != 1
+    if callable(omega):
+        if expand:
+            src.expand_to = bshape
+    else:
+        if expand:
+            w = np.broadcast_to(w.reshape((len(t),) + padded + (3,)), (len(t),) + bshape + (3,))
+        src = _Samples(t, w.reshape(len(t), -1, 3), hold=method == "exponential")
     n_bodies = math.prod(bshape)
     qn = np.ascontiguousarray(np.broadcast_to(q, bshape + (4,)).reshape(n_bodies, 4))
 
