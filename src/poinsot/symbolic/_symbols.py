@@ -1,0 +1,124 @@
+"""Coordinates as SymPy objects: names, plain symbols and functions of time.
+
+Internally every derivation differentiates with respect to plain symbols (fast and
+unambiguous): a coordinate ``q`` is the symbol ``q``, its velocity ``u`` and its
+acceleration ``a``; the results are handed back in terms of ``dynamicsymbols``
+(``q(t)``, ``q'(t)``, ``q''(t)``), as ``sympy.physics.mechanics`` users expect.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ..errors import InvalidInputError, InvalidTypeError
+
+
+def default_time():
+    """SymPy's time symbol ``t`` used by :func:`sympy.physics.mechanics.dynamicsymbols`."""
+    from sympy.physics.mechanics import dynamicsymbols
+
+    return dynamicsymbols._t
+
+
+@dataclass(frozen=True)
+class Coordinates:
+    """Generalized coordinates in three spellings.
+
+    ``given`` as the user passed them (symbols or functions of time), ``funcs``
+    ``q(t)``, ``plain`` the symbols ``q``, ``vel`` / ``acc`` plain symbols standing
+    for ``q'`` and ``q''``; ``time`` the time symbol.
+    """
+
+    given: tuple
+    funcs: tuple
+    plain: tuple
+    vel: tuple
+    acc: tuple
+    time: object
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(str(getattr(f, "func", f)) for f in self.funcs)
+
+    @property
+    def velocities(self) -> tuple:
+        """``q'(t)`` for each coordinate."""
+        return tuple(f.diff(self.time) for f in self.funcs)
+
+    def to_plain(self, expr):
+        """``q(t), q'(t), q''(t)`` (and given plain symbols) -> plain symbols."""
+        import sympy
+
+        t = self.time
+        sub = {}
+        for f, v, a in zip(self.funcs, self.vel, self.acc, strict=True):
+            sub[f.diff(t, 2)] = a
+            sub[f.diff(t)] = v
+        expr = sympy.sympify(expr)
+        expr = expr.subs(sub)
+        return expr.subs({f: p for f, p in zip(self.funcs, self.plain, strict=True)})
+
+    def to_funcs(self, expr):
+        """Plain symbols -> ``q(t), q'(t), q''(t)``."""
+        import sympy
+
+        t = self.time
+        sub = {}
+        for f, p, v, a in zip(self.funcs, self.plain, self.vel, self.acc, strict=True):
+            sub[p] = f
+            sub[v] = f.diff(t)
+            sub[a] = f.diff(t, 2)
+        return sympy.sympify(expr).xreplace(sub)
+
+    def time_derivative(self, expr):
+        """``d/dt`` of an expression in plain symbols (``q, u`` -> ``u, a``)."""
+        out = expr.diff(self.time)
+        for p, v, a in zip(self.plain, self.vel, self.acc, strict=True):
+            out += expr.diff(p) * v + expr.diff(v) * a
+        return out
+
+
+def as_coordinates(coordinates, time=None, name: str = "coordinates") -> Coordinates:
+    """Validate ``coordinates``: names, SymPy symbols or functions of ``time``."""
+    import sympy
+    from sympy.core.function import AppliedUndef
+
+    t = default_time() if time is None else time
+    if not isinstance(t, sympy.Symbol):
+        raise InvalidTypeError(f"Expected `time` to be a SymPy Symbol, got {t!r}.")
+    if isinstance(coordinates, str):
+        coordinates = coordinates.replace(",", " ").split()
+    if not isinstance(coordinates, Sequence) or isinstance(coordinates, sympy.Basic):
+        coordinates = list(coordinates) if isinstance(coordinates, sympy.MatrixBase) else None
+    if not coordinates:
+        raise InvalidInputError(
+            f"Expected `{name}` to be a non-empty sequence of names, SymPy symbols or "
+            f"functions of time, got {coordinates!r}."
+        )
+    given, funcs, plain = [], [], []
+    for c in coordinates:
+        if isinstance(c, str):
+            if not c.isidentifier() or c.startswith("_"):
+                raise InvalidInputError(
+                    f"Expected `{name}` names to be identifiers not starting with '_', got {c!r}."
+                )
+            c = sympy.Function(c)(t)
+        if isinstance(c, AppliedUndef) and c.args == (t,):
+            fname = c.func.__name__
+            funcs.append(c)
+            plain.append(sympy.Dummy(fname))
+        elif isinstance(c, sympy.Symbol) and c != t:
+            funcs.append(sympy.Function(c.name)(t))
+            plain.append(c)
+        else:
+            raise InvalidTypeError(
+                f"Expected each of `{name}` to be a name, a SymPy Symbol or a function of "
+                f"{t} (dynamicsymbols), got {c!r}."
+            )
+        given.append(c)
+    if len(set(funcs)) != len(funcs):
+        raise InvalidInputError(f"Expected `{name}` to be distinct, got {given}.")
+    vel = tuple(sympy.Dummy(f"{f.func.__name__}_dot") for f in funcs)
+    acc = tuple(sympy.Dummy(f"{f.func.__name__}_ddot") for f in funcs)
+    return Coordinates(tuple(given), tuple(funcs), tuple(plain), vel, acc, t)

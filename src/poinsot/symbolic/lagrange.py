@@ -1,0 +1,669 @@
+"""Lagrange's equations of the second kind (docs/theory.md §11).
+
+For generalized coordinates ``q`` with velocities ``q'``, kinetic energy
+``T(q, q', t)``, potential ``P(q, t)``, a generalized potential
+``V = q'^T Y(q, t) + V0(q, t)`` and non-potential generalized forces ``Q*``:
+
+``E_k L = Q*_k + sum_j lambda_j A_jk``,  ``L = T - P - V``,
+``E_k = d/dt d/dq'^k - d/dq^k``,
+
+with the constraints kept as ``A(q, t) q' + b(q, t) = 0`` (a holonomic
+``f(q, t) = 0`` enters through ``A = df/dq``, ``b = df/dt``; a kinematic,
+possibly non-holonomic one ``C(q, t) q' + b = 0`` as it is) and their
+multipliers ``lambda``. Writing ``E_k L = sum_j M_kj q''_j - (F_k - Q*_k)``:
+
+``M = d^2 L / dq' dq'``,
+``F = Q* + dL/dq - (d^2 L / dq' dq) q' - d^2 L / dq' dt``,
+
+and the equations of motion are the linear system
+
+``[[M, -A^T], [A, 0]] [q'', lambda] = [F, -gamma]``,  ``gamma = (d/dt)(A q' + b) - A q''``.
+
+The derivation differentiates with respect to plain symbols standing for ``q``,
+``q'`` (no time derivatives of ``dynamicsymbols``); ``M`` is never inverted
+symbolically: :meth:`LagrangeSystem.to_numeric` solves the system numerically.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from functools import cached_property
+
+from ..errors import InvalidInputError, InvalidTypeError
+from ._symbols import Coordinates, as_coordinates
+
+__all__ = ["LagrangeSystem"]
+
+
+def _is_zero(expr) -> bool:
+    import sympy
+
+    if expr == 0:
+        return True
+    e = sympy.expand(expr)
+    if e == 0:
+        return True
+    return sympy.simplify(e) == 0
+
+
+def _expr(value, name: str, coords: Coordinates):
+    import sympy
+    from sympy.core.function import AppliedUndef
+
+    if isinstance(value, str):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be a SymPy expression, got the string {value!r} "
+            "(parse text with poinsot.symbolic.parse_expression)."
+        )
+    try:
+        e = sympy.sympify(value, strict=True)
+    except (sympy.SympifyError, TypeError):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be a SymPy expression or a number, got {type(value).__name__}."
+        ) from None
+    if not isinstance(e, sympy.Expr):
+        raise InvalidTypeError(f"Expected `{name}` to be a scalar expression, got {e!r}.")
+    plain = coords.to_plain(e)
+    stray = [f for f in plain.atoms(AppliedUndef)] + [d for d in plain.atoms(sympy.Derivative)]
+    if stray:
+        raise InvalidInputError(
+            f"Expected `{name}` to depend on the coordinates {list(coords.funcs)}, their "
+            f"first derivatives, parameters and {coords.time} only, found {stray[0]}."
+        )
+    if set(coords.acc) & plain.free_symbols:
+        raise InvalidInputError(f"Expected `{name}` not to depend on accelerations, got {e}.")
+    return plain
+
+
+def _matrix(value, name: str, coords: Coordinates, n: int):
+    import sympy
+
+    m = sympy.Matrix(value)
+    if m.shape != (n, n):
+        raise InvalidInputError(f"Expected `{name}` to be a {n}x{n} matrix, got shape {m.shape}.")
+    return m.applyfunc(lambda e: _expr(e, name, coords))
+
+
+class LagrangeSystem:
+    """A mechanical system given by its Lagrangian (theory §11).
+
+    ``E_k L = Q*_k`` with ``L = T - P`` (minus a generalized potential), plus
+    constraint forces with multipliers.
+
+    Parameters
+    ----------
+    coordinates : sequence of str, sympy.Symbol or dynamicsymbols
+        Generalized coordinates ``q^k``; names and symbols become functions of
+        ``time`` (``dynamicsymbols``).
+    kinetic : sympy.Expr
+        Kinetic energy ``T(q, q', t)``, written with ``q(t)`` and ``q(t).diff(t)``.
+    potential : sympy.Expr, optional
+        Potential energy ``P(q, t)`` (default 0).
+    generalized_forces : sequence of n expressions or (n, n) matrix, optional
+        Non-potential forces ``Q*_k(q, q', t)``, or an antisymmetric gyroscopic
+        matrix ``G(q, t)`` meaning ``Q* = G q'`` (``G^T = -G``; checked).
+    generalized_potential : sympy.Expr or (n, n) matrix, optional
+        ``V(q, q', t)`` with ``Q_k = E_k V``; it must be linear in the velocities,
+        ``V = q'^T Y(q, t) + V0(q, t)`` (anything else is rejected with the
+        reason). A constant antisymmetric matrix ``G`` means ``V = q'^T G q / 2``
+        (gyroscopic forces ``Q = G q'``).
+    holonomic : sequence of sympy.Expr, optional
+        Constraints ``f_j(q, t) = 0``, kept with multipliers unless eliminated.
+    nonholonomic : sequence of sympy.Expr, optional
+        Kinematic constraints ``c_j = C_j(q, t) q' + b_j(q, t) = 0`` (linear in the
+        velocities; checked), e.g. the Chaplygin sleigh ``y' cos(phi) - x' sin(phi)``.
+    eliminate : sequence, optional
+        Coordinates to eliminate with the holonomic constraints (as many as
+        there are constraints): the constraints are solved for them and
+        substituted (the reduced system has the other coordinates and no
+        multipliers for them). Default: keep every coordinate, with multipliers.
+    time : sympy.Symbol, optional
+        The time symbol (default ``dynamicsymbols._t``).
+
+    Notes
+    -----
+    Sign of the multipliers: ``E_k L = Q*_k + sum_j lambda_j A_jk`` where the
+    constraints read ``A q' + b = 0`` at the velocity level (``A = df/dq`` for a
+    holonomic ``f``). Equations, energy, momenta are returned in terms of
+    ``q(t)``, ``q'(t)``, ``q''(t)``. See ``docs/lagrange.md``.
+
+    **Convention:** SI units; ``mass_matrix``/``forcing`` are ``M``, ``F`` with
+    ``M q'' = F + A^T lambda``; parameters are the remaining free symbols.
+
+    Examples
+    --------
+    A pendulum of length ``l``, angle ``theta`` from the downward vertical:
+
+    >>> import sympy
+    >>> from sympy.physics.mechanics import dynamicsymbols
+    >>> th = dynamicsymbols("theta")
+    >>> m, g, l = sympy.symbols("m g l", positive=True)
+    >>> pend = LagrangeSystem([th], m * l**2 * th.diff() ** 2 / 2, -m * g * l * sympy.cos(th))
+    >>> pend.mass_matrix, pend.forcing
+    (Matrix([[l**2*m]]), Matrix([[-g*l*m*sin(theta(t))]]))
+    >>> pend.energy()
+    -g*l*m*cos(theta(t)) + l**2*m*Derivative(theta(t), t)**2/2
+    """
+
+    def __init__(
+        self,
+        coordinates,
+        kinetic,
+        potential=0,
+        *,
+        generalized_forces=None,
+        generalized_potential=None,
+        holonomic=(),
+        nonholonomic=(),
+        eliminate=(),
+        time=None,
+    ):
+        import sympy
+
+        c = as_coordinates(coordinates, time)
+        n = len(c.plain)
+        t = c.time
+        T = _expr(kinetic, "kinetic", c)
+        P = _expr(potential, "potential", c)
+        if set(c.vel) & P.free_symbols:
+            raise InvalidInputError(
+                f"Expected `potential` not to depend on the velocities, got {potential} "
+                "(velocity-dependent forces go in `generalized_potential`)."
+            )
+        # generalized potential
+        V = sympy.Integer(0)
+        if generalized_potential is not None:
+            if isinstance(generalized_potential, sympy.MatrixBase | list | tuple):
+                G = _matrix(generalized_potential, "generalized_potential", c, n)
+                if not all(_is_zero(e) for e in G + G.T):
+                    raise InvalidInputError(
+                        "Expected `generalized_potential` given as a matrix to be antisymmetric "
+                        f"(G^T = -G), got {G}."
+                    )
+                if (G.free_symbols & (set(c.plain) | {t})) or (G.free_symbols & set(c.vel)):
+                    raise InvalidInputError(
+                        "Expected the gyroscopic matrix in `generalized_potential` to be "
+                        f"constant (V = q'^T G q / 2), got {G}; pass a G(q, t) as "
+                        "`generalized_forces`."
+                    )
+                V = (sympy.Matrix([c.vel]) * G * sympy.Matrix(c.plain))[0, 0] / 2
+            else:
+                V = _expr(generalized_potential, "generalized_potential", c)
+            for i in range(n):
+                for k in range(i, n):
+                    d2 = V.diff(c.vel[i], c.vel[k])
+                    if not _is_zero(d2):
+                        raise InvalidInputError(
+                            "Expected `generalized_potential` to be linear in the velocities "
+                            "(V = q'^T Y(q, t) + V0(q, t), docs/theory.md §11), but "
+                            f"d^2V/d{c.velocities[i]}d{c.velocities[k]} = "
+                            f"{c.to_funcs(d2)} is not zero."
+                        )
+        # non-potential forces
+        Q = sympy.zeros(n, 1)
+        self._gyroscopic = True
+        if generalized_forces is not None:
+            gf = generalized_forces
+            if (
+                isinstance(gf, sympy.MatrixBase)
+                and gf.shape == (n, n)
+                and n > 1
+                or (isinstance(gf, list | tuple) and gf and isinstance(gf[0], list | tuple))
+            ):
+                G = _matrix(gf, "generalized_forces", c, n)
+                if not all(_is_zero(e) for e in G + G.T):
+                    raise InvalidInputError(
+                        "Expected the gyroscopic matrix `generalized_forces` to be "
+                        f"antisymmetric (G^T = -G), got {G}."
+                    )
+                if G.free_symbols & set(c.vel):
+                    raise InvalidInputError(
+                        "Expected the gyroscopic matrix G(q, t) not to depend on velocities, "
+                        f"got {G}."
+                    )
+                Q = G * sympy.Matrix(c.vel)
+            else:
+                items = list(gf) if not isinstance(gf, sympy.Basic) or gf.is_Matrix else [gf]
+                if len(items) != n:
+                    raise InvalidInputError(
+                        f"Expected `generalized_forces` to have {n} components (one per "
+                        f"coordinate) or be an {n}x{n} gyroscopic matrix, got {len(items)}."
+                    )
+                Q = sympy.Matrix([_expr(e, "generalized_forces", c) for e in items])
+                self._gyroscopic = all(_is_zero(e) for e in Q)
+        hol = [_expr(f, "holonomic", c) for f in _seq(holonomic, "holonomic")]
+        for f in hol:
+            if f.free_symbols & set(c.vel):
+                raise InvalidInputError(
+                    f"Expected `holonomic` constraints f(q, t) without velocities, got "
+                    f"{c.to_funcs(f)} (put kinematic constraints in `nonholonomic`)."
+                )
+        nonhol = [_expr(f, "nonholonomic", c) for f in _seq(nonholonomic, "nonholonomic")]
+        for f in nonhol:
+            for i in range(n):
+                for k in range(i, n):
+                    if not _is_zero(f.diff(c.vel[i], c.vel[k])):
+                        raise InvalidInputError(
+                            "Expected `nonholonomic` constraints linear in the velocities "
+                            f"(C(q, t) q' + b = 0), got {c.to_funcs(f)}."
+                        )
+        elim = list(_seq(eliminate, "eliminate"))
+        if elim:
+            c, T, P, V, Q, hol, nonhol = _eliminate(c, elim, T, P, V, Q, hol, nonhol)
+        self._c = c
+        self._T, self._P, self._V, self._Q = T, P, V, Q
+        self._hol, self._nonhol = tuple(hol), tuple(nonhol)
+
+    # ------------------------------------------------------------------ basics
+    @property
+    def coordinates(self) -> tuple:
+        """The generalized coordinates ``q(t)`` (after any elimination)."""
+        return self._c.funcs
+
+    @property
+    def velocities(self) -> tuple:
+        """``q'(t)``."""
+        return self._c.velocities
+
+    @property
+    def time(self):
+        """The time symbol."""
+        return self._c.time
+
+    @cached_property
+    def _L(self):
+        return self._T - self._P - self._V
+
+    @property
+    def lagrangian(self):
+        """``L = T - P - V`` in ``q(t)``, ``q'(t)``."""
+        return self._c.to_funcs(self._L)
+
+    @property
+    def kinetic(self):
+        """The kinetic energy ``T``."""
+        return self._c.to_funcs(self._T)
+
+    @property
+    def potential(self):
+        """The potential energy ``P``."""
+        return self._c.to_funcs(self._P)
+
+    @cached_property
+    def parameters(self) -> tuple:
+        """The free symbols other than coordinates and time, sorted by name."""
+        exprs = [self._T, self._P, self._V, *self._Q, *self._hol, *self._nonhol]
+        known = set(self._c.plain) | set(self._c.vel) | {self._c.time}
+        free = set().union(*(e.free_symbols for e in exprs)) - known
+        return tuple(sorted(free, key=lambda s: s.name))
+
+    @property
+    def multipliers(self) -> tuple:
+        """The multiplier functions ``lambda_j(t)``, one per kept constraint."""
+        from sympy.physics.mechanics import dynamicsymbols
+
+        m = len(self._hol) + len(self._nonhol)
+        return tuple(dynamicsymbols(f"lam{j + 1}") for j in range(m))
+
+    # ------------------------------------------------------------- derivation
+    @cached_property
+    def _MF(self):
+        import sympy
+
+        c, L = self._c, self._L
+        n = len(c.plain)
+        dLdu = [L.diff(u) for u in c.vel]
+        M = sympy.zeros(n, n)
+        for k in range(n):
+            for j in range(k, n):
+                M[k, j] = M[j, k] = dLdu[k].diff(c.vel[j])
+        F = sympy.zeros(n, 1)
+        for k in range(n):
+            f = self._Q[k] + L.diff(c.plain[k]) - dLdu[k].diff(c.time)
+            for j in range(n):
+                f -= dLdu[k].diff(c.plain[j]) * c.vel[j]
+            F[k] = f
+        return M, F
+
+    @cached_property
+    def _constraints(self):
+        """``A`` (m, n), ``b`` (m,), ``gamma`` (m,) in plain symbols."""
+        import sympy
+
+        c = self._c
+        n = len(c.plain)
+        rows, bias = [], []
+        for f in self._hol:
+            rows.append([f.diff(q) for q in c.plain])
+            bias.append(f.diff(c.time))
+        for f in self._nonhol:
+            row = [f.diff(u) for u in c.vel]
+            rows.append(row)
+            bias.append(sympy.expand(f - sum(r * u for r, u in zip(row, c.vel, strict=True))))
+        m = len(rows)
+        A = sympy.Matrix(m, n, [e for r in rows for e in r]) if m else sympy.zeros(0, n)
+        b = sympy.Matrix(bias) if m else sympy.zeros(0, 1)
+        zero_acc = dict.fromkeys(c.acc, 0)
+        gamma = (
+            sympy.Matrix(
+                [
+                    c.time_derivative(
+                        sum((A[j, k] * c.vel[k] for k in range(n)), start=b[j])
+                    ).xreplace(zero_acc)
+                    for j in range(m)
+                ]
+            )
+            if m
+            else sympy.zeros(0, 1)
+        )
+        return A, b, gamma
+
+    @property
+    def mass_matrix(self):
+        """``M = d^2 L / dq' dq'`` (n, n), in ``q(t)``, ``q'(t)``."""
+        return self._c.to_funcs(self._MF[0])
+
+    @property
+    def forcing(self):
+        """``F`` with ``M q'' = F + A^T lambda`` (n, 1): ``Q* + dL/dq - L_q'q q' - L_q't``."""
+        return self._c.to_funcs(self._MF[1])
+
+    @property
+    def constraint_matrix(self):
+        """``A`` (m, n) of the kept constraints ``A q' + b = 0``."""
+        return self._c.to_funcs(self._constraints[0])
+
+    @property
+    def constraint_bias(self):
+        """``b`` (m, 1) of the kept constraints ``A q' + b = 0``."""
+        return self._c.to_funcs(self._constraints[1])
+
+    @property
+    def constraint_acceleration(self):
+        """``gamma`` (m, 1): the constraints differentiated read ``A q'' + gamma = 0``."""
+        return self._c.to_funcs(self._constraints[2])
+
+    def equations(self, *, simplify: bool = True) -> list:
+        """Lagrange's equations ``E_k L = Q*_k + sum_j lambda_j A_jk`` (theory §11).
+
+        Returns
+        -------
+        list of sympy.Eq
+            One per coordinate: the left side is ``E_k L`` (``T - P - V``
+            differentiated), the right side the non-potential force plus the
+            constraint forces. ``simplify`` applies ``trigsimp``.
+
+        Examples
+        --------
+        >>> import sympy
+        >>> x = sympy.Function("x")(sympy.Symbol("t"))
+        >>> LagrangeSystem([x], x.diff() ** 2 / 2, x**2 / 2).equations()
+        [Eq(x(t) + Derivative(x(t), (t, 2)), 0)]
+        """
+        import sympy
+
+        c = self._c
+        M, F = self._MF
+        A = self._constraints[0]
+        lam = self.multipliers
+        out = []
+        for k in range(len(c.plain)):
+            lhs = sum((M[k, j] * c.acc[j] for j in range(len(c.plain))), start=0)
+            lhs = lhs - (F[k] - self._Q[k])
+            rhs = self._Q[k] + sum((lam[j] * A[j, k] for j in range(A.shape[0])), start=0)
+            lhs, rhs = sympy.expand(lhs), c.to_funcs(rhs)
+            if simplify:
+                lhs, rhs = sympy.trigsimp(lhs), sympy.trigsimp(rhs)
+            out.append(sympy.Eq(c.to_funcs(lhs), rhs))
+        return out
+
+    # ----------------------------------------------------------- integrals
+    @cached_property
+    def _energy_plain(self):
+        import sympy
+
+        c = self._c
+        V0 = self._V - sum((self._V.diff(u) * u for u in c.vel), start=0)
+        return self._T + self._P + sympy.expand(V0)
+
+    def energy(self):
+        """Mechanical energy ``T + P + V0`` (``V0`` the velocity-free part of ``V``).
+
+        Conserved when nothing depends on time explicitly and ``T`` is quadratic
+        in the velocities (then it equals the Jacobi integral).
+        """
+        return self._c.to_funcs(self._energy_plain)
+
+    @cached_property
+    def _jacobi_plain(self):
+        import sympy
+
+        c, L = self._c, self._L
+        return sympy.expand(sum((L.diff(u) * u for u in c.vel), start=0) - L)
+
+    @property
+    def is_autonomous(self) -> bool:
+        """Whether ``L``, the forces and the constraints do not depend on time explicitly."""
+        t = self._c.time
+        exprs = [self._L, *self._Q, *self._hol, *self._nonhol]
+        return not any(t in e.free_symbols for e in exprs)
+
+    @property
+    def jacobi_conserved(self) -> bool:
+        """Whether the Jacobi integral is a first integral.
+
+        True when the system is autonomous, the non-potential forces are
+        gyroscopic (or absent) and the kept constraints are ``A(q) q' = 0``
+        (holonomic time-independent, or homogeneous kinematic ones).
+        """
+        if not self.is_autonomous or not self._gyroscopic:
+            return False
+        b = self._constraints[1]
+        return all(_is_zero(e) for e in b)
+
+    def jacobi_integral(self):
+        """The Jacobi integral ``h = q'^k dL/dq'^k - L`` (theory §11).
+
+        Equal to ``T2 - T0 + P + V0`` when ``T = T2 + T1 + T0`` by degree in the
+        velocities; the energy when ``T = T2``.
+
+        Raises
+        ------
+        InvalidInputError
+            If ``L`` depends on time explicitly (then ``h`` is not conserved).
+
+        Examples
+        --------
+        A bead on a hoop of radius ``R`` spinning at ``w`` about the vertical:
+
+        >>> import sympy
+        >>> th = sympy.Function("theta")(sympy.Symbol("t"))
+        >>> m, R, w, g = sympy.symbols("m R omega g", positive=True)
+        >>> T = m * R**2 * (th.diff() ** 2 + w**2 * sympy.sin(th) ** 2) / 2
+        >>> h = LagrangeSystem([th], T, -m * g * R * sympy.cos(th)).jacobi_integral()
+        >>> sympy.expand(h - (T - 2 * m * R**2 * w**2 * sympy.sin(th) ** 2 / 2
+        ...                   - m * g * R * sympy.cos(th)))
+        0
+        """
+        if self._c.time in self._L.free_symbols:
+            raise InvalidInputError(
+                "The Lagrangian depends on time explicitly, so there is no Jacobi integral "
+                f"(L = {self.lagrangian})."
+            )
+        return self._c.to_funcs(self._jacobi_plain)
+
+    @cached_property
+    def _cyclic(self):
+        c = self._c
+        A, b, _ = self._constraints
+        cons = [*self._hol, *self._nonhol]
+        out = []
+        for k, q in enumerate(c.plain):
+            if q in self._L.free_symbols or not _is_zero(self._Q[k]):
+                continue
+            if any(q in e.free_symbols for e in cons):
+                continue
+            if any(A[j, k] != 0 for j in range(A.shape[0])):
+                continue
+            out.append(k)
+        return tuple(out)
+
+    @property
+    def cyclic_coordinates(self) -> tuple:
+        """Coordinates absent from ``L`` with no force or constraint acting on them."""
+        return tuple(self._c.funcs[k] for k in self._cyclic)
+
+    @property
+    def momenta(self) -> tuple:
+        """Generalized momenta ``p_k = dL/dq'^k``."""
+        return tuple(self._c.to_funcs(self._L.diff(u)) for u in self._c.vel)
+
+    @property
+    def cyclic_momenta(self) -> dict:
+        """``{q_k: p_k}`` for each cyclic coordinate: conserved momenta."""
+        mom = self.momenta
+        return {self._c.funcs[k]: mom[k] for k in self._cyclic}
+
+    def conserved_quantities(self) -> dict:
+        """First integrals found: ``"jacobi"`` (when conserved) and ``"p_<q>"`` per
+        cyclic coordinate, as expressions in ``q(t)``, ``q'(t)``."""
+        out = {}
+        if self.jacobi_conserved:
+            out["jacobi"] = self.jacobi_integral()
+        for q, p in self.cyclic_momenta.items():
+            out[f"p_{q.func.__name__}"] = p
+        return out
+
+    # ---------------------------------------------------------------- numbers
+    def to_numeric(self, parameters=None):
+        """A compiled right-hand side ``f(t, y, params=None)``, ``y = [q, q']``.
+
+        See :class:`poinsot.symbolic.NumericLagrangian`.
+
+        Parameters
+        ----------
+        parameters : mapping of str or Symbol to float, optional
+            Default values of the parameters (overridable per call).
+
+        Examples
+        --------
+        >>> import numpy as np, sympy
+        >>> th = sympy.Function("theta")(sympy.Symbol("t"))
+        >>> g = sympy.Symbol("g")
+        >>> f = LagrangeSystem([th], th.diff() ** 2 / 2, -g * sympy.cos(th)).to_numeric({"g": 9.81})
+        >>> f(0.0, np.array([np.pi / 2, 0.0]))
+        array([ 0.  , -9.81])
+        """
+        from .numeric import NumericLagrangian
+
+        key = None
+        if parameters is None or isinstance(parameters, Mapping):
+            key = tuple(sorted((str(k), float(v)) for k, v in (parameters or {}).items()))
+            cache = self.__dict__.setdefault("_numeric_cache", {})
+            if key in cache:
+                return cache[key]
+        out = NumericLagrangian(self, parameters)
+        if key is not None:
+            self.__dict__["_numeric_cache"][key] = out
+        return out
+
+    def simulate(self, q0, qdot0, t, *, parameters=None, **options):
+        """Integrate the equations of motion (see :meth:`NumericLagrangian.simulate`).
+
+        Examples
+        --------
+        >>> import numpy as np, sympy
+        >>> x = sympy.Function("x")(sympy.Symbol("t"))
+        >>> osc = LagrangeSystem([x], x.diff() ** 2 / 2, x**2 / 2)
+        >>> tr = osc.simulate([1.0], [0.0], np.linspace(0.0, np.pi, 3))
+        >>> np.round(tr.q[:, 0], 8)
+        array([ 1.,  0., -1.])
+        """
+        num = self.to_numeric(parameters if isinstance(parameters, Mapping) else None)
+        return num.simulate(q0, qdot0, t, params=parameters, **options)
+
+    def __repr__(self) -> str:
+        return (
+            f"LagrangeSystem(coordinates={list(self.coordinates)}, "
+            f"constraints={len(self._hol)} holonomic + {len(self._nonhol)} kinematic)"
+        )
+
+
+def _seq(value, name: str):
+    import sympy
+
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be a sequence of SymPy expressions, got the string {value!r}."
+        )
+    if isinstance(value, sympy.Basic) and not isinstance(value, sympy.MatrixBase):
+        return (value,)
+    if not isinstance(value, Sequence | sympy.MatrixBase):
+        raise InvalidTypeError(f"Expected `{name}` to be a sequence, got {type(value).__name__}.")
+    return tuple(value)
+
+
+def _eliminate(c: Coordinates, elim, T, P, V, Q, hol, nonhol):
+    """Solve the holonomic constraints for the coordinates ``elim`` and substitute."""
+    import sympy
+
+    if len(elim) != len(hol):
+        raise InvalidInputError(
+            f"Expected one coordinate in `eliminate` per holonomic constraint ({len(hol)}), "
+            f"got {len(elim)}."
+        )
+    idx = []
+    for e in elim:
+        key = c.to_plain(e) if isinstance(e, sympy.Basic) else None
+        if isinstance(e, str):
+            key = next((p for p, nm in zip(c.plain, c.names, strict=True) if nm == e), None)
+        if key not in c.plain:
+            raise InvalidInputError(
+                f"Expected `eliminate` to name coordinates among {list(c.funcs)}, got {e!r}."
+            )
+        idx.append(c.plain.index(key))
+    targets = [c.plain[i] for i in idx]
+    sols = sympy.solve(hol, targets, dict=True)
+    if not sols:
+        raise InvalidInputError(
+            f"Could not solve the holonomic constraints {[c.to_funcs(f) for f in hol]} "
+            f"for {[c.funcs[i] for i in idx]}."
+        )
+    sol = sols[0]
+    if len(sols) > 1:
+        import warnings
+
+        from ..errors import PoinsotWarning
+
+        warnings.warn(
+            f"The holonomic constraints have {len(sols)} solutions for "
+            f"{[c.funcs[i] for i in idx]}; using {[c.to_funcs(sol[x]) for x in targets]}.",
+            PoinsotWarning,
+            stacklevel=3,
+        )
+    keep = [i for i in range(len(c.plain)) if i not in idx]
+    new = Coordinates(
+        tuple(c.given[i] for i in keep),
+        tuple(c.funcs[i] for i in keep),
+        tuple(c.plain[i] for i in keep),
+        tuple(c.vel[i] for i in keep),
+        tuple(c.acc[i] for i in keep),
+        c.time,
+    )
+    sub = {x: sol[x] for x in targets}
+    for i in idx:
+        sub[c.vel[i]] = new.time_derivative(sol[c.plain[i]])
+
+    def s(e):
+        return e.xreplace(sub)
+
+    # Q_reduced_i = Q_i + sum_e Q_e dq_e/dq_i
+    Qr = sympy.Matrix(
+        [
+            s(Q[i] + sum((Q[e] * sol[c.plain[e]].diff(c.plain[i]) for e in idx), start=0))
+            for i in keep
+        ]
+    )
+    return new, s(T), s(P), s(V), Qr, [], [s(f) for f in nonhol]

@@ -1,0 +1,665 @@
+"""Fast numeric right-hand sides generated from a :class:`LagrangeSystem`.
+
+The symbolic ``M``, ``F``, ``A``, ``gamma`` of docs/theory.md §11 go through
+SymPy's common-subexpression elimination (:func:`sympy.cse`) and SymPy's Python
+code printer into the source of one scalar function, compiled with numba
+(``@njit``) together with a loop over a batch of states that solves, for each,
+the small dense system
+
+``[[M, -A^T], [A, 0]] [q'', lambda] = [F, -gamma]``
+
+by Gaussian elimination with partial pivoting (the mass matrix is never inverted
+symbolically). Why numba: the rest of poinsot is compiled with it, it needs no C
+compiler, and a generated scalar kernel looped in machine code is what beats
+``lambdify`` (which evaluates one NumPy call per operation) on both one state and
+a batch.
+
+Safety: the generated source contains only names poinsot chose (``q_0``,
+``u_0``, ``p_0``, ``c_0``...) and the functions of SymPy's printer; the
+expressions' own symbol names never reach it, and expressions holding undefined
+functions are refused.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import threading
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+
+__all__ = ["NumericLagrangian", "LagrangeTrajectory", "SOLVERS"]
+
+#: ``solve_ivp`` methods accepted by :meth:`NumericLagrangian.simulate`.
+SOLVERS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+
+_ALLOWED_FUNCS = {
+    "sin", "cos", "tan", "cot", "asin", "acos", "atan", "atan2", "sinh", "cosh",
+    "tanh", "asinh", "acosh", "atanh", "exp", "log", "Abs", "sign", "sqrt",
+}  # fmt: skip
+
+_COMPILE_LOCK = threading.Lock()
+
+_SOLVE_SOURCE = """
+@njit(cache=CACHE, nogil=True)
+def _solve(K, b, size):
+    # Gaussian elimination with partial pivoting, in place; solution in b.
+    for k in range(size):
+        p = k
+        big = abs(K[k, k])
+        for i in range(k + 1, size):
+            if abs(K[i, k]) > big:
+                big = abs(K[i, k])
+                p = i
+        if big == 0.0:
+            return False
+        if p != k:
+            for j in range(size):
+                tmp = K[k, j]
+                K[k, j] = K[p, j]
+                K[p, j] = tmp
+            tmp = b[k]
+            b[k] = b[p]
+            b[p] = tmp
+        inv = 1.0 / K[k, k]
+        for i in range(k + 1, size):
+            f = K[i, k] * inv
+            if f != 0.0:
+                for j in range(k + 1, size):
+                    K[i, j] -= f * K[k, j]
+                b[i] -= f * b[k]
+    for k in range(size - 1, -1, -1):
+        s = b[k]
+        for j in range(k + 1, size):
+            s -= K[k, j] * b[j]
+        b[k] = s / K[k, k]
+    return True
+
+
+@njit(cache=CACHE, nogil=True)
+def _batch(t, y, p, out, lam):
+    n = NQ
+    m = NC
+    K = np.empty((n + m, n + m))
+    b = np.empty(n + m)
+    bad = -1
+    for i in range(y.shape[0]):
+        _system(t[i], y[i], p, K, b)
+        if not _solve(K, b, n + m) and bad < 0:
+            bad = i
+        for k in range(n):
+            out[i, k] = y[i, n + k]
+            out[i, n + k] = b[k]
+        for j in range(m):
+            lam[i, j] = b[n + j]
+    return bad
+
+
+@njit(cache=CACHE, nogil=True)
+def _mass(t, y, p, out):
+    n = NQ
+    m = NC
+    K = np.empty((n + m, n + m))
+    b = np.empty(n + m)
+    for i in range(y.shape[0]):
+        _system(t[i], y[i], p, K, b)
+        for r in range(n):
+            for s in range(n):
+                out[i, r, s] = K[r, s]
+"""
+
+
+def _generate(system, params: tuple) -> tuple[str, dict]:
+    """Python source of ``_system(t, y, p, K, b)`` filling the augmented system."""
+    import sympy
+    from sympy.core.function import AppliedUndef
+    from sympy.printing.pycode import PythonCodePrinter
+
+    c = system._c
+    n = len(c.plain)
+    M, F = system._MF
+    A, _, gamma = system._constraints
+    m = A.shape[0]
+    names = {}
+    for k in range(n):
+        names[c.plain[k]] = sympy.Symbol(f"q_{k}")
+        names[c.vel[k]] = sympy.Symbol(f"u_{k}")
+    for k, s in enumerate(params):
+        names[s] = sympy.Symbol(f"p_{k}")
+    names[c.time] = sympy.Symbol("t_")
+
+    targets, exprs = [], []
+    for r in range(n):
+        for s in range(r, n):
+            targets.append([(r, s), (s, r)] if s != r else [(r, s)])
+            exprs.append(M[r, s])
+        targets.append([("b", r)])
+        exprs.append(F[r])
+    for j in range(m):
+        for s in range(n):
+            targets.append([(n + j, s), (s, n + j, "neg")])
+            exprs.append(A[j, s])
+        targets.append([("b", n + j, "neg")])
+        exprs.append(gamma[j])
+    exprs = [sympy.sympify(e).xreplace(names) for e in exprs]
+    for e in exprs:
+        bad = e.atoms(AppliedUndef) | {
+            f for f in e.atoms(sympy.Function) if type(f).__name__ not in _ALLOWED_FUNCS
+        }
+        if bad:
+            raise InvalidInputError(
+                f"Cannot compile the function {sorted(map(str, bad))[0]}: allowed are "
+                f"{', '.join(sorted(_ALLOWED_FUNCS))}."
+            )
+    repl, reduced = sympy.cse(exprs, symbols=sympy.numbered_symbols("c_"), optimizations="basic")
+    printer = PythonCodePrinter({"fully_qualified_modules": True, "standard": "python3"})
+    lines = ["@njit(cache=CACHE, nogil=True)", "def _system(t_, y, p, K, b):"]
+    lines += [f"    q_{k} = y[{k}]" for k in range(n)]
+    lines += [f"    u_{k} = y[{n + k}]" for k in range(n)]
+    lines += [f"    p_{k} = p[{k}]" for k in range(len(params))]
+    for sym, e in repl:
+        lines.append(f"    {sym} = {printer.doprint(e)}")
+    for j in range(m):
+        for jj in range(m):
+            lines.append(f"    K[{n + j}, {n + jj}] = 0.0")
+    for tgt, e in zip(targets, reduced, strict=True):
+        code = printer.doprint(e)
+        for place in tgt:
+            neg = len(place) == 3
+            val = f"-({code})" if neg else f"{code}"
+            if place[0] == "b":
+                lines.append(f"    b[{place[1]}] = {val}")
+            else:
+                lines.append(f"    K[{place[0]}, {place[1]}] = {val}")
+    lines.append("    return None")
+    src = "\n".join(lines) + "\n" + _SOLVE_SOURCE.replace("NQ", str(n)).replace("NC", str(m))
+    return src, names
+
+
+def _cache_dir():
+    """Where generated kernels are written so numba can cache their machine code.
+
+    ``POINSOT_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/poinsot`` or
+    ``~/.cache/poinsot``; None (compile in memory, no cache) if not writable.
+    """
+    import os
+    from pathlib import Path
+
+    root = os.environ.get("POINSOT_CACHE_DIR")
+    if root is None:
+        xdg = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+        root = str(Path(xdg) / "poinsot")
+    path = Path(root) / "symbolic"
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return None
+    return path if os.access(path, os.W_OK) else None
+
+
+_HEADER = "# generated by poinsot.symbolic.numeric: do not edit\n"
+_HEADER += "import math\nimport numpy as np\nfrom numba import njit\n\nCACHE = {cache}\n\n"
+
+
+def _compile(src: str) -> dict:
+    """Compile the generated source: as a module file (numba caches the machine code
+    across processes) or, if no cache directory is writable, in memory."""
+    import hashlib
+    import importlib.util
+    import os
+
+    from numba import njit
+
+    with _COMPILE_LOCK:
+        folder = _cache_dir()
+        if folder is None:
+            namespace: dict = {"np": np, "math": math, "njit": njit, "CACHE": False}
+            exec(compile(src, "<poinsot.symbolic generated rhs>", "exec"), namespace)  # noqa: S102
+            return namespace
+        text = _HEADER.format(cache=True) + src
+        digest = hashlib.sha256(text.encode()).hexdigest()[:24]
+        name = f"poinsot_rhs_{digest}"
+        path = folder / f"{name}.py"
+        if not path.exists() or path.read_text() != text:
+            tmp = folder / f".{name}.{os.getpid()}.tmp"
+            tmp.write_text(text)
+            os.replace(tmp, path)
+        import sys
+
+        module = sys.modules.get(name)
+        if module is None:
+            spec = importlib.util.spec_from_file_location(name, path)
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module  # numba's cache locates functions by module
+            spec.loader.exec_module(module)
+        return vars(module)
+
+
+class NumericLagrangian:
+    """Compiled right-hand side of a :class:`~poinsot.symbolic.LagrangeSystem`.
+
+    ``f(t, y, params=None) -> y'`` with the state ``y = [q, q']`` (shape
+    ``(..., 2n)``, any leading batch shape), ``t`` a float or an array
+    broadcasting to the batch shape, and ``params`` a mapping from parameter
+    names to floats (overriding the defaults given to ``to_numeric``). The same
+    calling convention as :func:`scipy.integrate.solve_ivp` expects for
+    ``fun(t, y)`` with a 1-D ``y``.
+
+    Built by :meth:`LagrangeSystem.to_numeric` (docs/theory.md §11): the
+    expressions are reduced by :func:`sympy.cse`, printed as Python and
+    compiled by numba, with ``M q'' = F + A^T lambda``, ``A q'' + gamma = 0``
+    solved numerically per state (partial pivoting). Compilation happens on the
+    first call.
+
+    Attributes
+    ----------
+    coordinates : tuple of str
+        Names of ``q``.
+    parameters : tuple of str
+        Names of the parameters, in the order of :attr:`parameter_values`.
+    n, n_constraints : int
+        Number of coordinates and of kept constraints (multipliers).
+
+    Examples
+    --------
+    >>> import numpy as np, sympy
+    >>> x = sympy.Function("x")(sympy.Symbol("t"))
+    >>> k = sympy.Symbol("k")
+    >>> from poinsot.symbolic import LagrangeSystem
+    >>> f = LagrangeSystem([x], x.diff() ** 2 / 2, k * x**2 / 2).to_numeric({"k": 4.0})
+    >>> f(0.0, [1.0, 0.5])
+    array([ 0.5, -4. ])
+    >>> f(0.0, np.ones((5, 3, 2)), params={"k": 1.0}).shape
+    (5, 3, 2)
+    """
+
+    def __init__(self, system, parameters=None):
+        import sympy
+
+        self._system = system
+        c = system._c
+        self.n = len(c.plain)
+        self.n_constraints = system._constraints[0].shape[0]
+        self._params_sym = system.parameters
+        self.coordinates = c.names
+        self.parameters = tuple(s.name for s in self._params_sym)
+        defaults = np.full(len(self.parameters), np.nan)
+        if parameters is not None:
+            defaults = self._param_vector(parameters, defaults, "parameters")
+        self._defaults = defaults
+        self._defaults_ok = not np.isnan(defaults).any()
+        self._src, self._names = _generate(system, self._params_sym)
+        self._ns: dict | None = None
+        self._aux: dict = {}
+        self._sympy = sympy
+
+    # --------------------------------------------------------------- helpers
+    @property
+    def source(self) -> str:
+        """The generated Python source (before numba compilation)."""
+        return self._src
+
+    @property
+    def parameter_values(self) -> dict:
+        """The default parameter values (NaN where none was given)."""
+        return dict(zip(self.parameters, self._defaults.tolist(), strict=True))
+
+    def _param_vector(self, params, base, name="params") -> np.ndarray:
+        if not isinstance(params, Mapping):
+            raise InvalidTypeError(
+                f"Expected `{name}` to be a mapping of parameter names to floats, "
+                f"got {type(params).__name__}."
+            )
+        out = np.array(base, dtype=float)
+        for key, value in params.items():
+            k = key if isinstance(key, str) else getattr(key, "name", str(key))
+            if k not in self.parameters:
+                raise InvalidInputError(
+                    f"Expected `{name}` keys among the parameters {list(self.parameters)}, "
+                    f"got {k!r}."
+                )
+            try:
+                v = float(value)
+            except (TypeError, ValueError):
+                raise InvalidTypeError(
+                    f"Expected `{name}[{k!r}]` to be a real number, got {value!r}."
+                ) from None
+            if not math.isfinite(v):
+                raise InvalidInputError(f"Expected `{name}[{k!r}]` to be finite, got {v}.")
+            out[self.parameters.index(k)] = v
+        return out
+
+    def _params(self, params) -> np.ndarray:
+        p = self._defaults if params is None else self._param_vector(params, self._defaults)
+        if np.isnan(p).any():
+            missing = [nm for nm, v in zip(self.parameters, p, strict=True) if np.isnan(v)]
+            raise InvalidInputError(
+                f"Expected values for the parameters {missing} (pass `params` or "
+                "`to_numeric(parameters)`)."
+            )
+        return p
+
+    def _kernels(self) -> dict:
+        if self._ns is None:
+            self._ns = _compile(self._src)
+        return self._ns
+
+    def compile(self) -> NumericLagrangian:
+        """Compile now (otherwise done on the first call); returns ``self``."""
+        ns = self._kernels()
+        y = np.zeros((1, 2 * self.n))
+        p = np.zeros(len(self.parameters))
+        lam = np.empty((1, self.n_constraints))
+        ns["_batch"](np.zeros(1), y, p, np.empty((1, 2 * self.n)), lam)
+        return self
+
+    def _state(self, y) -> np.ndarray:
+        try:
+            a = np.asarray(y, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidTypeError(
+                f"Expected `y` to be a real array, got {type(y).__name__}."
+            ) from None
+        if a.ndim == 0 or a.shape[-1] != 2 * self.n:
+            raise InvalidInputError(
+                f"Expected `y` to have shape (..., {2 * self.n}) ([q, q'] for "
+                f"{list(self.coordinates)}), got {a.shape}."
+            )
+        return a
+
+    def _run(self, t, y, params):
+        ns = self._kernels()
+        p = self._params(params)
+        a = self._state(y)
+        batch = a.shape[:-1]
+        flat = np.ascontiguousarray(a.reshape(-1, 2 * self.n))
+        tt = np.ascontiguousarray(np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1))
+        out = np.empty_like(flat)
+        lam = np.empty((flat.shape[0], self.n_constraints))
+        bad = ns["_batch"](tt, flat, p, out, lam)
+        if bad >= 0:
+            raise InvalidInputError(
+                "The mass matrix (augmented with the constraints) is singular at the state "
+                f"y = {flat[bad].tolist()}, t = {tt[bad]}."
+            )
+        return out.reshape(a.shape), lam.reshape((*batch, self.n_constraints))
+
+    def __call__(self, t, y, params=None) -> np.ndarray:
+        """``y' = [q', q'']`` at time ``t`` (shape of ``y``)."""
+        if (
+            params is None
+            and type(y) is np.ndarray
+            and y.shape == (2 * self.n,)
+            and y.dtype == np.float64
+            and self._defaults_ok
+        ):
+            # fast path for one state (what solve_ivp passes): no validation copies
+            ns = self._ns or self._kernels()
+            aux = self._aux
+            if "t1" not in aux:
+                aux.update(t1=np.empty(1), lam1=np.empty((1, self.n_constraints)))
+            aux["t1"][0] = t
+            out = np.empty((1, 2 * self.n))
+            if ns["_batch"](aux["t1"], y.reshape(1, -1), self._defaults, out, aux["lam1"]) < 0:
+                return out.reshape(-1)
+        return self._run(t, y, params)[0]
+
+    rhs = __call__
+
+    def multipliers(self, t, y, params=None) -> np.ndarray:
+        """The constraint multipliers ``lambda`` (shape ``(..., m)``) at the states ``y``."""
+        return self._run(t, y, params)[1]
+
+    def mass_matrix(self, t, y, params=None) -> np.ndarray:
+        """``M(q, t)`` (shape ``(..., n, n)``) at the states ``y``."""
+        ns = self._kernels()
+        p = self._params(params)
+        a = self._state(y)
+        flat = np.ascontiguousarray(a.reshape(-1, 2 * self.n))
+        tt = np.broadcast_to(np.asarray(t, dtype=float), a.shape[:-1]).reshape(-1)
+        tt = np.ascontiguousarray(tt)
+        out = np.empty((flat.shape[0], self.n, self.n))
+        ns["_mass"](tt, flat, p, out)
+        return out.reshape((*a.shape[:-1], self.n, self.n))
+
+    def _lambdified(self, which: str):
+        if which not in self._aux:
+            sp = self._sympy
+            sysm = self._system
+            expr = {"energy": sysm._energy_plain, "jacobi": sysm._jacobi_plain}[which]
+            expr = expr.xreplace(self._names)
+            c = sysm._c
+            q = [self._names[s] for s in c.plain]
+            u = [self._names[s] for s in c.vel]
+            p = [sp.Symbol(f"p_{k}") for k in range(len(self.parameters))]
+            self._aux[which] = sp.lambdify([sp.Symbol("t_"), q, u, p], expr, modules="numpy")
+        return self._aux[which]
+
+    def _scalar(self, which, t, y, params):
+        a = self._state(y)
+        p = self._params(params)
+        fn = self._lambdified(which)
+        q = np.moveaxis(a[..., : self.n], -1, 0)
+        u = np.moveaxis(a[..., self.n :], -1, 0)
+        val = fn(np.asarray(t, dtype=float), q, u, p)
+        return np.broadcast_to(np.asarray(val, dtype=float), a.shape[:-1]).copy()
+
+    def energy(self, t, y, params=None) -> np.ndarray:
+        """Mechanical energy ``T + P + V0`` at the states ``y`` (shape ``y.shape[:-1]``)."""
+        return self._scalar("energy", t, y, params)
+
+    def jacobi(self, t, y, params=None) -> np.ndarray:
+        """Jacobi integral ``q' . dL/dq' - L`` at the states ``y``."""
+        return self._scalar("jacobi", t, y, params)
+
+    def simulate(
+        self,
+        q0,
+        qdot0,
+        t,
+        *,
+        params=None,
+        method: str = "DOP853",
+        rtol: float = 1e-10,
+        atol: float = 1e-12,
+        max_step: float = math.inf,
+    ) -> LagrangeTrajectory:
+        """Integrate from ``q(t[0]) = q0``, ``q'(t[0]) = qdot0`` with ``solve_ivp``.
+
+        Parameters
+        ----------
+        q0, qdot0 : array_like, shape (..., n)
+            Initial coordinates and velocities; a leading batch shape integrates
+            many initial states at once (one vectorised system).
+        t : array_like, shape (k,)
+            Output times, strictly increasing.
+        params : mapping, optional
+            Parameter values (override the defaults).
+        method : str, optional
+            A ``solve_ivp`` method (:data:`SOLVERS`), default ``"DOP853"``.
+        rtol, atol, max_step : float, optional
+            Passed to ``solve_ivp`` (defaults ``1e-10``, ``1e-12``, no limit).
+
+        Returns
+        -------
+        LagrangeTrajectory
+            ``q``, ``qdot`` (k, ..., n), ``energy`` and ``jacobi`` (k, ...) when
+            defined, ``multipliers`` (k, ..., m) when there are constraints.
+
+        Raises
+        ------
+        IntegrationError
+            If ``solve_ivp`` fails (message with the time reached).
+
+        Examples
+        --------
+        >>> import numpy as np, sympy
+        >>> from poinsot.symbolic import LagrangeSystem
+        >>> x = sympy.Function("x")(sympy.Symbol("t"))
+        >>> f = LagrangeSystem([x], x.diff() ** 2 / 2, x**2 / 2).to_numeric()
+        >>> tr = f.simulate([[1.0], [2.0]], [[0.0], [0.0]], [0.0, np.pi])
+        >>> np.round(tr.q[-1, :, 0], 8)
+        array([-1., -2.])
+        """
+        from scipy.integrate import solve_ivp
+
+        from .._validate import as_choice, as_times
+
+        method = as_choice(method, "method", SOLVERS)
+        tt = as_times(t, "t")
+        p = self._params(params)
+        pmap = dict(zip(self.parameters, p.tolist(), strict=True))
+        q0a = np.asarray(q0, dtype=float)
+        u0a = np.asarray(qdot0, dtype=float)
+        for name, a in (("q0", q0a), ("qdot0", u0a)):
+            if a.ndim == 0 or a.shape[-1] != self.n:
+                raise InvalidInputError(
+                    f"Expected `{name}` to have shape (..., {self.n}), got {a.shape}."
+                )
+            if not np.isfinite(a).all():
+                raise InvalidInputError(f"Expected `{name}` to be finite, got {a.tolist()}.")
+        batch = np.broadcast_shapes(q0a.shape[:-1], u0a.shape[:-1])
+        y0 = np.concatenate(
+            [np.broadcast_to(q0a, (*batch, self.n)), np.broadcast_to(u0a, (*batch, self.n))],
+            axis=-1,
+        )
+        nb = max(1, math.prod(batch))
+        ns = self._kernels()
+        flat_lam = np.empty((nb, self.n_constraints))
+        t_buf = np.empty(nb)
+        counter = itertools.count()
+
+        def fun(time, yy):
+            next(counter)
+            t_buf.fill(time)
+            flat_out = np.empty((nb, 2 * self.n))  # a new array: solve_ivp keeps them
+            bad = ns["_batch"](t_buf, yy.reshape(nb, 2 * self.n), p, flat_out, flat_lam)
+            if bad >= 0:
+                raise IntegrationError(
+                    f"The (augmented) mass matrix became singular at t = {time} "
+                    f"(state {yy.reshape(nb, -1)[bad].tolist()})."
+                )
+            return flat_out.reshape(-1)
+
+        if tt.size == 1:
+            ys = y0.reshape(1, *y0.shape)
+            info = {"nfev": 0, "status": 0, "message": "single output time"}
+        else:
+            sol = solve_ivp(
+                fun,
+                (tt[0], tt[-1]),
+                y0.reshape(-1),
+                method=method,
+                t_eval=tt,
+                rtol=rtol,
+                atol=atol,
+                max_step=max_step,
+            )
+            if sol.status != 0 or sol.y.shape[1] != tt.size:
+                reached = sol.t[-1] if sol.t.size else tt[0]
+                raise IntegrationError(
+                    f"solve_ivp({method}) failed at t = {reached}: {sol.message}"
+                )
+            ys = sol.y.T.reshape(tt.size, *batch, 2 * self.n)
+            info = {"nfev": int(sol.nfev), "status": int(sol.status), "message": sol.message}
+        info.update(method=method, rtol=float(rtol), atol=float(atol), evaluations=next(counter))
+        tb = tt.reshape(tt.size, *([1] * len(batch)))
+        energy = self.energy(tb, ys, pmap)
+        jacobi = None
+        if self._system.time not in self._system._L.free_symbols:
+            jacobi = self.jacobi(tb, ys, pmap)
+        lam = None
+        if self.n_constraints:
+            lam = self.multipliers(tb, ys, pmap)
+        return LagrangeTrajectory(
+            t=tt,
+            q=ys[..., : self.n],
+            qdot=ys[..., self.n :],
+            coordinates=self.coordinates,
+            energy=energy,
+            jacobi=jacobi,
+            multipliers=lam,
+            jacobi_conserved=self._system.jacobi_conserved,
+            info=info,
+        )
+
+
+def _drift(x) -> float | None:
+    if x is None:
+        return None
+    d = np.max(np.abs(x - x[0]), axis=0)
+    ref = np.abs(x[0])
+    rel = np.where(ref > 0, d / np.where(ref > 0, ref, 1.0), d)
+    return float(np.max(rel))
+
+
+@dataclass(frozen=True, eq=False)
+class LagrangeTrajectory:
+    """Samples of a motion in generalized coordinates (docs/theory.md §11).
+
+    Attributes
+    ----------
+    t : ndarray, shape (k,)
+        Times (s).
+    q, qdot : ndarray, shape (k, ..., n)
+        Coordinates and their rates (units of the coordinates, per second).
+    coordinates : tuple of str
+        The coordinate names, in the order of the last axis.
+    energy : ndarray, shape (k, ...)
+        Mechanical energy ``T + P + V0`` (J in SI).
+    jacobi : ndarray, shape (k, ...) or None
+        Jacobi integral ``q' . dL/dq' - L`` (None if ``L`` depends on time).
+    multipliers : ndarray, shape (k, ..., m) or None
+        Constraint multipliers (None without kept constraints).
+    jacobi_conserved : bool
+        Whether the Jacobi integral is a first integral of this system.
+    info : mapping
+        ``method``, ``rtol``, ``atol``, ``nfev``, ``evaluations``, ``status``, ``message``.
+
+    Examples
+    --------
+    Returned by :meth:`NumericLagrangian.simulate`; see there.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qdot: np.ndarray
+    coordinates: tuple
+    energy: np.ndarray
+    jacobi: np.ndarray | None = None
+    multipliers: np.ndarray | None = None
+    jacobi_conserved: bool = False
+    info: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
+        for name in ("t", "q", "qdot", "energy", "jacobi", "multipliers"):
+            a = getattr(self, name)
+            if a is not None:
+                a = np.array(a, dtype=float)
+                a.setflags(write=False)
+                object.__setattr__(self, name, a)
+
+    def coordinate(self, name: str) -> np.ndarray:
+        """The samples of one coordinate by name, shape (k, ...)."""
+        if name not in self.coordinates:
+            raise InvalidInputError(
+                f"Expected a coordinate among {list(self.coordinates)}, got {name!r}."
+            )
+        return self.q[..., self.coordinates.index(name)]
+
+    @property
+    def energy_drift(self) -> float:
+        """``max |E_k - E_0| / |E_0|`` (absolute where ``E_0 = 0``), over the batch."""
+        return _drift(self.energy)
+
+    @property
+    def jacobi_drift(self) -> float | None:
+        """``max |h_k - h_0| / |h_0|`` (absolute where ``h_0 = 0``), or None."""
+        return _drift(self.jacobi)
