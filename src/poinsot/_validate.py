@@ -27,6 +27,7 @@ __all__ = [
     "as_positive",
     "as_bool",
     "plain_vec3",
+    "plain_floats",
     "as_choice",
     "as_int",
     "as_times",
@@ -139,6 +140,31 @@ def plain_vec3(x) -> tuple[float, float, float] | None:
     if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c)):
         return None
     return a, b, c
+
+
+def plain_floats(x, n: int) -> list[float] | None:
+    """Short path for one ``n``-vector (a quaternion, a flattened 3x3 matrix...): a list
+    of ``n`` finite Python floats when ``x`` is a float64 array of shape ``(n,)``, or a
+    list/tuple of ``n`` real numbers (not bools); else ``None`` (the caller then takes
+    its general, validating path, which reports the error). The finiteness check is
+    one ``isfinite`` of the sum (NaN/inf propagate; a sum that merely overflows sends
+    the caller to its general path, never to a wrong answer).
+
+    >>> plain_floats([1, 0.0, 0.0, 0.0], 4), plain_floats((1.0, float("inf")), 2)
+    ([1.0, 0.0, 0.0, 0.0], None)
+    """
+    if type(x) is np.ndarray:
+        if x.shape != (n,) or x.dtype != np.float64:
+            return None
+        t = x.tolist()
+    elif type(x) in (list, tuple) and len(x) == n:
+        for e in x:
+            if type(e) not in _SCALAR_TYPES:
+                return None
+        t = [float(e) for e in x]
+    else:
+        return None
+    return t if math.isfinite(sum(t)) else None
 
 
 def as_bool(value, name: str) -> bool:

@@ -1,7 +1,7 @@
 """The result of every time-stepping computation: a frozen :class:`Trajectory`.
 
-Both attitude propagation (:func:`poinsot.kinematics.propagate`, SPEC S5) and
-rigid-body simulation (:func:`poinsot.dynamics.simulate`, SPEC S10) return one.
+Both attitude propagation (:func:`poinsot.kinematics.propagate`, theory §5) and
+rigid-body simulation (:func:`poinsot.dynamics.simulate`, theory §10) return one.
 
 Conventions: ``rotation[k]`` maps body components to space components at time
 ``t[k]`` (``v_space = R v_body``, theory §2); ``omega`` is the angular velocity in
@@ -66,7 +66,7 @@ class Trajectory:
     method : str
         Name of the method that produced the samples.
     energy : ndarray, shape (n,) or (n, N), optional
-        Rotational kinetic energy ``T = w^T J w / 2`` (SPEC S8).
+        Rotational kinetic energy ``T = w^T J w / 2`` (theory §8).
     momentum : ndarray, shape (n, 3) or (n, N, 3), optional
         Angular momentum ``K = R J w`` in space axes (theory §8, §10).
     info : mapping

@@ -173,7 +173,7 @@ def midpoint(q, m, W, M, t, nsub, coef):
 
 
 @njit(cache=True)
-def splitting(q, m, inv_i, M, t, nsub, coef):
+def splitting(q, m, inv_i, M, t, nsub, coef, G=None):
     """Lie-Poisson splitting in principal axes for N bodies (see ``_run_splitting``).
 
     q (N, 4) attitudes of the principal frame, m (N, 3) principal-axes momenta,
@@ -181,6 +181,11 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
     constant principal-axes torques, NI, NM in {1, N}; t, nsub, coef as in
     :func:`midpoint`. Step: kick h/2, F0 h/2, F2 h/2, F_iso h, F2 h/2, F0 h/2,
     kick h/2. Returns (Q, MO, status, body, k): status 2 if non-finite.
+
+    ``G`` (NG, 3), optional: a gravity moment ``m g c`` (principal axes) about the
+    fixed point; the kicks then add ``gamma x G`` with ``gamma = R^T e_z`` the upward
+    vertical in principal axes, frozen during the kick (the exact flow of the
+    potential ``V = G . gamma``), as used by :class:`poinsot.dynamics.HeavyRigidBody`.
     """
     n = t.shape[0]
     N = q.shape[0]
@@ -194,6 +199,10 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
         c0 = inv_i[ii, 0] - g1
         c2 = inv_i[ii, 2] - g1
         M0, M1, M2 = M[im, 0], M[im, 1], M[im, 2]
+        G0, G1, G2 = 0.0, 0.0, 0.0
+        if G is not None:
+            ig = i if G.shape[0] > 1 else 0
+            G0, G1, G2 = G[ig, 0], G[ig, 1], G[ig, 2]
         q0, q1, q2, q3 = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
         m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
         Q[0, i, 0] = q0
@@ -212,6 +221,8 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                 m0 += hh * M0
                 m1 += hh * M1
                 m2 += hh * M2
+                if G is not None:
+                    m0, m1, m2 = nh.gravity_kick(q0, q1, q2, q3, m0, m1, m2, G0, G1, G2, hh)
                 for stage in range(5):
                     if stage == 0 or stage == 4:  # F0, h/2: about principal axis 0
                         th = hh * c0 * m0
@@ -245,6 +256,8 @@ def splitting(q, m, inv_i, M, t, nsub, coef):
                 m0 += hh * M0
                 m1 += hh * M1
                 m2 += hh * M2
+                if G is not None:
+                    m0, m1, m2 = nh.gravity_kick(q0, q1, q2, q3, m0, m1, m2, G0, G1, G2, hh)
             if not (math.isfinite(m0 + m1 + m2) and math.isfinite(q0 + q1 + q2 + q3)):
                 return Q, MO, 2, i, k
             Q[k + 1, i, 0] = q0

@@ -1,4 +1,4 @@
-"""Euler's dynamic equations and structure-preserving integrators (SPEC S10).
+"""Euler's dynamic equations and structure-preserving integrators (theory §10).
 
 The rotational motion of a rigid body about its centre of mass (or a fixed
 point) is governed by Euler's dynamic equations, written in body axes,
@@ -6,7 +6,7 @@ point) is governed by Euler's dynamic equations, written in body axes,
 ``dK/dt + w x K = M``,  ``K = J w``,
 
 closed by Poisson's kinematic equation for the attitude quaternion
-``L' = 1/2 L o w`` (SPEC S5). :func:`euler_rhs` evaluates ``w'``;
+``L' = 1/2 L o w`` (theory §5). :func:`euler_rhs` evaluates ``w'``;
 :func:`simulate` integrates the attitude and the angular velocity together, for
 one body or a batch of bodies, with a choice of methods:
 
@@ -74,7 +74,7 @@ from ..mass.tensor import single_principal_moments
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 from .invariants import _invariants, _momentum
-from .torques import ConstantBodyTorque, as_torque
+from .torques import ConstantBodyTorque, GravityTorque, as_torque
 
 __all__ = ["euler_rhs", "simulate", "METHODS"]
 
@@ -208,7 +208,7 @@ def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
 
     Notes
     -----
-    SPEC S10: ``dK/dt + w x K = M`` with ``K = J w``; in principal axes
+    theory §10: ``dK/dt + w x K = M`` with ``K = J w``; in principal axes
 
     ``A p' + (C - B) q r = M1``, ``B q' + (A - C) r p = M2``,
     ``C r' + (B - A) p q = M3``.
@@ -316,7 +316,7 @@ def simulate(
     atol: float | None = None,
     solver: str | None = None,
 ) -> Trajectory:
-    """Integrate Euler's dynamic equations with the attitude (SPEC S10, S5).
+    """Integrate Euler's dynamic equations with the attitude (theory §10, §5).
 
     Parameters
     ----------
@@ -499,7 +499,14 @@ def simulate(
         if method == "midpoint":
             qs, ws, info = _run_midpoint(jb, j_inv, q, w, tt, h_max, comp, mc, tfn)
         elif method == "splitting":
-            qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn)
+            grav = None
+            if isinstance(model, GravityTorque) and model.moment.shape[:-1] in ((), batch):
+                # gravity about a fixed point: exact kicks inside the compiled stepper
+                grav = np.broadcast_to(model.moment, batch + (3,)).reshape(n_body, 3)
+            if grav is not None:
+                qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, None, grav)
+            else:
+                qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn)
         elif method == "rk4":
             qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
         elif method == "dop853":
@@ -721,7 +728,7 @@ def _midpoint_step_numpy(j_inv, q, m, tn, h, tfn, mt=None):
     return q, m, mt, it
 
 
-def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):
+def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn, gravity=None):
     """Strang splitting of the free-body Hamiltonian, with the torque as kicks.
 
     In principal axes (moments ``I0 <= I1 <= I2``) write
@@ -732,6 +739,9 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):
     ``theta = h c_i m_i``. Every flow keeps ``K_s = L m L~`` and ``|m|``; for a
     symmetric body one of ``c0, c2`` vanishes and the composition is exact.
     Step: kick h/2, F0 h/2, F2 h/2, F_iso h, F2 h/2, F0 h/2, kick h/2.
+    ``gravity`` (N, 3), optional: ``m g c`` in body axes, a gravity torque about a
+    fixed point given to the compiled stepper, whose kicks ``h gamma x (m g c)``
+    (``gamma = R^T e_z`` frozen) are the exact flow of the potential.
     """
     from ..mass import principal_axes
 
@@ -771,6 +781,8 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn):
 
         mt = np.zeros((1, 3)) if m_const is None else _qrot(s_pb, m_const)
         args = _kernel_args(q_np, m, inv_i, mt, t, nsub, comp)
+        if gravity is not None:
+            args = (*args, np.ascontiguousarray(_qrot(s_pb, gravity), dtype=float))
         Q, MO, status, body, k = _euler_numba.splitting(*args)
         if status == 2:
             raise _fail_nonfinite("splitting", float(t[k]), f"the state of body {body}")

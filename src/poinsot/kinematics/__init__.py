@@ -1,4 +1,4 @@
-"""Kinematics (SPEC S3, S5-S7): rates of every attitude representation, angular
+"""Kinematics (theory §3, §5-§7): rates of every attitude representation, angular
 velocity from attitude histories, attitude propagation, velocity and acceleration
 fields, composite motion (Coriolis), screw axis, and the Frenet frame.
 

@@ -1,4 +1,4 @@
-"""Angular velocity from an attitude history (SPEC S5, task (b)).
+"""Angular velocity from an attitude history (theory §5, task (b)).
 
 Two tools for sampled attitudes ``R(t_k)`` (quaternions or :class:`Rotation`):
 
@@ -182,7 +182,7 @@ def _angular_velocity(t, q, frame, order):
 
 
 def angular_velocity(t, rotations, *, frame: str = "body", order: int = 4) -> np.ndarray:
-    """Angular velocity at the samples of an attitude history (SPEC S5, task (b)).
+    """Angular velocity at the samples of an attitude history (theory §5, task (b)).
 
     For each sample ``k`` the rotation vectors of the neighbouring samples
     relative to it, ``r_j = log(R_k^T R_j)`` (body-frame increments), are

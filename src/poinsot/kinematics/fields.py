@@ -1,4 +1,4 @@
-"""Velocity and acceleration fields of a rigid body; composite motion (SPEC S6).
+"""Velocity and acceleration fields of a rigid body; composite motion (theory §6).
 
 Euler's formula ``V = V0 + w x rho`` and Rivals' formula
 ``W = W0 + eps x rho + w x (w x rho)`` give the velocity and acceleration of
@@ -15,7 +15,7 @@ number of moving frames (:meth:`FrameMotion.compose`, :func:`chain`).
 frame) at the instant considered, in consistent units (m, s, rad). Relative
 quantities (``V_r``, ``W_r``, ``w_r``, ``eps_r``) are the derivatives seen by
 an observer attached to the moving (transport) frame -- the *local*
-derivatives of SPEC S6 -- but expressed in the same fixed-frame components as
+derivatives of theory §6 -- but expressed in the same fixed-frame components as
 everything else. Every function broadcasts over leading batch dimensions
 (points, times, ...).
 """
@@ -225,7 +225,7 @@ class AngularMotion:
 
 
 def compose_angular(omega_e, eps_e, omega_r, eps_r) -> AngularMotion:
-    """Compose a transport and a relative rotation (SPEC S6).
+    """Compose a transport and a relative rotation (theory §6).
 
     Parameters
     ----------
@@ -350,7 +350,7 @@ class FrameMotion:
             The inner frame's motion relative to the fixed frame:
             ``V = V0 + w x s + V_r``,
             ``W = W0 + eps x s + w x (w x s) + 2 w x V_r + W_r``,
-            ``w = w_e + w_r``, ``eps = eps_e + eps_r + w_e x w_r`` (SPEC S6).
+            ``w = w_e + w_r``, ``eps = eps_e + eps_r + w_e x w_r`` (theory §6).
 
         Examples
         --------
@@ -491,7 +491,7 @@ def _point_motion(frame: FrameMotion, s, v_rel, a_rel) -> CompositeMotion:
 def point_motion(
     frame: FrameMotion, s, v_rel=(0.0, 0.0, 0.0), a_rel=(0.0, 0.0, 0.0)
 ) -> CompositeMotion:
-    """Velocity and acceleration of a point moving in a moving frame (SPEC S6).
+    """Velocity and acceleration of a point moving in a moving frame (theory §6).
 
     Parameters
     ----------

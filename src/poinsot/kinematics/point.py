@@ -1,4 +1,4 @@
-"""Kinematics of a point: the natural (Frenet) trihedron (SPEC S7, numeric part).
+"""Kinematics of a point: the natural (Frenet) trihedron (theory §7, numeric part).
 
 :func:`frenet` takes a curve ``r(t)`` -- samples at (possibly non-uniform)
 times, or a callable -- and returns the unit tangent ``T``, normal ``N`` and
@@ -283,7 +283,7 @@ def frenet(
     stride: int | str = "auto",
     rtol: float = DEFAULT_RTOL,
 ) -> FrenetFrame:
-    """Natural (Frenet) trihedron, curvature and torsion of a curve (SPEC S7).
+    """Natural (Frenet) trihedron, curvature and torsion of a curve (theory §7).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Attitude propagation: given ``w(t)`` and ``L(t0)``, find ``L(t)`` (SPEC S5, task (a)).
+"""Attitude propagation: given ``w(t)`` and ``L(t0)``, find ``L(t)`` (theory §5, task (a)).
 
 The attitude quaternion ``L`` (body -> space) obeys Poisson's kinematic equation
 
@@ -354,7 +354,7 @@ def propagate(
     rtol: float | None = None,
     atol: float | None = None,
 ) -> Trajectory:
-    """Attitude from angular velocity: integrate Poisson's equation (SPEC S5, task (a)).
+    """Attitude from angular velocity: integrate Poisson's equation (theory §5, task (a)).
 
     Parameters
     ----------

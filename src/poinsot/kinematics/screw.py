@@ -1,4 +1,4 @@
-"""Instantaneous screw axis (Chasles/Mozzi) and reduction of motions (SPEC S6).
+"""Instantaneous screw axis (Chasles/Mozzi) and reduction of motions (theory §6).
 
 The velocity field ``V(r) = V0 + w x (r - O)`` of a rigid body with ``w != 0``
 is, at every instant, a rotation about an axis plus a slide along it (a
@@ -91,7 +91,7 @@ def _screw(v0: np.ndarray, omega: np.ndarray, origin: np.ndarray) -> Screw:
 
 
 def screw_axis(v0, omega, *, pole=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -> Screw:
-    """Instantaneous screw axis of a rigid body (Chasles/Mozzi, SPEC S6).
+    """Instantaneous screw axis of a rigid body (Chasles/Mozzi, theory §6).
 
     Parameters
     ----------
@@ -203,7 +203,7 @@ def reduce_motions(
     rtol: float = REDUCE_RTOL,
     atol: float = 0.0,
 ) -> ReducedMotion:
-    """Reduce simultaneous rotations and translations to the simplest motion (SPEC S6).
+    """Reduce simultaneous rotations and translations to the simplest motion (theory §6).
 
     Parameters
     ----------

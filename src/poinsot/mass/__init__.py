@@ -1,4 +1,4 @@
-"""Mass geometry: inertia tensors, solids, principal axes, rigid bodies (SPEC S8).
+"""Mass geometry: inertia tensors, solids, principal axes, rigid bodies (theory §8).
 
 Conventions
 -----------

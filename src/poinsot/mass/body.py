@@ -1,4 +1,4 @@
-"""Rigid bodies as mass, centre of mass and central inertia; composites; Koenig (SPEC S8).
+"""Rigid bodies as mass, centre of mass and central inertia; composites; Koenig (theory §8).
 
 Conventions
 -----------
@@ -57,7 +57,7 @@ def _angular_momentum(m, j, w, v, r_oc, principal=False):
 def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
     """Kinetic energy of a rigid body by Koenig's theorem.
 
-    ``T = m V_c^2 / 2 + w^T J_c w / 2`` (SPEC S8); in principal axes
+    ``T = m V_c^2 / 2 + w^T J_c w / 2`` (theory §8); in principal axes
     ``T = m V_c^2 / 2 + (A p^2 + B q^2 + C r^2) / 2``.
 
     Parameters
@@ -101,7 +101,7 @@ def angular_momentum(
 ) -> np.ndarray:
     """Angular momentum of a rigid body about a point ``O``.
 
-    ``K_O = J_c w + OC x m V_c`` (SPEC S8): the spin about the centre of mass
+    ``K_O = J_c w + OC x m V_c`` (theory §8): the spin about the centre of mass
     plus the moment of the linear momentum.
 
     Parameters
@@ -151,7 +151,7 @@ def combine(*bodies: RigidBody) -> RigidBody:
 
     ``m = sum m_i``, ``r_c = sum m_i r_i / m``,
     ``J_c = sum (J_i + m_i (d_i^T d_i E - d_i d_i^T))`` with ``d_i = r_i - r_c``
-    (Huygens-Steiner, SPEC S8).
+    (Huygens-Steiner, theory §8).
 
     Parameters
     ----------
@@ -232,7 +232,7 @@ class RigidBody:
 
     **Convention:** every vector (``omega``, ``v_cm``, points) given to or
     returned by the methods is in body axes, positions relative to ``O``
-    (SPEC S8).
+    (theory §8).
 
     Examples
     --------
@@ -338,7 +338,7 @@ class RigidBody:
 
         The body's own axes ``b`` have attitude ``rotation = C_ab`` relative to
         ``a`` and its reference point sits at ``position`` (in ``a``). Then
-        ``r_c,a = C_ab r_c,b + position`` and ``J_a = C_ab J_b C_ab^T`` (SPEC S8).
+        ``r_c,a = C_ab r_c,b + position`` and ``J_a = C_ab J_b C_ab^T`` (theory §8).
 
         Parameters
         ----------
@@ -384,7 +384,7 @@ class RigidBody:
     def inertia_about(self, point=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Inertia about ``point`` (relative to ``O``, body axes; default ``O``).
 
-        ``J_P = J_C + m (a^T a E - a a^T)``, ``a = P - C`` (Huygens-Steiner, SPEC S8).
+        ``J_P = J_C + m (a^T a E - a a^T)``, ``a = P - C`` (Huygens-Steiner, theory §8).
         """
         p = as_vec3(point, "point")
         return self.inertia + _steiner(self.mass, p - self.center_of_mass)

@@ -1,4 +1,4 @@
-"""Mass properties of a uniform solid bounded by a closed triangle mesh (SPEC S8).
+"""Mass properties of a uniform solid bounded by a closed triangle mesh (theory §8).
 
 The volume integrals ``int dV``, ``int r dV`` and ``int r r^T dV`` are sums over
 signed tetrahedra, each spanned by one face and a common apex (the divergence
@@ -120,7 +120,7 @@ def mesh(vertices, faces, *, mass=None, density=None) -> MeshProperties:
     ``V = sum V_f``, ``int r dV = sum V_f s_f / 4`` and
     ``int r r^T dV = sum V_f (v0 v0^T + v1 v1^T + v2 v2^T + s_f s_f^T) / 20`` with
     ``s_f = v0 + v1 + v2``; then ``J_C = rho (tr(P) E - P)`` with
-    ``P = int (r - r_c)(r - r_c)^T dV`` (SPEC S8).
+    ``P = int (r - r_c)(r - r_c)^T dV`` (theory §8).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Inertia tensors of uniform solids about their centre of mass, in their own axes (SPEC S8).
+"""Inertia tensors of uniform solids about their centre of mass, in their own axes (theory §8).
 
 Every function broadcasts over array parameters: with parameters of (broadcast)
 shape ``(...)`` the result has shape ``(..., 3, 3)``. The tensors are diagonal

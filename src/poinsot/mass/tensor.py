@@ -1,4 +1,4 @@
-"""Inertia tensors: validation, Huygens-Steiner, change of axes, principal axes (SPEC S8).
+"""Inertia tensors: validation, Huygens-Steiner, change of axes, principal axes (theory §8).
 
 Every function accepts inertia tensors of shape ``(..., 3, 3)`` and broadcasts
 over the leading (batch) dimensions.
@@ -8,7 +8,7 @@ Conventions
 - An inertia tensor about a point ``O`` is ``J_O = sum m (rho^T rho E - rho rho^T)``
   (``rho`` the position relative to ``O``): diagonal entries are the moments
   ``int (y^2 + z^2) dm``..., off-diagonal entries the *negative* products of
-  inertia ``-int x y dm``... (SPEC S8).
+  inertia ``-int x y dm``... (theory §8).
 - A change of axes is described by ``S = C_ab``, the rotation of frame ``b``
   relative to frame ``a``: its columns are the ``b`` axes written in ``a``
   components (``v_a = C_ab v_b``). The tensor transforms as
@@ -189,7 +189,7 @@ def check_inertia(
     Notes
     -----
     The principal moments of any mass distribution obey ``A + B >= C`` since
-    ``A + B - C = 2 int z^2 dm >= 0`` in principal axes (SPEC S8); equality holds
+    ``A + B - C = 2 int z^2 dm >= 0`` in principal axes (theory §8); equality holds
     for plane figures in the ``xy`` plane.
 
     **Convention:** any consistent units; the axes and point do not matter.
@@ -239,7 +239,7 @@ def check_principal_moments(
 
     Notes
     -----
-    **Convention:** principal axes; any consistent units (SPEC S8).
+    **Convention:** principal axes; any consistent units (theory §8).
 
     Examples
     --------
@@ -308,7 +308,7 @@ def _as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
 def points(masses, positions) -> np.ndarray:
     """Inertia tensor of point masses about the origin.
 
-    ``J_O = sum_k m_k (rho_k^T rho_k E - rho_k rho_k^T)`` (SPEC S8).
+    ``J_O = sum_k m_k (rho_k^T rho_k E - rho_k rho_k^T)`` (theory §8).
 
     Parameters
     ----------
@@ -350,7 +350,7 @@ def points(masses, positions) -> np.ndarray:
 def parallel_axis(inertia_cm, mass, offset) -> np.ndarray:
     """Huygens-Steiner: inertia about the point at ``offset`` from the centre of mass.
 
-    ``J_O = J_C + m (a^T a E - a a^T)`` with ``a = offset`` (SPEC S8); about an
+    ``J_O = J_C + m (a^T a E - a a^T)`` with ``a = offset`` (theory §8); about an
     axis, ``J_Oe = J_Ce + m d^2``.
 
     Parameters
@@ -390,7 +390,7 @@ def to_center_of_mass(inertia_o, mass, offset) -> np.ndarray:
     """Inverse Huygens-Steiner: inertia about the centre of mass from that about ``O``.
 
     ``J_C = J_O - m (a^T a E - a a^T)`` with ``a`` the position of ``O``
-    relative to ``C`` (SPEC S8).
+    relative to ``C`` (theory §8).
 
     Parameters
     ----------
@@ -438,7 +438,7 @@ def to_center_of_mass(inertia_o, mass, offset) -> np.ndarray:
 
 
 def rotate_inertia(inertia, rotation) -> np.ndarray:
-    """Express an inertia tensor in new axes: ``J_b = S^T J_a S`` (SPEC S8).
+    """Express an inertia tensor in new axes: ``J_b = S^T J_a S`` (theory §8).
 
     Parameters
     ----------
@@ -489,7 +489,7 @@ def moment_about(inertia, axis) -> np.ndarray:
     Returns
     -------
     ndarray, shape (...)
-        The moment ``e^T J e`` (SPEC S8).
+        The moment ``e^T J e`` (theory §8).
 
     Notes
     -----
@@ -539,7 +539,7 @@ def _proper_axes(v):
 def principal_axes(inertia):
     """Principal moments (ascending) and principal axes as a proper rotation.
 
-    Solves ``S^T J S = diag(A, B, C)``, ``A <= B <= C`` (SPEC S8).
+    Solves ``S^T J S = diag(A, B, C)``, ``A <= B <= C`` (theory §8).
 
     Parameters
     ----------
@@ -587,7 +587,7 @@ def principal_axes(inertia):
 
 
 def inertia_ellipsoid(inertia):
-    """Semi-axes and orientation of the inertia ellipsoid ``r^T J r = 1`` (SPEC S8).
+    """Semi-axes and orientation of the inertia ellipsoid ``r^T J r = 1`` (theory §8).
 
     In principal axes the ellipsoid is ``A x^2 + B y^2 + C z^2 = 1``; the point
     on an axis ``e`` is ``r = e / sqrt(J_e)``.
