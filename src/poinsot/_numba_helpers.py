@@ -15,6 +15,8 @@ Formulas (theory §1, §5, §10):
 - :func:`qaxis` ``L o (c, s e_i)``: a turn about body axis ``i`` given ``cos``
   and ``sin`` of the half angle;
 - :func:`cross` ``a x b``; :func:`matvec` ``W x`` for a 3x3 matrix given by rows;
+- :func:`gravity_kick` ``m + h gamma x (m g c)``, the exact gravity kick about a
+  fixed point with the attitude frozen (``gamma = R^T e_z``);
 - :func:`euler_momentum_rate` Euler's equations in momentum form,
   ``dm/dt = m x W m + M`` (``m = J w`` body momentum, ``W = J^-1``, ``M``
   the body torque).
@@ -36,6 +38,7 @@ __all__ = [
     "cross",
     "matvec",
     "euler_momentum_rate",
+    "gravity_kick",
 ]
 
 _INLINE = {"inline": "always"}
@@ -89,6 +92,20 @@ def matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2):  # pragma: 
         w10 * x0 + w11 * x1 + w12 * x2,
         w20 * x0 + w21 * x1 + w22 * x2,
     )
+
+
+@njit(**_INLINE)
+def gravity_kick(q0, q1, q2, q3, m0, m1, m2, g0, g1, g2, h):  # pragma: no cover - compiled
+    """``m + h gamma x G`` with ``gamma = R^T e_z`` (third row of ``R(L)``), ``G = m g c``.
+
+    The exact flow over ``h`` of the gravity potential ``V = G . gamma`` about a fixed
+    point (theory §10): the attitude, hence ``gamma``, is frozen during the kick.
+    """
+    y0 = 2.0 * (q1 * q3 - q0 * q2)
+    y1 = 2.0 * (q2 * q3 + q0 * q1)
+    y2 = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
+    c0, c1, c2 = cross(y0, y1, y2, g0, g1, g2)
+    return m0 + h * c0, m1 + h * c1, m2 + h * c2
 
 
 @njit(**_INLINE)
