@@ -1,0 +1,171 @@
+"""Compiled kernel of :class:`poinsot.dynamics.LagrangeTop` (private).
+
+Imported lazily (numba loads on first use). Per time point: the Jacobi elliptic
+functions of the nutation argument ``tau = tau' t + tau0`` and the two
+incomplete integrals of the third kind of the Cayley-Klein angles, all from the
+scalar kernels of :mod:`poinsot.dynamics._elliptic` (declared with
+``depends_on`` so that editing them invalidates this file's cache). The
+formulas are derived in the docstring of :mod:`poinsot.dynamics.lagrange_top`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .._numba_cache import depends_on
+from . import _elliptic as el
+
+depends_on(__file__, el)
+
+# Layout of the parameter vector (see lagrange_top._Elliptic).
+(
+    P_RATE,  # tau'
+    P_TAU0,
+    P_M,
+    P_M1,
+    P_K,  # K(m)
+    P_DX,  # x2 - x1 = u2 - u1
+    P_OM1,  # 1 - u1
+    P_OP1,  # 1 + u1
+    P_NP,  # n+ = (u2 - u1) / (1 - u1)
+    P_NM,  # n- = -(u2 - u1) / (1 + u1)
+    P_CP,  # (K_z - H) / (A (1 - u1) tau')   (0: term absent)
+    P_CM,  # (K_z + H) / (A (1 + u1) tau')
+    P_PIP,  # Pi(n+ | m) complete
+    P_PIM,  # Pi(n- | m)
+    P_PIP0,  # Pi(n+; tau0)
+    P_PIM0,  # Pi(n-; tau0)
+    P_WS,  # H/C - H/A: linear part of sigma' (and -delta')
+    P_SIG0,
+    P_DEL0,
+    P_SPS,  # 1: u2 = 1 reached (K_z = H): sin(theta/2) signed, proportional to cn
+    P_SPC,  # 1: u1 = -1 reached (K_z = -H): cos(theta/2) signed, proportional to sn
+    P_KMH,  # K_z - H
+    P_KPH,  # K_z + H
+    P_A,
+    P_H,
+    P_R,  # spin r = H / C
+) = range(26)
+N_PAR = 26
+
+
+@njit(cache=True)
+def _pi_pair(tau, par, ks, kps, lv, scale):  # pragma: no cover - compiled
+    """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau))`` for the argument ``tau`` (any real).
+
+    ``Pi(n; tau) = int_0^tau dv / (1 - n sn^2 v)`` = ``r + n s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3
+    + 2 j Pi(n | m)`` with ``tau = 2 j K + r``, ``|r| <= K`` (``s R_F(c^2, d^2, 1) = r``).
+    On the separatrix (``m = 1``) the elementary form
+    ``(tau + sqrt(-n) atan(sqrt(-n) tanh tau)) / (1 - n)`` (``n <= 0``).
+    """
+    m, m1 = par[P_M], par[P_M1]
+    np_, nm = par[P_NP], par[P_NM]
+    if lv < 0:  # m = 1
+        sn, cn, dn = el.jacobi_reduced(tau, ks, kps, lv, scale, m, m1)
+        a = math.sqrt(-nm)
+        pim = (tau + a * math.atan(a * sn)) / (1.0 - nm)
+        return sn, cn, dn, 0.0, pim  # on the separatrix K_z = H: no n+ term
+    j, r = el.reduce_argument(tau, par[P_K])
+    s, c, d = el.jacobi_reduced(r, ks, kps, lv, scale, m, m1)
+    s2 = s * s
+    c2 = c * c
+    d2 = d * d
+    pip = 0.0
+    pim = 0.0
+    if par[P_CP] != 0.0:
+        pip = r
+        if s2 > 0.0:
+            pip += np_ * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - np_ * s2) / 3.0
+        pip += 2.0 * j * par[P_PIP]
+    if par[P_CM] != 0.0:
+        pim = r
+        if s2 > 0.0:
+            pim += nm * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - nm * s2) / 3.0
+        pim += 2.0 * j * par[P_PIM]
+    if j - 2.0 * math.floor(0.5 * j) != 0.0:
+        s, c = -s, -c
+    return s, c, d, pip, pim
+
+
+@njit(cache=True)
+def motion(t, par, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover - compiled
+    """Attitude ``out_q`` (n, 4), body angular velocity ``out_w`` (n, 3) and
+    ``out_x`` (n, 4) = ``(sin(theta/2), cos(theta/2), sigma, delta)`` (signed half-angle
+    functions, continuous Cayley-Klein angles) at the times ``t`` (n,), ``m g l > 0``.
+
+    The attitude is ``(c cos(sigma/2), s cos(delta/2), s sin(delta/2), c sin(sigma/2))``
+    with ``sigma = psi + phi``, ``delta = psi - phi`` (z-x-z Euler angles).
+    """
+    ks = np.empty(el.LMAX)
+    kps = np.empty(el.LMAX)
+    lv, scale = el.landen_fill(par[P_M], par[P_M1], ks, kps)
+    rate, tau0, dx = par[P_RATE], par[P_TAU0], par[P_DX]
+    om1, op1 = par[P_OM1], par[P_OP1]
+    cp, cm, ws = par[P_CP], par[P_CM], par[P_WS]
+    sps = par[P_SPS] > 0.5
+    spc = par[P_SPC] > 0.5
+    a_s = math.sqrt(0.5 * om1)
+    a_c = math.sqrt(0.5 * dx)
+    big_a, big_h = par[P_A], par[P_H]
+    for p in range(t.shape[0]):
+        tp = t[p]
+        tau = rate * tp + tau0
+        sn, cn, dn, pip, pim = _pi_pair(tau, par, ks, kps, lv, scale)
+        sn2 = sn * sn
+        if sps:
+            s = a_s * cn
+        else:
+            s = math.sqrt(max(0.5 * (om1 - dx * sn2), 0.0))
+        if spc:
+            c = a_c * sn
+        else:
+            c = math.sqrt(max(0.5 * (op1 + dx * sn2), 0.0))
+        sig = par[P_SIG0] + ws * tp
+        dlt = par[P_DEL0] - ws * tp
+        if cm != 0.0:
+            sig += cm * (pim - par[P_PIM0])
+        if cp != 0.0:
+            dlt += cp * (pip - par[P_PIP0])
+        out_x[p, 0] = s
+        out_x[p, 1] = c
+        out_x[p, 2] = sig
+        out_x[p, 3] = dlt
+        if want_q:
+            out_q[p, 0] = c * math.cos(0.5 * sig)
+            out_q[p, 1] = s * math.cos(0.5 * dlt)
+            out_q[p, 2] = s * math.sin(0.5 * dlt)
+            out_q[p, 3] = c * math.sin(0.5 * sig)
+        if want_w:
+            # q_b + i p_b = (psi' sin(theta) + i theta') e^{i phi}, phi = (sigma - delta)/2
+            if big_h == 0.0 and par[P_KMH] == 0.0:
+                wps = 0.0
+            elif spc:
+                # K_z - H u = (K_z + H) - 2 H c^2, K_z + H = 0
+                wps = -big_h * c / (big_a * s)
+            else:
+                # K_z - H u = (K_z - H) + 2 H s^2
+                wps = big_h * s / (big_a * c)
+                if par[P_KMH] != 0.0:
+                    wps += par[P_KMH] / (2.0 * big_a * s * c)
+            # theta' = -u' / sin(theta), u' = 2 (u2 - u1) tau' sn cn dn, sin(theta) = 2 s c
+            rs = 1.0 / a_s if sps else cn / s
+            rc = 1.0 / a_c if spc else sn / c
+            wth = -dx * rate * dn * rs * rc
+            ph = 0.5 * (sig - dlt)
+            cph = math.cos(ph)
+            sph = math.sin(ph)
+            out_w[p, 0] = wps * sph + wth * cph
+            out_w[p, 1] = wps * cph - wth * sph
+            out_w[p, 2] = par[P_R]
+
+
+@njit(cache=True)
+def pi_at(tau, par):  # pragma: no cover - compiled
+    """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau))`` at one argument (for the constants)."""
+    ks = np.empty(el.LMAX)
+    kps = np.empty(el.LMAX)
+    lv, scale = el.landen_fill(par[P_M], par[P_M1], ks, kps)
+    return _pi_pair(tau, par, ks, kps, lv, scale)

@@ -1,0 +1,1322 @@
+"""The Lagrange top (heavy symmetric top) in closed form, regular precession, the gyroscope.
+
+A body with one fixed point ``O`` in uniform gravity ``g`` (along ``-z`` of space),
+symmetric about its body axis ``e_3`` (equatorial moment ``A``, axial moment ``C``,
+both about ``O``), with its centre of mass on that axis at the signed distance
+``l`` from ``O`` (docs/theory.md §10). With the z-x-z Euler angles (precession
+``psi``, nutation ``theta`` = tilt of ``e_3`` from the upward vertical, spin
+``phi``) and ``u = cos(theta)`` the first integrals are
+
+    H = C r,   K_z = A psi' sin^2(theta) + H u,
+    E = A (theta'^2 + psi'^2 sin^2(theta)) / 2 + m g l u   (the spin energy C r^2/2 left out),
+
+and ``u`` obeys ``u'^2 = P(u) = (2/A)(E - m g l u)(1 - u^2) - (K_z - H u)^2 / A^2``,
+a cubic with roots ``u1 <= u2 <= 1 <= u3`` (``m g l > 0``); ``u`` oscillates in
+``[u1, u2]`` (nutation) and
+
+    psi' = (K_z - H u) / (A (1 - u^2)),   phi' = H / C - psi' u.
+
+**Roots to full precision.** ``P`` is expanded about the initial ``u0``:
+``P(u0 + x) = c3 x^3 + c2 x^2 + c1 x + c0`` with ``c3 = 2 m g l / A``,
+``c2 = -w^2 + 2 c3 u0 - H^2/A^2``, ``c1 = -2 u0 w^2 - c3 s^2 + 2 H L / A``,
+``c0 = V^2``, where ``w^2 = p^2 + q^2`` (transverse rate), ``s^2 = sin^2 theta0``,
+``L = psi' s^2 = p gamma_1 + q gamma_2`` and ``V = u0' = gamma_1 q - gamma_2 p``
+(``gamma = R^T e_z``) are taken from the initial state without cancellation.
+``P(-1) <= 0 <= P(u0) = c0`` and ``P(1) <= 0`` bracket ``x1`` in ``[-(1 + u0), 0]``
+and ``x2`` in ``[0, 1 - u0]`` (``1 +- u0`` from the half-angles of the
+quaternion); safeguarded Newton brings them to round-off, ``x3`` follows by Vieta
+and is polished. When ``V = 0`` (``theta' = 0``: released from rest, regular
+precession, sleeping) ``x = 0`` is an exact root and the cubic is deflated.
+
+**Exact motion.** ``u = u1 + (u2 - u1) sn^2(tau | m)``, ``tau = tau' t + tau0``,
+``m = (u2 - u1)/(u3 - u1)``, ``tau' = sqrt(m g l (u3 - u1) / (2 A))``; the nutation
+period is ``2 K(m) / tau'``. The attitude is written with the Cayley-Klein
+angles ``sigma = psi + phi``, ``delta = psi - phi``:
+
+    q = (cos(theta/2) cos(sigma/2), sin(theta/2) cos(delta/2),
+         sin(theta/2) sin(delta/2), cos(theta/2) sin(sigma/2)),
+    sigma' = (K_z + H) / (A (1 + u)) + H/C - H/A,
+    delta' = (K_z - H) / (A (1 - u)) - H/C + H/A,
+
+each with a single pole (``u = -1`` resp. ``u = 1``) that is harmless: where
+``u`` reaches ``1`` the coefficient ``K_z - H`` vanishes. With
+``1 -+ u = (1 -+ u1)(1 - n_+- sn^2)``, ``n_+ = (u2 - u1)/(1 - u1)``,
+``n_- = -(u2 - u1)/(1 + u1)``, both integrate to incomplete elliptic integrals of
+the third kind ``Pi(n; tau) = int_0^tau dv / (1 - n sn^2 v)`` (Carlson's ``R_J``,
+:mod:`poinsot.dynamics._elliptic`), so ``psi(t)`` and ``phi(t)`` are exact; the
+precession over one nutation period is
+``Delta psi = (K_z - H) Pi(n_+ | m) / (A (1 - u1) tau')
++ (K_z + H) Pi(n_- | m) / (A (1 + u1) tau')``.
+
+Degenerate cases are exact, not limits: regular precession (``u1 = u2``) and the
+sleeping top (``u = 1``) turn uniformly; where the band reaches a pole
+(``K_z = +-H``) ``sin(theta/2)`` (``cos``) is taken signed (``~ cn``, ``~ sn``) so
+that the attitude passes smoothly through the vertical; the separatrix
+(``u2 = u3 = 1``, ``m = 1``) uses the hyperbolic forms; ``m g l < 0`` (centre of
+mass below ``O``) is the same motion with the body axis reversed
+(``R -> R Rx(pi)``); ``m g l = 0`` is the free symmetric top and delegates to
+:class:`poinsot.dynamics.FreeRigidBody`.
+
+**Convention:** ``rotation(t)`` maps body components to space components
+(``v_s = R v_b``), body axes with ``e_3`` the symmetry axis; Euler angles z-x-z
+intrinsic (``R = Rz(psi) Rx(theta) Rz(phi)``, docs/theory.md §3); ``omega`` in
+body axes (rad/s); ``theta`` from the *upward* vertical; SI units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
+from ..errors import InvalidInputError
+from ..rotations.rotation import Rotation
+from ..trajectory import Trajectory
+
+__all__ = [
+    "LagrangeTop",
+    "MOTION_TYPES",
+    "regular_precession_rates",
+    "gyroscope_precession_rate",
+    "critical_spin",
+    "sleeping_top_stable",
+    "gyroscopic_moment",
+    "GyroscopicMoment",
+]
+
+#: The values of :attr:`LagrangeTop.motion_type`.
+MOTION_TYPES = ("regular precession", "waves", "cusps", "loops", "sleeping", "asymptotic")
+
+_EPS = float(np.finfo(float).eps)
+#: psi' at a band edge within this fraction of the largest psi' scale counts as zero (cusps).
+CUSP_RTOL = 1e-10
+#: ``|c1|`` within this many eps of its terms: the double root of regular precession.
+_DOUBLE_ROOT_EPS = 64.0
+_PI_X = np.array([0.0, 1.0, 0.0, 0.0])  # Rx(pi)
+
+
+# ---------------------------------------------------------------------------
+# Validation
+# ---------------------------------------------------------------------------
+
+
+def _scalar(x, name: str) -> float:
+    a = as_float_array(x, name)
+    if a.ndim != 0:
+        raise InvalidInputError(f"Expected `{name}` to be a scalar, got shape {a.shape}.")
+    return float(a)
+
+
+def _moments(a, c, names=("A", "C")) -> tuple[float, float]:
+    """``A > 0``, ``C > 0`` and ``C <= 2 A`` (the triangle inequality ``A + B >= C``)."""
+    av = _scalar(a, names[0])
+    cv = _scalar(c, names[1])
+    for n, v in zip(names, (av, cv), strict=True):
+        if not v > 0:
+            raise InvalidInputError(f"Expected `{n}` to be positive (kg m^2), got {v!r}.")
+    if cv > 2.0 * av * (1.0 + 4 * _EPS):
+        raise InvalidInputError(
+            f"Expected `{names[1]}` <= 2 `{names[0]}` (triangle inequality A + B >= C of a "
+            f"rigid body), got {names[0]}={av!r}, {names[1]}={cv!r}."
+        )
+    return av, cv
+
+
+def _moment_arrays(a, c) -> tuple[np.ndarray, np.ndarray]:
+    av = as_float_array(a, "A")
+    cv = as_float_array(c, "C")
+    if np.any(av <= 0):
+        raise InvalidInputError(
+            f"Expected `A` to be positive (kg m^2), got {av[av <= 0].flat[0]!r}."
+        )
+    if np.any(cv <= 0):
+        raise InvalidInputError(
+            f"Expected `C` to be positive (kg m^2), got {cv[cv <= 0].flat[0]!r}."
+        )
+    if np.any(cv > 2.0 * av * (1.0 + 4 * _EPS)):
+        raise InvalidInputError(
+            "Expected `C` <= 2 `A` (triangle inequality A + B >= C of a rigid body)."
+        )
+    return av, cv
+
+
+def _angle(x, name: str, degrees: bool, *, lo=None, hi=None) -> np.ndarray:
+    a = as_float_array(x, name)
+    if degrees:
+        a = np.deg2rad(a)
+    if lo is not None and np.any((a < lo) | (a > hi)):
+        unit = "degrees" if degrees else "rad"
+        bad = float(
+            np.rad2deg(a[(a < lo) | (a > hi)].flat[0])
+            if degrees
+            else a[(a < lo) | (a > hi)].flat[0]
+        )
+        raise InvalidInputError(
+            f"Expected `{name}` in [0, pi] (the tilt of the symmetry axis from the upward "
+            f"vertical), got {bad!r} {unit}."
+        )
+    return a
+
+
+# ---------------------------------------------------------------------------
+# Regular precession, sleeping top, gyroscope (array functions)
+# ---------------------------------------------------------------------------
+
+
+def regular_precession_rates(A, C, mgl, theta, spin, *, degrees: bool = False):
+    """The two precession rates ``psi'`` of a regular precession of the heavy top.
+
+    ``theta`` stays constant iff ``A psi'^2 cos(theta) - H psi' + m g l = 0``,
+    ``H = C r`` (docs/theory.md §10):
+
+    ``psi' = (H -+ sqrt(H^2 - 4 A m g l cos(theta))) / (2 A cos(theta))``.
+
+    Parameters
+    ----------
+    A, C : array_like
+        Equatorial and axial moments of inertia about the fixed point (kg m^2).
+    mgl : array_like
+        ``m g l`` (N m), ``l`` the signed distance from the fixed point to the
+        centre of mass along the symmetry axis (negative: centre of mass below).
+    theta : array_like
+        Tilt of the symmetry axis from the upward vertical, in ``[0, pi]`` (rad, or
+        degrees with ``degrees=True``).
+    spin : array_like
+        ``r``, the axial component of the angular velocity (rad/s).
+    degrees : bool, optional
+        ``theta`` in degrees.
+
+    Returns
+    -------
+    slow, fast : ndarray
+        The slow rate (the smaller ``|psi'|``, ``~ m g l / H`` for a fast top, see
+        :func:`gyroscope_precession_rate`) and the fast one ``~ H / (A cos theta)``
+        (rad/s). Written without cancellation: ``slow = 2 m g l / (H + sign(H)
+        sqrt(D))``, ``fast = (H + sign(H) sqrt(D)) / (2 A cos theta)``. At
+        ``theta = pi/2`` the fast rate is infinite (``+-inf``); with ``H = 0`` the
+        two rates are ``+-sqrt(-m g l / (A cos theta))`` (returned as ``(+, -)``).
+
+    Raises
+    ------
+    InvalidInputError
+        If the rates do not exist, ``C^2 r^2 < 4 A m g l cos(theta)`` (the spin is
+        too slow), or for unphysical moments or ``theta`` outside ``[0, pi]``.
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import regular_precession_rates, gyroscope_precession_rate
+    >>> slow, fast = regular_precession_rates(2.0, 1.0, 4.0, 1.0, 50.0)
+    >>> round(float(slow), 6), round(float(gyroscope_precession_rate(1.0, 4.0, 50.0)), 6)
+    (0.080139, 0.08)
+    """
+    a, c = _moment_arrays(A, C)
+    g = as_float_array(mgl, "mgl")
+    th = _angle(theta, "theta", as_bool(degrees, "degrees"), lo=0.0, hi=math.pi)
+    r = as_float_array(spin, "spin")
+    a, c, g, th, r = np.broadcast_arrays(a, c, g, th, r)
+    h = c * r
+    u = np.cos(th)
+    d = h * h - 4.0 * a * g * u
+    if np.any(d < 0):
+        i = np.flatnonzero(d < 0)[0]
+        lhs, rhs = float(h.flat[i] ** 2), float(4 * a.flat[i] * g.flat[i] * u.flat[i])
+        raise InvalidInputError(
+            f"Expected a spin fast enough for a regular precession, C^2 r^2 >= 4 A m g l "
+            f"cos(theta): got C^2 r^2 = {lhs!r} < {rhs!r} (no real psi' keeps theta constant)."
+        )
+    zero = (h == 0) & (g * u == 0) & (g != 0)
+    if np.any(zero):
+        raise InvalidInputError(
+            "Expected `spin` != 0 or `theta` != pi/2: a non-spinning top with a horizontal "
+            "axis cannot precess regularly (m g l != 0)."
+        )
+    sgn = np.where(h < 0, -1.0, 1.0)
+    qq = 0.5 * (h + sgn * np.sqrt(d))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fast = np.where(u == 0, sgn * np.inf, qq / (a * u))
+        slow = np.where(qq != 0, g / qq, 0.0)
+        w = np.sqrt(np.abs(g / (a * np.where(u == 0, 1.0, u))))
+    slow = np.where(h == 0, w, slow)
+    fast = np.where(h == 0, -w, fast)
+    return slow[()], fast[()]
+
+
+def gyroscope_precession_rate(C, mgl, spin):
+    """The gyroscope approximation of the slow precession, ``psi' ~ m g l / (C r)``.
+
+    The slow root of :func:`regular_precession_rates` for a fast top (``H = C r``
+    large): ``psi'_slow = m g l / H (1 + A m g l cos(theta) / H^2 + ...)``
+    (docs/theory.md §10).
+
+    Parameters
+    ----------
+    C : array_like
+        Axial moment about the fixed point (kg m^2).
+    mgl : array_like
+        ``m g l`` (N m).
+    spin : array_like
+        ``r`` (rad/s), non-zero.
+
+    Returns
+    -------
+    ndarray
+        ``m g l / (C r)`` (rad/s).
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import gyroscope_precession_rate
+    >>> float(gyroscope_precession_rate(0.5, 2.0, 40.0))
+    0.1
+    """
+    c = as_float_array(C, "C")
+    g = as_float_array(mgl, "mgl")
+    r = as_float_array(spin, "spin")
+    if np.any(c <= 0):
+        raise InvalidInputError("Expected `C` to be positive (kg m^2).")
+    if np.any(r == 0):
+        raise InvalidInputError(
+            "Expected `spin` to be non-zero (the gyroscope approximation m g l / (C r))."
+        )
+    return (g / (c * r))[()]
+
+
+def critical_spin(A, C, mgl):
+    """Maievskii's critical spin of the sleeping top, ``r_c = 2 sqrt(A m g l) / C``.
+
+    The upright (sleeping) top is stable iff ``C^2 r^2 > 4 A m g l``
+    (docs/theory.md §10); for ``m g l <= 0`` (centre of mass at or below the
+    fixed point) it is stable at any spin and ``r_c = 0``.
+
+    Parameters
+    ----------
+    A, C : array_like
+        Equatorial and axial moments about the fixed point (kg m^2).
+    mgl : array_like
+        ``m g l`` (N m).
+
+    Returns
+    -------
+    ndarray
+        ``r_c`` (rad/s), ``>= 0``.
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import critical_spin
+    >>> float(critical_spin(2.0, 1.0, 2.0))
+    4.0
+    """
+    a, c = _moment_arrays(A, C)
+    g = as_float_array(mgl, "mgl")
+    return (2.0 * np.sqrt(np.maximum(a * g, 0.0)) / c)[()]
+
+
+def sleeping_top_stable(A, C, mgl, spin):
+    """Whether the upright (sleeping) top is stable: ``C^2 r^2 > 4 A m g l`` (Maievskii).
+
+    Parameters
+    ----------
+    A, C : array_like
+        Equatorial and axial moments about the fixed point (kg m^2).
+    mgl : array_like
+        ``m g l`` (N m).
+    spin : array_like
+        ``r`` (rad/s).
+
+    Returns
+    -------
+    bool or ndarray of bool
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import sleeping_top_stable
+    >>> bool(sleeping_top_stable(2.0, 1.0, 2.0, 4.1)), bool(sleeping_top_stable(2.0, 1.0, 2.0, 3.9))
+    (True, False)
+    """
+    a, c = _moment_arrays(A, C)
+    g = as_float_array(mgl, "mgl")
+    r = as_float_array(spin, "spin")
+    out = (c * r) ** 2 > 4.0 * a * g
+    return bool(out) if out.ndim == 0 else out
+
+
+@dataclass(frozen=True)
+class GyroscopicMoment:
+    """The moment that keeps a symmetric body in regular precession (docs/theory.md §10).
+
+    Attributes
+    ----------
+    moment : ndarray
+        ``M = [C + (C - A)(psi'/phi') cos(theta)] psi' phi' sin(theta)`` (N m): the
+        component of ``[C + (C - A)(psi'/phi') cos theta] psi' x phi'`` along the line
+        of nodes ``e_z x e_3 / |e_z x e_3|`` (the moment vector is along it).
+    approximation : ndarray
+        The gyroscope approximation ``C psi' phi' sin(theta)`` (N m).
+    relative_error : ndarray
+        ``|approximation - moment| / |moment|`` (``= |(C - A) psi' cos(theta)| /
+        |C phi' + (C - A) psi' cos(theta)|``); ``inf`` where ``moment = 0``.
+    """
+
+    moment: np.ndarray
+    approximation: np.ndarray
+    relative_error: np.ndarray
+
+
+def gyroscopic_moment(A, C, theta, precession_rate, spin_rate, *, degrees: bool = False):
+    """Moment needed for a regular precession of a symmetric body (the gyroscope).
+
+    ``M = [C + (C - A)(psi'/phi') cos(theta)] psi' x phi'`` with ``psi'`` along the
+    precession axis (space ``e_z``), ``phi'`` along the symmetry axis ``e_3``
+    (docs/theory.md §10); for ``|phi'| >> |psi'|`` or ``theta = pi/2`` it is
+    ``C psi' x phi'``.
+
+    Parameters
+    ----------
+    A, C : array_like
+        Equatorial and axial moments about the fixed point (kg m^2).
+    theta : array_like
+        Angle between the precession axis and the symmetry axis (rad, or degrees
+        with ``degrees=True``), in ``[0, pi]``.
+    precession_rate, spin_rate : array_like
+        ``psi'`` and ``phi'`` (rad/s); ``phi'`` is the rate of the spin *angle*
+        (the axial angular velocity is ``r = phi' + psi' cos(theta)``).
+    degrees : bool, optional
+
+    Returns
+    -------
+    GyroscopicMoment
+        The exact moment along the line of nodes, the approximation ``C psi' phi'
+        sin(theta)`` and its relative error.
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import gyroscopic_moment
+    >>> import numpy as np
+    >>> g = gyroscopic_moment(2.0, 1.0, np.pi / 3, 0.5, 100.0)
+    >>> round(float(g.moment), 4), round(float(g.approximation), 4)
+    (43.193, 43.3013)
+    >>> f"{float(g.relative_error):.1e}"
+    '2.5e-03'
+
+    A heavy top precessing regularly needs exactly its gravity moment ``m g l sin(theta)``:
+
+    >>> from poinsot.dynamics import regular_precession_rates
+    >>> slow, _ = regular_precession_rates(2.0, 1.0, 3.0, 0.7, 30.0)
+    >>> M = gyroscopic_moment(2.0, 1.0, 0.7, slow, 30.0 - slow * np.cos(0.7)).moment
+    >>> bool(np.isclose(M, 3.0 * np.sin(0.7), rtol=1e-13))
+    True
+    """
+    a, c = _moment_arrays(A, C)
+    th = _angle(theta, "theta", as_bool(degrees, "degrees"), lo=0.0, hi=math.pi)
+    pr = as_float_array(precession_rate, "precession_rate")
+    sr = as_float_array(spin_rate, "spin_rate")
+    sin = np.sin(th)
+    extra = (c - a) * pr * np.cos(th)  # (C - A) psi' cos(theta), times psi' sin(theta)
+    exact = (c * sr + extra) * pr * sin
+    approx = c * pr * sr * sin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.abs(extra) / np.abs(c * sr + extra)
+    rel = np.where(exact == 0, np.where(approx == 0, 0.0, np.inf), rel)
+    return GyroscopicMoment(exact[()], approx[()], rel[()])
+
+
+# ---------------------------------------------------------------------------
+# Root finding
+# ---------------------------------------------------------------------------
+
+
+def _rtsafe(f, df, lo: float, hi: float) -> float:
+    """A root of ``f`` in ``[lo, hi]`` with ``f(lo) f(hi) <= 0``: Newton kept in the bracket."""
+    flo, fhi = f(lo), f(hi)
+    if flo == 0.0:
+        return lo
+    if fhi == 0.0:
+        return hi
+    if flo > 0.0:  # orient so that f(lo) < 0 < f(hi)
+        lo, hi = hi, lo
+    x = 0.5 * (lo + hi)
+    dx_old = abs(hi - lo)
+    dx = dx_old
+    fx, dfx = f(x), df(x)
+    for _ in range(300):
+        newton_ok = dfx != 0.0 and ((x - hi) * dfx - fx) * ((x - lo) * dfx - fx) < 0.0
+        if not newton_ok or abs(2.0 * fx) > abs(dx_old * dfx):
+            dx_old = dx
+            dx = 0.5 * (hi - lo)
+            x = lo + dx
+        else:
+            dx_old = dx
+            dx = fx / dfx
+            x = x - dx
+        if abs(dx) <= 2.0 * _EPS * max(abs(x), 1e-300) or x in (lo, hi):
+            break
+        fx, dfx = f(x), df(x)
+        if fx == 0.0:
+            break
+        if fx < 0.0:
+            lo = x
+        else:
+            hi = x
+    return float(x)
+
+
+def _cubic(c3, c2, c1, c0):
+    def f(x):
+        return ((c3 * x + c2) * x + c1) * x + c0
+
+    def df(x):
+        return (3.0 * c3 * x + 2.0 * c2) * x + c1
+
+    return f, df
+
+
+def _polish(f, df, x: float, lo: float, hi: float) -> float:
+    """Bracketed root near ``x`` in ``[lo, hi]`` (expanded until it brackets)."""
+    if f(lo) * f(hi) > 0:
+        return x
+    return _rtsafe(f, df, lo, hi)
+
+
+# ---------------------------------------------------------------------------
+# The top
+# ---------------------------------------------------------------------------
+
+
+class _State:
+    """Constants of one top in the frame where ``m g l >= 0`` (internal)."""
+
+
+def _zxz_quat(psi, theta, phi):
+    """``Rz(psi) Rx(theta) Rz(phi)``; ``theta = pi`` gives ``cos(theta/2) = 0`` exactly."""
+    s, c = math.sin, math.cos
+    ch = 0.0 if theta == math.pi else c(0.5 * theta)
+    sh = s(0.5 * theta)
+    return np.array(
+        [
+            ch * c(0.5 * (psi + phi)),
+            sh * c(0.5 * (psi - phi)),
+            sh * s(0.5 * (psi - phi)),
+            ch * s(0.5 * (psi + phi)),
+        ]
+    )
+
+
+def _flip(q):
+    """``q o (0, 1, 0, 0)``: the attitude with the body axes ``e_2, e_3`` reversed."""
+    from ..rotations import quaternion
+
+    return quaternion.multiply(q, _PI_X)
+
+
+class LagrangeTop:
+    """The exact motion of the heavy symmetric (Lagrange) top (docs/theory.md §10).
+
+    Parameters
+    ----------
+    A, C : float
+        Equatorial and axial moments of inertia about the fixed point (kg m^2);
+        ``A > 0``, ``C > 0``, ``C <= 2 A``.
+    mgl : float
+        ``m g l`` (N m): ``l`` is the signed distance from the fixed point to the
+        centre of mass along the symmetry axis ``e_3``; ``mgl < 0`` (centre of mass
+        below the point: a hanging top) and ``mgl = 0`` (free symmetric top) are valid.
+    theta : float
+        Initial tilt of the symmetry axis from the upward vertical, in ``[0, pi]``.
+    theta_rate : float, optional
+        ``theta'`` at ``t = 0`` (rad/s). Default 0.
+    precession_rate : float, optional
+        ``psi'`` at ``t = 0`` (rad/s). Default 0.
+    spin : float
+        ``r``, the axial component of the angular velocity in body axes (rad/s),
+        constant (``H = C r``).
+    psi, phi : float, optional
+        Initial precession and spin angles (z-x-z); default 0.
+    degrees : bool, optional
+        ``theta``, ``psi`` and ``phi`` in degrees (the rates stay in rad/s).
+
+    Attributes
+    ----------
+    A, C, mgl : float
+    H, K_z, E : float
+        The integrals ``C r``, ``K . e_z`` (kg m^2/s) and the reduced energy
+        ``A (theta'^2 + psi'^2 sin^2 theta)/2 + m g l cos theta`` (J) of
+        docs/theory.md §10 (without the constant ``C r^2 / 2``; :attr:`energy`
+        is the total).
+
+    Notes
+    -----
+    The formulas and the treatment of the degenerate cases are in the module
+    docstring of :mod:`poinsot.dynamics.lagrange_top`. Evaluate with
+    :meth:`theta`, :meth:`psi`, :meth:`phi`, :meth:`rotation`, :meth:`omega`,
+    :meth:`state`, :meth:`trajectory` at times ``t`` of any shape (s, from the
+    initial state at ``t = 0``). One top per object.
+
+    **Convention:** ``rotation(t)`` body -> space; body ``e_3`` the symmetry axis;
+    z-x-z Euler angles; gravity along ``-z`` of space; ``omega`` in body axes.
+
+    Examples
+    --------
+    A top released from rest at 30 degrees with a fast spin: cusps at the start.
+
+    >>> import numpy as np
+    >>> from poinsot.dynamics import LagrangeTop
+    >>> top = LagrangeTop(2.0, 1.0, 4.0, theta=30.0, spin=20.0, degrees=True)
+    >>> top.motion_type
+    'cusps'
+    >>> [round(float(np.degrees(b)), 4) for b in top.nutation_bounds]
+    [30.0, 31.2087]
+    >>> bool(top.theta(0.0) == np.radians(30.0)), round(top.nutation_period, 6)
+    (True, 0.651059)
+    >>> bool(np.isclose(top.theta(top.nutation_period / 2), top.nutation_bounds[1]))
+    True
+    """
+
+    def __init__(
+        self,
+        A,
+        C,
+        mgl,
+        *,
+        theta,
+        theta_rate=0.0,
+        precession_rate=0.0,
+        spin,
+        psi=0.0,
+        phi=0.0,
+        degrees: bool = False,
+    ):
+        a, c = _moments(A, C)
+        g = _scalar(mgl, "mgl")
+        deg = as_bool(degrees, "degrees")
+        th = float(_angle(_scalar(theta, "theta"), "theta", deg, lo=0.0, hi=math.pi))
+        ps = float(_angle(_scalar(psi, "psi"), "psi", deg))
+        ph = float(_angle(_scalar(phi, "phi"), "phi", deg))
+        thd = _scalar(theta_rate, "theta_rate")
+        psd = _scalar(precession_rate, "precession_rate")
+        r = _scalar(spin, "spin")
+        q0 = _zxz_quat(ps, th, ph)
+        st = math.sin(th)
+        w0 = np.array(
+            [
+                psd * st * math.sin(ph) + thd * math.cos(ph),
+                psd * st * math.cos(ph) - thd * math.sin(ph),
+                r,
+            ]
+        )
+        self._setup(a, c, g, q0, w0, ps, ph, th)
+
+    # -- construction --------------------------------------------------------
+    @classmethod
+    def from_state(cls, body_or_moments, mgl=None, rotation=None, omega=None) -> LagrangeTop:
+        """A Lagrange top from an attitude and a body angular velocity.
+
+        Parameters
+        ----------
+        body_or_moments : HeavyRigidBody or array_like, shape (3,) or (3, 3)
+            A :class:`~poinsot.dynamics.HeavyRigidBody` (``mgl`` is then taken from
+            its mass, ``g`` and centre of mass), or the principal moments
+            ``(A, A, C)`` / the inertia tensor about the fixed point in body axes.
+            The symmetry axis must be the body ``z`` axis.
+        mgl : float, optional
+            ``m g l`` (N m); required unless a ``HeavyRigidBody`` is given.
+        rotation : Rotation, scipy Rotation or array_like (4,)
+            Attitude, body -> space (scalar-first quaternion).
+        omega : array_like, shape (3,)
+            Angular velocity in body axes (rad/s).
+
+        Raises
+        ------
+        InvalidInputError
+            If the body is not a Lagrange top (``A != B``, the body ``z`` axis not
+            principal, the centre of mass off the symmetry axis), naming the
+            condition; unphysical moments; NaN/inf.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import LagrangeTop
+        >>> from poinsot import Rotation
+        >>> r = Rotation.from_euler("ZXZ", [0.0, 0.5, 0.0])
+        >>> top = LagrangeTop.from_state([2.0, 2.0, 1.0], 4.0, r, [0.0, 0.0, 20.0])
+        >>> top.motion_type, round(top.H, 12)
+        ('cusps', 20.0)
+        """
+        from .heavy import HeavyRigidBody
+
+        rtol = 1e-12
+        if isinstance(body_or_moments, HeavyRigidBody):
+            body = body_or_moments
+            j = body.inertia_tensor
+            cvec = body.center_of_mass
+            lc = float(np.hypot(cvec[0], cvec[1]))
+            if lc > rtol * float(np.linalg.norm(cvec)):
+                raise InvalidInputError(
+                    "Expected the centre of mass on the symmetry (body z) axis for a Lagrange "
+                    f"top, got center_of_mass = {cvec.tolist()} (off the axis by {lc:.3g} m)."
+                )
+            g_mgl = float(body.mass * body.g * cvec[2])
+            if mgl is not None and not math.isclose(_scalar(mgl, "mgl"), g_mgl, rel_tol=1e-12):
+                raise InvalidInputError(
+                    f"Expected `mgl` to be None or the body's m g l = {g_mgl!r}, got {mgl!r}."
+                )
+            mgl = g_mgl
+        else:
+            j = as_float_array(body_or_moments, "body_or_moments")
+            if j.shape == (3,):
+                j = np.diag(j)
+            elif j.shape != (3, 3):
+                raise InvalidInputError(
+                    "Expected `body_or_moments` to be a HeavyRigidBody, principal moments (3,) "
+                    f"or an inertia tensor (3, 3), got shape {j.shape}."
+                )
+            if mgl is None:
+                raise InvalidInputError("Expected `mgl` (N m) with moments or a tensor, got None.")
+        scale = float(np.max(np.abs(j)))
+        if not scale > 0:
+            raise InvalidInputError("Expected positive moments of inertia, got zeros.")
+        if abs(j[0, 2]) + abs(j[1, 2]) > rtol * scale:
+            raise InvalidInputError(
+                "Expected the body z axis to be a principal axis (the symmetry axis of a "
+                f"Lagrange top), got J13 = {j[0, 2]!r}, J23 = {j[1, 2]!r}."
+            )
+        if abs(j[0, 0] - j[1, 1]) > rtol * scale or abs(j[0, 1]) > rtol * scale:
+            raise InvalidInputError(
+                "Expected A = B (a body symmetric about its z axis) for a Lagrange top, got "
+                f"equatorial moments J11 = {j[0, 0]!r}, J22 = {j[1, 1]!r}, J12 = {j[0, 1]!r}."
+            )
+        a, c = _moments(0.5 * (j[0, 0] + j[1, 1]), j[2, 2], names=("A", "C"))
+        g = _scalar(mgl, "mgl")
+        if rotation is None or omega is None:
+            raise InvalidInputError(
+                "Expected `rotation` and `omega` (the initial state), got None."
+            )
+        q0 = as_rotation_quat(rotation, "rotation")
+        if q0.shape != (4,):
+            raise InvalidInputError(f"Expected one `rotation`, got shape {q0.shape[:-1]}.")
+        w0 = as_vec3(omega, "omega")
+        if w0.shape != (3,):
+            raise InvalidInputError(f"Expected `omega` to have shape (3,), got {w0.shape}.")
+        ps, th, ph = Rotation.from_quat(q0).as_euler("ZXZ")
+        self = cls.__new__(cls)
+        self._setup(a, c, g, np.array(q0, dtype=float), np.array(w0, dtype=float), ps, ph, th)
+        return self
+
+    def _setup(self, a, c, mgl, q0, w0, psi0, phi0, theta0) -> None:
+        self._a, self._c, self._mgl = a, c, mgl
+        self._q0 = q0
+        self._w0 = w0
+        self._psi0, self._phi0 = float(psi0), float(phi0)
+        flip = mgl < 0
+        self._flip = flip
+        if flip:
+            qf = _flip(q0)
+            wf = np.array([w0[0], -w0[1], -w0[2]])
+            g = -mgl
+        else:
+            qf, wf, g = q0, w0, mgl
+        qf = qf / math.sqrt(float(qf @ qf))
+        s = _State()
+        self._s = s
+        q_0, q_1, q_2, q_3 = (float(x) for x in qf)
+        p, qq, r = (float(x) for x in wf)
+        s.q = qf
+        s.om = 2.0 * (q_1 * q_1 + q_2 * q_2)  # 1 - u0 = 2 sin^2(theta/2)
+        s.op = 2.0 * (q_0 * q_0 + q_3 * q_3)  # 1 + u0
+        s.u0 = 0.5 * (s.op - s.om)
+        gam1 = 2.0 * (q_1 * q_3 - q_0 * q_2)
+        gam2 = 2.0 * (q_2 * q_3 + q_0 * q_1)
+        s.s2 = s.om * s.op  # sin^2(theta0)
+        s.L = p * gam1 + qq * gam2  # psi' sin^2 theta
+        s.V = gam1 * qq - gam2 * p  # u0'
+        s.w2 = p * p + qq * qq
+        s.H = c * r
+        s.r = r
+        s.g = g
+        s.p, s.qq = p, qq
+        big_h = s.H
+        # integrals (the original frame: K_z, E unchanged by the flip; H -> -H)
+        self._H = -big_h if flip else big_h
+        self._Kz = a * s.L + big_h * s.u0
+        self._E = 0.5 * a * s.w2 + g * s.u0
+        s.kmh = a * s.L - big_h * s.om  # K_z - H
+        s.kph = a * s.L + big_h * s.op  # K_z + H
+        if abs(s.kmh) <= 16 * _EPS * (abs(a * s.L) + abs(big_h * s.om)):
+            s.kmh = 0.0
+        if abs(s.kph) <= 16 * _EPS * (abs(a * s.L) + abs(big_h * s.op)):
+            s.kph = 0.0
+        c3 = 2.0 * g / a
+        c2 = -s.w2 + 2.0 * c3 * s.u0 - (big_h / a) ** 2
+        c1 = -2.0 * s.u0 * s.w2 - c3 * s.s2 + 2.0 * big_h * s.L / a
+        c0 = s.V * s.V
+        s.coef = (c3, c2, c1, c0)
+        c1_scale = 2.0 * abs(s.u0) * s.w2 + c3 * s.s2 + 2.0 * abs(big_h * s.L) / a
+        if c0 == 0.0 and abs(c1) <= _DOUBLE_ROOT_EPS * _EPS * c1_scale:
+            c1 = 0.0
+            s.coef = (c3, c2, c1, c0)
+        self._roots(s)
+        self._classify(s)
+        self._motion_constants(s)
+
+    def _roots(self, s) -> None:
+        c3, c2, c1, c0 = s.coef
+        om, op = s.om, s.op
+        f, df = _cubic(c3, c2, c1, c0)
+        s.double = False
+        if c3 == 0.0:  # free top: a quadratic (c2 = -|K|^2/A^2 <= 0)
+            if c2 == 0.0:
+                x1 = x2 = 0.0
+            elif c0 == 0.0 and c1 == 0.0:
+                x1 = x2 = 0.0
+            else:
+                disc = max(c1 * c1 - 4.0 * c2 * c0, 0.0)
+                qd = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+                ra = qd / c2 if c2 != 0 else 0.0
+                rb = c0 / qd if qd != 0 else 0.0
+                x1, x2 = min(ra, rb), max(ra, rb)
+                x1 = _polish(f, df, x1, -op, min(0.0, x2))
+                x2 = _polish(f, df, x2, max(0.0, x1), om)
+            s.x = (x1, x2, math.inf)
+            s.double = x1 == x2
+            return
+        if c0 > 0.0:
+            x1 = _rtsafe(f, df, -op, 0.0)
+            x2 = _rtsafe(f, df, 0.0, om)
+            x3 = -c2 / c3 - x1 - x2
+            hi = max(x3, om)
+            step = max(1.0, abs(hi))
+            while f(hi) <= 0.0:
+                hi += step
+                step *= 2.0
+            x3 = _rtsafe(f, df, om, hi) if f(om) < 0.0 else om
+        else:
+            g2, dg2 = _cubic(0.0, c3, c2, c1)  # P(x) / x
+            if c1 == 0.0:
+                x1 = x2 = 0.0
+                x3 = -c2 / c3
+                s.double = True
+            elif c1 > 0.0:
+                x1 = 0.0
+                x2 = _rtsafe(g2, dg2, 0.0, om)
+                x3 = c1 / (c3 * x2) if x2 != 0.0 else -c2 / c3
+            else:
+                x2 = 0.0
+                x1 = _rtsafe(g2, dg2, -op, 0.0)
+                x3 = c1 / (c3 * x1) if x1 != 0.0 else -c2 / c3
+            if not s.double:
+                hi = max(x3, om)
+                lo = om
+                if g2(lo) < 0.0 < g2(hi):
+                    x3 = _rtsafe(g2, dg2, lo, hi)
+        # the poles: K_z = +-H makes u = +-1 a root (and a root at a pole means K_z = +-H)
+        if not s.double and c3 != 0.0:
+            if x1 <= -op:
+                s.kph = 0.0
+            if x2 >= om:
+                s.kmh = 0.0
+        if s.kmh == 0.0 and not s.double and c3 != 0.0:
+            if om - x2 <= abs(x3 - om):
+                x2 = om
+            else:
+                x3 = om
+        if s.kph == 0.0 and not s.double:
+            x1 = -op
+        # separatrix: u2 = u3 = 1
+        if not s.double and x3 - x2 <= 64.0 * _EPS * max(1.0, abs(x3)):
+            x2 = x3 = om
+            s.kmh = 0.0
+        xs = sorted((x1, x2, x3))
+        if s.double and x3 < 0.0:
+            # upright with a slow spin: roots (x3, 0, 0), u2 = u3 = 1
+            s.x = (x1, x2, x3)
+            s.unstable_vertical = True
+        else:
+            s.x = (x1, x2, x3) if not s.double else (0.0, 0.0, x3)
+            s.unstable_vertical = False
+        s.sorted = tuple(xs)
+
+    def _classify(self, s) -> None:
+        x1, x2, x3 = s.x
+        a, big_h = self._a, s.H
+        if s.double:
+            if s.s2 == 0.0:
+                s.kind = "asymptotic" if s.unstable_vertical else "sleeping"
+            else:
+                s.kind = "regular precession"
+            return
+        if x2 == x3 == s.om and s.g > 0:
+            s.kind = "asymptotic"
+            return
+        n1 = a * s.L - big_h * x1  # K_z - H u at u1 (times 1)
+        n2 = a * s.L - big_h * x2
+        # at a pole the limit of psi' = (K_z - H u) / (A (1 - u^2)) is +-H / (2 A)
+        if x2 == s.om and s.kmh == 0.0:
+            n2 = big_h
+        if x1 == -s.op and s.kph == 0.0:
+            n1 = -big_h
+        scale = max(abs(a * s.L), abs(big_h) * (x2 - x1), abs(n1), abs(n2))
+        tol = CUSP_RTOL * scale
+        z1, z2 = abs(n1) <= tol, abs(n2) <= tol
+        if z1 or z2:
+            s.kind = "cusps"
+        elif (n1 > 0) == (n2 > 0):
+            s.kind = "waves"
+        else:
+            s.kind = "loops"
+
+    def _motion_constants(self, s) -> None:
+        from . import _elliptic as el
+
+        a, c = self._a, self._c
+        big_h = s.H
+        s.ws = big_h / c - big_h / a
+        x1, x2, x3 = s.x
+        qf = s.q
+        s.free = s.g == 0.0
+        if s.free:
+            from .free_body import FreeRigidBody
+
+            s.body = FreeRigidBody(
+                [a, a, c], omega0=self._w0, rotation0=Rotation.from_quat(self._q0)
+            )
+            c2 = s.coef[1]
+            s.period = 2.0 * math.pi / math.sqrt(-c2) if c2 < 0 else math.inf
+            return
+        if s.double:
+            # uniform: u = u0, sigma and delta linear in t
+            s.sig_rate = s.kph / (a * s.op) + s.ws if s.op > 0 else 0.0
+            s.del_rate = s.kmh / (a * s.om) - s.ws if s.om > 0 else 0.0
+            s.sig0 = 2.0 * math.atan2(qf[3], qf[0])
+            s.del0 = 2.0 * math.atan2(qf[2], qf[1])
+            s.wps = s.L / math.sqrt(s.s2) if s.s2 > 0 else 0.0
+            s.sign0 = (1.0, 1.0)
+            s.period = 2.0 * math.pi / math.sqrt(s.g * 2.0 / a * x3) if x3 > 0 else math.inf
+            return
+        from . import _lagrange_numba as kn
+
+        dx = x2 - x1
+        x31 = x3 - x1
+        m = dx / x31
+        m1 = (x3 - x2) / x31
+        rate = 0.5 * math.sqrt(2.0 * s.g / a * x31)
+        om1 = s.om - x1
+        op1 = s.op + x1
+        par = np.zeros(kn.N_PAR)
+        par[kn.P_RATE] = rate
+        par[kn.P_M] = m
+        par[kn.P_M1] = m1
+        kq = float(el.ellipk(m, m1=m1))
+        par[kn.P_K] = kq
+        par[kn.P_DX] = dx
+        par[kn.P_OM1] = om1
+        par[kn.P_OP1] = op1
+        par[kn.P_NP] = dx / om1
+        par[kn.P_NM] = -dx / op1 if op1 > 0 else -math.inf
+        sps = x2 == s.om and s.kmh == 0.0
+        spc = x1 == -s.op and s.kph == 0.0
+        par[kn.P_CP] = 0.0 if s.kmh == 0.0 else s.kmh / (a * om1 * rate)
+        par[kn.P_CM] = 0.0 if s.kph == 0.0 else s.kph / (a * op1 * rate)
+        if m1 > 0.0:
+            par[kn.P_PIP] = float(el.ellippi(par[kn.P_NP], m, m1=m1)) if par[kn.P_CP] else 0.0
+            par[kn.P_PIM] = float(el.ellippi(par[kn.P_NM], m, m1=m1)) if par[kn.P_CM] else 0.0
+        par[kn.P_WS] = s.ws
+        par[kn.P_SPS] = 1.0 if sps else 0.0
+        par[kn.P_SPC] = 1.0 if spc else 0.0
+        par[kn.P_KMH] = s.kmh
+        par[kn.P_KPH] = s.kph
+        par[kn.P_A] = a
+        par[kn.P_H] = big_h
+        par[kn.P_R] = s.r
+        # tau0: sn^2(tau0) = -x1 / dx, cn^2 = x2 / dx, dn^2 = x3 / x31; sign of u0' = V
+        rho = -x1 / dx
+        if m1 == 0.0 and rho >= 1.0:  # pragma: no cover - the equilibrium is 'double'
+            tau0 = math.inf
+        else:
+            tau0 = math.sqrt(rho) * float(el.elliprf(max(x2, 0.0) / dx, x3 / x31, 1.0))
+        if s.V < 0.0:
+            tau0 = -tau0
+        par[kn.P_TAU0] = tau0
+        sn0, cn0, dn0, pip0, pim0 = kn.pi_at(tau0, par)
+        par[kn.P_PIP0] = pip0
+        par[kn.P_PIM0] = pim0
+        # signed half-angle functions at t = 0 and the Cayley-Klein angles
+        s_0 = (
+            math.sqrt(0.5 * om1) * cn0 if sps else math.sqrt(max(0.5 * (om1 - dx * sn0 * sn0), 0.0))
+        )
+        c_0 = (
+            math.sqrt(0.5 * dx) * sn0 if spc else math.sqrt(max(0.5 * (op1 + dx * sn0 * sn0), 0.0))
+        )
+        if c_0 != 0.0:
+            sg = 1.0 if c_0 > 0 else -1.0
+            sig0 = 2.0 * math.atan2(sg * qf[3], sg * qf[0])
+        if s_0 != 0.0:
+            sg = 1.0 if s_0 > 0 else -1.0
+            del0 = 2.0 * math.atan2(sg * qf[2], sg * qf[1])
+        if c_0 == 0.0 or s_0 == 0.0:
+            # at a pole: phi0 from the transverse angular velocity, q + i p = i theta' e^{i phi}
+            rs = 1.0 / math.sqrt(0.5 * om1) if sps else cn0 / s_0
+            rc = 1.0 / math.sqrt(0.5 * dx) if spc else sn0 / c_0
+            wth = -dx * rate * dn0 * rs * rc
+            sg = 1.0 if wth > 0 else -1.0
+            ph0 = math.atan2(-sg * s.qq, sg * s.p)  # e^{i phi} = (p - i q) / theta'
+            if c_0 == 0.0:
+                sig0 = del0 + 2.0 * ph0
+            else:
+                del0 = sig0 - 2.0 * ph0
+        par[kn.P_SIG0] = sig0
+        par[kn.P_DEL0] = del0
+        s.sign0 = (s_0, c_0)
+        s.par = par
+        s.period = 2.0 * kq / rate
+
+    # -- integrals and properties -----------------------------------------------
+    @property
+    def A(self) -> float:
+        """Equatorial moment about the fixed point (kg m^2)."""
+        return self._a
+
+    @property
+    def C(self) -> float:
+        """Axial moment about the fixed point (kg m^2)."""
+        return self._c
+
+    @property
+    def mgl(self) -> float:
+        """``m g l`` (N m)."""
+        return self._mgl
+
+    @property
+    def H(self) -> float:
+        """``H = C r``, the axial angular momentum (kg m^2/s), constant."""
+        return self._H
+
+    @property
+    def spin(self) -> float:
+        """``r`` (rad/s), the axial component of the angular velocity, constant."""
+        return self._H / self._c
+
+    @property
+    def K_z(self) -> float:
+        """The area integral ``K_z = A psi' sin^2(theta) + H cos(theta)`` (kg m^2/s)."""
+        return self._Kz
+
+    @property
+    def E(self) -> float:
+        """Reduced energy ``A (theta'^2 + psi'^2 sin^2 theta) / 2 + m g l cos theta`` (J)."""
+        return self._E
+
+    @property
+    def energy(self) -> float:
+        """Total mechanical energy ``T + V = E + C r^2 / 2`` (J)."""
+        return self._E + 0.5 * self._c * self.spin**2
+
+    def P(self, u):
+        """The cubic ``P(u) = (2/A)(E - m g l u)(1 - u^2) - (K_z - H u)^2 / A^2`` (1/s^2).
+
+        ``u'^2 = P(u)`` with ``u = cos(theta)``; evaluated as the polynomial in
+        ``x = u - u0`` (module notes), accurate near the roots.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import LagrangeTop
+        >>> top = LagrangeTop(2.0, 1.0, 4.0, theta=1.0, spin=20.0)
+        >>> [abs(float(top.P(u))) < 1e-12 for u in top.cos_theta_roots[:2]]
+        [True, True]
+        """
+        u = as_float_array(u, "u")
+        c3, c2, c1, c0 = self._s.coef
+        x = (-u if self._flip else u) - self._s.u0
+        return (((c3 * x + c2) * x + c1) * x + c0)[()]
+
+    def _u_roots(self) -> tuple[float, float, float]:
+        s = self._s
+        if s.free:
+            x1, x2, _ = s.x
+            us = (s.u0 + x1, s.u0 + x2, math.inf)
+        else:
+            us = tuple(s.u0 + x for x in s.sorted)
+        if self._flip:
+            us = tuple(sorted(-u for u in us))
+        return us
+
+    @property
+    def cos_theta_roots(self) -> tuple[float, float, float]:
+        """The roots ``u1 <= u2 <= u3`` of ``P`` (``u = cos theta``).
+
+        For ``m g l > 0`` the band is ``[u1, u2]`` and ``u3 >= 1``; for ``m g l < 0``
+        the band is ``[u2, u3]`` and ``u1 <= -1``; for ``m g l = 0`` (``P`` is a
+        quadratic) ``u3 = inf``.
+        """
+        return self._u_roots()
+
+    def _theta_of_x(self, x: float) -> float:
+        s = self._s
+        th = 2.0 * math.atan2(
+            math.sqrt(max(0.5 * (s.om - x), 0.0)), math.sqrt(max(0.5 * (s.op + x), 0.0))
+        )
+        return math.pi - th if self._flip else th
+
+    @property
+    def nutation_bounds(self) -> tuple[float, float]:
+        """``(theta_min, theta_max)`` (rad), the band the symmetry axis nutates in."""
+        s = self._s
+        x1, x2 = s.x[0], s.x[1]
+        ta, tb = self._theta_of_x(x2), self._theta_of_x(x1)
+        return (min(ta, tb), max(ta, tb))
+
+    @property
+    def nutation_period(self) -> float:
+        """Period of ``theta(t)``, ``2 K(m) / tau'`` (s); for regular precession the
+        period of small nutations about it; ``inf`` on the separatrix."""
+        return float(self._s.period)
+
+    @property
+    def motion_type(self) -> str:
+        """One of :data:`MOTION_TYPES`, from the sign of ``psi'`` at the two bounds.
+
+        ``"regular precession"`` (``u1 = u2``), ``"sleeping"`` (vertical axis,
+        stable), ``"asymptotic"`` (on the separatrix ``u2 = u3 = 1``, including the
+        unstable upright equilibrium), ``"cusps"`` (``psi' = 0`` at a bound, e.g.
+        released from rest), ``"waves"`` (same sign), ``"loops"`` (opposite signs).
+        """
+        return self._s.kind
+
+    @property
+    def maievskii_ratio(self) -> float:
+        """``C^2 r^2 / (4 A m g l)``: the sleeping top is stable above 1 (``inf`` if
+        ``m g l <= 0``)."""
+        if self._mgl <= 0:
+            return math.inf
+        return self._H**2 / (4.0 * self._a * self._mgl)
+
+    def psi_rate_at_bounds(self) -> tuple[float, float]:
+        """``psi'`` at ``theta_min`` and ``theta_max`` (rad/s); at a pole the limit ``+-H/(2A)``."""
+        s = self._s
+        a = self._a
+        out = []
+        for x in (s.x[1], s.x[0]):
+            num = a * s.L - s.H * x
+            den = a * (s.om - x) * (s.op + x)
+            if den == 0.0:
+                v = s.H / (2.0 * a) if x == s.om else -s.H / (2.0 * a)
+            else:
+                v = num / den
+            out.append(v)
+        if self._flip:
+            out = out[::-1]
+        return (float(out[0]), float(out[1]))
+
+    @property
+    def precession_per_nutation(self) -> float:
+        """The precession angle gained over one nutation period (rad)."""
+        s = self._s
+        if s.free:
+            return float("nan")
+        if s.double:
+            return 0.5 * (s.sig_rate + s.del_rate) * s.period if s.s2 > 0 else float("nan")
+        if not math.isfinite(s.period):
+            return float("nan")
+        from . import _lagrange_numba as kn
+
+        par = s.par
+        return float(par[kn.P_CP] * par[kn.P_PIP] + par[kn.P_CM] * par[kn.P_PIM])
+
+    @property
+    def mean_precession_rate(self) -> float:
+        """Mean ``psi'`` over a nutation period (rad/s); on the separatrix the limit ``H/(2A)``."""
+        s = self._s
+        if s.double:
+            return 0.5 * (s.sig_rate + s.del_rate) if s.s2 > 0 else float("nan")
+        if not s.free and not math.isfinite(s.period):
+            return s.H / (2.0 * self._a)
+        return self.precession_per_nutation / s.period
+
+    # -- evaluation ----------------------------------------------------------------
+    def _eval(self, t, want_q=True, want_w=True):
+        """Flattened ``(q (n, 4), w (n, 3), s, c, psi_increment, phi_increment)`` in the
+        internal frame (``m g l >= 0``)."""
+        s = self._s
+        ta = np.ascontiguousarray(np.asarray(t, dtype=float).reshape(-1))
+        n = ta.shape[0]
+        if s.double:
+            sig = s.sig0 + s.sig_rate * ta
+            dlt = s.del0 + s.del_rate * ta
+            sh = math.sqrt(0.5 * s.om)
+            ch = math.sqrt(0.5 * s.op)
+            q = np.empty((n, 4))
+            q[:, 0] = ch * np.cos(0.5 * sig)
+            q[:, 1] = sh * np.cos(0.5 * dlt)
+            q[:, 2] = sh * np.sin(0.5 * dlt)
+            q[:, 3] = ch * np.sin(0.5 * sig)
+            ph = 0.5 * (sig - dlt)
+            w = np.empty((n, 3))
+            w[:, 0] = s.wps * np.sin(ph)
+            w[:, 1] = s.wps * np.cos(ph)
+            w[:, 2] = s.r
+            return q, w, np.full(n, sh), np.full(n, ch), sig - s.sig0, dlt - s.del0
+        from . import _lagrange_numba as kn
+
+        q = np.empty((n if want_q else 0, 4))
+        w = np.empty((n if want_w else 0, 3))
+        xs = np.empty((n, 4))
+        kn.motion(ta, s.par, want_q, want_w, q, w, xs)
+        return q, w, xs[:, 0], xs[:, 1], xs[:, 2] - s.par[kn.P_SIG0], xs[:, 3] - s.par[kn.P_DEL0]
+
+    def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:
+        ta = as_float_array(t, "t")
+        return ta, ta.shape
+
+    def rotation(self, t) -> Rotation:
+        """Attitude (body -> space) at times ``t`` (any shape), a :class:`~poinsot.Rotation`.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import LagrangeTop
+        >>> top = LagrangeTop(2.0, 1.0, 4.0, theta=0.5, spin=20.0)
+        >>> top.rotation([0.0, 1.0, 2.0]).shape
+        (3,)
+        """
+        ta, shape = self._times(t)
+        return Rotation.from_quat(self._quat(ta).reshape(shape + (4,)))
+
+    def _quat(self, ta) -> np.ndarray:
+        s = self._s
+        if s.free:
+            return s.body.rotation(ta.reshape(-1)).as_quat().reshape(-1, 4)
+        q = self._eval(ta, True, False)[0]
+        if self._flip:
+            q = _flip_back(q)
+        return q
+
+    def omega(self, t) -> np.ndarray:
+        """Angular velocity in body axes at times ``t`` (rad/s), shape ``t.shape + (3,)``.
+
+        ``p = psi' sin(theta) sin(phi) + theta' cos(phi)``,
+        ``q = psi' sin(theta) cos(phi) - theta' sin(phi)``, ``r = H / C``.
+        """
+        ta, shape = self._times(t)
+        return self._omega(ta).reshape(shape + (3,))
+
+    def _omega(self, ta) -> np.ndarray:
+        s = self._s
+        if s.free:
+            return s.body.omega(ta.reshape(-1)).reshape(-1, 3)
+        w = self._eval(ta, False, True)[1]
+        if self._flip:
+            w = w * np.array([1.0, -1.0, -1.0])
+        return w
+
+    def state(self, t) -> tuple[np.ndarray, Rotation]:
+        """``(omega(t), rotation(t))`` in one pass."""
+        ta, shape = self._times(t)
+        s = self._s
+        if s.free:
+            return self._omega(ta).reshape(shape + (3,)), Rotation.from_quat(
+                self._quat(ta).reshape(shape + (4,))
+            )
+        q, w = self._eval(ta, True, True)[:2]
+        if self._flip:
+            q = _flip_back(q)
+            w = w * np.array([1.0, -1.0, -1.0])
+        return w.reshape(shape + (3,)), Rotation.from_quat(q.reshape(shape + (4,)))
+
+    def theta(self, t) -> np.ndarray:
+        """Nutation angle ``theta(t)`` in ``[0, pi]`` (rad), exact:
+        ``cos theta = u1 + (u2 - u1) sn^2(tau' t + tau0 | m)``."""
+        ta, shape = self._times(t)
+        s = self._s
+        if s.free:
+            q = self._quat(ta)
+            th = 2.0 * np.arctan2(np.hypot(q[:, 1], q[:, 2]), np.hypot(q[:, 0], q[:, 3]))
+            return th.reshape(shape)
+        if s.double:
+            th = np.full(ta.size, self._theta_of_x(0.0))
+            return th.reshape(shape)
+        _, _, sh, ch, _, _ = self._eval(ta, False, False)
+        th = 2.0 * np.arctan2(np.abs(sh), np.abs(ch))
+        if self._flip:
+            th = math.pi - th
+        return th.reshape(shape)
+
+    def _angles(self, ta):
+        """ZXZ ``(psi, phi)`` from the initial ``(psi0, phi0)`` (flattened)."""
+        s = self._s
+        if s.free:
+            # free symmetric top: from the attitude, within pi of the initial angles
+            q = self._quat(ta)
+            sig = 2.0 * np.arctan2(q[:, 3], q[:, 0])
+            dlt = 2.0 * np.arctan2(q[:, 2], q[:, 1])
+            q0 = self._q0
+            psi_0 = math.atan2(q0[3], q0[0]) + math.atan2(q0[2], q0[1])
+            phi_0 = math.atan2(q0[3], q0[0]) - math.atan2(q0[2], q0[1])
+            return (
+                self._psi0 + _wrap(0.5 * (sig + dlt) - psi_0),
+                self._phi0 + _wrap(0.5 * (sig - dlt) - phi_0),
+            )
+        _, _, sh, ch, dsig, ddlt = self._eval(ta, False, False)
+        # a negative sin(theta/2) (cos) is the same attitude with delta (sigma) + 2 pi
+        js = np.where(sh < 0, math.pi, 0.0) - (math.pi if s.sign0[0] < 0 else 0.0)
+        jc = np.where(ch < 0, math.pi, 0.0) - (math.pi if s.sign0[1] < 0 else 0.0)
+        dpsi = 0.5 * (dsig + ddlt) + js + jc
+        dphi = 0.5 * (dsig - ddlt) + jc - js
+        if self._flip:
+            dphi = -dphi
+        return self._psi0 + dpsi, self._phi0 + dphi
+
+    def psi(self, t) -> np.ndarray:
+        """Precession angle ``psi(t)`` (rad), z-x-z, within ``pi`` of ``psi0 +`` the
+        exact increment (wrapped to ``(-pi, pi]`` about the initial value)."""
+        ta, shape = self._times(t)
+        return self._angles(ta)[0].reshape(shape)
+
+    def phi(self, t) -> np.ndarray:
+        """Spin angle ``phi(t)`` (rad), z-x-z, wrapped like :meth:`psi`."""
+        ta, shape = self._times(t)
+        return self._angles(ta)[1].reshape(shape)
+
+    def trajectory(self, t) -> Trajectory:
+        """The exact motion sampled at times ``t`` (n,), as a :class:`~poinsot.Trajectory`.
+
+        ``energy`` is the kinetic energy ``T`` and ``momentum`` the space angular
+        momentum (as :func:`poinsot.dynamics.simulate` returns them);
+        ``info["total_energy"]`` is ``T + V`` (J).
+        """
+        from .invariants import invariants
+        from .torques import GravityTorque
+
+        ta = as_float_array(t, "t")
+        if ta.ndim != 1:
+            raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
+        w, rot = self.state(ta)
+        model = None
+        if self._mgl != 0:
+            model = GravityTorque(1.0, [0.0, 0.0, math.copysign(1.0, self._mgl)], g=abs(self._mgl))
+        inv = invariants([self._a, self._a, self._c], rot, w, torque=model)
+        return Trajectory(
+            ta,
+            rot,
+            w,
+            "exact",
+            energy=inv.kinetic,
+            momentum=inv.momentum_space,
+            info={"closed_form": "lagrange", "motion_type": self.motion_type},
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"LagrangeTop(A={self._a!r}, C={self._c!r}, mgl={self._mgl!r}, "
+            f"motion_type={self.motion_type!r})"
+        )
+
+
+def _wrap(x):
+    return (x + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _flip_back(q: np.ndarray) -> np.ndarray:
+    """``q o (0, -1, 0, 0)`` = ``(q1, -q0, -q3, q2)``: undo :func:`_flip`."""
+    out = np.empty_like(q)
+    out[..., 0] = q[..., 1]
+    out[..., 1] = -q[..., 0]
+    out[..., 2] = -q[..., 3]
+    out[..., 3] = q[..., 2]
+    return out
