@@ -58,7 +58,7 @@ def dop853(moments, w0, t):
 
 def main():
     moments, w0 = [1.0, 2.0, 3.0], np.array([0.3, 1.0, 0.2])
-    body = FreeRigidBody(moments, w0)
+    body = FreeRigidBody(moments, omega0=w0)
     mo = body._motion  # the constants of the closed form, for the SciPy peer
     t = np.linspace(0.0, SPAN, N)
     print(f"body {moments}, omega0 {w0.tolist()}, regime {body.regime}, period "

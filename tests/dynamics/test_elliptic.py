@@ -211,18 +211,3 @@ def test_carlson_against_scipy():
     np.testing.assert_allclose(E.elliprj(x[::3], y[::3], z[::3], p[::3]), ref, rtol=5e-14)
     np.testing.assert_allclose(E.elliprc(x, y), special.elliprc(x, y), rtol=2e-15)
     assert math.isnan(E.elliprj(1.0, 2.0, 3.0, -1.0)) and math.isnan(E.elliprf(-1.0, 1, 1))
-
-
-def test_depends_on_adds_the_helper_stamp(tmp_path):
-    """A caller registering this module gets a cache stamp that includes it."""
-    from numba import njit
-
-    @njit(cache=True)
-    def caller(x):  # pragma: no cover - compiled
-        return E.carlson_rc(x, 1.0)
-
-    before = caller._cache._cache_file._source_stamp
-    E.depends_on(caller)
-    after = caller._cache._cache_file._source_stamp
-    assert after[0] == before and after[1][0][0] == "_elliptic.py"
-    assert caller(0.0) == pytest.approx(math.pi / 2, rel=1e-15)

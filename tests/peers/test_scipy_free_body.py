@@ -119,7 +119,7 @@ CASES = [_random_case(np.random.default_rng(seed)) for seed in (31, 34, 36)] + [
 @pytest.mark.parametrize("case", range(len(CASES)))
 def test_free_body_vs_dop853(case):
     moments, w0, r0 = CASES[case]
-    body = FreeRigidBody(moments, w0, r0)
+    body = FreeRigidBody(moments, rotation0=r0, omega0=w0)
     period, regime = _landau_period(moments, w0)
     assert body.regime == regime
     assert abs(body.period - period) <= 1e-12 * period
@@ -143,7 +143,7 @@ def test_free_body_vs_dop853(case):
 def test_precession_per_period_vs_dop853(case):
     """``R(P) R(0)^-1`` is a rotation about ``K`` by ``precession_per_period`` (mod 2 pi)."""
     moments, w0, r0 = CASES[case]
-    body = FreeRigidBody(moments, w0, r0)
+    body = FreeRigidBody(moments, rotation0=r0, omega0=w0)
     _, c_ref = _reference(np.diag(moments), w0, r0.as_quat(), np.array([0.0, body.period]))
     d = c_ref[1] @ c_ref[0].T
     k_hat = body.momentum / np.linalg.norm(body.momentum)
@@ -162,7 +162,7 @@ def test_free_body_full_tensor_vs_dop853():
     moments, w0, r0 = _random_case(rng)
     s = Rotation.random(rng=rng).as_matrix()
     j = s @ np.diag(moments) @ s.T
-    body = FreeRigidBody(j, w0, r0)
+    body = FreeRigidBody(j, rotation0=r0, omega0=w0)
     period, _ = _landau_period(moments, s.T @ w0)
     assert abs(body.period - period) <= 1e-12 * period
     t = np.linspace(0.0, 2.0 * period, 121)
@@ -176,7 +176,7 @@ def test_symmetric_body_period_vs_dop853():
     """``A = B``: the period of omega is ``2 pi A / |(A - C) r|`` (SPEC S10)."""
     a, c = 2.0, 1.2
     w0 = np.array([0.4, -0.3, 1.1])
-    body = FreeRigidBody([a, a, c], w0, Rotation.from_rotvec([0.1, 0.2, 0.3]))
+    body = FreeRigidBody([a, a, c], rotation0=Rotation.from_rotvec([0.1, 0.2, 0.3]), omega0=w0)
     period = 2 * np.pi * a / abs((a - c) * w0[2])
     assert abs(body.period - period) <= 1e-12 * period
     t = np.linspace(0.0, 2 * period, 81)
@@ -230,7 +230,7 @@ def test_free_body_edge_cases_vs_dop853(name):
     """Permanent rotations, the flat plate, extreme scales, unordered moments."""
     moments, w0 = (np.array(v) for v in EDGE_CASES[name])
     r0 = Rotation.from_rotvec([0.2, -0.4, 0.7])
-    body = FreeRigidBody(moments, w0, r0)
+    body = FreeRigidBody(moments, rotation0=r0, omega0=w0)
     period, _ = _landau_period(moments, w0)
     assert abs(body.period - period) <= 1e-12 * period
     t = np.linspace(0.0, 2.0 * period, 101)
@@ -243,7 +243,7 @@ def test_free_body_edge_cases_vs_dop853(name):
 def test_middle_axis_rotation_vs_dop853():
     """Exactly about the middle axis: a uniform (unstable) permanent rotation."""
     w0 = np.array([0.0, 1.3, 0.0])
-    body = FreeRigidBody([1.0, 2.0, 3.0], w0)
+    body = FreeRigidBody([1.0, 2.0, 3.0], omega0=w0)
     assert body.regime == "separatrix"
     assert body.period == np.inf
     t = np.linspace(0.0, 10.0, 21)
@@ -257,7 +257,9 @@ def test_middle_axis_rotation_vs_dop853():
 def test_poinsot_picture_vs_dop853(case):
     """Polhode ``w / sqrt(2T)`` and herpolhode ``R w / sqrt(2T)`` from the reference motion."""
     moments, w0, r0 = CASES[case]
-    body = FreeRigidBody(moments, w0, r0)  # diagonal moments: principal axes = body axes
+    body = FreeRigidBody(
+        moments, rotation0=r0, omega0=w0
+    )  # diagonal moments: principal axes = body axes
     t = np.linspace(0.0, 1.5 * body.period, 61)
     w_ref, c_ref = _reference(np.diag(moments), w0, r0.as_quat(), t)
     two_t = float(w0 @ (moments * w0))

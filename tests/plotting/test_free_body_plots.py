@@ -21,7 +21,7 @@ CASES = {
     "symmetric": ([2.0, 2.0, 1.0], [0.2, 0.3, 1.0]),
     "spherical": ([2.0, 2.0, 2.0], [0.2, 0.3, 1.0]),
 }
-BODIES = {name: FreeRigidBody(m, w) for name, (m, w) in CASES.items()}
+BODIES = {name: FreeRigidBody(m, omega0=w) for name, (m, w) in CASES.items()}
 
 
 @pytest.fixture(autouse=True)

@@ -6,7 +6,7 @@ attitude maps body to space components. See ``docs/dynamics.md`` and
 ``docs/free-body.md``.
 
 >>> from poinsot.dynamics import FreeRigidBody
->>> body = FreeRigidBody([1.0, 2.0, 3.0], [0.0, 0.0, 1.0])
+>>> body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.0, 0.0, 1.0])
 >>> float(body.energy)
 1.5
 """

@@ -54,9 +54,9 @@ path (so ``Pi(n | m)`` is NaN for ``n > 1``, ``inf`` for ``n = 1``).
 
 **Sharing compiled helpers.** The scalar kernels here (``@njit(cache=True)``) are
 meant to be called from other compiled kernels. Numba's on-disk cache of a calling
-kernel is keyed only on its *own* file, so a caller must register this file with
-:func:`depends_on` (the caller's cached machine code is then rebuilt whenever this
-file changes).
+kernel is keyed only on its *own* file, so a caller module declares this file with
+``poinsot._numba_cache.depends_on(__file__, _elliptic)`` before its kernels (its
+cached machine code is then rebuilt whenever this file changes).
 
 >>> import numpy as np
 >>> from poinsot.dynamics import _elliptic
@@ -70,14 +70,12 @@ True
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 from numba import njit
 
 __all__ = [
     "LMAX",
-    "depends_on",
     "landen_fill",
     "reduce_argument",
     "jacobi_reduced",
@@ -113,35 +111,6 @@ _EPS = 2.220446049250313e-16
 _QRF = (3.0 * _EPS) ** (-1.0 / 6.0)  # Carlson (1995): R_F, R_J/R_D stopping rules
 _QRD = (0.25 * _EPS) ** (-1.0 / 6.0)
 _QRC = (3.0 * _EPS) ** (-1.0 / 8.0)
-
-
-def depends_on(dispatcher, *files: str) -> None:
-    """Make the on-disk cache of a compiled ``dispatcher`` depend on ``files`` too.
-
-    Numba stores a cached kernel with the modification time and size of the file
-    that defines it and reuses it while that stamp matches, even if a helper it
-    calls (and inlined into the cached machine code) lives in another file that
-    has changed. This adds the stamps of ``files`` (default: this module) to the
-    cache's source stamp, so the cached kernel is rebuilt when any of them
-    changes. Call it right after the ``@njit(cache=True)`` definition; a no-op
-    for dispatchers without a cache.
-
-    >>> from numba import njit
-    >>> from poinsot.dynamics import _elliptic
-    >>> @njit
-    ... def f(x):
-    ...     return _elliptic.carlson_rc(x, 1.0)
-    >>> _elliptic.depends_on(f)            # no cache: nothing to do
-    """
-    cache = getattr(dispatcher, "_cache", None)
-    cache_file = getattr(cache, "_cache_file", None)
-    if cache_file is None or not hasattr(cache_file, "_source_stamp"):
-        return
-    stamps = []
-    for f in files or (__file__,):
-        st = os.stat(f)
-        stamps.append((os.path.basename(f), st.st_mtime, st.st_size))
-    cache_file._source_stamp = (cache_file._source_stamp, tuple(stamps))
 
 
 # ---------------------------------------------------------------------------

@@ -1,14 +1,23 @@
-"""Compiled kernel of :class:`poinsot.dynamics.FreeRigidBody` (private).
+"""Compiled kernels of :class:`poinsot.dynamics.FreeRigidBody` (private).
 
-Imported lazily (numba loads on first use). One function, no calls to other
-cached functions (numba's cache is then safe across processes). Per time point:
-argument reduction by quasi-periodicity, Jacobi elliptic functions by the
-arithmetic-geometric mean (descending Landen transformation, Abramowitz &
-Stegun 16.12, DLMF 22.7: the sequence of moduli is computed once per body from
-``k`` and ``k' = sqrt(1 - k^2)`` without cancellation, so nothing is lost near
-the separatrix; per point one ``sin``/``cos`` and rational steps),
-Carlson's ``R_J`` by duplication (Carlson 1995, Numer. Algorithms 10, 13-26),
-the angular velocity, the precession angle and the attitude quaternion.
+Imported lazily (numba loads on first use). Two kernels over a batch of bodies:
+
+* :func:`setup` computes, per body, the regime and the constants of the exact
+  solution (docs/theory.md §10, docs/free-body.md): the regime discriminant
+  ``D = K^2 - 2 T B = I_a (I_a - I_b) w_a^2 - I_c (I_b - I_c) w_c^2`` in double-double
+  arithmetic from error-free transformations (Dekker's two-product, Knuth's
+  two-sum), so ``D`` and ``1 - k^2`` are correct to a few ulp however close the
+  state is to the separatrix; then the amplitudes, ``K(k)`` by the AGM, the phase
+  by Carlson's ``R_F``, ``R_J`` of the half period and the attitude offset.
+* :func:`evaluate` evaluates ``omega`` and the attitude of every body at every
+  time: argument reduction, Jacobi functions by the descending Landen
+  transformation fed ``1 - k^2`` directly, Carlson's ``R_J`` for the precession
+  angle, and the quaternion.
+
+The elliptic helpers come from :mod:`poinsot.dynamics._elliptic` and the
+quaternion product from :mod:`poinsot._numba_helpers`; the cache stamps of these
+kernels include both files (:func:`poinsot._numba_cache.depends_on`), so editing a
+shared helper rebuilds them.
 """
 
 from __future__ import annotations
@@ -18,189 +27,441 @@ import math
 import numpy as np
 from numba import njit
 
-# Parameter vector layout (see free_body._Motion._setup_elliptic).
-P_LAM, P_U0, P_KQ, P_K2, P_M1, P_N2, P_JH, P_J0 = 0, 1, 2, 3, 4, 5, 6, 7
-P_KMOM, P_RATE0, P_KAPPA, P_BETA, P_MAJOR, P_SEP = 8, 9, 10, 11, 12, 13
-N_PAR = 14
+from .. import _numba_helpers as nh
+from .._numba_cache import depends_on
+from . import _elliptic
+
+depends_on(__file__, nh, _elliptic)  # before the kernels: editing a helper rebuilds them
+
+from ._elliptic import (  # noqa: E402
+    LMAX,
+    carlson_rf,
+    carlson_rj,
+    complete_k,
+    jacobi_reduced,
+    landen_fill,
+    reduce_argument,
+)
+
+# Modes
+UNIFORM, SYMMETRIC, ELLIPTIC, SEPARATRIX = 0, 1, 2, 3
+# Regime codes (FreeRigidBody.regime)
+REGIMES = ("rest", "spherical", "separatrix", "symmetric", "major", "minor", "separatrix")
+R_REST, R_SPHERICAL, R_MIDDLE, R_SYMMETRIC, R_MAJOR, R_MINOR, R_SEPARATRIX = range(7)
+
+# Parameter vector layout, per body
+P_MODE, P_WS, P_LAM, P_U0, P_KQ, P_K2, P_M1, P_N2, P_JH, P_J0 = range(10)
+P_KMOM, P_RATE0, P_KAPPA, P_BETA, P_MAJOR, P_LEVELS, P_LSCALE = range(10, 17)
+N_PAR = 17
+# symmetric / uniform bodies reuse slots
+P_SPIN, P_PSIDOT, P_PHIDOT = P_LAM, P_U0, P_KQ
+P_RATE = P_LAM
+
+#: ``|D|`` at most this times its two terms is the double-double rounding level:
+#: the state is exactly on the separatrix (``FreeRigidBody.SEPARATRIX_RTOL``).
+SEP_RTOL = 2.0**-100
+
+_SPLIT = 134217729.0  # 2^27 + 1 (Dekker)
 
 
-def landen_table(k2: float, m1: float) -> np.ndarray:
-    """Descending Landen moduli for parameter ``k2`` (``m1 = 1 - k2``), shape (3, L+1).
-
-    ``k_{l+1} = (1 - k'_l) / (1 + k'_l)``, ``k'_{l+1} = 2 sqrt(k'_l) / (1 + k'_l)``
-    until ``k_L < 1e-9`` (then ``sn = sin`` to O(k_L^2) = 1e-18).
-    """
-    ks = [math.sqrt(k2)]
-    kps = [math.sqrt(m1)]
-    while ks[-1] >= 1e-9:
-        kp = kps[-1]
-        ks.append((1.0 - kp) / (1.0 + kp) if kp < 0.5 else ks[-1] ** 2 / (1.0 + kp) ** 2)
-        kps.append(2.0 * math.sqrt(kp) / (1.0 + kp))
-    scale = 1.0
-    for k1 in ks[1:]:
-        scale /= 1.0 + k1
-    out = np.zeros((3, len(ks)))
-    out[0], out[1], out[2, 0] = ks, kps, scale
-    return out
+# ---------------------------------------------------------------------------
+# Error-free transformations and double-double arithmetic
+# ---------------------------------------------------------------------------
 
 
 @njit(cache=True)
-def elliptic_state(
-    t, par, idx, inertia, amp, qs, qp, want_q, landen
-):  # pragma: no cover - compiled
-    """Angular velocity w (n, 3), attitude q (n, 4) and J(u) (n,) at times t (n,).
+def two_sum(a, b):  # pragma: no cover - compiled
+    """``(s, e)`` with ``s = fl(a + b)`` and ``a + b = s + e`` exactly (Knuth)."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
 
-    ``idx = (i, m, j)``: encircled, middle and other axis; ``amp`` the signed
-    amplitudes; ``q = qs o Rzxz(psi, theta, phi) o qp``; ``landen`` (3, L+1):
-    moduli ``k_l``, complementary moduli ``k'_l`` and (in ``[2, 0]``) the
-    scale ``prod 1 / (1 + k_l)`` of :func:`landen_table`. If ``want_q`` is false
-    only ``w`` is computed (``q`` and ``J`` are left empty).
-    """
-    n = t.shape[0]
-    lam, u0, kq, k2, m1, n2 = par[0], par[1], par[2], par[3], par[4], par[5]
-    jh, j0, kmom, rate0, kappa, beta = par[6], par[7], par[8], par[9], par[10], par[11]
-    major = par[12] > 0.5
-    sep = par[13] > 0.5
+
+@njit(cache=True)
+def two_prod(a, b):  # pragma: no cover - compiled
+    """``(p, e)`` with ``p = fl(a b)`` and ``a b = p + e`` exactly (Dekker's split;
+    no FMA needed, no over/underflow for the scaled data used here)."""
+    p = a * b
+    t = _SPLIT * a
+    ah = t - (t - a)
+    al = a - ah
+    t = _SPLIT * b
+    bh = t - (t - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+@njit(cache=True)
+def _dd_norm(h, lo):  # pragma: no cover - compiled
+    s = h + lo
+    return s, lo - (s - h)
+
+
+@njit(cache=True)
+def dd_mul(ah, al, bh, bl):  # pragma: no cover - compiled
+    """Double-double product (relative error ~ 2^-104)."""
+    p, e = two_prod(ah, bh)
+    e += ah * bl + al * bh
+    return _dd_norm(p, e)
+
+
+@njit(cache=True)
+def dd_add(ah, al, bh, bl):  # pragma: no cover - compiled
+    """Double-double sum (relative error ~ 2^-104 of ``|a| + |b|``)."""
+    s, e = two_sum(ah, bh)
+    t, f = two_sum(al, bl)
+    e += t
+    s, e = _dd_norm(s, e)
+    e += f
+    return _dd_norm(s, e)
+
+
+@njit(cache=True)
+def discriminant_term(ia, ib, w):  # pragma: no cover - compiled
+    """``I_a (I_a - I_b) w^2`` as a double-double ``(hi, lo)``: the difference by
+    two-sum and ``w^2`` by two-product are exact, the two products are double-double."""
+    dh, dl = two_sum(ia, -ib)
+    ph, pl = dd_mul(ia, 0.0, dh, dl)
+    sh, sl = two_prod(w, w)
+    return dd_mul(ph, pl, sh, sl)
+
+
+# ---------------------------------------------------------------------------
+# Per point: elliptic state
+# ---------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps):  # pragma: no cover
+    """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
+    lam, u0, kq, k2, m1, n2 = par[P_LAM], par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2]
+    jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
+    kappa, beta = par[P_KAPPA], par[P_BETA]
+    major = par[P_MAJOR] > 0.5
     i, m, j = idx[0], idx[1], idx[2]
-    jx, jy = (j + 1) % 3, (j + 2) % 3
-    w = np.empty((n, 3))
-    nq = n if want_q else 0
-    q = np.empty((nq, 4))
-    jv = np.empty(nq)
-    eps = 2.220446049250313e-16
-    sqn2 = math.sqrt(n2)
-    qfac = (0.25 * eps) ** (-1.0 / 6.0)
-    ks = landen[0]
-    kps = landen[1]
-    nl = ks.shape[0] - 1
-    scale = landen[2, 0]
-    for p in range(n):
-        u = lam * t[p] + u0
-        if sep:
-            # k = 1: sn = tanh, cn = dn = sech; J(v) in closed form.
-            kk = 0.0
-            sn = math.tanh(u)
-            e = math.exp(-abs(u))
-            cn = 2.0 * e / (1.0 + e * e)
-            dn = cn
-            sgn = 1.0
-            if want_q:
-                if n2 > 0.0:
-                    jr = (u - math.atan(sqn2 * sn) / sqn2) / (1.0 + n2)
-                else:
-                    jr = u - sn
+    u = lam * tau + u0
+    if par[P_MODE] == SEPARATRIX:
+        # k = 1: sn = tanh, cn = dn = sech; J(u) in closed form.
+        kk = 0.0
+        sn = math.tanh(u)
+        e = math.exp(-abs(u))
+        cn = 2.0 * e / (1.0 + e * e)
+        dn = cn
+        sgn = 1.0
+        if n2 > 0.0:
+            sq = math.sqrt(n2)
+            jr = (u - math.atan(sq * sn) / sq) / (1.0 + n2)
         else:
-            kk = math.floor((u + kq) / (2.0 * kq))
-            r = u - 2.0 * kq * kk
-            sgn = 1.0 - 2.0 * (kk - 2.0 * math.floor(0.5 * kk))
-            # Descending Landen (Gauss) transformation, DLMF 22.7.1-2: the moduli
-            # ks[0] = k > ks[1] > ... > ks[nl] ~ 0 and the scale are precomputed;
-            # at the bottom sn = sin, cn = cos; climb back with rational formulas.
-            zb = r * scale
-            s = math.sin(zb)
-            c = math.cos(zb)
-            for lv in range(nl, 0, -1):
-                k1 = ks[lv]
-                den = 1.0 + k1 * s * s
-                d = math.sqrt(kps[lv] * kps[lv] + k1 * k1 * c * c)
-                s, c = (1.0 + k1) * s / den, c * d / den
-            sn = s
-            cn = c
-            dn = math.sqrt(m1 + k2 * cn * cn)
-            if want_q:
-                # J(r) = sn^3 R_J(cn^2, dn^2, 1, 1 + n2 sn^2) / 3 (Carlson duplication).
-                sn2 = sn * sn
-                if sn2 == 0.0:
-                    jr = 0.0
-                else:
-                    x0, y0, z0, p0 = cn * cn, dn * dn, 1.0, 1.0 + n2 * sn2
-                    xt, yt, zt, pt = x0, y0, z0, p0
-                    a0 = (x0 + y0 + z0 + 2.0 * p0) / 5.0
-                    am = a0
-                    delta = (p0 - x0) * (p0 - y0) * (p0 - z0)
-                    qq = qfac * max(abs(a0 - x0), abs(a0 - y0), abs(a0 - z0), abs(a0 - p0))
-                    fac = 1.0
-                    ssum = 0.0
-                    while fac * qq >= abs(am):
-                        sx = math.sqrt(xt)
-                        sy = math.sqrt(yt)
-                        sz = math.sqrt(zt)
-                        sp = math.sqrt(pt)
-                        lm = sx * sy + sy * sz + sz * sx
-                        d = (sp + sx) * (sp + sy) * (sp + sz)
-                        ee = delta * fac * fac * fac / (d * d)
-                        if ee < 1e-4:
-                            rc = 1.0 - ee * (1.0 / 3.0 - ee * (0.2 - ee / 7.0))
-                        else:
-                            se = math.sqrt(ee)
-                            rc = math.atan(se) / se
-                        ssum += fac * rc / d
-                        fac *= 0.25
-                        xt = 0.25 * (xt + lm)
-                        yt = 0.25 * (yt + lm)
-                        zt = 0.25 * (zt + lm)
-                        pt = 0.25 * (pt + lm)
-                        am = 0.25 * (am + lm)
-                    xx = (a0 - x0) * fac / am
-                    yy = (a0 - y0) * fac / am
-                    zz = (a0 - z0) * fac / am
-                    pp = -0.5 * (xx + yy + zz)
-                    e2 = xx * yy + xx * zz + yy * zz - 3.0 * pp * pp
-                    e3 = xx * yy * zz + 2.0 * e2 * pp + 4.0 * pp * pp * pp
-                    e4 = (2.0 * xx * yy * zz + e2 * pp + 3.0 * pp * pp * pp) * pp
-                    e5 = xx * yy * zz * pp * pp
-                    poly = (
-                        1.0
-                        - 3.0 * e2 / 14.0
-                        + e3 / 6.0
-                        + 9.0 * e2 * e2 / 88.0
-                        - 3.0 * e4 / 22.0
-                        - 9.0 * e2 * e3 / 52.0
-                        + 3.0 * e5 / 26.0
-                    )
-                    rj = fac * poly / (am * math.sqrt(am)) + 6.0 * ssum
-                    jr = sn * sn2 * rj / 3.0
-        wi = amp[i] * dn
-        wm = amp[m] * sgn * sn
-        wj = amp[j] * sgn * cn
-        w[p, i] = wi
-        w[p, m] = wm
-        w[p, j] = wj
-        if not want_q:
+            jr = u - sn
+    else:
+        kk, r = reduce_argument(u, kq)
+        sgn = 1.0 - 2.0 * (kk - 2.0 * math.floor(0.5 * kk))
+        sn, cn, dn = jacobi_reduced(r, ks, kps, int(par[P_LEVELS]), par[P_LSCALE], k2, m1)
+        # J(r) = int_0^r sn^2 / (1 + n sn^2) = sn^3 R_J(cn^2, dn^2, 1, 1 + n sn^2) / 3
+        sn2 = sn * sn
+        jr = (
+            0.0
+            if sn2 == 0.0
+            else sn * sn2 * carlson_rj(cn * cn, dn * dn, 1.0, 1.0 + n2 * sn2) / 3.0
+        )
+    wi = amp[i] * dn
+    wm = amp[m] * sgn * sn
+    wj = amp[j] * sgn * cn
+    jval = kk * jh + jr
+    if major:
+        psi = rate0 * tau + kappa * beta * (jval - j0) / lam
+    else:
+        psi = rate0 * tau + kappa * (tau - beta * (jval - j0) / lam)
+    # z-x-z Euler angles (about axis j) of the body unit momentum; q = qs o Rzxz o qp.
+    # (jx, jy) = (j + 1, j + 2) mod 3 is (i, m) or (m, i).
+    if (j + 1) % 3 == i:
+        x = inertia[i] * wi / kmom
+        y = inertia[m] * wm / kmom
+    else:
+        x = inertia[m] * wm / kmom
+        y = inertia[i] * wi / kmom
+    z = inertia[j] * wj / kmom
+    st = math.hypot(x, y)
+    big = math.sqrt(0.5 * (1.0 + abs(z)))
+    small = st / (2.0 * big)
+    if z >= 0.0:
+        ch, sh = big, small
+    else:
+        ch, sh = small, big
+    ph = math.atan2(x, y)
+    ha = 0.5 * (psi + ph)
+    hb = 0.5 * (psi - ph)
+    z0, z1, z2, z3 = ch * math.cos(ha), sh * math.cos(hb), sh * math.sin(hb), ch * math.sin(ha)
+    r0, r1, r2, r3 = nh.qmul(qs[0], qs[1], qs[2], qs[3], z0, z1, z2, z3)
+    q0, q1, q2, q3 = nh.qmul(r0, r1, r2, r3, qp[0], qp[1], qp[2], qp[3])
+    w0, w1, w2 = _place(i, m, wi, wm, wj)
+    return w0, w1, w2, q0, q1, q2, q3, jval
+
+
+@njit(cache=True)
+def _place(i, m, wi, wm, wj):  # pragma: no cover - compiled
+    """``(w_0, w_1, w_2)`` from the components along axes ``i``, ``m`` and the third."""
+    out0 = wi if i == 0 else (wm if m == 0 else wj)
+    out1 = wi if i == 1 else (wm if m == 1 else wj)
+    out2 = wi if i == 2 else (wm if m == 2 else wj)
+    return out0, out1, out2
+
+
+@njit(cache=True)
+def _axis_q(ax, angle):  # pragma: no cover - compiled
+    h = 0.5 * angle
+    s = math.sin(h)
+    return math.cos(h), s * ax[0], s * ax[1], s * ax[2]
+
+
+# ---------------------------------------------------------------------------
+# Setup (per body)
+# ---------------------------------------------------------------------------
+
+_PERM = np.array(
+    [[0.5, -0.5, -0.5, -0.5], [0.5, 0.5, 0.5, 0.5], [1.0, 0.0, 0.0, 0.0]]
+)  # (x, y, z) = (e_{j+1}, e_{j+2}, e_j): rotations by -120, +120, 0 deg about (1, 1, 1)
+
+
+@njit(cache=True)
+def setup(mom, w0, q0, par, idx, amp, vec, qa, qb, ks, kps, info):  # pragma: no cover
+    """Constants of the exact motion of each body (scaled data, principal axes).
+
+    Inputs ``mom`` (N, 3) moments (max ~ 1), ``w0`` (N, 3) (``|w0| ~ 1``), ``q0``
+    (N, 4) principal-axes attitude. Fills ``par`` (N, N_PAR), ``idx`` (N, 3),
+    ``amp`` (N, 3), ``vec`` (N, 3), ``qa``, ``qb`` (N, 4), the Landen tables and
+    ``info`` (N, 5): regime code, period, precession per period, ``1 - k^2``, and
+    ``|D| / (|t_a| + |t_c|)`` (the relative size of the discriminant).
+    """
+    n = mom.shape[0]
+    for b in range(n):
+        im = mom[b]
+        w = w0[b]
+        ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
+        kmom = math.sqrt(ka0 * ka0 + ka1 * ka1 + ka2 * ka2)
+        pb = par[b]
+        pb[:] = 0.0
+        info[b, 1] = math.inf
+        info[b, 2] = math.nan
+        info[b, 3] = math.nan
+        info[b, 4] = math.nan
+        e01, e12, e20 = im[0] == im[1], im[1] == im[2], im[2] == im[0]
+        if kmom == 0.0 or (e01 and e12):
+            # rest or spherical body: uniform rotation about a fixed axis
+            info[b, 0] = R_REST if kmom == 0.0 else R_SPHERICAL
+            _setup_uniform(b, w, q0[b], pb, amp, vec, qa)
             continue
-        jval = kk * jh + jr
-        jv[p] = jval
-        tp = t[p]
+        if e01 or e12 or e20:
+            info[b, 0] = R_SYMMETRIC
+            s = 2 if e01 else (0 if e12 else 1)
+            ip = im[(s + 1) % 3]
+            idx[b, 0] = s
+            pb[P_MODE] = SYMMETRIC
+            spin = (im[s] - ip) * w[s] / ip
+            pb[P_SPIN] = spin
+            pb[P_PSIDOT] = kmom / ip
+            pb[P_PHIDOT] = -spin
+            amp[b, :] = w
+            # khat = q0 (J w0) q0~ / K
+            qq = q0[b]
+            a0, a1, a2, a3 = nh.qmul(qq[0], qq[1], qq[2], qq[3], 0.0, ka0, ka1, ka2)
+            _, v1, v2, v3 = nh.qmul(a0, a1, a2, a3, qq[0], -qq[1], -qq[2], -qq[3])
+            vec[b, 0], vec[b, 1], vec[b, 2] = v1 / kmom, v2 / kmom, v3 / kmom
+            qa[b, :] = qq
+            if spin != 0.0:
+                info[b, 1] = 2.0 * math.pi / abs(spin)
+                info[b, 2] = pb[P_PSIDOT] * info[b, 1]
+            continue
+        # distinct moments: a = major, c = minor, bm = middle axis
+        ia = 0
+        ic = 0
+        for k in range(3):
+            if im[k] > im[ia]:
+                ia = k
+            if im[k] < im[ic]:
+                ic = k
+        ibm = 3 - ia - ic
+        # D = K^2 - 2 T B = I_a (I_a - I_b) w_a^2 + I_c (I_c - I_b) w_c^2 (double-double)
+        tah, tal = discriminant_term(im[ia], im[ibm], w[ia])
+        tch, tcl = discriminant_term(im[ic], im[ibm], w[ic])
+        dh, dl = dd_add(tah, tal, tch, tcl)
+        size = abs(tah) + abs(tch)
+        info[b, 4] = abs(dh) / size if size > 0.0 else 0.0
+        if abs(dh) <= SEP_RTOL * size:
+            if size == 0.0:  # permanent rotation about the middle axis
+                info[b, 0] = R_MIDDLE
+                _setup_uniform(b, w, q0[b], pb, amp, vec, qa)
+                continue
+            info[b, 0] = R_SEPARATRIX
+            _setup_elliptic(
+                b, ia, ibm, ic, 0.0, True, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
+            )
+        elif dh > 0.0:
+            info[b, 0] = R_MAJOR
+            _setup_elliptic(
+                b, ia, ibm, ic, dh, False, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
+            )
+        else:
+            info[b, 0] = R_MINOR
+            _setup_elliptic(
+                b, ic, ibm, ia, dh, False, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
+            )
+
+
+@njit(cache=True)
+def _setup_uniform(b, w, q0, pb, amp, vec, qa):  # pragma: no cover - compiled
+    pb[P_MODE] = UNIFORM
+    amp[b, :] = w
+    wn = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    pb[P_RATE] = wn
+    if wn > 0.0:
+        vec[b, 0], vec[b, 1], vec[b, 2] = w[0] / wn, w[1] / wn, w[2] / wn
+    else:
+        vec[b, 0], vec[b, 1], vec[b, 2] = 0.0, 0.0, 1.0
+    qa[b, :] = q0
+
+
+@njit(cache=True)
+def _setup_elliptic(
+    b, i, m, j, d, separatrix, mom, w, q0, kmom, pb, idx, amp, qa, qb, ks, kps, info
+):  # pragma: no cover - compiled
+    ii, im, ij = mom[i], mom[m], mom[j]
+    idx[b, 0], idx[b, 1], idx[b, 2] = i, m, j
+    pb[P_MODE] = SEPARATRIX if separatrix else ELLIPTIC
+    # 2 T I_i - K^2 and K^2 - 2 T I_j as sums of same-sign terms (no cancellation)
+    g_i = mom[m] * (ii - mom[m]) * w[m] ** 2 + mom[j] * (ii - mom[j]) * w[j] ** 2
+    mg_j = mom[i] * (mom[i] - ij) * w[i] ** 2 + mom[m] * (mom[m] - ij) * w[m] ** 2
+    ai2 = mg_j / (ii * (ii - ij))
+    aj2 = g_i / (ij * (ii - ij))
+    am2 = g_i / (im * (ii - im))
+    lam = math.sqrt((ii - im) * mg_j / (ii * im * ij))
+    sigma = 1.0 if i == (m + 1) % 3 else -1.0
+    s_i = math.copysign(1.0, w[i])
+    s_j = math.copysign(1.0, w[j]) if separatrix else 1.0
+    s_m = sigma * math.copysign(1.0, ii - ij) * s_i * s_j
+    amp[b, i] = s_i * math.sqrt(ai2)
+    amp[b, m] = s_m * math.sqrt(am2)
+    amp[b, j] = s_j * math.sqrt(aj2)
+    n2 = ij * g_i / (ii * mg_j)
+    major = ii > ij
+    pb[P_LAM] = lam
+    pb[P_N2] = n2
+    pb[P_BETA] = (im * im * am2) / (ii * ii * ai2)
+    pb[P_MAJOR] = 1.0 if major else 0.0
+    pb[P_KMOM] = kmom
+    pb[P_KAPPA] = kmom * ((1.0 / im - 1.0 / ii) if major else (1.0 / ii - 1.0 / im))
+    pb[P_RATE0] = kmom / (ii if major else im)
+    if separatrix:
+        pb[P_M1] = 0.0
+        pb[P_K2] = 1.0
+        pb[P_U0] = math.asinh((w[m] / amp[b, m]) / (w[i] / amp[b, i]))
+        pb[P_KQ] = math.inf
+        pb[P_LEVELS] = -1.0
+        info[b, 3] = 0.0
+    else:
+        # 1 - k^2 = (I_i - I_j) D / ((I_i - I_m)(K^2 - 2 T I_j)), D exact to a few ulp
+        m1 = (ii - ij) * d / ((ii - im) * mg_j)
+        k2 = min((im - ij) * g_i / ((ii - im) * mg_j), 1.0)  # an ulp above 1 by rounding
+        pb[P_M1], pb[P_K2] = m1, k2
+        kq = complete_k(m1)
+        pb[P_KQ] = kq
+        lv, sc = landen_fill(k2, m1, ks[b], kps[b])
+        pb[P_LEVELS] = lv
+        pb[P_LSCALE] = sc
+        info[b, 3] = m1
+        if am2 == 0.0:
+            u0 = 0.0
+        else:
+            sn0, cn0 = w[m] / amp[b, m], w[j] / amp[b, j]
+            rho = math.hypot(sn0, cn0)
+            sn0, cn0 = sn0 / rho, cn0 / rho
+            dn0 = w[i] / amp[b, i]
+            f = sn0 * carlson_rf(cn0 * cn0, dn0 * dn0, 1.0)
+            u0 = f if cn0 >= 0.0 else math.copysign(2.0 * kq, sn0) - f
+        pb[P_U0] = u0
+        jh = (2.0 / 3.0) * carlson_rj(0.0, m1, 1.0, 1.0 + n2)
+        pb[P_JH] = jh
+        period = 4.0 * kq / lam
+        dj = 2.0 * jh
         if major:
-            psi = rate0 * tp + kappa * beta * (jval - j0) / lam
+            extra = pb[P_KAPPA] * pb[P_BETA] * dj / lam
         else:
-            psi = rate0 * tp + kappa * (tp - beta * (jval - j0) / lam)
-        # Euler angles (z-x-z about axis j) of the body unit momentum.
-        x = inertia[jx] * w[p, jx] / kmom
-        y = inertia[jy] * w[p, jy] / kmom
-        z = inertia[j] * w[p, j] / kmom
-        st = math.hypot(x, y)
-        big = math.sqrt(0.5 * (1.0 + abs(z)))
-        small = st / (2.0 * big)
-        if z >= 0.0:
-            ch, sh = big, small
-        else:
-            ch, sh = small, big
-        ph = math.atan2(x, y)
-        ha = 0.5 * (psi + ph)
-        hb = 0.5 * (psi - ph)
-        z0_ = ch * math.cos(ha)
-        z1_ = sh * math.cos(hb)
-        z2_ = sh * math.sin(hb)
-        z3_ = ch * math.sin(ha)
-        # r = qs o z
-        r0 = qs[0] * z0_ - qs[1] * z1_ - qs[2] * z2_ - qs[3] * z3_
-        r1 = qs[0] * z1_ + qs[1] * z0_ + qs[2] * z3_ - qs[3] * z2_
-        r2 = qs[0] * z2_ - qs[1] * z3_ + qs[2] * z0_ + qs[3] * z1_
-        r3 = qs[0] * z3_ + qs[1] * z2_ - qs[2] * z1_ + qs[3] * z0_
-        # q = r o qp
-        q[p, 0] = r0 * qp[0] - r1 * qp[1] - r2 * qp[2] - r3 * qp[3]
-        q[p, 1] = r0 * qp[1] + r1 * qp[0] + r2 * qp[3] - r3 * qp[2]
-        q[p, 2] = r0 * qp[2] - r1 * qp[3] + r2 * qp[0] + r3 * qp[1]
-        q[p, 3] = r0 * qp[3] + r1 * qp[2] - r2 * qp[1] + r3 * qp[0]
-    return w, q, jv
+            extra = pb[P_KAPPA] * (period - pb[P_BETA] * dj / lam)
+        info[b, 1] = period
+        # Landau's convention (Euler z-axis = the encircled axis i): differs by 2 pi
+        info[b, 2] = pb[P_RATE0] * period + extra + 2.0 * math.pi * math.copysign(1.0, ii - ij)
+    qb[b, :] = _PERM[j]
+    one = np.array([1.0, 0.0, 0.0, 0.0])
+    j0 = _elliptic_point(0.0, pb, idx[b], mom, amp[b], one, one, ks[b], kps[b])[7]
+    pb[P_J0] = j0
+    _, _, _, z0, z1, z2, z3, _ = _elliptic_point(
+        0.0, pb, idx[b], mom, amp[b], one, one, ks[b], kps[b]
+    )
+    # qs = q0 o qp~ o qz0~
+    p = qb[b]
+    r0, r1, r2, r3 = nh.qmul(q0[0], q0[1], q0[2], q0[3], p[0], -p[1], -p[2], -p[3])
+    qa[b, 0], qa[b, 1], qa[b, 2], qa[b, 3] = nh.qmul(r0, r1, r2, r3, z0, -z1, -z2, -z3)
+
+
+# ---------------------------------------------------------------------------
+# Evaluation (bodies x times)
+# ---------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def evaluate(
+    t, par, idx, mom, amp, vec, qa, qb, qv, ks, kps, want_q, w_out, q_out
+):  # pragma: no cover
+    """``w_out[b, p]`` (given body axes, rad/s) and ``q_out[b, p]`` (body -> space) for
+    bodies ``b`` at times ``t[p]`` (s). ``qv`` (N, 4): principal -> given body axes.
+    If ``want_q`` is false only ``w_out`` is filled."""
+    nb = par.shape[0]
+    nt = t.shape[0]
+    for b in range(nb):
+        pb = par[b]
+        ws = pb[P_WS]
+        mode = pb[P_MODE]
+        v = qv[b]
+        for p in range(nt):
+            tau = ws * t[p]
+            q0 = q1 = q2 = q3 = 0.0
+            if mode == ELLIPTIC or mode == SEPARATRIX:
+                wx, wy, wz, q0, q1, q2, q3, _ = _elliptic_point(
+                    tau, pb, idx[b], mom[b], amp[b], qa[b], qb[b], ks[b], kps[b]
+                )
+            elif mode == SYMMETRIC:
+                # w_perp turns about e_s at the rate spin; R = Rot(K, psi' t) R0 Rot(e_s, phi' t)
+                s = idx[b, 0]
+                x, y = (s + 1) % 3, (s + 2) % 3
+                ang = pb[P_SPIN] * tau
+                c, sn = math.cos(ang), math.sin(ang)
+                wxx = amp[b, x] * c - amp[b, y] * sn
+                wyy = amp[b, x] * sn + amp[b, y] * c
+                wx, wy, wz = _place(s, x, amp[b, s], wxx, wyy)
+                if want_q:
+                    a0, a1, a2, a3 = _axis_q(vec[b], pb[P_PSIDOT] * tau)
+                    hp = 0.5 * pb[P_PHIDOT] * tau
+                    g = qa[b]
+                    r0, r1, r2, r3 = nh.qmul(a0, a1, a2, a3, g[0], g[1], g[2], g[3])
+                    q0, q1, q2, q3 = nh.qaxis(r0, r1, r2, r3, math.cos(hp), math.sin(hp), s)
+            else:
+                wx, wy, wz = amp[b, 0], amp[b, 1], amp[b, 2]
+                if want_q:
+                    c0, c1, c2, c3 = _axis_q(vec[b], pb[P_RATE] * tau)
+                    g = qa[b]
+                    q0, q1, q2, q3 = nh.qmul(g[0], g[1], g[2], g[3], c0, c1, c2, c3)
+            # to the given body axes: w_given = qv w qv~, q_given = q o qv~
+            if v[0] == 1.0:
+                w_out[b, p, 0], w_out[b, p, 1], w_out[b, p, 2] = ws * wx, ws * wy, ws * wz
+                if want_q:
+                    q_out[b, p, 0], q_out[b, p, 1], q_out[b, p, 2], q_out[b, p, 3] = q0, q1, q2, q3
+            else:
+                a0, a1, a2, a3 = nh.qmul(v[0], v[1], v[2], v[3], 0.0, wx, wy, wz)
+                _, r1, r2, r3 = nh.qmul(a0, a1, a2, a3, v[0], -v[1], -v[2], -v[3])
+                w_out[b, p, 0], w_out[b, p, 1], w_out[b, p, 2] = ws * r1, ws * r2, ws * r3
+                if want_q:
+                    r0, r1, r2, r3 = nh.qmul(q0, q1, q2, q3, v[0], -v[1], -v[2], -v[3])
+                    q_out[b, p, 0], q_out[b, p, 1], q_out[b, p, 2], q_out[b, p, 3] = r0, r1, r2, r3
+
+
+__all__ = ["setup", "evaluate", "LMAX", "N_PAR", "REGIMES", "two_sum", "two_prod"]

@@ -1,21 +1,23 @@
 """The exact free rigid body (Euler-Poinsot case) and its MacCullagh/Poinsot geometry.
 
-A rigid body turning about its fixed centre of mass with no torque (SPEC S10,
-Euler case) has the integrals ``2T = A p^2 + B q^2 + C r^2`` and
+A rigid body turning about its fixed centre of mass with no torque (docs/theory.md
+§10, Euler case) has the integrals ``2T = A p^2 + B q^2 + C r^2`` and
 ``K^2 = A^2 p^2 + B^2 q^2 + C^2 r^2``. :class:`FreeRigidBody` evaluates the
-exact motion at any times: the body angular velocity by Jacobi elliptic
-functions and the attitude through the precession angle about the (constant)
-angular momentum, an elliptic integral of the third kind written with
-Carlson's symmetric integral ``R_J``.
+exact motion of one body or of a batch of bodies at any times: the body angular
+velocity by Jacobi elliptic functions and the attitude through the precession
+angle about the (constant) angular momentum, an elliptic integral of the third
+kind written with Carlson's symmetric integral ``R_J``.
 
-Per-body constants come from ``scipy.special`` (``ellipkm1``, ``elliprf``,
-``elliprj``). The per-time-point work is one compiled kernel
-(:mod:`poinsot.dynamics._free_body_numba`): Jacobi functions by the descending
-Landen transformation fed ``1 - k^2`` directly (``scipy.special.ellipj`` only
-takes ``k^2``, which loses ``1 - k^2`` near the separatrix, and is 3x slower),
-Carlson's duplication algorithm for ``R_J``, and the attitude quaternion. The
-motion is computed for ``|w0| ~ 1`` and ``max(I) ~ 1`` (exact power-of-two
-scaling; ``w(t; s w0) = s w(s t; w0)``), so no magnitude under- or overflows.
+Everything numerical is compiled (:mod:`poinsot.dynamics._free_body_numba`, on
+the shared kernels of :mod:`poinsot.dynamics._elliptic`): one pass computes the
+constants of every body of a batch (each may be in a different regime), one
+pass evaluates every body at every time. The regime discriminant
+``D = K^2 - 2 T B`` is formed in double-double arithmetic from error-free
+transformations, so ``1 - k^2`` is correct to a few ulp however close the state
+is to the separatrix; the Jacobi functions use the descending Landen
+transformation fed ``1 - k^2`` directly. The motion is computed for ``|w0| ~ 1``
+and ``max(I) ~ 1`` (exact power-of-two scaling; ``w(t; s w0) = s w(s t; w0)``), so
+no magnitude under- or overflows.
 
 Case analysis (moments relabelled ``A > B > C`` here; the code works in the
 axes as given). Put ``D = K^2 - 2 T B``:
@@ -30,10 +32,10 @@ axes as given). Put ``D = K^2 - 2 T B``:
       a_j^2 = (2 T I_i - K^2) / (I_j (I_i - I_j)),
       a_m^2 = (2 T I_i - K^2) / (I_m (I_i - I_m)),
       lam^2 = (I_i - I_m) (K^2 - 2 T I_j) / (I_i I_m I_j),
-      k^2 = (I_m - I_j) (2 T I_i - K^2) / ((I_i - I_m) (K^2 - 2 T I_j)),
+      1 - k^2 = (I_i - I_j) (K^2 - 2 T I_m) / ((I_i - I_m) (K^2 - 2 T I_j)),
 
   the period of the angular velocity is ``4 K(k^2) / lam`` (Landau & Lifshitz,
-  *Mechanics*, S37, with ``I_i = I_3``).
+  *Mechanics*, §37, with ``I_i = I_3``).
 * ``D = 0`` (the separatrix ``K^2 = 2 B T``): ``k = 1``, ``sn = tanh``,
   ``cn = dn = sech``; the period is infinite.
 * Two equal moments (symmetric body): regular precession, ``psi' = K / A``,
@@ -46,8 +48,8 @@ The attitude is ``R(t) = S Rz(psi(t)) Rx(theta(t)) Rz(phi(t))`` with
 ``(theta, phi)`` the z-x-z angles of the body momentum direction about the
 extreme axis ``j`` that the polhode does not encircle (so they are never
 singular) and ``psi`` the precession angle about ``K``, obtained from
-``psi' = K (I_x w_x^2 + I_y w_y^2) / (I_x^2 w_x^2 + I_y^2 w_y^2)`` (SPEC S10)
-in closed form.
+``psi' = K (I_x w_x^2 + I_y w_y^2) / (I_x^2 w_x^2 + I_y^2 w_y^2)`` (docs/theory.md
+§10) in closed form.
 """
 
 from __future__ import annotations
@@ -58,8 +60,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import as_float_array, as_vec3, is_integer
-from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
+from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
+from ..errors import InvalidInputError, SingularityWarning
 from ..rotations import quaternion as _quaternion
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
@@ -82,273 +84,58 @@ _EPS = float(np.finfo(float).eps)
 #: accurate for nearly equal moments.
 SYMMETRY_RTOL = 16.0 * _EPS
 
-#: ``K^2 - 2 T B`` smaller than ``SEPARATRIX_RTOL`` times the size of its two
-#: terms (``A (A - B) p^2`` and ``C (B - C) r^2``) is round-off: the motion is
-#: taken as exactly on the separatrix (and a :class:`~poinsot.SingularityWarning`
-#: says so unless the difference is exactly zero).
-SEPARATRIX_RTOL = 8.0 * _EPS
+#: ``D = K^2 - 2 T B`` is computed in double-double arithmetic (error-free
+#: transformations): a ``|D|`` at most ``SEPARATRIX_RTOL = 2^-100`` (7.9e-31) times
+#: the size of its two terms ``A (A - B) p^2`` and ``C (B - C) r^2`` is the rounding
+#: of that computation, and the state is taken as exactly on the separatrix
+#: (silently if ``D`` is exactly zero, else with a :class:`~poinsot.SingularityWarning`).
+SEPARATRIX_RTOL = 2.0**-100
 
 #: Below this complementary parameter ``1 - k^2`` (relative distance to the
 #: separatrix) a :class:`~poinsot.SingularityWarning` is issued: the motion itself
-#: is ill-conditioned there, and a relative perturbation ``eps`` of the initial
-#: state shifts the phase by about ``2 eps / (1 - k^2)`` per period.
+#: is ill-conditioned there (a relative perturbation ``eps`` of the initial state
+#: shifts the phase by about ``2 eps / (1 - k^2)`` per period), although the
+#: solution is exact for the given double inputs.
 NEAR_SEPARATRIX = 1e-6
 
-
-# ---------------------------------------------------------------------------
-# Kernels (pure numpy / scipy.special; no validation)
-# ---------------------------------------------------------------------------
+_IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
 
-def _special():
-    from scipy import special
+def _kernels():
+    from . import _free_body_numba
 
-    return special
-
-
-def _axis_quat(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
-    """Unit quaternion (..., 4) of a rotation by ``angle`` (...) about unit ``axis`` (3,)."""
-    h = 0.5 * np.asarray(angle, dtype=float)
-    s = np.sin(h)
-    return np.concatenate([np.cos(h)[..., None], s[..., None] * axis], axis=-1)
+    return _free_body_numba
 
 
-#: Quaternions of the cyclic relabellings ``(x, y, z) = (e_{j+1}, e_{j+2}, e_j)``
-#: (rotations by -120, +120 and 0 degrees about ``(1, 1, 1)``).
-_PERM_QUAT = (
-    np.array([0.5, -0.5, -0.5, -0.5]),
-    np.array([0.5, 0.5, 0.5, 0.5]),
-    np.array([1.0, 0.0, 0.0, 0.0]),
-)
+def _snap_symmetric(moments: np.ndarray) -> np.ndarray:
+    """Moments (N, 3) with pairs closer than ``SYMMETRY_RTOL * max`` made equal."""
+    mom = moments.copy()
+    tol = SYMMETRY_RTOL * np.max(mom, axis=-1)
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        snap = (mom[:, a] != mom[:, b]) & (np.abs(mom[:, a] - mom[:, b]) <= tol)
+        if np.any(snap):
+            mean = 0.5 * (mom[snap, a] + mom[snap, b])
+            mom[snap, a] = mean
+            mom[snap, b] = mean
+    return mom
 
 
-def _conj(q: np.ndarray) -> np.ndarray:
-    return q * np.array([1.0, -1.0, -1.0, -1.0])
+def _pow2(x: np.ndarray) -> np.ndarray:
+    """The power of two ``2^e`` with ``x = f 2^e``, ``0.5 <= f < 1`` (1 for x = 0)."""
+    _, e = np.frexp(x)
+    return np.where(x > 0.0, np.ldexp(1.0, e), 1.0)
 
 
-class _Motion:
-    """Exact torque-free motion in principal axes (moments ``I`` in any order).
-
-    ``mode`` is one of ``"uniform"``, ``"symmetric"``, ``"elliptic"``,
-    ``"separatrix"``. Evaluation methods take a flat float array of times.
-    """
-
-    def __init__(self, moments: np.ndarray, w0: np.ndarray, q0: np.ndarray):
-        self.I = moments
-        self.w0 = w0
-        self.q0 = q0
-        jw = moments * w0
-        self.energy = 0.5 * float(np.dot(w0, jw))
-        self.kmom = float(np.linalg.norm(jw))
-        self.momentum = _quaternion.rotate(q0, jw)
-        self.khat = self.momentum / self.kmom if self.kmom > 0 else np.array([0.0, 0.0, 1.0])
-        self.period = math.inf
-        self.precession = math.nan
-        self.polhode_axis: int | None = None
-        self.m1 = math.nan
-        imax, imin = int(np.argmax(moments)), int(np.argmin(moments))
-        equal = [moments[a] == moments[b] for a, b in ((0, 1), (1, 2), (2, 0))]
-        if all(equal) or self.kmom == 0.0:
-            self.regime = "rest" if self.kmom == 0.0 else "spherical"
-            self._setup_uniform()
-        elif any(equal):
-            self.regime = "symmetric"
-            self._setup_symmetric(equal)
-        else:
-            mid = 3 - imax - imin
-            t_a = moments[imax] * (moments[imax] - moments[mid]) * w0[imax] ** 2
-            t_c = moments[imin] * (moments[mid] - moments[imin]) * w0[imin] ** 2
-            d = t_a - t_c
-            if abs(d) <= SEPARATRIX_RTOL * (t_a + t_c):
-                self.regime = "separatrix"
-                if t_a == 0.0 and t_c == 0.0:
-                    self._setup_uniform()  # permanent rotation about the middle axis
-                else:
-                    if d != 0.0:
-                        warnings.warn(
-                            "The initial state is within round-off of the separatrix "
-                            "K^2 = 2 B T and is treated as exactly on it (infinite period); "
-                            "the true motion may flip back after t ~ 36 / lam.",
-                            SingularityWarning,
-                            stacklevel=3,
-                        )
-                    self._setup_elliptic(imax, mid, imin, d, separatrix=True)
-            elif d > 0:
-                self.regime = "major"
-                self._setup_elliptic(imax, mid, imin, d, separatrix=False)
-            else:
-                self.regime = "minor"
-                self._setup_elliptic(imin, mid, imax, d, separatrix=False)
-
-    # -- uniform rotation ---------------------------------------------------
-    def _setup_uniform(self) -> None:
-        self.mode = "uniform"
-        wn = float(np.linalg.norm(self.w0))
-        self.rate = wn
-        self.axis = self.w0 / wn if wn > 0 else np.array([0.0, 0.0, 1.0])
-
-    # -- symmetric body: regular precession ---------------------------------
-    def _setup_symmetric(self, equal: list[bool]) -> None:
-        self.mode = "symmetric"
-        s = {0: 2, 1: 0, 2: 1}[equal.index(True)]  # the axis not in the equal pair
-        i_s, i_p = self.I[s], self.I[(s + 1) % 3]
-        self.s = s
-        self.es = np.eye(3)[s]
-        self.spin = (i_s - i_p) * self.w0[s] / i_p  # rate of w_perp about e_s in the body
-        self.psi_dot = self.kmom / i_p
-        self.phi_dot = -self.spin
-        if self.spin != 0.0:
-            self.period = 2.0 * math.pi / abs(self.spin)
-            self.precession = self.psi_dot * self.period
-        if self.w0[s] != 0.0:
-            self.polhode_axis = s
-
-    # -- general body: Jacobi elliptic functions ----------------------------
-    def _setup_elliptic(self, i: int, m: int, j: int, d: float, *, separatrix: bool) -> None:
-        sp = _special()
-        mom, w = self.I, self.w0
-        ii, im, ij = mom[i], mom[m], mom[j]
-        self.mode = "separatrix" if separatrix else "elliptic"
-        self.i, self.m, self.j = i, m, j
-        # 2 T I_i - K^2 and K^2 - 2 T I_j as sums of same-sign terms (no cancellation).
-        g_i = sum(mom[k] * (ii - mom[k]) * w[k] ** 2 for k in (m, j))
-        mg_j = sum(mom[k] * (mom[k] - ij) * w[k] ** 2 for k in (i, m))
-        ai2 = mg_j / (ii * (ii - ij))
-        aj2 = g_i / (ij * (ii - ij))
-        am2 = g_i / (im * (ii - im))
-        lam = math.sqrt((ii - im) * mg_j / (ii * im * ij))
-        sigma = 1.0 if i == (m + 1) % 3 else -1.0
-        s_i = math.copysign(1.0, w[i])
-        s_j = math.copysign(1.0, w[j]) if separatrix else 1.0
-        s_m = sigma * math.copysign(1.0, ii - ij) * s_i * s_j
-        a = np.zeros(3)
-        a[i], a[m], a[j] = s_i * math.sqrt(ai2), s_m * math.sqrt(am2), s_j * math.sqrt(aj2)
-        self.a, self.lam = a, lam
-        self.n2 = ij * g_i / (ii * mg_j)
-        self.beta = (im * im * am2) / (ii * ii * ai2)
-        self.major = ii > ij
-        self.kappa = self.kmom * ((1.0 / im - 1.0 / ii) if self.major else (1.0 / ii - 1.0 / im))
-        self.rate0 = self.kmom / (ii if self.major else im)
-        self.polhode_axis = None if separatrix else i
-        if separatrix:
-            self.m1 = 0.0
-            self.k2 = 1.0
-            self.u0 = math.asinh((w[m] / a[m]) / (w[i] / a[i]))
-            self.Jh = 0.0
-            self.Kq = math.inf
-        else:
-            m1 = (ii - ij) * d / ((ii - im) * mg_j)
-            k2 = (im - ij) * g_i / ((ii - im) * mg_j)
-            self.m1, self.k2 = m1, k2
-            self.Kq = float(sp.ellipkm1(m1))
-            if 0.0 < m1 < NEAR_SEPARATRIX:
-                warnings.warn(
-                    f"The motion is close to the separatrix (1 - k^2 = {m1:.3g}): it is "
-                    f"ill-conditioned, and relative errors ~{2 * _EPS / m1:.1g} per period in "
-                    "the phase are unavoidable.",
-                    SingularityWarning,
-                    stacklevel=4,
-                )
-            if am2 == 0.0:
-                self.u0 = 0.0
-            else:
-                sn0, cn0 = w[m] / a[m], w[j] / a[j]
-                rho = math.hypot(sn0, cn0)
-                sn0, cn0 = sn0 / rho, cn0 / rho
-                dn0 = w[i] / a[i]
-                f = sn0 * float(sp.elliprf(cn0 * cn0, dn0 * dn0, 1.0))
-                self.u0 = f if cn0 >= 0.0 else math.copysign(2.0 * self.Kq, sn0) - f
-            self.Jh = (2.0 / 3.0) * float(sp.elliprj(0.0, m1, 1.0, 1.0 + self.n2))
-            self.period = 4.0 * self.Kq / lam
-            dpsi_j = self.rate0 * self.period + self._psi_extra(self.period, 2.0 * self.Jh)
-            # Landau's convention (Euler z-axis = the encircled axis i): differs by 2 pi.
-            self.precession = dpsi_j + 2.0 * math.pi * math.copysign(1.0, ii - ij)
-        self.qp = _PERM_QUAT[j]
-        self.par = np.array(
-            [
-                lam,
-                self.u0,
-                self.Kq,
-                self.k2,
-                self.m1,
-                self.n2,
-                self.Jh,
-                0.0,
-                self.kmom,
-                self.rate0,
-                self.kappa,
-                self.beta,
-                float(self.major),
-                float(separatrix),
-            ]
-        )
-        self.idx = np.array([i, m, j], dtype=np.int64)
-        from ._free_body_numba import landen_table
-
-        self.landen = landen_table(self.k2, self.m1) if not separatrix else np.zeros((3, 1))
-        one = np.array([1.0, 0.0, 0.0, 0.0])
-        zero = np.zeros(1)
-        _, _, j0 = self._kernel(zero, one, one, True)
-        self.par[7] = j0[0]
-        _, qz0, _ = self._kernel(zero, one, one, True)
-        self.qs = _quaternion.multiply(self.q0, _quaternion.multiply(_conj(self.qp), _conj(qz0[0])))
-
-    def _kernel(self, t: np.ndarray, qs: np.ndarray, qp: np.ndarray, want_q: bool):
-        from . import _free_body_numba
-
-        t = np.ascontiguousarray(t, dtype=np.float64)
-        return _free_body_numba.elliptic_state(
-            t, self.par, self.idx, self.I, self.a, qs, qp, want_q, self.landen
-        )
-
-    def _psi_extra(self, t, dj):
-        """``psi - rate0 t`` given the time ``t`` and the increase ``dj`` of ``J``."""
-        if self.major:
-            return self.kappa * self.beta * dj / self.lam
-        return self.kappa * (t - self.beta * dj / self.lam)
-
-    # -- evaluation ---------------------------------------------------------
-    def omega(self, t: np.ndarray) -> np.ndarray:
-        if self.mode == "uniform":
-            return np.broadcast_to(self.w0, t.shape + (3,)).copy()
-        if self.mode == "symmetric":
-            return self._omega_symmetric(t)
-        return self._kernel(t, self.qs, self.qp, False)[0]
-
-    def _omega_symmetric(self, t: np.ndarray) -> np.ndarray:
-        s = self.s
-        x, y = (s + 1) % 3, (s + 2) % 3
-        ang = self.spin * t
-        c, sn = np.cos(ang), np.sin(ang)
-        w = np.empty(t.shape + (3,))
-        w[..., s] = self.w0[s]
-        w[..., x] = self.w0[x] * c - self.w0[y] * sn
-        w[..., y] = self.w0[x] * sn + self.w0[y] * c
-        return w
-
-    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Body angular velocity (n, 3) and attitude quaternion (n, 4) at times ``t``."""
-        if self.mode == "uniform":
-            q = _quaternion.multiply(self.q0, _axis_quat(self.axis, self.rate * t))
-            return self.omega(t), q
-        if self.mode == "symmetric":
-            q = _quaternion.multiply(
-                _axis_quat(self.khat, self.psi_dot * t),
-                _quaternion.multiply(self.q0, _axis_quat(self.es, self.phi_dot * t)),
-            )
-            return self._omega_symmetric(t), q
-        w, q, _ = self._kernel(t, self.qs, self.qp, True)
-        return w, q
-
-
-# ---------------------------------------------------------------------------
-# Geometry results
-# ---------------------------------------------------------------------------
+def _samples(n) -> int:
+    """A number of curve samples: an integer >= 2."""
+    if not (is_integer(n) or isinstance(n, np.integer)) or n < 2:
+        raise InvalidInputError(f"Expected `n` to be an integer >= 2, got {n!r}.")
+    return int(n)
 
 
 @dataclass(frozen=True, eq=False)
 class MacCullaghGeometry:
-    """The MacCullagh picture in the space of body angular momenta (SPEC S10).
+    """The MacCullagh picture in the space of body angular momenta (docs/theory.md §10).
 
     All vectors are in the body's principal axes, in the order of
     :attr:`FreeRigidBody.principal_moments`.
@@ -383,7 +170,7 @@ class PoinsotGeometry:
     ----------
     ellipsoid_semi_axes : ndarray, shape (3,)
         ``1 / sqrt(I_k)``: semi-axes of the inertia ellipsoid ``r^T J r = 1``
-        along the principal axes (SPEC S8).
+        along the principal axes (docs/theory.md §8).
     plane_normal : ndarray, shape (3,)
         ``K / |K|`` in space axes.
     plane_distance : float
@@ -412,76 +199,68 @@ class PoinsotGeometry:
 # ---------------------------------------------------------------------------
 
 
-def _snap_symmetric(moments: np.ndarray) -> np.ndarray:
-    mom = moments.copy()
-    tol = SYMMETRY_RTOL * float(np.max(mom))
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        if mom[a] != mom[b] and abs(mom[a] - mom[b]) <= tol:
-            mom[a] = mom[b] = 0.5 * (mom[a] + mom[b])
-    return mom
-
-
-def _samples(n) -> int:
-    """A number of curve samples: an integer >= 2."""
-    if not (is_integer(n) or isinstance(n, np.integer)) or n < 2:
-        raise InvalidInputError(f"Expected `n` to be an integer >= 2, got {n!r}.")
-    return int(n)
-
-
 class FreeRigidBody:
-    """Exact torque-free motion of a rigid body about its fixed centre of mass.
+    """Exact torque-free motion of a rigid body (or a batch of bodies) about its
+    fixed centre of mass.
 
     Parameters
     ----------
-    inertia : array_like, shape (3,) or (3, 3), or RigidBody
+    inertia : array_like, shape (..., 3) or (..., 3, 3), or RigidBody
         Principal moments ``(A, B, C)`` in any order (the body axes are then the
-        principal axes, in that order), or an inertia tensor in some body axes,
-        or a :class:`poinsot.mass.RigidBody` (its inertia about the centre of mass).
-        A non-diagonal tensor is diagonalised with
-        :func:`poinsot.mass.principal_axes`; ``omega0``, :meth:`omega`,
+        principal axes, in that order), or inertia tensors in some body axes, or a
+        :class:`poinsot.mass.RigidBody` (its inertia about the centre of mass), read
+        by ``poinsot.mass.tensor.as_inertia``. A non-diagonal tensor is diagonalised
+        with :func:`poinsot.mass.principal_axes`; ``omega0``, :meth:`omega`,
         :meth:`momentum_body` and :meth:`rotation` still refer to the axes of the
-        given tensor. A diagonal tensor keeps its axes and order.
-    omega0 : array_like, shape (3,)
-        Angular velocity at ``t = 0`` in those body axes (rad/s).
-    rotation0 : Rotation, optional
-        Attitude (body -> space) at ``t = 0``; identity by default.
+        given tensor. A diagonal tensor keeps its axes and order. (A batch of three
+        bodies' moments, shape ``(3, 3)``, reads as one tensor: pass tensors.)
+    rotation0 : Rotation, SciPy Rotation or array_like (..., 4), optional
+        Attitude (body -> space) at ``t = 0``: a poinsot or SciPy ``Rotation`` or
+        scalar-first quaternions; identity by default.
+    omega0 : array_like, shape (..., 3)
+        Angular velocity at ``t = 0`` in those body axes (rad/s). Keyword only.
 
     Attributes
     ----------
-    principal_moments : ndarray, shape (3,)
+    shape : tuple
+        The batch shape: the broadcast leading shape of ``inertia``, ``rotation0``
+        and ``omega0`` (``()`` for one body).
+    principal_moments : ndarray, shape (..., 3)
         The moments used (in the given order, or ascending for a tensor);
         moments within :data:`SYMMETRY_RTOL` are made equal.
-    principal_axes : ndarray, shape (3, 3)
-        Columns: the principal axes in the given body axes (identity for moments).
 
     Raises
     ------
     InvalidInputError
         For a non-physical inertia (shape, not positive definite, triangle
-        inequality), a non-finite ``omega0`` or a ``rotation0`` of wrong shape.
+        inequality), a non-finite ``omega0``, or batch shapes that do not broadcast.
     InvalidTypeError
-        If ``rotation0`` is not a :class:`~poinsot.Rotation`.
+        If ``rotation0`` is not a rotation or an array of quaternions.
 
     Warns
     -----
     SingularityWarning
-        When the state is within :data:`NEAR_SEPARATRIX` of the separatrix or
-        on it only up to round-off (see the module notes).
+        When a state is within :data:`NEAR_SEPARATRIX` of the separatrix (the motion
+        is ill-conditioned; the result is still exact for the given inputs).
 
     Notes
     -----
     Jacobi elliptic solution with the case analysis of the module docstring
-    (SPEC S10; Landau & Lifshitz, *Mechanics*, S37). The attitude satisfies
-    ``R(t) J w(t) = K`` (constant) and ``R' = R w^``.
+    (docs/theory.md §10; Landau & Lifshitz, *Mechanics*, §37). The attitude
+    satisfies ``R(t) J w(t) = K`` (constant) and ``R' = R w^``. Each body of a batch
+    may be in its own regime (major, minor, separatrix, symmetric, spherical, rest);
+    evaluations return arrays of shape ``shape + t.shape + (3,)`` (angular velocity)
+    or Rotations of shape ``shape + t.shape``.
 
     **Convention:** ``rotation(t)`` maps body components to space components,
-    ``omega`` is in body axes (rad/s), ``momentum`` in space axes.
+    ``omega`` is in body axes (rad/s), ``momentum`` in space axes; quaternions are
+    scalar first.
 
     Examples
     --------
     >>> import numpy as np
     >>> from poinsot.dynamics import FreeRigidBody
-    >>> body = FreeRigidBody([1.0, 2.0, 3.0], [0.1, 1.0, 0.1])   # near the middle axis
+    >>> body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.1])   # near the middle axis
     >>> body.regime, body.polhode_axis
     ('major', 2)
     >>> round(body.period, 4)
@@ -492,152 +271,248 @@ class FreeRigidBody:
     >>> K = body.rotation(2.5).apply(body.momentum_body(2.5))
     >>> bool(np.allclose(K, body.momentum))
     True
+    >>> batch = FreeRigidBody([[1.0, 2.0, 3.0], [2.0, 2.0, 1.0]], omega0=[0.3, 0.2, 1.0])
+    >>> batch.shape, batch.regime.tolist(), batch.omega(np.zeros(4)).shape
+    ((2,), ['major', 'symmetric'], (2, 4, 3))
     """
 
-    def __init__(self, inertia, omega0, rotation0=None):
-        from ..mass import RigidBody, check_inertia, check_principal_moments, principal_axes
+    def __init__(self, inertia, *, rotation0=None, omega0):
+        from ..mass import RigidBody, principal_axes
+        from ..mass.tensor import as_inertia
 
         if isinstance(inertia, RigidBody):
-            if inertia.shape != ():
-                raise InvalidInputError(
-                    f"Expected `inertia` to be a single RigidBody, got shape {inertia.shape}."
-                )
             inertia = inertia.inertia  # about the centre of mass, in body axes
-        j = as_float_array(inertia, "inertia")
-        if j.shape == (3,):
-            moments = check_principal_moments(j, "inertia")
-            axes, qv = np.eye(3), _PERM_QUAT[2]
-        elif j.shape == (3, 3):
-            js = check_inertia(j, "inertia")
-            if np.all(js == np.diag(np.diagonal(js))):
-                moments, axes, qv = np.diagonal(js).copy(), np.eye(3), _PERM_QUAT[2]
-            else:
-                moments, rot = principal_axes(js)
-                axes, qv = rot.as_matrix(), rot.as_quat()
-        else:
-            raise InvalidInputError(
-                f"Expected `inertia` to have shape (3,) (principal moments) or (3, 3) "
-                f"(an inertia tensor), got {j.shape}."
-            )
+        j, principal = as_inertia(inertia, "inertia")
         w0 = as_vec3(omega0, "omega0")
-        if w0.shape != (3,):
-            raise InvalidInputError(f"Expected `omega0` to have shape (3,), got {w0.shape}.")
-        if rotation0 is None:
-            q0 = np.array([1.0, 0.0, 0.0, 0.0])
-        elif isinstance(rotation0, Rotation):
-            if rotation0.shape != ():
-                raise InvalidInputError(
-                    f"Expected `rotation0` to be a single rotation, got shape {rotation0.shape}."
-                )
-            q0 = rotation0.as_quat()
+        q0 = _IDENTITY if rotation0 is None else as_rotation_quat(rotation0, "rotation0")
+        shape = batch_shape(inertia=(j, 1 if principal else 2), rotation0=(q0, 1), omega0=(w0, 1))
+        n = math.prod(shape)
+        jb = np.broadcast_to(j, shape + j.shape[j.ndim - (1 if principal else 2) :])
+        jb = jb.reshape((n,) + jb.shape[len(shape) :])
+        if principal:
+            moments = jb.copy()
+            qv = np.broadcast_to(_IDENTITY, (n, 4)).copy()
         else:
-            raise InvalidTypeError(
-                f"Expected `rotation0` to be a poinsot.Rotation or None, got "
-                f"{type(rotation0).__name__}."
+            moments = np.diagonal(jb, axis1=-2, axis2=-1).copy()
+            qv = np.broadcast_to(_IDENTITY, (n, 4)).copy()
+            full = np.any(jb != moments[:, :, None] * np.eye(3), axis=(-2, -1))
+            if np.any(full):
+                mom_f, rot_f = principal_axes(jb[full])
+                moments[full] = mom_f
+                qv[full] = np.reshape(rot_f.as_quat(), (-1, 4))
+        self._shape = shape
+        self._n = n
+        self._j = j
+        self._principal_input = principal
+        self._moments = _snap_symmetric(moments)
+        self._qv = qv
+        self._omega0 = np.broadcast_to(w0, shape + (3,)).reshape(n, 3).copy()
+        self._q0 = np.broadcast_to(q0, shape + (4,)).reshape(n, 4).copy()
+        self._setup()
+
+    # -- constants of the motion (one compiled pass over the bodies) -------------
+    def _setup(self) -> None:
+        kern = _kernels()
+        n = self._n
+        wp = _quaternion.rotate(_quaternion.conjugate(self._qv), self._omega0)
+        qp0 = _quaternion.multiply(self._q0, self._qv)
+        # |w0| ~ 1 and max(I) ~ 1 by exact powers of two (an exact separatrix stays one)
+        self._wscale = _pow2(np.linalg.norm(wp, axis=-1))
+        iscale = _pow2(np.max(self._moments, axis=-1))
+        mom_s = np.ascontiguousarray(self._moments / iscale[:, None])
+        w_s = np.ascontiguousarray(wp / self._wscale[:, None])
+        self._mom_s = mom_s
+        self._par = np.zeros((n, kern.N_PAR))
+        self._idx = np.zeros((n, 3), dtype=np.int64)
+        self._amp = np.zeros((n, 3))
+        self._vec = np.zeros((n, 3))
+        self._qa = np.zeros((n, 4))
+        self._qb = np.zeros((n, 4))
+        self._ks = np.zeros((n, kern.LMAX))
+        self._kps = np.zeros((n, kern.LMAX))
+        self._info = np.zeros((n, 5))
+        kern.setup(
+            mom_s,
+            w_s,
+            np.ascontiguousarray(qp0),
+            self._par,
+            self._idx,
+            self._amp,
+            self._vec,
+            self._qa,
+            self._qb,
+            self._ks,
+            self._kps,
+            self._info,
+        )
+        self._par[:, kern.P_WS] = self._wscale
+        self._code = self._info[:, 0].astype(np.int64)
+        m1 = self._info[:, 3]
+        near = (m1 > 0.0) & (m1 < NEAR_SEPARATRIX)
+        if np.any(near):
+            worst = float(np.min(m1[near]))
+            which = "" if self._shape == () else f" ({int(np.sum(near))} of {n} bodies)"
+            warnings.warn(
+                f"The motion is close to the separatrix (1 - k^2 = {worst:.3g}){which}: it is "
+                f"ill-conditioned; a relative change eps of the initial state moves the phase "
+                f"by ~2 eps / (1 - k^2) = {2 * _EPS / worst:.1g} per period (the solution is "
+                "exact for the given inputs).",
+                SingularityWarning,
+                stacklevel=3,
             )
-        self._moments = _snap_symmetric(np.asarray(moments, dtype=float))
-        self._axes = np.asarray(axes, dtype=float)
-        self._identity_axes = bool(np.all(self._axes == np.eye(3)))
-        self._qv = np.asarray(qv, dtype=float)  # principal -> given body axes
-        self._omega0 = w0.copy()
-        self._q0 = q0
-        wp = self._axes.T @ w0
-        qp0 = _quaternion.multiply(q0, self._qv)
-        jw = self._moments * wp
-        self._energy = 0.5 * float(np.dot(wp, jw))
-        self._kmom = float(np.linalg.norm(jw))
-        self._momentum = _quaternion.rotate(qp0, jw)
-        # The motion is computed for |w0| ~ 1 and max(I) ~ 1 (w(t; s w0) = s w(s t; w0),
-        # and J -> c J leaves w(t) unchanged), so that no magnitude can under/overflow.
-        # Powers of two keep the scaled data exact (e.g. an exact separatrix stays one).
-        wn = float(np.linalg.norm(wp))
-        self._wscale = math.ldexp(1.0, math.frexp(wn)[1]) if wn > 0.0 else 1.0
-        iscale = math.ldexp(1.0, math.frexp(float(np.max(self._moments)))[1])
-        self._motion = _Motion(self._moments / iscale, wp / self._wscale, qp0)
+        rounded = (self._code == kern.R_SEPARATRIX) & (self._info[:, 4] != 0.0)
+        if np.any(rounded):
+            warnings.warn(
+                "An initial state is within double-double round-off (2^-100) of the "
+                "separatrix K^2 = 2 B T and is treated as exactly on it (infinite period).",
+                SingularityWarning,
+                stacklevel=3,
+            )
+        from .invariants import invariants
+
+        inv = invariants(self._moments[:, :, None] * np.eye(3), qp0, wp)  # tensors: n may be 3
+        self._energy = inv.kinetic
+        self._momentum = inv.momentum_space
+        self._kmom = np.linalg.norm(inv.momentum_body, axis=-1)
+
+    def _out(self, x: np.ndarray, tail: tuple[int, ...] = ()):
+        """Per-body values (n, *tail) as the batch shape: a float for one body."""
+        x = x.reshape(self._shape + tail)
+        if self._shape == () and tail == ():
+            return x.item()
+        return x
 
     # -- properties ---------------------------------------------------------
     @property
-    def principal_moments(self) -> np.ndarray:
-        """Principal moments ``I_k`` (order: given, or ascending for a tensor)."""
-        return self._moments.copy()
+    def shape(self) -> tuple[int, ...]:
+        """Batch shape (``()`` for one body)."""
+        return self._shape
 
     @property
-    def principal_axes(self) -> np.ndarray:
-        """Columns: principal axes in the given body axes (a proper rotation matrix)."""
-        return self._axes.copy()
+    def principal_moments(self) -> np.ndarray:
+        """Principal moments ``I_k`` (order: given, or ascending for a tensor), ``(..., 3)``."""
+        return self._moments.reshape(self._shape + (3,)).copy()
+
+    def principal_axes(self) -> tuple[np.ndarray, Rotation]:
+        """Principal moments and axes, as :meth:`poinsot.mass.RigidBody.principal_axes`.
+
+        Returns
+        -------
+        moments : ndarray, shape (..., 3)
+            :attr:`principal_moments` (the order used for the geometry).
+        rotation : Rotation, shape (...)
+            ``S`` from the principal axes to the given body axes (``v_body = S v_p``;
+            the columns of ``S.as_matrix()`` are the principal axes written in the
+            body axes; the identity for principal moments or a diagonal tensor).
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeRigidBody
+        >>> m, s = FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 0.0, 0.0]).principal_axes()
+        >>> m.tolist(), float(s.magnitude())
+        ([1.0, 2.0, 3.0], 0.0)
+        """
+        rot = Rotation.from_quat(self._qv.reshape(self._shape + (4,)))
+        return self.principal_moments, rot
 
     @property
     def inertia(self) -> np.ndarray:
-        """Inertia tensor in the given body axes, ``V diag(I) V^T``."""
-        return (self._axes * self._moments) @ self._axes.T
+        """Inertia tensor in the given body axes, ``S diag(I) S^T``, shape ``(..., 3, 3)``."""
+        s = Rotation.from_quat(self._qv).as_matrix()
+        j = np.einsum("nik,nk,njk->nij", s, self._moments, s)
+        return j.reshape(self._shape + (3, 3))
 
     @property
     def omega0(self) -> np.ndarray:
-        """Initial body angular velocity (rad/s)."""
-        return self._omega0.copy()
+        """Initial body angular velocity (rad/s), ``(..., 3)``."""
+        return self._omega0.reshape(self._shape + (3,)).copy()
 
     @property
-    def energy(self) -> float:
-        """Kinetic energy ``T = w^T J w / 2`` (constant)."""
-        return self._energy
+    def rotation0(self) -> Rotation:
+        """Initial attitude (body -> space), shape :attr:`shape`."""
+        return Rotation.from_quat(self._q0.reshape(self._shape + (4,)))
+
+    @property
+    def energy(self):
+        """Kinetic energy ``T = w^T J w / 2`` (J; constant), float or ``(...)``."""
+        return self._out(self._energy)
 
     @property
     def momentum(self) -> np.ndarray:
-        """Angular momentum ``K = R J w`` in space axes (constant)."""
-        return self._momentum.copy()
+        """Angular momentum ``K = R J w`` in space axes (kg m^2/s; constant), ``(..., 3)``."""
+        return self._momentum.reshape(self._shape + (3,)).copy()
 
     @property
-    def momentum_norm(self) -> float:
-        """``|K|``."""
-        return self._kmom
+    def momentum_norm(self):
+        """``|K|`` (kg m^2/s), float or ``(...)``."""
+        return self._out(self._kmom)
 
     @property
-    def regime(self) -> str:
+    def regime(self):
         """``"major"``/``"minor"`` (the polhode encircles that axis), ``"separatrix"``,
-        ``"symmetric"``, ``"spherical"`` or ``"rest"``."""
-        return self._motion.regime
+        ``"symmetric"``, ``"spherical"`` or ``"rest"``; a str, or an array of str for
+        a batch."""
+        names = np.array(_kernels().REGIMES)[self._code]
+        return str(names[0]) if self._shape == () else names.reshape(self._shape)
 
     @property
-    def polhode_axis(self) -> int | None:
+    def polhode_axis(self):
         """Index (into :attr:`principal_moments`) of the axis the polhode encircles.
 
-        ``None`` on the separatrix, for a spherical body, at rest, and for a
-        symmetric body spinning in its equatorial plane.
+        ``None`` (``-1`` in a batch's int array) on the separatrix, for a spherical
+        body, at rest, and for a symmetric body spinning in its equatorial plane.
         """
-        return self._motion.polhode_axis
+        kern = _kernels()
+        code = self._code
+        ax = np.full(self._n, -1, dtype=np.int64)
+        ell = (code == kern.R_MAJOR) | (code == kern.R_MINOR)
+        ax[ell] = self._idx[ell, 0]
+        sym = (code == kern.R_SYMMETRIC) & (
+            self._omega0_p()[np.arange(self._n), self._idx[:, 0]] != 0.0
+        )
+        ax[sym] = self._idx[sym, 0]
+        if self._shape == ():
+            return None if ax[0] < 0 else int(ax[0])
+        return ax.reshape(self._shape)
+
+    def _omega0_p(self) -> np.ndarray:
+        return _quaternion.rotate(_quaternion.conjugate(self._qv), self._omega0)
 
     @property
-    def stable_axes(self) -> tuple[bool, bool, bool]:
+    def stable_axes(self):
         """Stability of permanent rotation about each principal axis.
 
-        Distinct moments: the major and minor axes are stable, the middle one
-        is not (SPEC S10). Symmetric body: the symmetry axis is stable, the
-        equatorial ones are not (a perturbation makes ``w`` precess away).
-        Spherical body: all stable.
+        Distinct moments: the major and minor axes are stable, the middle one is not
+        (docs/theory.md §10). Symmetric body: the symmetry axis is stable, the
+        equatorial ones are not (a perturbation makes ``w`` precess away). Spherical
+        body: all stable. A tuple of three bools, or a bool array ``(..., 3)``.
         """
         mom = self._moments
-        equal = [mom[a] == mom[b] for a, b in ((0, 1), (1, 2), (2, 0))]
-        if all(equal):
-            return (True, True, True)
-        if any(equal):
-            s = {0: 2, 1: 0, 2: 1}[equal.index(True)]
-            return tuple(k == s for k in range(3))  # type: ignore[return-value]
-        mid = 3 - int(np.argmax(mom)) - int(np.argmin(mom))
-        return tuple(k != mid for k in range(3))  # type: ignore[return-value]
+        out = np.ones((self._n, 3), dtype=bool)
+        e = np.stack([mom[:, 0] == mom[:, 1], mom[:, 1] == mom[:, 2], mom[:, 2] == mom[:, 0]], -1)
+        sym = np.any(e, axis=-1) & ~np.all(e, axis=-1)
+        s = np.select([e[:, 0], e[:, 1]], [2, 0], 1)
+        out[sym] = np.arange(3)[None, :] == s[sym, None]
+        dist = ~np.any(e, axis=-1)
+        mid = 3 - np.argmax(mom, axis=-1) - np.argmin(mom, axis=-1)
+        out[dist] = np.arange(3)[None, :] != mid[dist, None]
+        if self._shape == ():
+            return tuple(bool(x) for x in out[0])
+        return out.reshape(self._shape + (3,))
 
     @property
-    def period(self) -> float:
-        """Period of ``omega(t)`` (s).
+    def period(self):
+        """Period of ``omega(t)`` (s), float or ``(...)``.
 
         ``4 K(k^2) / lam``; ``2 pi / |(C - A) r / A|`` for a symmetric body; the
         small-oscillation limit for a rotation exactly about the major or minor
         axis; ``inf`` on the separatrix, for a spherical body, at rest, and for a
         symmetric body spinning in its equatorial plane.
         """
-        return float(self._motion.period) / self._wscale
+        return self._out(self._info[:, 1] / self._wscale)
 
     @property
-    def precession_per_period(self) -> float:
+    def precession_per_period(self):
         """Angle (rad) the body turns about ``K`` per period of ``omega``.
 
         ``R(t + period) = Rot(K, angle) R(t)``; the angle is the increase of the
@@ -646,22 +521,39 @@ class FreeRigidBody:
         ``K / A * period`` for a symmetric body. ``nan`` if the period is
         infinite.
         """
-        return float(self._motion.precession)
+        return self._out(self._info[:, 2].copy())
 
     @property
-    def complementary_parameter(self) -> float:
-        """``1 - k^2``: the relative distance to the separatrix (``nan`` if not elliptic)."""
-        return float(self._motion.m1)
+    def complementary_parameter(self):
+        """``1 - k^2``: the relative distance to the separatrix (``0`` on it, ``nan``
+        if the motion is not elliptic), correct to a few ulp for the given inputs."""
+        return self._out(self._info[:, 3].copy())
 
     # -- evaluation ---------------------------------------------------------
-    def _omega_p(self, t: np.ndarray) -> np.ndarray:
-        """Angular velocity in principal axes at flat times ``t``."""
-        return self._wscale * self._motion.omega(self._wscale * t)
-
-    def _state_p(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Angular velocity (principal axes) and principal-axes attitude quaternions."""
-        w, q = self._motion.state(self._wscale * t)
-        return self._wscale * w, q
+    def _eval(self, t: np.ndarray, want_q: bool, *, principal: bool = False):
+        """``w`` (n, nt, 3) and ``q`` (n, nt, 4) at flat times ``t`` (nt,)."""
+        kern = _kernels()
+        nt = t.shape[0]
+        w = np.empty((self._n, nt, 3))
+        q = np.empty((self._n, nt if want_q else 0, 4))
+        qv = np.broadcast_to(_IDENTITY, (self._n, 4)).copy() if principal else self._qv
+        kern.evaluate(
+            np.ascontiguousarray(t, dtype=np.float64),
+            self._par,
+            self._idx,
+            self._mom_s,
+            self._amp,
+            self._vec,
+            self._qa,
+            self._qb,
+            qv,
+            self._ks,
+            self._kps,
+            want_q,
+            w,
+            q,
+        )
+        return w, q
 
     def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:
         ta = as_float_array(t, "t")
@@ -677,55 +569,51 @@ class FreeRigidBody:
 
         Returns
         -------
-        ndarray, shape ``t.shape + (3,)``
+        ndarray, shape ``shape + t.shape + (3,)``
 
         Notes
         -----
         ``w_i = a_i dn(u)``, ``w_m = a_m sn(u)``, ``w_j = a_j cn(u)``,
-        ``u = lam t + u0`` (module notes, SPEC S10).
+        ``u = lam t + u0`` (module notes, docs/theory.md §10).
 
         **Convention:** body axes of the given inertia, rad/s.
 
         Examples
         --------
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> FreeRigidBody([2.0, 2.0, 1.0], [1.0, 0.0, 2.0]).omega([0.0, 1.0]).round(6)
+        >>> FreeRigidBody([2.0, 2.0, 1.0], omega0=[1.0, 0.0, 2.0]).omega([0.0, 1.0]).round(6)
         array([[ 1.      ,  0.      ,  2.      ],
                [ 0.540302, -0.841471,  2.      ]])
         """
-        tf, shape = self._times(t)
-        w = self._omega_p(tf)
-        if not self._identity_axes:
-            w = w @ self._axes.T
-        return w.reshape(shape + (3,))
+        tf, tshape = self._times(t)
+        w, _ = self._eval(tf, False)
+        return w.reshape(self._shape + tshape + (3,))
 
     def momentum_body(self, t) -> np.ndarray:
-        """Angular momentum ``J w(t)`` in body axes, shape ``t.shape + (3,)``.
+        """Angular momentum ``J w(t)`` in body axes, shape ``shape + t.shape + (3,)``.
 
-        **Convention:** body axes of the given inertia.
+        **Convention:** body axes of the given inertia (kg m^2/s).
 
         Examples
         --------
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> FreeRigidBody([1.0, 2.0, 3.0], [1.0, 1.0, 1.0]).momentum_body(0.0)
+        >>> FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 1.0, 1.0]).momentum_body(0.0)
         array([1., 2., 3.])
         """
-        tf, shape = self._times(t)
-        w = self._omega_p(tf) * self._moments
-        if not self._identity_axes:
-            w = w @ self._axes.T
-        return w.reshape(shape + (3,))
+        from .invariants import angular_momentum
+
+        tf, tshape = self._times(t)
+        w, _ = self._eval(tf, False)
+        k = angular_momentum(self.inertia.reshape(self._n, 1, 3, 3), w)
+        return k.reshape(self._shape + tshape + (3,))
 
     def _state(self, t):
-        tf, shape = self._times(t)
-        w, q = self._state_p(tf)
-        if not self._identity_axes:
-            w = w @ self._axes.T
-            q = _quaternion.multiply(q, _conj(self._qv))
-        return w.reshape(shape + (3,)), q.reshape(shape + (4,))
+        tf, tshape = self._times(t)
+        w, q = self._eval(tf, True)
+        return w.reshape(self._shape + tshape + (3,)), q.reshape(self._shape + tshape + (4,))
 
     def rotation(self, t) -> Rotation:
-        """Attitude (body -> space) at times ``t``, a Rotation of shape ``t.shape``.
+        """Attitude (body -> space) at times ``t``, a Rotation of shape ``shape + t.shape``.
 
         Notes
         -----
@@ -739,7 +627,7 @@ class FreeRigidBody:
         --------
         >>> import numpy as np
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> body = FreeRigidBody([1.0, 2.0, 3.0], [0.0, 0.0, 1.0])   # about the major axis
+        >>> body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.0, 0.0, 1.0])   # the major axis
         >>> body.rotation(np.pi / 2).as_rotvec().round(12) + 0.0
         array([0.        , 0.        , 1.57079633])
         """
@@ -753,7 +641,7 @@ class FreeRigidBody:
         Examples
         --------
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> w, r = FreeRigidBody([1.0, 2.0, 3.0], [1.0, 0.5, 0.2]).state([0.0, 1.0, 2.0])
+        >>> w, r = FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 0.5, 0.2]).state([0.0, 1.0, 2.0])
         >>> w.shape, r.shape
         ((3, 3), (3,))
         """
@@ -763,44 +651,93 @@ class FreeRigidBody:
     def trajectory(self, t) -> Trajectory:
         """The exact motion sampled at 1-D times ``t`` as a :class:`~poinsot.Trajectory`.
 
+        Time is the first axis: ``omega`` has shape ``(n,) + shape + (3,)``.
         ``energy`` and ``momentum`` are evaluated from the samples
-        (``T = w^T J w / 2``, ``K = R J w``), so their drifts measure round-off.
+        (``T = w^T J w / 2``, ``K = R J w``, :mod:`poinsot.dynamics.invariants`), so
+        their drifts measure round-off. ``info``: ``regime`` (a str, or a tuple of
+        str for a batch), ``closed_form`` (``"jacobi"``).
 
         **Convention:** as :class:`~poinsot.Trajectory` (body ``omega``, space ``momentum``).
 
         Examples
         --------
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> tr = FreeRigidBody([1.0, 2.0, 3.0], [1.0, 0.5, 0.2]).trajectory([0.0, 5.0, 10.0])
+        >>> body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 0.5, 0.2])
+        >>> tr = body.trajectory([0.0, 5.0, 10.0])
         >>> tr.method, tr.energy_drift < 1e-14
         ('exact', True)
         """
+        from .invariants import invariants
+
         ta = as_float_array(t, "t")
         if ta.ndim != 1:
             raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
-        w, q = self._state(ta)
-        rot = Rotation.from_quat(q)
-        jw = w @ self.inertia.T
-        energy = 0.5 * np.einsum("...i,...i->...", w, jw)
-        momentum = rot.apply(jw)
+        w, q = self._eval(ta, True)  # (N, n, ...)
+        w = np.moveaxis(w, 1, 0)
+        q = np.moveaxis(q, 1, 0)
+        inv = invariants(self.inertia.reshape(1, self._n, 3, 3), q, w)
+        lead = (ta.shape[0],) + self._shape
+        regime = self.regime if self._shape == () else tuple(self.regime.reshape(-1).tolist())
         return Trajectory(
-            ta, rot, w, "exact", energy=energy, momentum=momentum, info={"regime": self.regime}
+            ta,
+            Rotation.from_quat(q.reshape(lead + (4,))),
+            w.reshape(lead + (3,)),
+            "exact",
+            energy=inv.kinetic.reshape(lead),
+            momentum=inv.momentum_space.reshape(lead + (3,)),
+            info={"regime": regime, "closed_form": "jacobi"},
         )
 
-    # -- geometry -----------------------------------------------------------
-    def _window(self, n_periods: float) -> float:
-        mo = self._motion
-        if math.isfinite(mo.period):
-            return n_periods * mo.period / self._wscale
-        if mo.mode == "separatrix":
-            return max(10.0 - mo.u0, 1.0) / (mo.lam * self._wscale)
-        return 2.0 * math.pi * n_periods / self._wscale
+    def __getitem__(self, key) -> FreeRigidBody:
+        """One body (or a sub-batch) of a batch, e.g. ``bodies[3]``.
 
-    def _require_motion(self, what: str) -> None:
-        if self._kmom == 0.0:
+        >>> from poinsot.dynamics import FreeRigidBody
+        >>> FreeRigidBody([[1.0, 2.0, 3.0], [2.0, 2.0, 1.0]], omega0=[0.3, 0.2, 1.0])[1].regime
+        'symmetric'
+        """
+        if self._shape == ():
+            raise InvalidInputError("Expected a batch of bodies to index, got a single body.")
+        sel = np.arange(self._n).reshape(self._shape)[key]
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        flat = np.asarray(sel).reshape(-1)
+        new._shape = np.shape(sel)
+        new._n = flat.size
+        for name in (
+            "_moments", "_qv", "_omega0", "_q0", "_wscale", "_mom_s", "_par", "_idx", "_amp",
+            "_vec", "_qa", "_qb", "_ks", "_kps", "_info", "_code", "_energy", "_momentum",
+            "_kmom",
+        ):  # fmt: skip
+            setattr(new, name, np.ascontiguousarray(getattr(self, name)[flat]))
+        return new
+
+    def __len__(self) -> int:
+        if self._shape == ():
+            raise TypeError("len() of a single FreeRigidBody (shape ())")
+        return self._shape[0]
+
+    # -- geometry (one body) --------------------------------------------------
+    def _single(self, what: str) -> None:
+        if self._shape != ():
+            raise InvalidInputError(
+                f"The {what} picture is drawn for one body: select one of the batch of "
+                f"shape {self._shape}, e.g. `bodies[0].{what.lower()}()`."
+            )
+        if self._kmom[0] == 0.0:
             raise InvalidInputError(
                 f"The {what} picture needs a moving body: `omega0` is zero (T = K = 0)."
             )
+
+    def _window(self, n_periods: float) -> float:
+        kern = _kernels()
+        period = self._info[0, 1]
+        ws = self._wscale[0]
+        if math.isfinite(period):
+            return n_periods * period / ws
+        if self._par[0, kern.P_MODE] == kern.SEPARATRIX:
+            u0, lam = self._par[0, kern.P_U0], self._par[0, kern.P_LAM]
+            return max(10.0 - u0, 1.0) / (lam * ws)
+        return 2.0 * math.pi * n_periods / ws
 
     def maccullagh(self, n: int = 200) -> MacCullaghGeometry:
         """The MacCullagh picture: momentum sphere, energy ellipsoid, track, separatrices.
@@ -818,27 +755,29 @@ class FreeRigidBody:
         -----
         Body ``K`` lies on ``|K|^2 = K^2`` and on ``K1^2/A + K2^2/B + K3^2/C = 2T``;
         the separatrices are the great circles ``|K|^2 = 2 B T`` of the ellipsoid,
-        ``K_A^2 (1/B - 1/A) = K_C^2 (1/C - 1/B)`` (SPEC S10).
+        ``K_A^2 (1/B - 1/A) = K_C^2 (1/C - 1/B)`` (docs/theory.md §10). One body only.
 
         **Convention:** principal body axes (order of :attr:`principal_moments`).
 
         Examples
         --------
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> g = FreeRigidBody([1.0, 2.0, 3.0], [1.0, 1.0, 1.0]).maccullagh(50)
+        >>> g = FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 1.0, 1.0]).maccullagh(50)
         >>> g.ellipsoid_semi_axes.round(4), g.track.shape, g.separatrices.shape
         (array([2.4495, 3.4641, 4.2426]), (50, 3), (2, 50, 3))
         """
         n = _samples(n)
-        self._require_motion("MacCullagh")
-        mo = self._motion
-        mom = self._moments
-        two_t = 2.0 * self._energy
-        if mo.mode == "separatrix":
-            t = (np.linspace(-10.0, 10.0, n) - mo.u0) / (mo.lam * self._wscale)
+        self._single("MacCullagh")
+        kern = _kernels()
+        mom = self._moments[0]
+        two_t = 2.0 * float(self._energy[0])
+        ws = self._wscale[0]
+        if self._par[0, kern.P_MODE] == kern.SEPARATRIX:
+            u0, lam = self._par[0, kern.P_U0], self._par[0, kern.P_LAM]
+            t = (np.linspace(-10.0, 10.0, n) - u0) / (lam * ws)
         else:
             t = np.linspace(0.0, self._window(1.0), n)
-        track = self._omega_p(t) * mom
+        track = self._eval(t, False, principal=True)[0][0] * mom
         equal = [mom[a] == mom[b] for a, b in ((0, 1), (1, 2), (2, 0))]
         if any(equal):
             seps = np.zeros((0, n, 3))
@@ -855,7 +794,7 @@ class FreeRigidBody:
                 seps[k, :, ia] = rad * np.sin(s) * math.cos(alpha)
                 seps[k, :, ic] = sgn * rad * np.sin(s) * math.sin(alpha)
         return MacCullaghGeometry(
-            momentum_radius=self._kmom,
+            momentum_radius=float(self._kmom[0]),
             ellipsoid_semi_axes=np.sqrt(two_t * mom),
             track=track,
             separatrices=seps,
@@ -881,7 +820,7 @@ class FreeRigidBody:
         With the inertia ellipsoid ``r^T J r = 1`` the contact point is
         ``r = w / sqrt(2T)``; the tangent plane there is normal to ``J w = K``
         and at distance ``r . K / |K| = sqrt(2T) / |K|`` from the fixed point
-        (SPEC S10): the invariable plane.
+        (docs/theory.md §10): the invariable plane. One body only.
 
         **Convention:** polhode in principal body axes, herpolhode and plane in
         space axes.
@@ -889,14 +828,13 @@ class FreeRigidBody:
         Examples
         --------
         >>> from poinsot.dynamics import FreeRigidBody
-        >>> body = FreeRigidBody([1.0, 2.0, 3.0], [1.0, 1.0, 1.0])
+        >>> body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 1.0, 1.0])
         >>> g = body.poinsot(n=100)
         >>> round(g.plane_distance, 6), round((2 * body.energy) ** 0.5 / body.momentum_norm, 6)
         (0.654654, 0.654654)
         """
         n = _samples(n)
-        self._require_motion("Poinsot")
-        mo = self._motion
+        self._single("Poinsot")
         if t is None:
             ta = np.linspace(0.0, self._window(3.0), n)
         else:
@@ -905,21 +843,24 @@ class FreeRigidBody:
                 raise InvalidInputError(
                     f"Expected `t` to have shape (n,) with n >= 1, got {ta.shape}."
                 )
-        w, q = self._state_p(ta)
-        r = w / math.sqrt(2.0 * self._energy)
-        herp = _quaternion.rotate(q, r)
+        w, q = self._eval(ta, True, principal=True)
+        two_t = 2.0 * float(self._energy[0])
+        r = w[0] / math.sqrt(two_t)
+        kmom = float(self._kmom[0])
         return PoinsotGeometry(
-            ellipsoid_semi_axes=1.0 / np.sqrt(self._moments),
-            plane_normal=mo.khat.copy(),
-            plane_distance=math.sqrt(2.0 * self._energy) / self._kmom,
+            ellipsoid_semi_axes=1.0 / np.sqrt(self._moments[0]),
+            plane_normal=self._momentum[0] / kmom,
+            plane_distance=math.sqrt(two_t) / kmom,
             t=ta,
             polhode=r,
-            herpolhode=herp,
-            rotation=Rotation.from_quat(q),
+            herpolhode=_quaternion.rotate(q[0], r),
+            rotation=Rotation.from_quat(q[0]),
         )
 
     def __repr__(self) -> str:
+        if self._shape != ():
+            return f"FreeRigidBody(shape={self._shape})"
         return (
-            f"FreeRigidBody(principal_moments={self._moments.tolist()}, "
-            f"omega0={self._omega0.tolist()}, regime={self.regime!r})"
+            f"FreeRigidBody(principal_moments={self._moments[0].tolist()}, "
+            f"omega0={self._omega0[0].tolist()}, regime={self.regime!r})"
         )

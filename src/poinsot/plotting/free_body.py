@@ -87,7 +87,7 @@ def plot_maccullagh(body, ax=None, *, n: int = 200):
     >>> matplotlib.use("Agg")
     >>> from poinsot.dynamics import FreeRigidBody
     >>> from poinsot.plotting import plot_maccullagh
-    >>> ax = plot_maccullagh(FreeRigidBody([1.0, 2.0, 3.0], [0.3, 1.0, 0.2]))
+    >>> ax = plot_maccullagh(FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.3, 1.0, 0.2]))
     >>> ax.name
     '3d'
     """
@@ -142,7 +142,7 @@ def plot_poinsot(body, t=None, ax=None, *, n: int = 400):
     >>> matplotlib.use("Agg")
     >>> from poinsot.dynamics import FreeRigidBody
     >>> from poinsot.plotting import plot_poinsot
-    >>> ax = plot_poinsot(FreeRigidBody([1.0, 2.0, 3.0], [0.3, 1.0, 0.2]))
+    >>> ax = plot_poinsot(FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.3, 1.0, 0.2]))
     >>> ax.name
     '3d'
     """
@@ -200,7 +200,8 @@ def plot_omega(body, t, ax=None):
     >>> import numpy as np
     >>> from poinsot.dynamics import FreeRigidBody
     >>> from poinsot.plotting import plot_omega
-    >>> ax = plot_omega(FreeRigidBody([1.0, 2.0, 3.0], [0.05, 1.0, 0.05]), np.linspace(0, 60, 600))
+    >>> body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.05, 1.0, 0.05])
+    >>> ax = plot_omega(body, np.linspace(0, 60, 600))
     >>> len(ax.lines)
     3
     """

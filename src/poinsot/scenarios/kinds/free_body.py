@@ -52,6 +52,8 @@ class FreeBodyFacts(Facts):
             ("complementary_parameter", "1"),
         ):
             value = getattr(fb, key, None)
+            if key == "principal_axes":  # a method, as on mass.RigidBody: (moments, S)
+                value = value()[1].as_matrix()
             if value is not None:
                 out[key] = Entry(np.asarray(value) if key == "principal_axes" else value, units)
         rate = self.precession_rate
