@@ -317,7 +317,7 @@ def test_cases_match_dop853(name):
 
 def test_dzhanibekov_flip_happens():
     """Near the middle axis the body flips: w_2 changes sign every half period
-    (the tennis-racket / Dzhanibekov effect, SPEC S10) and the flip is exact."""
+    (the tennis-racket / Dzhanibekov effect, docs/theory.md §10) and the flip is exact."""
     body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.03, 1.0, 0.03])
     half = body.period / 2
     w = body.omega([0.0, half, body.period])
@@ -546,7 +546,8 @@ def test_invariants_property(moments, w0, t):
 
 
 def test_kinematics_by_finite_differences():
-    """R' = R w^ (SPEC S5): 2 q~ o q' from a central difference of rotation(t) equals w(t)."""
+    """R' = R w^ (docs/theory.md §5): 2 q~ o q' from a central difference of rotation(t)
+    equals w(t)."""
     body = FreeRigidBody(
         [1.0, 2.0, 3.0], rotation0=Rotation.from_rotvec([0, 1, 0]), omega0=[0.3, 0.9, -0.4]
     )
@@ -682,7 +683,7 @@ def test_euler_period_of_the_earth():
 
 
 def test_symmetric_closed_form():
-    """Regular precession (SPEC S10, L&L S33): with K along space z, the z-x-z
+    """Regular precession (docs/theory.md §10, L&L S33): with K along space z, the z-x-z
     Euler angles are psi = psi0 + K/A t, theta = const with cos theta = C r/K,
     phi = phi0 + (A - C) r / A t."""
     a, c = 2.0, 1.2
@@ -787,7 +788,7 @@ def test_regimes_and_stability():
 
 @pytest.mark.parametrize("w0", [[0.2, 0.3, 1.0], [1.0, 0.3, 0.2], [1.0, 0.5, 1.0]])
 def test_maccullagh_geometry(w0):
-    """The track lies on the sphere |K| = K and on the energy ellipsoid (SPEC S10);
+    """The track lies on the sphere |K| = K and on the energy ellipsoid (docs/theory.md §10);
     separatrices lie on the ellipsoid and on the sphere of radius sqrt(2 B T)."""
     mom = np.array([6.0, 5.0, 2.0])
     body = FreeRigidBody(mom, omega0=w0)
@@ -810,7 +811,7 @@ def test_maccullagh_geometry(w0):
 def test_maccullagh_symmetric_has_no_separatrix():
     g = FreeRigidBody([2.0, 2.0, 1.0], omega0=[0.2, 0.3, 1.0]).maccullagh(10)
     assert g.separatrices.shape == (0, 10, 3)
-    # A = B: the track is the circle K_3 = C r = 1 on the sphere |K| = |J w0| (SPEC S10)
+    # A = B: the track is the circle K_3 = C r = 1 on the sphere |K| = |J w0| (docs/theory.md §10)
     np.testing.assert_allclose(g.track[:, 2], 1.0, rtol=1e-14)
     np.testing.assert_allclose(np.linalg.norm(g.track, axis=-1), math.hypot(0.4, 0.6, 1.0))
 
@@ -818,7 +819,7 @@ def test_maccullagh_symmetric_has_no_separatrix():
 @pytest.mark.parametrize("w0", [[0.2, 0.3, 1.0], [0.05, 1.0, 0.05], [0.3, 0.4, 0.0]])
 def test_poinsot_geometry(w0):
     """Inertia ellipsoid r^T J r = 1 touches the invariable plane (normal K, at
-    distance sqrt(2T)/K, SPEC S10) at r = w/sqrt(2T); the herpolhode lies in it."""
+    distance sqrt(2T)/K, docs/theory.md §10) at r = w/sqrt(2T); the herpolhode lies in it."""
     mom = np.array([1.0, 2.0, 3.0]) if w0[2] else np.array([2.0, 2.0, 1.0])
     body = FreeRigidBody(mom, rotation0=Rotation.from_rotvec([0.5, -1.0, 0.2]), omega0=w0)
     g = body.poinsot(n=300)

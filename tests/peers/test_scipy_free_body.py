@@ -2,13 +2,19 @@
 
 The reference is ``scipy.integrate.solve_ivp(DOP853, rtol=1e-13, atol=1e-14)`` of
 Euler's dynamic equations and Poisson's quaternion equation written here, from
-SPEC S5/S10, without any poinsot code:
+docs/theory.md §5, §10, without any poinsot code:
 
     J w' = M - w x J w,        L' = 1/2 L o (0, w)      (body-frame w, Hamilton,
                                                         scalar-first L: body -> space)
 
 and the period of ``omega`` against Landau & Lifshitz, *Mechanics*, S37 with
 ``scipy.special.ellipk`` (its argument is the parameter ``m = k^2``).
+
+Tolerances: the reference's own error is measured in every call by comparing it
+with the solution at a 10x looser ``rtol`` (observed up to 3.6e-12 |w0| in omega
+and 1.8e-11 in the attitude matrix) and must stay 100x below the
+tolerance ``TOL = 5e-9``; poinsot's exact solution agrees with the reference to
+<= 1.2e-12 (the integrator's error), >= 100x inside ``TOL``.
 """
 
 from __future__ import annotations
@@ -23,10 +29,11 @@ from poinsot import Rotation  # noqa: E402
 from poinsot.dynamics import FreeRigidBody, simulate  # noqa: E402
 
 RTOL, ATOL = 1e-13, 1e-14
+TOL = 5e-9
 
 
 def _qmul(p, q):
-    """Hamilton product, scalar first (written out, SPEC S1)."""
+    """Hamilton product, scalar first (written out, docs/theory.md §1)."""
     p0, p1, p2, p3 = p
     q0, q1, q2, q3 = q
     return np.array(
@@ -40,7 +47,7 @@ def _qmul(p, q):
 
 
 def _quat_to_matrix(q):
-    """Active rotation matrix of a unit quaternion (SPEC S2), body -> space."""
+    """Active rotation matrix of a unit quaternion (docs/theory.md §2), body -> space."""
     w, x, y, z = q / np.linalg.norm(q)
     return np.array(
         [
@@ -51,8 +58,7 @@ def _quat_to_matrix(q):
     )
 
 
-def _reference(j, w0, q0, t, torque=None):
-    """DOP853 solution of Euler + Poisson: body omega (n, 3) and space-from-body DCMs."""
+def _solve(j, w0, q0, t, torque, rtol, atol):
     j = np.asarray(j, dtype=float)
     j_inv = np.linalg.inv(j)
 
@@ -69,12 +75,24 @@ def _reference(j, w0, q0, t, torque=None):
         np.concatenate((w0, q0)),
         method="DOP853",
         t_eval=t,
-        rtol=RTOL,
-        atol=ATOL,
+        rtol=rtol,
+        atol=atol,
     )
     assert sol.success
     w = sol.y[:3].T
     dcm = np.array([_quat_to_matrix(q) for q in sol.y[3:].T])
+    return w, dcm
+
+
+def _reference(j, w0, q0, t, torque=None):
+    """DOP853 solution of Euler + Poisson: body omega (n, 3) and space-from-body DCMs.
+
+    Its error, bounded by the difference to the solution at 10x looser tolerances,
+    is asserted <= TOL / 100 (relative to |w0| for omega)."""
+    w, dcm = _solve(j, w0, q0, t, torque, RTOL, ATOL)
+    w2, dcm2 = _solve(j, w0, q0, t, torque, 10 * RTOL, 10 * ATOL)
+    assert np.max(np.abs(w - w2)) <= TOL / 100 * max(np.linalg.norm(w0), 1.0)
+    assert np.max(np.abs(dcm - dcm2)) <= TOL / 100
     return w, dcm
 
 
@@ -127,16 +145,18 @@ def test_free_body_vs_dop853(case):
     w_ref, c_ref = _reference(np.diag(moments), w0, r0.as_quat(), t)
     w, rot = body.state(t)
     scale = np.linalg.norm(w0)
-    np.testing.assert_allclose(w, w_ref, rtol=0, atol=1e-11 * scale)
-    np.testing.assert_allclose(body.omega(t), w_ref, rtol=0, atol=1e-11 * scale)
-    np.testing.assert_allclose(rot.as_matrix(), c_ref, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(body.rotation(t).as_matrix(), c_ref, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(w, w_ref, rtol=0, atol=TOL * scale)
+    np.testing.assert_allclose(body.omega(t), w_ref, rtol=0, atol=TOL * scale)
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, rtol=0, atol=TOL)
+    np.testing.assert_allclose(body.rotation(t).as_matrix(), c_ref, rtol=0, atol=TOL)
     # the reference itself is periodic with Landau's period
-    np.testing.assert_allclose(w_ref[-1], w0, atol=1e-10 * scale)
-    np.testing.assert_allclose(w_ref[120], w0, atol=1e-10 * scale)
+    np.testing.assert_allclose(w_ref[-1], w0, atol=TOL * scale)
+    np.testing.assert_allclose(w_ref[120], w0, atol=TOL * scale)
     # space momentum K = R J w from the reference
     k_ref = np.einsum("nij,nj->ni", c_ref, w_ref * moments)
-    np.testing.assert_allclose(k_ref, np.broadcast_to(body.momentum, k_ref.shape), atol=1e-10)
+    np.testing.assert_allclose(
+        k_ref, np.broadcast_to(body.momentum, k_ref.shape), atol=TOL * np.linalg.norm(body.momentum)
+    )
 
 
 @pytest.mark.parametrize("case", range(len(CASES)))
@@ -150,10 +170,10 @@ def test_precession_per_period_vs_dop853(case):
     # rotation about k_hat by angle a: d = cos a E + sin a k^ + (1 - cos a) k k^T
     cos_a = (np.trace(d) - 1.0) / 2.0
     sin_a = 0.5 * k_hat @ np.array([d[2, 1] - d[1, 2], d[0, 2] - d[2, 0], d[1, 0] - d[0, 1]])
-    np.testing.assert_allclose(d @ k_hat, k_hat, atol=1e-10)  # the axis is K
+    np.testing.assert_allclose(d @ k_hat, k_hat, atol=TOL)  # the axis is K
     angle = np.arctan2(sin_a, cos_a)
     diff = (body.precession_per_period - angle + np.pi) % (2 * np.pi) - np.pi
-    assert abs(diff) < 1e-10
+    assert abs(diff) < TOL
 
 
 def test_free_body_full_tensor_vs_dop853():
@@ -168,12 +188,12 @@ def test_free_body_full_tensor_vs_dop853():
     t = np.linspace(0.0, 2.0 * period, 121)
     w_ref, c_ref = _reference(j, w0, r0.as_quat(), t)
     w, rot = body.state(t)
-    np.testing.assert_allclose(w, w_ref, atol=1e-11 * np.linalg.norm(w0))
-    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=1e-10)
+    np.testing.assert_allclose(w, w_ref, atol=TOL * np.linalg.norm(w0))
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=TOL)
 
 
 def test_symmetric_body_period_vs_dop853():
-    """``A = B``: the period of omega is ``2 pi A / |(A - C) r|`` (SPEC S10)."""
+    """``A = B``: the period of omega is ``2 pi A / |(A - C) r|`` (docs/theory.md §10)."""
     a, c = 2.0, 1.2
     w0 = np.array([0.4, -0.3, 1.1])
     body = FreeRigidBody([a, a, c], rotation0=Rotation.from_rotvec([0.1, 0.2, 0.3]), omega0=w0)
@@ -182,8 +202,8 @@ def test_symmetric_body_period_vs_dop853():
     t = np.linspace(0.0, 2 * period, 81)
     w_ref, c_ref = _reference(np.diag([a, a, c]), w0, body.rotation(0.0).as_quat(), t)
     w, rot = body.state(t)
-    np.testing.assert_allclose(w, w_ref, atol=1e-11)
-    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=1e-10)
+    np.testing.assert_allclose(w, w_ref, atol=TOL * np.linalg.norm(w0))
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=TOL)
 
 
 def test_simulate_with_torque_vs_dop853():
@@ -206,12 +226,13 @@ def test_simulate_with_torque_vs_dop853():
 
     t = np.linspace(0.0, 6.0, 31)
     w_ref, c_ref = _reference(j, w0, r0.as_quat(), t, torque=torque_ref)
+    # observed: midpoint order 6 at h = 0.02 4e-11 (omega), 5e-10 (matrix); adaptive 2e-11
     tr = simulate(j, r0, w0, t, torque=torque, method="midpoint", order=6, max_step=0.02)
-    np.testing.assert_allclose(tr.omega, w_ref, atol=1e-9)
-    np.testing.assert_allclose(tr.rotation.as_matrix(), c_ref, atol=1e-9)
+    np.testing.assert_allclose(tr.omega, w_ref, atol=TOL)
+    np.testing.assert_allclose(tr.rotation.as_matrix(), c_ref, atol=2 * TOL)
     ad = simulate(j, r0, w0, t, torque=torque, method="adaptive", rtol=1e-12, atol=1e-13)
-    np.testing.assert_allclose(ad.omega, w_ref, atol=1e-9)
-    np.testing.assert_allclose(ad.rotation.as_matrix(), c_ref, atol=1e-9)
+    np.testing.assert_allclose(ad.omega, w_ref, atol=TOL)
+    np.testing.assert_allclose(ad.rotation.as_matrix(), c_ref, atol=TOL)
 
 
 EDGE_CASES = {
@@ -236,8 +257,8 @@ def test_free_body_edge_cases_vs_dop853(name):
     t = np.linspace(0.0, 2.0 * period, 101)
     w_ref, c_ref = _reference(np.diag(moments), w0, r0.as_quat(), t)
     w, rot = body.state(t)
-    np.testing.assert_allclose(w, w_ref, rtol=0, atol=1e-11 * np.linalg.norm(w0))
-    np.testing.assert_allclose(rot.as_matrix(), c_ref, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(w, w_ref, rtol=0, atol=TOL * np.linalg.norm(w0))
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, rtol=0, atol=TOL)
 
 
 def test_middle_axis_rotation_vs_dop853():
@@ -249,8 +270,8 @@ def test_middle_axis_rotation_vs_dop853():
     t = np.linspace(0.0, 10.0, 21)
     w_ref, c_ref = _reference(np.diag([1.0, 2.0, 3.0]), w0, np.array([1.0, 0, 0, 0]), t)
     w, rot = body.state(t)
-    np.testing.assert_allclose(w, w_ref, atol=1e-12)
-    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=1e-10)
+    np.testing.assert_allclose(w, w_ref, atol=TOL * np.linalg.norm(w0))
+    np.testing.assert_allclose(rot.as_matrix(), c_ref, atol=TOL)
 
 
 @pytest.mark.parametrize("case", range(len(CASES)))
@@ -267,11 +288,11 @@ def test_poinsot_picture_vs_dop853(case):
     g = body.poinsot(t)
     # given principal moments keep their order (docs: "body axes = principal axes")
     np.testing.assert_array_equal(body.principal_moments, moments)
-    np.testing.assert_allclose(g.polhode, w_ref / np.sqrt(two_t), atol=1e-11)
+    np.testing.assert_allclose(g.polhode, w_ref / np.sqrt(two_t), atol=TOL)
     herp = np.einsum("nij,nj->ni", c_ref, w_ref) / np.sqrt(two_t)
-    np.testing.assert_allclose(g.herpolhode, herp, atol=1e-11)
+    np.testing.assert_allclose(g.herpolhode, herp, atol=TOL)
     assert abs(g.plane_distance - np.sqrt(two_t) / k) < 1e-14
-    np.testing.assert_allclose(herp @ g.plane_normal, np.sqrt(two_t) / k, atol=1e-11)
+    np.testing.assert_allclose(herp @ g.plane_normal, np.sqrt(two_t) / k, atol=TOL)
     np.testing.assert_allclose(g.ellipsoid_semi_axes, 1.0 / np.sqrt(moments), atol=1e-15)
     mc = body.maccullagh(50)
     assert abs(mc.momentum_radius - k) < 1e-13 * k

@@ -38,7 +38,8 @@ def test_plot_maccullagh(name):
     assert len(ax.lines) == (3 if name in ("major", "flip", "separatrix") else 1)
     track = np.asarray(ax.lines[-1].get_data_3d()).T
     np.testing.assert_allclose(track, BODIES[name].maccullagh(60).track)
-    # the drawn body-axes K lies on the momentum sphere and the energy ellipsoid (SPEC S10),
+    # the drawn body-axes K lies on the momentum sphere and the energy ellipsoid
+    # (docs/theory.md §10),
     # both computed here from the initial state
     moments, w0 = (np.asarray(x) for x in CASES[name])
     k2, two_t = np.sum((moments * w0) ** 2), np.sum(moments * w0**2)
@@ -54,7 +55,7 @@ def test_plot_poinsot(name):
     herp = np.asarray(ax.lines[1].get_data_3d()).T
     np.testing.assert_allclose(herp, body.poinsot(n=80).herpolhode)
     # in the invariable plane: normal K (= J w0 in space, identity start) at distance
-    # sqrt(2T) / |K| from the fixed point (SPEC S10), computed here from the initial state
+    # sqrt(2T) / |K| from the fixed point (docs/theory.md §10), computed here from the initial state
     moments, w0 = (np.asarray(x) for x in CASES[name])
     k = moments * w0
     dist = np.sqrt(np.sum(moments * w0**2)) / np.linalg.norm(k)
@@ -80,3 +81,11 @@ def test_plot_errors():
         plot_maccullagh(BODIES["major"], ax=ax2)
     with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\)"):
         plot_omega(BODIES["major"], [[0.0, 1.0]])
+    batch = FreeRigidBody([1.0, 2.0, 3.0], omega0=[[0.2, 0.3, 1.0], [1.0, 0.3, 0.2]])
+    with pytest.raises(InvalidInputError, match=r"one body, got a batch of shape \(2,\)"):
+        plot_omega(batch, [0.0, 1.0])
+    # a body of a batch plots as the same single body
+    ax = plot_omega(batch[1], np.linspace(0.0, 5.0, 11))
+    np.testing.assert_array_equal(
+        ax.lines[0].get_ydata(), batch.omega(np.linspace(0, 5, 11))[1, :, 0]
+    )

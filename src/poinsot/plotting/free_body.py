@@ -1,4 +1,6 @@
-"""Figures of the exact free rigid body: MacCullagh's and Poinsot's pictures (SPEC S10).
+"""Figures of the exact free rigid body: MacCullagh's and Poinsot's pictures.
+
+See docs/theory.md §10 and docs/free-body.md.
 
 matplotlib is imported here only (a leaf module; ``import poinsot`` never loads
 it). Each function draws on ``ax`` (a new figure if ``None``) and returns it.
@@ -19,6 +21,11 @@ def _body(body):
     if not all(hasattr(body, a) for a in ("maccullagh", "poinsot", "omega", "regime")):
         raise InvalidTypeError(
             f"Expected `body` to be a poinsot.dynamics.FreeRigidBody, got {type(body).__name__}."
+        )
+    shape = getattr(body, "shape", ())
+    if shape != ():
+        raise InvalidInputError(
+            f"Expected `body` to be one body, got a batch of shape {shape}: plot `body[i]`."
         )
     return body
 
@@ -57,7 +64,7 @@ def _equal_aspect(ax, radius: float) -> None:
     ax.set_box_aspect((1, 1, 1))
 
 
-def plot_maccullagh(body, ax=None, *, n: int = 200):
+def plot_maccullagh(body, *, n: int = 200, ax=None):
     """MacCullagh's picture: momentum sphere, energy ellipsoid, the track of ``K``, separatrices.
 
     Parameters
@@ -109,7 +116,7 @@ def plot_maccullagh(body, ax=None, *, n: int = 200):
     return ax
 
 
-def plot_poinsot(body, t=None, ax=None, *, n: int = 400):
+def plot_poinsot(body, t=None, *, n: int = 400, ax=None):
     """Poinsot's picture: the inertia ellipsoid rolling on the invariable plane.
 
     Parameters
@@ -173,7 +180,7 @@ def plot_poinsot(body, t=None, ax=None, *, n: int = 400):
     return ax
 
 
-def plot_omega(body, t, ax=None):
+def plot_omega(body, t, *, ax=None):
     """Body angular velocity components ``w_k(t)`` of the exact solution.
 
     Parameters
