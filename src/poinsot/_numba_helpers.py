@@ -14,6 +14,7 @@ Formulas (theory §1, §5, §10):
 - :func:`qnormalize` ``L / |L|``;
 - :func:`qaxis` ``L o (c, s e_i)``: a turn about body axis ``i`` given ``cos``
   and ``sin`` of the half angle;
+- :func:`qrot_inverse` ``R^T v`` (space -> body components) for any non-zero ``L``;
 - :func:`cross` ``a x b``; :func:`matvec` ``W x`` for a 3x3 matrix given by rows;
 - :func:`gravity_kick` ``m + h gamma x (m g c)``, the exact gravity kick about a
   fixed point with the attitude frozen (``gamma = R^T e_z``);
@@ -35,6 +36,7 @@ __all__ = [
     "qmul_gibbs",
     "qnormalize",
     "qaxis",
+    "qrot_inverse",
     "cross",
     "matvec",
     "euler_momentum_rate",
@@ -76,6 +78,18 @@ def qaxis(q0, q1, q2, q3, c, s, i):  # pragma: no cover - compiled
     if i == 1:
         return qmul(q0, q1, q2, q3, c, 0.0, s, 0.0)
     return qmul(q0, q1, q2, q3, c, 0.0, 0.0, s)
+
+
+@njit(**_INLINE)
+def qrot_inverse(q0, q1, q2, q3, v0, v1, v2):  # pragma: no cover - compiled
+    """``R^T v = L~ o (0, v) o L / |L|^2``: body components of the space vector ``v``.
+
+    With ``u = -l``: ``v + 2 (l0 (u x v) + u x (u x v)) / |L|^2`` (theory §2).
+    """
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    c0, c1, c2 = cross(-q1, -q2, -q3, v0, v1, v2)
+    d0, d1, d2 = cross(-q1, -q2, -q3, c0, c1, c2)
+    return v0 + s * (q0 * c0 + d0), v1 + s * (q0 * c1 + d1), v2 + s * (q0 * c2 + d2)
 
 
 @njit(**_INLINE)

@@ -1,0 +1,71 @@
+"""The shared compiled helpers (``poinsot._numba_helpers``) against independent truths:
+SciPy's rotations for the quaternion formulas, ``numpy.cross`` / ``@`` for the vector
+ones, the torque models for the gravity kick."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation as SciRotation
+
+numba = pytest.importorskip("numba")
+
+from poinsot import _numba_helpers as nh  # noqa: E402
+from poinsot.dynamics import GravityTorque  # noqa: E402
+
+RNG = np.random.default_rng(12)
+
+
+@numba.njit
+def _all(p, q, v, w9, t3, c, s, i, h):
+    out = np.empty(4 * 4 + 3 * 6)
+    out[0:4] = nh.qmul(p[0], p[1], p[2], p[3], q[0], q[1], q[2], q[3])
+    out[4:8] = nh.qmul_gibbs(p[0], p[1], p[2], p[3], v[0], v[1], v[2])
+    out[8:12] = nh.qnormalize(q[0], q[1], q[2], q[3])
+    out[12:16] = nh.qaxis(p[0], p[1], p[2], p[3], c, s, i)
+    out[16:19] = nh.qrot_inverse(q[0], q[1], q[2], q[3], v[0], v[1], v[2])
+    out[19:22] = nh.cross(v[0], v[1], v[2], t3[0], t3[1], t3[2])
+    out[22:25] = nh.matvec(
+        w9[0], w9[1], w9[2], w9[3], w9[4], w9[5], w9[6], w9[7], w9[8], v[0], v[1], v[2]
+    )
+    out[25:28] = nh.euler_momentum_rate(v[0], v[1], v[2], t3[0], t3[1], t3[2], 1.0, 2.0, 3.0)
+    out[28:31] = nh.gravity_kick(p[0], p[1], p[2], p[3], v[0], v[1], v[2], t3[0], t3[1], t3[2], h)
+    return out
+
+
+def _sci(q):
+    return SciRotation.from_quat(q, scalar_first=True)
+
+
+@pytest.mark.parametrize("i", [0, 1, 2])
+def test_helpers_against_scipy_and_numpy(i):
+    for _ in range(20):
+        p, q = RNG.normal(size=4), RNG.normal(size=4)
+        p /= np.linalg.norm(p)
+        v, t3 = RNG.normal(size=3), RNG.normal(size=3)
+        w9 = RNG.normal(size=9)
+        f = RNG.uniform(-3, 3)
+        h = 0.01
+        out = _all(p, q, v, w9, t3, np.cos(f / 2), np.sin(f / 2), i, h)
+        qn = q / np.linalg.norm(q)
+        # P o Q composes rotations: apply Q first, then P
+        prod = out[0:4] / np.linalg.norm(out[0:4])
+        want = (_sci(p) * _sci(qn)).as_quat(scalar_first=True)
+        assert min(np.abs(prod - want).max(), np.abs(prod + want).max()) < 1e-14
+        np.testing.assert_allclose(np.linalg.norm(out[0:4]), np.linalg.norm(q), rtol=1e-14)
+        gib = (_sci(p) * _sci(np.r_[1.0, v] / np.linalg.norm(np.r_[1.0, v]))).as_quat(
+            scalar_first=True
+        )
+        got = out[4:8] / np.linalg.norm(out[4:8])
+        assert min(np.abs(got - gib).max(), np.abs(got + gib).max()) < 1e-14
+        np.testing.assert_allclose(out[8:12], qn, atol=1e-15)
+        axis = np.eye(3)[i]
+        turn = (_sci(p) * SciRotation.from_rotvec(f * axis)).as_quat(scalar_first=True)
+        assert min(np.abs(out[12:16] - turn).max(), np.abs(out[12:16] + turn).max()) < 1e-14
+        np.testing.assert_allclose(out[16:19], _sci(qn).apply(v, inverse=True), atol=1e-14)
+        np.testing.assert_allclose(out[19:22], np.cross(v, t3), atol=1e-15)
+        np.testing.assert_allclose(out[22:25], w9.reshape(3, 3) @ v, atol=1e-14)
+        np.testing.assert_allclose(out[25:28], np.cross(v, t3) + [1.0, 2.0, 3.0], atol=1e-14)
+        # the gravity kick is h times the torque of GravityTorque with m g c = t3
+        kick = GravityTorque(1.0, t3, g=1.0).body_torque(0.0, p, np.zeros(3))
+        np.testing.assert_allclose(out[28:31], v + h * kick, atol=1e-15)
