@@ -103,7 +103,10 @@ def as_coordinates(coordinates, time=None, name: str = "coordinates") -> Coordin
                 raise InvalidInputError(
                     f"Expected `{name}` names to be identifiers not starting with '_', got {c!r}."
                 )
-            c = sympy.Function(c)(t)
+            funcs.append(sympy.Function(c)(t))
+            plain.append(sympy.Symbol(c))  # expressions may use Symbol(c) or c(t)
+            given.append(funcs[-1])
+            continue
         if isinstance(c, AppliedUndef) and c.args == (t,):
             fname = c.func.__name__
             funcs.append(c)

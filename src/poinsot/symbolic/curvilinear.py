@@ -199,7 +199,16 @@ class CurvilinearCoordinates:
         out = []
         for q, u, h in zip(self._c.plain, self._c.vel, self._lame, strict=True):
             lag = self._c.time_derivative(self._half_v2.diff(u)) - self._half_v2.diff(q)
-            out.append(self._c.to_funcs(_simplify(sympy.expand(lag) / h)))
+            # expand only: trigsimp of these sums costs seconds (elliptic coordinates)
+            lag = sympy.expand(lag)
+            if any(isinstance(f, sympy.Add) for f in sympy.Mul.make_args(h)) or any(
+                isinstance(f, sympy.Pow) and isinstance(f.base, sympy.Add)
+                for f in sympy.Mul.make_args(h)
+            ):
+                comp = sympy.factor_terms(lag) / h
+            else:
+                comp = sympy.expand(lag / h)  # a monomial H_k cancels term by term
+            out.append(self._c.to_funcs(comp))
         return tuple(out)
 
     def _substitution(self, old_in_new, new_coordinates):

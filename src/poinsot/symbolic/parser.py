@@ -360,4 +360,18 @@ def parse_expression(text, symbols=None):
             f"expression too complex to parse ({type(exc).__name__}): {text[:40]!r}.",
             text=text,
         ) from None
-    return _Builder(text.strip(), names).build(tree.body)
+    builder = _Builder(text.strip(), names)
+    # the most dangerous tokens first, leftmost first: private names, attributes, lambdas
+    worst = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and node.id.startswith("_"):
+            worst.append((node.col_offset, "names starting with '_' are not allowed", node, None))
+        elif isinstance(node, ast.Attribute):
+            col = node.value.end_col_offset or 0
+            worst.append((col, "attribute access is not allowed", node, "." + node.attr))
+        elif isinstance(node, ast.Lambda):
+            worst.append((node.col_offset, "lambdas are not allowed", node, "lambda"))
+    if worst:
+        _, what, node, tok = min(worst, key=lambda w: w[0])
+        raise builder.fail(what, node, tok)
+    return builder.build(tree.body)
