@@ -13,6 +13,16 @@ attitude maps body to space components. See ``docs/dynamics.md`` and
 
 from __future__ import annotations
 
+from .central import (
+    Apsides,
+    CentralOrbit,
+    KeplerConic,
+    Potential,
+    harmonic,
+    inverse_square,
+    kepler,
+    power_law,
+)
 from .euler_equations import (
     METHODS,
     euler_rhs,
@@ -26,7 +36,34 @@ from .free_body import (
     MacCullaghGeometry,
     PoinsotGeometry,
 )
+from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
+from .lagrange_top import (
+    MOTION_TYPES,
+    GyroscopicMoment,
+    LagrangeTop,
+    critical_spin,
+    gyroscope_precession_rate,
+    gyroscopic_moment,
+    regular_precession_rates,
+    sleeping_top_stable,
+)
+from .particles import (
+    EARTH_ROTATION_RATE,
+    PARTICLE_SOLVERS,
+    InertialForces,
+    ParticleTrajectory,
+    earth_frame,
+    eastward_deflection,
+    foucault_pendulum,
+    foucault_period,
+    foucault_precession_rate,
+    inertial_forces,
+    jacobi_integral,
+    normal_gravity,
+    simulate_particle,
+    swing_plane_angles,
+)
 from .torques import (
     STANDARD_GRAVITY,
     CallableTorque,
@@ -38,6 +75,18 @@ from .torques import (
 )
 
 __all__ = [
+    # heavy body about a fixed point, Lagrange and Kovalevskaya tops (theory §10)
+    "HeavyRigidBody",
+    "HEAVY_METHODS",
+    "kovalevskaya_integral",
+    "LagrangeTop",
+    "MOTION_TYPES",
+    "regular_precession_rates",
+    "gyroscope_precession_rate",
+    "critical_spin",
+    "sleeping_top_stable",
+    "gyroscopic_moment",
+    "GyroscopicMoment",
     "euler_rhs",
     "simulate",
     "METHODS",
@@ -58,4 +107,28 @@ __all__ = [
     "CallableTorque",
     "as_torque",
     "STANDARD_GRAVITY",
+    # particles in moving frames (theory §9)
+    "inertial_forces",
+    "InertialForces",
+    "simulate_particle",
+    "ParticleTrajectory",
+    "jacobi_integral",
+    "earth_frame",
+    "normal_gravity",
+    "eastward_deflection",
+    "foucault_precession_rate",
+    "foucault_period",
+    "foucault_pendulum",
+    "swing_plane_angles",
+    "EARTH_ROTATION_RATE",
+    "PARTICLE_SOLVERS",
+    # central forces (theory §9)
+    "CentralOrbit",
+    "Apsides",
+    "KeplerConic",
+    "Potential",
+    "kepler",
+    "inverse_square",
+    "harmonic",
+    "power_law",
 ]

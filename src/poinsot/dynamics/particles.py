@@ -1,0 +1,925 @@
+"""A point mass in a moving frame: every inertial force by name (theory §9).
+
+Relative to a frame that moves with origin acceleration ``W0``, angular velocity
+``w`` and angular acceleration ``eps`` (a :class:`~poinsot.kinematics.FrameMotion`),
+a particle of mass ``m`` obeys
+
+``m a_r = F + J_e + J_c``,
+``J_e = -m W0 - m eps x r - m w x (w x r)`` (transport: origin, Euler, centrifugal),
+``J_c = -2 m w x v_r`` (Coriolis, which does no work).
+
+:func:`inertial_forces` returns each term by name; :func:`simulate_particle`
+integrates the equation of relative motion (DOP853 by default) and can also
+return the motion seen from the inertial frame; :func:`earth_frame` is the local
+east-north-up frame on the rotating Earth, with the closed forms
+:func:`eastward_deflection`, :func:`foucault_precession_rate` and
+:func:`foucault_period` beside it.
+
+**Convention:** for particle dynamics the vectors of a ``FrameMotion`` (``W0``,
+``w``, ``eps``, ``V0``), the force and the particle's ``r`` and ``v_r`` are all
+components in the **moving frame's own axes** (e.g. east, north, up). Positions
+in m, velocities in m/s, forces in N, masses in kg, angles in rad. At the first
+output time the inertial axes coincide with the frame's axes and the inertial
+origin with the frame's origin.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_bool, as_choice, as_float_array, as_times, as_vec3, batch_shape
+from .._vec import cross, dot, hat
+from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..kinematics.fields import FrameMotion, _rivals_terms
+from .torques import STANDARD_GRAVITY
+
+__all__ = [
+    "EARTH_ROTATION_RATE",
+    "InertialForces",
+    "ParticleTrajectory",
+    "inertial_forces",
+    "simulate_particle",
+    "jacobi_integral",
+    "earth_frame",
+    "normal_gravity",
+    "eastward_deflection",
+    "foucault_precession_rate",
+    "foucault_period",
+    "foucault_pendulum",
+    "swing_plane_angles",
+    "PARTICLE_SOLVERS",
+]
+
+#: Rotation rate of the Earth relative to the stars (rad/s), IERS nominal value
+#: (one sidereal day of 86164.0989 s).
+EARTH_ROTATION_RATE = 7.2921159e-5
+
+#: ``scipy.integrate.solve_ivp`` methods accepted by :func:`simulate_particle`.
+PARTICLE_SOLVERS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+
+
+# ---------------------------------------------------------------------------
+# Validation helpers
+# ---------------------------------------------------------------------------
+
+
+def _as_frame(frame, name: str = "frame") -> FrameMotion:
+    if not isinstance(frame, FrameMotion):
+        raise InvalidTypeError(
+            f"Expected `{name}` to be a poinsot.kinematics.FrameMotion, got {type(frame).__name__}."
+        )
+    return frame
+
+
+def _as_mass(mass, name: str = "mass") -> np.ndarray:
+    m = as_float_array(mass, name)
+    if np.any(m < 0):
+        raise InvalidInputError(
+            f"Expected `{name}` to be non-negative (kg), got {float(m[m < 0].ravel()[0])!r}."
+        )
+    return m
+
+
+def _as_latitude(latitude, degrees) -> np.ndarray:
+    degrees = as_bool(degrees, "degrees")
+    lat = as_float_array(latitude, "latitude")
+    if degrees:
+        lat = np.deg2rad(lat)
+    if np.any(np.abs(lat) > np.pi / 2 * (1 + 1e-15)):
+        unit = "deg" if degrees else "rad"
+        bad = float(np.asarray(latitude, dtype=float)[np.abs(lat) > np.pi / 2].ravel()[0])
+        raise InvalidInputError(
+            f"Expected `latitude` within [-90, 90] deg (|latitude| <= pi/2 rad), "
+            f"got {bad!r} {unit}."
+        )
+    return np.clip(lat, -np.pi / 2, np.pi / 2)
+
+
+def _real(x, name: str) -> np.ndarray:
+    return as_float_array(x, name)
+
+
+# ---------------------------------------------------------------------------
+# Inertial forces
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class InertialForces:
+    """The inertial forces on a particle in a moving frame, term by term (theory §9).
+
+    Attributes
+    ----------
+    origin : ndarray, shape (..., 3)
+        ``-m W0`` (acceleration of the frame's origin), N.
+    euler : ndarray, shape (..., 3)
+        ``-m eps x r`` (angular acceleration of the frame), N.
+    centrifugal : ndarray, shape (..., 3)
+        ``-m w x (w x r)``, pointing away from the rotation axis, N.
+    transport : ndarray, shape (..., 3)
+        ``J_e = origin + euler + centrifugal`` (minus ``m`` times the
+        acceleration of the frame point the particle occupies), N.
+    coriolis : ndarray, shape (..., 3)
+        ``J_c = -2 m w x v_r``, perpendicular to ``v_r`` (no power), N.
+
+    All in the frame's axes (the axes of the given vectors).
+    """
+
+    origin: np.ndarray
+    euler: np.ndarray
+    centrifugal: np.ndarray
+    transport: np.ndarray
+    coriolis: np.ndarray
+
+    @property
+    def total(self) -> np.ndarray:
+        """``J_e + J_c``, the sum of all inertial forces (N)."""
+        return self.transport + self.coriolis
+
+
+def inertial_forces(frame: FrameMotion, r, v, mass=1.0, t=0.0) -> InertialForces:
+    """Every inertial force on a particle moving in a moving frame (theory §9).
+
+    Parameters
+    ----------
+    frame : FrameMotion or callable
+        Motion of the frame: ``W0`` (``origin_acceleration``), ``w``
+        (``omega``) and ``eps``, or a function ``frame(t) -> FrameMotion``.
+    r : array_like, shape (..., 3)
+        Position of the particle relative to the frame's origin (m).
+    v : array_like, shape (..., 3)
+        Velocity relative to the frame, ``v_r`` (m/s).
+    mass : array_like, shape (...), optional
+        Mass ``m`` (kg, >= 0), default 1.
+    t : float, optional
+        Time (s) at which a callable ``frame`` is evaluated; default 0.
+
+    Returns
+    -------
+    InertialForces
+        ``origin = -m W0``, ``euler = -m eps x r``,
+        ``centrifugal = -m w x (w x r)``, ``transport`` (their sum ``J_e``) and
+        ``coriolis = -2 m w x v_r``, broadcast over the batch.
+
+    Notes
+    -----
+    **Convention:** all vectors in one set of axes (normally the frame's own
+    axes); the result is in the same axes. ``-m`` times the transport and
+    Coriolis terms of :func:`poinsot.kinematics.point_motion` (Rivals'
+    formula, theory §6).
+
+    Examples
+    --------
+    A 2 kg bead moving outwards at 1 m/s on a turntable spinning at 3 rad/s,
+    0.5 m from the axis:
+
+    >>> from poinsot.kinematics import FrameMotion
+    >>> from poinsot.dynamics import inertial_forces
+    >>> f = inertial_forces(FrameMotion(omega=[0, 0, 3]), [0.5, 0, 0], [1, 0, 0], mass=2.0)
+    >>> f.centrifugal + 0.0, f.coriolis + 0.0
+    (array([9., 0., 0.]), array([  0., -12.,   0.]))
+    """
+    frame = _frame_at(frame, t)
+    r = as_vec3(r, "r")
+    v = as_vec3(v, "v")
+    m = _as_mass(mass)
+    shape = batch_shape(r=(r, 1), v=(v, 1), mass=(m, 0), frame=(frame.omega, 1))
+    w0, rot, cen = _rivals_terms(frame.origin_acceleration, frame.omega, frame.eps, r)
+    cor = 2.0 * cross(frame.omega, v)
+    mm = m[..., None]
+
+    def out(a):
+        return np.broadcast_to(-mm * a, shape + (3,)).copy()
+
+    origin, euler, centrifugal = out(w0), out(rot), out(cen)
+    return InertialForces(
+        origin=origin,
+        euler=euler,
+        centrifugal=centrifugal,
+        transport=origin + euler + centrifugal,
+        coriolis=out(cor),
+    )
+
+
+def _frame_at(frame, t) -> FrameMotion:
+    """The frame at time ``t``: a FrameMotion as is, a callable evaluated and checked."""
+    if isinstance(frame, FrameMotion):
+        return frame
+    if callable(frame):
+        out = frame(float(t))
+        if not isinstance(out, FrameMotion):
+            raise InvalidTypeError(
+                f"Expected `frame(t)` to return a FrameMotion, got {type(out).__name__}."
+            )
+        return out
+    raise InvalidTypeError(
+        "Expected `frame` to be a poinsot.kinematics.FrameMotion or a callable "
+        f"frame(t) -> FrameMotion, got {type(frame).__name__}."
+    )
+
+
+def jacobi_integral(frame: FrameMotion, r, v, *, mass=1.0, potential=None) -> np.ndarray:
+    """Jacobi's integral of relative motion in a uniformly rotating frame (theory §9).
+
+    ``h = m |v_r|^2 / 2 - m |w x r|^2 / 2 + m W0 . r + U(r)``
+
+    is conserved when ``w`` and ``W0`` are constant in the frame's axes
+    (``eps = 0``) and the real force is ``-grad U``: the centrifugal and origin
+    forces derive from ``-m |w x r|^2 / 2`` and ``m W0 . r``, and the Coriolis
+    force does no work.
+
+    Parameters
+    ----------
+    frame : FrameMotion
+        A frame with ``eps = 0`` (one instant; ``omega`` and
+        ``origin_acceleration`` constant).
+    r, v : array_like, shape (..., 3)
+        Relative positions (m) and velocities (m/s), frame axes.
+    mass : array_like, shape (...), optional
+        Mass (kg), default 1.
+    potential : callable or array_like, optional
+        ``U(r) -> (...)`` in J (called with ``r`` of shape (..., 3)), or its
+        values. Default: no real force (``U = 0``).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``h`` in J.
+
+    Raises
+    ------
+    InvalidInputError
+        A frame with ``eps != 0`` (no Jacobi integral exists then).
+
+    Examples
+    --------
+    A particle at rest in a frame turning at 2 rad/s, 1 m from the axis:
+
+    >>> from poinsot.kinematics import FrameMotion
+    >>> from poinsot.dynamics import jacobi_integral
+    >>> float(jacobi_integral(FrameMotion(omega=[0, 0, 2]), [1, 0, 0], [0, 0, 0]))
+    -2.0
+    """
+    frame = _as_frame(frame)
+    if np.any(frame.eps != 0):
+        raise InvalidInputError(
+            "Expected `frame` to rotate uniformly (eps = 0) for a Jacobi integral, "
+            f"got eps = {np.asarray(frame.eps).tolist()}."
+        )
+    r = as_vec3(r, "r")
+    v = as_vec3(v, "v")
+    m = _as_mass(mass)
+    batch_shape(r=(r, 1), v=(v, 1), mass=(m, 0), frame=(frame.omega, 1))
+    wr = cross(frame.omega, r)
+    h = 0.5 * m * dot(v, v) - 0.5 * m * dot(wr, wr) + m * dot(frame.origin_acceleration, r)
+    if potential is not None:
+        u = potential(r) if callable(potential) else potential
+        h = h + as_float_array(u, "potential")
+    return h
+
+
+# ---------------------------------------------------------------------------
+# Integration
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class ParticleTrajectory:
+    """Samples of a particle's motion relative to a moving frame.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Output times (s).
+    position, velocity : ndarray, shape (n, ..., 3)
+        ``r`` and ``v_r`` relative to the frame, frame axes (m, m/s).
+    mass : ndarray, shape (...)
+        Masses (kg).
+    method : str
+        Solver name (a ``scipy.integrate.solve_ivp`` method).
+    frame : FrameMotion or callable
+        The frame the motion was computed in.
+    inertial_position, inertial_velocity : ndarray, shape (n, ..., 3) or None
+        The same motion seen from the inertial frame (inertial axes), when
+        asked for (``inertial=True``).
+    frame_rotation : Rotation, shape (n,) or None
+        Attitude of the frame (frame -> inertial components) at each time.
+    frame_origin : ndarray, shape (n, 3) or None
+        Position of the frame's origin in the inertial frame.
+    info : mapping
+        ``solver``, ``rtol``, ``atol``, ``evaluations`` (right-hand-side
+        calls, summed over the batch), ``message`` (keys of :data:`poinsot.trajectory.INFO_KEYS`).
+    """
+
+    t: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    mass: np.ndarray
+    method: str
+    frame: Any
+    inertial_position: np.ndarray | None = None
+    inertial_velocity: np.ndarray | None = None
+    frame_rotation: Any = None
+    frame_origin: np.ndarray | None = None
+    info: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
+        for name in (
+            "t",
+            "position",
+            "velocity",
+            "mass",
+            "inertial_position",
+            "inertial_velocity",
+            "frame_origin",
+        ):
+            a = getattr(self, name)
+            if a is not None:
+                a = np.array(a, dtype=float)
+                a.setflags(write=False)
+                object.__setattr__(self, name, a)
+
+    @property
+    def kinetic_energy(self) -> np.ndarray:
+        """Relative kinetic energy ``T_r = m |v_r|^2 / 2`` (J), shape (n, ...)."""
+        return 0.5 * self.mass * dot(self.velocity, self.velocity)
+
+    def inertial_forces(self) -> InertialForces:
+        """:func:`inertial_forces` at every sample, shape (n, ..., 3)."""
+        if isinstance(self.frame, FrameMotion):
+            return inertial_forces(self.frame, self.position, self.velocity, self.mass)
+        parts = [
+            inertial_forces(self.frame, self.position[k], self.velocity[k], self.mass, tk)
+            for k, tk in enumerate(self.t)
+        ]
+        return InertialForces(
+            *(
+                np.stack([getattr(p, f) for p in parts])
+                for f in ("origin", "euler", "centrifugal", "transport", "coriolis")
+            )
+        )
+
+
+class _Force:
+    """A validated force: None (zero), a constant vector or ``force(t, r, v)``."""
+
+    def __init__(self, force):
+        self.calls = 0
+        if force is None:
+            self.const = np.zeros(3)
+            self.fn = None
+        elif callable(force):
+            self.const = None
+            self.fn = force
+        else:
+            self.const = as_vec3(force, "force")
+            self.fn = None
+
+    def __call__(self, t, r, v, index):
+        if self.fn is None:
+            c = self.const
+            return c if c.ndim == 1 else c[index]
+        self.calls += 1
+        try:
+            out = np.asarray(self.fn(t, r, v), dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise InvalidTypeError(
+                f"Expected `force(t, r, v)` to return a 3-vector (N, frame axes), "
+                f"calling it failed: {type(exc).__name__}: {exc}"
+            ) from None
+        if out.shape != (3,):
+            raise InvalidInputError(
+                f"Expected `force(t, r, v)` to return shape (3,) for one particle, got {out.shape}."
+            )
+        if not np.all(np.isfinite(out)):
+            raise IntegrationError(
+                f"`force(t, r, v)` returned non-finite values at t = {t:.6g}, r = {r.tolist()}."
+            )
+        return out
+
+
+def _frame_matrices(fr: FrameMotion):
+    """``(W0, A, B)``, ``J_e + J_c = -m (W0 + A r + B v)``: ``A = eps^ + w^ w^``, ``B = 2 w^``."""
+    wh = hat(fr.omega)
+    return fr.origin_acceleration, hat(fr.eps) + wh @ wh, 2.0 * wh
+
+
+def _tolerance(x, name: str, strict: bool) -> float:
+    a = as_float_array(x, name, finite=False)
+    if a.ndim != 0 or np.isnan(a) or not (a > 0 if strict else a >= 0):
+        word = "positive" if strict else "non-negative"
+        raise InvalidInputError(f"Expected `{name}` to be a {word} scalar, got {x!r}.")
+    return float(a)
+
+
+def simulate_particle(
+    frame,
+    force,
+    r0,
+    v0,
+    t,
+    *,
+    mass=1.0,
+    method: str = "DOP853",
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_step: float = math.inf,
+    inertial: bool = False,
+) -> ParticleTrajectory:
+    """Integrate a particle's motion relative to a moving frame (theory §9).
+
+    Solves ``m a_r = F(t, r, v_r) + J_e + J_c`` with
+    ``J_e = -m (W0 + eps x r + w x (w x r))`` and ``J_c = -2 m w x v_r``
+    (see :func:`inertial_forces`) for one or a batch of initial conditions.
+
+    Parameters
+    ----------
+    frame : FrameMotion or callable
+        The frame's motion: a constant :class:`~poinsot.kinematics.FrameMotion`
+        (shape ``()``: ``W0``, ``w``, ``eps`` fixed in the frame's axes), or a
+        function ``frame(t) -> FrameMotion``.
+    force : None, array_like (3,) or (..., 3), or callable
+        The real force in N, frame axes: ``None`` (none), a constant vector
+        (per particle if batched), or ``force(t, r, v) -> (3,)`` called with
+        one particle's relative ``r`` and ``v_r`` (shape (3,)).
+    r0, v0 : array_like, shape (..., 3)
+        Initial relative position (m) and velocity (m/s); leading dimensions
+        are a batch of independent particles.
+    t : array_like, shape (n,)
+        Output times (s), strictly increasing; ``t[0]`` is the initial time.
+    mass : array_like, shape (...), optional
+        Mass (kg, > 0), default 1.
+    method : str, optional
+        ``scipy.integrate.solve_ivp`` method (default ``"DOP853"``, explicit
+        Runge-Kutta of order 8 with step control); see :data:`PARTICLE_SOLVERS`.
+    rtol, atol : float, optional
+        Local error tolerances on the state ``(r, v_r)``: each component's
+        error estimate is kept below ``atol + rtol |y|`` (defaults 1e-10 and
+        1e-12, in m and m/s). Each particle of a batch is integrated with its
+        own step control, so its result does not depend on the others.
+    max_step : float, optional
+        Longest step (s), default unbounded.
+    inertial : bool, optional
+        Also return the motion seen from the inertial frame, whose axes and
+        origin coincide with the frame's at ``t[0]``; the frame's attitude
+        follows ``R' = R w^`` and its origin ``X0'' = R W0`` with
+        ``X0'(t[0]) = V0`` (``origin_velocity`` of the frame at ``t[0]``).
+
+    Returns
+    -------
+    ParticleTrajectory
+        Positions and velocities relative to the frame (and inertial ones if
+        asked for), time first: shape (n, ..., 3).
+
+    Raises
+    ------
+    InvalidInputError
+        Non-finite or badly shaped inputs, a mass <= 0, bad tolerances.
+    IntegrationError
+        The solver failed or the force returned non-finite values.
+
+    Notes
+    -----
+    **Convention:** frame axes throughout (see the module docstring); a
+    constant frame's vectors are constant *in the frame's axes*.
+
+    Examples
+    --------
+    A stone dropped from rest 100 m above the ground at 45 deg latitude lands
+    east of the plumb line by ``(1/3) Omega g t^3 cos(latitude)``:
+
+    >>> import numpy as np
+    >>> from poinsot.dynamics import earth_frame, simulate_particle, eastward_deflection
+    >>> g = 9.81
+    >>> fall = np.sqrt(2 * 100 / g)
+    >>> tr = simulate_particle(earth_frame(45, degrees=True), [0, 0, -g], [0, 0, 100],
+    ...                        [0, 0, 0], [0.0, fall])
+    >>> east = tr.position[-1, 0]
+    >>> round(float(east), 5), round(float(eastward_deflection(100, 45, g=g, degrees=True)), 5)
+    (0.01553, 0.01553)
+    """
+    from scipy.integrate import solve_ivp
+
+    if not (isinstance(frame, FrameMotion) or callable(frame)):
+        raise InvalidTypeError(
+            "Expected `frame` to be a poinsot.kinematics.FrameMotion or a callable "
+            f"frame(t) -> FrameMotion, got {type(frame).__name__}."
+        )
+    if isinstance(frame, FrameMotion) and frame.shape != ():
+        raise InvalidInputError(
+            f"Expected `frame` to describe one frame (shape ()), got shape {frame.shape}; "
+            "pass a callable frame(t) for a frame that changes with time."
+        )
+    r0 = as_vec3(r0, "r0")
+    v0 = as_vec3(v0, "v0")
+    m = as_float_array(mass, "mass")
+    if np.any(m <= 0):
+        raise InvalidInputError(
+            f"Expected `mass` to be positive (kg), got {float(m[m <= 0].ravel()[0])!r}."
+        )
+    t = as_times(t, "t")
+    method = as_choice(method, "method", PARTICLE_SOLVERS)
+    rtol = _tolerance(rtol, "rtol", True)
+    atol = _tolerance(atol, "atol", False)
+    max_step = _tolerance(max_step, "max_step", True)
+    if not (np.isfinite(rtol) and np.isfinite(atol)):
+        raise InvalidInputError(f"Expected finite `rtol` and `atol`, got {rtol!r} and {atol!r}.")
+    inertial = as_bool(inertial, "inertial")
+    fmodel = _Force(force)
+    fshape = (fmodel.const, 1) if fmodel.const is not None else ((), 0)
+    batch = batch_shape(r0=(r0, 1), v0=(v0, 1), mass=(m, 0), force=fshape)
+    nb = math.prod(batch)
+    R0 = np.broadcast_to(r0, batch + (3,)).reshape(nb, 3)
+    V0 = np.broadcast_to(v0, batch + (3,)).reshape(nb, 3)
+    M = np.broadcast_to(m, batch).reshape(nb)
+    if fmodel.const is not None:
+        fmodel.const = np.broadcast_to(fmodel.const, batch + (3,)).reshape(nb, 3)
+
+    const = isinstance(frame, FrameMotion)
+    if const:
+        w0c, Ac, Bc = _frame_matrices(frame)
+
+    n = t.size
+    pos = np.empty((n, nb, 3))
+    vel = np.empty((n, nb, 3))
+    nfev = 0
+    message = ""
+    for i in range(nb):
+        mi = M[i]
+
+        def rhs(tn, y, i=i, mi=mi):
+            r, v = y[:3], y[3:]
+            if const:
+                w0, A, B = w0c, Ac, Bc
+            else:
+                w0, A, B = _frame_matrices(_frame_at(frame, tn))
+            a = fmodel(tn, r, v, i) / mi - w0 - A @ r - B @ v
+            return np.concatenate((v, a))
+
+        y0 = np.concatenate((R0[i], V0[i]))
+        if n == 1:
+            pos[0, i], vel[0, i] = R0[i], V0[i]
+            continue
+        sol = solve_ivp(
+            rhs, (t[0], t[-1]), y0, method=method, t_eval=t, rtol=rtol, atol=atol, max_step=max_step
+        )
+        if sol.status != 0 or sol.y.shape[1] != n or not np.all(np.isfinite(sol.y)):
+            reached = float(sol.t[-1]) if sol.t.size else float(t[0])
+            raise IntegrationError(
+                f"Particle integration ({method}) failed after t = {reached:.6g} s "
+                f"(particle {i}): {sol.message}"
+            )
+        pos[:, i], vel[:, i] = sol.y[:3].T, sol.y[3:].T
+        nfev += int(sol.nfev)
+        message = sol.message
+    shape = (n, *batch, 3)
+    info = {"solver": method, "rtol": rtol, "atol": atol, "evaluations": nfev, "message": message}
+    extra: dict[str, Any] = {}
+    if inertial:
+        rot, x0, vo = _frame_path(frame, t, rtol, atol, max_step)
+        q = rot.as_quat()  # (n, 4)
+        from ..rotations.quaternion import rotate
+
+        p = pos + 0.0
+        wr = np.empty_like(p)
+        for k in range(n):
+            fr = _frame_at(frame, t[k])
+            wr[k] = cross(fr.omega, p[k])
+        vo_frame = rotate(q * [1.0, -1.0, -1.0, -1.0], vo)  # origin velocity in frame axes
+        va = vel + wr + vo_frame[:, None, :]
+        extra = {
+            "inertial_position": (x0[:, None, :] + rotate(q[:, None, :], p)).reshape(shape),
+            "inertial_velocity": rotate(q[:, None, :], va).reshape(shape),
+            "frame_rotation": rot,
+            "frame_origin": x0,
+        }
+    return ParticleTrajectory(
+        t=t,
+        position=pos.reshape(shape),
+        velocity=vel.reshape(shape),
+        mass=np.broadcast_to(m, batch).copy(),
+        method=method,
+        frame=frame,
+        info=info,
+        **extra,
+    )
+
+
+def _frame_path(frame, t, rtol, atol, max_step):
+    """Attitude (frame -> inertial), origin position and velocity (inertial axes) of the frame.
+
+    A constant frame with ``W0 = 0`` moves in closed form (``R = exp((t - t0) w^)``,
+    ``X0 = V0 (t - t0)`` with ``V0`` the initial origin velocity); otherwise
+    ``q' = q o w / 2``, ``X0' = V0``, ``V0' = R W0`` are integrated (DOP853).
+    """
+    from scipy.integrate import solve_ivp
+
+    from ..kinematics.rates import _quat_rate
+    from ..rotations.quaternion import rotate
+    from ..rotations.rotation import Rotation
+
+    fr0 = _frame_at(frame, t[0])
+    dt = t - t[0]
+    if isinstance(frame, FrameMotion) and not np.any(frame.origin_acceleration):
+        rot = Rotation.from_rotvec(dt[:, None] * frame.omega)
+        vo_in = np.broadcast_to(frame.origin_velocity, (t.size, 3)).copy()
+        return rot, dt[:, None] * frame.origin_velocity, vo_in
+
+    def rhs(tn, y):
+        fr = _frame_at(frame, tn)
+        q = y[:4]
+        return np.concatenate(
+            (_quat_rate(q, fr.omega, "body"), y[7:], rotate(q, fr.origin_acceleration))
+        )
+
+    y0 = np.concatenate(([1.0, 0.0, 0.0, 0.0], np.zeros(3), fr0.origin_velocity))
+    if t.size == 1:
+        ys = y0[:, None]
+    else:
+        sol = solve_ivp(
+            rhs,
+            (t[0], t[-1]),
+            y0,
+            method="DOP853",
+            t_eval=t,
+            rtol=rtol,
+            atol=atol,
+            max_step=max_step,
+        )
+        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            raise IntegrationError(f"Integrating the frame's motion failed: {sol.message}")
+        ys = sol.y
+    return Rotation.from_quat(ys[:4].T), ys[4:7].T.copy(), ys[7:].T.copy()
+
+
+# ---------------------------------------------------------------------------
+# The rotating Earth
+# ---------------------------------------------------------------------------
+
+
+def earth_frame(latitude, omega=EARTH_ROTATION_RATE, *, degrees: bool = False) -> FrameMotion:
+    """Local east-north-up frame on the rotating Earth (theory §9).
+
+    Axes ``x`` east, ``y`` north, ``z`` up (along the plumb line); the frame
+    turns with the Earth at ``w = Omega (0, cos(latitude), sin(latitude))``
+    (frame axes), with ``eps = 0`` and ``W0 = 0``.
+
+    The acceleration of the origin (a point of the ground, ``-Omega^2`` times
+    its distance from the axis) is *not* put into ``W0``: it is absorbed, with
+    the gravitational attraction, into the effective gravity
+    ``g = g_grav - Omega x (Omega x R)`` that a plumb line shows and that
+    defines "up". Give the force as ``m g (0, 0, -1)`` with that ``g``
+    (e.g. :func:`normal_gravity`, or 9.80665 m/s^2); the remaining centrifugal
+    term ``-m w x (w x r)`` is then only the tiny correction for the distance
+    ``r`` from the origin (the change of ``g`` with height is neglected).
+
+    Parameters
+    ----------
+    latitude : float
+        Geodetic (plumb-line) latitude, positive north (rad, or deg with
+        ``degrees=True``).
+    omega : float, optional
+        Rotation rate ``Omega`` (rad/s), default :data:`EARTH_ROTATION_RATE`.
+    degrees : bool, optional
+        Latitude in degrees.
+
+    Returns
+    -------
+    FrameMotion
+        ``omega = Omega (0, cos(lat), sin(lat))``, zero ``W0``, ``V0`` and ``eps``.
+
+    Examples
+    --------
+    >>> from poinsot.dynamics import earth_frame
+    >>> (earth_frame(90, degrees=True).omega * 1e5).round(5) + 0.0
+    array([0.     , 0.     , 7.29212])
+    """
+    lat = _as_latitude(latitude, degrees)
+    om = _real(omega, "omega")
+    if lat.ndim or om.ndim:
+        raise InvalidInputError(
+            f"Expected `latitude` and `omega` to be scalars, got shapes {lat.shape} and {om.shape}."
+        )
+    return FrameMotion(omega=float(om) * np.array([0.0, math.cos(lat), math.sin(lat)]))
+
+
+def normal_gravity(latitude, *, degrees: bool = False) -> np.ndarray:
+    """Effective gravity on the WGS 84 ellipsoid (Somigliana's formula), m/s^2.
+
+    ``g = g_e (1 + k sin^2 lat) / sqrt(1 - e^2 sin^2 lat)`` with
+    ``g_e = 9.7803253359``, ``k = 0.00193185265241``, ``e^2 = 0.00669437999013``
+    (NIMA TR8350.2, 2000): attraction plus centrifugal, at sea level.
+
+    >>> from poinsot.dynamics import normal_gravity
+    >>> float(normal_gravity(0.0)), round(float(normal_gravity(90, degrees=True)), 9)
+    (9.7803253359, 9.832184938)
+    """
+    lat = _as_latitude(latitude, degrees)
+    s2 = np.sin(lat) ** 2
+    return 9.7803253359 * (1.0 + 0.00193185265241 * s2) / np.sqrt(1.0 - 0.00669437999013 * s2)
+
+
+def eastward_deflection(
+    height, latitude, g=STANDARD_GRAVITY, omega=EARTH_ROTATION_RATE, *, degrees: bool = False
+) -> np.ndarray:
+    """Eastward deflection of a body dropped from rest (first order in ``Omega``).
+
+    ``d = (1/3) Omega g t^3 cos(lat)`` with ``t = sqrt(2 h / g)`` the fall time,
+    i.e. ``d = (1/3) Omega cos(lat) sqrt(8 h^3 / g)`` (theory §9: the Coriolis
+    force ``-2 m w x v`` on the falling body). The neglected terms are of
+    relative order ``(Omega t)^2``; air resistance is ignored.
+
+    Parameters
+    ----------
+    height : array_like
+        Drop height ``h`` (m, >= 0).
+    latitude : array_like
+        Latitude (rad, or deg with ``degrees=True``).
+    g : array_like, optional
+        Effective gravity (m/s^2, > 0), default 9.80665.
+    omega : array_like, optional
+        Rotation rate (rad/s), default :data:`EARTH_ROTATION_RATE`.
+
+    Returns
+    -------
+    ndarray
+        Deflection to the east (m); negative for ``omega < 0``.
+
+    Examples
+    --------
+    Reich's 158 m mine shaft at Freiberg (50.9 deg N):
+
+    >>> from poinsot.dynamics import eastward_deflection
+    >>> round(float(eastward_deflection(158.0, 50.9, degrees=True)) * 1000, 1)
+    27.5
+    """
+    h = as_float_array(height, "height")
+    if np.any(h < 0):
+        raise InvalidInputError(f"Expected `height` to be >= 0 (m), got {float(h.min())!r}.")
+    gg = as_float_array(g, "g")
+    if np.any(gg <= 0):
+        raise InvalidInputError(f"Expected `g` to be positive (m/s^2), got {float(gg.min())!r}.")
+    lat = _as_latitude(latitude, degrees)
+    om = _real(omega, "omega")
+    return om * np.cos(lat) * np.sqrt(8.0 * h**3 / gg) / 3.0
+
+
+def foucault_precession_rate(latitude, omega=EARTH_ROTATION_RATE, *, degrees=False):
+    """Turning rate of a Foucault pendulum's swing plane, ``-Omega sin(lat)`` (rad/s).
+
+    Positive counter-clockwise seen from above (about the local up axis): the
+    plane turns clockwise in the northern hemisphere. Linearised (small
+    swings) and to first order in ``Omega`` (theory §9).
+
+    >>> from poinsot.dynamics import foucault_precession_rate
+    >>> round(float(foucault_precession_rate(30, degrees=True)) * 1e5, 6)
+    -3.646058
+    """
+    lat = _as_latitude(latitude, degrees)
+    return -_real(omega, "omega") * np.sin(lat)
+
+
+def foucault_period(latitude, omega=EARTH_ROTATION_RATE, *, degrees=False):
+    """Time for a Foucault pendulum's plane to turn a full circle: ``2 pi / (Omega |sin lat|)``.
+
+    In s; ``inf`` at the equator. At the pole it is one sidereal day
+    (86164.1 s); at Paris (48.85 deg N) about 31.8 h.
+
+    >>> from poinsot.dynamics import foucault_period
+    >>> round(float(foucault_period(48.85, degrees=True)) / 3600, 2)
+    31.8
+    """
+    rate = np.abs(foucault_precession_rate(latitude, omega, degrees=degrees))
+    with np.errstate(divide="ignore"):
+        return np.where(rate > 0, 2.0 * np.pi / np.where(rate > 0, rate, 1.0), np.inf)
+
+
+def foucault_pendulum(
+    length,
+    latitude,
+    t,
+    *,
+    amplitude=1.0,
+    g=STANDARD_GRAVITY,
+    omega=EARTH_ROTATION_RATE,
+    mass=1.0,
+    degrees: bool = False,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+) -> ParticleTrajectory:
+    """The linearised Foucault pendulum, integrated in the Earth's frame (theory §9).
+
+    The bob moves in the horizontal plane under ``F = -m (g / l) (x, y, 0)``
+    in the east-north-up frame turning at the vertical component
+    ``Omega sin(lat)`` of the Earth's rotation (the horizontal component's
+    Coriolis force is vertical, taken up by the wire in the linear theory). It
+    is released at rest relative to the Earth at ``(amplitude, 0, 0)`` (east).
+
+    Parameters
+    ----------
+    length : float
+        Wire length ``l`` (m, > 0).
+    latitude : float
+        Latitude (rad, or deg with ``degrees=True``).
+    t : array_like, shape (n,)
+        Output times (s).
+    amplitude : float, optional
+        Initial displacement (m), default 1.
+    g, omega, mass : float, optional
+        Gravity (m/s^2), rotation rate (rad/s), bob mass (kg).
+    rtol, atol : float, optional
+        Tolerances of :func:`simulate_particle`.
+
+    Returns
+    -------
+    ParticleTrajectory
+        Positions east/north/up of the bob (``z = 0``); the swing plane turns
+        at :func:`foucault_precession_rate` (see :func:`swing_plane_angles`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import foucault_pendulum
+    >>> tr = foucault_pendulum(67.0, 48.85, np.linspace(0, 60, 7), degrees=True)
+    >>> tr.position.shape
+    (7, 3)
+    """
+    lat = _as_latitude(latitude, degrees)
+    ell = as_float_array(length, "length")
+    if ell.ndim or ell <= 0:
+        raise InvalidInputError(f"Expected `length` to be a positive scalar (m), got {length!r}.")
+    gg = as_float_array(g, "g")
+    if gg.ndim or gg <= 0:
+        raise InvalidInputError(f"Expected `g` to be a positive scalar (m/s^2), got {g!r}.")
+    a = as_float_array(amplitude, "amplitude")
+    if a.ndim:
+        raise InvalidInputError(f"Expected `amplitude` to be a scalar (m), got shape {a.shape}.")
+    m = float(as_float_array(mass, "mass"))
+    k = m * float(gg) / float(ell)
+    om = float(_real(omega, "omega")) * math.sin(float(lat))
+    frame = FrameMotion(omega=[0.0, 0.0, om])
+
+    def restoring(_t, r, _v):
+        return np.array([-k * r[0], -k * r[1], 0.0])
+
+    return simulate_particle(
+        frame, restoring, [float(a), 0.0, 0.0], [0.0, 0.0, 0.0], t, mass=m, rtol=rtol, atol=atol
+    )
+
+
+def swing_plane_angles(t, position, velocity) -> tuple[np.ndarray, np.ndarray]:
+    """Azimuth of a pendulum's swing plane at each extreme of the swing.
+
+    At each maximum of the horizontal distance (``r . v`` changing sign from
+    + to -, located by linear interpolation) the azimuth
+    ``atan2(y, x)`` of the bob, reduced modulo ``pi`` (a plane has no
+    direction) and unwrapped. Used to measure the Foucault precession.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Times (s).
+    position, velocity : array_like, shape (n, 3) or (n, 2)
+        Horizontal position (m) and velocity (m/s), x east and y north.
+
+    Returns
+    -------
+    times, angles : ndarray, shape (k,)
+        Times of the extremes (s) and the plane's azimuth (rad,
+        counter-clockwise from east, continuous).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import swing_plane_angles
+    >>> t = np.linspace(0, 10, 2001)
+    >>> r = np.stack([np.cos(2 * np.pi * t), 0 * t], -1)
+    >>> v = np.stack([-2 * np.pi * np.sin(2 * np.pi * t), 0 * t], -1)
+    >>> tt, ang = swing_plane_angles(t, r, v)
+    >>> tt[:3].round(3), ang[:3] + 0.0
+    (array([0.5, 1. , 1.5]), array([0., 0., 0.]))
+    """
+    t = as_times(t, "t", min_len=2)
+    r = as_float_array(position, "position")[..., :2]
+    v = as_float_array(velocity, "velocity")[..., :2]
+    if r.shape != (t.size, 2) or v.shape != (t.size, 2):
+        raise InvalidInputError(
+            f"Expected `position` and `velocity` of shape ({t.size}, 2 or 3), "
+            f"got {np.shape(position)} and {np.shape(velocity)}."
+        )
+    f = dot(r, v)
+    k = np.nonzero((f[:-1] > 0) & (f[1:] <= 0) | (f[:-1] < 0) & (f[1:] >= 0))[0]
+    # keep maxima of |r| only (the product goes from + to -) and minima skipped
+    k = k[f[k] > 0]
+    s = f[k] / (f[k] - f[k + 1])
+    tt = t[k] + s * (t[k + 1] - t[k])
+    p = r[k] + s[:, None] * (r[k + 1] - r[k])
+    doubled = np.unwrap(np.arctan2(2.0 * p[:, 0] * p[:, 1], p[:, 0] ** 2 - p[:, 1] ** 2))
+    return tt, 0.5 * doubled
