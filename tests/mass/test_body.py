@@ -121,7 +121,8 @@ def test_batch_bodies():
     moments = body.principal_moments
     assert moments.shape == (3, 3)
     np.testing.assert_allclose(moments, 0.4 * masses[:, None] * np.ones(3))  # 2/5 m r^2
-    rot = body.principal_axes
+    mom, rot = body.principal_axes()
+    np.testing.assert_allclose(mom, moments, rtol=1e-14)
     s = rot.as_matrix()
     diag = np.swapaxes(s, -1, -2) @ body.inertia @ s
     np.testing.assert_allclose(diag, moments[..., None] * np.eye(3), atol=1e-14)

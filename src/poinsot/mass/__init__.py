@@ -19,7 +19,7 @@ Examples
 (2.0, array([0., 0., 1.]))
 >>> body.principal_moments.round(4)
 array([0.5167, 2.9333, 3.1833])
->>> moments, axes = principal_axes(body.inertia)   # axes: a Rotation (columns of its matrix)
+>>> moments, axes = body.principal_axes()   # axes: a Rotation (columns of its matrix)
 """
 
 from __future__ import annotations

@@ -389,16 +389,16 @@ class RigidBody:
         p = as_vec3(point, "point")
         return self.inertia + _steiner(self.mass, p - self.center_of_mass)
 
-    @property
     def principal_axes(self):
-        """Principal axes of the central inertia: a :class:`~poinsot.Rotation` ``S``
-        (batch shape) whose matrix has the axes as columns, in body axes, ordered like
-        :attr:`principal_moments`; ``S^T J S = diag(A, B, C)``.
+        """Principal moments and axes of the central inertia: ``(moments, S)``.
 
-        A property, like :attr:`poinsot.dynamics.FreeRigidBody.principal_axes`; see
+        ``moments`` ascending ``(..., 3)`` (= :attr:`principal_moments`); ``S`` a
+        :class:`~poinsot.Rotation` whose matrix has the principal axes as columns, in
+        body axes: ``S^T J S = diag(moments)``. A method with the same result on
+        every class (:meth:`poinsot.dynamics.FreeRigidBody.principal_axes`); see
         :func:`poinsot.mass.principal_axes` for the choice of axes.
         """
-        return _principal_axes(self.inertia)[1]
+        return _principal_axes(self.inertia)
 
     @property
     def principal_moments(self) -> np.ndarray:
