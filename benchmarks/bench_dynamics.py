@@ -97,7 +97,7 @@ def _exact(moments, q0, w0, t_end):
     if FreeRigidBody is not None:
         qs, ws = [], []
         for i in range(moments.shape[0]):
-            fb = FreeRigidBody(moments[i], w0[i], Rotation.from_quat(q0[i]))
+            fb = FreeRigidBody(moments[i], rotation0=Rotation.from_quat(q0[i]), omega0=w0[i])
             ws.append(fb.omega([t_end])[0])
             qs.append(fb.rotation([t_end]).as_quat()[0])
         return np.array(qs), np.array(ws), "FreeRigidBody (exact)"

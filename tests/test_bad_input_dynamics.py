@@ -32,7 +32,7 @@ def test_simulate_adaptive_options(kwargs, exc, match):
 
 @pytest.mark.parametrize("n", [None, "x", 1, 0, -5, 2.5, True])
 def test_free_body_curve_samples(n):
-    body = D.FreeRigidBody([1.0, 2.0, 3.0], W0)
+    body = D.FreeRigidBody([1.0, 2.0, 3.0], omega0=W0)
     with pytest.raises(InvalidInputError, match="`n` to be an integer >= 2"):
         body.maccullagh(n)
     with pytest.raises(InvalidInputError, match="`n` to be an integer >= 2"):
@@ -40,7 +40,7 @@ def test_free_body_curve_samples(n):
 
 
 def test_free_body_poinsot_empty_t():
-    body = D.FreeRigidBody([1.0, 2.0, 3.0], W0)
+    body = D.FreeRigidBody([1.0, 2.0, 3.0], omega0=W0)
     with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\) with n >= 1"):
         body.poinsot(np.empty(0))
 
@@ -50,7 +50,7 @@ def test_separatrix_stays_accurate():
     solution warns and still matches an independent DOP853 integration."""
     w0 = [np.sqrt(3.0), 1e-8, 1.0]
     with pytest.warns(SingularityWarning, match="separatrix"):
-        body = D.FreeRigidBody([1.0, 2.0, 3.0], w0)
+        body = D.FreeRigidBody([1.0, 2.0, 3.0], omega0=w0)
     t = np.linspace(0.0, 6.0, 13)
     ref = D.simulate(J, [1.0, 0, 0, 0], w0, t, method="adaptive", rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(body.omega(t), ref.omega, atol=1e-10)
@@ -67,7 +67,7 @@ def test_plot_functions_bad_arguments():
 
     from poinsot.plotting import plot_maccullagh, plot_omega, plot_poinsot
 
-    body = D.FreeRigidBody([1.0, 2.0, 3.0], W0)
+    body = D.FreeRigidBody([1.0, 2.0, 3.0], omega0=W0)
     with pytest.raises(InvalidInputError, match="`t` to be strictly increasing"):
         plot_omega(body, T[::-1])
     with pytest.raises(InvalidInputError, match="`n` to be an integer >= 2"):

@@ -142,7 +142,7 @@ def test_agrees_with_exact_free_body_near_the_separatrix():
     free_body = pytest.importorskip("poinsot.dynamics.free_body")
     w0 = np.array([1e-3, 2.0, 2e-3])
     t = np.linspace(0.0, 20.0, 81)
-    exact = free_body.FreeRigidBody(MOMENTS, w0, poinsot.Rotation.from_quat(Q0))
+    exact = free_body.FreeRigidBody(MOMENTS, rotation0=poinsot.Rotation.from_quat(Q0), omega0=w0)
     w_ex, q_ex = exact.omega(t), exact.rotation(t).as_quat()
     assert np.ptp(np.sign(w_ex[:, 1])) == 2  # the middle-axis component flips
     tr = simulate(MOMENTS, Q0, w0, t, order=6, max_step=0.01)
