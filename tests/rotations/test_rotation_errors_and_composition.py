@@ -60,7 +60,8 @@ def test_type_errors():
         compose([Rotation.identity(), np.eye(3)])
     with pytest.raises(InvalidTypeError, match="single rotation is not subscriptable"):
         Rotation.identity()[0]
-    assert Rotation.identity().__mul__(3) is NotImplemented
+    with pytest.raises(InvalidTypeError, match=r"poinsot.Rotation in `r \* other`, got int"):
+        Rotation.identity() * 3
     assert issubclass(InvalidInputError, PoinsotError) and issubclass(InvalidInputError, ValueError)
 
 

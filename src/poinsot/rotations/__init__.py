@@ -6,6 +6,15 @@ from it (``dcm``, ``rotvec``, ``euler``, ``rodrigues``, ``frames``), and
 """
 
 from . import quaternion
+from ._lazy import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
 from .rotation import Rotation, compose, slerp
 
-__all__ = ["Rotation", "compose", "quaternion", "slerp"]
+__all__ = [
+    "PARALLEL_MIN_SIZE",
+    "Rotation",
+    "compose",
+    "get_num_threads",
+    "quaternion",
+    "set_num_threads",
+    "slerp",
+]

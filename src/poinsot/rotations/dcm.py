@@ -17,7 +17,7 @@ import numpy as np
 
 from .._validate import as_matrix3
 from ..errors import InvalidInputError
-from ._lazy import kernels
+from ._lazy import big, flat, kernels
 
 __all__ = ["ORTHOGONALITY_ATOL", "EXACT_ATOL", "matrix_from_quat", "quat_from_matrix"]
 
@@ -32,7 +32,23 @@ _D4 = np.zeros(4)
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     """``A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T`` for unit ``q`` (..., 4) -> (..., 3, 3)."""
+    if big(q.shape[:-1]):
+        f = flat(q, 4)
+        m = np.empty((f.shape[0], 9))
+        kernels().to_matrix_flat(f, m)
+        return m.reshape(q.shape[:-1] + (3, 3))
     return kernels().quat_to_matrix(q, _D3)
+
+
+def _to_quat(m: np.ndarray):
+    """``(q, max |A^T A - E|, det A)`` for matrices (..., 3, 3) (threaded when large)."""
+    shape = m.shape[:-2]
+    if big(shape):
+        f = flat(m, 9)
+        q, err, det = np.empty((f.shape[0], 4)), np.empty(f.shape[0]), np.empty(f.shape[0])
+        kernels().from_matrix_flat(f, q, err, det)
+        return q.reshape(shape + (4,)), err.reshape(shape), det.reshape(shape)
+    return kernels().matrix_to_quat(m, _D4)
 
 
 def quat_from_matrix(m: np.ndarray) -> np.ndarray:
@@ -40,7 +56,7 @@ def quat_from_matrix(m: np.ndarray) -> np.ndarray:
 
     Trusts its input (no checks): use :func:`quat_from_user_matrix` for user data.
     """
-    return kernels().matrix_to_quat(m, _D4)[0]
+    return _to_quat(m)[0]
 
 
 def _nearest_rotation(m: np.ndarray) -> np.ndarray:
@@ -56,7 +72,7 @@ def quat_from_user_matrix(
 ) -> np.ndarray:
     """Check, project if needed, and convert user matrices (see module notes)."""
     m = as_matrix3(m, name)
-    q, err, det = kernels().matrix_to_quat(m, _D4)
+    q, err, det = _to_quat(m)
     if np.any(det <= 0):
         bad = np.asarray(det)[det <= 0].ravel()[0]
         raise InvalidInputError(

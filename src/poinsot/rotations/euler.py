@@ -33,8 +33,8 @@ import warnings
 import numpy as np
 
 from .._validate import as_float_array
-from ..errors import GimbalLockWarning, InvalidInputError
-from ._lazy import kernels
+from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError
+from ._lazy import big, flat, kernels
 
 __all__ = [
     "PRESETS",
@@ -64,7 +64,7 @@ def parse_sequence(seq: str) -> tuple[tuple[int, ...], bool]:
     ((2, 0, 1), True)
     """
     if not isinstance(seq, str):
-        raise InvalidInputError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
+        raise InvalidTypeError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
     s = PRESETS.get(seq.lower(), seq)
     if not _SEQ.match(s):
         raise InvalidInputError(
@@ -82,6 +82,10 @@ def quat_from_euler(seq: str, angles: np.ndarray) -> np.ndarray:
     ax = np.array(axes, dtype=np.int64)
     if not intrinsic:  # extrinsic abc (f1, f2, f3) == intrinsic CBA (f3, f2, f1)
         ax, angles = ax[::-1].copy(), angles[..., ::-1]
+    if big(angles.shape[:-1]):
+        q = np.empty(angles.shape[:-1] + (4,))
+        kernels().euler_to_quat_flat(ax, flat(angles, angles.shape[-1]), q.reshape(-1, 4))
+        return q
     return kernels().euler_to_quat(ax, angles, _D4)
 
 
@@ -92,20 +96,26 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
         raise InvalidInputError(f"Expected `seq` to have 3 axes to recover angles, got {seq!r}.")
     ext = axes if not intrinsic else axes[::-1]
     code = np.array([*ext, 0 if intrinsic else 1], dtype=np.int64)
-    flat = np.ascontiguousarray(q.reshape(-1, 4))
-    angles = np.empty((flat.shape[0], 3))
-    singular = np.empty(flat.shape[0], dtype=np.bool_)
-    kernels().quat_to_euler(flat, code, angles, singular)
+    f = flat(q, 4)
+    angles = np.empty((f.shape[0], 3))
+    singular = np.empty(f.shape[0], dtype=np.bool_)
+    k = kernels()
+    (k.quat_to_euler if big(q.shape[:-1]) else k.quat_to_euler_serial)(f, code, angles, singular)
     angles = angles.reshape(q.shape[:-1] + (3,))
     if warn and np.any(singular):
-        warnings.warn(
-            f"Gimbal lock: the middle angle of {seq!r} is within {GIMBAL_LOCK_ATOL:g} rad of "
-            "its singular value; the third angle is set to 0 and the first holds the "
-            "sum/difference of the first and third.",
-            GimbalLockWarning,
-            stacklevel=3,
-        )
+        warn_gimbal_lock(seq, stacklevel=3)
     return angles
+
+
+def warn_gimbal_lock(seq: str, stacklevel: int) -> None:
+    """Issue the :class:`~poinsot.GimbalLockWarning` of :func:`euler_from_quat`."""
+    warnings.warn(
+        f"Gimbal lock: the middle angle of {seq!r} is within {GIMBAL_LOCK_ATOL:g} rad of "
+        "its singular value; the third angle is set to 0 and the first holds the "
+        "sum/difference of the first and third.",
+        GimbalLockWarning,
+        stacklevel=stacklevel + 1,
+    )
 
 
 def as_angles(angles, k: int, name: str = "angles") -> np.ndarray:

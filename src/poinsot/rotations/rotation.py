@@ -37,15 +37,26 @@ it to a few ulp, see ``tests/rotations/test_parity_scipy.py``):
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
-from .._validate import as_choice, as_float_array, as_trailing, as_vec3
+from .._validate import (
+    as_bool,
+    as_choice,
+    as_float_array,
+    as_trailing,
+    as_vec3,
+    plain_floats,
+    plain_vec3,
+)
 from ..errors import InvalidInputError, InvalidTypeError
+from . import _scalar as S
 from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
-from ._lazy import kernels
+from ._lazy import big, flat, kernels
 from .quaternion import canonical_array as _canonical
 from .quaternion import conjugate_array, length_array, normalize_array
 
@@ -67,6 +78,63 @@ def _as_shape(shape, name: str = "shape") -> tuple[int, ...]:
     return tuple(int(d) for d in dims)
 
 
+#: ``Rotation(q, normalize=False)`` accepts quaternions whose length differs from 1
+#: by at most this (the caller vouches they are unit; they are stored as given).
+UNIT_ATOL = 1e-10
+
+_EPS4 = 4.0 * float(np.finfo(np.float64).eps)
+_DEG = math.pi / 180.0  # the constants of np.deg2rad / np.rad2deg: same bits
+_RAD = 180.0 / math.pi
+
+
+def _new(values) -> Rotation:
+    """A single rotation from four trusted Python floats (the short path)."""
+    q = np.array(values)
+    q.setflags(write=False)
+    obj = object.__new__(Rotation)
+    obj._q = q
+    return obj
+
+
+def _unit4(t) -> tuple[float, float, float, float] | None:
+    """``q / |q|`` on Python floats as :func:`normalize_array` does it, or ``None`` when
+    ``|q|^2`` leaves the range where that is exact (zero, tiny, huge: general path)."""
+    w, x, y, z = t
+    n2 = w * w + x * x + y * y + z * z
+    if not 1e-290 <= n2 <= 1e290:
+        return None
+    n = math.sqrt(n2)
+    if abs(n - 1.0) <= _EPS4:
+        return w, x, y, z
+    return w / n, x / n, y / n, z / n
+
+
+def _real(x) -> float | None:
+    """A Python float for a real number (int/float/NumPy scalar, not bool) that is finite."""
+    if type(x) in (float, int, np.float64) and math.isfinite(x):
+        return float(x)
+    return None
+
+
+#: seq -> (axes as an intrinsic sequence, extrinsic?, code for to_euler) (short paths)
+_SEQS: dict[str, tuple[tuple[int, ...], bool, np.ndarray | None]] = {}
+
+
+def _seq(seq) -> tuple[tuple[int, ...], bool, np.ndarray | None]:
+    """Parsed ``seq`` (cached): its axes as an intrinsic sequence, whether it is
+    extrinsic, and for three axes the code ``(i, j, k, extrinsic)`` (int64) of
+    :func:`poinsot.rotations._scalar.to_euler` (axes in extrinsic order)."""
+    got = _SEQS.get(seq) if type(seq) is str else None
+    if got is None:
+        axes, intrinsic = euler.parse_sequence(seq)
+        ext = axes[::-1] if intrinsic else axes
+        code = np.array([*ext, 0 if intrinsic else 1], dtype=np.int64) if len(axes) == 3 else None
+        got = (axes if intrinsic else axes[::-1]), not intrinsic, code
+        if len(_SEQS) < 256:
+            _SEQS[seq] = got
+    return got
+
+
 def _broadcast_shapes(what: str, *shapes: tuple[int, ...]) -> tuple[int, ...]:
     try:
         return np.broadcast_shapes(*shapes)
@@ -82,6 +150,28 @@ class Rotation:
     Build one with a ``from_*`` constructor and read it with the matching
     ``as_*`` method; ``r2 * r1`` composes (``r1`` first, fixed axes),
     ``r.apply(v)`` rotates vectors. Immutable.
+
+    Parameters
+    ----------
+    quat : array_like, shape (..., 4)
+        Scalar-first quaternions ``(w, x, y, z)`` (prefer :meth:`from_quat`).
+    normalize : bool
+        ``True`` (default): ``q / |q|`` is stored. ``False``: the quaternions are
+        stored as given, and must be unit to within :data:`UNIT_ATOL` (1e-10 in
+        ``| |q| - 1 |``; otherwise :class:`~poinsot.InvalidInputError`): a non-unit
+        quaternion would scale the vectors ``apply`` rotates by ``|q|^2``.
+
+    Notes
+    -----
+    **Empty sets.** As in SciPy, a set of zero rotations (``quat`` of shape
+    ``(0, 4)``) is valid: every conversion and ``apply`` return empty arrays of the
+    matching shape; only :meth:`mean` raises (an empty set has no mean).
+
+    **One rotation at a time.** A single rotation (shape ``()``) takes a short path
+    in plain Python on the same scalar formulas the compiled batch kernels use
+    (:mod:`poinsot.rotations._scalar`), with the same checks (type, shape, finite
+    values); batches of at least ``PARALLEL_MIN_SIZE`` rotations run on every
+    numba thread (:func:`poinsot.rotations.set_num_threads`).
 
     Examples
     --------
@@ -102,9 +192,16 @@ class Rotation:
 
     def __init__(self, quat, *, normalize: bool = True):
         q = as_trailing(quat, "quat", (4,))
-        n = normalize_array(q, "quat")  # also rejects zero quaternions
-        if normalize:
-            q = n
+        if as_bool(normalize, "normalize"):
+            q = normalize_array(q, "quat")  # also rejects zero quaternions
+        else:
+            err = np.abs(length_array(q) - 1.0)
+            if np.any(err > UNIT_ATOL):
+                raise InvalidInputError(
+                    f"Expected `quat` to be unit quaternions (| |q| - 1 | <= {UNIT_ATOL:g}) "
+                    f"with normalize=False, got | |q| - 1 | = {float(np.max(err)):.3g}; "
+                    "pass normalize=True to normalise them."
+                )
         q = np.array(q, dtype=np.float64)
         q.setflags(write=False)
         self._q = q
@@ -178,8 +275,14 @@ class Rotation:
         >>> Rotation.from_quat([0, 0, 0, 1], scalar_first=False).as_quat()
         array([1., 0., 0., 0.])
         """
+        first = as_bool(scalar_first, "scalar_first")
+        t = plain_floats(quat, 4)
+        if t is not None and cls is Rotation:
+            u = _unit4(t if first else (t[3], t[0], t[1], t[2]))
+            if u is not None:
+                return _new(u)
         q = normalize_array(as_trailing(quat, "quat", (4,)), "quat")
-        if not scalar_first:
+        if not first:
             q = np.roll(q, 1, axis=-1)
         return cls._wrap(q)
 
@@ -198,6 +301,13 @@ class Rotation:
         >>> Rotation.from_matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]).as_rotvec(degrees=True)
         array([ 0.,  0., 90.])
         """
+        if type(matrix) is np.ndarray and matrix.shape == (3, 3) and cls is Rotation:
+            t = plain_floats(matrix.ravel(), 9)
+            tol = _real(atol)
+            if t is not None and tol is not None:
+                err, det = S.matrix_check(*t)
+                if det > 0.0 and err <= dcm.EXACT_ATOL and err <= tol:  # else: general path
+                    return _new(S.from_matrix(*t))
         tol = float(as_float_array(atol, "atol"))
         if tol < 0:
             raise InvalidInputError(f"Expected `atol` to be non-negative, got {atol!r}.")
@@ -212,8 +322,15 @@ class Rotation:
         >>> Rotation.from_rotvec([0, 0, 180], degrees=True).as_quat().round(12) + 0.0
         array([0., 0., 0., 1.])
         """
+        deg = as_bool(degrees, "degrees")
+        t = plain_vec3(rotvec)
+        if t is not None and cls is Rotation:
+            a, b, c = t
+            if deg:
+                a, b, c = a * _DEG, b * _DEG, c * _DEG
+            return _new(S.from_rotvec(a, b, c))
         v = as_vec3(rotvec, "rotvec")
-        if degrees:
+        if deg:
             v = np.deg2rad(v)
         return cls._wrap(rotvec_mod.quat_from_rotvec(v))
 
@@ -229,12 +346,13 @@ class Rotation:
         >>> Rotation.from_axis_angle([0, 0, 2], 90, degrees=True).apply([1, 0, 0]).round(12) + 0.0
         array([0., 1., 0.])
         """
+        deg = as_bool(degrees, "degrees")
         ax = as_vec3(axis, "axis")
         f = as_float_array(angle, "angle")
         n = length_array(ax)  # no overflow/underflow for huge or tiny axes
         if np.any(n == 0):
             raise InvalidInputError("Expected `axis` to be non-zero vectors, got a zero one.")
-        if degrees:
+        if deg:
             f = np.deg2rad(f)
         shape = _broadcast_shapes("`axis` and `angle`", ax.shape[:-1], f.shape)
         half = 0.5 * f
@@ -271,9 +389,22 @@ class Rotation:
                [1., 0., 0.],
                [0., 1., 0.]])
         """
-        axes, _ = euler.parse_sequence(seq)
-        a = euler.as_angles(angles, len(axes))
-        if degrees:
+        deg = as_bool(degrees, "degrees")
+        axes, extrinsic, _ = _seq(seq)
+        k = len(axes)
+        t = plain_vec3(angles) if k == 3 else None
+        if k == 1:
+            a0 = _real(angles)
+            t = None if a0 is None else (a0, 0.0, 0.0)
+        if t is not None and cls is Rotation:
+            a0, a1, a2 = t
+            if deg:
+                a0, a1, a2 = a0 * _DEG, a1 * _DEG, a2 * _DEG
+            if extrinsic and k == 3:  # extrinsic abc (f1, f2, f3) = intrinsic CBA (f3, f2, f1)
+                a0, a1, a2 = a2, a1, a0
+            return _new(S.from_euler(axes, a0, a1, a2))
+        a = euler.as_angles(angles, k)
+        if deg:
             a = np.deg2rad(a)
         return cls._wrap(euler.quat_from_euler(seq, a))
 
@@ -403,8 +534,17 @@ class Rotation:
         >>> Rotation.identity().as_quat(scalar_first=False)
         array([0., 0., 0., 1.])
         """
-        q = _canonical(self._q) + 0.0 if canonical else np.array(self._q)
-        return q if scalar_first else np.roll(q, -1, axis=-1)
+        first = as_bool(scalar_first, "scalar_first")
+        canon = as_bool(canonical, "canonical")
+        if self._q.ndim == 1:
+            w, x, y, z = self._q.tolist()
+            if canon:  # + 0.0: no negative zeros, as the batch path
+                if _flip(w, x, y, z):
+                    w, x, y, z = -w, -x, -y, -z
+                w, x, y, z = w + 0.0, x + 0.0, y + 0.0, z + 0.0
+            return np.array((w, x, y, z) if first else (x, y, z, w))
+        q = _canonical(self._q) + 0.0 if canon else np.array(self._q)
+        return q if first else np.roll(q, -1, axis=-1)
 
     def as_matrix(self) -> np.ndarray:
         """Direction cosine matrices (..., 3, 3): ``A = E + 2 l0 l^ + 2 l^ l^`` (SPEC S2).
@@ -416,6 +556,10 @@ class Rotation:
                [ 1.,  0.,  0.],
                [ 0.,  0.,  1.]])
         """
+        if self._q.ndim == 1:
+            m = np.empty((3, 3))
+            kernels().to_matrix1(self._q, m)
+            return m
         return dcm.matrix_from_quat(self._q)
 
     def as_rotvec(self, *, degrees: bool = False) -> np.ndarray:
@@ -426,8 +570,13 @@ class Rotation:
         >>> Rotation.from_euler("z", -90, degrees=True).as_rotvec(degrees=True)
         array([  0.,   0., -90.])
         """
+        deg = as_bool(degrees, "degrees")
+        if self._q.ndim == 1:
+            v = np.empty(3)
+            kernels().to_rotvec1(self._q, v)
+            return v * _RAD if deg else v
         v = rotvec_mod.rotvec_from_quat(self._q)
-        return np.rad2deg(v) if degrees else v
+        return np.rad2deg(v) if deg else v
 
     def as_axis_angle(self, *, degrees: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Unit axis (..., 3) and angle (...) in ``[0, pi]``.
@@ -442,12 +591,13 @@ class Rotation:
         >>> axis + 0.0, float(angle)
         (array([ 0.,  0., -1.]), 0.5)
         """
+        deg = as_bool(degrees, "degrees")
         q = _canonical(self._q)
         v = q[..., 1:]
         n = np.sqrt(np.einsum("...i,...i->...", v, v))
         angle = 2.0 * np.arctan2(n, q[..., 0])
         axis = np.where((n > 0)[..., None], v / np.where(n > 0, n, 1.0)[..., None], [1.0, 0.0, 0.0])
-        if degrees:
+        if deg:
             angle = np.rad2deg(angle)
         return axis, angle[()]
 
@@ -467,8 +617,15 @@ class Rotation:
         >>> r.as_euler("euler", degrees=True).round(10)
         array([10., 20., 30.])
         """
+        deg = as_bool(degrees, "degrees")
+        code = _seq(seq)[2]
+        if self._q.ndim == 1 and code is not None:
+            a = np.empty(3)
+            if kernels().to_euler1(self._q, code, a):
+                euler.warn_gimbal_lock(seq, stacklevel=2)
+            return a * _RAD if deg else a
         a = euler.euler_from_quat(seq, self._q)
-        return np.rad2deg(a) if degrees else a
+        return np.rad2deg(a) if deg else a
 
     def as_gibbs(self) -> np.ndarray:
         """Gibbs vectors ``e tan(f/2)`` (..., 3); ``+-inf`` along the axis at ``f = pi``.
@@ -488,23 +645,40 @@ class Rotation:
         >>> Rotation.from_rotvec([0, 0, 180], degrees=True).as_mrp().round(12) + 0.0
         array([0., 0., 1.])
         """
+        if self._q.ndim == 1:
+            w, x, y, z = self._q.tolist()
+            if _flip(w, x, y, z):
+                w, x, y, z = -w, -x, -y, -z
+            d = 1.0 + w
+            return np.array((x / d, y / d, z / d))
         return rodrigues.mrp_from_quat(self._q)
 
     # ------------------------------------------------------------- operations
     def __mul__(self, other) -> Rotation:
         """``self * other``: ``other`` first, then ``self``, about fixed axes (SPEC S4)."""
         if not isinstance(other, Rotation):
-            return NotImplemented
+            _not_composable(other, "r * other")
         p, q = self._q, other._q
+        if p.ndim == 1 and q.ndim == 1:
+            return _new(S.hamilton(*p.tolist(), *q.tolist()))
         if p.shape != q.shape:
-            _broadcast_shapes("the two rotations", p.shape[:-1], q.shape[:-1])
+            shape = _broadcast_shapes("the two rotations", p.shape[:-1], q.shape[:-1])
+        else:
+            shape = p.shape[:-1]
         k = kernels()
-        out = k.qmul1(p, q) if p.ndim == 1 and q.ndim == 1 else k.qmul(p, q)
+        if big(shape) and p.shape[:-1] in (shape, ()) and q.shape[:-1] in (shape, ()):
+            out = np.empty(shape + (4,))
+            k.qmul_flat(flat(p, 4), flat(q, 4), out.reshape(-1, 4))
+        else:
+            out = k.qmul(p, q)
         # `out` is fresh and contiguous: no need for _wrap's copy checks
-        out.flags.writeable = False
+        out.setflags(write=False)
         obj = object.__new__(Rotation)
         obj._q = out
         return obj
+
+    def __rmul__(self, other):
+        _not_composable(other, "other * r")
 
     def inv(self) -> Rotation:
         """Inverse rotations (conjugate quaternions).
@@ -515,7 +689,15 @@ class Rotation:
         >>> bool((r * r.inv()).magnitude() < 1e-15)
         True
         """
-        return Rotation._wrap(conjugate_array(self._q))
+        q = self._q
+        if q.ndim == 1:
+            w, x, y, z = q.tolist()
+            return _new((w, -x, -y, -z))
+        if big(q.shape[:-1]):
+            out = np.empty(q.shape)
+            kernels().conj_flat(flat(q, 4), out.reshape(-1, 4))
+            return Rotation._wrap(out)
+        return Rotation._wrap(conjugate_array(q))
 
     def apply(self, vectors, *, inverse: bool = False) -> np.ndarray:
         """Rotate vectors (..., 3): ``v' = L o v o L~`` (SPEC S2), or the inverse.
@@ -531,11 +713,30 @@ class Rotation:
         array([[ 0.,  1.,  0.],
                [-1.,  0.,  0.]])
         """
+        inv = as_bool(inverse, "inverse")
+        q = self._q
+        if q.ndim == 1:
+            t = plain_vec3(vectors)
+            if t is not None:
+                w, x, y, z = q.tolist()
+                if inv:
+                    x, y, z = -x, -y, -z
+                return np.array(S.rotate(w, x, y, z, *t))
         v = as_vec3(vectors, "vectors")
-        if v.shape[:-1] != self.shape:
-            _broadcast_shapes("the rotations and `vectors`", self.shape, v.shape[:-1])
-        q = conjugate_array(self._q) if inverse else self._q
-        return kernels().qrot(q, v)
+        shape = self.shape
+        if v.shape[:-1] != shape:
+            shape = _broadcast_shapes("the rotations and `vectors`", shape, v.shape[:-1])
+        k = kernels()
+        if big(shape) and self.shape in (shape, ()) and v.shape[:-1] in (shape, ()):
+            qf = flat(q, 4)
+            if inv:
+                qf = conjugate_array(qf)
+            out = np.empty(shape + (3,))
+            k.qrot_flat(qf, flat(v, 3), out.reshape(-1, 3))
+            return out
+        if inv:
+            q = conjugate_array(q)
+        return k.qrot(q, v)
 
     def magnitude(self) -> np.ndarray:
         """Rotation angles in ``[0, pi]`` (radians), ``2 atan2(|l|, |l0|)``.
@@ -546,6 +747,8 @@ class Rotation:
         0.5
         """
         q = self._q
+        if q.ndim == 1:
+            return np.float64(S.angle(*q.tolist()))
         return (2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0])))[()]
 
     def __pow__(self, n) -> Rotation:
@@ -588,7 +791,7 @@ class Rotation:
             tol = float(as_float_array(atol, "atol"))  # type/finiteness named
             if tol < 0:
                 raise InvalidInputError(f"Expected `atol` to be non-negative, got {atol!r}.")
-            if degrees:
+            if as_bool(degrees, "degrees"):
                 tol = float(np.deg2rad(tol))
         return (other.inv() * self).magnitude() <= tol
 
@@ -661,6 +864,30 @@ def _as_rotation(r, name: str) -> Rotation:
     return r
 
 
+def _flip(w: float, x: float, y: float, z: float) -> bool:
+    """Whether ``-q`` is the canonical sign (``w > 0``, or the first non-zero > 0)."""
+    for c in (w, x, y, z):
+        if c != 0.0:
+            return c < 0.0
+    return False
+
+
+def _not_composable(other, expr: str):
+    kind = type(other)
+    if kind.__name__ == "Rotation":
+        hint = " (convert SciPy rotations with Rotation.from_quat(r.as_quat(scalar_first=True)))"
+    elif isinstance(other, numbers.Number | np.ndarray):
+        hint = " (rotations compose with rotations: use r.apply(v) for vectors, r ** n for powers)"
+    else:
+        hint = ""
+    name = (
+        kind.__qualname__
+        if kind.__module__ == "builtins"
+        else f"{kind.__module__}.{kind.__qualname__}"
+    )
+    raise InvalidTypeError(f"Expected a poinsot.Rotation in `{expr}`, got {name}{hint}.")
+
+
 def compose(rotations: Sequence[Rotation] | Rotation, *, axes: str = "fixed") -> Rotation:
     """Compose rotations ``L_1, ..., L_n`` listed in the order they are performed (SPEC S4).
 
@@ -712,6 +939,12 @@ def slerp(r0: Rotation, r1: Rotation, t) -> Rotation:
     array([0.  , 0.25, 1.  ])
     """
     r0, r1 = _as_rotation(r0, "r0"), _as_rotation(r1, "r1")
+    f = _real(t)
+    if f is not None and r0._q.ndim == 1 and r1._q.ndim == 1:
+        w0, x0, y0, z0 = r0._q.tolist()
+        a, b, c = S.to_rotvec(*S.hamilton(*r1._q.tolist(), w0, -x0, -y0, -z0))
+        step = S.from_rotvec(f * a, f * b, f * c)
+        return _new(S.hamilton(*step, w0, x0, y0, z0))
     t = as_float_array(t, "t")
     shape = _broadcast_shapes("`r0`, `r1` and `t`", r0.shape, r1.shape, t.shape)
     delta = (r1 * r0.inv()).as_rotvec()

@@ -1,0 +1,235 @@
+"""The rotation formulas on scalars, written once: plain Python, compiled by numba too.
+
+Each function takes and returns Python floats (tuples for several values) and uses
+only ``math`` and arithmetic, so it serves two callers unchanged:
+
+* the short path for *one* rotation in :class:`~poinsot.Rotation` (called as plain
+  Python on the floats of ``q.tolist()``: no NumPy dispatch, no numba call);
+* the compiled batch kernels of :mod:`poinsot.rotations._kernels`, which wrap them
+  with ``numba.njit(inline="always")`` (their cache is stamped with this file, see
+  ``docs/conventions.md``, "Compiled kernels").
+
+One rotation and a batch therefore run the same operations in the same order
+(bit-identical results for the same libm). Inputs are trusted: validation is done
+by the callers. Quaternions are Hamilton, scalar first ``(w, x, y, z)``
+(theory §1-§3).
+
+>>> hamilton(0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)      # i1 o i2 = i3
+(0.0, 0.0, 0.0, 1.0)
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = [
+    "hamilton",
+    "rotate",
+    "to_matrix",
+    "matrix_check",
+    "from_matrix",
+    "from_rotvec",
+    "to_rotvec",
+    "from_euler",
+    "to_euler",
+    "angle",
+]
+
+
+def hamilton(p0, p1, p2, p3, q0, q1, q2, q3):
+    """``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1)."""
+    return (
+        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+        p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2,
+        p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3,
+        p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1,
+    )
+
+
+def rotate(w, x, y, z, a, b, c):
+    """The sandwich ``q o v o q~`` expanded (theory §2).
+
+    ``v' = (w^2 - |u|^2) v + 2 (u.v) u + 2 w (u x v)``; for ``|q| != 1`` it is
+    scaled by ``|q|^2``.
+    """
+    s = w * w - (x * x + y * y + z * z)
+    d = 2.0 * (x * a + y * b + z * c)
+    w2 = 2.0 * w
+    return (
+        s * a + d * x + w2 * (y * c - z * b),
+        s * b + d * y + w2 * (z * a - x * c),
+        s * c + d * z + w2 * (x * b - y * a),
+    )
+
+
+def to_matrix(w, x, y, z):
+    """``A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T`` row by row, unit ``q`` (theory §2)."""
+    xx, yy, zz = x * x, y * y, z * z
+    xy, xz, yz = x * y, x * z, y * z
+    wx, wy, wz = w * x, w * y, w * z
+    return (
+        1.0 - 2.0 * (yy + zz),
+        2.0 * (xy - wz),
+        2.0 * (xz + wy),
+        2.0 * (xy + wz),
+        1.0 - 2.0 * (xx + zz),
+        2.0 * (yz - wx),
+        2.0 * (xz - wy),
+        2.0 * (yz + wx),
+        1.0 - 2.0 * (xx + yy),
+    )
+
+
+def matrix_check(a00, a01, a02, a10, a11, a12, a20, a21, a22):
+    """``(max |A^T A - E|, det A)`` of a 3x3 matrix given by rows."""
+    c00 = a00 * a00 + a10 * a10 + a20 * a20 - 1.0
+    c11 = a01 * a01 + a11 * a11 + a21 * a21 - 1.0
+    c22 = a02 * a02 + a12 * a12 + a22 * a22 - 1.0
+    c01 = a00 * a01 + a10 * a11 + a20 * a21
+    c02 = a00 * a02 + a10 * a12 + a20 * a22
+    c12 = a01 * a02 + a11 * a12 + a21 * a22
+    e = max(abs(c00), abs(c11), abs(c22), abs(c01), abs(c02), abs(c12))
+    det = (
+        a00 * (a11 * a22 - a12 * a21)
+        - a01 * (a10 * a22 - a12 * a20)
+        + a02 * (a10 * a21 - a11 * a20)
+    )
+    return e, det
+
+
+def from_matrix(a00, a01, a02, a10, a11, a12, a20, a21, a22):
+    """Unit quaternion of a rotation matrix, largest square first (theory §2).
+
+    ``4 l0^2 = 1 + tr A``, ``4 l1^2 = 1 + a11 - a22 - a33`` (cyclic): the largest
+    one is taken first (no singular case), the others from off-diagonal sums.
+    """
+    tr = a00 + a11 + a22
+    if tr >= a00 and tr >= a11 and tr >= a22:
+        q0, q1, q2, q3 = 1.0 + tr, a21 - a12, a02 - a20, a10 - a01
+    elif a00 >= a11 and a00 >= a22:
+        q0, q1, q2, q3 = a21 - a12, 1.0 + a00 - a11 - a22, a01 + a10, a02 + a20
+    elif a11 >= a22:
+        q0, q1, q2, q3 = a02 - a20, a01 + a10, 1.0 + a11 - a00 - a22, a12 + a21
+    else:
+        q0, q1, q2, q3 = a10 - a01, a02 + a20, a12 + a21, 1.0 + a22 - a00 - a11
+    n = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    return q0 / n, q1 / n, q2 / n, q3 / n
+
+
+def from_rotvec(a, b, c):
+    """``L = cos(f/2) + e sin(f/2)`` from ``phi = f e`` (theory §2).
+
+    Up to ``f = pi`` through the half-angle tangent ``t = tan(f/4)``:
+    ``cos(f/2) = (1 - t)(1 + t)/(1 + t^2)``, ``sin(f/2)/f = 2 (t/f)/(1 + t^2)``,
+    one ``tan`` instead of ``sin`` and ``cos``, accurate for tiny ``f`` (no series)
+    and near pi (``1 - t`` is exact there). The length is taken scaled when
+    ``|phi|^2`` would overflow.
+    """
+    m = max(abs(a), abs(b), abs(c))
+    if m > 1e150:
+        f = m * math.sqrt((a / m) * (a / m) + (b / m) * (b / m) + (c / m) * (c / m))
+    else:
+        f = math.sqrt(a * a + b * b + c * c)
+    if f == 0.0:
+        co, s = 1.0, 0.5
+    elif f <= math.pi:
+        t = math.tan(0.25 * f)
+        d = 1.0 / (1.0 + t * t)
+        co = (1.0 - t) * (1.0 + t) * d
+        s = 2.0 * (t / f) * d
+    else:
+        co = math.cos(0.5 * f)
+        s = math.sin(0.5 * f) / f
+    return co, s * a, s * b, s * c
+
+
+def to_rotvec(w, x, y, z):
+    """``phi = 2 atan2(|l|, l0) l / |l|`` with the canonical sign (theory §2).
+
+    The sign is SciPy's canonical one: ``w > 0``, or at exactly pi (``w = 0``) the
+    first non-zero vector component positive, so that ``f e`` (``f in [0, pi]``)
+    is unique there too. Accurate at every angle because ``atan2`` is.
+    """
+    if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
+        w, x, y, z = -w, -x, -y, -z
+    n = math.sqrt(x * x + y * y + z * z)
+    if n == 0.0:
+        s = 2.0 / w
+    else:
+        s = 2.0 * math.atan2(n, w) / n
+    return s * x, s * y, s * z
+
+
+def from_euler(axes, a0, a1, a2):
+    """``L = L_a1(f1) o L_a2(f2) o L_a3(f3)`` for an intrinsic sequence (theory §3).
+
+    ``axes`` lists the axes (0, 1, 2) of the sequence (1 to 3 of them; the unused
+    angles are ignored), ``L_a(f) = cos(f/2) + i_a sin(f/2)``. Each factor is
+    ``q o (c + s i_a)``; with ``i_a o i_b = i_d`` (cyclic) only these terms survive.
+    """
+    w, x, y, z = 1.0, 0.0, 0.0, 0.0
+    angles = (a0, a1, a2)
+    for n in range(len(axes)):
+        h = 0.5 * angles[n]
+        c, s = math.cos(h), math.sin(h)
+        a = axes[n]
+        if a == 0:
+            w, x, y, z = c * w - s * x, c * x + s * w, c * y + s * z, c * z - s * y
+        elif a == 1:
+            w, x, y, z = c * w - s * y, c * x - s * z, c * y + s * w, c * z + s * x
+        else:
+            w, x, y, z = c * w - s * z, c * x + s * y, c * y - s * x, c * z + s * w
+    return w, x, y, z
+
+
+def to_euler(w, x, y, z, i, j, k, extrinsic, eps):
+    """Euler angles ``(a1, a2, a3, singular)`` of a unit quaternion (theory §3).
+
+    Bernardes & Viollet (2022), "Quaternion to Euler angles conversion: a direct,
+    general and computationally efficient method", PLoS ONE 17(11): e0276302 (the
+    algorithm SciPy uses). ``i, j, k`` are the axes (0, 1, 2) of the sequence in
+    *extrinsic* order (the caller reverses intrinsic ones); ``extrinsic`` is a
+    bool. Within ``eps`` of gimbal lock only the sum (or difference) of the outer
+    angles is determined: the user's third angle is set to 0, the first holds it,
+    and the middle one snaps to its singular value (the angles then reproduce the
+    rotation to within ``eps``).
+    """
+    symmetric = i == k
+    if symmetric:
+        k = 3 - i - j
+    v = (x, y, z)
+    qi, qj, qk = v[i], v[j], v[k]
+    sign = float((i - j) * (j - k) * (k - i) // 2)
+    if symmetric:
+        a, b, c, d = w, qi, qj, qk * sign
+    else:
+        a, b, c, d = w - qj, qi + qk * sign, qj + w, qk * sign - qi
+    # |a|, |b|, |c|, |d| <= 2: sqrt(x^2 + y^2) cannot overflow, no need for hypot
+    mid = 2.0 * math.atan2(math.sqrt(c * c + d * d), math.sqrt(a * a + b * b))
+    half_sum = math.atan2(b, a)
+    half_diff = math.atan2(d, c)
+    tb_sign = 1.0 if symmetric else sign
+    case1 = abs(mid) <= eps
+    case2 = abs(mid - math.pi) <= eps
+    singular = case1 or case2
+    if singular:
+        combined = 2.0 * half_sum if case1 else 2.0 * half_diff * (-1.0 if extrinsic else 1.0)
+        first = combined if extrinsic else combined * tb_sign
+        third = 0.0
+        mid = 0.0 if case1 else math.pi
+    else:
+        lo = half_sum - half_diff
+        hi = (half_sum + half_diff) * tb_sign
+        first, third = (lo, hi) if extrinsic else (hi, lo)
+    if not symmetric:
+        mid -= 0.5 * math.pi
+    if first > math.pi or first < -math.pi:  # wrap to [-pi, pi]
+        first = (first + math.pi) % (2.0 * math.pi) - math.pi
+    if third > math.pi or third < -math.pi:
+        third = (third + math.pi) % (2.0 * math.pi) - math.pi
+    return first, mid, third, singular
+
+
+def angle(w, x, y, z):
+    """Rotation angle in ``[0, pi]``: ``2 atan2(|l|, |l0|)`` (theory §2)."""
+    return 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), abs(w))
