@@ -43,7 +43,9 @@ def test_free_body_first_integrals(body, method, order):
     assert tr.momentum_drift < 1e-12
     assert tr.momentum_vector_drift < 1e-12
     if method == "midpoint":
-        assert tr.energy_drift < 1e-12
+        # kept to round-off: up to 3000 steps x 3 stages accumulate at most ~9000 ulp
+        # (2e-12); observed up to 1.1e-12 for slow spins at order 4
+        assert tr.energy_drift < 1e-11
 
 
 @settings(max_examples=25, deadline=None)
