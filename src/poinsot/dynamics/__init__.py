@@ -64,6 +64,15 @@ from .particles import (
     simulate_particle,
     swing_plane_angles,
 )
+from .systems import (
+    FORCE_KINDS,
+    ForceClassification,
+    KoenigSplit,
+    LinePotential,
+    ParticleSystem,
+    classify_force,
+    shift_angular_momentum,
+)
 from .torques import (
     STANDARD_GRAVITY,
     CallableTorque,
@@ -131,4 +140,12 @@ __all__ = [
     "inverse_square",
     "harmonic",
     "power_law",
+    # forces and systems of particles (theory §9)
+    "classify_force",
+    "ForceClassification",
+    "LinePotential",
+    "FORCE_KINDS",
+    "ParticleSystem",
+    "KoenigSplit",
+    "shift_angular_momentum",
 ]

@@ -556,21 +556,23 @@ class CentralOrbit:
             self.unbound = False
             return
         self._circular = False
-        # inner root: halve until E - U_eff < 0
-        prev, r = start, start
-        for _ in range(2000):
+        # inner root: halve until E - U_eff < 0 (at most 2^-200 of the start)
+        prev, r, found = start, start, False
+        for _ in range(200):
             r = 0.5 * prev
-            if f(r) < 0:
+            g = float(self.energy - self._ueff_raw(np.array(r)))
+            if np.isnan(g):
+                f(r)  # raises the named error
+            if g == np.inf:  # U_eff -> -inf: the centre attracts faster than L^2/r^2 repels
+                break
+            if g < 0:
+                found = True
                 break
             prev = r
-            if r < 1e-300:
-                break
-        else:  # pragma: no cover
-            r = 0.0
-        if not f(r) < 0:
+        if not found:
             raise InvalidInputError(
                 "Expected an orbit that stays away from the centre: E - U_eff stays positive "
-                "down to r -> 0 (the particle falls into the centre)."
+                f"down to r = {r:.3g} m (the particle falls into the centre)."
             )
         self._r1 = brentq(f, r, prev, xtol=1e-300, rtol=4 * _EPS, maxiter=500)
         prev = start
