@@ -241,8 +241,8 @@ def classify_force(
                 return _call_force(force, t0, x, zero)
 
             J[k, :, j] = (8 * (f(r + e) - f(r - e)) - (f(r + 2 * e) - f(r - 2 * e))) / (12 * h)
-    jscale = max(float(np.max(np.abs(J))), scale / size)
-    asym = float(np.max(np.abs(J - np.swapaxes(J, -1, -2)))) / jscale
+    jmax = float(np.max(np.abs(J)))
+    asym = float(np.max(np.abs(J - np.swapaxes(J, -1, -2)))) / jmax if jmax > 0 else 0.0
     curl_free = asym <= rtol
 
     cosines = []
