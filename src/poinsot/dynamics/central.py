@@ -786,6 +786,11 @@ class CentralOrbit:
         return self._peri_time
 
     @property
+    def pericentre_angle(self) -> float:
+        """Angle (rad) of the pericentre from ``e1`` in the orbit plane."""
+        return float(self._peri_angle)
+
+    @property
     def pericentre_direction(self) -> np.ndarray:
         """Unit vector from the centre to the pericentre (space axes)."""
         a = self._peri_angle

@@ -14,12 +14,18 @@ from .free_body import (
 from .motion import (
     plot_acceleration_terms,
 )
-from .scenario import (
-    plot_angular_velocity,
-    plot_relative_change,
+from .particles import (
+    plot_effective_potential,
+    plot_orbit,
+    plot_particle_path,
+    plot_swing_plane,
 )
 from .report import (
     write_report,
+)
+from .scenario import (
+    plot_angular_velocity,
+    plot_relative_change,
 )
 
 __all__ = [
@@ -30,4 +36,8 @@ __all__ = [
     "write_report",
     "plot_angular_velocity",
     "plot_relative_change",
+    "plot_particle_path",
+    "plot_orbit",
+    "plot_effective_potential",
+    "plot_swing_plane",
 ]
