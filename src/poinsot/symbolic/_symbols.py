@@ -56,8 +56,12 @@ class Coordinates:
             sub[f.diff(t, 2)] = a
             sub[f.diff(t)] = v
         expr = sympy.sympify(expr)
-        expr = expr.subs(sub)
-        return expr.subs({f: p for f, p in zip(self.funcs, self.plain, strict=True)})
+        # xreplace (exact node matches, top-down: derivatives before the functions
+        # inside them) is much faster than subs on large expressions
+        expr = expr.xreplace(sub)
+        if any(isinstance(d, sympy.Derivative) for d in expr.atoms(sympy.Derivative)):
+            expr = expr.subs(sub)  # derivatives spelt differently (e.g. unevaluated forms)
+        return expr.xreplace({f: p for f, p in zip(self.funcs, self.plain, strict=True)})
 
     def to_funcs(self, expr):
         """Plain symbols -> ``q(t), q'(t), q''(t)``."""
