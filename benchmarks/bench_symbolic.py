@@ -21,6 +21,7 @@ The machine may be shared and loaded: ratios measured in the same run matter, no
 absolute times.
 """
 
+# ruff: noqa: B023  (the closures timed in each loop iteration run within it)
 from __future__ import annotations
 
 import argparse
@@ -145,7 +146,10 @@ def run(ns, rhs_cap, quick):
         args = [*q, *qd, m, l, g]
         t0 = time.perf_counter()
         mf = (sympy.lambdify(args, lm.mass_matrix), sympy.lambdify(args, lm.forcing))
-        mf_flat = (sympy.lambdify(args, list(lm.mass_matrix)), sympy.lambdify(args, list(lm.forcing)))
+        mf_flat = (
+            sympy.lambdify(args, list(lm.mass_matrix)),
+            sympy.lambdify(args, list(lm.forcing)),
+        )
         t_lmf = time.perf_counter() - t0
         lam_rhs = lam_rhs_flat = None
         if rhs_expr is not None:
