@@ -37,11 +37,18 @@ def g(x):
     return helpers.f(x) * 2.0
 """
 
+TRANS_HELPER = """
+from . import base
+
+DEPENDS = (base,)  # the helper is built from base.py: editing base must be seen
+f = base.f
+"""
+
 RUN = """
 import json
-import dep.kernel, plain.kernel
+import dep.kernel, plain.kernel, trans.kernel
 out = {}
-for name, mod in (("dep", dep.kernel), ("plain", plain.kernel)):
+for name, mod in (("dep", dep.kernel), ("plain", plain.kernel), ("trans", trans.kernel)):
     value = mod.g(1.0)
     out[name] = [value, mod.g.stats.cache_hits.get(mod.g.signatures[0], 0)]
 print(json.dumps(out))
@@ -58,6 +65,18 @@ def _write(root, inc):
         (d / "__init__.py").write_text("")
         (d / "helpers.py").write_text(HELPER.format(inc=inc))
         (d / "kernel.py").write_text(KERNEL.format(declare=declare))
+    # transitive: the kernel declares `helpers`, which lists `base` in DEPENDS;
+    # only base.py changes between runs
+    d = root / "trans"
+    d.mkdir(exist_ok=True)
+    (d / "__init__.py").write_text("")
+    (d / "base.py").write_text(HELPER.format(inc=inc))
+    (d / "helpers.py").write_text(TRANS_HELPER)
+    (d / "kernel.py").write_text(
+        KERNEL.format(
+            declare="from poinsot._numba_cache import depends_on\n\ndepends_on(__file__, helpers)"
+        )
+    )
 
 
 def _run(root, cache):
@@ -80,12 +99,14 @@ def test_editing_a_shared_helper_invalidates_the_kernel_cache(tmp_path):
     root.mkdir()
     _write(root, "1.0")
     first = _run(root, cache)
-    assert first == {"dep": [4.0, 0], "plain": [4.0, 0]}  # compiled, cached
+    assert first == {"dep": [4.0, 0], "plain": [4.0, 0], "trans": [4.0, 0]}  # compiled
     second = _run(root, cache)
     assert second["dep"] == [4.0, 1] and second["plain"] == [4.0, 1]  # loaded from cache
+    assert second["trans"] == [4.0, 1]
     _write(root, "2.25")  # edit only the helpers
     third = _run(root, cache)
     assert third["dep"][0] == 6.5  # recompiled with the new helper
+    assert third["trans"][0] == 6.5  # ... and through a helper's DEPENDS
     assert third["plain"][0] == 4.0  # numba alone: stale (the problem depends_on solves)
     fourth = _run(root, cache)
     assert fourth["dep"] == [6.5, 1]  # and the new entry is cached again

@@ -89,12 +89,20 @@ class _DependentLocator(caching._CacheLocator):
 def depends_on(kernel_file: str, *helpers: ModuleType | str) -> None:
     """Make the cached kernels of ``kernel_file`` depend on the ``helpers``' sources.
 
-    ``helpers`` are modules (their ``__file__``) or paths. Call it before the
-    kernels are decorated (numba picks the locator when ``@njit(cache=True)``
-    runs).
+    ``helpers`` are modules (their ``__file__``) or paths; a helper module's own
+    ``DEPENDS`` (modules it is built from) are followed, transitively. Call it
+    before the kernels are decorated (numba picks the locator when
+    ``@njit(cache=True)`` runs).
     """
-    paths = tuple(os.path.abspath(getattr(h, "__file__", h)) for h in helpers)
-    _DEPENDS[os.path.abspath(kernel_file)] = paths
+    paths: list[str] = []
+    todo = list(helpers)
+    while todo:  # a helper module lists the files it is built from in ``DEPENDS``
+        h = todo.pop(0)
+        path = os.path.abspath(getattr(h, "__file__", h))
+        if path not in paths:
+            paths.append(path)
+            todo.extend(getattr(h, "DEPENDS", ()))
+    _DEPENDS[os.path.abspath(kernel_file)] = tuple(paths)
     classes = _IMPL._locator_classes
     if _DependentLocator not in classes:
         classes.insert(0, _DependentLocator)

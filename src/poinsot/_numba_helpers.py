@@ -9,7 +9,9 @@ so that editing a helper invalidates their on-disk caches (see
 
 Formulas (theory §1, §5, §10):
 
-- :func:`qmul` Hamilton product ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)``;
+- :func:`qmul` Hamilton product ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)``
+  (from :mod:`poinsot.rotations._scalar`, whose plain-Python formulas also serve
+  the one-rotation short paths);
 - :func:`qmul_gibbs` ``L o (1, a)`` (unnormalised Cayley step);
 - :func:`qnormalize` ``L / |L|``;
 - :func:`qaxis` ``L o (c, s e_i)``: a turn about body axis ``i`` given ``cos``
@@ -31,6 +33,12 @@ import math
 
 from numba import njit
 
+from .rotations import _scalar as _S
+
+#: Files these helpers are built from: :func:`poinsot._numba_cache.depends_on` adds
+#: them to the cache stamp of every kernel that declares this module.
+DEPENDS = (_S,)
+
 __all__ = [
     "qmul",
     "qmul_gibbs",
@@ -46,15 +54,9 @@ __all__ = [
 _INLINE = {"inline": "always"}
 
 
-@njit(**_INLINE)
-def qmul(p0, p1, p2, p3, q0, q1, q2, q3):  # pragma: no cover - compiled
-    """``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1)."""
-    return (
-        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
-        p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2,
-        p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3,
-        p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1,
-    )
+#: ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1): the plain-Python
+#: :func:`poinsot.rotations._scalar.hamilton`, compiled inline (one formula, one place).
+qmul = njit(**_INLINE)(_S.hamilton)
 
 
 @njit(**_INLINE)
