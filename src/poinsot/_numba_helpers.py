@@ -82,16 +82,16 @@ def qaxis(q0, q1, q2, q3, c, s, i):  # pragma: no cover - compiled
     return qmul(q0, q1, q2, q3, c, 0.0, 0.0, s)
 
 
+_rotate = njit(**_INLINE)(_S.rotate)
+
+
 @njit(**_INLINE)
 def qrot_inverse(q0, q1, q2, q3, v0, v1, v2):  # pragma: no cover - compiled
-    """``R^T v = L~ o (0, v) o L / |L|^2``: body components of the space vector ``v``.
-
-    With ``u = -l``: ``v + 2 (l0 (u x v) + u x (u x v)) / |L|^2`` (theory §2).
-    """
-    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    c0, c1, c2 = cross(-q1, -q2, -q3, v0, v1, v2)
-    d0, d1, d2 = cross(-q1, -q2, -q3, c0, c1, c2)
-    return v0 + s * (q0 * c0 + d0), v1 + s * (q0 * c1 + d1), v2 + s * (q0 * c2 + d2)
+    """``R^T v = L~ o (0, v) o L / |L|^2``: body components of the space vector ``v``
+    (the sandwich of :func:`poinsot.rotations._scalar.rotate` with ``L~``; theory §2)."""
+    n2 = q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3
+    a, b, c = _rotate(q0, -q1, -q2, -q3, v0, v1, v2)
+    return a / n2, b / n2, c / n2
 
 
 @njit(**_INLINE)
