@@ -550,12 +550,31 @@ class CentralOrbit:
         f = lambda r: float(self._gap(np.array(r)))  # noqa: E731
         g0 = f(start)
         scale = abs(E) + abs(E - g0) + _EPS
-        if g0 <= 4 * _EPS * scale:  # the bottom of a well: a circular orbit
-            self._r1 = self._r2 = start
-            self._circular = True
-            self.unbound = False
-            return
         self._circular = False
+        if g0 <= 4 * _EPS * scale:  # at an apsis, or at the bottom of a well
+            slope = float(self._ueff_deriv(np.array(start)))
+            size = abs(float(self.potential._deriv(np.array(start)))) + abs(
+                self.angular_momentum**2 / (self.mass * start**3)
+            )
+            if abs(slope) <= 1e-11 * size:  # U_eff' = 0 too: a circular orbit
+                self._r1 = self._r2 = start
+                self._circular = True
+                self.unbound = False
+                return
+            # step into the allowed side until E - U_eff > 0
+            sgn = -1.0 if slope > 0 else 1.0
+            delta = 1e-13
+            while delta < 1e-4:
+                probe = start * (1.0 + sgn * delta)
+                if f(probe) > 0:
+                    break
+                delta *= 2.0
+            else:  # E - U_eff never rises above round-off: circular to double precision
+                self._r1 = self._r2 = start
+                self._circular = True
+                self.unbound = False
+                return
+            start = probe
         # inner root: halve until E - U_eff < 0 (at most 2^-200 of the start)
         prev, r, found = start, start, False
         for _ in range(200):
@@ -591,15 +610,19 @@ class CentralOrbit:
             self._r2 = brentq(f, prev, r, xtol=1e-300, rtol=4 * _EPS, maxiter=500)
             if self.potential.has_derivative and self._r2 - self._r1 <= 0.25 * self._r1:
                 # nearly circular: make U_eff(r2) = U_eff(r1) hold through int_{r1}^{r2} U_eff'
-                # (the roots of a near-double root are only ~sqrt(eps) accurate)
+                # (the roots of a near-double root are only ~sqrt(eps) accurate), bracketed
+                # between the midpoint (rise < 0) and beyond r2 (rise > 0)
                 x, w = _leggauss(32)
-                for _ in range(8):
-                    h = 0.5 * (self._r2 - self._r1)
-                    integral = h * float(self._ueff_deriv(self._r1 + h * (x + 1.0)) @ w)
-                    step = integral / float(self._ueff_deriv(np.array(self._r2)))
-                    self._r2 -= step
-                    if abs(step) <= 2 * _EPS * self._r2:
-                        break
+                r1 = self._r1
+
+                def rise(r2):
+                    h = 0.5 * (r2 - r1)
+                    return h * float(self._ueff_deriv(r1 + h * (x + 1.0)) @ w)
+
+                a = 0.5 * (r1 + self._r2)
+                b = self._r2 + 0.5 * (self._r2 - r1)
+                if rise(a) < 0 < rise(b):
+                    self._r2 = brentq(rise, a, b, xtol=1e-300, rtol=4 * _EPS, maxiter=500)
 
     @property
     def apsides(self) -> Apsides:
@@ -827,12 +850,11 @@ class CentralOrbit:
         return KeplerConic(p=p, e=e, a=a, period=period, mean_motion=n)
 
     def _kepler_true_anomaly_at(self, r, rdot):
+        """``nu`` from ``e cos nu = p/r - 1`` and ``e sin nu = r' m p / |L|`` (atan2)."""
         c = self.conic
         if c.e == 0:
             return 0.0
-        cosnu = (c.p / r - 1.0) / c.e
-        nu = math.acos(max(-1.0, min(1.0, cosnu)))
-        return nu if rdot >= 0 else -nu
+        return math.atan2(rdot * self.mass * c.p / abs(self.angular_momentum), c.p / r - 1.0)
 
     def _kepler_time_since_pericentre(self):
         c = self.conic
