@@ -117,29 +117,16 @@ def as_positive(x, name: str, *, strict: bool = True) -> np.ndarray:
 _SCALAR_TYPES = (float, int, np.float64)
 
 
-def plain_vec3(x) -> tuple[float, float, float] | None:
-    """Short path for one 3-vector: ``(a, b, c)`` as Python floats when ``x`` is a list or
+def plain_vec3(x) -> list[float] | None:
+    """Short path for one 3-vector: ``[a, b, c]`` as Python floats when ``x`` is a list or
     tuple of three real numbers (not bools) or a float64 array of shape ``(3,)``, all
     finite; else ``None`` (the caller then takes its general, validating path, which
     reports the error). Used where one state must cost about what NumPy costs.
 
     >>> plain_vec3([1, 2.5, 3.0]), plain_vec3([1.0, float("nan"), 0.0])
-    ((1.0, 2.5, 3.0), None)
+    ([1.0, 2.5, 3.0], None)
     """
-    if type(x) is np.ndarray:
-        if x.shape != (3,) or x.dtype != np.float64:
-            return None
-        a, b, c = x.tolist()
-    elif type(x) in (list, tuple) and len(x) == 3:
-        a, b, c = x
-        if not (type(a) in _SCALAR_TYPES and type(b) in _SCALAR_TYPES and type(c) in _SCALAR_TYPES):
-            return None
-        a, b, c = float(a), float(b), float(c)
-    else:
-        return None
-    if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c)):
-        return None
-    return a, b, c
+    return plain_floats(x, 3)
 
 
 def plain_floats(x, n: int) -> list[float] | None:

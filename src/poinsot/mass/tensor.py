@@ -253,7 +253,7 @@ def check_principal_moments(
     return m
 
 
-def single_principal_moments(x) -> tuple[float, float, float] | None:
+def single_principal_moments(x) -> list[float] | None:
     """Short path of :func:`check_principal_moments` for one plain 3-vector: the moments as
     Python floats when they pass the same checks (finite, positive, ``A + B >= C`` within
     ``RTOL`` of the largest), else ``None`` (the caller's general path then raises)."""
