@@ -130,10 +130,10 @@ quat_to_euler_serial = njit(cache=True)(quat_to_euler.py_func)
 # (N, k) contiguous arrays; a first argument with one row broadcasts.
 @njit(**_PAR)
 def qmul_flat(p, q, r):  # pragma: no cover - compiled
-    sp, sq = p.shape[0] > 1, q.shape[0] > 1
+    lp, lq = p.shape[0] - 1, q.shape[0] - 1
     for n in prange(r.shape[0]):
-        a = n if sp else 0
-        b = n if sq else 0
+        a = min(np.int64(n), lp)
+        b = min(np.int64(n), lq)
         r[n, 0], r[n, 1], r[n, 2], r[n, 3] = _hamilton(
             p[a, 0], p[a, 1], p[a, 2], p[a, 3], q[b, 0], q[b, 1], q[b, 2], q[b, 3]
         )
@@ -141,10 +141,10 @@ def qmul_flat(p, q, r):  # pragma: no cover - compiled
 
 @njit(**_PAR)
 def qrot_flat(q, v, out):  # pragma: no cover - compiled
-    sq, sv = q.shape[0] > 1, v.shape[0] > 1
+    lq, lv = q.shape[0] - 1, v.shape[0] - 1
     for n in prange(out.shape[0]):
-        a = n if sq else 0
-        b = n if sv else 0
+        a = min(np.int64(n), lq)
+        b = min(np.int64(n), lv)
         out[n, 0], out[n, 1], out[n, 2] = _rotate(
             q[a, 0], q[a, 1], q[a, 2], q[a, 3], v[b, 0], v[b, 1], v[b, 2]
         )

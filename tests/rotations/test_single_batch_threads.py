@@ -1,0 +1,283 @@
+"""One rotation, a small batch and a threaded large batch give the same numbers.
+
+A single rotation takes a short path (plain Python or a one-rotation numba call on
+the scalar formulas of ``rotations._scalar``); small batches the broadcasting
+gufuncs; batches of at least ``PARALLEL_MIN_SIZE`` the threaded flat loops. All
+three run the same formula, so they must agree bit for bit (where the same
+operations run) and the threaded result must not depend on the thread count.
+Also the input defects of issue 8 section 4 / issue 9 (bools, unit quaternions
+with ``normalize=False``, ``Rotation * 3``, empty sets).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numba
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation as SciPyRotation
+
+from poinsot import GimbalLockWarning, InvalidInputError, InvalidTypeError, Rotation, slerp
+from poinsot.rotations import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
+from rotation_cases import all_quaternions
+
+Q = all_quaternions()
+SEQS = ["ZXZ", "zxz", "XYZ", "xyz", "ZYX", "yzy", "XZY", "euler", "krylov"]
+
+
+def _singles(method, *args, **kw):
+    return np.array([getattr(Rotation.from_quat(q), method)(*args, **kw) for q in Q])
+
+
+@pytest.mark.parametrize(
+    "method, args",
+    [("as_matrix", ()), ("as_rotvec", ()), ("as_mrp", ()), ("magnitude", ()), ("as_quat", ())]
+    + [("as_euler", (s,)) for s in SEQS],
+)
+def test_one_rotation_equals_its_row_in_a_batch(method, args):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GimbalLockWarning)
+        batch = getattr(Rotation.from_quat(Q), method)(*args)
+        one = _singles(method, *args)
+    # the same scalar formula: equal to the last bit except magnitude (NumPy's norm
+    # there sums in another order), within 2 ulp of pi
+    atol = 1e-15 if method == "magnitude" else 0.0
+    np.testing.assert_allclose(one, batch, rtol=0, atol=atol)
+
+
+def test_single_constructors_equal_batch_constructors():
+    rng = np.random.default_rng(3)
+    angles = rng.uniform(-4, 4, (50, 3))
+    for seq in SEQS:
+        batch = Rotation.from_euler(seq, angles).as_quat()
+        one = np.array([Rotation.from_euler(seq, a).as_quat() for a in angles])
+        one_list = np.array([Rotation.from_euler(seq, a.tolist()).as_quat() for a in angles])
+        np.testing.assert_array_equal(one, batch)
+        np.testing.assert_array_equal(one_list, batch)
+    for deg in (False, True):
+        batch = Rotation.from_rotvec(angles, degrees=deg).as_quat()
+        one = np.array([Rotation.from_rotvec(a, degrees=deg).as_quat() for a in angles])
+        np.testing.assert_array_equal(one, batch)
+    m = Rotation.from_quat(Q).as_matrix()
+    np.testing.assert_array_equal(
+        np.array([Rotation.from_matrix(a).as_quat() for a in m]), Rotation.from_matrix(m).as_quat()
+    )
+    # one-axis sequences with a scalar angle (single rotation)
+    for seq in "xyzXYZ":
+        np.testing.assert_array_equal(
+            Rotation.from_euler(seq, 0.7).as_quat(), Rotation.from_euler(seq, [0.7]).as_quat()[0]
+        )
+    # non-unit quaternions, lists and scalar-last order
+    raw = rng.standard_normal((40, 4)) * 3.0
+    np.testing.assert_allclose(
+        np.array([Rotation.from_quat(list(q)).as_quat() for q in raw]),
+        Rotation.from_quat(raw).as_quat(),
+        rtol=0,
+        atol=2e-16,
+    )
+    np.testing.assert_array_equal(
+        Rotation.from_quat(Q[5], scalar_first=False).as_quat(),
+        Rotation.from_quat(Q[5:6], scalar_first=False).as_quat()[0],
+    )
+
+
+def test_single_operations_match_scipy():
+    rng = np.random.default_rng(4)
+    v = rng.standard_normal(3)
+    for q, p in zip(Q[::7], Q[3::7], strict=False):
+        r, s = Rotation.from_quat(q), Rotation.from_quat(p)
+        sr, ss = (
+            SciPyRotation.from_quat(q, scalar_first=True),
+            SciPyRotation.from_quat(p, scalar_first=True),
+        )
+        np.testing.assert_allclose(r.apply(v), sr.apply(v), rtol=0, atol=1e-14)
+        np.testing.assert_allclose(r.apply(v, inverse=True), sr.apply(v, inverse=True), atol=1e-14)
+        d = (r * s).as_quat() - (sr * ss).as_quat(scalar_first=True)
+        e = (r * s).as_quat() + (sr * ss).as_quat(scalar_first=True)
+        assert min(np.abs(d).max(), np.abs(e).max()) < 1e-15
+        assert (r.inv() * r).magnitude() < 1e-15
+        np.testing.assert_allclose(r.magnitude(), sr.magnitude(), rtol=0, atol=1e-15)
+        # slerp of singles against the batch formula and its end points
+        for t in (0.0, 0.3, 1.0):
+            one = slerp(r, s, t)
+            many = slerp(r, s, [t])[0]
+            np.testing.assert_array_equal(one.as_quat(), many.as_quat())
+        assert slerp(r, s, 1.0).approx_equal(s, atol=1e-14)
+
+
+def test_single_gimbal_lock_warns_like_batch():
+    r = Rotation.from_euler("ZXZ", [0.3, 0.0, 0.2])
+    with pytest.warns(GimbalLockWarning, match="Gimbal lock"):
+        a = r.as_euler("ZXZ")
+    np.testing.assert_allclose(a, [0.5, 0.0, 0.0], atol=1e-15)
+
+
+@pytest.fixture(scope="module")
+def big():
+    rng = np.random.default_rng(11)
+    n = PARALLEL_MIN_SIZE + 1001
+    q = rng.standard_normal((n, 4))
+    q[::97] = Q[: len(q[::97])] if len(Q) >= len(q[::97]) else q[::97]
+    return Rotation.from_quat(q), rng.standard_normal((n, 3)), rng.uniform(-4, 4, (n, 3))
+
+
+def _all_ops(r, v, ang):
+    r2 = r[::-1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GimbalLockWarning)
+        return {
+            "matrix": r.as_matrix(),
+            "from_matrix": Rotation.from_matrix(r.as_matrix()).as_quat(),
+            "rotvec": r.as_rotvec(),
+            "from_rotvec": Rotation.from_rotvec(v * 3).as_quat(),
+            "euler": r.as_euler("ZXZ"),
+            "euler_tb": r.as_euler("xyz"),
+            "from_euler": Rotation.from_euler("ZXY", ang).as_quat(),
+            "compose": (r * r2).as_quat(),
+            "compose_one": (r * r[0]).as_quat(),
+            "apply": r.apply(v),
+            "apply_inv": r.apply(v, inverse=True),
+            "apply_one": r[3].apply(v),
+            "inv": r.inv().as_quat(),
+        }
+
+
+def test_large_batches_equal_small_batches(big):
+    r, v, ang = big
+    whole = _all_ops(r, v, ang)
+    k = 997  # the same rows through the small-batch (gufunc) kernels
+    part = _all_ops(r[:k], v[:k], ang[:k])
+    for name, got in part.items():
+        if name in ("compose", "compose_one", "apply_one"):
+            continue  # depend on other rows
+        np.testing.assert_array_equal(whole[name][:k], got, err_msg=name)
+    small = Rotation.from_quat(r.as_quat()[:k])
+    np.testing.assert_array_equal(whole["apply_one"][:k], r[3].apply(v[:k]))
+    np.testing.assert_array_equal(whole["compose_one"][:k], (small * r[0]).as_quat())
+
+
+def test_threads_give_bit_identical_results(big):
+    r, v, ang = big
+    n0 = get_num_threads()
+    try:
+        set_num_threads(1)
+        one = _all_ops(r, v, ang)
+        set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        many = _all_ops(r, v, ang)
+    finally:
+        set_num_threads(n0)
+    for name in one:
+        np.testing.assert_array_equal(one[name], many[name], err_msg=name)
+
+
+def test_set_num_threads_checks_its_argument():
+    with pytest.raises(InvalidTypeError, match="`n` to be an integer"):
+        set_num_threads(1.5)
+    with pytest.raises(InvalidInputError, match="`n` to be an integer >= 1"):
+        set_num_threads(0)
+    with pytest.raises(InvalidInputError, match="at most NUMBA_NUM_THREADS"):
+        set_num_threads(numba.config.NUMBA_NUM_THREADS + 1)
+
+
+# ------------------------------------------------------------------ input defects
+def test_normalize_false_refuses_non_unit_quaternions():
+    q = np.array([1.0, 1.0, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match=r"`quat` to be unit quaternions .*normalize=True"):
+        Rotation(q, normalize=False)
+    # unit to round-off: stored as given, and apply preserves lengths
+    u = q / np.linalg.norm(q)
+    r = Rotation(u, normalize=False)
+    np.testing.assert_array_equal(r.as_quat(), u)
+    v = np.array([0.3, -2.0, 5.0])
+    np.testing.assert_allclose(np.linalg.norm(r.apply(v)), np.linalg.norm(v), rtol=1e-15)
+    np.testing.assert_allclose(Rotation(q).as_quat(), u, rtol=0, atol=1e-16)
+
+
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: Rotation.from_quat([1, 0, 0, 0], scalar_first="no"), "scalar_first"),
+        (lambda: Rotation.from_rotvec([0, 0, 1], degrees="no"), "degrees"),
+        (lambda: Rotation.from_rotvec([[0, 0, 1]], degrees=1), "degrees"),
+        (lambda: Rotation.from_euler("ZXZ", [1, 2, 3], degrees="no"), "degrees"),
+        (lambda: Rotation.from_axis_angle([0, 0, 1], 1.0, degrees="yes"), "degrees"),
+        (lambda: Rotation.identity().as_euler("ZXZ", degrees="no"), "degrees"),
+        (lambda: Rotation.identity().as_rotvec(degrees=None), "degrees"),
+        (lambda: Rotation.identity().as_axis_angle(degrees="no"), "degrees"),
+        (lambda: Rotation.identity().as_quat(scalar_first="no"), "scalar_first"),
+        (lambda: Rotation.identity().as_quat(canonical="no"), "canonical"),
+        (lambda: Rotation.identity().apply([1, 0, 0], inverse="no"), "inverse"),
+        (
+            lambda: Rotation.identity().approx_equal(Rotation.identity(), atol=1, degrees="no"),
+            "degrees",
+        ),
+        (lambda: Rotation([1, 0, 0, 0], normalize="no"), "normalize"),
+    ],
+)
+def test_flags_must_be_bools(call, name):
+    with pytest.raises(InvalidTypeError, match=f"Expected `{name}` to be a bool, got"):
+        call()
+
+
+def test_wrong_types_are_type_errors():
+    with pytest.raises(InvalidTypeError, match="`seq` to be a string, got int"):
+        Rotation.from_euler(3, [1, 2, 3])
+    with pytest.raises(InvalidTypeError, match="`seq` to be a string"):
+        Rotation.identity().as_euler(None)
+    with pytest.raises(InvalidTypeError, match="`quat` to be array-like of real numbers"):
+        Rotation.from_quat([1, 0, "a", 0])
+    with pytest.raises(InvalidTypeError, match="`vectors` to be array-like"):
+        Rotation.identity().apply("x")
+    r = Rotation.identity()
+    with pytest.raises(
+        InvalidTypeError, match=r"poinsot.Rotation in `r \* other`, got int .*apply"
+    ):
+        r * 3
+    with pytest.raises(InvalidTypeError, match=r"poinsot.Rotation in `other \* r`, got float"):
+        2.0 * r
+    with pytest.raises(InvalidTypeError, match=r"got numpy.ndarray"):
+        r * np.eye(3)
+    with pytest.raises(InvalidTypeError, match="convert SciPy rotations"):
+        r * SciPyRotation.identity()
+
+
+def test_short_paths_still_validate():
+    with pytest.raises(InvalidInputError, match="finite"):
+        Rotation.from_quat([1.0, np.nan, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match="finite"):
+        Rotation.from_rotvec(np.array([np.inf, 0.0, 0.0]))
+    with pytest.raises(InvalidInputError, match="non-zero"):
+        Rotation.from_quat(np.zeros(4))
+    with pytest.raises(InvalidInputError, match=r"shape \(\.\.\., 3\)"):
+        Rotation.identity().apply([1.0, 2.0])
+    with pytest.raises(InvalidInputError, match="determinant"):
+        Rotation.from_matrix(-np.eye(3))
+    with pytest.raises(InvalidInputError, match="orthogonal within 0"):
+        Rotation.from_matrix(np.diag([1.0, 1.0, 1.0 + 1e-15]), atol=0.0)
+    with pytest.raises(InvalidInputError, match="finite"):
+        Rotation.from_euler("ZXZ", [0.0, np.nan, 0.0])
+    # huge and tiny quaternions go to the robust general path
+    np.testing.assert_array_equal(
+        Rotation.from_quat([1e200, 0, 0, 1e200]).as_quat(),
+        Rotation.from_quat([1.0, 0, 0, 1.0]).as_quat(),
+    )
+    np.testing.assert_array_equal(
+        Rotation.from_quat([0, 1e-200, 0, 0]).as_quat(), [0.0, 1.0, 0.0, 0.0]
+    )
+
+
+def test_empty_sets_follow_scipy():
+    r = Rotation.from_quat(np.empty((0, 4)))
+    s = SciPyRotation.from_quat(np.empty((0, 4)), scalar_first=True)
+    assert r.shape == (0,) and len(r) == 0
+    assert r.as_matrix().shape == s.as_matrix().shape == (0, 3, 3)
+    assert r.as_rotvec().shape == s.as_rotvec().shape == (0, 3)
+    assert r.as_euler("ZXZ").shape == s.as_euler("ZXZ").shape == (0, 3)
+    assert r.apply(np.empty((0, 3))).shape == (0, 3)
+    assert (r * r).shape == (0,) and r.inv().shape == (0,) and r.magnitude().shape == (0,)
+    assert Rotation.from_rotvec(np.empty((0, 3))).shape == (0,)
+    assert Rotation.from_euler("xyz", np.empty((0, 3))).shape == (0,)
+    assert Rotation.from_matrix(np.empty((0, 3, 3))).shape == (0,)
+    with pytest.raises(InvalidInputError, match="at least one rotation"):
+        r.mean()
