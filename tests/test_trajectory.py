@@ -90,3 +90,12 @@ def test_info_keys_used_by_the_library_are_documented():
     runs.append(propagate([1.0, 0, 0, 0], w, t4, method="adaptive"))
     for tr in runs:
         assert set(tr.info) <= set(INFO_KEYS), (tr.method, set(tr.info) - set(INFO_KEYS))
+
+
+def test_info_keys_of_the_exact_solutions_are_documented():
+    from poinsot.dynamics import FreeRigidBody
+    from poinsot.trajectory import INFO_KEYS
+
+    t = np.linspace(0.0, 1.0, 3)
+    tr = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.1]).trajectory(t)
+    assert set(tr.info) <= set(INFO_KEYS), set(tr.info) - set(INFO_KEYS)

@@ -47,7 +47,9 @@ INFO_KEYS = {
     "omega_input": "kind of prescribed angular velocity ('constant', 'callable', 'samples')",
     "interpolation": "interpolation of sampled angular velocities",
     "chunks": "number of pieces a long run was split into (int)",
-    "closed_form": "name of the closed-form solution used (e.g. 'coning')",
+    "closed_form": "name of the closed-form solution used (e.g. 'coning', 'jacobi')",
+    "motion_type": "kind of motion of a closed form (e.g. a Lagrange top's nutation type)",
+    "path": "which implementation ran (e.g. compiled kernel or solve_ivp fallback)",
 }
 
 
@@ -75,7 +77,7 @@ class Trajectory:
         ``stages_per_step``, ``rtol``, ``atol``, ``solver``, ``evaluations``,
         ``status``, ``message``, ``torque_calls``, ``max_newton_iterations``,
         ``regime``, ``frame``, ``omega_input``, ``interpolation``, ``chunks``,
-        ``closed_form``
+        ``closed_form``, ``motion_type``, ``path``
         (each method sets those that apply).
     position : ndarray, shape (n, 3) or (n, N, 3), optional
         Translational part: position of the body's reference point (or a
