@@ -190,10 +190,13 @@ def one_body(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, o
             h_abs = max_step
         elif h_abs < min_step:
             h_abs = min_step
+        if not np.isfinite(f[4] + f[5] + f[6] + y[4] + y[5] + y[6]):
+            stats[3] = NONFINITE
+            break
         step_rejected = False
         failed = False
         while True:
-            if h_abs < min_step:
+            if not h_abs >= min_step:  # also catches a NaN step from a non-finite state
                 failed = True
                 break
             t_new = t + h_abs
@@ -328,3 +331,73 @@ def integrate_batch(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps
             y0[b], J[b], Ji[b], kind, par[b], t_out, rtol, atol, max_step, max_steps,
             oq[:, b, :], ow[:, b, :], stats[b],
         )
+
+
+# ---------------------------------------------------------------------------
+# Python driver (inputs already validated by the caller)
+# ---------------------------------------------------------------------------
+
+
+def torque_kernel(torque, batch: tuple[int, ...]):
+    """``(kind, par (batch + (4,)))`` for a built-in torque model, else ``None``.
+
+    ``None`` (no torque) is kind 0. A torque the kernel does not know (a Python
+    callable) returns ``None``: the caller takes its slower path.
+    """
+    from . import torques as _tq
+
+    par = np.zeros(batch + (4,))
+    if torque is None:
+        return 0, par
+    if isinstance(torque, _tq.ConstantBodyTorque | _tq.ConstantSpaceTorque):
+        par[..., :3] = torque.torque
+        return (1 if isinstance(torque, _tq.ConstantBodyTorque) else 2), par
+    if isinstance(torque, _tq.GravityTorque):
+        par[..., 0] = 1.0
+        par[..., 1:] = torque.moment
+        return 3, par
+    gradient = getattr(_tq, "GravityGradientTorque", None)
+    if gradient is not None and isinstance(torque, gradient):
+        par[..., 0] = torque.coefficient
+        par[..., 1:] = torque.direction
+        return 4, par
+    return None
+
+
+def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
+    """Run the fused kernel on validated arrays.
+
+    ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
+    axes, ``q0`` (..., 4) unit quaternions, ``w0`` (..., 3) rad/s, ``t`` (n,)
+    increasing output times; ``torque`` ``None`` or a built-in model of
+    :mod:`poinsot.dynamics.torques`. Returns ``(quat (n, ..., 4), omega
+    (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built in.
+    """
+    j = np.asarray(j, dtype=float)
+    if j.shape[-2:] != (3, 3):
+        j = j[..., :, None] * np.eye(3)
+    batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], w0.shape[:-1])
+    kp = torque_kernel(torque, batch)
+    if kp is None:
+        return None
+    kind, par = kp
+    n_body = int(np.prod(batch, dtype=np.int64))
+    jj = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
+    ji = np.linalg.inv(jj)
+    y0 = np.empty((n_body, 7))
+    y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
+    y0[:, 4:] = np.broadcast_to(w0, batch + (3,)).reshape(n_body, 3)
+    par = np.ascontiguousarray(par.reshape(n_body, 4))
+    t = np.ascontiguousarray(t, dtype=float)
+    oq = np.empty((t.size, n_body, 4))
+    ow = np.empty((t.size, n_body, 3))
+    stats = np.zeros((n_body, 4), dtype=np.int64)
+    integrate_batch(
+        y0, jj, ji, kind, par, t, float(rtol), float(atol),
+        float(np.inf if max_step is None else max_step), int(max_steps), oq, ow, stats,
+    )
+    return (
+        oq.reshape((t.size,) + batch + (4,)),
+        ow.reshape((t.size,) + batch + (3,)),
+        stats.reshape(batch + (4,)),
+    )

@@ -63,8 +63,10 @@ SHAPES: dict[str, tuple[str, ...]] = {
     "ring": ("radius",),
 }
 
+#: Tables read by ``poinsot ensemble`` (:mod:`poinsot.ensemble`), passed over by ``run``.
+_ENSEMBLE_KEYS = ("dispersion", "metric")
 #: Top-level keys read for every kind (each kind adds its own tables).
-_COMMON_KEYS = ("name", "description", "kind", "attitude", "simulation")
+_COMMON_KEYS = ("name", "description", "kind", "attitude", "simulation", *_ENSEMBLE_KEYS)
 _ATTITUDE_KEYS = ("quat", "matrix", "rotvec", "axis", "euler", "gibbs", "mrp")
 _EVERY_ATTITUDE_KEY = (
     *_ATTITUDE_KEYS,
@@ -227,6 +229,9 @@ def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenari
                 + ".",
             )
     simulation = _simulation(top.table("simulation", required=True), kind, fields)
+    for key in _ENSEMBLE_KEYS:  # read by poinsot.ensemble
+        if top.has(key):
+            top.raw(key)
     top.finish(_COMMON_KEYS + kind.tables)
     return Scenario(
         name=name,

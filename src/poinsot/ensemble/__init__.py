@@ -1,0 +1,48 @@
+"""Monte-Carlo ensembles: dispersed rigid-body motions on Dask (``poinsot[ensemble]``).
+
+``import poinsot`` does not import this package, Dask or pyarrow; they load when
+an ensemble runs. See :func:`run`, :mod:`poinsot.ensemble.dispersion` (how inputs
+are drawn) and :mod:`poinsot.ensemble.metrics` (what is recorded), and the docs
+page ``docs/ensembles.md``.
+"""
+
+from .dispersion import (
+    DISTRIBUTIONS,
+    Choice,
+    Dispersion,
+    LogNormal,
+    Normal,
+    SmallRotation,
+    TruncatedLogNormal,
+    TruncatedNormal,
+    Uniform,
+    UniformRotation,
+)
+from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, run, run_chunk
+from .metrics import COMPONENTS, METRICS, Metric
+from .scenario import load_ensemble, problem_from_scenario, run_scenario_ensemble
+
+__all__ = [
+    "run",
+    "run_chunk",
+    "EnsembleProblem",
+    "EnsembleResult",
+    "EnsembleError",
+    "QUANTITIES",
+    "Metric",
+    "METRICS",
+    "COMPONENTS",
+    "Dispersion",
+    "Normal",
+    "TruncatedNormal",
+    "Uniform",
+    "LogNormal",
+    "TruncatedLogNormal",
+    "Choice",
+    "SmallRotation",
+    "UniformRotation",
+    "DISTRIBUTIONS",
+    "load_ensemble",
+    "problem_from_scenario",
+    "run_scenario_ensemble",
+]

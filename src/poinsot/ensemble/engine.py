@@ -1,0 +1,474 @@
+"""Monte-Carlo ensembles of rigid-body motions, chunked, on Dask or in-process.
+
+An :class:`EnsembleProblem` is a nominal rigid-body scenario (free, torqued or
+heavy body about a fixed point) plus dispersions of its inputs and the metrics
+to record. :func:`run` splits the ``samples`` into chunks of ``chunk_size``;
+each chunk draws its inputs from its own seed and integrates all its samples
+in **one** call of the compiled batch integrator (``simulate(method="dop853")``'s
+kernel, every sample with its own step-size control), then evaluates the
+metrics. Chunks run on a Dask cluster (a local one by default) and are written
+as Parquet files as they arrive.
+
+**Reproducibility.** Chunk ``i`` draws from
+``numpy.random.SeedSequence(seed, spawn_key=(i,))`` (the ``i``-th child that
+``SeedSequence(seed).spawn`` gives), and every sample of the compiled
+integrator is independent of the others: the table is bit-identical whatever
+the number of workers, the order in which chunks finish, a retry after a
+worker died, or a resumed run.
+
+**Failures.** A sample whose inputs are not physical (an inertia violating the
+triangle inequality, a negative mass) or whose integration fails is recorded
+with ``failed = True`` and the reason; its metrics are NaN. It never stops the
+ensemble.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError, InvalidTypeError
+from .dispersion import Dispersion, SmallRotation, UniformRotation
+from .metrics import Metric, Motion
+
+__all__ = ["EnsembleProblem", "EnsembleResult", "EnsembleError", "run", "run_chunk", "QUANTITIES"]
+
+#: Quantities a ``[dispersion]`` table may name, with their units and shapes.
+QUANTITIES = {
+    "omega0": ("rad/s", (3,), "initial angular velocity, body axes"),
+    "attitude": ("deg", (4,), "initial attitude (small_rotation / uniform_rotation only)"),
+    "inertia": ("kg m^2", (3,), "diagonal of the inertia tensor about the centre of mass"),
+    "mass": ("kg", (), "mass"),
+    "center_of_mass": ("m", (3,), "centre of mass from the fixed point, body axes"),
+    "torque": ("N m", (3,), "constant torque vector ([torque] model body or space)"),
+}
+
+CHUNK_DIR = "chunks"
+MANIFEST = "ensemble.json"
+
+
+class EnsembleError(InvalidInputError):
+    """An ensemble that cannot run as asked (bad options, a scheduler that does not
+    answer, an output directory of another scenario)."""
+
+
+@dataclass(frozen=True)
+class EnsembleProblem:
+    """A nominal rigid-body motion, its dispersions and the metrics to record.
+
+    Parameters are in SI units and body axes; ``quat`` scalar first (body ->
+    space). ``torque_model`` is ``"none"``, ``"body"``, ``"space"`` (a constant
+    ``torque`` vector) or ``"gravity"`` (``g`` along ``-z`` of space, the body
+    turning about the origin of its axes, ``center_of_mass`` from there).
+    ``dispersions`` maps names of :data:`QUANTITIES` to
+    :class:`~poinsot.ensemble.dispersion.Dispersion` objects.
+    """
+
+    name: str
+    inertia: np.ndarray  # (3, 3) about the centre of mass, body axes
+    quat: np.ndarray
+    omega0: np.ndarray
+    t: np.ndarray
+    mass: float = 1.0
+    center_of_mass: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    torque_model: str = "none"
+    torque: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    g: float = 9.80665
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    dispersions: tuple[tuple[str, Dispersion], ...] = ()
+    metrics: tuple[Metric, ...] = ()
+
+    def __post_init__(self):
+        for name, d in self.dispersions:
+            if name not in QUANTITIES:
+                raise InvalidInputError(
+                    f"Unknown dispersed quantity {name!r}; expected one of "
+                    + ", ".join(QUANTITIES) + ".")
+            rotational = isinstance(d, SmallRotation | UniformRotation)
+            if (name == "attitude") != rotational:
+                raise InvalidInputError(
+                    f"`dispersion.{name}`: the attitude takes small_rotation or "
+                    "uniform_rotation, and those apply to the attitude only.")
+            if name == "torque" and self.torque_model not in ("body", "space"):
+                raise InvalidInputError(
+                    "`dispersion.torque` needs a constant torque ([torque] model = "
+                    f"'body' or 'space'), the scenario has {self.torque_model!r}.")
+            if name in ("mass", "center_of_mass") and self.torque_model != "gravity":
+                raise InvalidInputError(
+                    f"`dispersion.{name}` changes the motion only under gravity about a fixed "
+                    f"point; this scenario's torque is {self.torque_model!r}.")
+        if not self.metrics:
+            raise InvalidInputError("An ensemble needs at least one [[metric]].")
+        names = [m.name for m in self.metrics]
+        if len(set(names)) != len(names):
+            raise InvalidInputError(f"Metric names must be distinct, got {names}.")
+
+    def digest(self) -> str:
+        """SHA-256 of everything that defines the samples (stored with the chunks)."""
+        def enc(x):
+            if isinstance(x, np.ndarray):
+                return x.tolist()
+            if isinstance(x, Dispersion | Metric):
+                return [type(x).__name__, {k: enc(v) for k, v in vars(x).items()}]
+            if isinstance(x, tuple | list):
+                return [enc(v) for v in x]
+            if isinstance(x, float | int | str | bool) or x is None:
+                return x
+            return repr(np.asarray(x).tolist())
+
+        blob = json.dumps({k: enc(v) for k, v in vars(self).items()}, sort_keys=True)
+        return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _nominal(problem: EnsembleProblem, name: str) -> np.ndarray:
+    return {
+        "omega0": problem.omega0,
+        "attitude": problem.quat,
+        "inertia": np.diag(problem.inertia).copy(),
+        "mass": np.asarray(float(problem.mass)),
+        "center_of_mass": problem.center_of_mass,
+        "torque": problem.torque,
+    }[name]
+
+
+def _columns_of(name: str, values: np.ndarray) -> dict[str, np.ndarray]:
+    if values.ndim == 1:
+        return {name: values}
+    labels = "wxyz" if name == "attitude" else "xyz"
+    return {f"{name}_{c}": values[:, i] for i, c in enumerate(labels)}
+
+
+def _draw(problem, rng, n):
+    """Inputs of ``n`` samples (one draw per dispersion, in name order)."""
+    inputs = {name: np.broadcast_to(_nominal(problem, name), (n, *np.shape(_nominal(problem,
+              name)))).copy() for name in QUANTITIES}
+    for name, d in sorted(problem.dispersions, key=lambda p: p[0]):
+        v = np.asarray(d.sample(_nominal(problem, name), rng, n), dtype=float)
+        inputs[name] = np.broadcast_to(v, inputs[name].shape).copy()
+    return inputs
+
+
+def _physical(inputs) -> np.ndarray:
+    """Reason per sample ('' when physical)."""
+    n = inputs["mass"].shape[0]
+    reason = np.full(n, "", dtype=object)
+    moments = np.sort(inputs["inertia"], axis=1)
+    reason[moments[:, 0] + moments[:, 1] < moments[:, 2] * (1 - 1e-12)] = (
+        "inertia violates the triangle inequality A + B >= C")
+    reason[moments[:, 0] <= 0] = "inertia has a non-positive moment"
+    reason[inputs["mass"] <= 0] = "mass <= 0"
+    bad = ~np.all(np.isfinite(np.concatenate([v.reshape(n, -1) for v in inputs.values()], 1)), 1)
+    reason[bad] = "non-finite input"
+    return reason
+
+
+def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dict:
+    """Draw and integrate chunk ``index`` (``size`` samples); return its columns.
+
+    The ``sample`` column counts from 0 within the chunk (:func:`run` adds the
+    chunk's first sample number); ``size`` is the chunk's true size.
+    """
+    from ..dynamics import _fused
+    from ..dynamics.invariants import invariants
+    from ..dynamics.torques import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
+    from ..mass import parallel_axis
+
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
+    inputs = _draw(problem, rng, size)
+    reason = _physical(inputs)
+    ok = reason == ""
+    # the nominal sample rides along as body 0 (final attitude error, shared steps)
+    nominal = {k: _nominal(problem, k)[None] for k in QUANTITIES}
+    arr = {k: np.concatenate([nominal[k], np.where(ok.reshape((-1,) + (1,) * (v.ndim - 1)),
+                                                   v, nominal[k])]) for k, v in inputs.items()}
+    j_cm = np.broadcast_to(problem.inertia, (size + 1, 3, 3)).copy()
+    j_cm[:, [0, 1, 2], [0, 1, 2]] = arr["inertia"]
+    if problem.torque_model == "gravity":
+        j = parallel_axis(j_cm, arr["mass"], arr["center_of_mass"])
+        model = GravityTorque(arr["mass"], arr["center_of_mass"], g=problem.g)
+    else:
+        j = j_cm
+        model = {"none": None, "body": ConstantBodyTorque, "space": ConstantSpaceTorque}[
+            problem.torque_model]
+        model = None if model is None else model(arr["torque"])
+    q0 = arr["attitude"] / np.linalg.norm(arr["attitude"], axis=1, keepdims=True)
+    with np.errstate(all="ignore"):
+        quat, omega, stats = _fused.integrate(j, q0, arr["omega0"], problem.t, model,
+                                              rtol=problem.rtol, atol=problem.atol,
+                                              max_step=None)
+        status = stats[:, 3]
+        failed_int = status != _fused.OK
+        text = {_fused.STEP_TOO_SMALL: "integration failed: step size below round-off",
+                _fused.TOO_MANY_STEPS: "integration failed: more than 10^6 steps",
+                _fused.NONFINITE: "integration failed: non-finite state"}
+        for i in np.flatnonzero(failed_int[1:]):
+            if ok[i]:
+                reason[i] = text[int(status[i + 1])]
+        if failed_int[0]:
+            raise EnsembleError(f"The nominal motion itself fails: {text[int(status[0])]}.")
+        qs = np.nan_to_num(quat)
+        inv = invariants(j, qs, np.nan_to_num(omega), torque=model)
+        energy = inv.energy if inv.energy is not None else inv.kinetic
+        motion = Motion(t=problem.t, quat=quat[:, 1:], omega=omega[:, 1:],
+                        kinetic=inv.kinetic[:, 1:], energy=energy[:, 1:],
+                        nominal_final=quat[-1, 0])
+        failed = reason != ""
+        cols: dict[str, Any] = {"sample": np.arange(size, dtype=np.int64), "chunk":
+                                np.full(size, index, dtype=np.int64)}
+        for name, _d in problem.dispersions:
+            cols.update(_columns_of(name, inputs[name]))
+        for metric in problem.metrics:
+            v = np.asarray(metric.evaluate(motion), dtype=float)
+            cols[metric.name] = np.where(failed, np.nan, v)
+    cols["failed"] = failed
+    cols["reason"] = reason.astype(str)
+    cols["steps"] = np.where(failed, 0, stats[1:, 0]).astype(np.int64)
+    return cols
+
+
+@dataclass(frozen=True)
+class EnsembleResult:
+    """The per-sample table (a :class:`pyarrow.Table`, sorted by ``sample``) and
+    its statistics (``summary``: per metric mean, std, quantiles, failures)."""
+
+    table: Any
+    summary: dict
+    out: Path | None = None
+
+    def column(self, name: str) -> np.ndarray:
+        return self.table.column(name).to_numpy(zero_copy_only=False)
+
+
+def _summary(problem: EnsembleProblem, table, samples: int, seed: int, chunk_size: int) -> dict:
+    failed = table.column("failed").to_numpy(zero_copy_only=False)
+    reasons = table.column("reason").to_pylist()
+    out = {
+        "scenario": problem.name,
+        "samples": samples,
+        "seed": seed,
+        "chunk_size": chunk_size,
+        "failures": int(failed.sum()),
+        "failure_reasons": {r: reasons.count(r) for r in sorted(set(reasons)) if r},
+        "integrator": f"compiled DOP853, rtol {problem.rtol:g}, atol {problem.atol:g}",
+        "metrics": {},
+    }
+    for m in problem.metrics:
+        v = table.column(m.name).to_numpy(zero_copy_only=False)
+        good = v[~failed & np.isfinite(v)]
+        q = np.quantile(good, [0.05, 0.25, 0.5, 0.75, 0.95]) if good.size else [math.nan] * 5
+        out["metrics"][m.name] = {
+            "kind": m.kind,
+            "unit": m.unit,
+            "count": int(good.size),
+            "never": int((~failed & ~np.isfinite(v)).sum()),
+            "mean": float(good.mean()) if good.size else math.nan,
+            "std": float(good.std(ddof=1)) if good.size > 1 else math.nan,
+            "min": float(good.min()) if good.size else math.nan,
+            "max": float(good.max()) if good.size else math.nan,
+            "quantiles": dict(zip(("5%", "25%", "50%", "75%", "95%"),
+                                  (float(x) for x in q), strict=True)),
+        }
+    return out
+
+
+def _table(cols: dict, first: int, digest: str, index: int):
+    import pyarrow as pa
+
+    cols = dict(cols)
+    cols["sample"] = cols["sample"] + first
+    t = pa.table(cols)
+    return t.replace_schema_metadata({"poinsot.digest": digest, "poinsot.chunk": str(index)})
+
+
+def _write_atomic_parquet(table, path: Path) -> None:
+    import pyarrow.parquet as pq
+
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    pq.write_table(table, tmp)
+    os.replace(tmp, path)
+
+
+def _chunk_path(out: Path, index: int) -> Path:
+    return out / CHUNK_DIR / f"chunk-{index:06d}.parquet"
+
+
+def _prepare(out: Path, digest: str, manifest: dict, resume: bool) -> set[int]:
+    """Create or check the output directory; the chunks already done."""
+    mpath = out / MANIFEST
+    if mpath.exists():
+        try:
+            old = json.loads(mpath.read_text())
+        except (OSError, ValueError) as exc:
+            raise EnsembleError(f"{mpath} is unreadable ({exc}); use a new --out.") from None
+        if old.get("digest") != digest:
+            raise EnsembleError(
+                f"{out} holds an ensemble of a different scenario, seed, sample count or chunk "
+                f"size (digest {str(old.get('digest'))[:12]} != {digest[:12]}): refusing to "
+                f"{'resume' if resume else 'overwrite'} it; use a new --out.")
+        if not resume:
+            raise EnsembleError(f"{out} already holds this ensemble: pass --resume to complete "
+                                "it, or use a new --out.")
+    elif resume and (out / CHUNK_DIR).exists():
+        raise EnsembleError(f"{out} has chunks but no {MANIFEST}: cannot resume safely.")
+    (out / CHUNK_DIR).mkdir(parents=True, exist_ok=True)
+    tmp = mpath.with_name(f".{MANIFEST}.tmp")
+    tmp.write_text(json.dumps(manifest, indent=2))
+    os.replace(tmp, mpath)
+    done = set()
+    import pyarrow.parquet as pq
+
+    for p in (out / CHUNK_DIR).glob("chunk-*.parquet"):
+        meta = pq.read_schema(p).metadata or {}
+        if meta.get(b"poinsot.digest", b"").decode() == digest:
+            done.add(int(meta[b"poinsot.chunk"]))
+    return done
+
+
+def _chunk_task(problem, index, size, seed, first, digest, threads):
+    if threads:
+        import numba
+
+        numba.set_num_threads(threads)
+    return _table(run_chunk(problem, index, size, seed), first, digest, index)
+
+
+def _client(scheduler, workers, timeout):
+    """``(client, cluster)``: a connection to ``scheduler``, or a local cluster we own."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError as exc:  # pragma: no cover - the extra is part of make test
+        raise EnsembleError(
+            "Ensembles need Dask: pip install 'poinsot[ensemble]'.") from exc
+    if scheduler is not None:
+        try:
+            return Client(scheduler, timeout=f"{timeout}s"), None
+        except (OSError, TimeoutError) as exc:
+            raise EnsembleError(
+                f"The Dask scheduler at {scheduler!r} did not answer within {timeout} s ({exc})."
+            ) from None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           dashboard_address=None, host="127.0.0.1")
+    return Client(cluster), cluster
+
+
+def run(problem: EnsembleProblem, samples: int, *, chunk_size: int = 1000, client=None,
+        scheduler: str | None = None, workers: int | None = None, seed: int = 0,
+        out=None, resume: bool = False, timeout: float = 10.0,
+        progress=None) -> EnsembleResult:
+    """Run ``samples`` dispersed motions of ``problem``; return the per-sample table.
+
+    Parameters
+    ----------
+    problem : EnsembleProblem
+    samples : int
+        Number of samples (> 0).
+    chunk_size : int
+        Samples per chunk (one compiled batch call, one Parquet file).
+    client : dask.distributed.Client or "serial", optional
+        An existing Dask client; ``"serial"`` runs every chunk in this process
+        (no Dask); ``None`` connects to ``scheduler`` if given, else starts a local
+        cluster of ``workers`` processes (default: one per core) and stops it at
+        the end.
+    seed : int
+        Root seed; chunk ``i`` uses ``SeedSequence(seed, spawn_key=(i,))``.
+    out : path, optional
+        Directory for ``chunks/chunk-NNNNNN.parquet`` (each written atomically
+        as it arrives), ``ensemble.json`` (the digest of the problem, seed, sample
+        count and chunk size) and, by the caller, ``summary.json``.
+    resume : bool
+        Complete an interrupted run in ``out``: only missing chunks are computed.
+
+    Returns
+    -------
+    EnsembleResult
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.ensemble import EnsembleProblem, Metric, Normal, run
+    >>> p = EnsembleProblem("racket", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]),
+    ...     np.array([0.01, 2.0, 0.01]), np.linspace(0, 20, 401),
+    ...     dispersions=(("omega0", Normal(sigma=[0.005, 0.0, 0.005])),),
+    ...     metrics=(Metric("flip", "first_flip_time"),))
+    >>> res = run(p, 40, chunk_size=16, client="serial", seed=1)
+    >>> res.table.num_rows, res.summary["failures"]
+    (40, 0)
+    """
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer):
+        raise InvalidTypeError(f"Expected `samples` to be an integer, got {samples!r}.")
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int | np.integer):
+        raise InvalidTypeError(f"Expected `chunk_size` to be an integer, got {chunk_size!r}.")
+    if samples <= 0:
+        raise EnsembleError(f"Expected `samples` > 0, got {samples}.")
+    if chunk_size <= 0:
+        raise EnsembleError(f"Expected `chunk_size` > 0, got {chunk_size}.")
+    if workers is not None and (not isinstance(workers, int) or workers <= 0):
+        raise EnsembleError(f"Expected `workers` to be a positive integer, got {workers!r}.")
+    import pyarrow as pa
+
+    samples, chunk_size = int(samples), int(chunk_size)
+    n_chunks = -(-samples // chunk_size)
+    digest = hashlib.sha256(
+        f"{problem.digest()}|{samples}|{chunk_size}|{seed}".encode()).hexdigest()
+    sizes = [min(chunk_size, samples - i * chunk_size) for i in range(n_chunks)]
+    done: set[int] = set()
+    outp = None if out is None else Path(out)
+    if outp is not None:
+        manifest = {"digest": digest, "scenario": problem.name, "samples": samples,
+                    "chunk_size": chunk_size, "seed": seed, "chunks": n_chunks}
+        done = _prepare(outp, digest, manifest, resume)
+    todo = [i for i in range(n_chunks) if i not in done]
+    tables: dict[int, Any] = {}
+
+    def arrived(i, table):
+        if outp is not None:
+            _write_atomic_parquet(table, _chunk_path(outp, i))
+        else:
+            tables[i] = table
+        if progress is not None:
+            progress(len(done) + len(done_now), n_chunks)
+
+    done_now: list[int] = []
+    if client == "serial":
+        for i in todo:
+            done_now.append(i)
+            arrived(i, _chunk_task(problem, i, sizes[i], seed, i * chunk_size, digest, 0))
+    elif todo:
+        own = None
+        if client is None:
+            client, own = _client(scheduler, workers, timeout)
+        try:
+            from dask.distributed import as_completed
+
+            pf = client.scatter(problem, broadcast=True)
+            futures = {
+                client.submit(_chunk_task, pf, i, sizes[i], seed, i * chunk_size, digest, 1,
+                              key=f"poinsot-chunk-{digest[:16]}-{i}", retries=3, pure=False): i
+                for i in todo
+            }
+            for fut in as_completed(futures):
+                i = futures[fut]
+                done_now.append(i)
+                arrived(i, fut.result())
+        finally:
+            if own is not None:
+                client.close()
+                own.close()
+    if outp is not None:
+        import pyarrow.parquet as pq
+
+        parts = [pq.read_table(_chunk_path(outp, i)) for i in range(n_chunks)]
+    else:
+        parts = [tables[i] for i in range(n_chunks)]
+    table = pa.concat_tables([p.replace_schema_metadata(None) for p in parts])
+    summary = _summary(problem, table, samples, seed, chunk_size)
+    return EnsembleResult(table=table, summary=summary, out=outp)

@@ -1,0 +1,175 @@
+"""Metrics: what an ensemble records per sample, from its integrated motion.
+
+Each metric reads the batch of motions of one chunk (``t`` (n,), body
+angular velocity ``omega`` (n, M, 3) in rad/s, attitude quaternions ``quat``
+(n, M, 4) scalar first, body -> space) and returns one value per sample
+(``NaN`` where the event never happens within the run, documented per metric).
+
+=========================  ===================================================
+``first_flip_time``        first time (s) the body component ``component``
+                           (default ``omega_y``: the middle axis of the tennis
+                           racket) of omega changes sign; NaN if it never does
+``first_time``             first time (s) ``component`` is ``below`` (or
+                           ``above``) a threshold (e.g. detumbling:
+                           ``omega_norm`` below 0.01 rad/s); NaN if never
+``nutation_min``,          extreme angle (deg) between the body axis ``axis``
+``nutation_max``           (default ``z``) and the space vertical ``e_z``
+``max``, ``min``           extreme of ``component`` over the run
+``final_attitude_error``   angle (deg) between the final attitude and the
+                           final attitude of the nominal (undispersed) sample
+``energy_drift``           ``max |E(t) - E(0)| / |E(0)|`` with ``E = T + V``
+                           (kinetic plus the torque model's potential, if it
+                           has one): the integration's accuracy
+=========================  ===================================================
+
+Components: ``omega_x``, ``omega_y``, ``omega_z`` (rad/s, body axes),
+``omega_norm`` (rad/s), ``nutation`` (deg), ``kinetic_energy`` (J).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InvalidInputError
+
+__all__ = ["Metric", "METRICS", "COMPONENTS", "Motion", "from_table"]
+
+COMPONENTS = ("omega_x", "omega_y", "omega_z", "omega_norm", "nutation", "kinetic_energy")
+METRICS = (
+    "first_flip_time",
+    "first_time",
+    "nutation_min",
+    "nutation_max",
+    "max",
+    "min",
+    "final_attitude_error",
+    "energy_drift",
+)
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True)
+class Motion:
+    """The integrated motion of one chunk (time first, then samples)."""
+
+    t: np.ndarray  # (n,)
+    quat: np.ndarray  # (n, M, 4)
+    omega: np.ndarray  # (n, M, 3)
+    kinetic: np.ndarray  # (n, M)
+    energy: np.ndarray  # (n, M): T + V
+    nominal_final: np.ndarray  # (4,): final quaternion of the nominal sample
+
+
+def _nutation(quat: np.ndarray, axis: int = 2) -> np.ndarray:
+    """Angle (deg) between body axis ``axis`` (R e_axis) and space ``e_z``."""
+    w, x, y, z = np.moveaxis(quat, -1, 0)
+    # z-component of the column ``axis`` of R (theory §2)
+    cz = (2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z)[axis]
+    return np.degrees(np.arccos(np.clip(cz, -1.0, 1.0)))
+
+
+def _component(motion: Motion, name: str) -> np.ndarray:
+    if name.startswith("omega_") and name[-1] in _AXES and len(name) == 7:
+        return motion.omega[..., _AXES[name[-1]]]
+    if name == "omega_norm":
+        return np.linalg.norm(motion.omega, axis=-1)
+    if name == "nutation":
+        return _nutation(motion.quat)
+    if name == "kinetic_energy":
+        return motion.kinetic
+    raise InvalidInputError(f"Unknown component {name!r}; expected one of {', '.join(COMPONENTS)}.")
+
+
+def _first(t: np.ndarray, hit: np.ndarray) -> np.ndarray:
+    """First time where ``hit`` (n, M) holds, NaN where it never does."""
+    any_hit = hit.any(axis=0)
+    idx = np.argmax(hit, axis=0)
+    return np.where(any_hit, t[idx], np.nan)
+
+
+@dataclass(frozen=True)
+class Metric:
+    """One recorded quantity: ``kind`` from :data:`METRICS` with its options.
+
+    Examples
+    --------
+    >>> Metric("flip", "first_flip_time").unit
+    's'
+    """
+
+    name: str
+    kind: str
+    component: str | None = None
+    axis: str = "z"
+    below: float | None = None
+    above: float | None = None
+
+    def __post_init__(self):
+        if self.kind not in METRICS:
+            raise InvalidInputError(
+                f"Unknown metric kind {self.kind!r} for metric {self.name!r}; expected one of "
+                + ", ".join(METRICS) + ".")
+        if self.component is not None and self.component not in COMPONENTS:
+            raise InvalidInputError(
+                f"Unknown component {self.component!r} for metric {self.name!r}; expected one "
+                f"of {', '.join(COMPONENTS)}.")
+        if self.kind in ("max", "min", "first_time") and self.component is None:
+            raise InvalidInputError(f"Metric {self.name!r} ({self.kind}) needs a `component`.")
+        if self.kind == "first_time" and (self.below is None) == (self.above is None):
+            raise InvalidInputError(
+                f"Metric {self.name!r} (first_time) needs exactly one of `below` or `above`.")
+        if self.axis not in _AXES:
+            raise InvalidInputError(f"Expected `axis` of metric {self.name!r} in x, y, z.")
+
+    @property
+    def unit(self) -> str:
+        if self.kind in ("first_flip_time", "first_time"):
+            return "s"
+        if self.kind in ("nutation_min", "nutation_max", "final_attitude_error"):
+            return "deg"
+        if self.kind == "energy_drift":
+            return "1"
+        return {"nutation": "deg", "kinetic_energy": "J"}.get(self.component, "rad/s")
+
+    def evaluate(self, m: Motion) -> np.ndarray:
+        """One value per sample, shape (M,)."""
+        k = self.kind
+        if k == "first_flip_time":
+            c = _component(m, self.component or "omega_y")
+            return _first(m.t, np.sign(c) * np.sign(c[:1]) < 0)
+        if k == "first_time":
+            c = _component(m, self.component)
+            return _first(m.t, c < self.below if self.below is not None else c > self.above)
+        if k in ("nutation_min", "nutation_max"):
+            nut = _nutation(m.quat, _AXES[self.axis])
+            return nut.min(axis=0) if k == "nutation_min" else nut.max(axis=0)
+        if k in ("max", "min"):
+            c = _component(m, self.component)
+            return c.max(axis=0) if k == "max" else c.min(axis=0)
+        if k == "final_attitude_error":
+            q = m.quat[-1]
+            p = m.nominal_final * np.where(q @ m.nominal_final < 0, -1.0, 1.0)[:, None]
+            # 4 atan(|q - p| / |q + p|): accurate for small and large angles alike
+            return np.degrees(4 * np.arctan2(np.linalg.norm(q - p, axis=-1),
+                                             np.linalg.norm(q + p, axis=-1)))
+        e = m.energy
+        scale = np.maximum(np.abs(e[0]), np.finfo(float).tiny)
+        return np.abs(e - e[0]).max(axis=0) / scale
+
+
+def from_table(table: dict, index: int) -> Metric:
+    """A :class:`Metric` from one ``[[metric]]`` TOML table."""
+    if not isinstance(table, dict):
+        raise InvalidInputError(f"Expected `metric[{index}]` to be a table.")
+    known = {"name", "kind", "component", "axis", "below", "above"}
+    extra = sorted(set(table) - known)
+    if extra:
+        raise InvalidInputError(
+            f"Unknown key(s) {', '.join(extra)} in `metric[{index}]`; accepted: "
+            + ", ".join(sorted(known)) + ".")
+    if "kind" not in table:
+        raise InvalidInputError(f"`metric[{index}]` needs a `kind` (one of {', '.join(METRICS)}).")
+    return Metric(name=str(table.get("name", table["kind"])), **{
+        k: table[k] for k in ("kind", "component", "axis", "below", "above") if k in table})
