@@ -899,3 +899,113 @@ def test_bad_omega_rotation_and_times():
         rest.poinsot()
     with pytest.raises(InvalidInputError, match="`omega0` is zero"):
         rest.maccullagh()
+
+
+# ---------------------------------------------------------------------------
+# Batches of bodies and accepted inputs (docs/conventions.md, one contract)
+# ---------------------------------------------------------------------------
+
+MIXED = [
+    ([1.0, 2.0, 3.0], [0.2, 0.3, 1.0]),  # major
+    ([1.0, 2.0, 3.0], [1.0, 0.3, 0.2]),  # minor
+    ([6.0, 5.0, 2.0], [1.0, 0.5, 1.0]),  # exactly on the separatrix
+    ([1.0, 2.0, 3.0], [0.0, 1.0, 0.0]),  # about the middle axis
+    ([2.0, 2.0, 1.0], [0.3, 0.4, 1.0]),  # symmetric
+    ([2.0, 2.0, 2.0], [0.3, 0.4, 1.0]),  # spherical
+    ([1.0, 2.0, 3.0], [0.0, 0.0, 0.0]),  # at rest
+    ([3.0, 1.0, 2.0], [-0.4, 0.7, 0.3]),  # unordered moments: K^2 = 2.29 < 2 T B = 2.3
+]
+
+
+def test_batch_of_mixed_regimes_equals_single_bodies():
+    """One vectorised call for bodies in every regime gives exactly (bit for bit) the
+    single-body results; per-body properties come back as arrays."""
+    moments = np.array([m for m, _ in MIXED])
+    w0 = np.array([w for _, w in MIXED])
+    r0 = Rotation.from_rotvec(np.random.default_rng(1).normal(size=(len(MIXED), 3)))
+    batch = FreeRigidBody(moments, rotation0=r0, omega0=w0)
+    assert batch.shape == (len(MIXED),) and len(batch) == len(MIXED)
+    t = np.array([[0.0, 0.7], [3.1, 20.0]])
+    w, rot = batch.state(t)
+    assert w.shape == (len(MIXED), 2, 2, 3) and rot.shape == (len(MIXED), 2, 2)
+    singles = [FreeRigidBody(m, rotation0=r0[k], omega0=v) for k, (m, v) in enumerate(MIXED)]
+    for k, one in enumerate(singles):
+        w1, r1 = one.state(t)
+        np.testing.assert_array_equal(w[k], w1)
+        np.testing.assert_array_equal(rot[k].as_quat(), r1.as_quat())
+        assert batch.regime[k] == one.regime
+        np.testing.assert_array_equal(batch.period[k], one.period)
+        assert batch.polhode_axis[k] == (-1 if one.polhode_axis is None else one.polhode_axis)
+        assert tuple(batch.stable_axes[k]) == one.stable_axes
+        assert batch.energy[k] == one.energy
+        np.testing.assert_array_equal(batch.momentum[k], one.momentum)
+        np.testing.assert_array_equal(batch[k].omega(t), w1)
+    assert batch.regime.tolist() == [
+        "major",
+        "minor",
+        "separatrix",
+        "separatrix",
+        "symmetric",
+        "spherical",
+        "rest",
+        "minor",
+    ]
+
+
+def test_batch_shapes_broadcast_and_tensors():
+    """inertia (2, 1, 3, 3) (one full tensor, one diagonal), omega0 (3, 3), rotation0
+    (): batch shape (2, 3); results batch shape + t shape; a full tensor gives the same
+    motion as its principal moments, rotated (DOP853-independent: J w(t) = S (I w_p))."""
+    v = Rotation.from_rotvec([0.4, -0.2, 0.9])
+    jt = v.as_matrix() @ np.diag([1.0, 1.7, 2.2]) @ v.as_matrix().T
+    inertia = np.stack([jt, np.diag([1.0, 1.7, 2.2])])[:, None]
+    w0 = np.array([[0.3, -0.5, 0.9], [1.0, 0.2, 0.1], [0.0, 2.0, 0.3]])
+    batch = FreeRigidBody(inertia, omega0=w0)
+    assert batch.shape == (2, 3)
+    t = np.linspace(0.0, 5.0, 12).reshape(3, 4)
+    assert batch.omega(t).shape == (2, 3, 3, 4, 3)
+    assert batch.rotation(t).shape == (2, 3, 3, 4)
+    assert batch.momentum_body(t).shape == (2, 3, 3, 4, 3)
+    assert batch.period.shape == (2, 3) and batch.principal_moments.shape == (2, 3, 3)
+    moments, s = batch.principal_axes()
+    assert s.shape == (2, 3)
+    np.testing.assert_allclose(s[1].magnitude(), 0.0, atol=0)  # diagonal: identity
+    np.testing.assert_allclose(batch.inertia[0, 0], jt, atol=1e-15)
+    np.testing.assert_allclose(moments[0, 0], [1.0, 1.7, 2.2], rtol=1e-14)
+    # the tensor body, seen in its principal axes, is the diagonal body started from S^T w0
+    w_tensor = batch.omega(t)[0, 1]
+    prin = FreeRigidBody(moments[0, 1], omega0=s[0, 1].apply(w0[1], inverse=True))
+    np.testing.assert_allclose(s[0, 1].apply(prin.omega(t)), w_tensor, atol=1e-14)
+
+
+def test_rotation0_accepts_poinsot_scipy_and_quaternions():
+    """The same attitude as a poinsot Rotation, a SciPy Rotation (scalar last inside
+    SciPy: converted, never misread) or scalar-first quaternions gives the same motion."""
+    from scipy.spatial.transform import Rotation as SciPyRotation
+
+    q = np.array([0.9, 0.1, -0.3, 0.2])
+    q /= np.linalg.norm(q)
+    args = dict(omega0=[0.3, 0.9, -0.4])
+    ref = FreeRigidBody([1.0, 2.0, 3.0], rotation0=Rotation.from_quat(q), **args)
+    sp = SciPyRotation.from_quat(np.roll(q, -1))  # SciPy's (x, y, z, w)
+    for r0 in (sp, q, list(q), Rotation.from_quat(q)):
+        body = FreeRigidBody([1.0, 2.0, 3.0], rotation0=r0, **args)
+        np.testing.assert_allclose(
+            body.rotation([0.0, 3.0]).as_quat(), ref.rotation([0.0, 3.0]).as_quat(), atol=1e-15
+        )
+    np.testing.assert_allclose(ref.rotation0.as_quat(), q, atol=1e-16)
+
+
+def test_batch_trajectory_is_time_first_and_pickles():
+    """trajectory(t) of a batch: time first, (n, N, ...), invariants conserved per body,
+    picklable (ensembles send it between processes)."""
+    import pickle
+
+    moments = np.array([m for m, _ in MIXED[:5]])
+    w0 = np.array([w for _, w in MIXED[:5]])
+    tr = FreeRigidBody(moments, omega0=w0).trajectory(np.linspace(0.0, 50.0, 101))
+    assert tr.omega.shape == (101, 5, 3) and tr.rotation.shape == (101, 5)
+    assert tr.method == "exact" and tr.info["regime"][:2] == ("major", "minor")
+    assert tr.energy_drift < 2e-14 and tr.momentum_vector_drift < 2e-12
+    back = pickle.loads(pickle.dumps(tr))
+    np.testing.assert_array_equal(back.omega, tr.omega)
