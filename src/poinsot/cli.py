@@ -118,7 +118,7 @@ def _run_with_progress(scenario, out: Path, args):
             fmt=args.format,
             report=not args.no_report,
             figures=not args.no_figures,
-            force=True,
+            force=args.force,
             duration=args.duration,
             progress=bar,
             allow_large=args.allow_large,
@@ -135,19 +135,20 @@ def _refuse_large(scenario, args) -> None:
 
 
 def _cmd_run(args) -> int:
-    from .scenarios import load_scenario, prepare_output_dir
+    from .scenarios import load_scenario
 
     scenario = load_scenario(args.scenario)
     _refuse_large(scenario, args)
     out = Path(args.out) if args.out else _default_out(scenario.name)
-    prepare_output_dir(out, force=args.force)
+    # run_scenario checks the directory before any work and removes it again if it
+    # made it and the run fails
     result, files = _run_with_progress(scenario, out, args)
     _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} run")
     return 0
 
 
 def _cmd_demo(args) -> int:
-    from .scenarios import demo_scenario, prepare_output_dir
+    from .scenarios import demo_scenario
 
     scenario = demo_scenario()
     _refuse_large(scenario, args)
@@ -160,7 +161,6 @@ def _cmd_demo(args) -> int:
         while not args.force and out.exists() and (not out.is_dir() or any(out.iterdir())):
             k += 1
             out = _default_out(f"{scenario.name}-{k}")
-    prepare_output_dir(out, force=args.force)
     result, files = _run_with_progress(scenario, out, args)
     from .rotations.rotation import Rotation
 
@@ -263,10 +263,11 @@ def _to(name: str, r, degrees: bool):
 
 def _canonical(q, scalar: int):
     """The sign of ``q`` (``q`` and ``-q`` are the same rotation) with the scalar part
-    ``w >= 0``; if ``w = 0``, the first non-zero vector component positive."""
-    import numpy as np
+    ``w >= 0``; if ``w = 0`` (to round-off, as printed), the first non-zero vector
+    component positive."""
+    from .scenarios.describe import clean
 
-    q = np.asarray(q, dtype=float)
+    q = clean(q, 1.0)
     order = [scalar] + [k for k in range(4) if k != scalar]
     for k in order:
         if q[k] != 0.0:
@@ -589,7 +590,74 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dims", type=float, nargs="+", metavar="D", help="dimensions (m)")
     p.add_argument("--hollow", action="store_true", help="hollow sphere / thin-walled cylinder")
     p.set_defaults(func=_cmd_inertia)
+
+    p = command(
+        "ensemble",
+        help="Monte-Carlo ensemble of a dispersed scenario (Dask)",
+        epilog=_ENSEMBLE_EPILOG,
+        description="Run N dispersed samples of a rigid-body scenario with [dispersion] and "
+        "[[metric]] tables, in chunks on a local or existing Dask cluster.",
+    )
+    p.add_argument("scenario", metavar="SCENARIO.toml")
+    p.add_argument("--samples", type=int, required=True, metavar="N", help="number of samples")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--chunk-size", type=int, default=1000, metavar="M",
+                   help="samples per chunk and Parquet file (default 1000)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="an existing Dask scheduler (tcp://host:port); default: a local cluster")
+    p.add_argument("--workers", type=int, metavar="K",
+                   help="local worker processes (default: one per core; 0: in this process)")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="root seed (default 0)")
+    p.add_argument("--resume", action="store_true",
+                   help="complete an interrupted run in DIR (only missing chunks are computed)")
+    p.add_argument("--timeout", type=float, default=10.0, metavar="SECONDS",
+                   help="how long to wait for --scheduler to answer (default 10)")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_ensemble)
     return parser
+
+
+_ENSEMBLE_EPILOG = """example:
+  poinsot ensemble examples/tennis_racket_ensemble.toml --samples 10000 --out flips
+
+writes DIR/chunks/chunk-NNNNNN.parquet (one per chunk, a Parquet dataset),
+DIR/ensemble.json (what defines the samples), DIR/summary.json (statistics of
+every metric) and DIR/report.html. The result does not depend on --workers,
+--chunk order, retries or --resume. Exit codes: 0 done, 2 bad input or an
+unreachable scheduler, 1 a bug.
+"""
+
+
+def _cmd_ensemble(args) -> int:
+    from .ensemble import run_scenario_ensemble
+
+    client = None
+    workers = args.workers
+    if workers is not None and workers < 0:
+        raise _Usage(f"--workers must be >= 0, got {workers}")
+    if workers == 0:
+        if args.scheduler:
+            raise _Usage("--workers 0 (in this process) and --scheduler exclude each other")
+        client, workers = "serial", None
+
+    def progress(done, total):
+        if not args.quiet:
+            print(f"\rchunks {done}/{total}", end="", file=sys.stderr, flush=True)
+
+    res = run_scenario_ensemble(
+        args.scenario, args.samples, args.out, chunk_size=args.chunk_size,
+        scheduler=args.scheduler, workers=workers, seed=args.seed, resume=args.resume,
+        client=client, timeout=args.timeout, progress=progress,
+    )
+    if not args.quiet:
+        print(file=sys.stderr)
+        s = res.summary
+        print(f"{s['samples']} samples, {s['failures']} failed; outputs in {res.out}")
+        for name, m in s["metrics"].items():
+            q = m["quantiles"]
+            print(f"  {name}: mean {m['mean']:.6g} {m['unit']}, median {q['50%']:.6g}, "
+                  f"5%-95% [{q['5%']:.6g}, {q['95%']:.6g}], never {m['never']}")
+    return 0
 
 
 def _error(message: str) -> None:
