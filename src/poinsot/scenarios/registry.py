@@ -12,7 +12,7 @@ from types import MappingProxyType
 from typing import Any
 
 from .kind import ScenarioKind
-from .kinds import attitude, coning, free_body, heavy_top, lagrangian, torqued_body
+from .kinds import attitude, coning, free_body, torqued_body
 
 __all__ = ["KINDS", "get_kind", "kind_for"]
 
@@ -21,10 +21,8 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
     {
         k.name: k
         for k in (
-            lagrangian.KIND,  # [lagrangian]: generalized coordinates, T and P as formulas
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]
-            heavy_top.KIND,  # [torque] model = "gravity" (a body about a fixed point)
             torqued_body.KIND,  # [torque] with a model other than "none"
             free_body.KIND,  # a [body] with an [angular_velocity] (the default)
         )
