@@ -793,7 +793,7 @@ def foucault_period(latitude, omega=EARTH_ROTATION_RATE, *, degrees=False):
     (86164.1 s); at Paris (48.85 deg N) about 31.8 h.
 
     >>> from poinsot.dynamics import foucault_period
-    >>> round(float(foucault_period(48.85, degrees=True)) / 3600, 2)
+    >>> round(float(foucault_period(48.85, degrees=True)) / 3600, 1)
     31.8
     """
     rate = np.abs(foucault_precession_rate(latitude, omega, degrees=degrees))

@@ -70,11 +70,12 @@ def _call_force(force, t, r, v) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class LinePotential:
-    """``U(r) = -int_0^1 F(r_ref + s (r - r_ref)) . (r - r_ref) ds`` (J), zero at ``reference``.
+    """The potential of a curl-free force, zero at ``reference`` (J).
 
-    The work of a curl-free stationary force ``F(r)`` along the straight path
-    from ``reference`` to ``r`` (16-point Gauss-Legendre), so that
-    ``F = -grad U``. Call with ``r`` of shape (..., 3).
+    ``U(r) = -int_0^1 F(r_ref + s (r - r_ref)) . (r - r_ref) ds``: minus the work
+    of a curl-free stationary force ``F(r)`` along the straight path from
+    ``reference`` to ``r`` (16-point Gauss-Legendre), so that ``F = -grad U``.
+    Call with ``r`` of shape (..., 3).
     """
 
     force: Callable
