@@ -263,7 +263,7 @@ def from_table(table: dict, name: str) -> Dispersion:
     ...     from_table({"distribution": "gauss"}, "omega0")
     ... except InvalidInputError as exc:
     ...     print(str(exc)[:60])
-    Unknown distribution 'gauss' for `dispersion.omega0`; expec
+    Unknown distribution 'gauss' for `dispersion.omega0`; expect
     """
     if not isinstance(table, dict):
         raise InvalidTypeError(

@@ -1,0 +1,186 @@
+"""Monte-Carlo ensembles (poinsot.ensemble): statistics against closed forms,
+reproducibility across workers/chunks/retries/resume, failures recorded, bad input."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dask.distributed")
+pytest.importorskip("pyarrow")
+
+from poinsot.cli import main  # noqa: E402
+from poinsot.ensemble import (  # noqa: E402
+    EnsembleError,
+    EnsembleProblem,
+    Metric,
+    Normal,
+    SmallRotation,
+    Uniform,
+    run,
+)
+from poinsot.errors import InvalidInputError  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def _sphere(dispersions, metrics, t_end=2.0, n_t=21):
+    """A spherical body (J = E): omega stays constant, the attitude turns uniformly."""
+    return EnsembleProblem(
+        "sphere", np.eye(3), np.array([1.0, 0, 0, 0]), np.array([0.3, -0.2, 0.5]),
+        np.linspace(0.0, t_end, n_t), dispersions=tuple(dispersions), metrics=tuple(metrics))
+
+
+def _racket():
+    return EnsembleProblem(
+        "racket", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]),
+        np.array([0.01, 2.0, 0.01]), np.linspace(0.0, 15.0, 301),
+        dispersions=(("omega0", Normal(sigma=[0.005, 0.05, 0.005])),
+                     ("attitude", SmallRotation(2.0))),
+        metrics=(Metric("flip", "first_flip_time"), Metric("err", "final_attitude_error"),
+                 Metric("drift", "energy_drift"), Metric("nmax", "nutation_max", axis="y")))
+
+
+def test_metric_equals_input_for_a_sphere():
+    """J = E: |omega| is constant, so max |omega| over the run is |omega0| of the sample."""
+    p = _sphere([("omega0", Normal(sigma=[0.1, 0.1, 0.1]))],
+                [Metric("wmax", "max", component="omega_norm")])
+    res = run(p, 50, chunk_size=20, client="serial", seed=3)
+    w = np.stack([res.column(f"omega0_{c}") for c in "xyz"], axis=1)
+    assert np.allclose(res.column("wmax"), np.linalg.norm(w, axis=1), rtol=1e-12, atol=0)
+    assert not res.column("failed").any()
+    # the draws are the normal law about the nominal (4 sigma / sqrt(n) bounds)
+    assert abs(res.column("omega0_x").mean() - 0.3) < 4 * 0.1 / np.sqrt(50)
+
+
+def test_small_rotation_error_follows_the_maxwell_law():
+    """Free sphere: the angle between a perturbed and the nominal attitude stays the
+    initial perturbation |phi|, phi ~ N(0, sigma^2 E): mean sigma 2 sqrt(2/pi)."""
+    sigma = 2.0
+    p = _sphere([("attitude", SmallRotation(sigma))], [Metric("err", "final_attitude_error")])
+    res = run(p, 2000, chunk_size=500, client="serial", seed=5)
+    err = res.column("err")
+    mean = sigma * 2 * np.sqrt(2 / np.pi)
+    sd = sigma * np.sqrt(3 - 8 / np.pi)
+    assert abs(err.mean() - mean) < 5 * sd / np.sqrt(err.size)
+    s = res.summary["metrics"]["err"]
+    assert s["unit"] == "deg" and s["count"] == 2000
+    assert abs(s["quantiles"]["50%"] - np.median(err)) < 1e-12
+
+
+def test_same_table_whatever_the_chunking_of_workers(tmp_path):
+    p = _racket()
+    serial = run(p, 60, chunk_size=16, client="serial", seed=7)
+    again = run(p, 60, chunk_size=16, client="serial", seed=7, out=tmp_path / "a")
+    assert serial.table.equals(again.table)
+    other_seed = run(p, 60, chunk_size=16, client="serial", seed=8)
+    assert not np.array_equal(other_seed.column("omega0_x"), serial.column("omega0_x"))
+    assert serial.column("flip").min() > 0  # every racket flips within 15 s here
+
+
+def test_failed_samples_are_recorded_not_dropped():
+    p = EnsembleProblem(
+        "plate", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]), np.array([0.1, 2.0, 0.1]),
+        np.linspace(0.0, 1.0, 11),
+        dispersions=(("inertia", Uniform(low=[1.0, 1.0, 1.0], high=[1.0, 1.0, 3.0])),),
+        metrics=(Metric("wmax", "max", component="omega_y"),))
+    res = run(p, 40, chunk_size=40, client="serial", seed=1)
+    c = res.column("inertia_z")
+    failed = res.column("failed")
+    assert np.array_equal(failed, c > 2.0)  # A + B >= C fails exactly there
+    assert np.all(np.isnan(res.column("wmax")[failed]))
+    assert np.all(np.isfinite(res.column("wmax")[~failed]))
+    assert set(res.table.column("reason").to_pylist()) == {
+        "", "inertia violates the triangle inequality A + B >= C"}
+    assert res.summary["failures"] == int(failed.sum())
+
+
+def test_resume_recomputes_only_missing_chunks(tmp_path):
+    p = _racket()
+    out = tmp_path / "run"
+    full = run(p, 50, chunk_size=10, client="serial", seed=2, out=out)
+    for i in (1, 3):
+        os.remove(out / "chunks" / f"chunk-{i:06d}.parquet")
+    seen = []
+    resumed = run(p, 50, chunk_size=10, client="serial", seed=2, out=out, resume=True,
+                  progress=lambda done, total: seen.append(done))
+    assert len(seen) == 2  # two chunks computed
+    assert resumed.table.equals(full.table)
+    with pytest.raises(EnsembleError, match="already holds this ensemble: pass --resume"):
+        run(p, 50, chunk_size=10, client="serial", seed=2, out=out)
+    with pytest.raises(EnsembleError, match="different scenario, seed"):
+        run(p, 50, chunk_size=10, client="serial", seed=3, out=out, resume=True)
+
+
+def test_dask_cluster_with_a_killed_worker_gives_the_serial_result():
+    from dask.distributed import Client, LocalCluster
+
+    p = _racket()
+    serial = run(p, 96, chunk_size=8, client="serial", seed=11)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None, host="127.0.0.1") as cluster, \
+            Client(cluster) as client:
+        victim = sorted(client.scheduler_info()["workers"])[0]
+        killed = []
+
+        def kill_one(done, total):
+            if not killed:
+                killed.append(done)
+                try:
+                    client.run(os._exit, 1, workers=[victim], wait=False)
+                except Exception:  # the worker is gone before it answers
+                    pass
+
+        res = run(p, 96, chunk_size=8, client=client, seed=11, progress=kill_one)
+    assert killed
+    assert res.table.equals(serial.table)
+
+
+def test_bad_input_is_named():
+    p = _racket()
+    with pytest.raises(EnsembleError, match="`samples` > 0"):
+        run(p, 0, client="serial")
+    with pytest.raises(InvalidInputError, match="`sigma` to be >= 0"):
+        run(_sphere([("omega0", Normal(sigma=[-0.1, 0, 0]))],
+                    [Metric("w", "max", component="omega_x")]), 4, client="serial")
+    with pytest.raises(InvalidInputError, match="Unknown dispersed quantity 'spin'"):
+        _sphere([("spin", Normal(sigma=1.0))], [Metric("w", "max", component="omega_x")])
+    with pytest.raises(EnsembleError, match="did not answer within 2"):
+        run(p, 4, scheduler="tcp://127.0.0.1:9", timeout=2)
+
+
+def _scenario_file(tmp_path, extra):
+    text = (EXAMPLES / "tennis_racket_ensemble.toml").read_text()
+    path = tmp_path / "s.toml"
+    path.write_text(text + extra)
+    return path
+
+
+def test_cli_ensemble_writes_outputs_and_refuses_bad_files(tmp_path, capsys):
+    src = EXAMPLES / "tennis_racket_ensemble.toml"
+    out = tmp_path / "out"
+    assert main(["ensemble", str(src), "--samples", "12", "--chunk-size", "5",
+                 "--out", str(out), "--workers", "0"]) == 0
+    assert sorted(p.name for p in (out / "chunks").iterdir()) == [
+        "chunk-000000.parquet", "chunk-000001.parquet", "chunk-000002.parquet"]
+    html = (out / "report.html").read_text()
+    assert "<svg" in html and "flip_time" in html
+    assert "flip_time" in capsys.readouterr().out
+    # resume of a complete run recomputes nothing and succeeds
+    assert main(["ensemble", str(src), "--samples", "12", "--chunk-size", "5",
+                 "--out", str(out), "--workers", "0", "--resume"]) == 0
+    bad = _scenario_file(tmp_path, '\n[dispersion.torque_x]\ndistribution = "normal"\n')
+    assert main(["ensemble", str(bad), "--samples", "4", "--out", str(tmp_path / "b"),
+                 "--workers", "0"]) == 2
+    assert "unknown quantity `dispersion.torque_x`" in capsys.readouterr().err
+    shutil.rmtree(tmp_path / "b", ignore_errors=True)
+    text = src.read_text().replace('distribution = "normal"', 'distribution = "gaussian"')
+    (tmp_path / "g.toml").write_text(text)
+    assert main(["ensemble", str(tmp_path / "g.toml"), "--samples", "4", "--out",
+                 str(tmp_path / "g"), "--workers", "0"]) == 2
+    assert "Unknown distribution 'gaussian'" in capsys.readouterr().err
+    assert not (tmp_path / "g").exists()  # nothing half-written
