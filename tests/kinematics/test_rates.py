@@ -19,7 +19,13 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation as SciRotation
 
-from poinsot import GimbalLockWarning, InvalidInputError, Rotation, SingularityWarning
+from poinsot import (
+    GimbalLockWarning,
+    InvalidInputError,
+    InvalidTypeError,
+    Rotation,
+    SingularityWarning,
+)
 from poinsot import quaternion as Q
 from poinsot.kinematics import rates as K
 
@@ -333,7 +339,7 @@ def test_euler_errors():
         K.euler_rates("ZZX", [0.1, 0.2, 0.3], [1, 2, 3])
     with pytest.raises(InvalidInputError, match="`seq` to have 3 axes"):
         K.omega_from_euler_rates("ZX", [0.1, 0.2, 0.3], [1, 2, 3])
-    with pytest.raises(InvalidInputError, match="`seq` to be a string"):
+    with pytest.raises(InvalidTypeError, match="`seq` to be a string, got int"):
         K.euler_rates(3, [0.1, 0.2, 0.3], [1, 2, 3])
     with pytest.raises(InvalidInputError, match=r"`angles` to have shape \(\.\.\., 3\)"):
         K.euler_rates("ZXZ", [0.1, 0.2], [1, 2, 3])
@@ -582,3 +588,66 @@ def test_parameter_rates_against_quaternion_rate(q, w, frame):
         df = 2 * (q0 * dn - n * d0)  # d/dt 2 atan2(n, q0) with n^2 + q0^2 = 1
         dphi = df * v / n + f * (dv / n - v * dn / n**2)
         np.testing.assert_allclose(K.rotvec_rate(f * v / n, w, frame=frame), dphi, atol=1e-10)
+
+
+# ------------------------------------------------------------------ one state
+_SEQS12 = ["XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX", "XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"]
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_one_state_equals_its_row_in_a_batch(frame):
+    """The one-state short paths compute what the batch (array) paths compute."""
+    rng = np.random.default_rng(21)
+    n = 25
+    q = rng.standard_normal((n, 4))
+    x, y = rng.uniform(-0.9, 0.9, (n, 3)), rng.standard_normal((n, 3))
+    C = Rotation.from_quat(q).as_matrix()
+    Cd = rng.standard_normal((n, 3, 3))
+    qd = rng.standard_normal((n, 4))
+    cases = [
+        (K.quat_rate, q, y),
+        (K.omega_from_quat_rate, q, qd),
+        (K.dcm_rate, C, y),
+        (K.omega_from_dcm_rate, C, Cd),
+        (K.gibbs_rate, x, y),
+        (K.omega_from_gibbs_rate, x, y),
+        (K.mrp_rate, x, y),
+        (K.omega_from_mrp_rate, x, y),
+        (K.rotvec_rate, 3 * x, y),
+        (K.omega_from_rotvec_rate, 3 * x, y),
+    ]
+    for f, a, b in cases:
+        batch = f(a, b, frame=frame)
+        one = np.array([f(a[i], b[i], frame=frame) for i in range(n)])
+        lists = np.array([f(a[i].tolist(), b[i].tolist(), frame=frame) for i in range(n)])
+        np.testing.assert_allclose(one, batch, rtol=0, atol=4e-15, err_msg=f.__name__)
+        np.testing.assert_allclose(lists, batch, rtol=0, atol=4e-15, err_msg=f.__name__)
+    one_rot = np.array([K.quat_rate(Rotation.from_quat(q[i]), y[i], frame=frame) for i in range(n)])
+    np.testing.assert_allclose(one_rot, K.quat_rate(q, y, frame=frame), rtol=0, atol=4e-15)
+    ang = rng.uniform(-3, 3, (n, 3))
+    ang[:, 1] = rng.uniform(0.2, 1.3, n)  # away from gimbal lock for every sequence
+    for seq in _SEQS12 + [s.lower() for s in _SEQS12] + ["euler", "krylov"]:
+        for deg, a in ((False, ang), (True, np.rad2deg(ang))):
+            for f in (K.euler_rates, K.omega_from_euler_rates):
+                batch = f(seq, a, y, frame=frame, degrees=deg)
+                one = np.array([f(seq, a[i], y[i], frame=frame, degrees=deg) for i in range(n)])
+                np.testing.assert_allclose(
+                    one, batch, rtol=1e-14, atol=1e-13, err_msg=f"{f.__name__} {seq} {deg}"
+                )
+
+
+def test_one_state_keeps_the_checks():
+    with pytest.raises(InvalidInputError, match="`frame`"):
+        K.quat_rate([1.0, 0, 0, 0], [1.0, 2, 3], frame="world")
+    with pytest.raises(InvalidInputError, match="finite"):
+        K.quat_rate([1.0, 0, 0, 0], [1.0, np.nan, 3])
+    with pytest.raises(InvalidInputError, match="non-zero"):
+        K.quat_rate([0.0, 0, 0, 0], [1.0, 2, 3])
+    with pytest.raises(InvalidInputError, match="`C` to be rotation matrices"):
+        K.dcm_rate(2 * np.eye(3), [1.0, 2, 3])
+    with pytest.raises(InvalidTypeError, match="`degrees` to be a bool"):
+        K.euler_rates("ZXZ", [0.1, 0.5, 0.2], [1.0, 2, 3], degrees="no")
+    with pytest.warns(GimbalLockWarning):
+        K.euler_rates("ZXZ", [0.1, 1e-4, 0.2], [1.0, 2, 3])
+    with pytest.raises(InvalidInputError, match="overflows"):
+        K.gibbs_rate([1e200, 0, 0], [1.0, 1.0, 0])

@@ -29,19 +29,31 @@ with ``s = +1`` for the body frame and ``s = -1`` for the space frame, and
 
 from __future__ import annotations
 
+import math
 import numbers
 import warnings
 
 import numpy as np
 
-from .._validate import as_bool, as_choice, as_matrix3, as_quat, as_trailing, as_vec3
+from .._validate import (
+    as_bool,
+    as_choice,
+    as_matrix3,
+    as_quat,
+    as_trailing,
+    as_vec3,
+    plain_floats,
+    plain_vec3,
+)
 from .._vec import cross as _cross
 from .._vec import dot as _dot
 from .._vec import hat as _hat
-from ..errors import GimbalLockWarning, InvalidInputError, SingularityWarning
+from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError, SingularityWarning
+from ..rotations import _scalar as S
 from ..rotations import quaternion as _quat
 from ..rotations.dcm import ORTHOGONALITY_ATOL
 from ..rotations.euler import parse_sequence
+from ..rotations.rotation import Rotation, _seq, _unit4
 
 __all__ = [
     "quat_rate",
@@ -134,6 +146,40 @@ def _finite_result(out, name: str):
     return out
 
 
+# --------------------------------------------------------------------------
+# one state: the same formulas on Python floats (validation kept: type, shape,
+# finite values; anything unusual goes to the general path, which reports it)
+# --------------------------------------------------------------------------
+_SIGNS = {"body": 1.0, "space": -1.0}
+
+
+def _fast_sign(frame) -> float | None:
+    return _SIGNS.get(frame) if type(frame) is str else None
+
+
+def _plain_quat(q) -> tuple[float, float, float, float] | None:
+    """A single attitude as four unit Python floats, or None (general path)."""
+    if type(q) is Rotation:
+        return q._q.tolist() if q._q.ndim == 1 else None
+    t = plain_floats(q, 4)
+    return None if t is None else _unit4(t)
+
+
+def _finite3(a: float, b: float, c: float) -> np.ndarray | None:
+    return np.array((a, b, c)) if math.isfinite(a + b + c) else None
+
+
+def _plain_matrix(m) -> list[float] | None:
+    """A single rotation matrix (float64 (3, 3), orthonormal to ``_ORTHO_TOL``) by rows."""
+    if type(m) is not np.ndarray or m.shape != (3, 3):
+        return None
+    t = plain_floats(m.ravel(), 9)
+    if t is None:
+        return None
+    err, det = S.matrix_check(*t)
+    return t if err <= _ORTHO_TOL and det >= 0 else None
+
+
 def _quat_arg(q, name):
     """Unit quaternions from an array (scalar first) or a :class:`Rotation`."""
     if hasattr(q, "as_quat") and not isinstance(q, np.ndarray):
@@ -187,6 +233,11 @@ def quat_rate(q, omega, *, frame: str = "body") -> np.ndarray:
     >>> quat_rate(q, [0.0, 0.0, 2.0]).round(4)                # spin about z
     array([-0.2474,  0.    ,  0.    ,  0.9689])
     """
+    s = _fast_sign(frame)
+    t, w = _plain_quat(q), plain_vec3(omega)
+    if s is not None and t is not None and w is not None:
+        r = S.hamilton(*t, 0.0, *w) if s > 0 else S.hamilton(0.0, *w, *t)
+        return np.array((0.5 * r[0], 0.5 * r[1], 0.5 * r[2], 0.5 * r[3]))
     frame = _frame(frame)
     q = _quat_arg(q, "q")
     omega = as_vec3(omega, "omega")
@@ -230,6 +281,15 @@ def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
     >>> omega_from_quat_rate(q, qdot).round(12)
     array([1., 2., 3.])
     """
+    s = _fast_sign(frame)
+    t, d = _plain_quat(q), plain_floats(qdot, 4)
+    if s is not None and t is not None and d is not None:
+        w, x, y, z = t
+        if s > 0:
+            r = S.hamilton(w, -x, -y, -z, *d)
+        else:
+            r = S.hamilton(*d, w, -x, -y, -z)
+        return np.array((2.0 * r[1], 2.0 * r[2], 2.0 * r[3]))
     frame = _frame(frame)
     q = _quat_arg(q, "q")
     qdot = as_trailing(qdot, "qdot", (4,))
@@ -286,6 +346,19 @@ def dcm_rate(C, omega, *, frame: str = "body") -> np.ndarray:
            [ 1.,  0.,  0.],
            [ 0.,  0.,  0.]])
     """
+    s = _fast_sign(frame)
+    m, w = _plain_matrix(C), plain_vec3(omega)
+    if s is not None and m is not None and w is not None:
+        if s > 0:  # row i of C w^ is (row i of C) x w
+            out = [*S.cross(*m[0:3], *w), *S.cross(*m[3:6], *w), *S.cross(*m[6:9], *w)]
+        else:  # column j of w^ C is w x (column j of C)
+            c0, c1, c2 = S.cross(*w, m[0], m[3], m[6])
+            d0, d1, d2 = S.cross(*w, m[1], m[4], m[7])
+            e0, e1, e2 = S.cross(*w, m[2], m[5], m[8])
+            out = [c0, d0, e0, c1, d1, e1, c2, d2, e2]
+        a = np.array(out)
+        a.shape = (3, 3)
+        return a
     frame = _frame(frame)
     C = _as_rotation_matrix(C, "C")
     omega = as_vec3(omega, "omega")
@@ -325,6 +398,22 @@ def omega_from_dcm_rate(C, Cdot, *, frame: str = "body") -> np.ndarray:
     >>> omega_from_dcm_rate(C, dcm_rate(C, [1.0, 2.0, 3.0]), frame="space")
     array([1., 2., 3.])
     """
+    s = _fast_sign(frame)
+    m = _plain_matrix(C)
+    d = plain_floats(Cdot.ravel(), 9) if type(Cdot) is np.ndarray and Cdot.shape == (3, 3) else None
+    if s is not None and m is not None and d is not None:
+        if s > 0:  # vee of the antisymmetric part of C^T Cdot: (C^T Cdot)_ij = col_i(C) . col_j(Cd)
+            c, e = (m[0::3], m[1::3], m[2::3]), (d[0::3], d[1::3], d[2::3])
+        else:  # of Cdot C^T: (Cd C^T)_ij = row_i(Cd) . row_j(C)
+            c, e = (d[0:3], d[3:6], d[6:9]), (m[0:3], m[3:6], m[6:9])
+
+        def g(i, j):
+            a, b = c[i], e[j]
+            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+        return np.array(
+            (0.5 * (g(2, 1) - g(1, 2)), 0.5 * (g(0, 2) - g(2, 0)), 0.5 * (g(1, 0) - g(0, 1)))
+        )
     frame = _frame(frame)
     C = _as_rotation_matrix(C, "C")
     Cdot = as_matrix3(Cdot, "Cdot")
@@ -377,9 +466,46 @@ def _euler_matrix(seq, angles, frame):
     return np.stack(cols, axis=-1)
 
 
+def _euler_columns(seq, angles, degrees, space: bool):
+    """One state: the columns of ``M`` (as in :func:`_euler_matrix`) on Python floats, or
+    ``None`` for the general path. Column ``k`` is the axis of factor ``k`` of
+    ``C = F0 F1 F2`` turned by the factors before it (space frame) or by the transposes
+    of those after it (body frame)."""
+    t = plain_vec3(angles)
+    if t is None or not (degrees is False or degrees is True):
+        return None
+    axes, extrinsic, code = _seq(seq)
+    if code is None:
+        return None
+    if degrees:
+        t = (t[0] * _DEG, t[1] * _DEG, t[2] * _DEG)
+    # factors of C in product order, as (axis, index of their angle)
+    order = (
+        ((axes[0], 2), (axes[1], 1), (axes[2], 0))
+        if extrinsic
+        else ((axes[0], 0), (axes[1], 1), (axes[2], 2))
+    )
+    cs = [(math.cos(t[k]), math.sin(t[k])) for _, k in order]
+    cols = [None, None, None]
+    for m, (axis, k) in enumerate(order):
+        v = (1.0 if axis == 0 else 0.0, 1.0 if axis == 1 else 0.0, 1.0 if axis == 2 else 0.0)
+        if space:
+            for n in range(m - 1, -1, -1):
+                v = S.turn(*v, order[n][0], *cs[n])
+        else:
+            for n in range(m + 1, 3):
+                v = S.turn(*v, order[n][0], cs[n][0], -cs[n][1])
+        cols[k] = v
+    return cols
+
+
+_DEG = math.pi / 180.0  # the constants of np.deg2rad and np.rad2deg
+_RAD = 180.0 / math.pi
+
+
 def _euler_args(seq, angles, degrees):
     if not isinstance(seq, str):
-        raise InvalidInputError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
+        raise InvalidTypeError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
     angles = as_vec3(angles, "angles")
     if as_bool(degrees, "degrees"):
         angles = np.deg2rad(angles)
@@ -468,6 +594,14 @@ def omega_from_euler_rates(
     >>> omega_from_euler_rates("ZYX", [10, 20, 30], [0, 0, 90], degrees=True).round(4)
     array([1.5708, 0.    , 0.    ])
     """
+    s = _fast_sign(frame)
+    r = plain_vec3(rates)
+    cols = None if s is None or r is None else _euler_columns(seq, angles, degrees, s < 0)
+    if cols is not None:
+        if degrees:
+            r = (r[0] * _DEG, r[1] * _DEG, r[2] * _DEG)
+        c0, c1, c2 = cols
+        return np.array([c0[i] * r[0] + c1[i] * r[1] + c2[i] * r[2] for i in range(3)])
     frame = _frame(frame)
     angles = _euler_args(seq, angles, degrees)
     rates = as_vec3(rates, "rates")
@@ -530,6 +664,16 @@ def euler_rates(
     >>> euler_rates("euler", [0.0, np.pi / 2, 0.0], [0.0, 1.0, 0.0]).round(12) + 0.0
     array([1., 0., 0.])
     """
+    s = _fast_sign(frame)
+    w = plain_vec3(omega)
+    cols = None if s is None or w is None else _euler_columns(seq, angles, degrees, s < 0)
+    if cols is not None:
+        c0, c1, c2 = cols
+        rows = (S.cross(*c1, *c2), S.cross(*c2, *c0), S.cross(*c0, *c1))
+        det = c0[0] * rows[0][0] + c0[1] * rows[0][1] + c0[2] * rows[0][2]
+        if abs(det) >= GIMBAL_WARN_DET:  # else the general path warns or raises
+            out = [(a[0] * w[0] + a[1] * w[1] + a[2] * w[2]) / det for a in rows]
+            return np.array([x * _RAD for x in out] if degrees else out)
     frame = _frame(frame)
     angles = _euler_args(seq, angles, degrees)
     omega = as_vec3(omega, "omega")
@@ -586,6 +730,13 @@ def gibbs_rate(g, omega, *, frame: str = "body") -> np.ndarray:
     >>> gibbs_rate([0.0, 0.0, 0.0], [2.0, 0.0, 0.0])
     array([1., 0., 0.])
     """
+    s = _fast_sign(frame)
+    t, u = plain_vec3(g), plain_vec3(omega)
+    if s is not None and t is not None and u is not None:
+        c, gw = S.cross(*t, *u), t[0] * u[0] + t[1] * u[1] + t[2] * u[2]
+        out = _finite3(*(0.5 * (u[i] + s * c[i] + gw * t[i]) for i in range(3)))
+        if out is not None:
+            return out
     s = _sign(_frame(frame))
     g = as_vec3(g, "g")
     w = as_vec3(omega, "omega")
@@ -621,6 +772,13 @@ def omega_from_gibbs_rate(g, gdot, *, frame: str = "body") -> np.ndarray:
     >>> omega_from_gibbs_rate(g, gibbs_rate(g, [1.0, 2.0, 3.0])).round(12)
     array([1., 2., 3.])
     """
+    s = _fast_sign(frame)
+    t, d = plain_vec3(g), plain_vec3(gdot)
+    if s is not None and t is not None and d is not None:
+        c, n = S.cross(*t, *d), 1.0 + (t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+        out = _finite3(*(2.0 * (d[i] - s * c[i]) / n for i in range(3)))
+        if out is not None:
+            return out
     s = _sign(_frame(frame))
     g = as_vec3(g, "g")
     gd = as_vec3(gdot, "gdot")
@@ -659,6 +817,17 @@ def mrp_rate(p, omega, *, frame: str = "body") -> np.ndarray:
     >>> mrp_rate([0.0, 0.0, 0.0], [0.0, 4.0, 0.0])
     array([0., 1., 0.])
     """
+    s = _fast_sign(frame)
+    t, u = plain_vec3(p), plain_vec3(omega)
+    if s is not None and t is not None and u is not None:
+        c = S.cross(*t, *u)
+        pp = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+        pw = t[0] * u[0] + t[1] * u[1] + t[2] * u[2]
+        out = _finite3(
+            *(0.25 * ((1.0 - pp) * u[i] + 2.0 * s * c[i] + 2.0 * pw * t[i]) for i in range(3))
+        )
+        if out is not None:
+            return out
     s = _sign(_frame(frame))
     p = as_vec3(p, "p")
     w = as_vec3(omega, "omega")
@@ -695,6 +864,21 @@ def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
     >>> omega_from_mrp_rate(p, mrp_rate(p, [1.0, 2.0, 3.0])).round(12)
     array([1., 2., 3.])
     """
+    s = _fast_sign(frame)
+    t, d = plain_vec3(p), plain_vec3(pdot)
+    if s is not None and t is not None and d is not None:
+        c = S.cross(*t, *d)
+        pp = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+        pd_ = t[0] * d[0] + t[1] * d[1] + t[2] * d[2]
+        k = 1.0 + pp
+        out = _finite3(
+            *(
+                4.0 * ((1.0 - pp) * d[i] - 2.0 * s * c[i] + 2.0 * pd_ * t[i]) / (k * k)
+                for i in range(3)
+            )
+        )
+        if out is not None:
+            return out
     s = _sign(_frame(frame))
     p = as_vec3(p, "p")
     pd = as_vec3(pdot, "pdot")

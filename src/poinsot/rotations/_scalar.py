@@ -33,6 +33,8 @@ __all__ = [
     "from_euler",
     "to_euler",
     "angle",
+    "cross",
+    "turn",
 ]
 
 
@@ -233,3 +235,18 @@ def to_euler(w, x, y, z, i, j, k, extrinsic, eps):
 def angle(w, x, y, z):
     """Rotation angle in ``[0, pi]``: ``2 atan2(|l|, |l0|)`` (theory §2)."""
     return 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), abs(w))
+
+
+def cross(a0, a1, a2, b0, b1, b2):
+    """``a x b``."""
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+def turn(v0, v1, v2, axis, c, s):
+    """``A_axis(f) v``: ``v`` turned about coordinate axis ``axis`` (0, 1, 2) by the angle
+    with cosine ``c`` and sine ``s`` (right-handed; pass ``-s`` for the transpose)."""
+    if axis == 0:
+        return v0, c * v1 - s * v2, s * v1 + c * v2
+    if axis == 1:
+        return c * v0 + s * v2, v1, c * v2 - s * v0
+    return c * v0 - s * v1, s * v0 + c * v1, v2
