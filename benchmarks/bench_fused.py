@@ -115,21 +115,20 @@ def run_case(name, moments, quat, omega, torque_model, torque_np, ref, sweep_ext
 
     simulate(moments[:2], quat[:2], omega[:2], t, torque=torque_model, method="dop853",
              rtol=1e-6)  # compile outside the timings
+    def point(fn):
+        dt, res = timed(fn)
+        return dt, error(res, ref)
+
+    tols = (1e-5, 1e-7, 1e-9, 1e-11, 1e-13)
     curves["poinsot dop853 (fused)"] = [
-        (lambda r: (r[0], error(r[1], ref)))(timed(lambda rt=rt: poinsot_run("dop853", rtol=rt,
-                                                                             atol=rt * 1e-2)))
-        for rt in (1e-5, 1e-7, 1e-9, 1e-11, 1e-13)
+        point(lambda rt=rt: poinsot_run("dop853", rtol=rt, atol=rt * 1e-2)) for rt in tols
     ]
     curves["SciPy DOP853 (vectorised 7N)"] = [
-        (lambda r: (r[0], error(r[1], ref)))(
-            timed(lambda rt=rt: scipy_batch(moments, quat, omega, DURATION, rt, torque_np)))
-        for rt in (1e-5, 1e-7, 1e-9, 1e-11, 1e-13)
+        point(lambda rt=rt: scipy_batch(moments, quat, omega, DURATION, rt, torque_np))
+        for rt in tols
     ]
     for label, method, kws in sweep_extra:
-        curves[label] = [
-            (lambda r: (r[0], error(r[1], ref)))(timed(lambda kw=kw: poinsot_run(method, **kw)))
-            for kw in kws
-        ]
+        curves[label] = [point(lambda kw=kw, m=method: poinsot_run(m, **kw)) for kw in kws]
     print(f"\n{name}: N = {len(moments)}, {DURATION} s")
     for label, pts in curves.items():
         print(f"  {label:32s} " + "  ".join(f"{e:.1e}@{s:.2f}s" for s, e in pts))

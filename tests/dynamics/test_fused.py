@@ -17,6 +17,7 @@ from poinsot.dynamics import (
     ConstantBodyTorque,
     ConstantSpaceTorque,
     FreeRigidBody,
+    GravityGradientTorque,
     GravityTorque,
     invariants,
     simulate,
@@ -85,11 +86,15 @@ def test_measured_order_is_eight_with_projection():
         ConstantBodyTorque([0.05, -0.02, 0.03]),
         ConstantSpaceTorque([0.1, 0.0, -0.05]),
         GravityTorque(2.0, [0.01, -0.02, 0.1]),
+        "gradient",
     ],
-    ids=["body", "space", "gravity"],
+    ids=["body", "space", "gravity", "gravity-gradient"],
 )
 def test_fused_torques_match_solve_ivp(torque):
     moments, quat, omega = _bodies(5, seed=7)
+    if torque == "gradient":  # the field sees the same inertia as the integrator
+        moments = np.broadcast_to(moments[0], moments.shape)
+        torque = GravityGradientTorque(moments[0], 7.0e6, [0.3, -0.4, 0.8], mu=3.986e14 * 1e5)
     t = np.linspace(0.0, 5.0, 11)
     fused = simulate(moments, quat, omega, t, torque=torque, method="dop853",
                      rtol=1e-12, atol=1e-14)

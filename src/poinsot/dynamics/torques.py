@@ -47,6 +47,7 @@ __all__ = [
     "ConstantBodyTorque",
     "ConstantSpaceTorque",
     "GravityTorque",
+    "GravityGradientTorque",
     "CallableTorque",
     "as_torque",
     "STANDARD_GRAVITY",
@@ -321,6 +322,82 @@ class CallableTorque(TorqueModel):
         if self.potential_function is None:
             return None
         return np.asarray(self.potential_function(np.asarray(quat, dtype=float)), dtype=float)
+
+
+@dataclass(frozen=True, eq=False)
+class GravityGradientTorque(TorqueModel):
+    """Gravity-gradient torque on a body in a central field (theory §10, §9).
+
+    A body at distance ``R`` from the centre of a field of gravitational
+    parameter ``mu``, along the unit space direction ``n`` (from the centre to
+    the body, fixed here: the orbit is not integrated), feels about its centre
+    of mass, to first order in (size / R),
+
+    ``M_b = (3 mu / R^3) n_b x J n_b``,  ``n_b = R^T n``,
+
+    with potential ``V = (3 mu / (2 R^3)) n_b . J n_b`` (up to a constant). ``J``
+    is the body's inertia tensor about its centre of mass, in body axes: give
+    the same inertia as the one being integrated.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (3,) or (3, 3)
+        Principal moments or tensor about the centre of mass (kg m^2).
+    radius : float
+        Distance from the field's centre (m), > 0.
+    direction : array_like, shape (3,)
+        Direction from the field's centre to the body, space axes (normalised).
+    mu : float, optional
+        Gravitational parameter (m^3/s^2); default the Earth's ``3.986004418e14``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot import Rotation
+    >>> gg = GravityGradientTorque([1.0, 2.0, 3.0], 7.0e6, [1.0, 0.0, 0.0])
+    >>> q = Rotation.from_euler("z", 30, degrees=True).as_quat()
+    >>> m = gg.body_torque(0.0, q, np.zeros(3))        # n_b in the x-y plane: M along z
+    >>> k = 3 * 3.986004418e14 / 7.0e6**3
+    >>> bool(np.isclose(m[2], k * (2.0 - 1.0) * np.sin(np.pi / 6) * np.cos(np.pi / 6) * -1))
+    True
+    """
+
+    inertia: Any
+    radius: Any
+    direction: Any
+    mu: float = 3.986004418e14
+
+    def __post_init__(self) -> None:
+        from ..mass.tensor import as_inertia
+
+        j, principal = as_inertia(self.inertia, "inertia")
+        if principal:
+            j = j[..., :, None] * np.eye(3)
+        r = as_positive(self.radius, "radius")
+        mu = as_positive(self.mu, "mu")
+        n = as_vec3(self.direction, "direction")
+        norm = np.linalg.norm(n, axis=-1, keepdims=True)
+        if np.any(norm == 0):
+            raise InvalidInputError("Expected `direction` to be a non-zero vector.")
+        object.__setattr__(self, "inertia", _readonly(j))
+        object.__setattr__(self, "radius", _readonly(r))
+        object.__setattr__(self, "mu", float(mu))
+        object.__setattr__(self, "direction", _readonly(n / norm))
+
+    @property
+    def coefficient(self) -> np.ndarray:
+        """``3 mu / R^3`` (1/s^2)."""
+        return 3.0 * self.mu / self.radius**3
+
+    def body_torque(self, t, quat, omega) -> np.ndarray:
+        nb = _to_body(np.asarray(quat, dtype=float), self.direction)
+        jn = np.einsum("...ij,...j->...i", self.inertia, nb)
+        return self.coefficient[..., None] * cross(nb, jn)
+
+    def potential(self, quat) -> np.ndarray:
+        nb = _to_body(np.asarray(quat, dtype=float), self.direction)
+        jn = np.einsum("...ij,...j->...i", self.inertia, nb)
+        return 0.5 * self.coefficient * np.einsum("...i,...i->...", nb, jn)
 
 
 def as_torque(torque) -> TorqueModel | None:
