@@ -12,7 +12,7 @@ from types import MappingProxyType
 from typing import Any
 
 from .kind import ScenarioKind
-from .kinds import attitude, coning, free_body, torqued_body
+from .kinds import attitude, coning, free_body, lagrangian, torqued_body
 
 __all__ = ["KINDS", "get_kind", "kind_for"]
 
@@ -21,6 +21,7 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
     {
         k.name: k
         for k in (
+            lagrangian.KIND,  # [lagrangian]: generalized coordinates, T and P as formulas
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]
             torqued_body.KIND,  # [torque] with a model other than "none"
