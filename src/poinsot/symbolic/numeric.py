@@ -451,7 +451,11 @@ class NumericLagrangian:
         if which not in self._aux:
             sp = self._sympy
             sysm = self._system
-            expr = {"energy": sysm._energy_plain, "jacobi": sysm._jacobi_plain}[which]
+            expr = {
+                "energy": sysm._energy_plain,
+                "jacobi": sysm._jacobi_plain,
+                "kinetic": sysm._T,
+            }[which]
             expr = expr.xreplace(self._names)
             c = sysm._c
             q = [self._names[s] for s in c.plain]
@@ -472,6 +476,10 @@ class NumericLagrangian:
     def energy(self, t, y, params=None) -> np.ndarray:
         """Mechanical energy ``T + P + V0`` at the states ``y`` (shape ``y.shape[:-1]``)."""
         return self._scalar("energy", t, y, params)
+
+    def kinetic(self, t, y, params=None) -> np.ndarray:
+        """Kinetic energy ``T`` at the states ``y`` (shape ``y.shape[:-1]``)."""
+        return self._scalar("kinetic", t, y, params)
 
     def jacobi(self, t, y, params=None) -> np.ndarray:
         """Jacobi integral ``q' . dL/dq' - L`` at the states ``y``."""
@@ -590,6 +598,7 @@ class NumericLagrangian:
         info.update(method=method, rtol=float(rtol), atol=float(atol), evaluations=next(counter))
         tb = tt.reshape(tt.size, *([1] * len(batch)))
         energy = self.energy(tb, ys, pmap)
+        kinetic = self.kinetic(tb, ys, pmap)
         jacobi = None
         if self._system.time not in self._system._L.free_symbols:
             jacobi = self.jacobi(tb, ys, pmap)
@@ -602,6 +611,7 @@ class NumericLagrangian:
             qdot=ys[..., self.n :],
             coordinates=self.coordinates,
             energy=energy,
+            kinetic=kinetic,
             jacobi=jacobi,
             multipliers=lam,
             jacobi_conserved=self._system.jacobi_conserved,
@@ -609,11 +619,11 @@ class NumericLagrangian:
         )
 
 
-def _drift(x) -> float | None:
+def _drift(x, scale=None) -> float | None:
     if x is None:
         return None
     d = np.max(np.abs(x - x[0]), axis=0)
-    ref = np.abs(x[0])
+    ref = np.abs(x[0]) if scale is None else np.maximum(np.abs(x[0]), scale)
     rel = np.where(ref > 0, d / np.where(ref > 0, ref, 1.0), d)
     return float(np.max(rel))
 
@@ -632,6 +642,8 @@ class LagrangeTrajectory:
         The coordinate names, in the order of the last axis.
     energy : ndarray, shape (k, ...)
         Mechanical energy ``T + P + V0`` (J in SI).
+    kinetic : ndarray, shape (k, ...) or None
+        Kinetic energy ``T`` (J in SI).
     jacobi : ndarray, shape (k, ...) or None
         Jacobi integral ``q' . dL/dq' - L`` (None if ``L`` depends on time).
     multipliers : ndarray, shape (k, ..., m) or None
@@ -651,6 +663,7 @@ class LagrangeTrajectory:
     qdot: np.ndarray
     coordinates: tuple
     energy: np.ndarray
+    kinetic: np.ndarray | None = None
     jacobi: np.ndarray | None = None
     multipliers: np.ndarray | None = None
     jacobi_conserved: bool = False
@@ -658,7 +671,7 @@ class LagrangeTrajectory:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
-        for name in ("t", "q", "qdot", "energy", "jacobi", "multipliers"):
+        for name in ("t", "q", "qdot", "energy", "kinetic", "jacobi", "multipliers"):
             a = getattr(self, name)
             if a is not None:
                 a = np.array(a, dtype=float)
@@ -673,12 +686,18 @@ class LagrangeTrajectory:
             )
         return self.q[..., self.coordinates.index(name)]
 
+    def _scale(self):
+        """``max_t |T|`` per batch member: the size energies are compared with."""
+        return None if self.kinetic is None else np.max(np.abs(self.kinetic), axis=0)
+
     @property
     def energy_drift(self) -> float:
-        """``max |E_k - E_0| / |E_0|`` (absolute where ``E_0 = 0``), over the batch."""
-        return _drift(self.energy)
+        """``max_t |E - E_0| / max(|E_0|, max_t T)`` over the batch (relative to the
+        larger of the initial energy and the largest kinetic energy, so that an
+        energy that starts at 0 is judged on the scale of the motion)."""
+        return _drift(self.energy, self._scale())
 
     @property
     def jacobi_drift(self) -> float | None:
-        """``max |h_k - h_0| / |h_0|`` (absolute where ``h_0 = 0``), or None."""
-        return _drift(self.jacobi)
+        """``max_t |h - h_0| / max(|h_0|, max_t T)`` (as :attr:`energy_drift`), or None."""
+        return _drift(self.jacobi, self._scale())

@@ -337,7 +337,8 @@ def parse_expression(text, symbols=None):
             token=text[:20],
         )
     names = _declared(symbols)
-    if not text.strip():
+    text = " ".join(text.split())  # formulas may span lines (TOML multi-line strings)
+    if not text:
         raise ExpressionError("Expected a non-empty expression, got an empty string.", text=text)
     try:
         tree = ast.parse(text.strip(), mode="eval")
