@@ -628,6 +628,11 @@ def test_one_state_equals_its_row_in_a_batch(frame):
     ang[:, 1] = rng.uniform(0.2, 1.3, n)  # away from gimbal lock for every sequence
     for seq in _SEQS12 + [s.lower() for s in _SEQS12] + ["euler", "krylov"]:
         for deg, a in ((False, ang), (True, np.rad2deg(ang))):
+            m = K.euler_rate_matrix(seq, a, frame=frame, degrees=deg)
+            m1 = np.array(
+                [K.euler_rate_matrix(seq, a[i], frame=frame, degrees=deg) for i in range(n)]
+            )
+            np.testing.assert_allclose(m1, m, rtol=0, atol=4e-16, err_msg=seq)
             for f in (K.euler_rates, K.omega_from_euler_rates):
                 batch = f(seq, a, y, frame=frame, degrees=deg)
                 one = np.array([f(seq, a[i], y[i], frame=frame, degrees=deg) for i in range(n)])

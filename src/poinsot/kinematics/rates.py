@@ -548,6 +548,13 @@ def euler_rate_matrix(seq: str, angles, *, frame: str = "body", degrees: bool = 
            [0.4794, 0.    , 0.    ],
            [0.8776, 0.    , 1.    ]])
     """
+    s = _fast_sign(frame)
+    cols = None if s is None else _euler_columns(seq, angles, degrees, s < 0)
+    if cols is not None:
+        c0, c1, c2 = cols
+        m = np.array((c0[0], c1[0], c2[0], c0[1], c1[1], c2[1], c0[2], c1[2], c2[2]))
+        m.shape = (3, 3)
+        return m
     frame = _frame(frame)
     return _euler_matrix(seq, _euler_args(seq, angles, degrees), frame)
 
@@ -990,6 +997,45 @@ def _rotvec_coefficients(f):
     )
 
 
+def _rotvec_coefficients_one(f: float) -> tuple[float, float, float]:
+    """:func:`_rotvec_coefficients` for one angle (Python floats, same expressions)."""
+    f2 = f * f
+    if f < ROTVEC_SERIES_ANGLE:
+        return (
+            1 / 12 + f2 * (1 / 720 + f2 * (1 / 30240 + f2 / 1209600)),
+            0.5 - f2 * (1 / 24 - f2 * (1 / 720 - f2 / 40320)),
+            1 / 6 - f2 * (1 / 120 - f2 * (1 / 5040 - f2 / 362880)),
+        )
+    return (
+        (1.0 - 0.5 * f / math.tan(0.5 * f)) / f**2,
+        (1.0 - math.cos(f)) / f**2,
+        (f - math.sin(f)) / f**3,
+    )
+
+
+def _rotvec_one(rotvec, other, frame, inverse: bool):
+    """One state of :func:`rotvec_rate` (``inverse=False``) or
+    :func:`omega_from_rotvec_rate` (``True``) on Python floats, or ``None`` (general
+    path: also every case that warns or raises)."""
+    s = _fast_sign(frame)
+    t, u = plain_vec3(rotvec), plain_vec3(other)
+    if s is None or t is None or u is None:
+        return None
+    f = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    if not f <= ROTVEC_MAX_ANGLE:
+        return None
+    k = round(f / (2 * math.pi))
+    if not inverse and k > 0 and abs(f - 2 * math.pi * k) < ROTVEC_WARN_GAP:
+        return None
+    c, k1, k2 = _rotvec_coefficients_one(f)
+    a = S.cross(*t, *u)
+    b = S.cross(*t, *a)
+    if inverse:  # J phi' = phi' - s k1 phi x phi' + k2 phi x (phi x phi')
+        return np.array([u[i] - s * k1 * a[i] + k2 * b[i] for i in range(3)])
+    # J^-1 w = w + s/2 phi x w + c phi x (phi x w)
+    return np.array([u[i] + 0.5 * s * a[i] + c * b[i] for i in range(3)])
+
+
 def _rotvec_rate(phi, w, s):
     """``J^-1 w = w + s/2 phi x w + c phi x (phi x w)`` (no validation)."""
     f = np.sqrt(_dot(phi, phi))
@@ -1061,6 +1107,9 @@ def rotvec_rate(rotvec, omega, *, frame: str = "body") -> np.ndarray:
     >>> rotvec_rate([0.0, 0.0, np.pi / 2], [1.0, 0.0, 0.0]).round(4)
     array([0.7854, 0.7854, 0.    ])
     """
+    one = _rotvec_one(rotvec, omega, frame, inverse=False)
+    if one is not None:
+        return one
     s = _sign(_frame(frame))
     phi = as_vec3(rotvec, "rotvec")
     w = as_vec3(omega, "omega")
@@ -1110,6 +1159,9 @@ def omega_from_rotvec_rate(rotvec, rotvec_dot, *, frame: str = "body") -> np.nda
     >>> omega_from_rotvec_rate(v, rotvec_rate(v, [1.0, 2.0, 3.0])).round(12)
     array([1., 2., 3.])
     """
+    one = _rotvec_one(rotvec, rotvec_dot, frame, inverse=True)
+    if one is not None:
+        return one
     s = _sign(_frame(frame))
     phi = as_vec3(rotvec, "rotvec")
     d = as_vec3(rotvec_dot, "rotvec_dot")
