@@ -33,7 +33,8 @@ def test_import_is_light_and_fast():
     code = (
         "import sys, time; t = time.perf_counter(); import poinsot; "
         "dt = time.perf_counter() - t; "
-        "print(dt, *[m for m in ('sympy', 'matplotlib', 'plotly', 'numba') if m in sys.modules])"
+        "print(dt, *[m for m in ('sympy', 'matplotlib', 'plotly', 'numba', 'dask', 'pyarrow') "
+        "if m in sys.modules])"
     )
     runs = [_run(code).split() for _ in range(3)]
     assert all(len(r) == 1 for r in runs), f"heavy modules imported: {runs}"
@@ -59,6 +60,15 @@ def test_symbolic_is_never_imported_eagerly():
     assert _run(code) == ""
     code = "import sys, poinsot.scenarios; print('poinsot.symbolic' in sys.modules)"
     assert _run(code) == "False"
+
+
+def test_ensemble_dask_and_pyarrow_load_only_when_an_ensemble_runs():
+    code = (
+        "import sys, poinsot, poinsot.dynamics, poinsot.scenarios, poinsot.cli; "
+        "print(*[m for m in ('poinsot.ensemble', 'dask', 'distributed', 'pyarrow') "
+        "if m in sys.modules])"
+    )
+    assert _run(code) == ""
 
 
 def test_exception_hierarchy():
