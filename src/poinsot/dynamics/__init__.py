@@ -1,5 +1,10 @@
-"""Dynamics (SPEC S8, S10): Euler's equations, structure-preserving integrators,
-and the exact Euler-Poinsot motion of the free rigid body.
+"""Dynamics (theory §8-§10): Euler's equations and their integrators, torque models
+and invariants, exact solutions (free body, Lagrange top), the heavy body, particles
+in moving frames and central forces.
+
+A new kind of motion is one module here plus one scenario adapter
+(``docs/adding-a-motion.md``); it follows the contract of ``docs/conventions.md``
+("One contract for the things that move").
 
 **Convention:** angular velocity in body axes, angular momentum in space axes,
 attitude maps body to space components. See ``docs/dynamics.md`` and
