@@ -19,6 +19,7 @@ SUBPACKAGES = [
     "poinsot.kinematics",
     "poinsot.mass",
     "poinsot.dynamics",
+    "poinsot.symbolic",
 ]
 
 
