@@ -57,7 +57,7 @@ def check_helix(f: FrenetFrame, t, tol_vec, tol_k, tol_tau):
 def test_helix_callable_closed_form():
     t = np.linspace(-3, 3, 13)
     f = frenet(t, helix)
-    check_helix(f, t, 1e-10, 1e-11, 1e-8)
+    check_helix(f, t, 2e-10, 1e-11, 1e-8)  # vectors: 1.2e-11 observed
 
 
 def test_helix_exact_derivatives():
@@ -91,8 +91,8 @@ def test_dense_samples_auto_stride():
     auto = frenet(t, r)
     one = frenet(t, r, stride=1)
     assert np.abs(one.torsion - tau).max() > 1e-5
-    assert np.abs(auto.torsion - tau).max() < 1e-6
-    assert np.abs(auto.curvature - kappa).max() < 1e-9
+    assert np.abs(auto.torsion - tau).max() < 2e-6  # 1.25e-7 observed
+    assert np.abs(auto.curvature - kappa).max() < 2e-9  # 1.6e-10 observed
     four = frenet(t, r, stride=4)
     assert np.abs(four.torsion - tau).max() < np.abs(one.torsion - tau).max() / 10
 
@@ -155,7 +155,7 @@ def test_callable_layouts_and_batch():
     t = np.array([[0.1, 0.2], [0.3, 0.4]])
     ref = frenet(t, helix)
     assert ref.tangent.shape == (2, 2, 3) and ref.curvature.shape == (2, 2)
-    check_helix(ref, t, 1e-10, 1e-11, 1e-8)  # the (2, 2) batch against the closed form
+    check_helix(ref, t, 2e-10, 1e-11, 1e-8)  # the (2, 2) batch against the closed form
     f2 = frenet(t, lambda s: np.array([A * np.cos(s), A * np.sin(s), B * s]))
     f3 = frenet(t, lambda s: (A * np.cos(s), A * np.sin(s), B * s))
     np.testing.assert_allclose(f2.torsion, ref.torsion)
@@ -169,7 +169,7 @@ def test_callable_layouts_and_batch():
     np.testing.assert_allclose(fb.curvature[:, 1], fb.curvature[:, 0] / 2, rtol=1e-12)
     kappa = helix_truth(ts)[3]  # a / (a^2 + b^2); the curve scaled by 2 has half of it
     np.testing.assert_allclose(
-        fb.curvature, np.stack([kappa, kappa / 2], -1) + 0 * ts[:, None], rtol=1e-6
+        fb.curvature, np.stack([kappa, kappa / 2], -1) + 0 * ts[:, None], rtol=1e-5
     )
 
 
