@@ -11,15 +11,16 @@ mathtext from SymPy's LaTeX (no TeX installation, nothing fetched).
 from __future__ import annotations
 
 from ..errors import InvalidTypeError
+from .scenario import _new_axes
 
 __all__ = ["plot_coordinates", "plot_phase", "plot_equations", "equation_latex"]
 
 
-def _new_axes(ax, size=(7, 3.6)):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots(figsize=size, layout="constrained")
+def _finish(ax, title):
+    ax.legend(loc="best", fontsize="small")
+    ax.grid(True, alpha=0.3)
+    if title:
+        ax.set_title(title)
     return ax
 
 
@@ -65,11 +66,7 @@ def plot_coordinates(trajectory, *, ax=None, title: str | None = None):
         ax.plot(tr.t, tr.q[:, k], label=name)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("generalized coordinates")
-    ax.legend(loc="best", fontsize="small")
-    ax.grid(True, alpha=0.3)
-    if title:
-        ax.set_title(title)
-    return ax
+    return _finish(ax, title)
 
 
 def plot_phase(trajectory, *, ax=None, title: str | None = "phase portrait"):
@@ -81,10 +78,9 @@ def plot_phase(trajectory, *, ax=None, title: str | None = "phase portrait"):
     >>> matplotlib.use("Agg")
     >>> import numpy as np, sympy
     >>> from poinsot.symbolic import LagrangeSystem
-    >>> x = sympy.Function("x")(sympy.Symbol("t"))
-    >>> tr = LagrangeSystem([x], x.diff() ** 2 / 2, x**2 / 2).simulate(
-    ...     [1.0], [0.0], np.linspace(0, 6, 61))
-    >>> len(plot_phase(tr).get_lines())
+    >>> th = sympy.Function("theta")(sympy.Symbol("t"))
+    >>> pendulum = LagrangeSystem([th], th.diff() ** 2 / 2, -sympy.cos(th))
+    >>> len(plot_phase(pendulum.simulate([2.0], [0.0], np.linspace(0, 8, 81))).get_lines())
     1
     """
     tr = _lagrange_trajectory(trajectory)
@@ -93,11 +89,7 @@ def plot_phase(trajectory, *, ax=None, title: str | None = "phase portrait"):
         ax.plot(tr.q[:, k], tr.qdot[:, k], label=name)
     ax.set_xlabel("q")
     ax.set_ylabel("q' (1/s)")
-    ax.legend(loc="best", fontsize="small")
-    ax.grid(True, alpha=0.3)
-    if title:
-        ax.set_title(title)
-    return ax
+    return _finish(ax, title)
 
 
 def equation_latex(system) -> list[str]:
