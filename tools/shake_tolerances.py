@@ -98,12 +98,10 @@ def _closeness(actual, desired, rtol, atol):
     import numpy as np
 
     try:
-        a = np.asarray(actual, dtype=float)
-        d = np.asarray(desired, dtype=float)
-        a, d = np.broadcast_arrays(a, d)
+        a, d = np.broadcast_arrays(np.asarray(actual), np.asarray(desired))
     except (TypeError, ValueError):
         return None
-    if a.size == 0:
+    if a.size == 0 or a.dtype.kind not in "biufc" or d.dtype.kind not in "biufc":
         return None
     with np.errstate(all="ignore"):
         diff = np.abs(a - d)
