@@ -83,6 +83,7 @@ def _as_shape(shape, name: str = "shape") -> tuple[int, ...]:
 UNIT_ATOL = 1e-10
 
 _EPS4 = 4.0 * float(np.finfo(np.float64).eps)
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 _DEG = math.pi / 180.0  # the constants of np.deg2rad / np.rad2deg: same bits
 _RAD = 180.0 / math.pi
 
@@ -534,6 +535,8 @@ class Rotation:
         >>> Rotation.identity().as_quat(scalar_first=False)
         array([0., 0., 0., 1.])
         """
+        if scalar_first is True and canonical is False:
+            return self._q.copy()  # any shape: the stored array, unit, scalar first
         first = as_bool(scalar_first, "scalar_first")
         canon = as_bool(canonical, "canonical")
         if self._q.ndim == 1:
@@ -691,8 +694,11 @@ class Rotation:
         """
         q = self._q
         if q.ndim == 1:
-            w, x, y, z = q.tolist()
-            return _new((w, -x, -y, -z))
+            out = q * _CONJ
+            out.setflags(write=False)
+            obj = object.__new__(Rotation)
+            obj._q = out
+            return obj
         if big(q.shape[:-1]):
             out = np.empty(q.shape)
             kernels().conj_flat(flat(q, 4), out.reshape(-1, 4))
