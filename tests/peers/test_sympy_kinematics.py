@@ -473,7 +473,7 @@ def test_frenet_vs_sympy(name):
         np.testing.assert_allclose(got, want, rtol=0, atol=TOL)
     # default: finite differences of the callable (documented O(h^8) / O(h^6))
     fd = frenet(t, curve)
-    np.testing.assert_allclose(fd.curvature, kappa, rtol=1e-10, atol=0)
+    np.testing.assert_allclose(fd.curvature, kappa, rtol=1e-9, atol=0)  # 1.5e-11 seen
     np.testing.assert_allclose(fd.torsion, tau, rtol=1e-7, atol=0)
     np.testing.assert_allclose(fd.normal, nrm, atol=1e-9)
     # samples on a dense grid (7-point stencil)
@@ -634,7 +634,7 @@ def test_angular_velocity_from_samples_vs_sympy(sympy_history, frame):
     spl = rotation_spline(t, rot)
     tm = 0.5 * (t[1:] + t[:-1])
     cm, wbm, wsm, ebm, esm = sympy_history(tm)
-    np.testing.assert_allclose(spl.rotation(tm).as_matrix(), cm, atol=1e-6)
+    np.testing.assert_allclose(spl.rotation(tm).as_matrix(), cm, atol=3e-6)  # 1.6e-7 seen
     np.testing.assert_allclose(
         spl.omega(tm, frame=frame), wbm if frame == "body" else wsm, atol=1e-4
     )
@@ -698,7 +698,7 @@ def test_propagate_sampled_omega_vs_sympy(sympy_history, frame):
         w = wb if frame == "body" else ws
         tr = propagate(Rotation.from_matrix(c[0]), w, t, frame=frame, method="magnus4")
         errs.append(np.abs(tr.rotation.as_matrix() - c).max())
-    assert errs[1] < 2e-8
+    assert errs[1] < 1e-7  # 5.2e-9 seen
     assert np.log2(errs[0] / errs[1]) > 3.5
 
 
