@@ -51,6 +51,7 @@ from .._vec import hat as _hat
 from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError, SingularityWarning
 from ..rotations import _scalar as S
 from ..rotations import quaternion as _quat
+from ..rotations._lazy import kernels
 from ..rotations.dcm import ORTHOGONALITY_ATOL
 from ..rotations.euler import parse_sequence
 from ..rotations.rotation import Rotation, _seq, _unit4
@@ -466,37 +467,23 @@ def _euler_matrix(seq, angles, frame):
     return np.stack(cols, axis=-1)
 
 
-def _euler_columns(seq, angles, degrees, space: bool):
-    """One state: the columns of ``M`` (as in :func:`_euler_matrix`) on Python floats, or
-    ``None`` for the general path. Column ``k`` is the axis of factor ``k`` of
-    ``C = F0 F1 F2`` turned by the factors before it (space frame) or by the transposes
-    of those after it (body frame)."""
+def _euler_one(seq, angles, other, degrees, frame):
+    """One state of the Euler kinematics: ``(kernels, code, angles (rad), other, space)``
+    as float64 arrays for the one-state compiled kernels, or ``None`` (general path)."""
+    s = _fast_sign(frame)
     t = plain_vec3(angles)
-    if t is None or not (degrees is False or degrees is True):
+    u = (0.0, 0.0, 0.0) if other is None else plain_vec3(other)
+    if s is None or t is None or u is None or not (degrees is False or degrees is True):
         return None
-    axes, extrinsic, code = _seq(seq)
+    code = _seq(seq)[2]
     if code is None:
         return None
     if degrees:
-        t = (t[0] * _DEG, t[1] * _DEG, t[2] * _DEG)
-    # factors of C in product order, as (axis, index of their angle)
-    order = (
-        ((axes[0], 2), (axes[1], 1), (axes[2], 0))
-        if extrinsic
-        else ((axes[0], 0), (axes[1], 1), (axes[2], 2))
-    )
-    cs = [(math.cos(t[k]), math.sin(t[k])) for _, k in order]
-    cols = [None, None, None]
-    for m, (axis, k) in enumerate(order):
-        v = (1.0 if axis == 0 else 0.0, 1.0 if axis == 1 else 0.0, 1.0 if axis == 2 else 0.0)
-        if space:
-            for n in range(m - 1, -1, -1):
-                v = S.turn(*v, order[n][0], *cs[n])
-        else:
-            for n in range(m + 1, 3):
-                v = S.turn(*v, order[n][0], cs[n][0], -cs[n][1])
-        cols[k] = v
-    return cols
+        a = np.array((t[0] * _DEG, t[1] * _DEG, t[2] * _DEG))
+    else:
+        a = angles if type(angles) is np.ndarray else np.array(t)
+    o = other if type(other) is np.ndarray else np.array(u)
+    return kernels(), code, a, o, s < 0
 
 
 _DEG = math.pi / 180.0  # the constants of np.deg2rad and np.rad2deg
@@ -548,12 +535,11 @@ def euler_rate_matrix(seq: str, angles, *, frame: str = "body", degrees: bool = 
            [0.4794, 0.    , 0.    ],
            [0.8776, 0.    , 1.    ]])
     """
-    s = _fast_sign(frame)
-    cols = None if s is None else _euler_columns(seq, angles, degrees, s < 0)
-    if cols is not None:
-        c0, c1, c2 = cols
-        m = np.array((c0[0], c1[0], c2[0], c0[1], c1[1], c2[1], c0[2], c1[2], c2[2]))
-        m.shape = (3, 3)
+    one = _euler_one(seq, angles, None, degrees, frame)
+    if one is not None:
+        k, code, a, _, space = one
+        m = np.empty((3, 3))
+        k.euler_matrix1(code, a, space, m)
         return m
     frame = _frame(frame)
     return _euler_matrix(seq, _euler_args(seq, angles, degrees), frame)
@@ -601,14 +587,14 @@ def omega_from_euler_rates(
     >>> omega_from_euler_rates("ZYX", [10, 20, 30], [0, 0, 90], degrees=True).round(4)
     array([1.5708, 0.    , 0.    ])
     """
-    s = _fast_sign(frame)
-    r = plain_vec3(rates)
-    cols = None if s is None or r is None else _euler_columns(seq, angles, degrees, s < 0)
-    if cols is not None:
+    one = _euler_one(seq, angles, rates, degrees, frame)
+    if one is not None:
+        k, code, a, d, space = one
         if degrees:
-            r = (r[0] * _DEG, r[1] * _DEG, r[2] * _DEG)
-        c0, c1, c2 = cols
-        return np.array([c0[i] * r[0] + c1[i] * r[1] + c2[i] * r[2] for i in range(3)])
+            d = d * _DEG
+        out = np.empty(3)
+        k.omega_from_euler_rates1(code, a, d, space, out)
+        return out
     frame = _frame(frame)
     angles = _euler_args(seq, angles, degrees)
     rates = as_vec3(rates, "rates")
@@ -671,16 +657,12 @@ def euler_rates(
     >>> euler_rates("euler", [0.0, np.pi / 2, 0.0], [0.0, 1.0, 0.0]).round(12) + 0.0
     array([1., 0., 0.])
     """
-    s = _fast_sign(frame)
-    w = plain_vec3(omega)
-    cols = None if s is None or w is None else _euler_columns(seq, angles, degrees, s < 0)
-    if cols is not None:
-        c0, c1, c2 = cols
-        rows = (S.cross(*c1, *c2), S.cross(*c2, *c0), S.cross(*c0, *c1))
-        det = c0[0] * rows[0][0] + c0[1] * rows[0][1] + c0[2] * rows[0][2]
-        if abs(det) >= GIMBAL_WARN_DET:  # else the general path warns or raises
-            out = [(a[0] * w[0] + a[1] * w[1] + a[2] * w[2]) / det for a in rows]
-            return np.array([x * _RAD for x in out] if degrees else out)
+    one = _euler_one(seq, angles, omega, degrees, frame)
+    if one is not None:
+        k, code, a, w, space = one
+        out = np.empty(3)
+        if abs(k.euler_rates1(code, a, w, space, GIMBAL_WARN_DET, out)) >= GIMBAL_WARN_DET:
+            return out * _RAD if degrees else out  # else: the general path warns or raises
     frame = _frame(frame)
     angles = _euler_args(seq, angles, degrees)
     omega = as_vec3(omega, "omega")

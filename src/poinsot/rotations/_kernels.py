@@ -25,6 +25,8 @@ does not appear among their inputs take a small ``dummy`` array of that size
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import guvectorize, njit, prange
 
@@ -215,3 +217,59 @@ def to_euler1(q, seq, angles):  # pragma: no cover - compiled
     a, b, c, singular = _to_euler(q[0], q[1], q[2], q[3], seq[0], seq[1], seq[2], seq[3] != 0, 1e-7)
     angles[0], angles[1], angles[2] = a, b, c
     return singular
+
+
+# ------------------------------------------------- Euler kinematics, one state
+_euler_columns = _inline(S.euler_columns)
+_cross = _inline(S.cross)
+
+
+@njit(inline="always", cache=True)
+def _euler_m(code, a, space):  # pragma: no cover - compiled
+    # code: the axes in extrinsic order and the extrinsic flag (as quat_to_euler's).
+    # C = F0 F1 F2 with F0 about code[2]; factor m holds the angle k_m.
+    ext = code[3] != 0
+    k0 = 2 if ext else 0
+    k2 = 0 if ext else 2
+    r = _euler_columns(
+        code[2],
+        code[1],
+        code[0],
+        math.cos(a[k0]),
+        math.sin(a[k0]),
+        math.cos(a[1]),
+        math.sin(a[1]),
+        math.cos(a[k2]),
+        math.sin(a[k2]),
+        space,
+    )
+    return k0, k2, r
+
+
+@njit(cache=True)
+def euler_matrix1(code, a, space, m):  # pragma: no cover - compiled
+    k0, k2, r = _euler_m(code, a, space)
+    for i in range(3):
+        m[i, k0], m[i, 1], m[i, k2] = r[i], r[3 + i], r[6 + i]
+
+
+@njit(cache=True)
+def omega_from_euler_rates1(code, a, d, space, out):  # pragma: no cover - compiled
+    k0, k2, r = _euler_m(code, a, space)
+    for i in range(3):
+        out[i] = r[i] * d[k0] + r[3 + i] * d[1] + r[6 + i] * d[k2]
+
+
+@njit(cache=True)
+def euler_rates1(code, a, w, space, min_det, out):  # pragma: no cover - compiled
+    # M^-1 = adj(M) / det M: rows c1 x c2, c2 x c0, c0 x c1 over c0 . (c1 x c2).
+    k0, k2, r = _euler_m(code, a, space)
+    x = _cross(r[3], r[4], r[5], r[6], r[7], r[8])
+    y = _cross(r[6], r[7], r[8], r[0], r[1], r[2])
+    z = _cross(r[0], r[1], r[2], r[3], r[4], r[5])
+    det = r[0] * x[0] + r[1] * x[1] + r[2] * x[2]
+    if abs(det) >= min_det:
+        out[k0] = (x[0] * w[0] + x[1] * w[1] + x[2] * w[2]) / det
+        out[1] = (y[0] * w[0] + y[1] * w[1] + y[2] * w[2]) / det
+        out[k2] = (z[0] * w[0] + z[1] * w[1] + z[2] * w[2]) / det
+    return det

@@ -34,7 +34,7 @@ __all__ = [
     "to_euler",
     "angle",
     "cross",
-    "turn",
+    "euler_columns",
 ]
 
 
@@ -242,11 +242,34 @@ def cross(a0, a1, a2, b0, b1, b2):
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
-def turn(v0, v1, v2, axis, c, s):
-    """``A_axis(f) v``: ``v`` turned about coordinate axis ``axis`` (0, 1, 2) by the angle
-    with cosine ``c`` and sine ``s`` (right-handed; pass ``-s`` for the transpose)."""
-    if axis == 0:
-        return v0, c * v1 - s * v2, s * v1 + c * v2
-    if axis == 1:
-        return c * v0 + s * v2, v1, c * v2 - s * v0
-    return c * v0 - s * v1, s * v0 + c * v1, v2
+def euler_columns(ax0, ax1, ax2, c0, s0, c1, s1, c2, s2, space):
+    """Columns of the Euler rate matrix ``M`` (``omega = M angles'``, theory §3), in
+    factor order, for ``C = F0 F1 F2`` with ``F_m`` the turn about coordinate axis
+    ``ax_m`` (0, 1, 2) by the angle of cosine ``c_m`` and sine ``s_m``.
+
+    The column of factor ``m`` is its axis turned by the factors before it
+    (``space=True``: ``F0 .. F(m-1) e``) or by the transposes of those after it
+    (body frame: ``(F(m+1) .. F2)^T e``). Returns 9 floats, column after column.
+    """
+
+    def turn(v0, v1, v2, axis, c, s):  # A_axis v, right-handed (s -> -s: transpose)
+        if axis == 0:
+            return v0, c * v1 - s * v2, s * v1 + c * v2
+        if axis == 1:
+            return c * v0 + s * v2, v1, c * v2 - s * v0
+        return c * v0 - s * v1, s * v0 + c * v1, v2
+
+    e0 = (1.0 if ax0 == 0 else 0.0, 1.0 if ax0 == 1 else 0.0, 1.0 if ax0 == 2 else 0.0)
+    e1 = (1.0 if ax1 == 0 else 0.0, 1.0 if ax1 == 1 else 0.0, 1.0 if ax1 == 2 else 0.0)
+    e2 = (1.0 if ax2 == 0 else 0.0, 1.0 if ax2 == 1 else 0.0, 1.0 if ax2 == 2 else 0.0)
+    if space:
+        a = e0
+        b = turn(e1[0], e1[1], e1[2], ax0, c0, s0)
+        d = turn(e2[0], e2[1], e2[2], ax1, c1, s1)
+        d = turn(d[0], d[1], d[2], ax0, c0, s0)
+    else:
+        a = turn(e0[0], e0[1], e0[2], ax1, c1, -s1)
+        a = turn(a[0], a[1], a[2], ax2, c2, -s2)
+        b = turn(e1[0], e1[1], e1[2], ax2, c2, -s2)
+        d = e2
+    return a[0], a[1], a[2], b[0], b[1], b[2], d[0], d[1], d[2]
