@@ -52,8 +52,14 @@ def test_every_example_runs(path, tmp_path):
     out = tmp_path / scenario.name
     result, files = run_scenario(scenario, out, report=False, duration=SHORT.get(path.stem, 1.0))
     names = {p.name for p in files}
-    # a Lagrangian system has generalized coordinates, not a body's angular velocity
-    figure = "coordinates.png" if scenario.kind == "lagrangian" else "omega.png"
+    # a Lagrangian system has generalized coordinates, a particle a path, not a body's
+    # angular velocity
+    figure = {
+        "lagrangian": "coordinates.png",
+        "free-fall": "path_frame.png",
+        "foucault": "path_frame.png",
+        "central-orbit": "orbit.png",
+    }.get(scenario.kind, "omega.png")
     assert {"trajectory.csv", "summary.json", figure} <= names
     assert sorted(p.name for p in out.iterdir()) == sorted(names)  # no temporary left
     header, cols = read_csv(out / "trajectory.csv")

@@ -972,6 +972,16 @@ class CentralOrbit:
         r, phi = self.polar(t, method=method, rtol=rtol)
         return self._plane_to_space(r, phi)
 
+    def trajectory(self, t, *, method: str = "auto", rtol: float = 1e-12):
+        """The orbit as a :class:`poinsot.trajectory.Trajectory` on times ``t`` (n,).
+
+        ``position`` and ``velocity`` in space axes (m, m/s); the rotational part
+        is the identity with zero angular velocity (a point mass). ``method`` as
+        in :meth:`orbit`; ``Trajectory.method`` is ``"exact"`` (Kepler's
+        equation) or ``"adaptive"`` (integration).
+        """
+        return _trajectory(self, t, method, rtol)
+
     def _integrate(self, t, rtol):
         from scipy.integrate import solve_ivp
 
@@ -1027,6 +1037,32 @@ class CentralOrbit:
         e_r = self._plane_to_space(np.ones_like(r), phi)
         e_phi = self._plane_to_space(np.ones_like(r), phi + 0.5 * np.pi)
         return r[..., None] * e_r, rdot[..., None] * e_r + (r * phidot)[..., None] * e_phi
+
+
+def _trajectory(orbit, t, method, rtol):
+    from ..rotations.rotation import Rotation
+    from ..trajectory import Trajectory
+
+    t = as_float_array(t, "t")
+    if t.ndim != 1:
+        raise InvalidInputError(f"Expected `t` of shape (n,), got {t.shape}.")
+    x, v = orbit.state(t, method=method, rtol=rtol)
+    pure = orbit.potential.kepler_mu is not None and orbit.potential.kepler_mu > 0
+    used = ("kepler" if pure else "integrate") if method == "auto" else method
+    info = (
+        {"closed_form": "kepler"}
+        if used == "kepler"
+        else {"solver": "DOP853", "rtol": rtol, "atol": rtol * orbit.apsides.pericentre}
+    )
+    return Trajectory(
+        t,
+        Rotation.identity((t.size,)),
+        np.zeros((t.size, 3)),
+        "exact" if used == "kepler" else "adaptive",
+        info=info,
+        position=x,
+        velocity=v,
+    )
 
 
 def _solve_kepler(M, e):

@@ -53,6 +53,10 @@ __all__ = [
     "foucault_period",
     "foucault_pendulum",
     "swing_plane_angles",
+    "relative_motion",
+    "UniformGravity",
+    "PendulumForce",
+    "foucault_frame",
     "PARTICLE_SOLVERS",
 ]
 
@@ -350,6 +354,36 @@ class ParticleTrajectory:
     def kinetic_energy(self) -> np.ndarray:
         """Relative kinetic energy ``T_r = m |v_r|^2 / 2`` (J), shape (n, ...)."""
         return 0.5 * self.mass * dot(self.velocity, self.velocity)
+
+    def to_trajectory(self, method: str | None = None):
+        """The motion as a :class:`poinsot.trajectory.Trajectory` (one particle).
+
+        ``rotation`` is the frame's attitude (frame -> inertial), ``omega`` the
+        frame's angular velocity in its own axes (rad/s), ``position`` and
+        ``velocity`` the particle's *inertial* position and velocity (space axes),
+        as the Trajectory's conventions say. Needs ``inertial=True``; recover the
+        relative motion with :func:`relative_motion`. ``method`` names the method
+        in the result (default: the solver's name, e.g. ``"DOP853"``).
+        """
+        from ..trajectory import Trajectory
+
+        if self.inertial_position is None or self.position.ndim != 2:
+            raise InvalidInputError(
+                "Expected one particle simulated with inertial=True for a Trajectory."
+            )
+        if isinstance(self.frame, FrameMotion):
+            omega = np.broadcast_to(self.frame.omega, self.position.shape)
+        else:
+            omega = np.stack([_frame_at(self.frame, tk).omega for tk in self.t])
+        return Trajectory(
+            self.t,
+            self.frame_rotation,
+            omega,
+            self.method if method is None else method,
+            info=dict(self.info),
+            position=self.inertial_position,
+            velocity=self.inertial_velocity,
+        )
 
     def inertial_forces(self) -> InertialForces:
         """:func:`inertial_forces` at every sample, shape (n, ..., 3)."""
@@ -659,6 +693,46 @@ def _frame_path(frame, t, rtol, atol, max_step):
     return Rotation.from_quat(ys[:4].T), ys[4:7].T.copy(), ys[7:].T.copy()
 
 
+def relative_motion(trajectory) -> tuple[np.ndarray, np.ndarray]:
+    """Position and velocity relative to a frame turning about a fixed origin.
+
+    ``r = R^T x`` and ``v_r = R^T v - w x r`` from a
+    :class:`~poinsot.trajectory.Trajectory` whose ``rotation`` is the frame's
+    attitude, ``omega`` its angular velocity in frame axes and ``position``,
+    ``velocity`` the inertial motion (see :meth:`ParticleTrajectory.to_trajectory`),
+    for a frame whose origin stays at the inertial origin (``V0 = W0 = 0``, as
+    :func:`earth_frame`).
+
+    Returns
+    -------
+    position, velocity : ndarray, shape (n, 3)
+        Frame axes (m, m/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.kinematics import FrameMotion
+    >>> from poinsot.dynamics import simulate_particle, relative_motion
+    >>> tr = simulate_particle(FrameMotion(omega=[0, 0, 1]), None, [1, 0, 0], [0, 1, 0],
+    ...                        np.linspace(0, 1, 3), inertial=True)
+    >>> r, v = relative_motion(tr.to_trajectory())
+    >>> bool(np.allclose(r, tr.position) and np.allclose(v, tr.velocity))
+    True
+    """
+    if (
+        getattr(trajectory, "position", None) is None
+        or getattr(trajectory, "rotation", None) is None
+    ):
+        raise InvalidTypeError(
+            "Expected a Trajectory with a translational part (position, velocity), got "
+            f"{type(trajectory).__name__}."
+        )
+    inv = trajectory.rotation.inv()
+    r = inv.apply(trajectory.position)
+    v = inv.apply(trajectory.velocity) - cross(trajectory.omega, r)
+    return r, v
+
+
 # ---------------------------------------------------------------------------
 # The rotating Earth
 # ---------------------------------------------------------------------------
@@ -801,6 +875,70 @@ def foucault_period(latitude, omega=EARTH_ROTATION_RATE, *, degrees=False):
         return np.where(rate > 0, 2.0 * np.pi / np.where(rate > 0, rate, 1.0), np.inf)
 
 
+@dataclass(frozen=True)
+class UniformGravity:
+    """Weight ``F = (0, 0, -m g)`` in an east-north-up frame, potential ``U = m g z``.
+
+    A force callable ``force(t, r, v)`` for :func:`simulate_particle`, with its
+    potential energy (J) for :func:`jacobi_integral`.
+
+    >>> from poinsot.dynamics import UniformGravity
+    >>> w = UniformGravity(mass=2.0, g=9.81)
+    >>> w(0.0, [0, 0, 5.0], [0, 0, 0]).tolist(), round(float(w.potential([0, 0, 5.0])), 9)
+    ([0.0, 0.0, -19.62], 98.1)
+    """
+
+    mass: float = 1.0
+    g: float = STANDARD_GRAVITY
+
+    def __call__(self, _t, _r, _v) -> np.ndarray:
+        return np.array([0.0, 0.0, -self.mass * self.g])
+
+    def potential(self, r) -> np.ndarray:
+        """``m g z`` (J)."""
+        return self.mass * self.g * np.asarray(r, dtype=float)[..., 2]
+
+
+@dataclass(frozen=True)
+class PendulumForce:
+    """The linearised pendulum's restoring force ``F = -m (g/l) (x, y, 0)``.
+
+    Horizontal, towards the point below the suspension; potential
+    ``U = m g (x^2 + y^2) / (2 l)`` (J).
+
+    >>> from poinsot.dynamics import PendulumForce
+    >>> f = PendulumForce(mass=1.0, g=9.8, length=9.8)
+    >>> f(0.0, [0.5, 0, 0], [0, 0, 0]).tolist(), float(f.potential([0.5, 0, 0]))
+    ([-0.5, -0.0, 0.0], 0.125)
+    """
+
+    mass: float = 1.0
+    g: float = STANDARD_GRAVITY
+    length: float = 1.0
+
+    def __call__(self, _t, r, _v) -> np.ndarray:
+        k = self.mass * self.g / self.length
+        return np.array([-k * r[0], -k * r[1], 0.0])
+
+    def potential(self, r) -> np.ndarray:
+        """``m g (x^2 + y^2) / (2 l)`` (J)."""
+        r = np.asarray(r, dtype=float)
+        return 0.5 * self.mass * self.g / self.length * (r[..., 0] ** 2 + r[..., 1] ** 2)
+
+
+def foucault_frame(latitude, omega=EARTH_ROTATION_RATE, *, degrees: bool = False) -> FrameMotion:
+    """The frame of the linearised Foucault pendulum: east-north-up turning at the
+    vertical component ``Omega sin(lat)`` of the Earth's rotation only.
+
+    >>> from poinsot.dynamics import foucault_frame
+    >>> foucault_frame(30, 2.0, degrees=True).omega.round(12) + 0.0
+    array([0., 0., 1.])
+    """
+    lat = _as_latitude(latitude, degrees)
+    om = float(_real(omega, "omega"))
+    return FrameMotion(omega=[0.0, 0.0, om * math.sin(float(lat))])
+
+
 def foucault_pendulum(
     length,
     latitude,
@@ -813,6 +951,8 @@ def foucault_pendulum(
     degrees: bool = False,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    max_step: float = math.inf,
+    inertial: bool = False,
 ) -> ParticleTrajectory:
     """The linearised Foucault pendulum, integrated in the Earth's frame (theory §9).
 
@@ -834,8 +974,8 @@ def foucault_pendulum(
         Initial displacement (m), default 1.
     g, omega, mass : float, optional
         Gravity (m/s^2), rotation rate (rad/s), bob mass (kg).
-    rtol, atol : float, optional
-        Tolerances of :func:`simulate_particle`.
+    rtol, atol, max_step, inertial : optional
+        As in :func:`simulate_particle`.
 
     Returns
     -------
@@ -862,15 +1002,18 @@ def foucault_pendulum(
     if a.ndim:
         raise InvalidInputError(f"Expected `amplitude` to be a scalar (m), got shape {a.shape}.")
     m = float(as_float_array(mass, "mass"))
-    k = m * float(gg) / float(ell)
-    om = float(_real(omega, "omega")) * math.sin(float(lat))
-    frame = FrameMotion(omega=[0.0, 0.0, om])
-
-    def restoring(_t, r, _v):
-        return np.array([-k * r[0], -k * r[1], 0.0])
-
+    force = PendulumForce(m, float(gg), float(ell))
     return simulate_particle(
-        frame, restoring, [float(a), 0.0, 0.0], [0.0, 0.0, 0.0], t, mass=m, rtol=rtol, atol=atol
+        foucault_frame(lat, omega),
+        force,
+        [float(a), 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        t,
+        mass=m,
+        rtol=rtol,
+        atol=atol,
+        max_step=max_step,
+        inertial=inertial,
     )
 
 

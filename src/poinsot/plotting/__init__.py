@@ -18,6 +18,7 @@ from .particles import (
     plot_effective_potential,
     plot_orbit,
     plot_particle_path,
+    plot_path,
     plot_swing_plane,
 )
 from .report import (
@@ -37,6 +38,7 @@ __all__ = [
     "plot_angular_velocity",
     "plot_relative_change",
     "plot_particle_path",
+    "plot_path",
     "plot_orbit",
     "plot_effective_potential",
     "plot_swing_plane",

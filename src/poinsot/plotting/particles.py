@@ -13,13 +13,12 @@ import numpy as np
 from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
+    "plot_path",
     "plot_particle_path",
     "plot_orbit",
     "plot_effective_potential",
     "plot_swing_plane",
 ]
-
-_AXES = "xyz"
 
 
 def _new_axes(ax, size=(6.0, 4.5)):
@@ -40,6 +39,53 @@ def _components(components):
             f"Expected `components` to be two axis indices from 0, 1, 2, got {components!r}."
         )
     return tuple(components)
+
+
+def plot_path(
+    position, *, components=(0, 1), ax=None, title=None, label=None, axis_names=("x", "y", "z")
+):
+    """A path projected on two axes, its start marked.
+
+    Parameters
+    ----------
+    position : array_like, shape (n, 3) or (n, N, 3)
+        Positions (m); a batch draws one line per path.
+    components : pair of int, optional
+        Axes projected on (default ``(0, 1)``).
+    title, label : str, optional
+    axis_names : tuple of 3 str, optional
+        Names of the axes for the labels (e.g. ``("east", "north", "up")``).
+
+    Returns
+    -------
+    Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import numpy as np
+    >>> from poinsot.plotting import plot_path
+    >>> t = np.linspace(0, 6, 50)
+    >>> ax = plot_path(np.stack([np.cos(t), np.sin(t), t], -1), components=(0, 2))
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('x (m)', 'z (m)')
+    """
+    i, j = _components(components)
+    p = np.asarray(position, dtype=float)
+    if p.ndim < 2 or p.shape[-1] != 3:
+        raise InvalidInputError(f"Expected `position` of shape (n, 3) or (n, N, 3), got {p.shape}.")
+    ax = _new_axes(ax)
+    p = p.reshape(p.shape[0], -1, 3)
+    for k in range(p.shape[1]):
+        ax.plot(p[:, k, i], p[:, k, j], label=label if k == 0 else None)
+    ax.plot(p[0, :, i], p[0, :, j], "ko", ms=4, label="start")
+    ax.set_xlabel(f"{axis_names[i]} (m)")
+    ax.set_ylabel(f"{axis_names[j]} (m)")
+    if title:
+        ax.set_title(title)
+    ax.legend(loc="best", fontsize="small")
+    return ax
 
 
 def plot_particle_path(
@@ -95,16 +141,7 @@ def plot_particle_path(
         words = "in the inertial frame"
     else:
         raise InvalidInputError(f"Expected `frame` 'relative' or 'inertial', got {frame!r}.")
-    ax = _new_axes(ax)
-    p = p.reshape(p.shape[0], -1, 3)
-    for k in range(p.shape[1]):
-        ax.plot(p[:, k, i], p[:, k, j], label=label if k == 0 else None)
-    ax.plot(p[0, :, i], p[0, :, j], "ko", ms=4, label="start")
-    ax.set_xlabel(f"{_AXES[i]} (m)")
-    ax.set_ylabel(f"{_AXES[j]} (m)")
-    ax.set_title(f"Particle path {words}")
-    ax.legend(loc="best", fontsize="small")
-    return ax
+    return plot_path(p, components=(i, j), ax=ax, title=f"Particle path {words}", label=label)
 
 
 def plot_orbit(orbit, t=None, *, samples: int = 600, ax=None):

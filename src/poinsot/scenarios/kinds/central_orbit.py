@@ -1,0 +1,237 @@
+"""Adapter: a particle under a central force (docs/theory.md §9).
+
+Table [orbit]: the potential energy as a sum of terms -- ``mu`` (Kepler
+``-mu/r``), ``beta`` (``beta/r^2``), ``k`` (oscillator ``k r^2/2``), at least one
+-- then ``mass`` (kg, default 1) and the initial state: either ``position`` (m)
+and ``velocity`` (m/s), or ``energy`` (J) and ``angular_momentum`` (kg m^2/s)
+(start at the pericentre). Solved by :class:`poinsot.dynamics.CentralOrbit`:
+``method = "exact"`` is Kepler's equation (a pure Kepler potential only),
+``"adaptive"`` the integration (DOP853, rtol 1e-12). Checks: energy and the
+angular momentum vector are conserved.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..describe import fmt
+from ..figures import invariants_figure
+from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+
+_TERMS = ("mu", "beta", "k")
+
+
+@dataclass(frozen=True)
+class OrbitSpec:
+    """What [orbit] says, in SI units."""
+
+    mu: float | None
+    beta: float | None
+    k: float | None
+    mass: float
+    position: tuple | None = None
+    velocity: tuple | None = None
+    energy: float | None = None
+    angular_momentum: float | None = None
+
+
+def _orbit(spec):
+    from ...dynamics import CentralOrbit, harmonic, inverse_square, kepler
+
+    terms = []
+    if spec.mu is not None:
+        terms.append(kepler(spec.mu))
+    if spec.beta is not None:
+        terms.append(inverse_square(spec.beta))
+    if spec.k is not None:
+        terms.append(harmonic(spec.k))
+    potential = terms[0]
+    for term in terms[1:]:
+        potential = potential + term
+    if spec.position is not None:
+        return CentralOrbit.from_state(potential, spec.position, spec.velocity, mass=spec.mass)
+    return CentralOrbit(
+        potential, energy=spec.energy, angular_momentum=spec.angular_momentum, mass=spec.mass
+    )
+
+
+class CentralOrbitKind(ScenarioKind):
+    name = "central-orbit"
+    title = "particle under a central force (Kepler and beyond)"
+    tables = ("orbit",)
+    methods = ("exact", "adaptive")
+    orders = {}
+    theory = "docs/theory.md §9"
+
+    def claims(self, data):
+        return "orbit" in data
+
+    def parse(self, top, attitude):
+        t = top.table("orbit", required=True)
+        keys = (*_TERMS, "mass", "position", "velocity", "energy", "angular_momentum")
+        t.known(keys)
+        terms = {name: t.number(name) for name in _TERMS}
+        if all(v is None for v in terms.values()):
+            raise t.error(
+                None,
+                "expected at least one potential term: `mu` (-mu/r), "
+                "`beta` (beta/r^2) or `k` (k r^2/2).",
+            )
+        mass = t.number("mass", 1.0, positive=True)
+        how = t.exclusive(("position", "energy"), what="the initial state")
+        if how == "position":
+            spec = OrbitSpec(
+                **terms,
+                mass=mass,
+                position=t.vector("position", 3),
+                velocity=t.vector("velocity", 3),
+            )
+        else:
+            spec = OrbitSpec(
+                **terms,
+                mass=mass,
+                energy=t.number("energy", required=True),
+                angular_momentum=t.number("angular_momentum", required=True),
+            )
+        t.finish(keys)
+        from ...errors import PoinsotError
+
+        try:
+            _orbit(spec)
+        except PoinsotError as exc:
+            raise t.error(None, f"no orbit: {exc}") from None
+        return {"spec": spec}
+
+    def refuse_method(self, method, fields):
+        sp = fields["spec"]
+        if method == "exact" and (sp.mu is None or sp.mu <= 0 or sp.beta or sp.k):
+            return (
+                '"exact" (Kepler\'s equation) needs a pure attractive Kepler potential '
+                '(only `mu` > 0); use "adaptive".'
+            )
+        return None
+
+    def motion_inertia(self, scenario):
+        return None
+
+    def solve(self, scenario, method, t, progress):
+        orb = _orbit(scenario.spec)
+        progress(0.0, method)
+        tr = orb.trajectory(t, method="kepler" if method == "exact" else "integrate")
+        progress(1.0, method)
+        return tr
+
+    def facts(self, scenario):
+        orb = _orbit(scenario.spec)
+        r1, r2 = orb.apsides
+        entries = {
+            "energy": Entry(orb.energy, "J"),
+            "angular_momentum": Entry(orb.angular_momentum, "kg m^2/s"),
+            "pericentre": Entry(r1, "m"),
+            "apocentre": Entry(r2, "m"),
+            "bound": not orb.unbound,
+            "radial_period": Entry(orb.radial_period, "s"),
+            "apsidal_angle": Entry(orb.apsidal_angle, "rad"),
+            "apsidal_angle_over_pi": Entry(orb.apsidal_angle / np.pi, "1"),
+            "areal_velocity": Entry(orb.areal_velocity, "m^2/s"),
+            "closed": orb.is_closed(),
+        }
+        lines = [
+            f"apsides {fmt(r1)} m and {fmt(r2)} m; apsidal angle "
+            f"{fmt(orb.apsidal_angle / np.pi)} pi, radial period {fmt(orb.radial_period)} s, "
+            f"areal velocity {fmt(orb.areal_velocity)} m^2/s (docs/theory.md §9)"
+        ]
+        sp = scenario.spec
+        if sp.mu is not None and sp.mu > 0 and not sp.beta and not sp.k:
+            c = orb.conic
+            entries.update(
+                {
+                    "semi_latus_rectum": Entry(c.p, "m"),
+                    "eccentricity": Entry(c.e, "1"),
+                    "semi_major_axis": Entry(c.a, "m"),
+                    "kepler_period": Entry(c.period, "s"),
+                }
+            )
+            lines.append(
+                f"Kepler conic: p = {fmt(c.p)} m, e = {fmt(c.e)}, a = {fmt(c.a)} m, "
+                f"period {fmt(c.period)} s"
+            )
+        return Facts(entries, tuple(lines))
+
+    def checks(self, scenario, tr):
+        from ...dynamics import ParticleSystem
+
+        orb = _orbit(scenario.spec)
+        sys = ParticleSystem(
+            np.full((tr.t.size, 1), orb.mass), tr.position[:, None], tr.velocity[:, None]
+        )
+        r = np.linalg.norm(tr.position, axis=-1)
+        energy = sys.kinetic_energy + orb.potential(r)
+        out = []
+        sp = scenario.spec
+        if sp.mu is not None and sp.mu > 0 and not sp.beta and not sp.k:
+            out.append(
+                Check(
+                    "kepler_position",
+                    "position vs Kepler's equation",
+                    "m",
+                    tr.position,
+                    expected=orb.orbit(tr.t, method="kepler"),
+                    scale=orb.apsides.pericentre,
+                    conserved=False,
+                    law="the conic r = p / (1 + e cos nu), Kepler's equation",
+                )
+            )
+        return (
+            *out,
+            Check(
+                "energy",
+                "energy T + U",
+                "J",
+                energy,
+                scale=float(max(abs(orb.energy), np.max(np.abs(energy - orb.energy)), 1e-300)),
+            ),
+            Check(
+                "angular_momentum",
+                "angular momentum vector K_O",
+                "kg m^2/s",
+                sys.angular_momentum(),
+            ),
+        )
+
+    def series(self, scenario, tr):
+        names = ("x", "y", "z")
+        out = {n: (tr.position[:, k], "m") for k, n in enumerate(names)}
+        out.update({f"v{n}": (tr.velocity[:, k], "m/s") for k, n in enumerate(names)})
+        return out
+
+    def figures(self, result):
+        tr = result.trajectory
+        orb = _orbit(result.scenario.spec)
+
+        def orbit(ax):
+            from ...plotting.particles import plot_orbit
+
+            return plot_orbit(orb, tr.t, ax=ax)
+
+        def ueff(ax):
+            from ...plotting.particles import plot_effective_potential
+
+            return plot_effective_potential(orb, ax=ax)
+
+        figs = [
+            FigureSpec("orbit.png", orbit, (6.0, 6.0)),
+            FigureSpec("effective_potential.png", ueff),
+        ]
+        inv = invariants_figure(result)
+        return figs + ([inv] if inv is not None else [])
+
+    def describe_scenario(self, scenario):
+        sp = scenario.spec
+        terms = [f"{n} = {fmt(getattr(sp, n))}" for n in _TERMS if getattr(sp, n) is not None]
+        return [f"{self.title}: {', '.join(terms)}"]
+
+
+KIND = CentralOrbitKind()
