@@ -66,12 +66,13 @@ body axes (rad/s); ``theta`` from the *upward* vertical; SI units.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
-from ..errors import InvalidInputError
+from ..errors import GimbalLockWarning, InvalidInputError
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 
@@ -696,7 +697,9 @@ class LagrangeTop:
         w0 = as_vec3(omega, "omega")
         if w0.shape != (3,):
             raise InvalidInputError(f"Expected `omega` to have shape (3,), got {w0.shape}.")
-        ps, th, ph = Rotation.from_quat(q0).as_euler("ZXZ")
+        with warnings.catch_warnings():  # at theta = 0 or pi the split psi/phi is a convention
+            warnings.simplefilter("ignore", GimbalLockWarning)
+            ps, th, ph = Rotation.from_quat(q0).as_euler("ZXZ")
         self = cls.__new__(cls)
         self._setup(a, c, g, np.array(q0, dtype=float), np.array(w0, dtype=float), ps, ph, th)
         return self

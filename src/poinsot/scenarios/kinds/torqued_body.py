@@ -3,8 +3,9 @@
 Tables: [body], [angular_velocity], [torque] with ``model`` ``"body"`` (constant
 body torque), ``"space"`` (constant space torque) or ``"gravity"`` (the heavy
 body about a fixed point, the origin of the body axes). Solved by
-:func:`poinsot.dynamics.simulate`. Checks: under gravity ``T + V`` and ``K_z``
-(and ``H = C r`` for a Lagrange top) are conserved; under a space torque
+:func:`poinsot.dynamics.simulate`. Files with gravity are claimed by the
+``heavy-top`` kind (:mod:`.heavy_top`), whose facts and checks are used here too
+when ``kind = "torqued-body"`` is named explicitly. Under a space torque
 ``K(t) = K(0) + M t``; under a body torque ``T`` and ``K`` are only reported.
 """
 
@@ -12,54 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..describe import fmt
 from ..kind import Check, Entry, Facts, ScenarioKind
 from ..schema import DYNAMICS_METHODS
 from . import _rigid
-
-_LAGRANGE_UNITS = {
-    "A": "kg m^2",
-    "C": "kg m^2",
-    "l": "m",
-    "H": "kg m^2/s",
-    "K_z": "kg m^2/s",
-    "E": "J",
-    "maievskii_ratio": "1",
-    "nutation_theta_min": "rad",
-    "nutation_theta_max": "rad",
-    "nutation_period": "s",
-    "psi_dot_at_theta_max": "rad/s",
-    "psi_dot_at_theta_min": "rad/s",
-}
-
-
-def _lagrange(scenario) -> dict | None:
-    if scenario.torque.model != "gravity":
-        return None
-    from .._lagrange import lagrange_top
-
-    return lagrange_top(
-        scenario.body.inertia_about_origin(),
-        scenario.body.mass,
-        scenario.body.center_of_mass,
-        scenario.torque.g,
-        scenario.attitude.quat,
-        scenario.angular_velocity.omega_body,
-    )
-
-
-def _lagrange_facts(props: dict) -> Facts:
-    entries = {k: Entry(v, _LAGRANGE_UNITS.get(k, "")) for k, v in props.items()}
-    line = f"{props['case']}: {props['motion']}"
-    if "nutation_theta_min" in props:
-        line += (
-            f", tilt {np.degrees(props['nutation_theta_min']):.4f} to "
-            f"{np.degrees(props['nutation_theta_max']):.4f} deg"
-        )
-    if props.get("nutation_period"):
-        line += f", nutation period {fmt(props['nutation_period'])} s"
-    line += f"; Maievskii ratio C^2 r^2/(4 A m g l) = {fmt(props['maievskii_ratio'])}"
-    return Facts(entries, (line,))
 
 
 class TorquedBody(ScenarioKind):
@@ -124,36 +80,20 @@ class TorquedBody(ScenarioKind):
         return {} if v is None else {"V": (np.asarray(v), "J")}
 
     def facts(self, scenario):
-        props = _lagrange(scenario)
-        if props is None:
-            return Facts()
-        return _lagrange_facts(props)
+        if scenario.torque.model == "gravity":  # the heavy body (kind "heavy-top") knows it
+            from .heavy_top import KIND as HEAVY
+
+            return HEAVY.facts(scenario)
+        return Facts()
 
     def checks(self, scenario, tr):
+        if scenario.torque.model == "gravity":
+            from .heavy_top import KIND as HEAVY
+
+            return HEAVY.checks(scenario, tr)
         model = _rigid.torque_model(scenario)
         inv = _rigid.invariants_of(self.motion_inertia(scenario), tr, model)
         k = inv.momentum_space
-        k0 = float(inv.momentum_norm[0])
-        if scenario.torque.model == "gravity":
-            total = inv.energy
-            out = [
-                Check(
-                    "total_energy",
-                    "total energy T + V",
-                    "J",
-                    total,
-                    scale=max(abs(total[0]), abs(inv.kinetic[0]), 1e-300),
-                ),
-                Check("momentum_z", "K_z (vertical)", "kg m^2/s", inv.momentum_z, scale=k0),
-            ]
-            if _lagrange(scenario) is not None:
-                # Lagrange top: the momentum about the symmetry axis, H = C r, is conserved
-                e = np.asarray(scenario.body.center_of_mass)
-                h = inv.momentum_body @ (e / np.linalg.norm(e))
-                out.append(
-                    Check("spin_momentum_H", "H = C r (symmetry axis)", "kg m^2/s", h, scale=k0)
-                )
-            return out
         out = [
             Check("energy", "kinetic energy T", "J", inv.kinetic, conserved=False),
             Check("momentum_norm", "|K|", "kg m^2/s", inv.momentum_norm, conserved=False),
