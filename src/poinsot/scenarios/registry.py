@@ -12,7 +12,15 @@ from types import MappingProxyType
 from typing import Any
 
 from .kind import ScenarioKind
-from .kinds import attitude, coning, free_body, lagrangian, torqued_body
+from .kinds import (
+    attitude,
+    central_orbit,
+    coning,
+    free_body,
+    lagrangian,
+    rotating_frame,
+    torqued_body,
+)
 
 __all__ = ["KINDS", "get_kind", "kind_for"]
 
@@ -22,6 +30,9 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
         k.name: k
         for k in (
             lagrangian.KIND,  # [lagrangian]: generalized coordinates, T and P as formulas
+            rotating_frame.FREE_FALL,  # [free_fall]
+            rotating_frame.FOUCAULT,  # [foucault]
+            central_orbit.KIND,  # [orbit]
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]
             torqued_body.KIND,  # [torque] with a model other than "none"
