@@ -105,11 +105,13 @@ def main():
                 run(p, args.n, chunk_size=args.chunk, client=client, seed=2)
                 return time.perf_counter() - t0, rss_peak(client)
 
+            print(f"  running {'heavy top' if torque else 'free body'} on {k} worker(s)...",
+                  flush=True)
             dt, rss = with_cluster(k, go)
             rates[k] = args.n / dt
             rows.append((("heavy top" if torque else "free body"), k, args.n / dt, max(rss)))
         print(f"{'heavy top' if torque else 'free body'}: {rates[1]:.0f} samples/s on 1 worker, "
-              f"{rates[2]:.0f} on 2: scaling {rates[2] / rates[1]:.2f}")
+              f"{rates[2]:.0f} on 2: scaling {rates[2] / rates[1]:.2f}", flush=True)
     for name, k, rate, rss in rows:
         print(f"  {name:10s} workers={k}  {rate:9.0f} samples/s  peak RSS/worker {rss:.0f} MiB")
 

@@ -184,3 +184,21 @@ def test_cli_ensemble_writes_outputs_and_refuses_bad_files(tmp_path, capsys):
                  str(tmp_path / "g"), "--workers", "0"]) == 2
     assert "Unknown distribution 'gaussian'" in capsys.readouterr().err
     assert not (tmp_path / "g").exists()  # nothing half-written
+
+
+def test_failed_integrations_are_recorded_and_the_rest_kept():
+    from poinsot.ensemble import Choice
+
+    p = EnsembleProblem(
+        "blowup", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]), np.array([0.1, 2.0, 0.1]),
+        np.linspace(0.0, 1.0, 11),
+        dispersions=(("omega0", Choice(values=[[0.1, 2.0, 0.1], [1e300, 1e300, 1e300]])),),
+        metrics=(Metric("w", "max", component="omega_y"),))
+    res = run(p, 12, chunk_size=12, client="serial", seed=0)
+    bad = res.column("omega0_x") > 1
+    assert bad.any() and (~bad).any()
+    assert np.array_equal(res.column("failed"), bad)
+    assert set(np.asarray(res.table.column("reason").to_pylist())[bad]) == {
+        "integration failed: non-finite state"}
+    # the good samples are the nominal motion: max omega_y = |K|/B-bounded, finite
+    assert np.all(np.isfinite(res.column("w")[~bad])) and np.all(np.isnan(res.column("w")[bad]))

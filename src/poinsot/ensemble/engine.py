@@ -152,7 +152,15 @@ def _draw(problem, rng, n):
               name)))).copy() for name in QUANTITIES}
     for name, d in sorted(problem.dispersions, key=lambda p: p[0]):
         v = np.asarray(d.sample(_nominal(problem, name), rng, n), dtype=float)
-        inputs[name] = np.broadcast_to(v, inputs[name].shape).copy()
+        if v.ndim == 1 and inputs[name].ndim == 2:  # one scalar per sample, every component
+            v = v[:, None]
+        try:
+            inputs[name] = np.broadcast_to(v, inputs[name].shape).copy()
+        except ValueError:
+            raise InvalidInputError(
+                f"`dispersion.{name}` draws values of shape {v.shape[1:]}, expected "
+                f"{inputs[name].shape[1:]} ({QUANTITIES[name][2]})."
+            ) from None
     return inputs
 
 
@@ -214,8 +222,10 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
                 reason[i] = text[int(status[i + 1])]
         if failed_int[0]:
             raise EnsembleError(f"The nominal motion itself fails: {text[int(status[0])]}.")
-        qs = np.nan_to_num(quat)
-        inv = invariants(j, qs, np.nan_to_num(omega), torque=model)
+        if failed_int.any():  # NaN outputs: stand in the nominal motion, metrics dropped below
+            quat[:, failed_int] = quat[:, :1]
+            omega[:, failed_int] = omega[:, :1]
+        inv = invariants(j, quat, omega, torque=model)
         energy = inv.energy if inv.energy is not None else inv.kinetic
         motion = Motion(t=problem.t, quat=quat[:, 1:], omega=omega[:, 1:],
                         kinetic=inv.kinetic[:, 1:], energy=energy[:, 1:],
