@@ -131,8 +131,8 @@ def discriminant_term(ia, ib, w):  # pragma: no cover - compiled
 # ---------------------------------------------------------------------------
 
 
-@njit(cache=True)
-def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps):  # pragma: no cover
+@njit(cache=True, inline="always")
+def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pragma: no cover
     """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
     lam, u0, kq, k2, m1, n2 = par[P_LAM], par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2]
     jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
@@ -159,14 +159,16 @@ def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps):  # pragma: no
         sn, cn, dn = jacobi_reduced(r, ks, kps, int(par[P_LEVELS]), par[P_LSCALE], k2, m1)
         # J(r) = int_0^r sn^2 / (1 + n sn^2) = sn^3 R_J(cn^2, dn^2, 1, 1 + n sn^2) / 3
         sn2 = sn * sn
-        jr = (
-            0.0
-            if sn2 == 0.0
-            else sn * sn2 * carlson_rj(cn * cn, dn * dn, 1.0, 1.0 + n2 * sn2) / 3.0
-        )
+        if sn2 == 0.0 or not want_q:
+            jr = 0.0
+        else:
+            jr = sn * sn2 * carlson_rj(cn * cn, dn * dn, 1.0, 1.0 + n2 * sn2) / 3.0
     wi = amp[i] * dn
     wm = amp[m] * sgn * sn
     wj = amp[j] * sgn * cn
+    if not want_q:
+        w0, w1, w2 = _place(i, m, wi, wm, wj)
+        return w0, w1, w2, 1.0, 0.0, 0.0, 0.0, 0.0
     jval = kk * jh + jr
     if major:
         psi = rate0 * tau + kappa * beta * (jval - j0) / lam
@@ -198,7 +200,7 @@ def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps):  # pragma: no
     return w0, w1, w2, q0, q1, q2, q3, jval
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _place(i, m, wi, wm, wj):  # pragma: no cover - compiled
     """``(w_0, w_1, w_2)`` from the components along axes ``i``, ``m`` and the third."""
     out0 = wi if i == 0 else (wm if m == 0 else wj)
@@ -207,7 +209,7 @@ def _place(i, m, wi, wm, wj):  # pragma: no cover - compiled
     return out0, out1, out2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _axis_q(ax, angle):  # pragma: no cover - compiled
     h = 0.5 * angle
     s = math.sin(h)
@@ -218,6 +220,7 @@ def _axis_q(ax, angle):  # pragma: no cover - compiled
 # Setup (per body)
 # ---------------------------------------------------------------------------
 
+_ONE = np.array([1.0, 0.0, 0.0, 0.0])
 _PERM = np.array(
     [[0.5, -0.5, -0.5, -0.5], [0.5, 0.5, 0.5, 0.5], [1.0, 0.0, 0.0, 0.0]]
 )  # (x, y, z) = (e_{j+1}, e_{j+2}, e_j): rotations by -120, +120, 0 deg about (1, 1, 1)
@@ -391,12 +394,17 @@ def _setup_elliptic(
         # Landau's convention (Euler z-axis = the encircled axis i): differs by 2 pi
         info[b, 2] = pb[P_RATE0] * period + extra + 2.0 * math.pi * math.copysign(1.0, ii - ij)
     qb[b, :] = _PERM[j]
-    one = np.array([1.0, 0.0, 0.0, 0.0])
-    j0 = _elliptic_point(0.0, pb, idx[b], mom, amp[b], one, one, ks[b], kps[b])[7]
-    pb[P_J0] = j0
-    _, _, _, z0, z1, z2, z3, _ = _elliptic_point(
-        0.0, pb, idx[b], mom, amp[b], one, one, ks[b], kps[b]
+    # J(u0) and the Euler quaternion Rz(psi0) Rx(theta0) Rz(phi0) at t = 0 (with J0 = 0
+    # in par, psi0 = +-kappa beta J(u0) / lam); then J0 = J(u0) and psi0 -> 0.
+    one = _ONE
+    _, _, _, z0, z1, z2, z3, j0 = _elliptic_point(
+        0.0, pb, idx[b], mom, amp[b], one, one, ks[b], kps[b], True
     )
+    pb[P_J0] = j0
+    psi0 = pb[P_KAPPA] * pb[P_BETA] * j0 / pb[P_LAM]
+    if not major:
+        psi0 = -psi0
+    z0, z1, z2, z3 = nh.qmul(math.cos(0.5 * psi0), 0.0, 0.0, -math.sin(0.5 * psi0), z0, z1, z2, z3)
     # qs = q0 o qp~ o qz0~
     p = qb[b]
     r0, r1, r2, r3 = nh.qmul(q0[0], q0[1], q0[2], q0[3], p[0], -p[1], -p[2], -p[3])
@@ -427,7 +435,7 @@ def evaluate(
             q0 = q1 = q2 = q3 = 0.0
             if mode == ELLIPTIC or mode == SEPARATRIX:
                 wx, wy, wz, q0, q1, q2, q3, _ = _elliptic_point(
-                    tau, pb, idx[b], mom[b], amp[b], qa[b], qb[b], ks[b], kps[b]
+                    tau, pb, idx[b], mom[b], amp[b], qa[b], qb[b], ks[b], kps[b], want_q
                 )
             elif mode == SYMMETRIC:
                 # w_perp turns about e_s at the rate spin; R = Rot(K, psi' t) R0 Rot(e_s, phi' t)

@@ -368,12 +368,12 @@ class FreeRigidBody:
                 SingularityWarning,
                 stacklevel=3,
             )
-        from .invariants import invariants
+        from .invariants import _kinetic, _momentum  # the one T and K (validated above)
 
-        inv = invariants(self._moments[:, :, None] * np.eye(3), qp0, wp)  # tensors: n may be 3
-        self._energy = inv.kinetic
-        self._momentum = inv.momentum_space
-        self._kmom = np.linalg.norm(inv.momentum_body, axis=-1)
+        k_body = _momentum(self._moments, True, wp)
+        self._energy = _kinetic(self._moments, True, wp)
+        self._momentum = _quaternion.rotate(qp0, k_body)
+        self._kmom = np.linalg.norm(k_body, axis=-1)
 
     def _out(self, x: np.ndarray, tail: tuple[int, ...] = ()):
         """Per-body values (n, *tail) as the batch shape: a float for one body."""
