@@ -170,15 +170,9 @@ def _finite3(a: float, b: float, c: float) -> np.ndarray | None:
     return np.array((a, b, c)) if math.isfinite(a + b + c) else None
 
 
-def _plain_matrix(m) -> list[float] | None:
-    """A single rotation matrix (float64 (3, 3), orthonormal to ``_ORTHO_TOL``) by rows."""
-    if type(m) is not np.ndarray or m.shape != (3, 3):
-        return None
-    t = plain_floats(m.ravel(), 9)
-    if t is None:
-        return None
-    err, det = S.matrix_check(*t)
-    return t if err <= _ORTHO_TOL and det >= 0 else None
+def _is_matrix(m) -> bool:
+    """A float64 array of shape (3, 3) (its values are checked by the caller)."""
+    return type(m) is np.ndarray and m.shape == (3, 3) and m.dtype == np.float64
 
 
 def _quat_arg(q, name):
@@ -348,18 +342,12 @@ def dcm_rate(C, omega, *, frame: str = "body") -> np.ndarray:
            [ 0.,  0.,  0.]])
     """
     s = _fast_sign(frame)
-    m, w = _plain_matrix(C), plain_vec3(omega)
-    if s is not None and m is not None and w is not None:
-        if s > 0:  # row i of C w^ is (row i of C) x w
-            out = [*S.cross(*m[0:3], *w), *S.cross(*m[3:6], *w), *S.cross(*m[6:9], *w)]
-        else:  # column j of w^ C is w x (column j of C)
-            c0, c1, c2 = S.cross(*w, m[0], m[3], m[6])
-            d0, d1, d2 = S.cross(*w, m[1], m[4], m[7])
-            e0, e1, e2 = S.cross(*w, m[2], m[5], m[8])
-            out = [c0, d0, e0, c1, d1, e1, c2, d2, e2]
-        a = np.array(out)
-        a.shape = (3, 3)
-        return a
+    t = plain_vec3(omega)
+    if s is not None and t is not None and _is_matrix(C):
+        out = np.empty((3, 3))
+        w = omega if type(omega) is np.ndarray else np.array(t)
+        if kernels().dcm_rate1(C, w, s < 0, _ORTHO_TOL, out):
+            return out
     frame = _frame(frame)
     C = _as_rotation_matrix(C, "C")
     omega = as_vec3(omega, "omega")
@@ -400,21 +388,10 @@ def omega_from_dcm_rate(C, Cdot, *, frame: str = "body") -> np.ndarray:
     array([1., 2., 3.])
     """
     s = _fast_sign(frame)
-    m = _plain_matrix(C)
-    d = plain_floats(Cdot.ravel(), 9) if type(Cdot) is np.ndarray and Cdot.shape == (3, 3) else None
-    if s is not None and m is not None and d is not None:
-        if s > 0:  # vee of the antisymmetric part of C^T Cdot: (C^T Cdot)_ij = col_i(C) . col_j(Cd)
-            c, e = (m[0::3], m[1::3], m[2::3]), (d[0::3], d[1::3], d[2::3])
-        else:  # of Cdot C^T: (Cd C^T)_ij = row_i(Cd) . row_j(C)
-            c, e = (d[0:3], d[3:6], d[6:9]), (m[0:3], m[3:6], m[6:9])
-
-        def g(i, j):
-            a, b = c[i], e[j]
-            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-        return np.array(
-            (0.5 * (g(2, 1) - g(1, 2)), 0.5 * (g(0, 2) - g(2, 0)), 0.5 * (g(1, 0) - g(0, 1)))
-        )
+    if s is not None and _is_matrix(C) and _is_matrix(Cdot) and math.isfinite(Cdot.sum()):
+        out = np.empty(3)
+        if kernels().omega_from_dcm_rate1(C, Cdot, s < 0, _ORTHO_TOL, out):
+            return out
     frame = _frame(frame)
     C = _as_rotation_matrix(C, "C")
     Cdot = as_matrix3(Cdot, "Cdot")

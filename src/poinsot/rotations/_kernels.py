@@ -273,3 +273,42 @@ def euler_rates1(code, a, w, space, min_det, out):  # pragma: no cover - compile
         out[1] = (y[0] * w[0] + y[1] * w[1] + y[2] * w[2]) / det
         out[k2] = (z[0] * w[0] + z[1] * w[1] + z[2] * w[2]) / det
     return det
+
+
+# ------------------------------------------------- DCM kinematics, one state
+@njit(cache=True)
+def dcm_rate1(c, w, space, tol, out):  # pragma: no cover - compiled
+    # Checks C (orthonormal within tol, det >= 0; NaN fails) and writes
+    # C w^ (body: row i is row_i(C) x w) or w^ C (space: column j is w x col_j(C)).
+    err, det = _matrix_check(
+        c[0, 0], c[0, 1], c[0, 2], c[1, 0], c[1, 1], c[1, 2], c[2, 0], c[2, 1], c[2, 2]
+    )
+    if not (err <= tol and det >= 0.0):
+        return False
+    for i in range(3):
+        if space:
+            out[0, i], out[1, i], out[2, i] = _cross(w[0], w[1], w[2], c[0, i], c[1, i], c[2, i])
+        else:
+            out[i, 0], out[i, 1], out[i, 2] = _cross(c[i, 0], c[i, 1], c[i, 2], w[0], w[1], w[2])
+    return True
+
+
+@njit(cache=True)
+def omega_from_dcm_rate1(c, d, space, tol, out):  # pragma: no cover - compiled
+    # vee of the antisymmetric part of C^T Cdot (body) or Cdot C^T (space).
+    err, det = _matrix_check(
+        c[0, 0], c[0, 1], c[0, 2], c[1, 0], c[1, 1], c[1, 2], c[2, 0], c[2, 1], c[2, 2]
+    )
+    if not (err <= tol and det >= 0.0):
+        return False
+    m = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            if space:
+                m[i, j] = d[i, 0] * c[j, 0] + d[i, 1] * c[j, 1] + d[i, 2] * c[j, 2]
+            else:
+                m[i, j] = c[0, i] * d[0, j] + c[1, i] * d[1, j] + c[2, i] * d[2, j]
+    out[0] = 0.5 * (m[2, 1] - m[1, 2])
+    out[1] = 0.5 * (m[0, 2] - m[2, 0])
+    out[2] = 0.5 * (m[1, 0] - m[0, 1])
+    return True
