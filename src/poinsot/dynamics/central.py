@@ -157,6 +157,18 @@ class Potential:
     __radd__ = __add__
 
 
+def _as_potential(potential) -> Potential:
+    """A Potential as is; a callable wrapped (derivative by differences)."""
+    if isinstance(potential, Potential):
+        return potential
+    if not callable(potential):
+        raise InvalidTypeError(
+            f"Expected `potential` to be a Potential or a callable U(r), got "
+            f"{type(potential).__name__}."
+        )
+    return Potential(potential)
+
+
 def _checked(u, r, what):
     if not np.all(np.isfinite(u)):
         bad = np.asarray(r)[~np.isfinite(u)] if np.ndim(u) else np.asarray(r)
@@ -344,14 +356,7 @@ class CentralOrbit:
     """
 
     def __init__(self, potential, *, energy, angular_momentum, mass=1.0, radius=None, _state=None):
-        if not isinstance(potential, Potential):
-            if not callable(potential):
-                raise InvalidTypeError(
-                    f"Expected `potential` to be a Potential or a callable U(r), got "
-                    f"{type(potential).__name__}."
-                )
-            potential = Potential(potential)
-        self.potential = potential
+        self.potential = potential = _as_potential(potential)
         self.energy = _coef(energy, "energy")
         L = _coef(angular_momentum, "angular_momentum")
         if L == 0.0:
@@ -420,13 +425,7 @@ class CentralOrbit:
         r = float(np.linalg.norm(x))
         if r == 0:
             raise InvalidInputError("Expected `position` to be away from the centre, got 0.")
-        if not isinstance(potential, Potential):
-            if not callable(potential):
-                raise InvalidTypeError(
-                    f"Expected `potential` to be a Potential or a callable U(r), got "
-                    f"{type(potential).__name__}."
-                )
-            potential = Potential(potential)
+        potential = _as_potential(potential)
         n = cross(x, v)
         nn = float(np.linalg.norm(n))
         if nn <= 1e-14 * r * float(np.linalg.norm(v)):

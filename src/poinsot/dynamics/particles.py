@@ -37,6 +37,7 @@ from .._validate import as_bool, as_choice, as_float_array, as_times, as_vec3, b
 from .._vec import cross, dot, hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..kinematics.fields import FrameMotion, _rivals_terms
+from .systems import _call_force
 from .torques import STANDARD_GRAVITY
 
 __all__ = [
@@ -421,22 +422,7 @@ class _Force:
             c = self.const
             return c if c.ndim == 1 else c[index]
         self.calls += 1
-        try:
-            out = np.asarray(self.fn(t, r, v), dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise InvalidTypeError(
-                f"Expected `force(t, r, v)` to return a 3-vector (N, frame axes), "
-                f"calling it failed: {type(exc).__name__}: {exc}"
-            ) from None
-        if out.shape != (3,):
-            raise InvalidInputError(
-                f"Expected `force(t, r, v)` to return shape (3,) for one particle, got {out.shape}."
-            )
-        if not np.all(np.isfinite(out)):
-            raise IntegrationError(
-                f"`force(t, r, v)` returned non-finite values at t = {t:.6g}, r = {r.tolist()}."
-            )
-        return out
+        return _call_force(self.fn, t, r, v, nonfinite=IntegrationError)
 
 
 def _frame_matrices(fr: FrameMotion):

@@ -48,12 +48,15 @@ FORCE_KINDS = ("potential", "gyroscopic", "dissipative", "none")
 # ---------------------------------------------------------------------------
 
 
-def _call_force(force, t, r, v) -> np.ndarray:
+def _call_force(force, t, r, v, *, nonfinite=InvalidInputError) -> np.ndarray:
+    """``force(t, r, v)`` as a checked (3,) array (the ONE force-call validator,
+    also used by :func:`~poinsot.dynamics.simulate_particle`, which passes
+    ``nonfinite=IntegrationError``)."""
     try:
         out = np.asarray(force(t, r, v), dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InvalidTypeError(
-            f"Expected `force(t, r, v)` to return a 3-vector, calling it failed: "
+            f"Expected `force(t, r, v)` to return a 3-vector (N), calling it failed: "
             f"{type(exc).__name__}: {exc}"
         ) from None
     if out.shape != (3,):
@@ -61,9 +64,9 @@ def _call_force(force, t, r, v) -> np.ndarray:
             f"Expected `force(t, r, v)` to return shape (3,) for one point, got {out.shape}."
         )
     if not np.all(np.isfinite(out)):
-        raise InvalidInputError(
-            f"Expected `force` to return finite values, got {out.tolist()} at t = {t:g}, "
-            f"r = {np.asarray(r).tolist()}, v = {np.asarray(v).tolist()}."
+        raise nonfinite(
+            f"Expected `force` to return finite values, got {out.tolist()} (non-finite) at "
+            f"t = {float(t):g}, r = {np.asarray(r).tolist()}, v = {np.asarray(v).tolist()}."
         )
     return out
 
