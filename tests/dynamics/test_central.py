@@ -212,3 +212,36 @@ def test_bad_input():
         CentralOrbit(harmonic(1.0), energy=2.0, angular_momentum=1.0).conic  # noqa: B018
     with pytest.raises(InvalidInputError, match="radius"):
         CentralOrbit(kepler(1.0), energy=-0.5, angular_momentum=0.8, radius=5.0)
+
+
+def test_state_at_an_apsis_is_not_mistaken_for_a_circular_orbit():
+    """From r' = 0 the start is an apsis: r = 1 is the pericentre for v = 1.2, the
+    apocentre for v = 0.8 (mu = 1), with the beta/r^2 precession closed form."""
+    orb = CentralOrbit.from_state(kepler(1.0) + inverse_square(0.05), [1, 0, 0], [0, 1.2, 0])
+    assert not orb.is_circular
+    assert orb.apsides.pericentre == pytest.approx(1.0, rel=1e-13)
+    L2 = 1.2**2
+    # apocentre: root of E = -1/r + (0.05 + L^2/2)/r^2 with E = 0.72 - 1 + 0.05
+    E = 0.5 * L2 - 1 + 0.05
+    c = 0.05 + L2 / 2
+    r2 = (-1 - math.sqrt(1 + 4 * E * c)) / (2 * E)
+    assert orb.apsides.apocentre == pytest.approx(r2, rel=1e-13)
+    assert orb.apsidal_angle == pytest.approx(PI / math.sqrt(1 + 0.1 / L2), rel=1e-12)
+    apo = CentralOrbit.from_state(kepler(1.0), [1, 0, 0], [0, 0.8, 0])
+    c = apo.conic
+    assert apo.apsides.apocentre == pytest.approx(c.p / (1 - c.e), rel=1e-13)
+    assert apo.pericentre_time == pytest.approx(-c.period / 2, rel=1e-13)
+    np.testing.assert_allclose(apo.pericentre_direction, [-1, 0, 0], atol=1e-13)
+
+
+def test_trajectory_result():
+    orb = CentralOrbit.from_state(kepler(1.0), [1.0, 0.2, 0.1], [0.1, 1.1, 0.3])
+    t = np.linspace(0, 5, 11)
+    tr = orb.trajectory(t)
+    assert tr.method == "exact" and tr.info["closed_form"] == "kepler"
+    x, v = orb.state(t)
+    np.testing.assert_array_equal(tr.position, x)
+    np.testing.assert_array_equal(tr.velocity, v)
+    tr2 = orb.trajectory(t, method="integrate")
+    assert tr2.method == "adaptive"
+    np.testing.assert_allclose(tr2.position, x, atol=1e-10)

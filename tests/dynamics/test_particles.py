@@ -281,3 +281,29 @@ def test_other_bad_input():
         foucault_pendulum(-1.0, 0.5, [0.0, 1.0])
     with pytest.raises(InvalidInputError, match="g"):
         eastward_deflection(10.0, 0.3, g=0.0)
+
+
+def test_forces_with_potentials_and_relative_motion_round_trip():
+    from poinsot.dynamics import PendulumForce, UniformGravity, foucault_frame, relative_motion
+
+    r = RNG.standard_normal((20, 3))
+    for force in (UniformGravity(2.0, 9.81), PendulumForce(1.5, 9.81, 3.0)):
+        # F = -grad U by central differences
+        h = 1e-6
+        for k in range(3):
+            e = np.zeros(3)
+            e[k] = h
+            grad = (force.potential(r + e) - force.potential(r - e)) / (2 * h)
+            f = np.array([force(0.0, ri, ri) for ri in r])
+            np.testing.assert_allclose(-grad, f[:, k], atol=1e-7)
+    np.testing.assert_allclose(
+        foucault_frame(0.7, 2.0).omega, [0, 0, 2.0 * np.sin(0.7)], rtol=1e-15
+    )
+    fr = FrameMotion(omega=[0.2, -0.3, 0.9])
+    t = np.linspace(0, 3, 13)
+    tr = simulate_particle(fr, PendulumForce(), [1, 0.5, 0], [0, 0.3, 0.1], t, inertial=True)
+    traj = tr.to_trajectory("adaptive")
+    assert traj.method == "adaptive"
+    rr, vv = relative_motion(traj)
+    np.testing.assert_allclose(rr, tr.position, atol=1e-13)
+    np.testing.assert_allclose(vv, tr.velocity, atol=1e-13)

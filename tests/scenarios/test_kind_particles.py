@@ -74,8 +74,9 @@ def test_precessing_orbit_example_apsidal_angle():
     r = simulate_scenario(s, duration=10.0)
     res = r.summary["results"]
     L, m, beta = 1.2, 1.0, 0.05
-    assert res["apsidal_angle_over_pi"] == pytest.approx(1 / math.sqrt(1 + 2 * beta * m / L**2),
-                                                         rel=1e-12)
+    assert res["apsidal_angle_over_pi"] == pytest.approx(
+        1 / math.sqrt(1 + 2 * beta * m / L**2), rel=1e-12
+    )
     assert res["closed"] is False and res["bound"] is True
     drift = r.summary["accuracy"]["invariants"]
     assert drift["energy"]["max_relative_drift"] < 1e-9
@@ -100,17 +101,27 @@ def test_kepler_orbit_example_period_and_reference():
 
 def test_bad_tables_name_file_key_and_line():
     with pytest.raises(ScenarioError, match="latitude"):
-        parse_scenario("[free_fall]\nheight = 10.0\nlatitude = 95.0\n"
-                       "[simulation]\nduration = 1.0\nsamples = 3\nmethod = \"adaptive\"\n")
+        parse_scenario(
+            "[free_fall]\nheight = 10.0\nlatitude = 95.0\n"
+            '[simulation]\nduration = 1.0\nsamples = 3\nmethod = "adaptive"\n'
+        )
     with pytest.raises(ScenarioError, match="fall time"):
-        parse_scenario("[free_fall]\nheight = 10.0\nlatitude = 45.0\n"
-                       "[simulation]\nduration = 100.0\nsamples = 3\nmethod = \"adaptive\"\n")
+        parse_scenario(
+            "[free_fall]\nheight = 10.0\nlatitude = 45.0\n"
+            '[simulation]\nduration = 100.0\nsamples = 3\nmethod = "adaptive"\n'
+        )
     with pytest.raises(ScenarioError, match="potential term"):
-        parse_scenario("[orbit]\nmass = 1.0\nenergy = -0.5\nangular_momentum = 1.0\n"
-                       "[simulation]\nduration = 1.0\nsamples = 3\nmethod = \"adaptive\"\n")
+        parse_scenario(
+            "[orbit]\nmass = 1.0\nenergy = -0.5\nangular_momentum = 1.0\n"
+            '[simulation]\nduration = 1.0\nsamples = 3\nmethod = "adaptive"\n'
+        )
     with pytest.raises(ScenarioError, match="no orbit"):
-        parse_scenario("[orbit]\nmu = 1.0\nenergy = -0.6\nangular_momentum = 1.0\n"
-                       "[simulation]\nduration = 1.0\nsamples = 3\nmethod = \"adaptive\"\n")
+        parse_scenario(
+            "[orbit]\nmu = 1.0\nenergy = -0.6\nangular_momentum = 1.0\n"
+            '[simulation]\nduration = 1.0\nsamples = 3\nmethod = "adaptive"\n'
+        )
     with pytest.raises(ScenarioError, match="pure attractive Kepler"):
-        parse_scenario("[orbit]\nmu = 1.0\nbeta = 0.1\nenergy = -0.3\nangular_momentum = 1.0\n"
-                       "[simulation]\nduration = 1.0\nsamples = 3\nmethod = \"exact\"\n")
+        parse_scenario(
+            "[orbit]\nmu = 1.0\nbeta = 0.1\nenergy = -0.3\nangular_momentum = 1.0\n"
+            '[simulation]\nduration = 1.0\nsamples = 3\nmethod = "exact"\n'
+        )
