@@ -261,6 +261,9 @@ class ScenarioKind:
     orders: Mapping[str, int] = {}
     #: The theory section it follows, cited in text (``"docs/theory.md §10"``).
     theory: str = ""
+    #: Rough seconds per integration step (or closed-form sample) of each method,
+    #: for the cost estimate of ``poinsot check`` (measure them on your kind).
+    seconds_per_step: Mapping[str, float] = {}
 
     # ------------------------------------------------------------------ reading
     def claims(self, data: Mapping[str, Any]) -> bool:

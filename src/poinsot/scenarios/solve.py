@@ -48,17 +48,9 @@ MAX_STEPS = 50_000_000
 #: written (t, quaternion, omega, K, T, V, their derived series and the rows being
 #: formatted), measured with tracemalloc on the shipped examples and rounded up.
 _BYTES_PER_SAMPLE = 600
-#: Rough cost of one integration step or one closed-form sample (seconds) on one
-#: core of a 2020s laptop, measured on the shipped examples; "adaptive" is per
-#: output sample (its steps are not known in advance).
-_SECONDS_PER_STEP = {
-    "exact": 1.5e-6,
-    "midpoint": 3e-6,
-    "splitting": 3e-6,
-    "rk4": 3e-6,
-    "magnus4": 2e-6,
-    "adaptive": 3e-5,
-}
+#: Rough cost of one integration step or closed-form sample (seconds) when a kind
+#: gives none for a method (:attr:`ScenarioKind.seconds_per_step`).
+_DEFAULT_SECONDS_PER_STEP = 1e-4
 #: Above this many output samples a run is done in chunks (progress reports).
 _CHUNK_SAMPLES = 1000
 _N_CHUNKS = 40
@@ -89,7 +81,9 @@ class Cost:
     memory_bytes : int
         Peak memory, estimated (bytes).
     seconds : float
-        Rough wall time on one core (s); the machine may differ by 3x either way.
+        Rough wall time (s), from the seconds per step each kind measured
+        (:attr:`~poinsot.scenarios.ScenarioKind.seconds_per_step`); a machine may
+        differ by 3x either way.
     """
 
     samples: int
@@ -145,8 +139,11 @@ def _seconds(s: float) -> str:
 
 def _steps(scenario: Scenario, method: str, samples: int) -> int:
     sim = scenario.simulation
-    if method in ("exact", "adaptive"):
+    if method == "exact":
         return samples
+    if method == "adaptive":  # its own steps, at least one per output interval and max_step
+        floor = 0 if sim.max_step is None else math.ceil(sim.duration / sim.max_step)
+        return max(samples, min(floor, 10**15))
     # fixed-step methods: the fewest equal steps no longer than max_step per interval
     per_interval = 1 if sim.max_step is None else max(1, math.ceil(sim.spacing() / sim.max_step))
     return (samples - 1) * per_interval
@@ -173,7 +170,10 @@ def estimate_cost(scenario: Scenario, *, duration: float | None = None) -> Cost:
     n = sim.n_samples()
     methods = [sim.method] + ([sim.reference] if sim.reference else [])
     steps = sum(_steps(scenario, m, n) for m in methods)
-    seconds = sum(_SECONDS_PER_STEP.get(m, 1e-5) * _steps(scenario, m, n) for m in methods)
+    per_step = scenario.adapter.seconds_per_step
+    seconds = sum(
+        per_step.get(m, _DEFAULT_SECONDS_PER_STEP) * _steps(scenario, m, n) for m in methods
+    )
     memory = _BYTES_PER_SAMPLE * n * len(methods)
     return Cost(samples=n, steps=steps, memory_bytes=memory, seconds=seconds)
 

@@ -107,6 +107,7 @@ class FreeBody(ScenarioKind):
     methods = DYNAMICS_METHODS
     orders = {"midpoint": 2, "splitting": 2, "rk4": 4}
     theory = "docs/theory.md §10"
+    seconds_per_step = _rigid.SECONDS_PER_STEP
 
     def claims(self, data):
         return "body" in data or "angular_velocity" in data
