@@ -79,6 +79,12 @@ class LinePotential:
     of a curl-free stationary force ``F(r)`` along the straight path from
     ``reference`` to ``r`` (16-point Gauss-Legendre), so that ``F = -grad U``.
     Call with ``r`` of shape (..., 3).
+
+    >>> import numpy as np
+    >>> from poinsot.dynamics import LinePotential
+    >>> U = LinePotential(lambda t, r, v: -2.0 * r, np.zeros(3))   # U = |r|^2
+    >>> U([[1.0, 1.0, 0.0]]).round(12)
+    array([2.])
     """
 
     force: Callable
