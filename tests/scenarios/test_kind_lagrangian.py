@@ -80,3 +80,18 @@ def test_wrong_initial_state_length():
     text = CHARGED.format(V=V_OK, T=1.0).replace("q0 = [0.0, 0.0, 0.0]", "q0 = [0.0]")
     with pytest.raises(ScenarioError, match="lagrangian.q0"):
         parse_scenario(text, source="bad.toml")
+
+
+def test_report_has_the_typeset_equations(tmp_path):
+    """report.html carries the equations as inline SVG (offline: no MathJax, no fetch)."""
+    pytest.importorskip("plotly")
+    from poinsot.scenarios.output import run_scenario
+
+    sc = parse_scenario(CHARGED.format(V=V_OK, T=1.0), source="charge.toml")
+    _, files = run_scenario(sc, tmp_path / "out")
+    names = {p.name for p in files}
+    assert {"report.html", "equations.svg", "coordinates.png", "phase.png"} <= names
+    page = (tmp_path / "out" / "report.html").read_text()
+    head = page.index("Lagrange&#x27;s equations (docs/theory.md §11)</h2>")
+    assert "<svg" in page[head : head + 2000]
+    assert "<script src=" not in page  # self-contained: nothing fetched

@@ -66,6 +66,7 @@ def write_report(
     inertia=None,
     reference: Trajectory | None = None,
     max_frames: int = 150,
+    sections=(),
 ) -> Path:
     """Write a self-contained interactive HTML report of a trajectory.
 
@@ -102,6 +103,10 @@ def write_report(
     max_frames : int, optional
         Largest number of animation frames (the samples are subsampled
         evenly); between 2 and 1000. Default 150.
+
+    sections : sequence of (str, str), optional
+        Extra sections ``(heading, html)`` shown above the summary, e.g. a kind's
+        typeset equations as inline SVG (trusted HTML made by poinsot, not user text).
 
     Returns
     -------
@@ -177,7 +182,7 @@ def write_report(
         raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
 
     fig = _figure(tr, ref, body, J, max_frames)
-    page = _page(fig, title=title, tr=tr, summary=summary)
+    page = _page(fig, title=title, tr=tr, summary=summary, sections=sections)
     _write_atomic(path, page)
     return path
 
@@ -718,7 +723,7 @@ table.summary td { font-family: monospace; white-space: pre-wrap; }
 """
 
 
-def _page(fig, *, title: str, tr: Trajectory, summary) -> str:
+def _page(fig, *, title: str, tr: Trajectory, summary, sections=()) -> str:
     import plotly.offline
 
     js = plotly.offline.get_plotlyjs().replace("</script", "<\\/script")
@@ -742,6 +747,8 @@ def _page(fig, *, title: str, tr: Trajectory, summary) -> str:
             f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in _flatten(summary)
         )
         table = f'<h2>Summary</h2>\n<table class="summary">\n{body}\n</table>'
+    extra = "".join(f"<h2>{esc(head)}</h2>\n<div>{content}</div>\n" for head, content in sections)
+    table = extra + table
     return (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f"<title>{esc(title)}</title>\n<style>{_CSS}</style>\n"

@@ -185,6 +185,18 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
     return files
 
 
+def _report_sections(result: ScenarioResult, notes: list[str]):
+    """A kind's extra report sections (``report_sections(result)``, optional)."""
+    make = getattr(result.scenario.adapter, "report_sections", None)
+    if make is None:
+        return ()
+    try:
+        return tuple(make(result))
+    except Exception as exc:  # a section that fails never sinks the report
+        notes.append(f"report section skipped: {type(exc).__name__}: {exc}")
+        return ()
+
+
 def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) -> list[Path]:
     try:
         from ..plotting.report import write_report
@@ -212,6 +224,7 @@ def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) 
             shape=shape,
             inertia=inertia,
             reference=result.reference,
+            sections=_report_sections(result, notes),
         )
     except ImportError as exc:  # plotly is an optional dependency
         notes.append(f"report.html skipped: {exc} (pip install 'poinsot[plot]')")

@@ -309,6 +309,23 @@ class Lagrangian(ScenarioKind):
         figs.append(FigureSpec("equations.svg", eqs, size=(9.0, 0.9 + 0.7 * n)))
         return [f for f in figs if f is not None]
 
+    def report_sections(self, result):
+        """The equations typeset as inline SVG for ``report.html`` (offline)."""
+        import io
+
+        from matplotlib.figure import Figure
+
+        from ...plotting.lagrange import plot_equations
+
+        system = result.scenario.spec.system
+        n = len(system.coordinates)
+        fig = Figure(figsize=(9.0, 0.9 + 0.7 * n))
+        plot_equations(system, ax=fig.add_subplot())
+        buf = io.StringIO()
+        fig.savefig(buf, format="svg")
+        svg = buf.getvalue()
+        return [("Lagrange's equations (docs/theory.md §11)", svg[svg.index("<svg") :])]
+
     def describe_scenario(self, scenario):
         s = scenario.spec.system
         return [
