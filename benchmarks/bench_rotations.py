@@ -18,6 +18,7 @@ Run: ``python benchmarks/bench_rotations.py [N] [--single-only|--batch-only]``
 
 from __future__ import annotations
 
+import os
 import sys
 import warnings
 
@@ -123,7 +124,7 @@ def _h_euler_rate_matrix_zxz(a):
     return np.array([[st * sf, cf, 0.0], [st * cf, -sf, 0.0], [ct, 0.0, 1.0]])
 
 
-def single(rounds: int = 7, number: int = 2000) -> None:
+def single(rounds: int = 15, number: int = 1000) -> None:
     """Table 1: one rotation / one state at a time (us per call)."""
     q = np.array([0.8, 0.2, -0.4, 0.4])  # unit (|q| = 1 exactly in binary? no: normalised)
     q = q / np.sqrt(q @ q)
@@ -395,14 +396,16 @@ def main(n: int = 1_000_000) -> None:
     rows, ratios = [], []
     threads = get_num_threads()
     for name, ours, theirs, nbytes in ops:
-        one, many, sci = [], [], []
-        for _ in range(5):  # interleaved: one thread, every thread, SciPy
+        one, many, auto, sci = [], [], [], []
+        for _ in range(5):  # interleaved: one thread, every thread, default, SciPy
             set_num_threads(1)
             one.append(median_time(ours, repeat=1))
             set_num_threads(threads)
             many.append(median_time(ours, repeat=1))
+            set_num_threads(None)  # the default: numba's threads capped by the idle cores
+            auto.append(median_time(ours, repeat=1))
             sci.append(median_time(theirs, repeat=1))
-        t1, t_ours, t_scipy = (float(np.median(x)) for x in (one, many, sci))
+        t1, t_all, t_ours, t_scipy = (float(np.median(x)) for x in (one, many, auto, sci))
         ratio = t_scipy / t_ours
         ratios.append(ratio)
         floor = f"{t_ours / (per_byte * nbytes):.2f}x" if nbytes else "-"
@@ -410,19 +413,22 @@ def main(n: int = 1_000_000) -> None:
             [
                 name,
                 f"{1e9 * t1 / n:.1f}",
+                f"{1e9 * t_all / n:.1f}",
                 f"{1e9 * t_ours / n:.1f}",
                 f"{1e9 * t_scipy / n:.1f}",
                 f"{ratio:.2f}x",
                 f"{t_scipy / t1:.2f}x",
+                f"{t_scipy / t_all:.2f}x",
                 floor,
             ]
         )
     print(
-        f"N = {n:,} rotations, {threads} numba threads; medians of 5 interleaved rounds; "
+        f"N = {n:,} rotations (ns per rotation), {threads} numba threads, load average "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; medians of 5 interleaved rounds; "
         f"memory floor from q.copy(): {2 * q.nbytes / floor_s / 1e9:.1f} GB/s"
     )
-    head = ["operation", "1 thread ns/rot", f"{threads} threads ns/rot", "SciPy ns/rot"]
-    head += ["SciPy/poinsot", "SciPy/1 thread", "vs floor"]
+    head = ["operation", "1 thread", f"{threads} threads", "default", "SciPy"]
+    head += ["SciPy/default", "SciPy/1 thread", f"SciPy/{threads} threads", "vs floor"]
     print(table(rows, head))
     print(f"geometric-mean speed-up over SciPy: {np.exp(np.mean(np.log(ratios))):.2f}x")
     _peers(q, n)

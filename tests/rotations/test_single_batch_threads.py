@@ -281,3 +281,13 @@ def test_empty_sets_follow_scipy():
     assert Rotation.from_matrix(np.empty((0, 3, 3))).shape == (0,)
     with pytest.raises(InvalidInputError, match="at least one rotation"):
         r.mean()
+
+
+def test_default_threads_are_the_idle_cores(monkeypatch):
+    from poinsot.rotations import _lazy
+
+    monkeypatch.setattr(_lazy.os, "cpu_count", lambda: 2)
+    for load, want in [(0.9, 2), (1.6, 1), (11.0, 1), (0.0, 2)]:
+        monkeypatch.setattr(_lazy.os, "getloadavg", lambda load=load: (load, load, load))
+        assert _lazy._idle_threads(2) == want
+        assert _lazy._idle_threads(1) == 1

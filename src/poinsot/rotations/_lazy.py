@@ -1,19 +1,27 @@
 """Lazy access to the compiled kernels (numba loads on first use, not on import).
 
 Also the choice between the broadcasting kernels and the threaded flat loops: a
-batch of at least :data:`PARALLEL_MIN_SIZE` rotations runs on every numba thread
-(``NUMBA_NUM_THREADS``, or :func:`set_num_threads`); the result is bit-identical
-whatever the number of threads (each element runs the same code).
+batch of at least :data:`PARALLEL_MIN_SIZE` rotations runs on numba's threads
+(:func:`threaded`); the result is bit-identical whatever the number of threads
+(each element runs the same code).
+
+**How many threads.** After :func:`set_num_threads(n) <set_num_threads>`,
+exactly ``n``. Until then, every *idle* core: numba's count
+(``NUMBA_NUM_THREADS``, default the number of cores) capped by the cores the
+1-minute load average leaves free (a busy, shared machine gets one thread: there,
+waking a second thread costs more than it saves).
 """
 
 from __future__ import annotations
 
 import importlib
+import os
 from types import ModuleType
 
 import numpy as np
 
 _MODULE: ModuleType | None = None
+_USER_THREADS = False  # set_num_threads was called: use numba's count as it is
 
 #: Batches of at least this many rotations use the threaded kernels (every numba thread).
 PARALLEL_MIN_SIZE = 20_000
@@ -27,25 +35,34 @@ def kernels() -> ModuleType:
     return _MODULE
 
 
-def set_num_threads(n: int) -> None:
+def set_num_threads(n: int | None) -> None:
     """Number of threads used for large rotation batches (theory §2, ``docs/conventions.md``).
 
     Batches of at least ``PARALLEL_MIN_SIZE`` (20,000) rotations split their loop
     over numba's threads; this sets numba's thread count for the calling thread
     (``numba.set_num_threads``), between 1 and ``NUMBA_NUM_THREADS`` (default:
     the number of cores; set that environment variable before starting Python to
-    change the maximum). Results are bit-identical for every thread count.
+    change the maximum), and from then on exactly ``n`` threads are used. Before
+    any call, large batches use the idle cores (numba's count capped by the cores
+    the 1-minute load average leaves free). Results are bit-identical for every
+    thread count. ``n=None`` restores the default (idle cores, numba's count left
+    as it is).
 
     >>> from poinsot.rotations import set_num_threads, get_num_threads
     >>> set_num_threads(1); get_num_threads()
     1
     >>> import numba; set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    >>> set_num_threads(None)      # back to the default: the idle cores
     """
     from numba import config
     from numba import set_num_threads as _set
 
     from .._validate import as_int
 
+    global _USER_THREADS
+    if n is None:
+        _USER_THREADS = False
+        return
     k = as_int(n, "n", minimum=1)
     if k > config.NUMBA_NUM_THREADS:
         from ..errors import InvalidInputError
@@ -54,6 +71,7 @@ def set_num_threads(n: int) -> None:
             f"Expected `n` to be at most NUMBA_NUM_THREADS = {config.NUMBA_NUM_THREADS}, got {n!r}."
         )
     _set(k)
+    _USER_THREADS = True
 
 
 def get_num_threads() -> int:
@@ -65,6 +83,33 @@ def get_num_threads() -> int:
     from numba import get_num_threads as _get
 
     return int(_get())
+
+
+def _idle_threads(n: int) -> int:
+    try:
+        load = os.getloadavg()[0]
+    except OSError:  # pragma: no cover - platforms without a load average
+        return n
+    # the load includes this process itself (about 1)
+    return max(1, min(n, int(round((os.cpu_count() or 1) - load + 1.0))))
+
+
+def threaded(kernel, *args):
+    """Call a threaded flat kernel with the thread count described in the module notes."""
+    if _USER_THREADS:
+        return kernel(*args)
+    from numba import get_num_threads as _get
+    from numba import set_num_threads as _set
+
+    n0 = _get()
+    n = _idle_threads(n0)
+    if n == n0:
+        return kernel(*args)
+    _set(n)
+    try:
+        return kernel(*args)
+    finally:
+        _set(n0)
 
 
 def flat(a: np.ndarray, k: int) -> np.ndarray:

@@ -17,7 +17,7 @@ import numpy as np
 
 from .._validate import as_matrix3
 from ..errors import InvalidInputError
-from ._lazy import big, flat, kernels
+from ._lazy import big, flat, kernels, threaded
 
 __all__ = ["ORTHOGONALITY_ATOL", "EXACT_ATOL", "matrix_from_quat", "quat_from_matrix"]
 
@@ -35,7 +35,7 @@ def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     if big(q.shape[:-1]):
         f = flat(q, 4)
         m = np.empty((f.shape[0], 9))
-        kernels().to_matrix_flat(f, m)
+        threaded(kernels().to_matrix_flat, f, m)
         return m.reshape(q.shape[:-1] + (3, 3))
     return kernels().quat_to_matrix(q, _D3)
 
@@ -46,7 +46,7 @@ def _to_quat(m: np.ndarray):
     if big(shape):
         f = flat(m, 9)
         q, err, det = np.empty((f.shape[0], 4)), np.empty(f.shape[0]), np.empty(f.shape[0])
-        kernels().from_matrix_flat(f, q, err, det)
+        threaded(kernels().from_matrix_flat, f, q, err, det)
         return q.reshape(shape + (4,)), err.reshape(shape), det.reshape(shape)
     return kernels().matrix_to_quat(m, _D4)
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from .._validate import as_float_array
 from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError
-from ._lazy import big, flat, kernels
+from ._lazy import big, flat, kernels, threaded
 
 __all__ = [
     "PRESETS",
@@ -84,7 +84,7 @@ def quat_from_euler(seq: str, angles: np.ndarray) -> np.ndarray:
         ax, angles = ax[::-1].copy(), angles[..., ::-1]
     if big(angles.shape[:-1]):
         q = np.empty(angles.shape[:-1] + (4,))
-        kernels().euler_to_quat_flat(ax, flat(angles, angles.shape[-1]), q.reshape(-1, 4))
+        threaded(kernels().euler_to_quat_flat, ax, flat(angles, angles.shape[-1]), q.reshape(-1, 4))
         return q
     return kernels().euler_to_quat(ax, angles, _D4)
 
@@ -100,7 +100,10 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
     angles = np.empty((f.shape[0], 3))
     singular = np.empty(f.shape[0], dtype=np.bool_)
     k = kernels()
-    (k.quat_to_euler if big(q.shape[:-1]) else k.quat_to_euler_serial)(f, code, angles, singular)
+    if big(q.shape[:-1]):
+        threaded(k.quat_to_euler, f, code, angles, singular)
+    else:
+        k.quat_to_euler_serial(f, code, angles, singular)
     angles = angles.reshape(q.shape[:-1] + (3,))
     if warn and np.any(singular):
         warn_gimbal_lock(seq, stacklevel=3)

@@ -56,7 +56,7 @@ from ..errors import InvalidInputError, InvalidTypeError
 from . import _scalar as S
 from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
-from ._lazy import big, flat, kernels
+from ._lazy import big, flat, kernels, threaded
 from .quaternion import canonical_array as _canonical
 from .quaternion import conjugate_array, length_array, normalize_array
 
@@ -671,7 +671,7 @@ class Rotation:
         k = kernels()
         if big(shape) and p.shape[:-1] in (shape, ()) and q.shape[:-1] in (shape, ()):
             out = np.empty(shape + (4,))
-            k.qmul_flat(flat(p, 4), flat(q, 4), out.reshape(-1, 4))
+            threaded(k.qmul_flat, flat(p, 4), flat(q, 4), out.reshape(-1, 4))
         else:
             out = k.qmul(p, q)
         # `out` is fresh and contiguous: no need for _wrap's copy checks
@@ -701,7 +701,7 @@ class Rotation:
             return obj
         if big(q.shape[:-1]):
             out = np.empty(q.shape)
-            kernels().conj_flat(flat(q, 4), out.reshape(-1, 4))
+            threaded(kernels().conj_flat, flat(q, 4), out.reshape(-1, 4))
             return Rotation._wrap(out)
         return Rotation._wrap(conjugate_array(q))
 
@@ -738,7 +738,7 @@ class Rotation:
             if inv:
                 qf = conjugate_array(qf)
             out = np.empty(shape + (3,))
-            k.qrot_flat(qf, flat(v, 3), out.reshape(-1, 3))
+            threaded(k.qrot_flat, qf, flat(v, 3), out.reshape(-1, 3))
             return out
         if inv:
             q = conjugate_array(q)

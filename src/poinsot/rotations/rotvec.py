@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._lazy import big, flat, kernels
+from ._lazy import big, flat, kernels, threaded
 
 __all__ = ["quat_from_rotvec", "rotvec_from_quat"]
 
@@ -20,7 +20,7 @@ def quat_from_rotvec(v: np.ndarray) -> np.ndarray:
     """``L = cos(f/2) + e sin(f/2)`` from ``phi = f e`` (..., 3) -> (..., 4)."""
     if big(v.shape[:-1]):
         q = np.empty(v.shape[:-1] + (4,))
-        kernels().from_rotvec_flat(flat(v, 3), q.reshape(-1, 4))
+        threaded(kernels().from_rotvec_flat, flat(v, 3), q.reshape(-1, 4))
         return q
     return kernels().rotvec_to_quat(v, _D4)
 
@@ -29,6 +29,6 @@ def rotvec_from_quat(q: np.ndarray) -> np.ndarray:
     """``phi = 2 atan2(|l|, l0) l / |l|`` (with ``l0 >= 0``) for unit ``q`` (..., 4) -> (..., 3)."""
     if big(q.shape[:-1]):
         v = np.empty(q.shape[:-1] + (3,))
-        kernels().to_rotvec_flat(flat(q, 4), v.reshape(-1, 3))
+        threaded(kernels().to_rotvec_flat, flat(q, 4), v.reshape(-1, 3))
         return v
     return kernels().quat_to_rotvec(q, _D3)
