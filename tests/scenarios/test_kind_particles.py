@@ -125,3 +125,13 @@ def test_bad_tables_name_file_key_and_line():
             "[orbit]\nmu = 1.0\nbeta = 0.1\nenergy = -0.3\nangular_momentum = 1.0\n"
             '[simulation]\nduration = 1.0\nsamples = 3\nmethod = "exact"\n'
         )
+
+
+def test_report_embeds_the_orbit_figures(tmp_path):
+    pytest.importorskip("plotly")
+    s = load_scenario(EXAMPLES / "precessing_orbit.toml")
+    _, files = run_scenario(s, tmp_path / "o", duration=10.0)
+    names = {p.name for p in files}
+    assert {"orbit.png", "effective_potential.png", "report.html"} <= names
+    html = (tmp_path / "o" / "report.html").read_text()
+    assert "The orbit, apsides marked" in html and html.count("<svg") >= 2

@@ -228,6 +228,17 @@ class CentralOrbitKind(ScenarioKind):
         inv = invariants_figure(result)
         return figs + ([inv] if inv is not None else [])
 
+    def report_sections(self, result):
+        """The orbit with its apsides and the effective potential as SVG."""
+        from .rotating_frame import figure_sections
+
+        specs = [f for f in self.figures(result) if f.name != "invariants.png"]
+        titles = {
+            "orbit.png": "The orbit, apsides marked (docs/theory.md §9)",
+            "effective_potential.png": "Effective potential U + L^2/(2 m r^2)",
+        }
+        return figure_sections(result, specs, [titles.get(f.name, f.name) for f in specs])
+
     def describe_scenario(self, scenario):
         sp = scenario.spec
         terms = [f"{n} = {fmt(getattr(sp, n))}" for n in _TERMS if getattr(sp, n) is not None]

@@ -66,6 +66,26 @@ def _read_common(t, extra):
     return keys, common
 
 
+def figure_sections(result, specs, titles):
+    """``report.html`` sections: the kind's figures as inline SVG (offline, no files).
+
+    ``specs`` are FigureSpec objects, ``titles`` their headings.
+    """
+    import io
+
+    from matplotlib.figure import Figure
+
+    out = []
+    for spec, title in zip(specs, titles, strict=True):
+        fig = Figure(figsize=spec.size, layout="constrained")
+        spec.draw(fig.add_subplot(projection=spec.projection))
+        buf = io.StringIO()
+        fig.savefig(buf, format="svg")
+        svg = buf.getvalue()
+        out.append((title, svg[svg.index("<svg") :]))
+    return out
+
+
 class _EarthKind(ScenarioKind):
     methods = ("adaptive",)
     orders = {}
@@ -95,6 +115,16 @@ class _EarthKind(ScenarioKind):
             h,
             scale=float(np.max(np.abs(h))) or 1.0,
         )
+
+    def report_sections(self, result):
+        """The path in the Earth's frame and in space (and the swing plane) as SVG."""
+        specs = [f for f in self.figures(result) if f.name != "invariants.png"]
+        titles = {
+            "path_frame.png": "Path relative to the Earth (docs/theory.md §9)",
+            "path_space.png": "Path in space (inertial axes)",
+            "swing_plane.png": "The swing plane turning at -Omega sin(latitude)",
+        }
+        return figure_sections(result, specs, [titles.get(f.name, f.name) for f in specs])
 
     def _path_figures(self, result, components, what):
         tr = result.trajectory
