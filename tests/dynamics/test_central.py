@@ -210,6 +210,8 @@ def test_bad_input():
         CentralOrbit("kepler", energy=-0.5, angular_momentum=1.0)
     with pytest.raises(InvalidInputError, match="Kepler"):
         CentralOrbit(harmonic(1.0), energy=2.0, angular_momentum=1.0).conic  # noqa: B018
+    with pytest.raises(InvalidTypeError, match="vectorised"):
+        CentralOrbit(Potential(lambda r: -1 / math.sqrt(r)), energy=-0.1, angular_momentum=1.0)
     with pytest.raises(InvalidInputError, match="radius"):
         CentralOrbit(kepler(1.0), energy=-0.5, angular_momentum=0.8, radius=5.0)
 

@@ -111,7 +111,14 @@ class Potential:
     def _raw(self, r, f=None):
         f = self._f if f is None else f
         with np.errstate(all="ignore"):
-            return np.asarray(f(r), dtype=np.float64) + np.zeros(np.shape(r))
+            try:
+                return np.asarray(f(r), dtype=np.float64) + np.zeros(np.shape(r))
+            except (TypeError, ValueError) as exc:
+                raise InvalidTypeError(
+                    f"Expected the potential {self.name!r} to accept an array of distances "
+                    f"and return numbers of the same shape (vectorised, e.g. with numpy), "
+                    f"calling it failed: {type(exc).__name__}: {exc}"
+                ) from None
 
     def __call__(self, r) -> np.ndarray:
         """``U(r)`` in J."""
