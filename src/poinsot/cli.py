@@ -99,7 +99,14 @@ def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()
     from .scenarios.describe import describe
 
     text = describe(result, title=title, notes=getattr(files, "notes", ()))
-    print("\n".join(ln for ln in text.splitlines() if not ln.startswith("accuracy warning")))
+    lines = [
+        ln
+        for ln in text.splitlines()
+        if not ln.startswith(("accuracy warning", "suggestion"))  # already on stderr
+    ]
+    if acc["warnings"]:
+        lines.append(f"accuracy: {len(acc['warnings'])} warning(s), on stderr and in summary.json")
+    print("\n".join(lines))
     for line in extra:
         print(line)
     names = ", ".join(p.name for p in files)
@@ -410,6 +417,13 @@ example:
 Writes trajectory.csv (or .npz), summary.json, PNG figures and report.html into
 --out (default ./poinsot-out/<scenario name>). An existing, non-empty output
 directory is only overwritten with --force. Scenario format: docs/cli.md.
+
+The integration step of a fixed-step method is the output spacing, unless
+[simulation] max_step is shorter. A run beyond the limits (5000000 output
+samples; 2 GiB of memory or 5e7 integration steps without --allow-large) is
+refused before any work; `poinsot check` prints the estimate. When a conserved
+quantity drifts by more than 1e-6 (relative) or the attitude differs from the
+reference by more than 1e-2 rad, a warning with a suggested max_step is printed.
 """
 _DEMO_EPILOG = """\
 example:
@@ -601,17 +615,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", metavar="SCENARIO.toml")
     p.add_argument("--samples", type=int, required=True, metavar="N", help="number of samples")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--chunk-size", type=int, default=1000, metavar="M",
-                   help="samples per chunk and Parquet file (default 1000)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="an existing Dask scheduler (tcp://host:port); default: a local cluster")
-    p.add_argument("--workers", type=int, metavar="K",
-                   help="local worker processes (default: one per core; 0: in this process)")
+    p.add_argument(
+        "--chunk-size",
+        type=int,
+        default=1000,
+        metavar="M",
+        help="samples per chunk and Parquet file (default 1000)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="an existing Dask scheduler (tcp://host:port); default: a local cluster",
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        metavar="K",
+        help="local worker processes (default: one per core; 0: in this process)",
+    )
     p.add_argument("--seed", type=int, default=0, metavar="S", help="root seed (default 0)")
-    p.add_argument("--resume", action="store_true",
-                   help="complete an interrupted run in DIR (only missing chunks are computed)")
-    p.add_argument("--timeout", type=float, default=10.0, metavar="SECONDS",
-                   help="how long to wait for --scheduler to answer (default 10)")
+    p.add_argument(
+        "--resume",
+        action="store_true",
+        help="complete an interrupted run in DIR (only missing chunks are computed)",
+    )
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=10.0,
+        metavar="SECONDS",
+        help="how long to wait for --scheduler to answer (default 10)",
+    )
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_ensemble)
     return parser
@@ -645,9 +679,17 @@ def _cmd_ensemble(args) -> int:
             print(f"\rchunks {done}/{total}", end="", file=sys.stderr, flush=True)
 
     res = run_scenario_ensemble(
-        args.scenario, args.samples, args.out, chunk_size=args.chunk_size,
-        scheduler=args.scheduler, workers=workers, seed=args.seed, resume=args.resume,
-        client=client, timeout=args.timeout, progress=progress,
+        args.scenario,
+        args.samples,
+        args.out,
+        chunk_size=args.chunk_size,
+        scheduler=args.scheduler,
+        workers=workers,
+        seed=args.seed,
+        resume=args.resume,
+        client=client,
+        timeout=args.timeout,
+        progress=progress,
     )
     if not args.quiet:
         print(file=sys.stderr)
@@ -655,8 +697,10 @@ def _cmd_ensemble(args) -> int:
         print(f"{s['samples']} samples, {s['failures']} failed; outputs in {res.out}")
         for name, m in s["metrics"].items():
             q = m["quantiles"]
-            print(f"  {name}: mean {m['mean']:.6g} {m['unit']}, median {q['50%']:.6g}, "
-                  f"5%-95% [{q['5%']:.6g}, {q['95%']:.6g}], never {m['never']}")
+            print(
+                f"  {name}: mean {m['mean']:.6g} {m['unit']}, median {q['50%']:.6g}, "
+                f"5%-95% [{q['5%']:.6g}, {q['95%']:.6g}], never {m['never']}"
+            )
     return 0
 
 
