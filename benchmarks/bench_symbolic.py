@@ -257,7 +257,8 @@ def run(ns, rhs_cap, quick):
                 f"{(t_sim_rhs or t_sim_mf) / t_sim:.0f}x",
             ]
         )
-        print(f"n = {n} done", flush=True)
+        print(f"n = {n}: derivation {rows_d[-1][1:]}, evaluations/s {rows_e[-1][1:]}, "
+              f"simulation {rows_s[-1][1:]}", flush=True)  # fmt: skip
     print("\nDerivation (s; ratio = LagrangesMethod / poinsot) and numeric build (s)")
     print(
         table(
