@@ -885,8 +885,10 @@ def test_bad_omega_rotation_and_times():
     batch = FreeRigidBody([1, 2, 3], rotation0=Rotation.identity(2), omega0=[1, 2, 3])
     with pytest.raises(InvalidInputError, match="one body: select one"):
         batch.maccullagh()
-    with pytest.raises(InvalidInputError, match="a single body"):
+    with pytest.raises(InvalidTypeError, match="a single body"):
         FreeRigidBody([1, 2, 3], omega0=[1, 2, 3])[0]
+    with pytest.raises(InvalidTypeError, match="a single body"):
+        len(FreeRigidBody([1, 2, 3], omega0=[1, 2, 3]))
     body = FreeRigidBody([1, 2, 3], omega0=[1, 2, 3])
     with pytest.raises(InvalidInputError, match="`t` to contain only finite"):
         body.omega([0.0, np.inf])

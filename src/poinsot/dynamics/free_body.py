@@ -61,7 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
-from ..errors import InvalidInputError, SingularityWarning
+from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
 from ..rotations import quaternion as _quaternion
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
@@ -696,7 +696,7 @@ class FreeRigidBody:
         'symmetric'
         """
         if self._shape == ():
-            raise InvalidInputError("Expected a batch of bodies to index, got a single body.")
+            raise InvalidTypeError("Expected a batch of bodies to index, got a single body.")
         sel = np.arange(self._n).reshape(self._shape)[key]
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
@@ -713,7 +713,7 @@ class FreeRigidBody:
 
     def __len__(self) -> int:
         if self._shape == ():
-            raise TypeError("len() of a single FreeRigidBody (shape ())")
+            raise InvalidTypeError("Expected a batch of bodies for len(), got a single body.")
         return self._shape[0]
 
     # -- geometry (one body) --------------------------------------------------
