@@ -1011,3 +1011,18 @@ def test_batch_trajectory_is_time_first_and_pickles():
     assert tr.energy_drift < 2e-14 and tr.momentum_vector_drift < 2e-12
     back = pickle.loads(pickle.dumps(tr))
     np.testing.assert_array_equal(back.omega, tr.omega)
+
+
+def test_kernel_cache_depends_on_the_shared_helpers():
+    """The cached free-body kernels inline helpers of _elliptic and _numba_helpers:
+    their on-disk cache stamp includes those files (poinsot._numba_cache), so editing
+    a shared helper rebuilds them (the mechanism itself is tested with the helpers)."""
+    import os
+
+    from poinsot import _numba_cache
+    from poinsot.dynamics import _elliptic
+    from poinsot.dynamics import _free_body_numba as kern
+
+    deps = _numba_cache._DEPENDS[os.path.abspath(kern.__file__)]
+    assert os.path.abspath(_elliptic.__file__) in deps
+    assert any(d.endswith("_numba_helpers.py") for d in deps)
