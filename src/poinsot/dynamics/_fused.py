@@ -34,7 +34,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from .. import _numba_helpers as nh
+from .._numba_cache import depends_on
 from . import _dop853_tableau as _tab
+
+depends_on(__file__, nh)  # the cache sees edits of the inlined helpers
 
 _NS = _tab.N_STAGES  # 12 stages, the 13th (FSAL) is f(t + h, y_new)
 _A = np.ascontiguousarray(_tab.A[:_NS, :_NS])
@@ -57,59 +61,42 @@ OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE = 0, 1, 2, 3
 
 @njit(cache=True, inline="always")
 def _rhs(t, y, J, Ji, kind, par, f):
-    """``f = (q', w')`` with ``q' = q o (0, w) / 2`` and ``J w' = M - w x J w``."""
+    """``f = (q', w')`` with ``q' = q o (0, w) / 2`` and ``J w' = M - w x J w``
+    (theory §5, §10); every formula from :mod:`poinsot._numba_helpers`."""
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
     w0, w1, w2 = y[4], y[5], y[6]
-    f[0] = -0.5 * (q1 * w0 + q2 * w1 + q3 * w2)
-    f[1] = 0.5 * (q0 * w0 + q2 * w2 - q3 * w1)
-    f[2] = 0.5 * (q0 * w1 + q3 * w0 - q1 * w2)
-    f[3] = 0.5 * (q0 * w2 + q1 * w1 - q2 * w0)
-    k0 = J[0, 0] * w0 + J[0, 1] * w1 + J[0, 2] * w2
-    k1 = J[1, 0] * w0 + J[1, 1] * w1 + J[1, 2] * w2
-    k2 = J[2, 0] * w0 + J[2, 1] * w1 + J[2, 2] * w2
-    m0 = k1 * w2 - k2 * w1
-    m1 = k2 * w0 - k0 * w2
-    m2 = k0 * w1 - k1 * w0
+    d0, d1, d2, d3 = nh.qmul(q0, q1, q2, q3, 0.0, w0, w1, w2)
+    f[0] = 0.5 * d0
+    f[1] = 0.5 * d1
+    f[2] = 0.5 * d2
+    f[3] = 0.5 * d3
+    k0, k1, k2 = nh.matvec(J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
+                           J[2, 0], J[2, 1], J[2, 2], w0, w1, w2)
+    t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
-        m0 += par[0]
-        m1 += par[1]
-        m2 += par[2]
+        t0, t1, t2 = par[0], par[1], par[2]
     elif kind >= 2:
-        # v_b = R^T v_s: rotate by the conjugate of q / |q| (u = -q_vec).
+        # body components of a space vector: the torque, e_z or the orbit radius
         if kind == 2:
             v0, v1, v2 = par[0], par[1], par[2]
         elif kind == 3:
             v0, v1, v2 = 0.0, 0.0, 1.0
         else:
             v0, v1, v2 = par[1], par[2], par[3]
-        s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-        u0, u1, u2 = -q1, -q2, -q3
-        c0 = u1 * v2 - u2 * v1
-        c1 = u2 * v0 - u0 * v2
-        c2 = u0 * v1 - u1 * v0
-        b0 = v0 + s * (q0 * c0 + u1 * c2 - u2 * c1)
-        b1 = v1 + s * (q0 * c1 + u2 * c0 - u0 * c2)
-        b2 = v2 + s * (q0 * c2 + u0 * c1 - u1 * c0)
+        b0, b1, b2 = nh.qrot_inverse(q0, q1, q2, q3, v0, v1, v2)
         if kind == 2:
-            m0 += b0
-            m1 += b1
-            m2 += b2
-        elif kind == 3:
-            g, c0, c1, c2 = par[0], par[1], par[2], par[3]
-            m0 += g * (b1 * c2 - b2 * c1)
-            m1 += g * (b2 * c0 - b0 * c2)
-            m2 += g * (b0 * c1 - b1 * c0)
-        else:
-            g = par[0]
-            j0 = J[0, 0] * b0 + J[0, 1] * b1 + J[0, 2] * b2
-            j1 = J[1, 0] * b0 + J[1, 1] * b1 + J[1, 2] * b2
-            j2 = J[2, 0] * b0 + J[2, 1] * b1 + J[2, 2] * b2
-            m0 += g * (b1 * j2 - b2 * j1)
-            m1 += g * (b2 * j0 - b0 * j2)
-            m2 += g * (b0 * j1 - b1 * j0)
-    f[4] = Ji[0, 0] * m0 + Ji[0, 1] * m1 + Ji[0, 2] * m2
-    f[5] = Ji[1, 0] * m0 + Ji[1, 1] * m1 + Ji[1, 2] * m2
-    f[6] = Ji[2, 0] * m0 + Ji[2, 1] * m1 + Ji[2, 2] * m2
+            t0, t1, t2 = b0, b1, b2
+        elif kind == 3:  # gravity about the pin: gamma x (m g c), gamma = R^T e_z
+            t0, t1, t2 = nh.cross(b0, b1, b2, par[1], par[2], par[3])
+            t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
+        else:  # gravity gradient: k n_b x J n_b
+            j0, j1, j2 = nh.matvec(J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
+                                   J[2, 0], J[2, 1], J[2, 2], b0, b1, b2)
+            t0, t1, t2 = nh.cross(b0, b1, b2, j0, j1, j2)
+            t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
+    m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
+    f[4], f[5], f[6] = nh.matvec(Ji[0, 0], Ji[0, 1], Ji[0, 2], Ji[1, 0], Ji[1, 1], Ji[1, 2],
+                                 Ji[2, 0], Ji[2, 1], Ji[2, 2], m0, m1, m2)
 
 
 @njit(cache=True, inline="always")
