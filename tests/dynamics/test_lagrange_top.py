@@ -413,3 +413,14 @@ def test_no_nan_anywhere_in_degenerate_cases():
         w, rot = top.state(t)
         assert np.all(np.isfinite(w)) and np.all(np.isfinite(rot.as_quat()))
         assert np.all(np.isfinite(top.theta(t)))
+
+
+def test_docs_page_examples_run():
+    """The `>>>` examples of docs/heavy-top.md are doctests (outputs checked)."""
+    import doctest
+    from pathlib import Path
+
+    page = Path(__file__).resolve().parents[2] / "docs" / "heavy-top.md"
+    flags = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
+    result = doctest.testfile(str(page), module_relative=False, optionflags=flags)
+    assert result.attempted > 10 and result.failed == 0, result

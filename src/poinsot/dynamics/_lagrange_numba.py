@@ -53,45 +53,73 @@ N_PAR = 26
 
 
 @njit(cache=True)
-def _pi_pair(tau, par, ks, kps, lv, scale):  # pragma: no cover - compiled
+def _sine_series(c, theta):  # pragma: no cover - compiled
+    """``sum_{j=1}^{J} c[j] sin(j theta)`` by Clenshaw's recurrence (``c[0]`` unused)."""
+    nj = c.shape[0] - 1
+    if nj < 1:
+        return 0.0
+    x2 = 2.0 * math.cos(theta)
+    b1 = 0.0
+    b2 = 0.0
+    for j in range(nj, 0, -1):
+        b1, b2 = c[j] + x2 * b1 - b2, b1
+    return b1 * math.sin(theta)
+
+
+@njit(cache=True)
+def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi):  # pragma: no cover - compiled
     """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau))`` for the argument ``tau`` (any real).
 
-    ``Pi(n; tau) = int_0^tau dv / (1 - n sn^2 v)`` = ``r + n s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3
-    + 2 j Pi(n | m)`` with ``tau = 2 j K + r``, ``|r| <= K`` (``s R_F(c^2, d^2, 1) = r``).
-    On the separatrix (``m = 1``) the elementary form
+    ``Pi(n; tau) = int_0^tau dv / (1 - n sn^2 v)``. With ``tau = 2 j K + r``,
+    ``|r| <= K``: by Fourier series when the coefficients ``fp``/``fm`` are given
+    (``f[0]`` the mean ``Pi(n | m) / K``, ``f[k] = K a_k / (k pi)`` for the cosine
+    coefficients ``a_k`` of ``1 / (1 - n sn^2)``), else
+    ``r + n s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3`` (``s R_F(c^2, d^2, 1) = r``); plus
+    ``2 j Pi(n | m)``. On the separatrix (``m = 1``) the elementary form
     ``(tau + sqrt(-n) atan(sqrt(-n) tanh tau)) / (1 - n)`` (``n <= 0``).
     """
     m, m1 = par[P_M], par[P_M1]
     np_, nm = par[P_NP], par[P_NM]
     if lv < 0:  # m = 1
         sn, cn, dn = el.jacobi_reduced(tau, ks, kps, lv, scale, m, m1)
-        a = math.sqrt(-nm)
-        pim = (tau + a * math.atan(a * sn)) / (1.0 - nm)
+        pim = 0.0
+        if want_pi:
+            a = math.sqrt(-nm)
+            pim = (tau + a * math.atan(a * sn)) / (1.0 - nm)
         return sn, cn, dn, 0.0, pim  # on the separatrix K_z = H: no n+ term
-    j, r = el.reduce_argument(tau, par[P_K])
+    kq = par[P_K]
+    j, r = el.reduce_argument(tau, kq)
     s, c, d = el.jacobi_reduced(r, ks, kps, lv, scale, m, m1)
-    s2 = s * s
-    c2 = c * c
-    d2 = d * d
     pip = 0.0
     pim = 0.0
-    if par[P_CP] != 0.0:
-        pip = r
-        if s2 > 0.0:
-            pip += np_ * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - np_ * s2) / 3.0
-        pip += 2.0 * j * par[P_PIP]
-    if par[P_CM] != 0.0:
-        pim = r
-        if s2 > 0.0:
-            pim += nm * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - nm * s2) / 3.0
-        pim += 2.0 * j * par[P_PIM]
+    if want_pi:
+        s2 = s * s
+        c2 = c * c
+        d2 = d * d
+        theta = math.pi * r / kq
+        if par[P_CP] != 0.0:
+            if fp.shape[0] > 0:
+                pip = fp[0] * r + _sine_series(fp, theta)
+            else:
+                pip = r
+                if s2 > 0.0:
+                    pip += np_ * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - np_ * s2) / 3.0
+            pip += 2.0 * j * par[P_PIP]
+        if par[P_CM] != 0.0:
+            if fm.shape[0] > 0:
+                pim = fm[0] * r + _sine_series(fm, theta)
+            else:
+                pim = r
+                if s2 > 0.0:
+                    pim += nm * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - nm * s2) / 3.0
+            pim += 2.0 * j * par[P_PIM]
     if j - 2.0 * math.floor(0.5 * j) != 0.0:
         s, c = -s, -c
     return s, c, d, pip, pim
 
 
 @njit(cache=True)
-def motion(t, par, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover - compiled
+def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover
     """Attitude ``out_q`` (n, 4), body angular velocity ``out_w`` (n, 3) and
     ``out_x`` (n, 4) = ``(sin(theta/2), cos(theta/2), sigma, delta)`` (signed half-angle
     functions, continuous Cayley-Klein angles) at the times ``t`` (n,), ``m g l > 0``.
@@ -113,7 +141,8 @@ def motion(t, par, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover - c
     for p in range(t.shape[0]):
         tp = t[p]
         tau = rate * tp + tau0
-        sn, cn, dn, pip, pim = _pi_pair(tau, par, ks, kps, lv, scale)
+        want_pi = want_q or want_w or out_x.shape[1] > 2
+        sn, cn, dn, pip, pim = _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi)
         sn2 = sn * sn
         if sps:
             s = a_s * cn
@@ -131,8 +160,9 @@ def motion(t, par, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover - c
             dlt += cp * (pip - par[P_PIP0])
         out_x[p, 0] = s
         out_x[p, 1] = c
-        out_x[p, 2] = sig
-        out_x[p, 3] = dlt
+        if out_x.shape[1] > 2:
+            out_x[p, 2] = sig
+            out_x[p, 3] = dlt
         if want_q:
             out_q[p, 0] = c * math.cos(0.5 * sig)
             out_q[p, 1] = s * math.cos(0.5 * dlt)
@@ -163,9 +193,9 @@ def motion(t, par, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover - c
 
 
 @njit(cache=True)
-def pi_at(tau, par):  # pragma: no cover - compiled
+def pi_at(tau, par, fp, fm):  # pragma: no cover - compiled
     """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau))`` at one argument (for the constants)."""
     ks = np.empty(el.LMAX)
     kps = np.empty(el.LMAX)
     lv, scale = el.landen_fill(par[P_M], par[P_M1], ks, kps)
-    return _pi_pair(tau, par, ks, kps, lv, scale)
+    return _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, True)

@@ -938,7 +938,9 @@ class LagrangeTop:
         if s.V < 0.0:
             tau0 = -tau0
         par[kn.P_TAU0] = tau0
-        sn0, cn0, dn0, pip0, pim0 = kn.pi_at(tau0, par)
+        s.fp = _fourier(par[kn.P_NP], m, m1, kq, par[kn.P_PIP]) if par[kn.P_CP] else _EMPTY
+        s.fm = _fourier(par[kn.P_NM], m, m1, kq, par[kn.P_PIM]) if par[kn.P_CM] else _EMPTY
+        sn0, cn0, dn0, pip0, pim0 = kn.pi_at(tau0, par, s.fp, s.fm)
         par[kn.P_PIP0] = pip0
         par[kn.P_PIM0] = pim0
         # signed half-angle functions at t = 0 and the Cayley-Klein angles
@@ -1134,7 +1136,7 @@ class LagrangeTop:
         return self.precession_per_nutation / s.period
 
     # -- evaluation ----------------------------------------------------------------
-    def _eval(self, t, want_q=True, want_w=True):
+    def _eval(self, t, want_q=True, want_w=True, angles=True):
         """Flattened ``(q (n, 4), w (n, 3), s, c, psi_increment, phi_increment)`` in the
         internal frame (``m g l >= 0``)."""
         s = self._s
@@ -1160,8 +1162,10 @@ class LagrangeTop:
 
         q = np.empty((n if want_q else 0, 4))
         w = np.empty((n if want_w else 0, 3))
-        xs = np.empty((n, 4))
-        kn.motion(ta, s.par, want_q, want_w, q, w, xs)
+        xs = np.empty((n, 4 if angles else 2))
+        kn.motion(ta, s.par, s.fp, s.fm, want_q, want_w, q, w, xs)
+        if not angles:
+            return q, w, xs[:, 0], xs[:, 1], None, None
         return q, w, xs[:, 0], xs[:, 1], xs[:, 2] - s.par[kn.P_SIG0], xs[:, 3] - s.par[kn.P_DEL0]
 
     def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:
@@ -1234,7 +1238,7 @@ class LagrangeTop:
         if s.double:
             th = np.full(ta.size, self._theta_of_x(0.0))
             return th.reshape(shape)
-        _, _, sh, ch, _, _ = self._eval(ta, False, False)
+        _, _, sh, ch, _, _ = self._eval(ta, False, False, angles=False)
         th = 2.0 * np.arctan2(np.abs(sh), np.abs(ch))
         if self._flip:
             th = math.pi - th
@@ -1309,6 +1313,46 @@ class LagrangeTop:
             f"LagrangeTop(A={self._a!r}, C={self._c!r}, mgl={self._mgl!r}, "
             f"motion_type={self.motion_type!r})"
         )
+
+
+_EMPTY = np.zeros(0)
+#: Largest number of Fourier terms kept for ``Pi(n; tau)``; beyond it (near the
+#: separatrix, or a band reaching close to a pole) the kernel uses Carlson's R_J.
+FOURIER_MAX_TERMS = 400
+
+
+def _fourier(n: float, m: float, m1: float, kq: float, pi_complete: float) -> np.ndarray:
+    """Coefficients of ``Pi(n; r) = c[0] r + sum_k c[k] sin(k pi r / K)`` (``|r| <= K``).
+
+    ``1 / (1 - n sn^2(tau | m))`` is even and ``2K``-periodic: its cosine coefficients
+    ``a_k`` come from the FFT of ``N`` samples over a period (``N`` doubled until the
+    upper quarter of the spectrum is round-off), truncated before the first term
+    below ``eps max|f| / 2``; ``c[k] = K a_k / (k pi)`` and
+    ``c[0] = Pi(n | m) / K`` (the mean). Returns an empty array (use ``R_J``) when
+    more than :data:`FOURIER_MAX_TERMS` terms would be needed.
+    """
+    from . import _elliptic as el
+
+    for big_n in (64, 128, 256, 512, 1024, 2048):
+        tau = (2.0 * kq / big_n) * np.arange(big_n)
+        sn = el.ellipj(tau, m, m1=m1)[0]
+        f = 1.0 / (1.0 - n * sn * sn)
+        a = np.fft.rfft(f).real * (2.0 / big_n)
+        fmax = float(np.max(np.abs(f)))
+        tail = np.abs(a[big_n // 4 :])
+        # the upper quarter of the spectrum is round-off noise (~eps max|f|): converged;
+        # keep the terms before the first one below round-off (they decay geometrically)
+        if float(np.max(tail)) <= 4.0 * _EPS * fmax:
+            small = np.flatnonzero(np.abs(a[1:]) <= 0.5 * _EPS * fmax)
+            nk = int(small[0]) if small.size else big_n // 2
+            if nk > FOURIER_MAX_TERMS:
+                return _EMPTY
+            k = np.arange(1, nk + 1)
+            c = np.empty(nk + 1)
+            c[0] = pi_complete / kq
+            c[1:] = kq * a[1 : nk + 1] / (k * math.pi)
+            return c
+    return _EMPTY
 
 
 def _wrap(x):

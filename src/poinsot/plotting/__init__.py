@@ -11,6 +11,13 @@ from .free_body import (
     plot_omega,
     plot_poinsot,
 )
+from .heavy_top import (
+    plot_axis_track,
+    plot_cubic,
+    plot_invariant_drift,
+    plot_kovalevskaya,
+    plot_nutation,
+)
 from .motion import (
     plot_acceleration_terms,
 )
@@ -42,4 +49,9 @@ __all__ = [
     "plot_orbit",
     "plot_effective_potential",
     "plot_swing_plane",
+    "plot_axis_track",
+    "plot_cubic",
+    "plot_nutation",
+    "plot_invariant_drift",
+    "plot_kovalevskaya",
 ]
