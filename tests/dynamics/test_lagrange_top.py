@@ -424,3 +424,19 @@ def test_docs_page_examples_run():
     flags = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
     result = doctest.testfile(str(page), module_relative=False, optionflags=flags)
     assert result.attempted > 10 and result.failed == 0, result
+
+
+@pytest.mark.parametrize("name", ["general", "hanging", "loops", "near upright, slow"])
+def test_fourier_and_carlson_third_kind_agree(name):
+    """The two evaluations of Pi(n; tau) (Fourier series, Carlson R_J) give one motion."""
+    kw = dict(CASES[name])
+    mgl = kw.pop("mgl", MGL)
+    top = LagrangeTop(A, C, mgl, **kw)
+    t = np.linspace(0.0, 7.0 * top.nutation_period, 301)
+    w_f, r_f = top.state(t)
+    s = top._s
+    assert s.fp.size + s.fm.size > 0  # the series is used here
+    s.fp = s.fm = np.zeros(0)  # force the R_J path
+    w_c, r_c = top.state(t)
+    assert np.abs(w_f - w_c).max() < 1e-12
+    assert _qdist(r_f.as_quat(), r_c.as_quat()) < 1e-12
