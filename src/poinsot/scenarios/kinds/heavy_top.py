@@ -293,6 +293,20 @@ class HeavyTop(ScenarioKind):
             figs.append(FigureSpec("kovalevskaya.png", kova))
         return figs
 
+    def report_sections(self, result):
+        """The heavy-top figures (axis track, P(u), theta(t), invariants) as inline SVG."""
+        from .rotating_frame import figure_sections
+
+        titles = {
+            "axis_track.png": "Track of the symmetry axis on the unit sphere (docs/theory.md §10)",
+            "cubic.png": "The cubic P(u) = u'^2 with its roots and the nutation band",
+            "nutation.png": "theta(t): exact (elliptic functions) and numerical",
+            "heavy_invariants.png": "Drift of E, K_z and |gamma| along the numerical run",
+            "kovalevskaya.png": "The Kovalevskaya integral along the run",
+        }
+        specs = [f for f in self.figures(result) if f.name in titles]
+        return figure_sections(result, specs, [titles[f.name] for f in specs])
+
     def describe_scenario(self, scenario):
         top, _ = _lagrange(scenario.body, scenario.torque)
         if top is not None:
