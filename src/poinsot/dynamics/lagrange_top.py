@@ -1270,13 +1270,26 @@ class LagrangeTop:
         return self._psi0 + dpsi, self._phi0 + dphi
 
     def psi(self, t) -> np.ndarray:
-        """Precession angle ``psi(t)`` (rad), z-x-z, within ``pi`` of ``psi0 +`` the
-        exact increment (wrapped to ``(-pi, pi]`` about the initial value)."""
+        """Precession angle ``psi(t)`` (rad), z-x-z, from ``psi0`` at ``t = 0``.
+
+        Continuous (not wrapped): ``psi0 + (Delta sigma + Delta delta) / 2`` from the
+        exact Cayley-Klein angles; it jumps by ``pi`` where the axis passes through
+        the vertical (where the angle is undefined). For ``m g l = 0`` (free top) it
+        is taken from the attitude, within ``pi`` of ``psi0``.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import LagrangeTop
+        >>> top = LagrangeTop(2.0, 1.0, 4.0, theta=0.5, spin=20.0, psi=0.25)
+        >>> T = top.nutation_period
+        >>> bool(abs(top.psi(T) - 0.25 - top.precession_per_nutation) < 1e-12)
+        True
+        """
         ta, shape = self._times(t)
         return self._angles(ta)[0].reshape(shape)
 
     def phi(self, t) -> np.ndarray:
-        """Spin angle ``phi(t)`` (rad), z-x-z, wrapped like :meth:`psi`."""
+        """Spin angle ``phi(t)`` (rad), z-x-z, from ``phi0``, continuous like :meth:`psi`."""
         ta, shape = self._times(t)
         return self._angles(ta)[1].reshape(shape)
 
