@@ -45,25 +45,20 @@ def main(argv=None) -> int:
             "**/*",
             lambda r: r.continue_() if r.request.url.startswith(("file:", "data:")) else r.abort(),
         )
-        page.goto(a.report.resolve().as_uri(), wait_until="load", timeout=60_000)
+        page.goto(a.report.resolve().as_uri(), wait_until="load", timeout=120_000)
         page.wait_for_function(
             "() => { const g = document.getElementById('poinsot-figure');"
-            " return g && g._fullLayout && g.querySelector('.gl-container canvas'); }",
-            timeout=60_000,
+            " return g && g.dataset.ready === '1'; }",
+            timeout=120_000,
         )
         page.evaluate(
-            """(at) => { const g = document.getElementById('poinsot-figure');
-            const n = g._transitionData._frames.length;
-            const name = String(Math.round(at * (n - 1)));
-            return Plotly.animate(g, [name], {mode: 'immediate',
-                frame: {duration: 0, redraw: true}, transition: {duration: 0}}); }""",
-            a.at,
+            "(at) => window.poinsotDraw(Math.round(at * (window.poinsotFrames - 1)))", a.at
         )
         page.wait_for_timeout(1000)
         if a.full:
             page.screenshot(path=str(a.out), full_page=True)
         else:
-            box = page.locator("#poinsot-figure").bounding_box()
+            box = page.locator("#poinsot-figure").bounding_box()  # title, controls, figure
             clip = {"x": 0, "y": 0, "width": a.width, "height": box["y"] + box["height"] + 10}
             page.screenshot(path=str(a.out), clip=clip)
         browser.close()

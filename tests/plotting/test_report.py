@@ -1,15 +1,19 @@
 """Tests of the self-contained HTML report (poinsot.plotting.report).
 
 The trajectory is the closed-form regular precession of a free symmetric body
-(SPEC S10: ``psi' = K/A``, ``phi' = (A - C) r / A``, ``cos theta = C r / K``),
-built with SciPy's Rotation as an independent oracle. The geometry drawn in the
-3-D scene is checked against that oracle and against the Poinsot construction
-(SPEC S8, S10): the polhode lies on the inertia ellipsoid ``r^T J r = 1`` and the
-herpolhode in the invariable plane at distance ``sqrt(2T)/|K|``.
+(docs/theory.md §10: ``psi' = K/A``, ``phi' = (A - C) r / A``, ``cos theta = C r / K``),
+built with SciPy's Rotation as an independent oracle. The page's data (the
+animation frames, the clouds the browser turns, the panels) is decoded from the
+HTML and checked against that oracle and the Poinsot construction (theory §8,
+§10): the polhode lies on the inertia ellipsoid ``r^T J r = s^2`` and the
+herpolhode in the invariable plane at distance ``s sqrt(2T)/|K|``.
 """
 
 from __future__ import annotations
 
+import base64
+import gzip
+import json
 import re
 import subprocess
 import sys
@@ -28,14 +32,17 @@ pytest.importorskip("plotly")
 A_, C_, K_, THETA = 2.0, 1.0, 1.0, 0.6
 
 
-def precession(n=120, t1=20.0, *, invariants=True, rot0=None, scale=1.0):
+def precession(n=120, t1=20.0, *, invariants=True, rot0=None, scale=1.0, spin=None):
     """Regular precession of a symmetric free body about space z (closed form).
 
-    ``scale`` multiplies the moments of inertia (|K| stays K_)."""
+    ``scale`` multiplies the moments of inertia (|K| stays K_); ``spin`` sets
+    ``phi'`` directly (a kinematic fast spin, for the frame choice)."""
     A, C = A_ * scale, C_ * scale
     t = np.linspace(0.0, t1, n)
     r = K_ * np.cos(THETA) / C
     psid, phid = K_ / A, (A - C) * r / A
+    if spin is not None:
+        phid = spin
     psi, phi = psid * t, 0.3 + phid * t
     sci = SciRot.from_euler("ZXZ", np.column_stack([psi, np.full(n, THETA), phi]))
     if rot0 is not None:
@@ -55,24 +62,41 @@ def precession(n=120, t1=20.0, *, invariants=True, rot0=None, scale=1.0):
     return poinsot.Trajectory(t, rot, w, "closed form", **kw), sci, J
 
 
-def _frame_traces(fig, f):
-    """{trace name: frame trace} for animation frame f (names from the base traces)."""
-    fr = fig.frames[f]
+def _f32(s):
+    return np.frombuffer(base64.b64decode(s), dtype="<f4").astype(float)
+
+
+def _page(path):
+    """(payload, text) of a written report: the JSON data block decoded."""
+    text = path.read_text(encoding="utf-8")
+    m = re.search(r'<script type="application/json" id="poinsot-data">(.*?)</script>', text, re.S)
+    assert m is not None
+    return json.loads(m.group(1)), text
+
+
+def _traces(P):
+    """{name: (trace, animation entry or None)} of the figure."""
+    anim = {a["trace"]: a for a in P["anim"]}
     out = {}
-    for idx, tr in zip(fr.traces, fr.data, strict=True):
-        out.setdefault(fig.data[idx].name, []).append(tr)
+    for k, d in enumerate(P["fig"]["data"]):
+        out[d.get("name")] = (d, anim.get(k))
     return out
 
 
-def _xyz(tr):
-    return np.column_stack(
-        [np.asarray(tr.x, float), np.asarray(tr.y, float), np.asarray(tr.z, float)]
-    )
+def _arr(v):
+    if isinstance(v, dict):
+        return np.frombuffer(base64.b64decode(v["bdata"]), dtype=np.dtype(v["dtype"])).astype(float)
+    return np.asarray(v, dtype=float)
 
 
-def _frame_time(fig, f):
-    """The time cursor's x value in frame f (the cursor traces have no name)."""
-    return float(_frame_traces(fig, f)[None][0].x[0])
+def _named(P, prefix):
+    hits = [v for k, v in _traces(P).items() if k and k.startswith(prefix)]
+    assert len(hits) == 1, (prefix, list(_traces(P)))
+    return hits[0]
+
+
+def _write(tmp_path, tr, name="r.html", **kw):
+    return _page(write_report(tmp_path / name, trajectory=tr, **kw))
 
 
 @pytest.fixture(scope="module")
@@ -80,199 +104,267 @@ def prec():
     return precession()
 
 
+@pytest.fixture(scope="module")
+def page(prec, tmp_path_factory):
+    tr, sci, J = prec
+    return _write(tmp_path_factory.mktemp("rep"), tr, inertia=J, mass=3.0, summary={"a": 1})
+
+
 def test_oracle_is_a_free_motion(prec):
-    """The fixture itself: K constant along space z with |K| = K_ (SPEC S10)."""
     tr, _, _ = prec
-    np.testing.assert_allclose(tr.momentum, np.tile([0.0, 0.0, K_], (tr.t.size, 1)), atol=1e-12)
+    assert np.ptp(tr.energy) < 1e-12 and np.ptp(np.linalg.norm(tr.momentum, axis=-1)) < 1e-12
+    np.testing.assert_allclose(tr.momentum, np.tile(tr.momentum[0], (tr.t.size, 1)), atol=1e-12)
 
 
-def test_page_is_self_contained(tmp_path, prec):
-    tr, _, J = prec
-    out = write_report(tmp_path / "report.html", trajectory=tr, summary={"a": 1}, inertia=J)
-    text = out.read_text(encoding="utf-8")
+def test_page_is_self_contained_and_small(page):
+    P, text = page
     import plotly.offline
 
-    head = plotly.offline.get_plotlyjs()[:60]
-    assert text.count(head) == 1  # plotly.js inlined exactly once
-    assert not re.search(r"<script[^>]*\bsrc\s*=", text)  # nothing fetched
-    assert not re.search(r"<link[^>]*\bhref\s*=\s*[\"']?https?:", text)
-    assert 'id="poinsot-figure"' in text
-    assert out.stat().st_size < 10_000_000
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["report.html"]  # no temp left
+    m = re.search(r'id="poinsot-plotlyjs">([A-Za-z0-9+/=]+)</script>', text)
+    assert m is not None  # plotly.js inlined once, gzip + base64, unpacked by the page
+    assert gzip.decompress(base64.b64decode(m.group(1))).decode() == plotly.offline.get_plotlyjs()
+    assert "<script src=" not in text and "cdn.plot.ly" not in text
+    assert "DecompressionStream" in text
+    assert len(text) < 0.5 * len(plotly.offline.get_plotlyjs())  # half the library alone
 
 
-def test_frames_bounded_and_slider_matches(prec):
-    tr, _, J = prec
-    fig = report._figure(tr, None, None, J, 25)
-    steps = fig.layout.sliders[0].steps
-    assert 2 <= len(fig.frames) <= 25
-    assert len(steps) == len(fig.frames)
-    assert [s.args[0][0] for s in steps] == [f.name for f in fig.frames]
-    times = [_frame_time(fig, f) for f in range(len(fig.frames))]
-    assert np.all(np.diff(times) > 0)
-    assert times[0] == pytest.approx(tr.t[0]) and times[-1] == pytest.approx(tr.t[-1], rel=1e-6)
-    labels = [float(s.label) for s in steps]
-    np.testing.assert_allclose(labels, times, rtol=1e-2, atol=1e-9)  # rounded labels: 4e-4
-    play = fig.layout.updatemenus[0].buttons[0]
-    assert play.method == "animate" and play.args[1]["frame"]["redraw"] is True
-
-
-def test_fewer_samples_than_frames(prec):
-    tr, _, J = precession(n=7)
-    fig = report._figure(tr, None, None, J, 150)
-    assert len(fig.frames) == 7
-
-
-def test_body_axes_follow_the_rotation(prec):
-    """Axis lines end along the columns of the body -> space matrix (SciPy oracle)."""
-    tr, sci, J = prec
-    fig = report._figure(tr, None, None, J, 12)
-    for f in range(len(fig.frames)):
-        k = int(np.argmin(np.abs(tr.t - _frame_time(fig, f))))
-        M = sci[k].as_matrix()
-        traces = _frame_traces(fig, f)
-        for a, lab in enumerate("xyz"):
-            end = _xyz(traces[f"body {lab} axis"][0])[1]
-            np.testing.assert_allclose(end / np.linalg.norm(end), M[:, a], atol=1e-4)
-
-
-@pytest.mark.parametrize("scale", [1.0, 1e-4])
-def test_polhode_on_ellipsoid_and_herpolhode_in_invariable_plane(scale):
-    """Poinsot (S8, S10): the polhode lies on the drawn inertia ellipsoid, the herpolhode
-    in the invariable plane normal to K at distance s sqrt(2T)/|K| (s: the drawing scale,
-    which makes the longest semi-axis 1 whatever the units of J)."""
-    tr, sci, J = precession(scale=scale)
-    fig = report._figure(tr, None, None, J, 10)
-    s = np.sqrt(np.min(np.diag(J)))  # longest semi-axis 1/sqrt(min moment) drawn as 1
-    mesh = sci[0].apply(_xyz(fig.data[0]), inverse=True)
-    assert np.max(np.linalg.norm(mesh, axis=1)) == pytest.approx(1.0, rel=0.02)
-    np.testing.assert_allclose(np.einsum("ni,ij,nj->n", mesh, J, mesh), s**2, rtol=2e-5)
-    T = tr.energy[0]
-    dist = s * np.sqrt(2 * T) / K_
-    for f in (0, 4, len(fig.frames) - 1):
-        k = int(np.argmin(np.abs(tr.t - _frame_time(fig, f))))
-        traces = _frame_traces(fig, f)
-        p_space = _xyz(traces["polhode (on the ellipsoid)"][0])
-        p_body = sci[k].apply(p_space, inverse=True)
-        np.testing.assert_allclose(np.einsum("ni,ij,nj->n", p_body, J, p_body), s**2, rtol=2e-5)
-        her = _xyz(traces["herpolhode (space)"][0])
-        np.testing.assert_allclose(her[:, 2], dist, rtol=2e-4)  # K along space z (3.4e-6 seen)
-        assert len(her) >= 1
-
-
-def test_herpolhode_grows_with_time(prec):
-    tr, _, J = prec
-    fig = report._figure(tr, None, None, J, 10)
-    sizes = [len(_frame_traces(fig, f)["herpolhode (space)"][0].x) for f in range(10)]
-    assert sizes[0] == 1 and all(b >= a for a, b in zip(sizes, sizes[1:], strict=False))
-    assert sizes[-1] > 50
-
-
-def test_inertia_ellipsoid_mesh_general_tensor(prec):
-    """Mesh: the ellipsoid r^T J r = 1 (SPEC S8) for a non-diagonal tensor, scaled so that
-    its longest semi-axis (along the principal axis of the smallest moment) is 1."""
+def test_frames_match_the_oracle(prec, page):
     tr, sci, _ = prec
-    S = SciRot.from_rotvec([0.3, -0.5, 0.7]).as_matrix()
-    J = S @ np.diag([3.0, 4.0, 5.0]) @ S.T
-    fig = report._figure(tr, None, None, J, 5)
-    for f in (0, 3):
-        k = int(np.argmin(np.abs(tr.t - _frame_time(fig, f))))
-        traces = _frame_traces(fig, f)
-        v = sci[k].apply(_xyz(traces["inertia ellipsoid (scaled)"][0]), inverse=True)
-        np.testing.assert_allclose(np.einsum("ni,ij,nj->n", v, J, v), 3.0, rtol=2e-5)
-    v0 = sci[0].apply(_xyz(fig.data[0]), inverse=True)
-    far = v0[np.argmax(np.linalg.norm(v0, axis=1))]
-    assert np.linalg.norm(far) == pytest.approx(1.0, rel=0.02)
-    assert abs(far @ S[:, 0]) == pytest.approx(1.0, rel=0.02)
+    P, _ = page
+    t = _f32(P["t"])
+    q = _f32(P["q"]).reshape(-1, 4)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(tr.t[-1], rel=1e-6)
+    assert np.all(np.diff(t) > 0) and 2 <= t.size <= tr.t.size
+    k = np.searchsorted(tr.t, t - 1e-5)
+    ref = sci[k].as_quat(scalar_first=True)
+    np.testing.assert_allclose(np.abs(np.einsum("ni,ni->n", q, ref)), 1.0, atol=1e-6)
+
+
+def test_fast_spin_does_not_strobe(tmp_path):
+    """171-176 deg per frame was seen: frames are added so the turn stays <= 20 deg."""
+    tr, sci, J = precession(n=6001, t1=3.0, spin=100.0)  # 2.9 deg per sample
+    P, text = _write(tmp_path, tr, inertia=J)
+    q = _f32(P["q"]).reshape(-1, 4)
+    turn = SciRot.from_quat(q[:-1], scalar_first=True).inv() * SciRot.from_quat(
+        q[1:], scalar_first=True
+    )
+    assert np.degrees(turn.magnitude()).max() <= 20.0 + 1e-3
+    assert "turns at most" in text
+    P2, text2 = _write(tmp_path, tr, "r2.html", inertia=J, max_frames=100)
+    assert "may appear to strobe" in text2 and "limited to 100" in text2
+
+
+def test_body_cloud_and_axes_follow_the_rotation(prec, page):
+    tr, sci, J = prec
+    P, _ = page
+    d, a = _named(P, "body: ellipsoid")
+    v_body = _f32(a["v"]).reshape(-1, 3)
+    first = np.column_stack([_arr(d["x"]), _arr(d["y"]), _arr(d["z"])])
+    np.testing.assert_allclose(first, sci[0].apply(v_body), atol=1e-5)
+    for lab, col in zip("xyz", range(3), strict=True):
+        d, a = _named(P, f"body {lab} axis")
+        e = np.asarray(a["e"])
+        assert np.count_nonzero(e) == 1 and e[col] > 0
+        np.testing.assert_allclose([_arr(d[c])[1] for c in "xyz"], sci[0].apply(e), atol=1e-9)
+
+
+def test_equivalent_ellipsoid_has_the_mass_and_inertia(page):
+    """The drawn solid is the uniform ellipsoid with J: A = m (b^2 + c^2) / 5."""
+    P, _ = page
+    _, a = _named(P, "body: ellipsoid")
+    v = _f32(a["v"]).reshape(-1, 3)
+    semi = np.abs(v).max(axis=0)
+    m = 3.0
+    moments = (
+        m
+        / 5
+        * np.array(
+            [semi[1] ** 2 + semi[2] ** 2, semi[0] ** 2 + semi[2] ** 2, semi[0] ** 2 + semi[1] ** 2]
+        )
+    )
+    np.testing.assert_allclose(moments, [A_, A_, C_], rtol=1e-5)
+
+
+def test_polhode_on_ellipsoid_and_herpolhode_in_invariable_plane(prec, page):
+    tr, sci, J = prec
+    P, _ = page
+    d, a = _named(P, "polhode")
+    pol = _f32(a["v"]).reshape(-1, 3)
+    q = np.einsum("ni,ij,nj->n", pol, J, pol)
+    np.testing.assert_allclose(q, q[0], rtol=1e-5)  # on r^T J r = s^2
+    s = np.sqrt(q[0])
+    d, a = _named(P, "herpolhode")
+    her = _f32(a["v"]).reshape(-1, 3)
+    dist = s * np.sqrt(2 * tr.energy[0]) / K_  # distance of the invariable plane (K along z)
+    np.testing.assert_allclose(her[:, 2], dist, rtol=1e-5)
+    upto = np.asarray(a["upto"])
+    assert np.all(np.diff(upto) >= 0) and upto[-1] == len(her)
+
+
+def test_vectors_parallel_to_omega_and_momentum(prec, page):
+    tr, sci, _ = prec
+    P, _ = page
+    t = _f32(P["t"])
+    k = np.searchsorted(tr.t, t - 1e-5)
+    for prefix, truth in (
+        ("w, angular", sci[k].apply(tr.omega[k])),
+        ("K, angular", tr.momentum[k]),
+    ):
+        d, a = _named(P, prefix)
+        v = _f32(a["v"]).reshape(-1, 3)
+        c = np.linalg.norm(v, axis=-1) / np.linalg.norm(truth, axis=-1)
+        np.testing.assert_allclose(c, c[0], rtol=1e-5)  # one scale for the animation
+        np.testing.assert_allclose(v / c[:, None], truth, atol=1e-5)
+        stated = float(re.search(r"= ([0-9.e+-]+) m\)", d["name"]).group(1))
+        assert stated == pytest.approx(c[0], rel=1e-3)  # the scale written in the legend
 
 
 @pytest.mark.parametrize(
     ("kind", "dims", "extent"),
     [
         ("box", [1.0, 0.6, 0.2], [0.5, 0.3, 0.1]),
-        ("ellipsoid", [0.9, 0.5, 0.3], [0.9, 0.5, 0.3]),
+        ("ellipsoid", [0.5, 0.3, 0.2], [0.5, 0.3, 0.2]),
         ("sphere", [0.4], [0.4, 0.4, 0.4]),
-        ("cylinder", [0.25, 1.2], [0.25, 0.25, 0.6]),
+        ("cylinder", [0.3, 1.0], [0.3, 0.3, 0.5]),
+        ("cone", [0.3, 1.0], [0.3, 0.3, 0.75]),
+        ("disc", [0.3], [0.3, 0.3, 0.3 / 40]),
+        ("rod", [1.0], [1.0 / 60, 1.0 / 60, 0.5]),
     ],
 )
-def test_shapes_have_their_dimensions(prec, kind, dims, extent):
-    tr, sci, _ = prec
-    body = report._check_shape({"kind": kind, "dims": dims})
-    fig = report._figure(tr, None, body, None, 5)
-    assert fig.data[0].name == f"body ({kind})"
-    v = sci[0].apply(_xyz(fig.data[0]), inverse=True)
-    np.testing.assert_allclose(np.max(np.abs(v), axis=0), extent, rtol=2e-5)
-    if kind == "box":
-        np.testing.assert_allclose(np.sort(np.abs(v), axis=0), np.tile(extent, (8, 1)), rtol=2e-5)
+def test_shapes_have_their_dimensions(tmp_path, prec, kind, dims, extent):
+    tr, _, _ = prec
+    com = np.array([0.0, 0.0, 0.2])
+    P, _ = _write(tmp_path, tr, shape={"kind": kind, "dims": dims, "center": com}, fixed_point=True)
+    d, a = _named(P, f"body: {kind}")
+    assert d["type"] == "mesh3d"
+    v = _f32(a["v"]).reshape(-1, 3) - com
+    np.testing.assert_allclose(np.abs(v).max(axis=0), extent, rtol=2e-3, atol=1e-7)
+    if kind == "cone":  # centre of mass h/4 above the base
+        assert v[:, 2].min() == pytest.approx(-0.25, rel=1e-5)
+    d, _ = _named(P, "fixed point")
+    assert [_arr(d[c])[0] for c in "xyz"] == [0.0, 0.0, 0.0]
+    scene = P["fig"]["layout"]["scene"]
+    assert [scene[f"{c}axis"]["title"]["text"] for c in "xyz"] == ["x (m)", "y (m)", "z (m)"]
 
 
-def test_vectors_parallel_to_omega_and_momentum(prec):
-    tr, sci, J = prec
-    fig = report._figure(tr, None, None, J, 8)
-    for f in range(8):
-        k = int(np.argmin(np.abs(tr.t - _frame_time(fig, f))))
-        traces = _frame_traces(fig, f)
-        w_end = _xyz(traces["w (scaled)"][0])[1]
-        w_s = sci[k].apply(np.array(tr.omega[k]))
-        np.testing.assert_allclose(
-            w_end / np.linalg.norm(w_end), w_s / np.linalg.norm(w_s), atol=1e-4
-        )
-        K_end = _xyz(traces["K (scaled)"][0])[1]
-        np.testing.assert_allclose(K_end / np.linalg.norm(K_end), [0, 0, 1], atol=1e-4)
+def test_turned_part_is_drawn_along_its_inertia_axes(tmp_path, prec):
+    from poinsot.mass import solids
+    from poinsot.plotting import _report_shapes as sh
+
+    canon = np.asarray(solids.cylinder(1.0, 0.02, 0.5))
+    R = SciRot.from_rotvec([0.0, np.pi / 2, 0.0]).as_matrix()  # axis along body x
+    axes = sh.axes_from_inertia(canon, R @ canon @ R.T)
+    np.testing.assert_allclose(axes @ canon @ axes.T, R @ canon @ R.T, atol=1e-12)
+    assert np.linalg.det(axes) == pytest.approx(1.0)
+    tr, _, _ = prec
+    P, _ = _write(
+        tmp_path,
+        tr,
+        shape=[
+            {"kind": "cylinder", "dims": [0.02, 0.5], "axes": axes},
+            {"kind": "point", "dims": [0], "center": [0.3, 0, 0]},
+        ],
+    )
+    _, a = _named(P, "body: cylinder, point")
+    v = _f32(a["v"]).reshape(-1, 3)
+    assert v[:, 0].min() == pytest.approx(-0.25, rel=1e-5)  # the handle lies along x
 
 
-def test_without_inertia_or_invariants(prec):
-    tr, _, _ = precession(invariants=False)
-    fig = report._figure(tr, None, None, None, 5)
-    names = {d.name for d in fig.data}
-    assert "body (inertia not given: unit sphere)" in names
-    assert "K (scaled)" not in names and "polhode (w tip, body-fixed)" in names
-    assert any("no invariants recorded" in a.text for a in fig.layout.annotations)
+def test_panels_free_body(page):
+    P, _ = page
+    titles = [a["text"] for a in P["fig"]["layout"]["annotations"]]
+    assert any(t.startswith("angular velocity") for t in titles)
+    assert any(t.startswith("attitude: Euler angles ZYX") for t in titles)
+    # no checks given: no invariant panel; no torque panel
+    assert not any("torque" in t or "conserved" in t for t in titles)
 
 
-def test_reference_attitude_error_is_the_known_offset():
-    """Reference = fixed space rotation by alpha about z applied to the motion: error = alpha."""
-    alpha = 0.37
-    tr, _, J = precession()
-    ref, _, _ = precession(rot0=SciRot.from_rotvec([0.0, 0.0, alpha]))
-    fig = report._figure(tr, ref, None, J, 6)
-    err = next(d for d in fig.data if d.name == "attitude error")
-    np.testing.assert_allclose(np.asarray(err.y, float), alpha, atol=1e-5)
-    names = [d.name for d in fig.data]
-    assert "reference axes" in names and "reference w" in names
-    assert len(fig.layout.sliders[0].steps) == 6
+def test_panels_from_checks_state_round_off(tmp_path, prec):
+    from poinsot.scenarios import Check
 
-
-def test_reference_on_other_times_has_no_error_plot():
-    tr, _, J = precession(n=50)
-    ref, _, _ = precession(n=77)
-    fig = report._figure(tr, ref, None, J, 6)
-    names = [d.name for d in fig.data]
-    assert "attitude error" not in names and "reference w" in names
-
-
-def test_summary_table_flattens_and_escapes(tmp_path, prec):
     tr, _, J = prec
+    ks = Check("momentum_vector", "K (space axes)", "kg m^2/s", tr.momentum)
+    en = Check("energy", "kinetic energy T", "J", tr.energy * (1 + 1e-15 * np.sin(tr.t)))
+    tq = Check("torque_free", "T (reported)", "J", tr.energy, conserved=False)
+    P, _ = _write(tmp_path, tr, inertia=J, checks=[ks, en, tq])
+    titles = [a["text"] for a in P["fig"]["layout"]["annotations"]]
+    cons = next(t for t in titles if t.startswith("conserved quantities"))
+    assert "round-off only" in cons
+    names = [d["name"] for d in P["fig"]["data"]]
+    assert any(re.match(r"kinetic energy T: max [0-9.]+e-1[56]$", n) for n in names), names
+    assert any(t.startswith("T (reported)") for t in titles)
+    ylabels = [
+        v["title"]["text"]
+        for k, v in P["fig"]["layout"].items()
+        if k.startswith("yaxis") and "title" in v
+    ]
+    assert "(J)" in ylabels and "(relative)" in ylabels
+
+
+def test_torqued_panels_energy_balance(tmp_path):
+    """A constant body torque about z on a body spinning about z: T' = N . w."""
+    t = np.linspace(0.0, 2.0, 201)
+    Jz, N = 2.0, 0.5
+    wz = 1.0 + N / Jz * t
+    rot = poinsot.Rotation.from_rotvec(np.outer(t + N / (2 * Jz) * t**2, [0, 0, 1.0]))
+    w = np.column_stack([np.zeros_like(t), np.zeros_like(t), wz])
+    tr = poinsot.Trajectory(
+        t,
+        rot,
+        w,
+        "exact",
+        energy=0.5 * Jz * wz**2,
+        momentum=np.column_stack([0 * t, 0 * t, Jz * wz]),
+    )
+    torque = np.tile([0.0, 0.0, N], (t.size, 1))
+    P, _ = _write(tmp_path, tr, inertia=[1.0, 1.5, Jz], torque=torque, free_body=False)
+    names = {d.get("name"): d for d in P["fig"]["data"]}
+    assert "polhode (on the inertia ellipsoid, moves with the body)" not in names
+    dT, work = _arr(names["T(t) - T(0)"]["y"]), _arr(names["int N . w dt"]["y"])
+    np.testing.assert_allclose(work, dT, atol=1e-4 * dT.max())
+    assert _arr(names["Nz"]["y"]).max() == pytest.approx(N)
+
+
+def test_particle_path(tmp_path):
+    t = np.linspace(0.0, 6.0, 301)
+    pos = np.column_stack([np.cos(t), np.sin(t), 0 * t])
+    tr = poinsot.Trajectory(
+        t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "x", position=pos
+    )
+    P, _ = _write(tmp_path, tr)
+    d, a = _named(P, "position")
+    np.testing.assert_allclose(np.linalg.norm(_f32(a["v"]).reshape(-1, 3), axis=-1), 1.0, rtol=1e-6)
+    names = [d.get("name") for d in P["fig"]["data"]]
+    assert "path" in names and not any(n and n.startswith("w1") for n in names)  # no empty panel
+
+
+def test_summary_sections_in_words(tmp_path, prec):
+    tr, _, _ = prec
     summary = {
-        "method": "<script>alert(1)</script>",
-        "drift": {"energy": 1.234567891e-15, "momentum": 0.5},
-        "periods": [1.0, 2.5],
-        "flag": True,
-        "nothing": None,
+        "scenario": {"name": "x<y>", "file": {"raw": 1}},
+        "body": {"mass": 2.5, "units": {"mass": "kg"}},
+        "accuracy": {
+            "invariants": {"energy": {"max_relative_drift": 3e-15, "conserved": True}},
+            "warnings": [],
+            "reference": None,
+        },
+        "run": {"wall_time_s": 0.25},
     }
-    text = write_report(tmp_path / "r.html", trajectory=tr, summary=summary, inertia=J).read_text()
-    table = text[text.index('<table class="summary">') :]
-    assert "<script>alert" not in table and "&lt;script&gt;alert(1)&lt;/script&gt;" in table
-    assert "<th>drift.energy</th><td>1.23457e-15</td>" in table
-    assert "<th>drift.momentum</th><td>0.5</td>" in table
-    assert "<th>periods</th><td>[1, 2.5]</td>" in table
-    assert "<th>flag</th><td>True</td>" in table and "<th>nothing</th><td>None</td>" in table
+    _, text = _write(tmp_path, tr, summary=summary)
+    assert '<h3 id="summary-body">Body</h3>' in text
+    assert '<td class="num">2.5 kg</td>' in text
+    assert '<td class="num">0.25 s</td>' in text
+    assert "3e-15 relative" in text and ">yes<" in text and ">none<" in text
+    assert "x&lt;y&gt;" in text and "<y>" not in text.split("<details>")[0]
+    assert "<details><summary>raw summary" in text
+    body = text.split("<details>")[0]
+    assert ">None<" not in body and ">True<" not in body and ">[]<" not in body
 
 
 def test_no_summary_no_table(tmp_path, prec):
     tr, _, _ = prec
-    text = write_report(tmp_path / "r.html", trajectory=tr, title="A & B").read_text()
-    assert '<table class="summary">' not in text and "<title>A &amp; B</title>" in text
+    _, text = _write(tmp_path, tr)
+    assert "<h2>Summary</h2>" not in text
 
 
 def test_write_replaces_existing_file(tmp_path, prec):
@@ -332,17 +424,17 @@ def test_errors_trajectory(tmp_path, prec):
         ({"title": 3}, InvalidTypeError, "Expected `title` to be a string"),
         ({"max_frames": 2.5}, InvalidTypeError, "Expected `max_frames` to be an integer"),
         ({"max_frames": True}, InvalidTypeError, "Expected `max_frames` to be an integer"),
-        ({"max_frames": 1}, InvalidInputError, r"Expected `max_frames` to be in \[2, 1000\]"),
-        ({"max_frames": 5000}, InvalidInputError, r"Expected `max_frames` to be in \[2, 1000\]"),
+        ({"max_frames": 1}, InvalidInputError, r"Expected `max_frames` to be in \[2, 20000\]"),
+        ({"max_frames": 50000}, InvalidInputError, r"Expected `max_frames` to be in \[2, 20000\]"),
         ({"shape": "box"}, InvalidTypeError, "Expected `shape` to be a mapping"),
-        ({"shape": {"kind": "box"}}, InvalidInputError, "exactly the keys 'kind' and 'dims'"),
+        ({"shape": {"kind": "box"}}, InvalidInputError, "to have the keys 'kind' and 'dims'"),
         (
             {"shape": {"kind": "box", "dims": [1, 1, 1], "mass": 2}},
             InvalidInputError,
-            "exactly the keys 'kind' and 'dims'",
+            "to have the keys 'kind' and 'dims'",
         ),
         (
-            {"shape": {"kind": "cone", "dims": [1, 1]}},
+            {"shape": {"kind": "torus", "dims": [1, 1]}},
             InvalidInputError,
             r"Expected `shape\['kind'\]` to be one of 'box'",
         ),
@@ -369,6 +461,11 @@ def test_errors_trajectory(tmp_path, prec):
         ),
         ({"inertia": [1.0, -2.0, 3.0]}, InvalidInputError, "to be positive definite"),
         ({"inertia": [1.0, np.nan, 3.0]}, InvalidInputError, "only finite values"),
+        ({"mass": -1.0}, InvalidInputError, "Expected `mass` to be a positive number"),
+        ({"max_frame_angle": 180.0}, InvalidInputError, r"`max_frame_angle` to be in \(0, 90\]"),
+        ({"euler_seq": 3}, InvalidTypeError, "Expected `euler_seq` to be a string"),
+        ({"torque": np.zeros((2, 3))}, InvalidInputError, r"Expected `torque` to have shape"),
+        ({"center_of_mass": [1.0, 2.0]}, InvalidInputError, r"`center_of_mass` to have shape"),
     ],
 )
 def test_errors_arguments(tmp_path, prec, kwargs, exc, match):
@@ -384,15 +481,15 @@ def test_errors_missing_directory(tmp_path, prec):
         write_report(tmp_path / "nope" / "r.html", trajectory=tr)
 
 
-def test_long_runs_keep_the_page_small():
+def test_long_runs_keep_the_page_small(tmp_path):
     """20001 samples: time series cut to a min/max envelope, tracks and frames bounded."""
     tr, _, J = precession(n=20001, t1=200.0)
-    fig = report._figure(tr, None, None, J, 150)
-    w1 = next(d for d in fig.data if d.name == "w1 (x)")
-    assert len(w1.x) <= report._MAX_SERIES + 2
-    y = np.asarray(w1.y, float)
+    P, text = _write(tmp_path, tr, inertia=J)
+    d, _ = _named(P, "w1")
+    x, y = _arr(d["x"]), _arr(d["y"])
+    assert len(x) <= report._MAX_SERIES + 2 and np.all(np.diff(x) > 0)
     assert y.max() == pytest.approx(tr.omega[:, 0].max(), rel=1e-6)  # envelope kept
     assert y.min() == pytest.approx(tr.omega[:, 0].min(), rel=1e-6)
-    assert np.all(np.diff(np.asarray(w1.x, float)) > 0)
-    assert len(fig.frames) == 150
-    assert len(_frame_traces(fig, 149)["polhode (on the ellipsoid)"][0].x) <= report._MAX_TRACK + 2
+    _, a = _named(P, "polhode")
+    assert len(_f32(a["v"])) // 3 <= report._MAX_TRACK + 2
+    assert len(text) < 2.6e6

@@ -1,30 +1,36 @@
-"""A self-contained interactive HTML report of a rigid body's motion.
+"""A self-contained interactive HTML report of a rigid body's (or a particle's) motion.
 
-:func:`write_report` writes ONE HTML file that works offline: Plotly's
-JavaScript is embedded once (no CDN, no network access), followed by a single
-figure holding
+:func:`write_report` writes ONE HTML file that works offline (plotly.js embedded,
+gzip-compressed; nothing fetched) holding
 
-- an animated 3-D scene in space axes: the body (its shape, or else its
-  inertia ellipsoid ``r^T J r = 1``, theory §8), the body axes as three coloured
-  lines, the angular velocity ``w`` and angular momentum ``K`` vectors, the
-  polhode (the track of ``w`` fixed in the body, drawn on the moving body) and
-  the herpolhode (the track of the same point in space, theory §10), with
-  play/pause buttons and a time slider;
-- the time series of ``w`` (body axes) and of the relative change of the
-  invariants ``T`` and ``|K|`` (their drift for a free body), with a cursor
-  that follows the animation; with a ``reference`` trajectory, its ``w`` is
-  overlaid and the attitude error between the two is plotted;
+- an animated 3-D scene in space axes, lengths in metres: the body drawn as its
+  shape (box, cylinder, disc, cone, sphere, ellipsoid, rod, ring, point masses,
+  or else the uniform ellipsoid of the same mass and inertia) at its centre of
+  mass, the fixed point marked where there is one, the body axes, the angular
+  velocity ``w`` and angular momentum ``K`` arrows (their scales stated), the
+  inertia ellipsoid as an optional layer and, for a free body only, the polhode
+  and herpolhode (theory §10); for a particle, its path and position;
+- time-series panels chosen by what the motion is: ``w`` in body axes, the
+  attitude angles (Euler angles of a stated sequence), the conserved quantities
+  of the torque model (relative change, with its maximum written: a round-off
+  drift shows as "max 3e-15"), the quantities that are not conserved, the
+  energy balance ``dT/dt = N . w`` of a torqued body, the torque, the attitude
+  error against a reference;
+- Play/Pause, a frame slider and a speed control. Frames are chosen so that the
+  body turns by at most ``max_frame_angle`` between two frames (a fast spin does
+  not strobe); the page says the largest turn between frames;
 
-and the run's summary as an HTML table. Plotly is imported inside this module
-only (``plotting`` is a leaf package; ``import poinsot`` never loads it).
+and the run's summary in sections (units on numbers, values in words, the raw
+JSON collapsible). :func:`write_scenario_report` fills all of it from a scenario
+result. Plotly is imported inside functions only (``import poinsot`` never loads it).
 """
 
 from __future__ import annotations
 
-import html
 import math
 import os
 import tempfile
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -34,26 +40,22 @@ import numpy as np
 from .._validate import as_float_array, is_integer
 from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Trajectory
+from . import _report_shapes as shapes
+from ._report_page import b64, fmt_number, page_html
 
-__all__ = ["write_report"]
+__all__ = ["write_report", "write_scenario_report"]
 
-#: Shapes :func:`write_report` can draw, with the meaning of their ``dims``.
-SHAPES = {
-    "box": "full edge lengths (a, b, c) along body x, y, z",
-    "ellipsoid": "semi-axes (a, b, c) along body x, y, z",
-    "sphere": "radius (r,)",
-    "cylinder": "radius and height (r, h), axis along body z",
-}
-_SHAPE_NDIMS = {"box": 3, "ellipsoid": 3, "sphere": 1, "cylinder": 2}
-
-_DIV_ID = "poinsot-figure"
+#: Shapes :func:`write_report` can draw, with the meaning of their ``dims`` (m).
+SHAPES = shapes.SOLIDS
 _AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")  # body x, y, z: red, green, blue
 _OMEGA_COLOUR = "#ff7f0e"
 _MOMENTUM_COLOUR = "#9467bd"
 _POLHODE_COLOUR = "#e377c2"
 _HERPOLHODE_COLOUR = "#17becf"
-_MAX_TRACK = 300  # points kept for the polhode / herpolhode tracks
-_MAX_SERIES = 4000  # points kept per time series (min/max envelope beyond that)
+_PALETTE = ("#8c564b", "#7f7f7f", "#bcbd22", "#17becf", "#e377c2", "#1f77b4", "#ff7f0e")
+_MAX_TRACK = 400  # points kept for the polhode / herpolhode / particle path
+_MAX_SERIES = 1200  # points kept per time series (min/max envelope beyond that)
+_MIN_FRAMES = 120  # frames even in time, at least (fewer if fewer samples)
 
 
 def write_report(
@@ -62,48 +64,76 @@ def write_report(
     trajectory: Trajectory,
     summary: Mapping[str, Any] | None = None,
     title: str = "poinsot report",
-    shape: Mapping[str, Any] | None = None,
+    shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
     inertia=None,
+    mass: float | None = None,
+    center_of_mass=None,
+    fixed_point: bool = False,
+    free_body: bool = True,
+    checks: Sequence[Any] = (),
+    torque=None,
+    euler_seq: str = "ZYX",
     reference: Trajectory | None = None,
-    max_frames: int = 150,
-    sections=(),
+    max_frames: int = 1500,
+    max_frame_angle: float = 20.0,
+    sections: Sequence[tuple[str, str]] = (),
 ) -> Path:
     """Write a self-contained interactive HTML report of a trajectory.
 
     Parameters
     ----------
     path : str or os.PathLike
-        Output file (conventionally ``report.html``). Its directory must exist.
-        The file is written atomically: to a temporary name in the same
-        directory, then renamed, so an interrupted call never leaves a file
-        that looks complete.
+        Output file (conventionally ``report.html``), written atomically (a
+        temporary name in the same directory, then renamed). Its directory must exist.
     trajectory : Trajectory
-        Motion of ONE body: ``rotation`` of shape ``(n,)``, ``omega`` of shape
-        ``(n, 3)`` (body axes); ``energy`` and ``momentum`` are plotted when
-        present.
+        Motion of ONE body: ``rotation`` of shape ``(n,)``, ``omega`` ``(n, 3)``
+        (body axes, rad/s); ``momentum`` (space axes) is drawn when present;
+        ``position`` (space axes, m) is drawn as a path when present.
     summary : mapping, optional
-        Key/value pairs shown as a table (nested mappings are flattened into
-        dotted keys), e.g. the content of ``summary.json``.
+        The run's summary (e.g. ``summary.json``): top-level mappings are shown as
+        sections, each with its ``"units"`` mapping; the raw JSON is collapsible.
     title : str, optional
         Title of the page.
-    shape : mapping, optional
-        Body shape to draw, ``{"kind": KIND, "dims": DIMS}`` with KIND one of
-        ``"box"`` (full edge lengths ``(a, b, c)``), ``"ellipsoid"``
-        (semi-axes ``(a, b, c)``), ``"sphere"`` (``(r,)``) or ``"cylinder"``
-        (``(r, h)``, axis along body z), dimensions in body axes, centred on
-        the origin. Default: the inertia ellipsoid.
+    shape : mapping or sequence of mappings, optional
+        The solid(s) to draw, each ``{"kind": KIND, "dims": DIMS}`` with KIND in
+        :data:`SHAPES` (dimensions in m), and optionally ``"center"`` (its centre
+        of mass in body axes, m; default the origin) and ``"axes"`` (3x3 matrix
+        whose columns are the solid's own axes in body axes). Default: the
+        uniform ellipsoid with ``mass`` and ``inertia`` at ``center_of_mass``.
     inertia : array_like, shape (3,) or (3, 3), optional
-        Inertia tensor in body axes (or its principal moments). Without a
-        ``shape`` the inertia ellipsoid ``r^T J r = 1`` is drawn and the
-        polhode lies on it; without either a unit sphere stands for the body.
+        Inertia tensor about the centre of mass in body axes (kg m^2).
+    mass : float, optional
+        Mass (kg); with ``inertia`` and no ``shape``, the equivalent uniform
+        ellipsoid is drawn in metres (without it, the inertia ellipsoid scaled to
+        a longest semi-axis of 1, and the axes say "scaled").
+    center_of_mass : array_like, shape (3,), optional
+        Centre of mass in body axes (m); default the origin of the body axes.
+    fixed_point : bool, optional
+        True if the origin of the body axes is fixed in space (a top's pin): it
+        is marked.
+    free_body : bool, optional
+        True (default) for a torque-free body: the polhode and herpolhode are
+        drawn (theory §10). Set False for torqued or prescribed motions.
+    checks : sequence of poinsot.scenarios.Check, optional
+        Quantities with a known behaviour: conserved ones are plotted as a
+        relative change (their maximum stated), the others as values with units.
+    torque : array_like, shape (n, 3), optional
+        Torque on the body in body axes (N m) at each sample: plotted, with the
+        energy balance ``T(t) - T(0) = int N . w dt`` when ``energy`` is known.
+    euler_seq : str, optional
+        Sequence of the attitude angles plotted (e.g. ``"ZXZ"`` precession,
+        nutation, spin; ``"ZYX"`` yaw, pitch, roll). Default ``"ZYX"``.
     reference : Trajectory, optional
-        A second motion (e.g. the exact solution) to compare with: its body
-        axes are drawn dashed, its ``w`` overlaid, and the attitude error
-        ``|log(R_ref^-1 R)|`` plotted when both share the same times.
+        A second motion on the same times: its body axes are drawn dashed, its
+        ``w`` overlaid, and the attitude error ``|log(R_ref^-1 R)|`` plotted.
     max_frames : int, optional
-        Largest number of animation frames (the samples are subsampled
-        evenly); between 2 and 1000. Default 150.
-
+        Largest number of animation frames, in [2, 20000]. Default 1500.
+    max_frame_angle : float, optional
+        Largest turn of the body between two frames (degrees), in (0, 90]:
+        frames are added where the body turns fast, so that a spin never
+        strobes (a turn near 180 degrees per frame looks like no turn or a
+        reversal). If ``max_frames`` or the output samples do not allow it, the
+        page says the largest turn between frames. Default 20.
     sections : sequence of (str, str), optional
         Extra sections ``(heading, html)`` shown above the summary, e.g. a kind's
         typeset equations as inline SVG (trusted HTML made by poinsot, not user text).
@@ -117,28 +147,28 @@ def write_report(
     ------
     InvalidTypeError
         If ``trajectory``/``reference`` is not a :class:`~poinsot.Trajectory`,
-        ``summary``/``shape`` not a mapping, ``title`` not a string or
-        ``max_frames`` not an integer.
+        ``summary``/``shape`` of the wrong type, ``title``/``euler_seq`` not a
+        string or ``max_frames`` not an integer.
     InvalidInputError
-        If a trajectory holds a batch of bodies, ``shape`` or ``inertia`` is
-        malformed, ``max_frames`` is out of range, or the directory of
-        ``path`` does not exist.
+        If a trajectory holds a batch of bodies, ``shape``, ``inertia``,
+        ``torque`` or ``mass`` is malformed, ``max_frames`` or
+        ``max_frame_angle`` is out of range, or the directory of ``path`` does
+        not exist.
 
     Notes
     -----
     The polhode point is ``r = e / sqrt(e^T J e)`` with ``e = w / |w|`` (the
-    point of the inertia ellipsoid on the instantaneous axis, theory §8, §10);
-    for a free body the herpolhode then lies in the invariable plane at
-    distance ``sqrt(2T)/|K|`` from the fixed point. Drawn with a ``shape`` or
-    without ``inertia``, the track is the tip of the scaled ``w`` instead.
-    The vectors ``w`` and ``K`` are scaled to the size of the body (each
-    with its own scale, constant over the animation). The inertia ellipsoid,
-    the polhode and the herpolhode are drawn with one common scale, making the
-    longest semi-axis 1 (the ellipsoid's size is in ``1/sqrt(kg m^2)``).
+    point of the inertia ellipsoid ``r^T J r = 1`` on the instantaneous axis,
+    theory §8, §10), drawn with the ellipsoid scaled to the body's size; the
+    herpolhode, its track in space, then lies in the invariable plane. The
+    equivalent ellipsoid has semi-axes ``a^2 = 5 (B + C - A) / (2 m)`` (and
+    cyclically). Arrows: ``w`` and ``K`` are drawn from the origin of the body
+    axes, each with one scale for the whole animation, written in the legend
+    (e.g. "1 rad/s = 0.05 m").
 
     **Convention:** the scene is in space axes, ``v_space = R v_body``
-    (theory §2); ``w`` is read in body axes and drawn in space axes; times in s,
-    angular velocities in rad/s.
+    (theory §2), quaternions scalar first; ``w`` is read in body axes and drawn
+    in space axes; SI units, angles plotted in degrees.
 
     Examples
     --------
@@ -159,16 +189,39 @@ def write_report(
         raise InvalidTypeError(
             f"Expected `summary` to be a mapping or None, got {type(summary).__name__}."
         )
-    if not isinstance(title, str):
-        raise InvalidTypeError(f"Expected `title` to be a string, got {type(title).__name__}.")
+    for name, v in (("title", title), ("euler_seq", euler_seq)):
+        if not isinstance(v, str):
+            raise InvalidTypeError(f"Expected `{name}` to be a string, got {type(v).__name__}.")
     if not is_integer(max_frames):
         raise InvalidTypeError(
             f"Expected `max_frames` to be an integer, got {type(max_frames).__name__}."
         )
-    if not 2 <= max_frames <= 1000:
-        raise InvalidInputError(f"Expected `max_frames` to be in [2, 1000], got {max_frames}.")
-    body = _check_shape(shape)
+    if not 2 <= max_frames <= 20000:
+        raise InvalidInputError(f"Expected `max_frames` to be in [2, 20000], got {max_frames}.")
+    max_frame_angle = float(max_frame_angle)
+    if not 0.0 < max_frame_angle <= 90.0:
+        raise InvalidInputError(
+            f"Expected `max_frame_angle` to be in (0, 90] degrees, got {max_frame_angle}."
+        )
+    parts = _check_shape(shape)
     J = _check_inertia(inertia)
+    if mass is not None:
+        mass = float(mass)
+        if not (math.isfinite(mass) and mass > 0):
+            raise InvalidInputError(f"Expected `mass` to be a positive number (kg), got {mass}.")
+    com = (
+        np.zeros(3) if center_of_mass is None else as_float_array(center_of_mass, "center_of_mass")
+    )
+    if com.shape != (3,):
+        raise InvalidInputError(f"Expected `center_of_mass` to have shape (3,), got {com.shape}.")
+    tq = None
+    if torque is not None:
+        tq = as_float_array(torque, "torque")
+        if tq.shape != tr.omega.shape:
+            raise InvalidInputError(
+                f"Expected `torque` to have shape {tr.omega.shape} (one body-axes torque per "
+                f"sample, N m), got {tq.shape}."
+            )
     if not isinstance(path, str | os.PathLike):
         raise InvalidTypeError(
             f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
@@ -181,10 +234,136 @@ def write_report(
     if path.is_dir():
         raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
 
-    fig = _figure(tr, ref, body, J, max_frames)
-    page = _page(fig, title=title, tr=tr, summary=summary, sections=sections)
+    with warnings.catch_warnings():  # gimbal lock of the plotted angles is not the user's
+        warnings.simplefilter("ignore")
+        payload, notes, meta = _build(
+            tr,
+            ref,
+            parts,
+            J,
+            mass,
+            com,
+            bool(fixed_point),
+            bool(free_body),
+            tuple(checks),
+            tq,
+            euler_seq,
+            max_frames,
+            max_frame_angle,
+        )
+    page = page_html(
+        title=title, meta=meta, notes=notes, payload=payload, summary=summary, sections=sections
+    )
     _write_atomic(path, page)
     return path
+
+
+def write_scenario_report(
+    path, result, summary: Mapping[str, Any] | None = None, *, title: str | None = None, sections=()
+) -> Path:
+    """Write ``report.html`` for a scenario result (as :func:`poinsot.scenarios.write_outputs`).
+
+    The scenario's kind chooses the panels: its ``checks`` (conserved quantities
+    of its torque model), a fixed point for a top under gravity, the polhode
+    and herpolhode for the torque-free body only, the torque of a torqued body,
+    Euler angles of the scenario's sequence (``"ZXZ"``, precession, nutation and
+    spin, for a body under a torque or a top; else ``"ZYX"``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output file.
+    result : poinsot.scenarios.ScenarioResult
+        The run (from :func:`poinsot.scenarios.simulate_scenario`).
+    summary : mapping, optional
+        The summary to show (default ``result.summary``).
+    title : str, optional
+        Page title (default: the scenario's name and description).
+    sections : sequence of (str, str), optional
+        Extra ``(heading, html)`` sections (see :func:`write_report`).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from poinsot.scenarios import demo_scenario, simulate_scenario
+    >>> from poinsot.plotting.report import write_scenario_report
+    >>> res = simulate_scenario(demo_scenario(), duration=1.0)
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "report.html"
+    >>> write_scenario_report(out, res).name
+    'report.html'
+    """
+    s = result.scenario
+    kind = s.adapter
+    body = s.body
+    tr = result.trajectory
+    shape = None
+    inertia = mass = com = None
+    fixed = False
+    free = kind.name == "free-body"
+    torque = None
+    if body is not None:
+        inertia, mass, com = (
+            np.asarray(body.inertia),
+            float(body.mass),
+            np.asarray(body.center_of_mass),
+        )
+        shape = _body_shapes(body)
+        fixed = s.torque is not None and s.torque.model == "gravity"
+        if s.torque is not None and s.torque.model != "none" and tr.rotation.shape == tr.t.shape:
+            try:
+                from ..scenarios.kinds._rigid import torque_model
+
+                model = torque_model(s)
+                torque = np.asarray(model.body_torque(tr.t, tr.quat, tr.omega), dtype=float)
+                torque = np.broadcast_to(torque, tr.omega.shape)
+            except Exception:  # the torque is optional in the report
+                torque = None
+    seq = s.attitude.sequence if s.attitude.sequence else ("ZXZ" if torque is not None else "ZYX")
+    if title is None:
+        title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
+    return write_report(
+        path,
+        trajectory=tr,
+        summary=result.summary if summary is None else summary,
+        title=title,
+        shape=shape,
+        inertia=inertia,
+        mass=mass,
+        center_of_mass=com,
+        fixed_point=fixed,
+        free_body=free,
+        checks=result.checks,
+        torque=torque,
+        euler_seq=seq.upper() if len(seq) == 3 else "ZYX",
+        reference=result.reference,
+        sections=sections,
+    )
+
+
+def _body_shapes(body) -> list[dict] | None:
+    """The solids of a scenario body (its shape, or its parts) in body axes."""
+    from ..mass import solids
+
+    if body.shape in SHAPES and body.dims:
+        return [{"kind": body.shape, "dims": list(body.dims), "center": body.center_of_mass}]
+    if not body.parts:
+        return None
+    out = []
+    for p in body.parts:
+        if p.shape in SHAPES and p.dims:
+            canon = np.asarray(getattr(solids, p.shape)(1.0, *p.dims), dtype=float)
+            # the part's inertia may be turned (orientation =): find its axes
+            j = np.asarray(p.inertia) / p.mass
+            axes = shapes.axes_from_inertia(canon, j)
+            out.append({"kind": p.shape, "dims": list(p.dims), "center": p.position, "axes": axes})
+        else:  # a point mass (or a part given by its inertia): a small sphere
+            out.append({"kind": "point", "dims": [0.0], "center": p.position})
+    return out
 
 
 # --------------------------------------------------------------------------- checks
@@ -204,33 +383,59 @@ def _check_trajectory(tr, name: str) -> Trajectory:
     return tr
 
 
-def _check_shape(shape) -> tuple[str, np.ndarray] | None:
+def _check_shape(shape) -> list[dict] | None:
     if shape is None:
         return None
-    if not isinstance(shape, Mapping):
+    items = [shape] if isinstance(shape, Mapping) else shape
+    if (
+        not isinstance(items, Sequence)
+        or isinstance(items, str)
+        or not all(isinstance(x, Mapping) for x in items)
+    ):
         raise InvalidTypeError(
-            f"Expected `shape` to be a mapping {{'kind': ..., 'dims': ...}} or None, "
-            f"got {type(shape).__name__}."
+            "Expected `shape` to be a mapping {'kind': ..., 'dims': ...}, a sequence of "
+            f"them, or None, got {type(shape).__name__}."
         )
-    unknown = set(shape) - {"kind", "dims"}
-    if unknown or "kind" not in shape or "dims" not in shape:
-        raise InvalidInputError(
-            f"Expected `shape` to have exactly the keys 'kind' and 'dims', got {sorted(shape)}."
+    out = []
+    for s in items:
+        unknown = set(s) - {"kind", "dims", "center", "axes"}
+        if unknown or "kind" not in s or "dims" not in s:
+            raise InvalidInputError(
+                "Expected `shape` to have the keys 'kind' and 'dims' (and optionally 'center', "
+                f"'axes'), got {sorted(s)}."
+            )
+        kind = s["kind"]
+        center = (
+            np.zeros(3)
+            if s.get("center") is None
+            else as_float_array(s["center"], "shape['center']")
         )
-    kind = shape["kind"]
-    if kind not in SHAPES:
-        opts = ", ".join(repr(k) for k in SHAPES)
-        raise InvalidInputError(f"Expected `shape['kind']` to be one of {opts}, got {kind!r}.")
-    dims = np.atleast_1d(as_float_array(shape["dims"], "shape['dims']"))
-    n = _SHAPE_NDIMS[kind]
-    if dims.shape != (n,):
-        raise InvalidInputError(
-            f"Expected `shape['dims']` for a {kind} to have shape ({n},) ({SHAPES[kind]}), "
-            f"got {dims.shape}."
-        )
-    if np.any(dims <= 0):
-        raise InvalidInputError(f"Expected `shape['dims']` to be positive, got {dims.tolist()}.")
-    return kind, dims
+        if center.shape != (3,):
+            raise InvalidInputError(
+                f"Expected `shape['center']` to have shape (3,), got {center.shape}."
+            )
+        if kind == "point":  # a point mass (drawn as a small sphere)
+            out.append({"kind": "point", "dims": np.zeros(1), "center": center, "axes": np.eye(3)})
+            continue
+        if kind not in SHAPES:
+            opts = ", ".join(repr(k) for k in SHAPES)
+            raise InvalidInputError(f"Expected `shape['kind']` to be one of {opts}, got {kind!r}.")
+        dims = np.atleast_1d(as_float_array(s["dims"], "shape['dims']"))
+        n = shapes.NDIMS[kind]
+        if dims.shape != (n,):
+            raise InvalidInputError(
+                f"Expected `shape['dims']` for a {kind} to have shape ({n},) ({SHAPES[kind]}), "
+                f"got {dims.shape}."
+            )
+        if np.any(dims <= 0):
+            raise InvalidInputError(
+                f"Expected `shape['dims']` to be positive, got {dims.tolist()}."
+            )
+        axes = np.eye(3) if s.get("axes") is None else as_float_array(s["axes"], "shape['axes']")
+        if axes.shape != (3, 3) or not np.allclose(axes.T @ axes, np.eye(3), atol=1e-6):
+            raise InvalidInputError("Expected `shape['axes']` to be a 3x3 rotation matrix.")
+        out.append({"kind": kind, "dims": dims, "center": center, "axes": axes})
+    return out
 
 
 def _check_inertia(inertia) -> np.ndarray | None:
@@ -248,90 +453,73 @@ def _check_inertia(inertia) -> np.ndarray | None:
     return J
 
 
-# --------------------------------------------------------------------------- geometry
+# --------------------------------------------------------------------------- building
 
 
-def _sphere_grid(n_lat: int = 11, n_lon: int = 20):
-    """Unit-sphere vertices and triangles (latitude-longitude grid)."""
-    th = np.linspace(0.0, np.pi, n_lat)
-    ph = np.linspace(0.0, 2.0 * np.pi, n_lon, endpoint=False)
-    th, ph = np.meshgrid(th, ph, indexing="ij")
-    v = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], -1)
-    tri = []
-    for a in range(n_lat - 1):
-        for b in range(n_lon):
-            p, q = a * n_lon + b, a * n_lon + (b + 1) % n_lon
-            tri += [(p, q, p + n_lon), (q, q + n_lon, p + n_lon)]
-    return v.reshape(-1, 3), np.array(tri)
-
-
-def _box(a: float, b: float, c: float):
-    s = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
-    v = 0.5 * s * [a, b, c]
-    tri = np.array(
-        [
-            (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5),  # x = -a/2, +a/2
-            (0, 4, 5), (0, 5, 1), (2, 3, 7), (2, 7, 6),  # y
-            (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3),  # z
-        ]
-    )  # fmt: skip
-    return v, tri
-
-
-def _cylinder(r: float, h: float, n: int = 32):
-    ph = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    ring = np.stack([r * np.cos(ph), r * np.sin(ph)], -1)
-    v = np.concatenate(
-        [
-            np.column_stack([ring, np.full(n, -h / 2)]),
-            np.column_stack([ring, np.full(n, h / 2)]),
-            [[0.0, 0.0, -h / 2], [0.0, 0.0, h / 2]],
-        ]
-    )
-    tri = []
-    for k in range(n):
-        k1 = (k + 1) % n
-        tri += [(k, k1, n + k), (k1, n + k1, n + k), (2 * n, k1, k), (2 * n + 1, n + k, n + k1)]
-    return v, np.array(tri)
-
-
-def _body_mesh(body, J):
-    """Vertices (body axes), triangles and a legend label for the body."""
-    if body is not None:
-        kind, d = body
-        if kind == "box":
-            v, tri = _box(*d)
-        elif kind == "cylinder":
-            v, tri = _cylinder(*d)
-        else:
-            v, tri = _sphere_grid()
-            v = v * (d if kind == "ellipsoid" else d[0])
-        return v, tri, f"body ({kind})"
-    v, tri = _sphere_grid()
+def _body_mesh(parts, J, mass, com):
+    """Vertices (body axes, from the origin), triangles, label, and whether in metres."""
+    if parts:
+        vs, ts, n0 = [], [], 0
+        size = max(
+            (float(np.max(np.abs(p["dims"]))) for p in parts if p["kind"] != "point"), default=0.1
+        )
+        for p in parts:
+            if p["kind"] == "point":
+                v, tri = shapes.sphere_grid(7, 10)
+                v = v * 0.04 * size
+            else:
+                v, tri = shapes.solid_mesh(p["kind"], p["dims"])
+                v = v @ p["axes"].T
+            vs.append(v + p["center"])
+            ts.append(tri + n0)
+            n0 += len(v)
+        kinds = sorted({p["kind"] for p in parts})
+        return np.concatenate(vs), np.concatenate(ts), "body: " + ", ".join(kinds), True
+    v, tri = shapes.sphere_grid()
     if J is None:
-        return v, tri, "body (inertia not given: unit sphere)"
+        return v, tri, "body (no inertia given: unit sphere)", False
+    if mass is not None:
+        semi, S = shapes.equivalent_ellipsoid(mass, J)
+        return (v * semi) @ S.T + com, tri, "body: ellipsoid of the same mass and inertia", True
     lam, S = np.linalg.eigh(J)
-    # r^T J r = 1 in principal axes: semi-axes 1/sqrt(lambda_k) along S[:, k] (theory §8),
-    # drawn scaled by sqrt(lambda_min) (longest semi-axis 1): r^T J r = lambda_min.
-    v = (v * np.sqrt(lam[0] / lam)) @ S.T
-    return v, tri, "inertia ellipsoid (scaled)"
+    return (v * np.sqrt(lam[0] / lam)) @ S.T + com, tri, "inertia ellipsoid (scaled)", False
 
 
-def _ellipsoid_scale(J) -> float:
-    """Scale ``s`` of the drawn inertia ellipsoid ``r^T J r = s^2`` (longest semi-axis 1)."""
-    return float(np.sqrt(np.linalg.eigvalsh(J)[0]))
+def _angles_between(rot) -> np.ndarray:
+    """Turn (rad) between consecutive attitudes."""
+    if len(rot) < 2:
+        return np.zeros(0)
+    return np.asarray((rot[:-1].inv() * rot[1:]).magnitude(), dtype=float)
 
 
-def _frame_indices(n: int, max_frames: int) -> np.ndarray:
-    return np.unique(np.round(np.linspace(0, n - 1, min(n, max_frames))).astype(int))
+def _frame_indices(t, rot, max_frames: int, max_angle: float):
+    """Frames: each the latest sample within ``max_angle`` of turn and ``1/_MIN_FRAMES``
+    of the duration from the previous one (greedy); if that needs more than
+    ``max_frames``, ``max_frames`` frames even in time plus turn. Returns the
+    indices and the largest turn between frames (rad)."""
+    n = t.size
+    if n <= 2:
+        return np.arange(n), 0.0
+    turn = np.concatenate([[0.0], np.cumsum(_angles_between(rot))])
+    dt = float(t[-1] - t[0]) / min(_MIN_FRAMES, n - 1)
+    frames, i = [0], 0
+    while i < n - 1 and len(frames) <= max_frames:
+        j1 = int(np.searchsorted(turn, turn[i] + max_angle, side="right")) - 1
+        j2 = int(np.searchsorted(t, t[i] + dt * (1 + 1e-9), side="right")) - 1
+        i = max(i + 1, min(j1, j2))
+        frames.append(i)
+    if len(frames) <= max_frames:
+        idx = np.asarray(frames)
+    else:
+        measure = (t - t[0]) / (float(t[-1] - t[0]) or 1.0) + turn / max(turn[-1], 1e-300)
+        idx = np.searchsorted(measure, np.linspace(0.0, measure[-1], max_frames))
+        idx = np.unique(np.concatenate([[0], np.clip(idx, 0, n - 1), [n - 1]]))
+    worst = float(np.max(np.diff(turn[idx]))) if idx.size > 1 else 0.0
+    return idx, worst
 
 
 def _track_indices(t: np.ndarray, *curves: np.ndarray, m: int) -> np.ndarray:
-    """At most ``m`` sample indices, even in time plus the arc length of the curves.
-
-    Fast stretches of a track (a flip of the tennis racket) get as many points as
-    slow ones of the same length, so the drawn curves stay smooth.
-    """
+    """At most ``m`` sample indices, even in time plus the arc length of the curves."""
     n = t.size
     if n <= m:
         return np.arange(n)
@@ -350,413 +538,514 @@ def _scale(vectors: np.ndarray, length: float) -> float:
     return length / m if m > 0 else 0.0
 
 
-# --------------------------------------------------------------------------- figure
-
-
-def _figure(tr: Trajectory, ref: Trajectory | None, body, J, max_frames: int):
-    import plotly.graph_objects as go
-    from plotly.subplots import make_subplots
-
-    t = tr.t
-    n = t.size
-    C = tr.rotation.as_matrix()  # (n, 3, 3), body -> space
-    w_b = tr.omega
-    w_s = np.einsum("nij,nj->ni", C, w_b)
-    K_s = tr.momentum
-    verts, tri, body_label = _body_mesh(body, J)
-    L = float(np.max(np.linalg.norm(verts, axis=-1)))
-    c_w = _scale(w_s, 1.6 * L)
-    c_K = _scale(K_s, 1.9 * L) if K_s is not None else 0.0
-
-    # Polhode point in body axes: e / sqrt(e^T J e) on the inertia ellipsoid, or the w tip.
-    if body is None and J is not None:
-        wJw = np.einsum("ni,ij,nj->n", w_b, J, w_b)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            pol_b = np.where(wJw[:, None] > 0, w_b / np.sqrt(wJw)[:, None], 0.0)
-        pol_b = _ellipsoid_scale(J) * pol_b  # on the drawn (scaled) ellipsoid
-        pol_label = "polhode (on the ellipsoid)"
-    else:
-        pol_b = c_w * w_b
-        pol_label = "polhode (w tip, body-fixed)"
-    her_s = np.einsum("nij,nj->ni", C, pol_b)
-    track = _track_indices(t, pol_b, her_s, m=_MAX_TRACK)
-    pol_b, her_s = pol_b[track], her_s[track]
-
-    C_ref = None
-    if ref is not None:
-        idx = np.clip(np.searchsorted(ref.t, t), 0, ref.t.size - 1)
-        prev = np.clip(idx - 1, 0, ref.t.size - 1)
-        idx = np.where(np.abs(ref.t[prev] - t) < np.abs(ref.t[idx] - t), prev, idx)
-        C_ref = ref.rotation.as_matrix()[idx]  # nearest reference sample
-    same_grid = ref is not None and ref.t.shape == t.shape and np.allclose(ref.t, t)
-
-    rows = 3 if same_grid else 2
-    titles = ["", "angular velocity, body axes (rad/s)", "relative change of T and |K|"]
-    if same_grid:
-        titles.append("attitude error vs reference (rad)")
-    specs = [[{"type": "scene", "rowspan": rows}, {"type": "xy"}]] + [
-        [None, {"type": "xy"}] for _ in range(rows - 1)
-    ]
-    fig = make_subplots(
-        rows=rows,
-        cols=2,
-        specs=specs,
-        column_widths=[0.58, 0.42],
-        horizontal_spacing=0.07,
-        vertical_spacing=0.1,
-        subplot_titles=titles,
-    )
-
-    f32 = lambda a: np.asarray(a, dtype=np.float32)  # noqa: E731  (halves the page size)
-
-    # ---- animated 3-D traces: full traces for the first frame, then only x, y, z per frame
-    def scene_traces(k: int, i_her: int, full: bool) -> list:
-        R = C[k]
-        segs = [1.35 * L * R[:, a] for a in range(3)]
-        segs.append(c_w * w_s[k])
-        if K_s is not None:
-            segs.append(c_K * K_s[k])
-        if C_ref is not None:
-            segs += [1.35 * L * C_ref[k][:, a] for a in range(3)]
-        clouds = [verts @ R.T, pol_b @ R.T, her_s[: i_her + 1]]
-        if not full:
-            xyz = [_xyz(v, go.Mesh3d) for v in clouds[:1]]
-            xyz += [_xyz(np.stack([np.zeros(3), e]), go.Scatter3d) for e in segs]
-            xyz += [_xyz(v, go.Scatter3d) for v in clouds[1:]]
-            return xyz
-        v = clouds[0]
-        out = [
-            go.Mesh3d(
-                x=f32(v[:, 0]), y=f32(v[:, 1]), z=f32(v[:, 2]),
-                i=tri[:, 0], j=tri[:, 1], k=tri[:, 2],
-                color="#b0b7c3", opacity=0.7 if body else 0.45 if J is not None else 0.25,
-                flatshading=body is not None and body[0] in ("box", "cylinder"),
-                name=body_label, showlegend=True, hoverinfo="skip",
-            )
-        ]  # fmt: skip
-        for a, lab in enumerate("xyz"):
-            out.append(_line3d(go, segs[a], _AXIS_COLOURS[a], f"body {lab} axis", width=6))
-        out.append(_line3d(go, segs[3], _OMEGA_COLOUR, "w (scaled)", width=5, marker_tip=True))
-        if K_s is not None:
-            out.append(
-                _line3d(go, segs[4], _MOMENTUM_COLOUR, "K (scaled)", width=5, marker_tip=True)
-            )
-        if C_ref is not None:
-            for a in range(3):
-                out.append(
-                    _line3d(go, segs[-3 + a], _AXIS_COLOURS[a], "reference axes", width=3,
-                            dash="dash", legend=a == 0)
-                )  # fmt: skip
-        for v, colour, width, name in (
-            (clouds[1], _POLHODE_COLOUR, 4, pol_label),
-            (clouds[2], _HERPOLHODE_COLOUR, 3, "herpolhode (space)"),
-        ):
-            out.append(
-                go.Scatter3d(
-                    x=f32(v[:, 0]), y=f32(v[:, 1]), z=f32(v[:, 2]), mode="lines",
-                    line={"color": colour, "width": width}, name=name, hoverinfo="skip",
-                )
-            )  # fmt: skip
-        return out
-
-    frames_k = _frame_indices(n, max_frames)
-    i_her = np.searchsorted(t[track], t[frames_k], side="right") - 1
-    first = scene_traces(int(frames_k[0]), int(i_her[0]), full=True)
-    for tr3 in first:
-        fig.add_trace(tr3, row=1, col=1)
-    n3 = len(first)
-
-    # ---- time series (static) and their time cursors (animated)
-    comp = ("w1 (x)", "w2 (y)", "w3 (z)")
-    for a in range(3):
-        fig.add_trace(
-            go.Scatter(
-                **_series(t, w_b[:, a]), mode="lines", name=comp[a], legendgroup="ts",
-                line={"color": _AXIS_COLOURS[a], "width": 2},
-            ),
-            row=1, col=2,
-        )  # fmt: skip
-        if ref is not None:
-            fig.add_trace(
-                go.Scatter(
-                    **_series(ref.t, ref.omega[:, a]), mode="lines",
-                    name="reference w" if a == 0 else comp[a] + " ref", showlegend=a == 0,
-                    line={"color": _AXIS_COLOURS[a], "width": 2, "dash": "dot"},
-                    legendgroup="ref",
-                ),
-                row=1, col=2,
-            )  # fmt: skip
-    ranges = [_yrange(w_b)]
-    drift = []
-    if tr.energy is not None and tr.energy[0] != 0:
-        drift.append(("T/T0 - 1", tr.energy / tr.energy[0] - 1.0, "#8c564b"))
-    if tr.momentum_norm is not None and tr.momentum_norm[0] != 0:
-        drift.append(("|K|/|K0| - 1", tr.momentum_norm / tr.momentum_norm[0] - 1.0, "#7f7f7f"))
-    for name, y, colour in drift:
-        fig.add_trace(
-            go.Scatter(**_series(t, y), mode="lines", name=name, line={"color": colour}),
-            row=2, col=2,
-        )  # fmt: skip
-    if not drift:
-        fig.add_annotation(
-            text="no invariants recorded (energy, momentum)", showarrow=False,
-            xref="x2 domain", yref="y2 domain", x=0.5, y=0.5,
-        )  # fmt: skip
-    ranges.append(_yrange(np.stack([d[1] for d in drift], -1) if drift else np.zeros(1)))
-    if same_grid:
-        err = (ref.rotation.inv() * tr.rotation).magnitude()
-        fig.add_trace(
-            go.Scatter(
-                **_series(t, err), mode="lines", name="attitude error",
-                line={"color": "#222222"},
-            ),
-            row=3, col=2,
-        )  # fmt: skip
-        ranges.append(_yrange(err))
-    n_static = len(fig.data) - n3
-    for r, (lo, hi) in enumerate(ranges, start=1):
-        fig.add_trace(
-            go.Scatter(
-                x=[t[0], t[0]], y=[lo, hi], mode="lines", showlegend=False, hoverinfo="skip",
-                line={"color": "rgba(0,0,0,0.45)", "width": 1.5, "dash": "dot"},
-            ),
-            row=r, col=2,
-        )  # fmt: skip
-        fig.update_yaxes(range=[lo, hi], exponentformat="e", row=r, col=2)
-    cursor_ids = list(range(n3 + n_static, len(fig.data)))
-    fig.update_xaxes(range=[float(t[0]), float(t[-1])] if n > 1 else None, col=2)
-    fig.update_xaxes(title_text="t (s)", row=rows, col=2)
-
-    # ---- animation frames, buttons and slider
-    frames = []
-    for f, (k, ih) in enumerate(zip(frames_k, i_her, strict=True)):
-        tk = float(t[k])
-        cursors = [go.Scatter(x=[tk, tk]) for _ in cursor_ids]
-        frames.append(
-            go.Frame(
-                name=str(f),
-                data=scene_traces(int(k), int(ih), full=False) + cursors,
-                traces=list(range(n3)) + cursor_ids,
-            )
-        )
-    fig.frames = frames
-    duration = int(max(40, min(200, 12000 / len(frames))))
-    play = {
-        "frame": {"duration": duration, "redraw": True},
-        "fromcurrent": True,
-        "transition": {"duration": 0},
-        "mode": "immediate",
-    }
-    pause = {"frame": {"duration": 0, "redraw": False}, "mode": "immediate"}
-    fig.update_layout(
-        updatemenus=[
-            {
-                "type": "buttons",
-                "direction": "left",
-                "showactive": False,
-                "x": 0.0,
-                "y": 0.0,
-                "xanchor": "left",
-                "yanchor": "top",
-                "pad": {"t": 40, "r": 10},
-                "buttons": [
-                    {"label": "\u25b6 Play", "method": "animate", "args": [None, play]},
-                    {"label": "\u275a\u275a Pause", "method": "animate", "args": [[None], pause]},
-                ],
-            }
-        ],
-        sliders=[
-            {
-                "active": 0,
-                "x": 0.15,
-                "y": 0.0,
-                "len": 0.42,
-                "xanchor": "left",
-                "yanchor": "top",
-                "pad": {"t": 30},
-                "currentvalue": {"prefix": "t = ", "suffix": " s", "visible": True},
-                "steps": [
-                    {
-                        "label": f"{float(t[k]):.4g}",
-                        "method": "animate",
-                        "args": [
-                            [str(f)],
-                            {
-                                "mode": "immediate",
-                                "frame": {"duration": 0, "redraw": True},
-                                "transition": {"duration": 0},
-                            },
-                        ],
-                    }
-                    for f, k in enumerate(frames_k)
-                ],
-            }
-        ],
-    )
-    extent = max(
-        1.45 * L,
-        float(np.max(np.abs(c_w * w_s))) if n else 0.0,
-        float(np.max(np.abs(c_K * K_s))) if K_s is not None else 0.0,
-        float(np.max(np.abs(her_s))),
-    )
-    ax = {"range": [-1.08 * extent, 1.08 * extent], "autorange": False, "zeroline": False}
-    fig.update_layout(
-        height=760,
-        margin={"l": 10, "r": 10, "t": 40, "b": 110},
-        legend={
-            "x": 0.0,
-            "y": 1.0,
-            "xanchor": "left",
-            "yanchor": "top",
-            "font": {"size": 10},
-            "bgcolor": "rgba(255,255,255,0.6)",
-            "tracegroupgap": 2,
-        },
-        scene={
-            "xaxis": {**ax, "title": {"text": "x (space)"}},
-            "yaxis": {**ax, "title": {"text": "y (space)"}},
-            "zaxis": {**ax, "title": {"text": "z (space)"}},
-            "aspectmode": "cube",
-            "domain": {"x": [0.14, 0.58], "y": [0.0, 1.0]},
-            "camera": {"eye": {"x": 1.5, "y": 1.3, "z": 0.9}},
-            "uirevision": "keep",
-        },
-        template="plotly_white",
-    )
-    return fig
-
-
-def _line3d(go, end, colour, name, *, width, marker_tip=False, dash=None, legend=True):
-    """A segment from the origin to ``end`` (a vector or an axis)."""
-    return go.Scatter3d(
-        x=[0.0, float(end[0])],
-        y=[0.0, float(end[1])],
-        z=[0.0, float(end[2])],
-        mode="lines+markers" if marker_tip else "lines",
-        line={"color": colour, "width": width, **({"dash": dash} if dash else {})},
-        marker={"size": [0, 5], "color": colour},
-        name=name,
-        legendgroup=name,
-        showlegend=legend,
-        hoverinfo="skip",
-    )
-
-
-def _xyz(v: np.ndarray, cls):
-    """A trace of type ``cls`` holding only coordinates (an animation frame's update)."""
-    if len(v) <= 4:  # a segment: short lists are smaller than base64 blocks
-        v = np.round(np.asarray(v, dtype=float), 5)
-        return cls(x=v[:, 0].tolist(), y=v[:, 1].tolist(), z=v[:, 2].tolist())
-    v = np.asarray(v, dtype=np.float32)
-    return cls(x=v[:, 0], y=v[:, 1], z=v[:, 2])
-
-
 def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
-    """``x``, ``y`` of a time series, at most about ``m`` points (float32).
-
-    Longer series keep the first and last samples and the minimum and maximum of
-    each of ``m/2`` bins, so the envelope of fast oscillations or noise survives.
-    """
+    """``x``, ``y`` of a time series, at most about ``m`` points (float32); longer
+    series keep the min and max of each of ``m/2`` bins (the envelope survives)."""
     n = t.size
     if n > m:
         edges = np.linspace(0, n, m // 2 + 1).astype(int)
         idx = [0, n - 1]
         for a, b in zip(edges[:-1], edges[1:], strict=True):
             seg = y[a:b]
-            idx += [a + int(np.argmin(seg)), a + int(np.argmax(seg))]
+            idx += [a + int(np.nanargmin(seg)), a + int(np.nanargmax(seg))]
         idx = np.unique(idx)
         t, y = t[idx], y[idx]
     return {"x": np.asarray(t, dtype=np.float32), "y": np.asarray(y, dtype=np.float32)}
 
 
-def _yrange(y: np.ndarray) -> tuple[float, float]:
-    lo, hi = float(np.min(y)), float(np.max(y))
-    pad = 0.08 * (hi - lo) if hi > lo else max(1e-12, 0.1 * abs(hi)) + 1e-9
-    return lo - pad, hi + pad
+_ANGLE_NAMES = {
+    "ZXZ": ("psi, precession", "theta, nutation", "phi, spin"),
+    "ZYX": ("yaw", "pitch", "roll"),
+}
+
+
+def _panels(tr, ref, checks, tq, euler_seq, free_body):
+    """Time-series panels: (title, y title, [(name, y, colour, dash)])."""
+    from ..errors import InvalidInputError as _Bad
+
+    t = tr.t
+    out = []
+    w = np.asarray(tr.omega)
+    if np.any(w != 0):
+        series = [
+            (f"w{a + 1} (body {c})", w[:, a], _AXIS_COLOURS[a], None) for a, c in enumerate("xyz")
+        ]
+        if ref is not None and ref.t.shape == t.shape:
+            series += [
+                (f"w{a + 1} reference", ref.omega[:, a], _AXIS_COLOURS[a], "dot") for a in range(3)
+            ]
+        out.append(("angular velocity w, body axes", "rad/s", series))
+    q = tr.rotation
+    if t.size > 1 and float(np.max(_angles_between(q), initial=0.0)) > 0:
+        try:
+            ang = np.unwrap(np.asarray(q.as_euler(euler_seq)), axis=0)
+            wrapped = np.ptp(ang, axis=0) > 4.0 * np.pi  # a spin: shown in (-180, 180] deg
+            ang = np.where(wrapped, np.angle(np.exp(1j * ang)), ang)
+        except _Bad:
+            ang = None
+        if ang is not None:
+            names = _ANGLE_NAMES.get(euler_seq, tuple(f"angle {k + 1}" for k in range(3)))
+            series = [
+                (
+                    f"{names[k]} ({euler_seq[k]}){', wrapped' if wrapped[k] else ''}",
+                    np.degrees(ang[:, k]),
+                    _AXIS_COLOURS[k],
+                    None,
+                )
+                for k in range(3)
+            ]
+            out.append((f"attitude: Euler angles {euler_seq}", "deg", series))
+    conserved = [c for c in checks if c.conserved]
+    if conserved:
+        series, worst = [], 0.0
+        for k, c in enumerate(conserved):
+            d = np.asarray(c.relative_change(), dtype=float)
+            m = float(np.max(np.abs(d), initial=0.0))
+            worst = max(worst, m)
+            what = f"{c.label} vs {c.law}" if c.law else c.label
+            series.append((f"{what}: max {fmt_number(m)}", d, _PALETTE[k % len(_PALETTE)], None))
+        kindof = "round-off only" if worst < 1e-10 else "drift"
+        out.append(
+            (
+                f"conserved quantities: relative change ({kindof}, max {fmt_number(worst)})",
+                "relative",
+                series,
+            )
+        )
+    others: dict[str, list] = {}
+    for c in checks:
+        if c.conserved:
+            continue
+        v = np.asarray(c.values, dtype=float)
+        lst = others.setdefault(c.units, [])
+        if v.ndim == 1:
+            lst.append((c.label, v, _PALETTE[len(lst) % len(_PALETTE)], None))
+        else:
+            for a in range(v.shape[-1]):
+                lst.append((f"{c.label} {'xyz'[a]}", v[:, a], _AXIS_COLOURS[a % 3], "dash"))
+    for units, series in others.items():
+        names = ", ".join(dict.fromkeys(s[0].rsplit(" ", 1)[0] if s[3] else s[0] for s in series))
+        out.append((f"{names} (not conserved here)", units, series))
+    if tq is not None and np.any(tq != 0):
+        out.append(
+            (
+                "torque N, body axes",
+                "N m",
+                [(f"N{'xyz'[a]}", tq[:, a], _AXIS_COLOURS[a], None) for a in range(3)],
+            )
+        )
+        if tr.energy is not None and not free_body:
+            from scipy.integrate import cumulative_trapezoid
+
+            power = np.einsum("ni,ni->n", tq, w)  # dT/dt = N . w (theory §9)
+            work = cumulative_trapezoid(power, t, initial=0.0)
+            dT = np.asarray(tr.energy) - tr.energy[0]
+            out.append(
+                (
+                    "energy balance: T(t) - T(0) = work of the torque",
+                    "J",
+                    [
+                        ("T(t) - T(0)", dT, "#8c564b", None),
+                        ("int N . w dt", work, "#222222", "dot"),
+                    ],
+                )
+            )
+    if ref is not None and ref.t.shape == t.shape and np.allclose(ref.t, t):
+        err = (ref.rotation.inv() * tr.rotation).magnitude()
+        out.append(
+            (
+                f"attitude error vs reference ({ref.method})",
+                "rad",
+                [("|log(R_ref^-1 R)|", err, "#222222", None)],
+            )
+        )
+    return [p for p in out if any(np.any(np.isfinite(s[1]) & (s[1] != 0)) for s in p[2])]
+
+
+def _build(
+    tr, ref, parts, J, mass, com, fixed, free_body, checks, tq, euler_seq, max_frames, max_angle_deg
+):
+    import plotly.graph_objects as go
+    import plotly.io as pio
+    from plotly.subplots import make_subplots
+
+    t = tr.t
+    n = t.size
+    rot = tr.rotation
+    moving = n > 1 and float(np.max(_angles_between(rot), initial=0.0)) > 0
+    pos = None if tr.position is None else np.asarray(tr.position, dtype=float)
+    has_body = parts is not None or J is not None or moving
+    show_scene = has_body or pos is not None
+    panels = _panels(tr, ref, checks, tq, euler_seq, free_body)
+    rows = max(len(panels), 1)
+    if show_scene:
+        specs = [[{"type": "scene", "rowspan": rows}, {"type": "xy"}]] + [
+            [None, {"type": "xy"}] for _ in range(rows - 1)
+        ]
+        fig = make_subplots(
+            rows=rows,
+            cols=2,
+            specs=specs,
+            column_widths=[0.56, 0.44],
+            horizontal_spacing=0.09,
+            vertical_spacing=0.22 / rows + 0.03,
+            subplot_titles=[""] + [p[0] for p in panels],
+        )
+    else:
+        fig = make_subplots(
+            rows=rows,
+            cols=1,
+            vertical_spacing=0.22 / rows + 0.03,
+            subplot_titles=[p[0] for p in panels] or None,
+        )
+    pcol = 2 if show_scene else 1
+    frames_k, worst = _frame_indices(t, rot, max_frames, math.radians(max_angle_deg))
+    sample_turn = float(np.max(_angles_between(rot), initial=0.0))
+    qf = tr.quat[frames_k]
+    anim: list[dict] = []
+    notes: list[str] = []
+    f32 = lambda a: np.asarray(a, dtype=np.float32)  # noqa: E731
+
+    def add(trace, animated=None):
+        fig.add_trace(trace, row=1, col=1)
+        if animated is not None:
+            anim.append({**animated, "trace": len(fig.data) - 1})
+
+    unit = "m"
+    if show_scene and has_body:
+        verts, tri, label, metres = _body_mesh(parts, J, mass, com)
+        unit = "m" if metres else "scaled"
+        L = float(np.max(np.linalg.norm(verts, axis=-1)))
+        v0 = rot[0].apply(verts) if n else verts
+        add(
+            go.Mesh3d(
+                x=f32(v0[:, 0]),
+                y=f32(v0[:, 1]),
+                z=f32(v0[:, 2]),
+                i=tri[:, 0],
+                j=tri[:, 1],
+                k=tri[:, 2],
+                color="#a9b3c1",
+                opacity=0.75,
+                flatshading=True,
+                name=label,
+                showlegend=True,
+                hoverinfo="skip",
+            ),
+            {"kind": "cloud", "v": b64(verts)},
+        )
+        if J is not None:
+            # the inertia ellipsoid r^T J r = 1 about the centre of mass, scaled to the body
+            sph, etri = shapes.sphere_grid()
+            lam, S = np.linalg.eigh(J)
+            size = float(np.max(np.linalg.norm(verts - com, axis=-1))) or 1.0
+            s_ell = size * math.sqrt(lam[0])  # r^T J r = s_ell^2: longest semi-axis = size
+            ell = (sph * np.sqrt(lam[0] / lam)) @ S.T * size + com
+            e0 = rot[0].apply(ell)
+            add(
+                go.Mesh3d(
+                    x=f32(e0[:, 0]),
+                    y=f32(e0[:, 1]),
+                    z=f32(e0[:, 2]),
+                    i=etri[:, 0],
+                    j=etri[:, 1],
+                    k=etri[:, 2],
+                    color="#e377c2",
+                    opacity=0.25,
+                    name=f"inertia ellipsoid r.J r = 1 (scaled x{fmt_number(s_ell)})",
+                    showlegend=True,
+                    visible="legendonly",
+                    hoverinfo="skip",
+                ),
+                {"kind": "cloud", "v": b64(ell)},
+            )
+        axis_len = 1.25 * L
+        for a, lab in enumerate("xyz"):
+            e = np.zeros(3)
+            e[a] = axis_len
+            R0 = rot[0].as_matrix()
+            add(
+                go.Scatter3d(
+                    x=[0, R0[0, a] * axis_len],
+                    y=[0, R0[1, a] * axis_len],
+                    z=[0, R0[2, a] * axis_len],
+                    mode="lines",
+                    line={"color": _AXIS_COLOURS[a], "width": 6},
+                    name=f"body {lab} axis",
+                    hoverinfo="skip",
+                ),
+                {"kind": "seg", "e": e.tolist(), "v": None},
+            )
+            if ref is not None and ref.t.shape == t.shape:
+                add(
+                    go.Scatter3d(
+                        x=[0, 0],
+                        y=[0, 0],
+                        z=[0, 0],
+                        mode="lines",
+                        line={"color": _AXIS_COLOURS[a], "width": 3, "dash": "dash"},
+                        name="reference axes",
+                        legendgroup="refaxes",
+                        showlegend=a == 0,
+                        hoverinfo="skip",
+                    ),
+                    {"kind": "seg", "e": e.tolist(), "v": None, "ref": True},
+                )
+        w_s = rot.apply(tr.omega) if n else np.zeros((0, 3))
+        vecs = [(w_s, "w, angular velocity", "rad/s", _OMEGA_COLOUR)]
+        if tr.momentum is not None:
+            vecs.append(
+                (np.asarray(tr.momentum), "K, angular momentum", "kg m^2/s", _MOMENTUM_COLOUR)
+            )
+        arrow_unit = "m" if unit == "m" else "scene units"
+        for k, (V, name, vu, colour) in enumerate(vecs):
+            c = _scale(V, (1.5 + 0.3 * k) * L)
+            if c == 0:
+                continue
+            Vf = c * V[frames_k]
+            add(
+                go.Scatter3d(
+                    x=[0, Vf[0, 0]],
+                    y=[0, Vf[0, 1]],
+                    z=[0, Vf[0, 2]],
+                    mode="lines+markers",
+                    marker={"size": [0, 5], "color": colour},
+                    line={"color": colour, "width": 5},
+                    name=f"{name} (arrow: 1 {vu} = {fmt_number(c)} {arrow_unit})",
+                    hoverinfo="skip",
+                ),
+                {"kind": "vec", "v": b64(Vf)},
+            )
+        extent = max(
+            1.4 * L,
+            *(
+                float(np.max(np.abs(_scale(V, (1.5 + 0.3 * k) * L) * V)))
+                for k, (V, *_r) in enumerate(vecs)
+                if V.size
+            ),
+        )
+        if fixed:
+            add(
+                go.Scatter3d(
+                    x=[0],
+                    y=[0],
+                    z=[0],
+                    mode="markers",
+                    marker={"size": 6, "color": "#000000", "symbol": "diamond"},
+                    name="fixed point (origin of the body axes)",
+                    hoverinfo="skip",
+                )
+            )
+        if free_body and J is not None and moving:
+            wb = np.asarray(tr.omega)
+            wJw = np.einsum("ni,ij,nj->n", wb, J, wb)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                pol_b = wb / np.sqrt(wJw)[:, None] * s_ell + com
+            pol_b = np.where(np.isfinite(pol_b), pol_b, com)
+            her = rot.apply(pol_b)
+            track = _track_indices(t, pol_b, her, m=_MAX_TRACK)
+            add(
+                go.Scatter3d(
+                    x=[],
+                    y=[],
+                    z=[],
+                    mode="lines",
+                    line={"color": _POLHODE_COLOUR, "width": 4},
+                    name="polhode (on the inertia ellipsoid, moves with the body)",
+                    hoverinfo="skip",
+                ),
+                {"kind": "cloud", "v": b64(pol_b[track])},
+            )
+            upto = np.searchsorted(t[track], t[frames_k], side="right")
+            add(
+                go.Scatter3d(
+                    x=[],
+                    y=[],
+                    z=[],
+                    mode="lines",
+                    line={"color": _HERPOLHODE_COLOUR, "width": 3},
+                    name="herpolhode (in the invariable plane, fixed in space)",
+                    hoverinfo="skip",
+                ),
+                {"kind": "track", "v": b64(her[track]), "upto": upto.tolist()},
+            )
+            extent = max(extent, float(np.max(np.abs(her))))
+        lo, hi = np.full(3, -1.08 * extent), np.full(3, 1.08 * extent)
+    if show_scene and pos is not None:
+        track = _track_indices(t, pos, m=_MAX_TRACK * 3)
+        add(
+            go.Scatter3d(
+                x=f32(pos[track, 0]),
+                y=f32(pos[track, 1]),
+                z=f32(pos[track, 2]),
+                mode="lines",
+                line={"color": "#1f77b4", "width": 3},
+                name="path",
+                hoverinfo="skip",
+            )
+        )
+        add(
+            go.Scatter3d(
+                x=[pos[0, 0]],
+                y=[pos[0, 1]],
+                z=[pos[0, 2]],
+                mode="markers",
+                marker={"size": 6, "color": "#d62728"},
+                name="position r(t)",
+                hoverinfo="skip",
+            ),
+            {"kind": "point", "v": b64(pos[frames_k])},
+        )
+        add(
+            go.Scatter3d(
+                x=[0],
+                y=[0],
+                z=[0],
+                mode="markers",
+                marker={"size": 4, "color": "#000000", "symbol": "cross"},
+                name="origin of space axes",
+                hoverinfo="skip",
+            )
+        )
+        plo, phi_ = np.minimum(pos.min(0), 0.0), np.maximum(pos.max(0), 0.0)
+        c, r = (plo + phi_) / 2, max(float(np.max(phi_ - plo)) / 2 * 1.1, 1e-9)
+        if has_body:
+            lo, hi = np.minimum(lo, c - r), np.maximum(hi, c + r)
+        else:
+            lo, hi, unit = c - r, c + r, "m"
+
+    # ---- time-series panels, one legend each, a cursor line each
+    legends = {}
+    shapes_ = []
+    for r, (_title, yunits, series) in enumerate(panels, start=1):
+        lg = f"legend{r + 1}"
+        for name, y, colour, dash in series:
+            fig.add_trace(
+                go.Scatter(
+                    **_series(t, np.asarray(y, dtype=float)),
+                    mode="lines",
+                    name=name,
+                    legend=lg,
+                    line={"color": colour, "width": 1.8, **({"dash": dash} if dash else {})},
+                ),
+                row=r,
+                col=pcol,
+            )
+        sp = fig.get_subplot(r, pcol)
+        xa, ya = sp.xaxis.plotly_name, sp.yaxis.plotly_name
+        fig.update_yaxes(title_text=f"({yunits})", exponentformat="power", row=r, col=pcol)
+        fig.update_xaxes(
+            title_text="t (s)",
+            row=r,
+            col=pcol,
+            range=[float(t[0]), float(t[-1])] if n > 1 else None,
+        )
+        dom_x, dom_y = fig.layout[xa].domain, fig.layout[ya].domain
+        legends[lg] = {
+            "x": dom_x[1],
+            "y": dom_y[1],
+            "xanchor": "right",
+            "yanchor": "top",
+            "font": {"size": 10},
+            "bgcolor": "rgba(255,255,255,0.75)",
+            "bordercolor": "#dddddd",
+            "borderwidth": 1,
+        }
+        shapes_.append(
+            {
+                "type": "line",
+                "xref": xa.replace("axis", ""),
+                "yref": ya.replace("axis", "") + " domain",
+                "x0": float(t[0]),
+                "x1": float(t[0]),
+                "y0": 0,
+                "y1": 1,
+                "line": {"color": "rgba(0,0,0,0.45)", "width": 1.5, "dash": "dot"},
+            }
+        )
+    height = max(860, 250 * rows + 120)
+    layout = {
+        "height": height,
+        "margin": {"l": 10, "r": 10, "t": 40, "b": 40},
+        "template": "plotly_white",
+        "shapes": shapes_,
+        **legends,
+    }
+    if show_scene:
+        ax = {"zeroline": False, "autorange": False}
+        layout["scene"] = {
+            **{
+                f"{c}axis": {
+                    **ax,
+                    "range": [float(lo[i]), float(hi[i])],
+                    "title": {"text": f"{c} ({unit})"},
+                }
+                for i, c in enumerate("xyz")
+            },
+            "aspectmode": "cube",
+            # a square-ish scene under its legend, at the top left whatever the panels
+            "domain": {
+                "x": [0.0, 0.54],
+                "y": [max(0.0, 1.0 - 1000.0 / height), 1.0 - 200.0 / height],
+            },
+            "camera": {"eye": {"x": 1.5, "y": 1.3, "z": 0.9}},
+            "uirevision": "keep",
+        }
+        layout["legend"] = {
+            "x": 0.0,
+            "y": 1.0,
+            "xanchor": "left",
+            "yanchor": "top",
+            "font": {"size": 11},
+            "bgcolor": "rgba(255,255,255,0.7)",
+        }
+    fig.update_layout(**layout)
+    if fig.layout.annotations:  # panel titles: smaller, left aligned
+        fig.update_annotations(font={"size": 12})
+
+    if show_scene and has_body and moving:
+        deg = math.degrees(worst)
+        if deg <= max_angle_deg + 1e-9:
+            notes.append(
+                f"Animation: {frames_k.size} frames; the body turns at most {deg:.3g} deg between "
+                f"two frames (frames are added where it turns fast, so a spin does not strobe)."
+            )
+        else:
+            why = (
+                f"the output samples are {math.degrees(sample_turn):.3g} deg apart at most "
+                "(use a smaller [simulation] step)"
+                if math.degrees(sample_turn) > max_angle_deg
+                else f"the number of frames is limited to {max_frames}"
+            )
+            notes.append(
+                f"Animation: {frames_k.size} frames; the body turns up to {deg:.3g} deg between "
+                f"two frames because {why}: a fast spin may appear to strobe."
+            )
+    notes.append(
+        "Speed: 1x shows every frame (about 25 per second); faster speeds skip frames. "
+        "Scene in space axes (v_space = R v_body); body axes x, y, z in red, green, blue."
+    )
+    fig_json = pio.to_json(fig, validate=False, engine="json")
+    import json
+
+    payload = {
+        "fig": json.loads(fig_json),
+        "config": {"displaylogo": False, "responsive": True},
+        "t": b64(t[frames_k]),
+        "q": b64(qf),
+        "qref": b64(ref.quat[frames_k]) if ref is not None and ref.t.shape == t.shape else None,
+        "anim": anim,
+        "cursors": len(shapes_),
+        "interval": 40,
+    }
+    meta = (
+        f"method: <b>{tr.method}</b> &middot; {n} samples, t = {fmt_number(float(t[0]))} .. "
+        f"{fmt_number(float(t[-1]))} s &middot; {frames_k.size} animation frames"
+    )
+    return payload, notes, meta
 
 
 # --------------------------------------------------------------------------- page
-
-
-def _fmt(v: Any) -> str:
-    if isinstance(v, bool) or v is None:
-        return str(v)
-    if isinstance(v, int | np.integer):
-        return str(int(v))
-    if isinstance(v, float | np.floating):
-        return f"{float(v):.6g}" if math.isfinite(v) else str(float(v))
-    if isinstance(v, np.ndarray):
-        v = v.tolist()
-    if isinstance(v, Sequence) and not isinstance(v, str):
-        return "[" + ", ".join(_fmt(x) for x in v) + "]"
-    return str(v)
-
-
-def _flatten(d: Mapping[str, Any], prefix: str = "") -> list[tuple[str, str]]:
-    rows = []
-    for k, v in d.items():
-        key = f"{prefix}{k}"
-        if isinstance(v, Mapping):
-            rows += _flatten(v, key + ".") or [(key, "{}")]
-        else:
-            rows.append((key, _fmt(v)))
-    return rows
-
-
-# Plotly.animate rejects its promise WITHOUT a reason when a newer call (Pause, the
-# slider) interrupts a running animation: a signal, not an error (plotly.js #2438).
-# Only those reason-less rejections are silenced; every other error still surfaces.
-_GUARD_JS = """window.addEventListener("unhandledrejection", function (e) {
-  if (e.reason === undefined) { e.preventDefault(); }
-});"""
-
-_CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 1.2em 2em;
-       color: #222; }
-h1 { font-size: 1.5em; margin-bottom: 0.2em; }
-p.meta { color: #555; margin-top: 0; }
-table.summary { border-collapse: collapse; font-size: 0.92em; margin-top: 1em; }
-table.summary th, table.summary td { border: 1px solid #ccc; padding: 3px 10px;
-       text-align: left; vertical-align: top; }
-table.summary th { background: #f1f3f6; font-weight: 600; font-family: monospace; }
-table.summary td { font-family: monospace; white-space: pre-wrap; }
-"""
-
-
-def _page(fig, *, title: str, tr: Trajectory, summary, sections=()) -> str:
-    import plotly.offline
-
-    js = plotly.offline.get_plotlyjs().replace("</script", "<\\/script")
-    div = fig.to_html(
-        full_html=False,
-        include_plotlyjs=False,
-        include_mathjax=False,
-        div_id=_DIV_ID,
-        auto_play=False,
-        config={"displaylogo": False, "responsive": True},
-    )
-    esc = html.escape
-    meta = (
-        f"method: <b>{esc(str(tr.method))}</b> &middot; {tr.t.size} samples, "
-        f"t = {_fmt(float(tr.t[0]))} .. {_fmt(float(tr.t[-1]))} s &middot; scene in space "
-        "axes (v_space = R v_body); body axes x, y, z in red, green, blue"
-    )
-    table = ""
-    if summary is not None:
-        body = "\n".join(
-            f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in _flatten(summary)
-        )
-        table = f'<h2>Summary</h2>\n<table class="summary">\n{body}\n</table>'
-    extra = "".join(f"<h2>{esc(head)}</h2>\n<div>{content}</div>\n" for head, content in sections)
-    table = extra + table
-    return (
-        '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
-        f"<title>{esc(title)}</title>\n<style>{_CSS}</style>\n"
-        f'<script type="text/javascript">{_GUARD_JS}</script>\n'
-        f'<script type="text/javascript">{js}</script>\n</head>\n<body>\n'
-        f'<h1>{esc(title)}</h1>\n<p class="meta">{meta}</p>\n{div}\n{table}\n'
-        "</body>\n</html>\n"
-    )
 
 
 def _write_atomic(path: Path, text: str) -> None:

@@ -199,32 +199,13 @@ def _report_sections(result: ScenarioResult, notes: list[str]):
 
 def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) -> list[Path]:
     try:
-        from ..plotting.report import write_report
+        from ..plotting.report import write_scenario_report
     except ImportError as exc:
         notes.append(f"report.html skipped: {exc}")
         return []
-    s = result.scenario
-    shape = None
-    inertia = None
-    if s.body is not None:
-        # the report draws the body centred on the origin of the body axes: the solid
-        # itself when its centre of mass is there, else the inertia ellipsoid about the
-        # origin (the fixed point under gravity)
-        centred = not np.any(s.body.center_of_mass)
-        if centred and s.body.shape in ("box", "ellipsoid", "sphere", "cylinder"):
-            shape = {"kind": s.body.shape, "dims": list(s.body.dims)}
-        inertia = s.adapter.motion_inertia(s)
-    title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
-    try:
-        path = write_report(
-            out / "report.html",
-            trajectory=result.trajectory,
-            summary=summary,
-            title=title,
-            shape=shape,
-            inertia=inertia,
-            reference=result.reference,
-            sections=_report_sections(result, notes),
+    try:  # the kind chooses the body's drawing and the panels (poinsot.plotting.report)
+        path = write_scenario_report(
+            out / "report.html", result, summary, sections=_report_sections(result, notes)
         )
     except ImportError as exc:  # plotly is an optional dependency
         notes.append(f"report.html skipped: {exc} (pip install 'poinsot[plot]')")
