@@ -28,9 +28,10 @@ from poinsot.dynamics import FreeRigidBody
 mpmath = pytest.importorskip("mpmath")  # ships with SymPy
 
 #: DOP853 comparisons: the reference's own error (rtol 1e-13 vs 1e-12) reaches 1.3e-11
-#: over 100 s, so the tolerance is 5e-9 (>= 100x, checked in every call); observed
-#: errors against it <= 1.5e-11 (the integrator's).
-TOL_DOP = 5e-9
+#: over 100 s; it is checked in every call against TOL_DOP / 100 (with 10x headroom
+#: itself, as machines differ), so TOL_DOP = 2e-8; observed errors against it
+#: <= 1.5e-11 (the integrator's).
+TOL_DOP = 2e-8
 #: mpmath comparisons (reference ~1e-40): omega to 1e-13 |w0| (observed <= 7.7e-15),
 #: attitude to 3e-12 rad over a few periods (observed <= 1.9e-13, ~ eps x the angle turned).
 TOL_MP_W, TOL_MP_R = 1e-13, 3e-12
@@ -419,7 +420,7 @@ def test_error_free_transformations_are_exact():
 def test_near_separatrix_attitude():
     """1 - k^2 ~ 2e-7 (a slow Dzhanibekov flip), where no double-precision integrator
     can follow whole periods: (a) DOP853 restarted from the exact state every
-    eighth of a period reproduces the next exact state to 2e-10 (attitude and omega);
+    eighth of a period reproduces the next exact state to 2e-9 (attitude and omega);
     (b) R(t + P) R(t)^-1 turns about K by the quadrature of Landau's psi'."""
     moments, w0 = [1.0, 2.0, 3.0], [3e-4, 1.0, 2e-4]
     with pytest.warns(SingularityWarning):
@@ -431,13 +432,13 @@ def test_near_separatrix_attitude():
     for k in range(16):
         h = knots[k + 1] - knots[k]
         w_ref, r_ref = reference(moments, w_k[k], r_k[k].as_quat(), np.array([0.0, h]))
-        # the restarted DOP853's own error (vs rtol 1e-12) is <= 1.1e-12: tolerance 2e-10;
-        # observed 1.2e-13
+        # the restarted DOP853's own error (vs rtol 1e-12) is <= 1.1e-12 (bound 2e-11,
+        # 10x headroom): tolerance 2e-9; observed 1.2e-13
         w_lo, r_lo = _dop853(moments, w_k[k], r_k[k].as_quat(), np.array([0.0, h]), 1e-12)
-        assert np.max(np.abs(w_ref[-1] - w_lo[-1])) < 2e-12
-        assert (r_ref[-1].inv() * r_lo[-1]).magnitude() < 2e-12
-        assert np.max(np.abs(w_ref[-1] - w_k[k + 1])) < 2e-10
-        assert (r_ref[-1].inv() * r_k[k + 1]).magnitude() < 2e-10
+        assert np.max(np.abs(w_ref[-1] - w_lo[-1])) < 2e-11
+        assert (r_ref[-1].inv() * r_lo[-1]).magnitude() < 2e-11
+        assert np.max(np.abs(w_ref[-1] - w_k[k + 1])) < 2e-9
+        assert (r_ref[-1].inv() * r_k[k + 1]).magnitude() < 2e-9
     quad = sum(
         integrate.quad(lambda s: _psi_dot_landau(body, s), a, b, epsabs=0, epsrel=1e-13)[0]
         for a, b in zip(knots[:8], knots[1:9], strict=True)

@@ -13,8 +13,9 @@ and the period of ``omega`` against Landau & Lifshitz, *Mechanics*, S37 with
 Tolerances: the reference's own error is measured in every call by comparing it
 with the solution at a 10x looser ``rtol`` (observed up to 3.6e-12 |w0| in omega
 and 1.8e-11 in the attitude matrix) and must stay 100x below the
-tolerance ``TOL = 5e-9``; poinsot's exact solution agrees with the reference to
-<= 1.2e-12 (the integrator's error), >= 100x inside ``TOL``.
+tolerance ``TOL = 2e-8`` (a bound with 10x headroom itself, as machines differ);
+poinsot's exact solution agrees with the reference to <= 1.2e-12 (the
+integrator's error), >= 1000x inside ``TOL``.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from poinsot import Rotation  # noqa: E402
 from poinsot.dynamics import FreeRigidBody, simulate  # noqa: E402
 
 RTOL, ATOL = 1e-13, 1e-14
-TOL = 5e-9
+TOL = 2e-8
 
 
 def _qmul(p, q):
@@ -229,7 +230,7 @@ def test_simulate_with_torque_vs_dop853():
     # observed: midpoint order 6 at h = 0.02 4e-11 (omega), 5e-10 (matrix); adaptive 2e-11
     tr = simulate(j, r0, w0, t, torque=torque, method="midpoint", order=6, max_step=0.02)
     np.testing.assert_allclose(tr.omega, w_ref, atol=TOL)
-    np.testing.assert_allclose(tr.rotation.as_matrix(), c_ref, atol=2 * TOL)
+    np.testing.assert_allclose(tr.rotation.as_matrix(), c_ref, atol=TOL)
     ad = simulate(j, r0, w0, t, torque=torque, method="adaptive", rtol=1e-12, atol=1e-13)
     np.testing.assert_allclose(ad.omega, w_ref, atol=TOL)
     np.testing.assert_allclose(ad.rotation.as_matrix(), c_ref, atol=TOL)
