@@ -53,3 +53,24 @@ def quat_distance(p, q) -> np.ndarray:
 def assert_same_rotation(p, q, atol=1e-14) -> None:
     d = quat_distance(p, q)
     assert np.all(d <= atol), f"max quaternion distance {np.max(d):.3e} > {atol:.1e}"
+
+
+# What the installed SciPy can do as an oracle: `make test-min` runs the suite with the
+# oldest SciPy pyproject.toml allows, which lacks some of what the newest one offers.
+def _scipy_can(check) -> bool:
+    from scipy.spatial.transform import Rotation as SciPyRotation
+
+    try:
+        return bool(check(SciPyRotation))
+    except (TypeError, ValueError, IndexError):
+        return False
+
+
+#: N-D stacks of rotations (older SciPy: only (N,) and single rotations).
+SCIPY_ND = _scipy_can(lambda R: R.from_quat(np.tile([0.0, 0, 0, 1], (2, 3, 1))).shape == (2, 3))
+#: Empty rotation sets that convert (older SciPy refuses as_matrix on them).
+SCIPY_EMPTY = _scipy_can(lambda R: R.from_quat(np.empty((0, 4))).as_matrix().shape == (0, 3, 3))
+#: Accurate negative fractional powers (older SciPy: r ** -1.3 off by ~1e-7).
+SCIPY_POWER = _scipy_can(
+    lambda R: abs((R.from_rotvec([0.0, 0.0, 1.0]) ** -1.3).as_rotvec()[2] + 1.3) < 1e-13
+)

@@ -26,7 +26,7 @@ def free_bodies(draw):
     c = draw(st.floats(max(abs(a - b), 0.2), a + b, **finite))
     w = draw(st.lists(st.floats(-3.0, 3.0, **finite), min_size=3, max_size=3))
     seed = draw(st.integers(0, 2**31 - 1))
-    q = SciRotation.random(rng=seed).as_quat(scalar_first=True)
+    q = SciRotation.random(None, seed).as_quat(scalar_first=True)
     w = np.array(w)
     if np.linalg.norm(w) < 1e-3:
         w = w + np.array([0.0, 0.5, 0.0])
@@ -40,12 +40,12 @@ def test_free_body_first_integrals(body, method, order):
     tr = simulate(
         moments, q0, w0, np.linspace(0.0, 20.0, 5), method=method, order=order, max_step=0.02
     )
-    assert tr.momentum_drift < 1e-12
-    assert tr.momentum_vector_drift < 1e-12
+    assert tr.momentum_drift < 5e-12  # random bodies: up to 2.8e-13 seen
+    assert tr.momentum_vector_drift < 5e-12
     if method == "midpoint":
         # kept to round-off: up to 3000 steps x 3 stages accumulate at most ~9000 ulp
         # (2e-12); observed up to 1.1e-12 for slow spins at order 4
-        assert tr.energy_drift < 1e-11
+        assert tr.energy_drift < 2e-11
 
 
 @settings(max_examples=25, deadline=None)

@@ -39,7 +39,7 @@ def test_principal_axes_match_spec_component_form():
 def test_general_tensor_is_principal_result_rotated():
     """``J_b = S diag(I) S^T``, ``w_b = S w_p``  =>  ``w_b' = S w_p'`` (SPEC S8 change of axes)."""
     moments = _physical_moments(10)
-    s = SciRotation.random(10, rng=1).as_matrix()
+    s = SciRotation.random(10, 1).as_matrix()
     j_b = s @ (moments[:, :, None] * np.eye(3)) @ np.swapaxes(s, -1, -2)
     w_p = RNG.normal(size=(10, 3))
     m_p = RNG.normal(size=(10, 3))

@@ -331,7 +331,7 @@ def test_batch_equals_loop():
     n = 4
     moments = rng.uniform(1.5, 2.9, size=(n, 3))
     w0 = rng.normal(size=(n, 3))
-    q0 = SciRotation.random(n, rng=3).as_quat(scalar_first=True)
+    q0 = SciRotation.random(n, 3).as_quat(scalar_first=True)
     t = np.linspace(0.0, 2.0, 5)
     for method in ("midpoint", "splitting", "rk4", "adaptive"):
         tr = simulate(moments, q0, w0, t, method=method, max_step=0.05)

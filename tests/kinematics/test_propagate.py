@@ -348,7 +348,7 @@ def test_batch_shared_omega_and_samples():
     for i in range(4):
         expect = scipy_rot(q0[i]) * coning_truth(t)
         assert qdist(shared.quat[:, i], expect) < 3e-6  # 2.1e-7 observed
-    assert qdist(samples.quat, scipy_rot(per_body.quat)) < 1e-14
+    assert qdist(samples.quat.reshape(-1, 4), scipy_rot(per_body.quat.reshape(-1, 4))) < 1e-14
     # one q0 with per-body samples broadcasts to a batch
     one_q0 = propagate(q0[0], np.repeat(np.array([w_body(s) for s in t])[:, None], 4, 1), t)
     assert one_q0.rotation.shape == (41, 4)

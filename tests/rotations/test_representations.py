@@ -13,6 +13,7 @@ from scipy.spatial.transform import Slerp
 
 from poinsot import GimbalLockWarning, InvalidTypeError, Rotation
 from rotation_cases import (
+    SCIPY_POWER,
     all_quaternions,
     assert_same_rotation,
     edge_quaternions,
@@ -48,7 +49,7 @@ def test_matrix_spec_formula_and_eigenstructure():
         expected = np.array([1, np.exp(1j * fk), np.exp(-1j * fk)])
         np.testing.assert_allclose(np.sort_complex(ev), np.sort_complex(expected), atol=1e-12)
         np.testing.assert_allclose(m @ e, e, atol=1e-14)
-    np.testing.assert_allclose(a, SCIPY.as_matrix(), atol=4e-16)
+    np.testing.assert_allclose(a, SCIPY.as_matrix(), atol=2e-14)
 
 
 def test_rodrigues_formula():
@@ -244,7 +245,8 @@ def test_operations_against_scipy():
     assert_same_rotation(a.mean(w).as_quat(), SCIPY.mean(w).as_quat(scalar_first=True), 1e-12)
     # fractional powers of a rotation by exactly pi depend on the arbitrary axis sign
     ok = a.magnitude() < np.pi - 1e-6
-    for p in (0.5, 2, -1.3, 3):
+    # (an older SciPy's r ** -1.3 is off by ~1e-7: not an oracle for that power)
+    for p in (0.5, 2, -1.3, 3) if SCIPY_POWER else (0.5, 2, 3):
         np.testing.assert_allclose(
             (a[ok] ** p).as_matrix(), (SCIPY[ok] ** p).as_matrix(), atol=5e-14
         )
