@@ -17,6 +17,10 @@ import subprocess
 import sys
 import textwrap
 
+import numba
+
+NUMBA = tuple(int(x) for x in numba.__version__.split(".")[:2])
+
 HELPER = """
 from numba import njit
 
@@ -107,6 +111,8 @@ def test_editing_a_shared_helper_invalidates_the_kernel_cache(tmp_path):
     third = _run(root, cache)
     assert third["dep"][0] == 6.5  # recompiled with the new helper
     assert third["trans"][0] == 6.5  # ... and through a helper's DEPENDS
-    assert third["plain"][0] == 4.0  # numba alone: stale (the problem depends_on solves)
+    # numba alone: stale on numba 0.68 (the problem depends_on solves); numba 0.60, the
+    # minimum (make test-min), happens to recompile this one: not poinsot's contract
+    assert third["plain"][0] == (6.5 if NUMBA < (0, 61) else 4.0)
     fourth = _run(root, cache)
     assert fourth["dep"] == [6.5, 1]  # and the new entry is cached again
