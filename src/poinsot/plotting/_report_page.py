@@ -59,9 +59,14 @@ async function poinsotLoad() {
   const t0 = performance.now();
   const code = await new Response(stream).text();
   console.debug("poinsot: plotly.js unpacked in " + Math.round(performance.now() - t0) + " ms");
-  const s = document.createElement("script");
-  s.textContent = code;
-  document.head.appendChild(s);  // runs synchronously: defines window.Plotly
+  const s = document.createElement("script");  // a blob: URL, compiled off the main thread
+  s.src = URL.createObjectURL(new Blob([code], {type: "text/javascript"}));
+  await new Promise((ok, fail) => {
+    s.onload = ok;
+    s.onerror = () => fail(new Error("plotly.js did not load"));
+    document.head.appendChild(s);
+  });
+  URL.revokeObjectURL(s.src);
   console.debug("poinsot: plotly.js run in " + Math.round(performance.now() - t0) + " ms");
 }
 function rot(q, o, v, out, k) {  // out[k..k+2] = R(q) v  (v_space = q v q~), q = (w, x, y, z)
