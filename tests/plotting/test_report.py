@@ -344,7 +344,14 @@ def test_summary_sections_in_words(tmp_path, prec):
         "scenario": {"name": "x<y>", "file": {"raw": 1}},
         "body": {"mass": 2.5, "units": {"mass": "kg"}},
         "accuracy": {
-            "invariants": {"energy": {"max_relative_drift": 3e-15, "conserved": True}},
+            "invariants": {
+                "energy": {
+                    "initial": 1.5,
+                    "units": "J",
+                    "max_relative_drift": 3e-15,
+                    "conserved": True,
+                }
+            },
             "warnings": [],
             "reference": None,
         },
@@ -355,6 +362,7 @@ def test_summary_sections_in_words(tmp_path, prec):
     assert '<td class="num">2.5 kg</td>' in text
     assert '<td class="num">0.25 s</td>' in text
     assert "3e-15 relative" in text and ">yes<" in text and ">none<" in text
+    assert ">1.5 J<" in text and ">wall time<" in text
     assert "x&lt;y&gt;" in text and "<y>" not in text.split("<details>")[0]
     assert "<details><summary>raw summary" in text
     body = text.split("<details>")[0]

@@ -227,6 +227,9 @@ _HIDDEN = {"file", "units", "principal_axes_columns"}
 
 
 def _words(key: str) -> str:
+    for suffix in ("_s", "_rad"):  # the units are written with the value
+        if key.endswith(suffix):
+            key = key[: -len(suffix)]
     return key.replace("_", " ")
 
 
@@ -277,8 +280,8 @@ def _rows(d: Mapping[str, Any], units: Mapping[str, str] | str | None) -> list[s
     for key, v in d.items():
         if key in _HIDDEN:
             continue
-        if isinstance(units, str):
-            u = units
+        if isinstance(units, str):  # one unit for the values (initial, final...)
+            u = _KNOWN_UNITS.get(key, units)
         else:
             u = (units or {}).get(key) or _KNOWN_UNITS.get(key, "")
         if isinstance(v, Mapping):
