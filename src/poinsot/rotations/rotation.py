@@ -32,7 +32,13 @@ it to a few ulp, see ``tests/rotations/test_parity_scipy.py``):
 * extreme inputs (quaternions or vectors of size 1e-300 .. 1e300, rotation
   vectors beyond 1e154) are handled where SciPy returns zeros or NaN, and an
   empty set has no mean (SciPy returns the identity for all-zero weights);
-* ``r ** n`` accepts an array ``n`` broadcasting with the shape.
+* ``r ** n`` accepts an array ``n`` broadcasting with the shape;
+* flags (``degrees``, ``scalar_first``, ``canonical``, ``inverse``,
+  ``normalize``) must be bools (``degrees="no"`` is a type error, not "true");
+  ``r * 3`` raises :class:`~poinsot.InvalidTypeError` with a hint (``apply`` for
+  vectors, ``**`` for powers); ``Rotation(q, normalize=False)`` refuses
+  quaternions farther than ``UNIT_ATOL`` (1e-10) from unit length instead of
+  storing a scaling "rotation".
 """
 
 from __future__ import annotations
