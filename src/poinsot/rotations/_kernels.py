@@ -276,14 +276,20 @@ def euler_rates1(code, a, w, space, min_det, out):  # pragma: no cover - compile
 
 
 # ------------------------------------------------- DCM kinematics, one state
+@njit(inline="always", cache=True)
+def _is_rotation(c, tol):  # pragma: no cover - compiled
+    # orthonormal within tol and det >= 0 (a NaN fails both)
+    err, det = _matrix_check(
+        c[0, 0], c[0, 1], c[0, 2], c[1, 0], c[1, 1], c[1, 2], c[2, 0], c[2, 1], c[2, 2]
+    )
+    return err <= tol and det >= 0.0
+
+
 @njit(cache=True)
 def dcm_rate1(c, w, space, tol, out):  # pragma: no cover - compiled
     # Checks C (orthonormal within tol, det >= 0; NaN fails) and writes
     # C w^ (body: row i is row_i(C) x w) or w^ C (space: column j is w x col_j(C)).
-    err, det = _matrix_check(
-        c[0, 0], c[0, 1], c[0, 2], c[1, 0], c[1, 1], c[1, 2], c[2, 0], c[2, 1], c[2, 2]
-    )
-    if not (err <= tol and det >= 0.0):
+    if not _is_rotation(c, tol):
         return False
     for i in range(3):
         if space:
@@ -296,10 +302,7 @@ def dcm_rate1(c, w, space, tol, out):  # pragma: no cover - compiled
 @njit(cache=True)
 def omega_from_dcm_rate1(c, d, space, tol, out):  # pragma: no cover - compiled
     # vee of the antisymmetric part of C^T Cdot (body) or Cdot C^T (space).
-    err, det = _matrix_check(
-        c[0, 0], c[0, 1], c[0, 2], c[1, 0], c[1, 1], c[1, 2], c[2, 0], c[2, 1], c[2, 2]
-    )
-    if not (err <= tol and det >= 0.0):
+    if not _is_rotation(c, tol):
         return False
     m = np.empty((3, 3))
     for i in range(3):
