@@ -1,6 +1,6 @@
 """Ensembles from scenario files: ``[dispersion]``, ``[[metric]]`` and the outputs.
 
-A rigid-body scenario file (kinds ``free-body`` and ``torqued-body``, i.e. a
+A rigid-body scenario file (kinds ``free-body``, ``torqued-body``, ``heavy-top``: a
 free body, a constant body/space torque, or gravity about a fixed point) gains
 two tables that ``poinsot run`` passes over::
 
@@ -40,7 +40,7 @@ from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, 
 
 __all__ = ["load_ensemble", "problem_from_scenario", "run_scenario_ensemble"]
 
-_KINDS = ("free-body", "torqued-body")
+_KINDS = ("free-body", "torqued-body", "heavy-top")
 
 
 def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12
