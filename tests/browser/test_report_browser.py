@@ -187,7 +187,7 @@ def test_report_renders_and_animates_in_chromium(browser, tmp_path, record_prope
     # --- the promises: the body's shape, units in axis titles, no empty panel
     info = page.evaluate(
         f"""() => {{ const g = {FIG}, L = g._fullLayout;
-        const body = g.data.filter(d => d.type === 'mesh3d' && d.name.startsWith('body:'));
+        const body = g._fullData.filter(d => d.type === 'mesh3d' && d.name.startsWith('body:'));
         const scene = ['xaxis', 'yaxis', 'zaxis'].map(a => L.scene[a].title.text);
         const axes = Object.keys(L).filter(k => /^[xy]axis[0-9]*$/.test(k));
         const titles = Object.fromEntries(axes.map(k => [k, L[k].title.text]));

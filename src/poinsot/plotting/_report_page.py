@@ -159,7 +159,8 @@ async function poinsotStart() {
   slider.addEventListener("input", () => draw(+slider.value));
   window.poinsotDraw = draw;
   window.poinsotFrames = n;
-  draw(0);
+  g.dataset.frame = "0";  // the figure was built at frame 0: no redraw needed
+  label.textContent = "t = " + (+t[0].toPrecision(4)) + " s";
   g.dataset.ready = "1";
 }
 poinsotStart().catch(e => {
