@@ -286,13 +286,20 @@ def test_panels_from_checks_state_round_off(tmp_path, prec):
     ks = Check("momentum_vector", "K (space axes)", "kg m^2/s", tr.momentum)
     en = Check("energy", "kinetic energy T", "J", tr.energy * (1 + 1e-15 * np.sin(tr.t)))
     tq = Check("torque_free", "T (reported)", "J", tr.energy, conserved=False)
-    P, _ = _write(tmp_path, tr, inertia=J, checks=[ks, en, tq])
+    law = Check(
+        "law", "T vs closed form", "J", tr.energy * (1 + 1e-9), expected=tr.energy, conserved=False
+    )
+    P, _ = _write(tmp_path, tr, inertia=J, checks=[ks, en, tq, law])
     titles = [a["text"] for a in P["fig"]["layout"]["annotations"]]
     cons = next(t for t in titles if t.startswith("conserved quantities"))
     assert "round-off only" in cons
     names = [d["name"] for d in P["fig"]["data"]]
     assert any(re.match(r"kinetic energy T: max [0-9.]+e-1[56]$", n) for n in names), names
     assert any(t.startswith("T (reported)") for t in titles)
+    assert "deviation from the known law (relative)" in titles
+    assert any(re.match(r"T vs closed form: max 1e-9$", n) for n in names), names
+    dev = next(d for d in P["fig"]["data"] if d["name"].startswith("T vs closed form"))
+    np.testing.assert_allclose(_arr(dev["y"]), 1e-9, rtol=1e-5)
     ylabels = [
         v["title"]["text"]
         for k, v in P["fig"]["layout"].items()

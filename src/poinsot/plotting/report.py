@@ -595,6 +595,15 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
                 for k in range(3)
             ]
             out.append((f"attitude: Euler angles {euler_seq}", "deg", series))
+    laws = [c for c in checks if not c.conserved and c.expected is not None]
+    if laws:  # compared with a known law (a closed form): the relative deviation
+        series = []
+        for k, c in enumerate(laws):
+            d = np.asarray(c.relative_change(), dtype=float)
+            m = float(np.max(np.abs(d), initial=0.0))
+            what = f"{c.label} vs {c.law}" if c.law else c.label
+            series.append((f"{what}: max {fmt_number(m)}", d, _PALETTE[k % len(_PALETTE)], None))
+        out.append(("deviation from the known law (relative)", "relative", series))
     conserved = [c for c in checks if c.conserved]
     if conserved:
         series, worst = [], 0.0
@@ -614,7 +623,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
         )
     others: dict[str, list] = {}
     for c in checks:
-        if c.conserved:
+        if c.conserved or c.expected is not None:
             continue
         v = np.asarray(c.values, dtype=float)
         lst = others.setdefault(c.units, [])
@@ -625,7 +634,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
                 lst.append((f"{c.label} {'xyz'[a]}", v[:, a], _AXIS_COLOURS[a % 3], "dash"))
     for units, series in others.items():
         names = ", ".join(dict.fromkeys(s[0].rsplit(" ", 1)[0] if s[3] else s[0] for s in series))
-        out.append((f"{names} (not conserved here)", units, series))
+        out.append((f"{names} (changes along this motion)", units, series))
     if tq is not None and np.any(tq != 0):
         out.append(
             (
