@@ -339,7 +339,7 @@ def write_scenario_report(
         free_body=free,
         checks=result.checks,
         torque=torque,
-        euler_seq=seq.upper() if len(seq) == 3 else "ZYX",
+        euler_seq=seq if len(seq) == 3 else "ZYX",  # as given (case: intrinsic or extrinsic)
         reference=result.reference,
         sections=sections,
     )
