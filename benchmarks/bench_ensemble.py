@@ -47,7 +47,8 @@ def problem(torque: bool) -> EnsembleProblem:
 def rss_peak(client) -> list[float]:
     import resource
 
-    return client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+    peaks = client.run(lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+    return list(peaks.values())
 
 
 def with_cluster(n_workers, fn):

@@ -136,7 +136,10 @@ def test_dask_cluster_with_a_killed_worker_gives_the_serial_result():
                     pass
 
         res = run(p, 96, chunk_size=8, client=client, seed=11, progress=kill_one)
+        # the same client again, right away (the problem is scattered under a fresh key)
+        again = run(p, 96, chunk_size=8, client=client, seed=11)
     assert killed
+    assert again.table.equals(serial.table)
     assert res.table.equals(serial.table)
 
 

@@ -459,7 +459,8 @@ def run(problem: EnsembleProblem, samples: int, *, chunk_size: int = 1000, clien
         try:
             from dask.distributed import as_completed
 
-            pf = client.scatter(problem, broadcast=True)
+            # a fresh key: a hashed key may still be being released by a previous run
+            pf = client.scatter(problem, broadcast=True, hash=False)
             futures = {
                 client.submit(_chunk_task, pf, i, sizes[i], seed, i * chunk_size, digest, 1,
                               key=f"poinsot-chunk-{digest[:16]}-{i}", retries=3, pure=False): i
