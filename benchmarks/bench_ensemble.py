@@ -92,7 +92,7 @@ def pool_baseline(n):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=20_000)
-    ap.add_argument("--chunk", type=int, default=2000)
+    ap.add_argument("--chunk", type=int, default=10_000)
     ap.add_argument("--big", action="store_true", help="also N = 1e6 for the memory bound")
     args = ap.parse_args()
     rows = []
