@@ -72,7 +72,7 @@ def test_small_rotation_error_follows_the_maxwell_law():
     assert abs(s["quantiles"]["50%"] - np.median(err)) < 1e-12
 
 
-def test_same_table_whatever_the_chunking_of_workers(tmp_path):
+def test_same_seed_same_table_other_seed_other_draws(tmp_path):
     p = _racket()
     serial = run(p, 60, chunk_size=16, client="serial", seed=7)
     again = run(p, 60, chunk_size=16, client="serial", seed=7, out=tmp_path / "a")

@@ -63,8 +63,9 @@ class EnsembleError(InvalidInputError):
 class EnsembleProblem:
     """A nominal rigid-body motion, its dispersions and the metrics to record.
 
-    Parameters are in SI units and body axes; ``quat`` scalar first (body ->
-    space). ``torque_model`` is ``"none"``, ``"body"``, ``"space"`` (a constant
+    Parameters are in SI units and body axes; ``rotation0`` (body -> space) is a
+    poinsot or SciPy ``Rotation`` or a scalar-first quaternion. ``torque_model``
+    is ``"none"``, ``"body"``, ``"space"`` (a constant
     ``torque`` vector) or ``"gravity"`` (``g`` along ``-z`` of space, the body
     turning about the origin of its axes, ``center_of_mass`` from there).
     ``dispersions`` maps names of :data:`QUANTITIES` to
@@ -73,7 +74,7 @@ class EnsembleProblem:
 
     name: str
     inertia: np.ndarray  # (3, 3) about the centre of mass, body axes
-    quat: np.ndarray
+    rotation0: np.ndarray  # (4,) scalar first, body -> space
     omega0: np.ndarray
     t: np.ndarray
     mass: float = 1.0
@@ -87,6 +88,12 @@ class EnsembleProblem:
     metrics: tuple[Metric, ...] = ()
 
     def __post_init__(self):
+        from .._validate import as_rotation_quat
+
+        q = as_rotation_quat(self.rotation0, "rotation0")
+        if q.shape != (4,):
+            raise InvalidInputError(f"Expected one `rotation0`, got shape {q.shape[:-1]}.")
+        object.__setattr__(self, "rotation0", q)
         for name, d in self.dispersions:
             if name not in QUANTITIES:
                 raise InvalidInputError(
@@ -131,7 +138,7 @@ class EnsembleProblem:
 def _nominal(problem: EnsembleProblem, name: str) -> np.ndarray:
     return {
         "omega0": problem.omega0,
-        "attitude": problem.quat,
+        "attitude": problem.rotation0,
         "inertia": np.diag(problem.inertia).copy(),
         "mass": np.asarray(float(problem.mass)),
         "center_of_mass": problem.center_of_mass,

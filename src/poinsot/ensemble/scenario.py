@@ -80,7 +80,7 @@ def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12
         problem = EnsembleProblem(
             name=scenario.name,
             inertia=np.asarray(body.inertia, dtype=float),
-            quat=np.asarray(scenario.attitude.quat, dtype=float),
+            rotation0=np.asarray(scenario.attitude.quat, dtype=float),
             omega0=np.asarray(scenario.angular_velocity.omega_body, dtype=float),
             t=np.asarray(scenario.simulation.times(), dtype=float),
             mass=float(body.mass),
