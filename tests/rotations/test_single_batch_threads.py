@@ -292,3 +292,48 @@ def test_default_threads_are_the_idle_cores(monkeypatch):
         monkeypatch.setattr(_lazy.os, "getloadavg", lambda load=load: (load, load, load))
         assert _lazy._idle_threads(2) == want
         assert _lazy._idle_threads(1) == 1
+
+
+def test_every_single_rotation_stores_a_contiguous_float64_quaternion():
+    # The one-rotation numba entry points (rotations._lazy.one) do not check their
+    # arguments: every way of making a single rotation must store a C-contiguous
+    # float64 (4,) array, and the short paths must then agree with the batch paths.
+    rng = np.random.default_rng(11)
+    batch = Rotation.random(6, rng=rng)
+    fortran = Rotation.from_quat(np.asfortranarray(rng.standard_normal((3, 4))))
+    a, b = Rotation.random(rng=rng), Rotation.random(rng=rng)
+    made = {
+        "from_quat": Rotation.from_quat([0.1, 0.2, 0.3, 0.4]),
+        "from_quat int": Rotation.from_quat([1, 0, 0, 0]),
+        "from_quat scalar last": Rotation.from_quat(np.arange(1.0, 5.0), scalar_first=False),
+        "Rotation()": Rotation(np.array([1.0, 2.0, 3.0, 4.0])[::-1]),
+        "from_matrix": Rotation.from_matrix(np.asfortranarray(a.as_matrix())),
+        "from_rotvec": Rotation.from_rotvec([0.1, -0.2, 0.3]),
+        "from_axis_angle": Rotation.from_axis_angle([0.0, 0.0, 2.0], 0.3),
+        "from_euler": Rotation.from_euler("ZXZ", [0.1, 0.2, 0.3]),
+        "from_gibbs": Rotation.from_gibbs([0.1, 0.2, 0.3]),
+        "from_mrp": Rotation.from_mrp([0.1, 0.2, 0.3]),
+        "from_basis": Rotation.from_basis(*a.as_matrix().T),
+        "identity": Rotation.identity(),
+        "random": Rotation.random(rng=1),
+        "row of a batch": batch[3],
+        "row of a strided batch": batch[::2][1],
+        "row of a Fortran batch": fortran[1],
+        "row of a reshaped batch": batch.reshape(2, 3)[1, 2],
+        "product": b * a,
+        "inverse": a.inv(),
+        "power": a**0.3,
+        "slerp": slerp(a, b, 0.4),
+        "mean": batch.mean(),
+        "align_vectors": Rotation.align_vectors(np.eye(3), a.apply(np.eye(3)))[0],
+        "pickled": __import__("pickle").loads(__import__("pickle").dumps(a)),
+    }
+    for name, r in made.items():
+        q = r._q
+        assert q.shape == (4,) and q.dtype == np.float64 and q.flags.c_contiguous, name
+        row = Rotation.from_quat(q[None, :])
+        np.testing.assert_array_equal(r.as_matrix(), row.as_matrix()[0], err_msg=name)
+        np.testing.assert_array_equal(r.as_rotvec(), row.as_rotvec()[0], err_msg=name)
+        np.testing.assert_array_equal(r.as_mrp(), row.as_mrp()[0], err_msg=name)
+        np.testing.assert_array_equal(r.inv().as_quat(), row.inv().as_quat()[0], err_msg=name)
+        np.testing.assert_array_equal(r.as_quat(), q, err_msg=name)

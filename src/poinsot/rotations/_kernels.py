@@ -49,6 +49,9 @@ _matrix_check = _inline(S.matrix_check)
 _from_matrix = _inline(S.from_matrix)
 _from_rotvec = _inline(S.from_rotvec)
 _to_rotvec = _inline(S.to_rotvec)
+_canonical = _inline(S.canonical)
+_to_mrp = _inline(S.to_mrp)
+_angle = _inline(S.angle)
 _euler_quat = _inline(S.from_euler)
 _to_euler = _inline(S.to_euler)
 
@@ -100,7 +103,8 @@ def rotvec_to_quat(v, dummy, q):  # pragma: no cover - compiled
 
 @guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(m)->(m)", **_OPTS)
 def quat_to_rotvec(q, dummy, v):  # pragma: no cover - compiled
-    v[0], v[1], v[2] = _to_rotvec(q[0], q[1], q[2], q[3])
+    w, x, y, z = _canonical(q[0], q[1], q[2], q[3])
+    v[0], v[1], v[2] = _to_rotvec(w, x, y, z)
 
 
 @guvectorize(["void(int64[:], float64[:], float64[:], float64[:])"], "(k),(k),(n)->(n)", **_OPTS)
@@ -185,7 +189,8 @@ def from_rotvec_flat(v, q):  # pragma: no cover - compiled
 @njit(**_PAR)
 def to_rotvec_flat(q, v):  # pragma: no cover - compiled
     for n in prange(q.shape[0]):
-        v[n, 0], v[n, 1], v[n, 2] = _to_rotvec(q[n, 0], q[n, 1], q[n, 2], q[n, 3])
+        w, x, y, z = _canonical(q[n, 0], q[n, 1], q[n, 2], q[n, 3])
+        v[n, 0], v[n, 1], v[n, 2] = _to_rotvec(w, x, y, z)
 
 
 @njit(**_PAR)
@@ -209,7 +214,24 @@ def to_matrix1(q, m):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def to_rotvec1(q, v):  # pragma: no cover - compiled
-    v[0], v[1], v[2] = _to_rotvec(q[0], q[1], q[2], q[3])
+    w, x, y, z = _canonical(q[0], q[1], q[2], q[3])
+    v[0], v[1], v[2] = _to_rotvec(w, x, y, z)
+
+
+@njit(cache=True)
+def to_mrp1(q, v):  # pragma: no cover - compiled
+    w, x, y, z = _canonical(q[0], q[1], q[2], q[3])
+    v[0], v[1], v[2] = _to_mrp(w, x, y, z)
+
+
+@njit(cache=True)
+def angle1(q):  # pragma: no cover - compiled
+    return _angle(q[0], q[1], q[2], q[3])
+
+
+@njit(cache=True)
+def conj1(q, out):  # pragma: no cover - compiled
+    out[0], out[1], out[2], out[3] = q[0], -q[1], -q[2], -q[3]
 
 
 @njit(cache=True)

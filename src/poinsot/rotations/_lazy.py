@@ -35,6 +35,47 @@ def kernels() -> ModuleType:
     return _MODULE
 
 
+class _OneRotation:
+    """numba's compiled entry points of the one-rotation kernels (``to_matrix1``...),
+    resolved on first use: ``one.to_matrix1(q, m)``.
+
+    Calling the entry point compiled for the exact argument types skips the
+    dispatcher's type matching (about 0.1 us of a 0.5 us one-rotation call). It does
+    not check its arguments, so callers pass exactly these types: a single
+    rotation's quaternion (always a C-contiguous float64 ``(4,)`` array, see
+    ``Rotation._wrap``) and freshly allocated float64 / int64 C arrays.
+    """
+
+    _SIGNATURES = {
+        "to_matrix1": ("q", "f2"),
+        "to_rotvec1": ("q", "f1"),
+        "to_mrp1": ("q", "f1"),
+        "to_euler1": ("q", "i1", "f1"),
+        "angle1": ("q",),
+        "conj1": ("q", "f1"),
+    }
+
+    def __getattr__(self, name: str):
+        from numba import types
+
+        kinds = {
+            "q": types.Array(types.float64, 1, "C", readonly=True),
+            "f1": types.Array(types.float64, 1, "C"),
+            "f2": types.Array(types.float64, 2, "C"),
+            "i1": types.Array(types.int64, 1, "C"),
+        }
+        try:
+            sig = self._SIGNATURES[name]
+        except KeyError:
+            raise AttributeError(name) from None
+        entry = getattr(kernels(), name).compile(tuple(kinds[k] for k in sig))
+        setattr(self, name, entry)  # later lookups find the attribute directly
+        return entry
+
+
+one = _OneRotation()
+
+
 def set_num_threads(n: int | None) -> None:
     """Number of threads used for large rotation batches (theory §2, ``docs/conventions.md``).
 

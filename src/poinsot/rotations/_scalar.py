@@ -29,7 +29,9 @@ __all__ = [
     "matrix_check",
     "from_matrix",
     "from_rotvec",
+    "canonical",
     "to_rotvec",
+    "to_mrp",
     "from_euler",
     "to_euler",
     "angle",
@@ -145,15 +147,29 @@ def from_rotvec(a, b, c):
     return co, s * a, s * b, s * c
 
 
+def canonical(w, x, y, z):
+    """``q`` or ``-q``, whichever has ``w > 0`` (at ``w = 0``: the first non-zero
+    component positive): the sign SciPy calls canonical (theory §2)."""
+    if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
+        return -w, -x, -y, -z
+    return w, x, y, z
+
+
+def to_mrp(w, x, y, z):
+    """Modified Rodrigues parameters ``p = l / (1 + l0)``, ``|p| <= 1`` (theory §2), of a
+    quaternion of :func:`canonical` sign (callers take it first: numba inlines calls)."""
+    d = 1.0 + w
+    return x / d, y / d, z / d
+
+
 def to_rotvec(w, x, y, z):
-    """``phi = 2 atan2(|l|, l0) l / |l|`` with the canonical sign (theory §2).
+    """``phi = 2 atan2(|l|, l0) l / |l|`` of a quaternion of :func:`canonical` sign
+    (theory §2; callers take it first).
 
     The sign is SciPy's canonical one: ``w > 0``, or at exactly pi (``w = 0``) the
     first non-zero vector component positive, so that ``f e`` (``f in [0, pi]``)
     is unique there too. Accurate at every angle because ``atan2`` is.
     """
-    if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
-        w, x, y, z = -w, -x, -y, -z
     n = math.sqrt(x * x + y * y + z * z)
     if n == 0.0:
         s = 2.0 / w

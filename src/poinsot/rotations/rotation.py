@@ -62,7 +62,7 @@ from ..errors import InvalidInputError, InvalidTypeError
 from . import _scalar as S
 from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
-from ._lazy import big, flat, kernels, threaded
+from ._lazy import big, flat, kernels, one, threaded
 from .quaternion import canonical_array as _canonical
 from .quaternion import conjugate_array, length_array, normalize_array
 
@@ -89,15 +89,17 @@ def _as_shape(shape, name: str = "shape") -> tuple[int, ...]:
 UNIT_ATOL = 1e-10
 
 _EPS4 = 4.0 * float(np.finfo(np.float64).eps)
-_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 _DEG = math.pi / 180.0  # the constants of np.deg2rad / np.rad2deg: same bits
 _RAD = 180.0 / math.pi
 
 
 def _new(values) -> Rotation:
-    """A single rotation from four trusted Python floats (the short path)."""
+    """A single rotation from four trusted Python floats (the short path).
+
+    Its ``(4,)`` array is left writable: no other object shares it (batches are made
+    read-only because views share them), no method writes or returns it (``as_quat``
+    copies), and ``setflags`` would cost a third of a one-rotation call."""
     q = np.array(values)
-    q.setflags(write=False)
     obj = object.__new__(Rotation)
     obj._q = q
     return obj
@@ -548,8 +550,7 @@ class Rotation:
         if self._q.ndim == 1:
             w, x, y, z = self._q.tolist()
             if canon:  # + 0.0: no negative zeros, as the batch path
-                if _flip(w, x, y, z):
-                    w, x, y, z = -w, -x, -y, -z
+                w, x, y, z = S.canonical(w, x, y, z)
                 w, x, y, z = w + 0.0, x + 0.0, y + 0.0, z + 0.0
             return np.array((w, x, y, z) if first else (x, y, z, w))
         q = _canonical(self._q) + 0.0 if canon else np.array(self._q)
@@ -567,7 +568,7 @@ class Rotation:
         """
         if self._q.ndim == 1:
             m = np.empty((3, 3))
-            kernels().to_matrix1(self._q, m)
+            one.to_matrix1(self._q, m)
             return m
         return dcm.matrix_from_quat(self._q)
 
@@ -579,10 +580,10 @@ class Rotation:
         >>> Rotation.from_euler("z", -90, degrees=True).as_rotvec(degrees=True)
         array([  0.,   0., -90.])
         """
-        deg = as_bool(degrees, "degrees")
+        deg = False if degrees is False else as_bool(degrees, "degrees")
         if self._q.ndim == 1:
             v = np.empty(3)
-            kernels().to_rotvec1(self._q, v)
+            one.to_rotvec1(self._q, v)
             return v * _RAD if deg else v
         v = rotvec_mod.rotvec_from_quat(self._q)
         return np.rad2deg(v) if deg else v
@@ -630,7 +631,7 @@ class Rotation:
         code = _seq(seq)[2]
         if self._q.ndim == 1 and code is not None:
             a = np.empty(3)
-            if kernels().to_euler1(self._q, code, a):
+            if one.to_euler1(self._q, code, a):
                 euler.warn_gimbal_lock(seq, stacklevel=2)
             return a * _RAD if deg else a
         a = euler.euler_from_quat(seq, self._q)
@@ -655,11 +656,9 @@ class Rotation:
         array([0., 0., 1.])
         """
         if self._q.ndim == 1:
-            w, x, y, z = self._q.tolist()
-            if _flip(w, x, y, z):
-                w, x, y, z = -w, -x, -y, -z
-            d = 1.0 + w
-            return np.array((x / d, y / d, z / d))
+            p = np.empty(3)
+            one.to_mrp1(self._q, p)
+            return p
         return rodrigues.mrp_from_quat(self._q)
 
     # ------------------------------------------------------------- operations
@@ -700,8 +699,8 @@ class Rotation:
         """
         q = self._q
         if q.ndim == 1:
-            out = q * _CONJ
-            out.setflags(write=False)
+            out = np.empty(4)
+            one.conj1(q, out)  # private and unshared: see _new
             obj = object.__new__(Rotation)
             obj._q = out
             return obj
@@ -760,7 +759,7 @@ class Rotation:
         """
         q = self._q
         if q.ndim == 1:
-            return np.float64(S.angle(*q.tolist()))
+            return np.float64(one.angle1(q))
         return (2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0])))[()]
 
     def __pow__(self, n) -> Rotation:
@@ -876,14 +875,6 @@ def _as_rotation(r, name: str) -> Rotation:
     return r
 
 
-def _flip(w: float, x: float, y: float, z: float) -> bool:
-    """Whether ``-q`` is the canonical sign (``w > 0``, or the first non-zero > 0)."""
-    for c in (w, x, y, z):
-        if c != 0.0:
-            return c < 0.0
-    return False
-
-
 def _not_composable(other, expr: str):
     kind = type(other)
     if kind.__name__ == "Rotation":
@@ -954,7 +945,7 @@ def slerp(r0: Rotation, r1: Rotation, t) -> Rotation:
     f = _real(t)
     if f is not None and r0._q.ndim == 1 and r1._q.ndim == 1:
         w0, x0, y0, z0 = r0._q.tolist()
-        a, b, c = S.to_rotvec(*S.hamilton(*r1._q.tolist(), w0, -x0, -y0, -z0))
+        a, b, c = S.to_rotvec(*S.canonical(*S.hamilton(*r1._q.tolist(), w0, -x0, -y0, -z0)))
         step = S.from_rotvec(f * a, f * b, f * c)
         return _new(S.hamilton(*step, w0, x0, y0, z0))
     t = as_float_array(t, "t")
