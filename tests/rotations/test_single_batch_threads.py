@@ -122,6 +122,10 @@ def big():
     return Rotation.from_quat(q), rng.standard_normal((n, 3)), rng.uniform(-4, 4, (n, 3))
 
 
+#: operations whose large batches call NumPy's atan2 / tan between compiled halves
+_NUMPY_TRIG = ("from_rotvec", "euler", "euler_tb")
+
+
 def _all_ops(r, v, ang):
     r2 = r[::-1]
     with warnings.catch_warnings():
@@ -151,7 +155,15 @@ def test_large_batches_equal_small_batches(big):
     for name, got in part.items():
         if name in ("compose", "compose_one", "apply_one"):
             continue  # depend on other rows
-        np.testing.assert_array_equal(whole[name][:k], got, err_msg=name)
+        if name in _NUMPY_TRIG:
+            # large batches take atan2 / tan from NumPy's vectorised loops (correctly
+            # rounded to within 1 ulp like libm, but not always the same ulp):
+            # observed on 2e5 rotations: <= 4.4e-16 on quaternions, 1.8e-15 on angles
+            # (4 ulp of pi: the outer angles add two atan2 and may wrap)
+            np.testing.assert_allclose(whole[name][:k], got, rtol=0, atol=2e-14, err_msg=name)
+            assert np.mean(whole[name][:k] == got) > 0.5, name  # mostly the same bits
+        else:
+            np.testing.assert_array_equal(whole[name][:k], got, err_msg=name)
     small = Rotation.from_quat(r.as_quat()[:k])
     np.testing.assert_array_equal(whole["apply_one"][:k], r[3].apply(v[:k]))
     np.testing.assert_array_equal(whole["compose_one"][:k], (small * r[0]).as_quat())

@@ -12,7 +12,10 @@ here with ``inline="always"``; this file's on-disk cache is stamped with that fi
   the wrappers in the representation modules call these, which split the loop
   over numba's threads (``NUMBA_NUM_THREADS`` or ``numba.set_num_threads``, see
   :func:`poinsot.rotations.set_num_threads`). Each element runs the same code
-  whatever the number of threads, so the results are bit-identical.
+  whatever the number of threads, so the results are bit-identical;
+* ``*_args_flat`` / ``*_from_*_flat`` pairs: the halves of a formula around a
+  trig function that large batches take from NumPy's vectorised loop
+  (:func:`poinsot.rotations._lazy.chunked`).
 
 They trust their inputs (shapes, finiteness, unit norm where stated); validation
 happens at the public entry points. This module is imported lazily (on first use)
@@ -29,6 +32,7 @@ import math
 
 import numpy as np
 from numba import guvectorize, njit, prange
+from numba.extending import overload
 
 from .._numba_cache import depends_on
 from . import _scalar as S
@@ -42,6 +46,18 @@ _OPTS = {"nopython": True, "cache": True}
 _PAR = {"cache": True, "parallel": True}
 
 _inline = njit(inline="always", cache=True)
+
+
+def _callable_when_compiled(fn):
+    # Some _scalar formulas are written as two helpers with a trig call between them
+    # (the batch path takes that call from NumPy's vectorised loop); this lets compiled
+    # code call the helpers by name too (inlined), leaving them plain Python functions.
+    overload(fn, inline="always", strict=False)(lambda *args: fn)
+
+
+for _fn in (S.euler_atan2_args, S.euler_from_atan2, S.rotvec_angle, S.from_rotvec_tan):
+    _callable_when_compiled(_fn)
+
 _hamilton = _inline(S.hamilton)
 _rotate = _inline(S.rotate)
 _to_matrix = _inline(S.to_matrix)
@@ -54,6 +70,10 @@ _to_mrp = _inline(S.to_mrp)
 _angle = _inline(S.angle)
 _euler_quat = _inline(S.from_euler)
 _to_euler = _inline(S.to_euler)
+_euler_atan2_args = _inline(S.euler_atan2_args)
+_euler_from_atan2 = _inline(S.euler_from_atan2)
+_rotvec_angle = _inline(S.rotvec_angle)
+_from_rotvec_tan = _inline(S.from_rotvec_tan)
 
 
 @guvectorize(["void(float64[:], float64[:], float64[:])"], "(n),(n)->(n)", **_OPTS)
@@ -115,21 +135,18 @@ def euler_to_quat(axes, angles, dummy, q):  # pragma: no cover - compiled
     q[0], q[1], q[2], q[3] = _euler_quat(axes, angles[0], a1, a2)
 
 
-@njit(**_PAR)
-def quat_to_euler(q, seq, angles, singular):  # pragma: no cover - compiled
+@njit(cache=True)
+def quat_to_euler_serial(q, seq, angles, singular):  # pragma: no cover - compiled
     # q (N, 4) unit; seq = (i, j, k, extrinsic) with i, j, k the axes in *extrinsic*
     # order (the caller reverses intrinsic sequences). A plain loop (not a gufunc):
-    # per-element gufunc overhead doubled its cost.
+    # per-element gufunc overhead doubled its cost. Small batches only: large ones
+    # take euler_atan2_args_flat / NumPy's atan2 / euler_from_atan2_flat.
     i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3] != 0
     eps = 1e-7  # documented gimbal-lock threshold (rad)
-    for n in prange(q.shape[0]):
+    for n in range(q.shape[0]):
         a, b, c, s = _to_euler(q[n, 0], q[n, 1], q[n, 2], q[n, 3], i, j, k, extrinsic, eps)
         angles[n, 0], angles[n, 1], angles[n, 2] = a, b, c
         singular[n] = s
-
-
-# The same loop on one thread, for small batches (no thread start-up).
-quat_to_euler_serial = njit(cache=True)(quat_to_euler.py_func)
 
 
 # ------------------------------------------------------------------- flat loops
@@ -181,12 +198,6 @@ def from_matrix_flat(a, q, err, det):  # pragma: no cover - compiled
 
 
 @njit(**_PAR)
-def from_rotvec_flat(v, q):  # pragma: no cover - compiled
-    for n in prange(v.shape[0]):
-        q[n, 0], q[n, 1], q[n, 2], q[n, 3] = _from_rotvec(v[n, 0], v[n, 1], v[n, 2])
-
-
-@njit(**_PAR)
 def to_rotvec_flat(q, v):  # pragma: no cover - compiled
     for n in prange(q.shape[0]):
         w, x, y, z = _canonical(q[n, 0], q[n, 1], q[n, 2], q[n, 3])
@@ -200,6 +211,45 @@ def euler_to_quat_flat(axes, angles, q):  # pragma: no cover - compiled
         a1 = angles[n, 1] if k > 1 else 0.0
         a2 = angles[n, 2] if k > 2 else 0.0
         q[n, 0], q[n, 1], q[n, 2], q[n, 3] = _euler_quat(axes, angles[n, 0], a1, a2)
+
+
+# ------------------------------------ the halves around NumPy's vectorised trig
+# For large batches (rotations._lazy.chunked): chunks of a few thousand rotations,
+# the arguments of the trig functions into a small buffer, NumPy's SIMD atan2/tan
+# over it (~2 ns instead of ~20 ns per libm call), then the rest of the formula.
+@njit(cache=True, nogil=True)
+def euler_atan2_args_flat(q, seq, buf):  # pragma: no cover - compiled
+    # buf (6, m): the y of the three atan2 in rows 0-2, their x in rows 3-5
+    i, j, k = seq[0], seq[1], seq[2]
+    for n in range(q.shape[0]):
+        buf[0, n], buf[3, n], buf[1, n], buf[4, n], buf[2, n], buf[5, n] = _euler_atan2_args(
+            q[n, 0], q[n, 1], q[n, 2], q[n, 3], i, j, k
+        )
+
+
+@njit(cache=True, nogil=True)
+def euler_from_atan2_flat(h, seq, angles, singular):  # pragma: no cover - compiled
+    i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3] != 0
+    for n in range(angles.shape[0]):
+        a, b, c, s = _euler_from_atan2(h[0, n], h[1, n], h[2, n], i, j, k, extrinsic, 1e-7)
+        angles[n, 0], angles[n, 1], angles[n, 2] = a, b, c
+        singular[n] = s
+
+
+@njit(cache=True, nogil=True)
+def rotvec_angle_flat(v, buf):  # pragma: no cover - compiled
+    # buf (2, m): f = |phi| and f / 4 (tan is taken of row 1 in place)
+    for n in range(v.shape[0]):
+        f = _rotvec_angle(v[n, 0], v[n, 1], v[n, 2])
+        buf[0, n], buf[1, n] = f, 0.25 * f
+
+
+@njit(cache=True, nogil=True)
+def from_rotvec_tan_flat(v, buf, q):  # pragma: no cover - compiled
+    for n in range(v.shape[0]):
+        q[n, 0], q[n, 1], q[n, 2], q[n, 3] = _from_rotvec_tan(
+            v[n, 0], v[n, 1], v[n, 2], buf[0, n], buf[1, n]
+        )
 
 
 # ------------------------------------------------------------- one rotation
@@ -248,7 +298,7 @@ _cross = _inline(S.cross)
 
 @njit(inline="always", cache=True)
 def _euler_m(code, a, space):  # pragma: no cover - compiled
-    # code: the axes in extrinsic order and the extrinsic flag (as quat_to_euler's).
+    # code: the axes in extrinsic order and the extrinsic flag (as quat_to_euler_serial's).
     # C = F0 F1 F2 with F0 about code[2]; factor m holds the angle k_m.
     ext = code[3] != 0
     k0 = 2 if ext else 0

@@ -135,6 +135,14 @@ def _idle_threads(n: int) -> int:
     return max(1, min(n, int(round((os.cpu_count() or 1) - load + 1.0))))
 
 
+def thread_count() -> int:
+    """Threads a large batch runs on now (the rule in the module notes)."""
+    from numba import get_num_threads as _get
+
+    n0 = _get()
+    return n0 if _USER_THREADS else _idle_threads(n0)
+
+
 def threaded(kernel, *args):
     """Call a threaded flat kernel with the thread count described in the module notes."""
     if _USER_THREADS:
@@ -151,6 +159,44 @@ def threaded(kernel, *args):
         return kernel(*args)
     finally:
         _set(n0)
+
+
+#: Rotations per chunk of :func:`chunked` (fixed: results do not depend on threads).
+CHUNK = 4096
+_POOL = None
+
+
+def chunked(step, n: int) -> None:
+    """Call ``step(lo, hi)`` on the chunks ``[lo, hi)`` of :data:`CHUNK` rotations
+    covering ``range(n)``, spread over :func:`thread_count` threads.
+
+    For the conversions whose compiled halves run around one of NumPy's vectorised
+    trig loops (both release the GIL). The chunk boundaries do not depend on the
+    thread count, so neither do the results.
+    """
+    global _POOL
+    starts = range(0, n, CHUNK)
+    threads = min(thread_count(), len(starts))
+    if threads <= 1:
+        for lo in starts:
+            step(lo, min(lo + CHUNK, n))
+        return
+    if _POOL is None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        from numba import config
+
+        _POOL = ThreadPoolExecutor(config.NUMBA_NUM_THREADS, thread_name_prefix="poinsot")
+
+    def run(part):
+        for lo in part:
+            step(lo, min(lo + CHUNK, n))
+
+    parts = [starts[t::threads] for t in range(threads)]
+    futures = [_POOL.submit(run, part) for part in parts[1:]]
+    run(parts[0])
+    for f in futures:
+        f.result()
 
 
 def flat(a: np.ndarray, k: int) -> np.ndarray:

@@ -29,11 +29,15 @@ __all__ = [
     "matrix_check",
     "from_matrix",
     "from_rotvec",
+    "rotvec_angle",
+    "from_rotvec_tan",
     "canonical",
     "to_rotvec",
     "to_mrp",
     "from_euler",
     "to_euler",
+    "euler_atan2_args",
+    "euler_from_atan2",
     "angle",
     "cross",
     "euler_columns",
@@ -128,16 +132,28 @@ def from_rotvec(a, b, c):
     one ``tan`` instead of ``sin`` and ``cos``, accurate for tiny ``f`` (no series)
     and near pi (``1 - t`` is exact there). The length is taken scaled when
     ``|phi|^2`` would overflow.
+
+    Written as :func:`rotvec_angle`, ``tan``, :func:`from_rotvec_tan`: large
+    batches take the ``tan`` from NumPy's vectorised loop in between.
     """
+    f = rotvec_angle(a, b, c)
+    return from_rotvec_tan(a, b, c, f, math.tan(0.25 * f) if f <= math.pi else 0.0)
+
+
+def rotvec_angle(a, b, c):
+    """``f = |phi|``, scaled when ``|phi|^2`` would overflow."""
     m = max(abs(a), abs(b), abs(c))
     if m > 1e150:
-        f = m * math.sqrt((a / m) * (a / m) + (b / m) * (b / m) + (c / m) * (c / m))
-    else:
-        f = math.sqrt(a * a + b * b + c * c)
+        return m * math.sqrt((a / m) * (a / m) + (b / m) * (b / m) + (c / m) * (c / m))
+    return math.sqrt(a * a + b * b + c * c)
+
+
+def from_rotvec_tan(a, b, c, f, t):
+    """:func:`from_rotvec` given ``f = |phi|`` and ``t = tan(f/4)`` (ignored unless
+    ``0 < f <= pi``)."""
     if f == 0.0:
         co, s = 1.0, 0.5
     elif f <= math.pi:
-        t = math.tan(0.25 * f)
         d = 1.0 / (1.0 + t * t)
         co = (1.0 - t) * (1.0 + t) * d
         s = 2.0 * (t / f) * d
@@ -211,7 +227,19 @@ def to_euler(w, x, y, z, i, j, k, extrinsic, eps):
     angles is determined: the user's third angle is set to 0, the first holds it,
     and the middle one snaps to its singular value (the angles then reproduce the
     rotation to within ``eps``).
+
+    Written as :func:`euler_atan2_args`, three ``atan2``, :func:`euler_from_atan2`:
+    large batches take the ``atan2`` from NumPy's vectorised loop in between.
     """
+    y1, x1, y2, x2, y3, x3 = euler_atan2_args(w, x, y, z, i, j, k)
+    return euler_from_atan2(
+        math.atan2(y1, x1), math.atan2(y2, x2), math.atan2(y3, x3), i, j, k, extrinsic, eps
+    )
+
+
+def euler_atan2_args(w, x, y, z, i, j, k):
+    """The arguments ``(y, x)`` of the three ``atan2`` of :func:`to_euler`: half the
+    middle angle, the half sum and the half difference of the outer ones."""
     symmetric = i == k
     if symmetric:
         k = 3 - i - j
@@ -223,9 +251,16 @@ def to_euler(w, x, y, z, i, j, k, extrinsic, eps):
     else:
         a, b, c, d = w - qj, qi + qk * sign, qj + w, qk * sign - qi
     # |a|, |b|, |c|, |d| <= 2: sqrt(x^2 + y^2) cannot overflow, no need for hypot
-    mid = 2.0 * math.atan2(math.sqrt(c * c + d * d), math.sqrt(a * a + b * b))
-    half_sum = math.atan2(b, a)
-    half_diff = math.atan2(d, c)
+    return math.sqrt(c * c + d * d), math.sqrt(a * a + b * b), b, a, d, c
+
+
+def euler_from_atan2(half_mid, half_sum, half_diff, i, j, k, extrinsic, eps):
+    """The angles of :func:`to_euler` from its three ``atan2`` values."""
+    symmetric = i == k
+    if symmetric:
+        k = 3 - i - j
+    sign = float((i - j) * (j - k) * (k - i) // 2)
+    mid = 2.0 * half_mid
     tb_sign = 1.0 if symmetric else sign
     case1 = abs(mid) <= eps
     case2 = abs(mid - math.pi) <= eps

@@ -34,7 +34,7 @@ import numpy as np
 
 from .._validate import as_float_array
 from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError
-from ._lazy import big, flat, kernels, threaded
+from ._lazy import big, chunked, flat, kernels, threaded
 
 __all__ = [
     "PRESETS",
@@ -101,7 +101,14 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
     singular = np.empty(f.shape[0], dtype=np.bool_)
     k = kernels()
     if big(q.shape[:-1]):
-        threaded(k.quat_to_euler, f, code, angles, singular)
+
+        def step(lo, hi):
+            buf = np.empty((6, hi - lo))
+            k.euler_atan2_args_flat(f[lo:hi], code, buf)
+            np.arctan2(buf[:3], buf[3:], out=buf[:3])
+            k.euler_from_atan2_flat(buf, code, angles[lo:hi], singular[lo:hi])
+
+        chunked(step, f.shape[0])
     else:
         k.quat_to_euler_serial(f, code, angles, singular)
     angles = angles.reshape(q.shape[:-1] + (3,))

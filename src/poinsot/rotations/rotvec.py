@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._lazy import big, flat, kernels, threaded
+from ._lazy import big, chunked, flat, kernels, threaded
 
 __all__ = ["quat_from_rotvec", "rotvec_from_quat"]
 
@@ -20,7 +20,15 @@ def quat_from_rotvec(v: np.ndarray) -> np.ndarray:
     """``L = cos(f/2) + e sin(f/2)`` from ``phi = f e`` (..., 3) -> (..., 4)."""
     if big(v.shape[:-1]):
         q = np.empty(v.shape[:-1] + (4,))
-        threaded(kernels().from_rotvec_flat, flat(v, 3), q.reshape(-1, 4))
+        vf, qf, k = flat(v, 3), q.reshape(-1, 4), kernels()
+
+        def step(lo, hi):
+            buf = np.empty((2, hi - lo))
+            k.rotvec_angle_flat(vf[lo:hi], buf)
+            np.tan(buf[1], out=buf[1])
+            k.from_rotvec_tan_flat(vf[lo:hi], buf, qf[lo:hi])
+
+        chunked(step, vf.shape[0])
         return q
     return kernels().rotvec_to_quat(v, _D4)
 
