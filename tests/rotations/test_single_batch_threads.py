@@ -349,3 +349,23 @@ def test_every_single_rotation_stores_a_contiguous_float64_quaternion():
         np.testing.assert_array_equal(r.as_mrp(), row.as_mrp()[0], err_msg=name)
         np.testing.assert_array_equal(r.inv().as_quat(), row.inv().as_quat()[0], err_msg=name)
         np.testing.assert_array_equal(r.as_quat(), q, err_msg=name)
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs os.fork")
+def test_chunked_batches_work_in_a_forked_child(big):
+    # The chunked conversions keep a thread pool; a child forked after it was made has
+    # none of its threads and must make its own (a stale pool would hang).
+    import os
+
+    r = big[0]
+    n0 = get_num_threads()
+    set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    try:
+        a = r.as_euler("ZXZ")
+        pid = os.fork()
+        if pid == 0:  # pragma: no cover - the child
+            os._exit(0 if np.array_equal(r.as_euler("ZXZ"), a) else 3)
+        _, status = os.waitpid(pid, 0)
+    finally:
+        set_num_threads(n0)
+    assert os.waitstatus_to_exitcode(status) == 0

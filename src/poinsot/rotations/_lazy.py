@@ -181,19 +181,22 @@ def chunked(step, n: int) -> None:
         for lo in starts:
             step(lo, min(lo + CHUNK, n))
         return
-    if _POOL is None:
+    if _POOL is None or _POOL[0] != os.getpid():  # a forked child needs its own threads
         from concurrent.futures import ThreadPoolExecutor
 
         from numba import config
 
-        _POOL = ThreadPoolExecutor(config.NUMBA_NUM_THREADS, thread_name_prefix="poinsot")
+        _POOL = (
+            os.getpid(),
+            ThreadPoolExecutor(config.NUMBA_NUM_THREADS, thread_name_prefix="poinsot"),
+        )
 
     def run(part):
         for lo in part:
             step(lo, min(lo + CHUNK, n))
 
     parts = [starts[t::threads] for t in range(threads)]
-    futures = [_POOL.submit(run, part) for part in parts[1:]]
+    futures = [_POOL[1].submit(run, part) for part in parts[1:]]
     run(parts[0])
     for f in futures:
         f.result()
