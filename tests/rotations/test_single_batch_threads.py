@@ -352,6 +352,8 @@ def test_every_single_rotation_stores_a_contiguous_float64_quaternion():
 
 
 @pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs os.fork")
+@pytest.mark.filterwarnings("ignore::poinsot.GimbalLockWarning")
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")  # fork of a threaded process
 def test_chunked_batches_work_in_a_forked_child(big):
     # The chunked conversions keep a thread pool; a child forked after it was made has
     # none of its threads and must make its own (a stale pool would hang).
