@@ -78,7 +78,6 @@ def test_plot_functions_bad_arguments():
 
 
 def test_write_report_bad_path(tmp_path):
-    pytest.importorskip("plotly")
     from poinsot.plotting import write_report
 
     tr = D.simulate(J, [1.0, 0, 0, 0], W0, T)

@@ -3,20 +3,21 @@
 The trajectory is the closed-form regular precession of a free symmetric body
 (docs/theory.md §10: ``psi' = K/A``, ``phi' = (A - C) r / A``, ``cos theta = C r / K``),
 built with SciPy's Rotation as an independent oracle. The page's data (the
-animation frames, the clouds the browser turns, the panels) is decoded from the
+animation frames, the meshes the browser turns, the charts) is decoded from the
 HTML and checked against that oracle and the Poinsot construction (theory §8,
 §10): the polhode lies on the inertia ellipsoid ``r^T J r = s^2`` and the
-herpolhode in the invariable plane at distance ``s sqrt(2T)/|K|``.
+herpolhode in the invariable plane at distance ``s sqrt(2T)/|K|``. The viewer
+itself (drawing, interaction) is tested in tests/browser/test_report_browser.py.
 """
 
 from __future__ import annotations
 
 import base64
-import gzip
 import json
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -25,9 +26,7 @@ from scipy.spatial.transform import Rotation as SciRot
 import poinsot
 from poinsot.errors import InvalidInputError, InvalidTypeError
 from poinsot.plotting import report
-from poinsot.plotting.report import write_report
-
-pytest.importorskip("plotly")
+from poinsot.plotting.report import write_report, write_scenario_report
 
 A_, C_, K_, THETA = 2.0, 1.0, 1.0, 0.6
 
@@ -74,25 +73,36 @@ def _page(path):
     return json.loads(m.group(1)), text
 
 
-def _traces(P):
-    """{name: (trace, animation entry or None)} of the figure."""
-    anim = {a["trace"]: a for a in P["anim"]}
-    out = {}
-    for k, d in enumerate(P["fig"]["data"]):
-        out[d.get("name")] = (d, anim.get(k))
-    return out
+def _u32(s):
+    return np.frombuffer(base64.b64decode(s), dtype="<u4").astype(np.int64)
 
 
-def _arr(v):
-    if isinstance(v, dict):
-        return np.frombuffer(base64.b64decode(v["bdata"]), dtype=np.dtype(v["dtype"])).astype(float)
-    return np.asarray(v, dtype=float)
+def _layers(P):
+    """The scene's layers (drawn by the page), by name."""
+    return {} if P["scene"] is None else {d["name"]: d for d in P["scene"]["layers"]}
+
+
+def _series(P):
+    """Every chart series, by name: (series, its panel)."""
+    return {s["name"]: (s, p) for p in P["panels"] for s in p["series"]}
+
+
+def _titles(P):
+    return [p["title"] for p in P["panels"]]
 
 
 def _named(P, prefix):
-    hits = [v for k, v in _traces(P).items() if k and k.startswith(prefix)]
-    assert len(hits) == 1, (prefix, list(_traces(P)))
+    """The one scene layer whose name starts with ``prefix``."""
+    hits = [v for k, v in _layers(P).items() if k.startswith(prefix)]
+    assert len(hits) == 1, (prefix, list(_layers(P)))
     return hits[0]
+
+
+def _named_series(P, prefix):
+    """(x, y) of the one series named ``prefix`` (or starting with ``prefix: ``)."""
+    hits = [v for k, (v, _) in _series(P).items() if k == prefix or k.startswith(prefix + ":")]
+    assert len(hits) == 1, (prefix, list(_series(P)))
+    return _f32(hits[0]["x"]), _f32(hits[0]["y"])
 
 
 def _write(tmp_path, tr, name="r.html", **kw):
@@ -117,15 +127,17 @@ def test_oracle_is_a_free_motion(prec):
 
 
 def test_page_is_self_contained_and_small(page):
+    """One inline viewer script and one data block: no library, no URL, no fetch."""
     P, text = page
-    import plotly.offline
+    from poinsot.plotting._report_page import viewer_js
 
-    m = re.search(r'id="poinsot-plotlyjs">([A-Za-z0-9+/=]+)</script>', text)
-    assert m is not None  # plotly.js inlined once, gzip + base64, unpacked by the page
-    assert gzip.decompress(base64.b64decode(m.group(1))).decode() == plotly.offline.get_plotlyjs()
-    assert "<script src=" not in text and "cdn.plot.ly" not in text
-    assert "DecompressionStream" in text
-    assert len(text) < 0.5 * len(plotly.offline.get_plotlyjs())  # half the library alone
+    js = viewer_js()
+    assert text.count("<script") == 2 and text.count(js) == 1
+    assert "</script" not in js and "<script src=" not in text
+    assert not re.search(r"https?://(?!www\.w3\.org/2000/svg)", text)  # only the SVG namespace
+    for word in ("plotly", "fetch(", "XMLHttpRequest", "import("):
+        assert word not in text, word
+    assert len(text) < 150_000  # was 2.0-2.3 MB with plotly.js, 6.6-7.3 MB before that
 
 
 def test_frames_match_the_oracle(prec, page):
@@ -154,24 +166,29 @@ def test_fast_spin_does_not_strobe(tmp_path):
     assert "may appear to strobe" in text2 and "limited to 100" in text2
 
 
-def test_body_cloud_and_axes_follow_the_rotation(prec, page):
+def test_body_mesh_and_axes_are_in_body_axes(prec, page):
+    """The page turns body-axes geometry by the frame quaternions (tested above): the
+    mesh is a closed surface of the body, the axes are the body's x, y, z."""
     tr, sci, J = prec
     P, _ = page
-    d, a = _named(P, "body: ellipsoid")
+    a = _named(P, "body: ellipsoid")
+    assert a["type"] == "mesh" and a["frame"] == "body" and a["opacity"] == 1.0
     v_body = _f32(a["v"]).reshape(-1, 3)
-    first = np.column_stack([_arr(d["x"]), _arr(d["y"]), _arr(d["z"])])
-    np.testing.assert_allclose(first, sci[0].apply(v_body), atol=1e-5)
+    f = _u32(a["f"]).reshape(-1, 3)
+    assert f.min() == 0 and f.max() == len(v_body) - 1 and len(f) >= 100
     for lab, col in zip("xyz", range(3), strict=True):
-        d, a = _named(P, f"body {lab} axis")
-        e = np.asarray(a["e"])
-        assert np.count_nonzero(e) == 1 and e[col] > 0
-        np.testing.assert_allclose([_arr(d[c])[1] for c in "xyz"], sci[0].apply(e), atol=1e-9)
+        a = _named(P, f"body {lab} axis")
+        e = np.asarray(a["b"])
+        assert a["frame"] == "body" and np.count_nonzero(e) == 1 and e[col] > 0
+    assert P["scene"]["unit"] == "m"
+    ell = _named(P, "inertia ellipsoid")
+    assert ell["visible"] is False and ell["opacity"] < 1  # an optional layer, off at first
 
 
 def test_equivalent_ellipsoid_has_the_mass_and_inertia(page):
     """The drawn solid is the uniform ellipsoid with J: A = m (b^2 + c^2) / 5."""
     P, _ = page
-    _, a = _named(P, "body: ellipsoid")
+    a = _named(P, "body: ellipsoid")
     v = _f32(a["v"]).reshape(-1, 3)
     semi = np.abs(v).max(axis=0)
     m = 3.0
@@ -188,12 +205,14 @@ def test_equivalent_ellipsoid_has_the_mass_and_inertia(page):
 def test_polhode_on_ellipsoid_and_herpolhode_in_invariable_plane(prec, page):
     tr, sci, J = prec
     P, _ = page
-    d, a = _named(P, "polhode")
+    a = _named(P, "polhode")
+    assert a["frame"] == "body"
     pol = _f32(a["v"]).reshape(-1, 3)
     q = np.einsum("ni,ij,nj->n", pol, J, pol)
     np.testing.assert_allclose(q, q[0], rtol=1e-5)  # on r^T J r = s^2
     s = np.sqrt(q[0])
-    d, a = _named(P, "herpolhode")
+    a = _named(P, "herpolhode")
+    assert a["frame"] == "space"
     her = _f32(a["v"]).reshape(-1, 3)
     dist = s * np.sqrt(2 * tr.energy[0]) / K_  # distance of the invariable plane (K along z)
     np.testing.assert_allclose(her[:, 2], dist, rtol=1e-5)
@@ -210,12 +229,12 @@ def test_vectors_parallel_to_omega_and_momentum(prec, page):
         ("w, angular", sci[k].apply(tr.omega[k])),
         ("K, angular", tr.momentum[k]),
     ):
-        d, a = _named(P, prefix)
+        a = _named(P, prefix)
         v = _f32(a["v"]).reshape(-1, 3)
         c = np.linalg.norm(v, axis=-1) / np.linalg.norm(truth, axis=-1)
         np.testing.assert_allclose(c, c[0], rtol=1e-5)  # one scale for the animation
         np.testing.assert_allclose(v / c[:, None], truth, atol=1e-5)
-        stated = float(re.search(r"= ([0-9.e+-]+) m\)", d["name"]).group(1))
+        stated = float(re.search(r"= ([0-9.e+-]+) m\)", a["name"]).group(1))
         assert stated == pytest.approx(c[0], rel=1e-3)  # the scale written in the legend
 
 
@@ -235,16 +254,17 @@ def test_shapes_have_their_dimensions(tmp_path, prec, kind, dims, extent):
     tr, _, _ = prec
     com = np.array([0.0, 0.0, 0.2])
     P, _ = _write(tmp_path, tr, shape={"kind": kind, "dims": dims, "center": com}, fixed_point=True)
-    d, a = _named(P, f"body: {kind}")
-    assert d["type"] == "mesh3d"
+    a = _named(P, f"body: {kind}")
+    assert a["type"] == "mesh"
     v = _f32(a["v"]).reshape(-1, 3) - com
     np.testing.assert_allclose(np.abs(v).max(axis=0), extent, rtol=2e-3, atol=1e-7)
     if kind == "cone":  # centre of mass h/4 above the base
         assert v[:, 2].min() == pytest.approx(-0.25, rel=1e-5)
-    d, _ = _named(P, "fixed point")
-    assert [_arr(d[c])[0] for c in "xyz"] == [0.0, 0.0, 0.0]
-    scene = P["fig"]["layout"]["scene"]
-    assert [scene[f"{c}axis"]["title"]["text"] for c in "xyz"] == ["x (m)", "y (m)", "z (m)"]
+    d = _named(P, "fixed point")
+    assert d["p"] == [0.0, 0.0, 0.0] and d["type"] == "marker"
+    assert P["scene"]["unit"] == "m"  # the viewer titles the axes "x (m)", "y (m)", "z (m)"
+    lo, hi = np.asarray(P["scene"]["lo"]), np.asarray(P["scene"]["hi"])
+    assert np.all(lo <= v.min(axis=0) + com) and np.all(hi >= v.max(axis=0) + com)
 
 
 def test_turned_part_is_drawn_along_its_inertia_axes(tmp_path, prec):
@@ -265,14 +285,14 @@ def test_turned_part_is_drawn_along_its_inertia_axes(tmp_path, prec):
             {"kind": "point", "dims": [0], "center": [0.3, 0, 0]},
         ],
     )
-    _, a = _named(P, "body: cylinder, point")
+    a = _named(P, "body: cylinder, point")
     v = _f32(a["v"]).reshape(-1, 3)
     assert v[:, 0].min() == pytest.approx(-0.25, rel=1e-5)  # the handle lies along x
 
 
 def test_panels_free_body(page):
     P, _ = page
-    titles = [a["text"] for a in P["fig"]["layout"]["annotations"]]
+    titles = _titles(P)
     assert any(t.startswith("angular velocity") for t in titles)
     assert any(t.startswith("attitude: Euler angles ZYX") for t in titles)
     # no checks given: no invariant panel; no torque panel
@@ -290,21 +310,17 @@ def test_panels_from_checks_state_round_off(tmp_path, prec):
         "law", "T vs closed form", "J", tr.energy * (1 + 1e-9), expected=tr.energy, conserved=False
     )
     P, _ = _write(tmp_path, tr, inertia=J, checks=[ks, en, tq, law])
-    titles = [a["text"] for a in P["fig"]["layout"]["annotations"]]
+    titles = _titles(P)
     cons = next(t for t in titles if t.startswith("conserved quantities"))
     assert "round-off only" in cons
-    names = [d["name"] for d in P["fig"]["data"]]
+    names = list(_series(P))
     assert any(re.match(r"kinetic energy T: max [0-9.]+e-1[56]$", n) for n in names), names
     assert any(t.startswith("T (reported)") for t in titles)
     assert "deviation from the known law (relative)" in titles
     assert any(re.match(r"T vs closed form: max 1e-9$", n) for n in names), names
-    dev = next(d for d in P["fig"]["data"] if d["name"].startswith("T vs closed form"))
-    np.testing.assert_allclose(_arr(dev["y"]), 1e-9, rtol=1e-5)
-    ylabels = [
-        v["title"]["text"]
-        for k, v in P["fig"]["layout"].items()
-        if k.startswith("yaxis") and "title" in v
-    ]
+    _, dev = _named_series(P, "T vs closed form")
+    np.testing.assert_allclose(dev, 1e-9, rtol=1e-5)
+    ylabels = [p["ytitle"] for p in P["panels"]]
     assert "(J)" in ylabels and "(relative)" in ylabels
 
 
@@ -325,11 +341,10 @@ def test_torqued_panels_energy_balance(tmp_path):
     )
     torque = np.tile([0.0, 0.0, N], (t.size, 1))
     P, _ = _write(tmp_path, tr, inertia=[1.0, 1.5, Jz], torque=torque, free_body=False)
-    names = {d.get("name"): d for d in P["fig"]["data"]}
-    assert "polhode (on the inertia ellipsoid, moves with the body)" not in names
-    dT, work = _arr(names["T(t) - T(0)"]["y"]), _arr(names["int N . w dt"]["y"])
+    assert not any(k.startswith("polhode") for k in _layers(P))
+    dT, work = _named_series(P, "T(t) - T(0)")[1], _named_series(P, "int N . w dt")[1]
     np.testing.assert_allclose(work, dT, atol=1e-4 * dT.max())
-    assert _arr(names["Nz"]["y"]).max() == pytest.approx(N)
+    assert _named_series(P, "Nz")[1].max() == pytest.approx(N)
 
 
 def test_particle_path(tmp_path):
@@ -339,10 +354,10 @@ def test_particle_path(tmp_path):
         t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "x", position=pos
     )
     P, _ = _write(tmp_path, tr)
-    d, a = _named(P, "position")
+    a = _named(P, "position")
     np.testing.assert_allclose(np.linalg.norm(_f32(a["v"]).reshape(-1, 3), axis=-1), 1.0, rtol=1e-6)
-    names = [d.get("name") for d in P["fig"]["data"]]
-    assert "path" in names and not any(n and n.startswith("w1") for n in names)  # no empty panel
+    assert "path" in _layers(P) and not any(n.startswith("w1") for n in _series(P))  # no empty
+    assert not any(k.startswith("body") for k in _layers(P))
 
 
 def test_summary_sections_in_words(tmp_path, prec):
@@ -500,11 +515,162 @@ def test_long_runs_keep_the_page_small(tmp_path):
     """20001 samples: time series cut to a min/max envelope, tracks and frames bounded."""
     tr, _, J = precession(n=20001, t1=200.0)
     P, text = _write(tmp_path, tr, inertia=J)
-    d, _ = _named(P, "w1")
-    x, y = _arr(d["x"]), _arr(d["y"])
+    x, y = _named_series(P, "w1 (body x)")
     assert len(x) <= report._MAX_SERIES + 2 and np.all(np.diff(x) > 0)
     assert y.max() == pytest.approx(tr.omega[:, 0].max(), rel=1e-6)  # envelope kept
     assert y.min() == pytest.approx(tr.omega[:, 0].min(), rel=1e-6)
-    _, a = _named(P, "polhode")
+    a = _named(P, "polhode")
     assert len(_f32(a["v"])) // 3 <= report._MAX_TRACK + 2
-    assert len(text) < 2.6e6
+    assert len(text) < 300_000
+
+
+# ----------------------------------------------------------------- meshes, extra series
+
+
+def _icosphere(levels=3):
+    """A closed unit sphere mesh by subdividing an icosahedron (outward faces)."""
+    g = (1 + 5**0.5) / 2
+    v = [[-1, g, 0], [1, g, 0], [-1, -g, 0], [1, -g, 0], [0, -1, g], [0, 1, g], [0, -1, -g],
+         [0, 1, -g], [g, 0, -1], [g, 0, 1], [-g, 0, -1], [-g, 0, 1]]  # fmt: skip
+    f = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
+         [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
+         [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]  # fmt: skip
+    v = [np.asarray(x, float) / np.linalg.norm(x) for x in v]
+    for _ in range(levels):
+        mid, nf = {}, []
+
+        def m(a, b, mid=mid):
+            k = (min(a, b), max(a, b))
+            if k not in mid:
+                p = v[a] + v[b]
+                v.append(p / np.linalg.norm(p))
+                mid[k] = len(v) - 1
+            return mid[k]
+
+        for a, b, c in f:
+            ab, bc, ca = m(a, b), m(b, c), m(c, a)
+            nf += [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+        f = nf
+    return np.asarray(v), np.asarray(f)
+
+
+def test_mesh_body_drawn_as_given(tmp_path, prec):
+    """A small mesh is drawn as given (turned by ``axes``, moved by ``center``), and its
+    mass properties (poinsot.mass.mesh) put the drawing at the body's centre of mass."""
+    from poinsot.mass import mesh as mesh_props
+
+    tr, _, _ = prec
+    v, f = _icosphere(1)  # 80 faces
+    v = v * [0.3, 0.2, 0.1]
+    axes = SciRot.from_rotvec([0.0, 0.0, np.pi / 2]).as_matrix()
+    com = np.array([0.0, 0.0, 0.4])
+    P, _ = _write(tmp_path, tr, shape={"kind": "mesh", "vertices": v, "faces": f,
+                                       "axes": axes, "center": com})  # fmt: skip
+    a = _named(P, "body: mesh")
+    np.testing.assert_allclose(_f32(a["v"]).reshape(-1, 3), v @ axes.T + com, atol=1e-6)
+    np.testing.assert_array_equal(_u32(a["f"]).reshape(-1, 3), f)
+    props = mesh_props(_f32(a["v"]).reshape(-1, 3), _u32(a["f"]).reshape(-1, 3), density=1.0)
+    np.testing.assert_allclose(props.center_of_mass, com, atol=1e-6)
+
+
+def test_dense_mesh_decimated_keeps_its_shape():
+    """A 20480-face sphere cut to <= 3000 faces: still a closed surface (every edge
+    shared by two faces) hugging the unit sphere within a grid cell."""
+    from poinsot.plotting import _report_shapes as sh
+
+    v, f = _icosphere(5)
+    assert len(f) == 20480
+    v2, f2 = sh.decimate(v, f, 3000)
+    assert 500 <= len(f2) <= 3000 and f2.max() == len(v2) - 1
+    r = np.linalg.norm(v2, axis=-1)
+    assert np.all(np.abs(r - 1) < 0.05), (r.min(), r.max())
+    np.testing.assert_allclose(np.abs(v2).max(axis=0), 1.0, atol=0.05)
+    edges = np.sort(np.concatenate([f2[:, [0, 1]], f2[:, [1, 2]], f2[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert np.mean(counts == 2) > 0.95  # (clustering may pinch a few edges)
+    same_v, same_f = sh.decimate(v[:12], _icosphere(0)[1], 3000)
+    assert len(same_f) == 20  # small meshes unchanged
+
+
+def test_mesh_errors(tmp_path, prec):
+    tr, _, _ = prec
+    v, f = _icosphere(0)
+    bad = [
+        ({"kind": "mesh", "vertices": v}, "'kind', 'vertices' and 'faces'"),
+        ({"kind": "mesh", "vertices": v[:, :2], "faces": f}, r"shape \(m, 3\)"),
+        ({"kind": "mesh", "vertices": v, "faces": f + 0.5}, "integer vertex indices"),
+        ({"kind": "mesh", "vertices": v, "faces": f + 12}, "to index the 12 vertices"),
+    ]
+    for shape, match in bad:
+        with pytest.raises(InvalidInputError, match=match):
+            write_report(tmp_path / "r.html", trajectory=tr, shape=shape)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_extra_series_panels(tmp_path, prec):
+    tr, _, _ = prec
+    q = {"theta": np.sin(tr.t), "phi": np.cos(tr.t)}
+    P, _ = _write(tmp_path, tr, series=[("generalised coordinates q(t)", "rad", q)])
+    assert P["panels"][0]["title"] == "generalised coordinates q(t)"
+    assert P["panels"][0]["ytitle"] == "(rad)"
+    x, y = _named_series(P, "phi")
+    np.testing.assert_allclose(y, np.cos(x), atol=1e-6)
+    for series, exc, match in [
+        ({"a": 1}, InvalidTypeError, "`series` to be a sequence"),
+        ([("t", "rad")], InvalidTypeError, r"each of `series` to be \(title"),
+        ([("t", "rad", {"a": np.zeros(3)})], InvalidInputError, r"to have shape \(120,\)"),
+    ]:
+        with pytest.raises(exc, match=match):
+            write_report(tmp_path / "x.html", trajectory=tr, series=series)
+
+
+def test_coordinate_units_from_names():
+    assert [report._coordinate_unit(n) for n in ("theta1", "phi", "x", "rho", "z_2", "q")] == [
+        "rad",
+        "rad",
+        "m",
+        "m",
+        "m",
+        "",
+    ]
+
+
+def test_lagrangian_scenario_report_plots_coordinates(tmp_path):
+    """The lagrangian kind: charts of q(t) and q'(t) (rad, rad/s for angles) equal to the
+    solved coordinates, and the conserved Jacobi integral; no 3-D scene (no body)."""
+    pytest.importorskip("sympy")
+    from poinsot.scenarios import load_scenario, simulate_scenario
+    from poinsot.scenarios.kinds.lagrangian import _RUNS
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "double_pendulum.toml"), duration=2.0)
+    lt = _RUNS[res.trajectory]
+    P, _ = _page(write_scenario_report(tmp_path / "r.html", res))
+    assert P["scene"] is None
+    titles = _titles(P)
+    assert titles[:2] == [
+        "generalised coordinates q(t): angles",
+        "generalised velocities q'(t): angles",
+    ]
+    assert [p["ytitle"] for p in P["panels"][:2]] == ["(rad)", "(rad/s)"]
+    for k, name in enumerate(lt.coordinates):
+        x, y = _named_series(P, name)
+        np.testing.assert_allclose(y, np.interp(x, lt.t, lt.q[:, k]), atol=1e-5)
+        x, y = _named_series(P, name + "'")
+        np.testing.assert_allclose(y, np.interp(x, lt.t, lt.qdot[:, k]), atol=1e-4)
+    assert any(t.startswith("conserved quantities") for t in titles)
+    assert any(n.startswith("Jacobi integral h: max") for n in _series(P))
+
+
+def test_particle_scenario_report_plots_position_and_velocity(tmp_path):
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "kepler_orbit.toml"), duration=3.0)
+    P, _ = _page(write_scenario_report(tmp_path / "r.html", res))
+    assert _titles(P)[:2] == ["position, space axes", "velocity, space axes"]
+    assert [p["ytitle"] for p in P["panels"][:2]] == ["(m)", "(m/s)"]
+    x, y = _named_series(P, "vx")
+    tr = res.trajectory
+    np.testing.assert_allclose(y, np.interp(x, tr.t, tr.velocity[:, 0]), atol=1e-5)
+    assert "path" in _layers(P)

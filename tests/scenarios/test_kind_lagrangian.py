@@ -84,7 +84,6 @@ def test_wrong_initial_state_length():
 
 def test_report_has_the_typeset_equations(tmp_path):
     """report.html carries the equations as inline SVG (offline: no MathJax, no fetch)."""
-    pytest.importorskip("plotly")
     from poinsot.scenarios.output import run_scenario
 
     sc = parse_scenario(CHARGED.format(V=V_OK, T=1.0), source="charge.toml")

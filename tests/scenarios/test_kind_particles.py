@@ -128,7 +128,6 @@ def test_bad_tables_name_file_key_and_line():
 
 
 def test_report_embeds_the_orbit_figures(tmp_path):
-    pytest.importorskip("plotly")
     s = load_scenario(EXAMPLES / "precessing_orbit.toml")
     _, files = run_scenario(s, tmp_path / "o", duration=10.0)
     names = {p.name for p in files}

@@ -347,7 +347,6 @@ def test_interrupted_write_leaves_no_complete_file(tmp_path, monkeypatch):
 
 
 def test_report_written(tmp_path):
-    pytest.importorskip("plotly")
     run_scenario(demo_scenario(), tmp_path / "o", duration=0.5, figures=False)
     html = (tmp_path / "o" / "report.html").read_text()
     assert "tennis-racket-flip" in html and '<script src="http' not in html  # offline

@@ -1,23 +1,22 @@
-"""The HTML page of the report: compressed plotly.js, the animation driver, the summary.
+"""The HTML page of the report: the built-in viewer, the data, the summary.
 
-Size: plotly.js (about 4.8 MB minified, shipped by the ``plotly`` Python package
-as ``package_data/plotly.min.js``; no smaller partial bundle is on PyPI) is
-embedded gzip-compressed and base64-encoded (about 1.9 MB) and unpacked in the
-browser with ``DecompressionStream`` (Chromium 80, Firefox 113, Safari 16.4).
-Numbers travel as base64 float32 arrays. The animation is driven here: each
-frame carries only the attitude quaternion and the two scaled vectors; the
-browser turns the body, its axes and the polhode (no per-frame copy of meshes).
+The viewer (``_report_viewer.js``, about 500 lines of plain JavaScript shipped with
+poinsot) draws the 3-D scene on a 2-D ``<canvas>`` (painter's algorithm, shaded
+triangles) and the time series as SVG charts, all driven by one animation clock;
+no plotting library is embedded and nothing is fetched. Numbers travel as base64
+little-endian float32 (uint32 for triangle indices): each frame carries only the
+attitude quaternion and the scaled vectors; the browser turns the body.
 """
 
 from __future__ import annotations
 
 import base64
 import functools
-import gzip
 import html
 import json
 import math
 from collections.abc import Mapping, Sequence
+from importlib import resources
 from typing import Any
 
 import numpy as np
@@ -26,148 +25,21 @@ DIV_ID = "poinsot-figure"
 
 
 @functools.lru_cache(maxsize=1)
-def plotly_js_gzip_b64() -> str:
-    """plotly.js, gzip-compressed (level 9, fixed mtime: reproducible) and base64."""
-    import plotly.offline
-
-    js = plotly.offline.get_plotlyjs().encode("utf-8")
-    return base64.b64encode(gzip.compress(js, compresslevel=9, mtime=0)).decode("ascii")
+def viewer_js() -> str:
+    """The viewer's JavaScript (``poinsot/plotting/_report_viewer.js``)."""
+    return (
+        resources.files("poinsot.plotting")
+        .joinpath("_report_viewer.js")
+        .read_text(encoding="utf-8")
+    )
 
 
 def b64(a, dtype=np.float32) -> str:
-    """Little-endian ``dtype`` array as base64 (decoded by ``f32()`` in the page)."""
+    """Little-endian ``dtype`` array as base64 (decoded by ``f32()``/``u32()`` in the page)."""
     return base64.b64encode(
         np.ascontiguousarray(a, dtype=dtype).astype("<" + np.dtype(dtype).str[1:]).tobytes()
     ).decode("ascii")
 
-
-# Plotly.animate is not used (the driver below calls Plotly.update), but a rejected
-# promise WITHOUT a reason is plotly's signal of an interrupted update, not an error.
-_JS = r"""
-window.addEventListener("unhandledrejection", function (e) {
-  if (e.reason === undefined) { e.preventDefault(); }
-});
-function poinsotBytes(s) {
-  const b = atob(s), u = new Uint8Array(b.length);
-  for (let i = 0; i < b.length; i++) u[i] = b.charCodeAt(i);
-  return u;
-}
-function f32(s) { return s === null ? null : new Float32Array(poinsotBytes(s).buffer); }
-async function poinsotLoad() {
-  const z = document.getElementById("poinsot-plotlyjs").textContent;
-  const stream = new Blob([poinsotBytes(z)]).stream().pipeThrough(new DecompressionStream("gzip"));
-  const t0 = performance.now();
-  const code = await new Response(stream).text();
-  console.debug("poinsot: plotly.js unpacked in " + Math.round(performance.now() - t0) + " ms");
-  const s = document.createElement("script");  // a blob: URL, compiled off the main thread
-  s.src = URL.createObjectURL(new Blob([code], {type: "text/javascript"}));
-  await new Promise((ok, fail) => {
-    s.onload = ok;
-    s.onerror = () => fail(new Error("plotly.js did not load"));
-    document.head.appendChild(s);
-  });
-  URL.revokeObjectURL(s.src);
-  console.debug("poinsot: plotly.js run in " + Math.round(performance.now() - t0) + " ms");
-}
-function rot(q, o, v, out, k) {  // out[k..k+2] = R(q) v  (v_space = q v q~), q = (w, x, y, z)
-  const w = q[o], x = q[o + 1], y = q[o + 2], z = q[o + 3];
-  const tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]);
-  const tz = 2 * (x * v[1] - y * v[0]);
-  out[0][k] = v[0] + w * tx + (y * tz - z * ty);
-  out[1][k] = v[1] + w * ty + (z * tx - x * tz);
-  out[2][k] = v[2] + w * tz + (x * ty - y * tx);
-}
-function cloud(q, o, v, shift) {  // rotate an (m, 3) cloud, then translate
-  const m = v.length / 3, out = [new Array(m), new Array(m), new Array(m)];
-  for (let k = 0; k < m; k++) {
-    rot(q, o, [v[3 * k], v[3 * k + 1], v[3 * k + 2]], out, k);
-    if (shift) { out[0][k] += shift[0]; out[1][k] += shift[1]; out[2][k] += shift[2]; }
-  }
-  return out;
-}
-async function poinsotStart() {
-  await poinsotLoad();
-  const P = JSON.parse(document.getElementById("poinsot-data").textContent);
-  const g = document.getElementById("%(div)s");
-  const t = f32(P.t), q = f32(P.q), qref = f32(P.qref);
-  const anim = P.anim.map(a => Object.assign({}, a, {v: f32(a.v)}));
-  const n = t.length;
-  const t1 = performance.now();
-  await Plotly.newPlot(g, P.fig.data, P.fig.layout, P.config);
-  console.debug("poinsot: newPlot in " + Math.round(performance.now() - t1) + " ms");
-  const slider = document.getElementById("poinsot-slider");
-  const label = document.getElementById("poinsot-time");
-  const play = document.getElementById("poinsot-play");
-  const speed = document.getElementById("poinsot-speed");
-  slider.max = String(n - 1);
-  let busy = false, pending = null;
-  function draw(f) {
-    if (busy) { pending = f; return; }
-    busy = true;
-    const o = 4 * f, X = [], Y = [], Z = [], ids = [];
-    for (const a of anim) {
-      let c;
-      if (a.kind === "cloud") c = cloud(a.ref ? qref : q, o, a.v, null);
-      else if (a.kind === "seg") {
-        c = [[0, 0], [0, 0], [0, 0]];
-        rot(a.ref ? qref : q, o, a.e, c, 1);
-      }
-      else if (a.kind === "vec") c = [[0, a.v[3 * f]], [0, a.v[3 * f + 1]], [0, a.v[3 * f + 2]]];
-      else if (a.kind === "point") c = [[a.v[3 * f]], [a.v[3 * f + 1]], [a.v[3 * f + 2]]];
-      else if (a.kind === "track") {  // the first upto[f] points, fixed in space
-        const m = a.upto[f], v = a.v;
-        c = [[], [], []];
-        for (let k = 0; k < m; k++) {
-          c[0].push(v[3 * k]); c[1].push(v[3 * k + 1]); c[2].push(v[3 * k + 2]);
-        }
-      }
-      X.push(c[0]); Y.push(c[1]); Z.push(c[2]); ids.push(a.trace);
-    }
-    const lay = {};
-    for (let k = 0; k < P.cursors; k++) {
-      lay["shapes[" + k + "].x0"] = t[f];
-      lay["shapes[" + k + "].x1"] = t[f];
-    }
-    slider.value = String(f);
-    label.textContent = "t = " + (+t[f].toPrecision(4)) + " s";
-    g.dataset.frame = String(f);
-    Plotly.update(g, ids.length ? {x: X, y: Y, z: Z} : {}, lay, ids).then(() => {
-      busy = false;
-      if (pending !== null) { const p = pending; pending = null; draw(p); }
-    }, () => { busy = false; });
-  }
-  let timer = null;
-  function stop() {
-    if (timer) { clearInterval(timer); timer = null; }
-    play.textContent = "\u25b6 Play";
-  }
-  function tick() {
-    if (busy) return;
-    const s = +speed.value, step = s > 1 ? Math.round(s) : 1;
-    let f = +slider.value + step;
-    if (f >= n) { f = n - 1; stop(); }
-    draw(f);
-  }
-  play.addEventListener("click", () => {
-    if (timer) { stop(); return; }
-    if (+slider.value >= n - 1) draw(0);
-    const s = +speed.value;
-    timer = setInterval(tick, Math.round(P.interval / Math.min(s, 1)));
-    play.textContent = "\u275a\u275a Pause";
-  });
-  speed.addEventListener("change", () => { if (timer) { stop(); play.click(); } });
-  slider.addEventListener("input", () => draw(+slider.value));
-  window.poinsotDraw = draw;
-  window.poinsotFrames = n;
-  g.dataset.frame = "0";  // the figure was built at frame 0: no redraw needed
-  label.textContent = "t = " + (+t[0].toPrecision(4)) + " s";
-  g.dataset.ready = "1";
-}
-poinsotStart().catch(e => {
-  console.error(e);
-  document.getElementById("poinsot-error").textContent = "The report could not start: " + e;
-});
-"""
 
 _CSS = """
 body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 1.2em 2em;
@@ -187,6 +59,28 @@ table.summary td.num { font-variant-numeric: tabular-nums; }
 table.summary table.summary { margin: 0; }
 details pre { font-size: 0.8em; background: #f7f7f7; padding: 0.6em; overflow-x: auto; }
 #poinsot-error { color: #b00; }
+#poinsot-figure { display: grid; grid-template-columns: minmax(0, 56fr) minmax(0, 44fr);
+       gap: 1.6em; align-items: start; }
+#poinsot-figure.pv-noscene { grid-template-columns: minmax(0, 1fr); }
+#poinsot-scene-col { position: sticky; top: 0; background: #fff; }
+#poinsot-scene { display: block; cursor: grab; touch-action: none; }
+.pv-legend { font-size: 0.82em; line-height: 1.7; margin: 0.2em 0; }
+.pv-item { cursor: pointer; margin-right: 1.1em; white-space: nowrap; user-select: none; }
+.pv-item i { display: inline-block; width: 1.5em; height: 0.35em; margin: 0 0.35em 0.2em 0;
+       vertical-align: middle; }
+.pv-item.off { color: #aaa; text-decoration: line-through; }
+.pv-item.off i { opacity: 0.25; }
+.pv-hint { color: #777; font-size: 0.8em; margin: 0.2em 0; }
+.pv-panel { margin-bottom: 0.9em; }
+.pv-title { font-size: 0.9em; font-weight: 600; color: #333; }
+.pv-chart { position: relative; }
+.pv-chart svg { display: block; font-family: system-ui, sans-serif; }
+.pv-tick { font-size: 10px; fill: #555; }
+.pv-axis-title { font-size: 11px; fill: #333; }
+.pv-tip { position: absolute; display: none; pointer-events: none;
+       background: rgba(255,255,255,0.94); border: 1px solid #bbb; border-radius: 3px;
+       padding: 3px 6px; font-size: 11px;
+       white-space: nowrap; z-index: 2; }
 """
 
 # ----------------------------------------------------------------------------- summary
@@ -361,10 +255,10 @@ def page_html(
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f"<title>{esc(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
         f'<h1>{esc(title)}</h1>\n<p class="meta">{meta}</p>\n<p id="poinsot-error"></p>\n'
-        f'{controls}\n<div id="{DIV_ID}"></div>\n{note_html}\n{table}\n'
-        f'<script type="application/octet-stream" id="poinsot-plotlyjs">'
-        f"{plotly_js_gzip_b64()}</script>\n"
+        f'{controls}\n<div id="{DIV_ID}"><div id="poinsot-scene-col"></div>'
+        '<div id="poinsot-panels"></div></div>\n'
+        f"{note_html}\n{table}\n"
         f'<script type="application/json" id="poinsot-data">{data}</script>\n'
-        f'<script type="text/javascript">{_JS % {"div": DIV_ID}}</script>\n'
+        f"<script>{viewer_js()}</script>\n"
         "</body>\n</html>\n"
     )

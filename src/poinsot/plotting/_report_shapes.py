@@ -146,3 +146,36 @@ def equivalent_ellipsoid(mass: float, inertia: np.ndarray):
     a2 = 5.0 * (lam.sum() - 2.0 * lam) / (2.0 * mass)
     a2 = np.maximum(a2, 1e-4 * a2.max())
     return np.sqrt(a2), s
+
+
+def decimate(vertices: np.ndarray, faces: np.ndarray, max_faces: int = 3000):
+    """A mesh cut to at most ``max_faces`` triangles by vertex clustering.
+
+    Vertices are merged per cell of a cubic grid over the bounding box (each
+    cluster replaced by its mean), triangles that collapse are dropped and
+    duplicates removed; the grid is coarsened until the count fits. A mesh with
+    few enough faces is returned unchanged. Returns ``(vertices, faces)``.
+    """
+    v = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    if len(f) <= max_faces:
+        return v, f
+    lo = v.min(axis=0)
+    span = float(np.max(v.max(axis=0) - lo)) or 1.0
+    cells = 2.0 * np.sqrt(max_faces)  # a closed surface of g^2 cells has ~4 g^2 triangles
+    while True:
+        key = np.floor((v - lo) / (span / cells)).astype(np.int64)
+        _, cluster, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        cluster = cluster.reshape(-1)
+        centre = np.zeros((counts.size, 3))
+        np.add.at(centre, cluster, v)
+        centre /= counts[:, None]
+        g = cluster[f]
+        keep = (g[:, 0] != g[:, 1]) & (g[:, 1] != g[:, 2]) & (g[:, 0] != g[:, 2])
+        g = g[keep]
+        _, first = np.unique(np.sort(g, axis=1), axis=0, return_index=True)
+        g = g[np.sort(first)]
+        if len(g) <= max_faces or cells < 2:
+            used, g = np.unique(g, return_inverse=True)
+            return centre[used], g.reshape(-1, 3)
+        cells *= 0.8

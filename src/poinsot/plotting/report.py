@@ -1,28 +1,32 @@
 """A self-contained interactive HTML report of a rigid body's (or a particle's) motion.
 
-:func:`write_report` writes ONE HTML file that works offline (plotly.js embedded,
-gzip-compressed; nothing fetched) holding
+:func:`write_report` writes ONE HTML file that works offline (a small built-in
+viewer, plain JavaScript shipped with poinsot; no plotting library, nothing
+fetched; typically 0.1-0.3 MB plus the kind's figures) holding
 
-- an animated 3-D scene in space axes, lengths in metres: the body drawn as its
+- an animated 3-D scene in space axes, lengths in metres, drawn on a canvas
+  (drag to turn, wheel to zoom, double-click to reset): the body drawn as its
   shape (box, cylinder, disc, cone, sphere, ellipsoid, rod, ring, point masses,
-  or else the uniform ellipsoid of the same mass and inertia) at its centre of
-  mass, the fixed point marked where there is one, the body axes, the angular
-  velocity ``w`` and angular momentum ``K`` arrows (their scales stated), the
-  inertia ellipsoid as an optional layer and, for a free body only, the polhode
-  and herpolhode (theory §10); for a particle, its path and position;
-- time-series panels chosen by what the motion is: ``w`` in body axes, the
+  a triangle mesh, or else the uniform ellipsoid of the same mass and inertia)
+  at its centre of mass, the fixed point marked where there is one, the body
+  axes, the angular velocity ``w`` and angular momentum ``K`` arrows (their
+  scales stated), the inertia ellipsoid as an optional layer and, for a free
+  body only, the polhode and herpolhode (theory §10); for a particle, its path
+  and position; a legend whose items show or hide the layers;
+- time-series charts chosen by what the motion is: ``w`` in body axes, the
   attitude angles (Euler angles of a stated sequence), the conserved quantities
   of the torque model (relative change, with its maximum written: a round-off
   drift shows as "max 3e-15"), the quantities that are not conserved, the
   energy balance ``dT/dt = N . w`` of a torqued body, the torque, the attitude
-  error against a reference;
+  error against a reference, and any extra series (e.g. generalised coordinates);
+  each chart has a time cursor that follows the animation and a hover read-out;
 - Play/Pause, a frame slider and a speed control. Frames are chosen so that the
   body turns by at most ``max_frame_angle`` between two frames (a fast spin does
   not strobe); the page says the largest turn between frames;
 
 and the run's summary in sections (units on numbers, values in words, the raw
 JSON collapsible). :func:`write_scenario_report` fills all of it from a scenario
-result. Plotly is imported inside functions only (``import poinsot`` never loads it).
+result.
 """
 
 from __future__ import annotations
@@ -52,10 +56,12 @@ _OMEGA_COLOUR = "#ff7f0e"
 _MOMENTUM_COLOUR = "#9467bd"
 _POLHODE_COLOUR = "#e377c2"
 _HERPOLHODE_COLOUR = "#17becf"
+_SERIES_COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf")
 _PALETTE = ("#8c564b", "#7f7f7f", "#bcbd22", "#17becf", "#e377c2", "#1f77b4", "#ff7f0e")
 _MAX_TRACK = 400  # points kept for the polhode / herpolhode / particle path
 _MAX_SERIES = 1200  # points kept per time series (min/max envelope beyond that)
 _MIN_FRAMES = 120  # frames even in time, at least (fewer if fewer samples)
+_MAX_MESH_FACES = 3000  # a mesh body is decimated to at most this many triangles
 
 
 def write_report(
@@ -77,6 +83,7 @@ def write_report(
     max_frames: int = 1500,
     max_frame_angle: float = 20.0,
     sections: Sequence[tuple[str, str]] = (),
+    series: Sequence[tuple[str, str, Mapping[str, Any]]] = (),
 ) -> Path:
     """Write a self-contained interactive HTML report of a trajectory.
 
@@ -98,8 +105,12 @@ def write_report(
         The solid(s) to draw, each ``{"kind": KIND, "dims": DIMS}`` with KIND in
         :data:`SHAPES` (dimensions in m), and optionally ``"center"`` (its centre
         of mass in body axes, m; default the origin) and ``"axes"`` (3x3 matrix
-        whose columns are the solid's own axes in body axes). Default: the
-        uniform ellipsoid with ``mass`` and ``inertia`` at ``center_of_mass``.
+        whose columns are the solid's own axes in body axes); ``{"kind": "point",
+        "dims": [0], "center": ...}`` for a point mass; or a triangle mesh
+        ``{"kind": "mesh", "vertices": (m, 3) in m, "faces": (k, 3) indices}``
+        (drawn at ``axes @ v + center``; decimated by vertex clustering to at most
+        3000 faces). Default: the uniform ellipsoid with ``mass`` and ``inertia``
+        at ``center_of_mass``.
     inertia : array_like, shape (3,) or (3, 3), optional
         Inertia tensor about the centre of mass in body axes (kg m^2).
     mass : float, optional
@@ -137,6 +148,10 @@ def write_report(
     sections : sequence of (str, str), optional
         Extra sections ``(heading, html)`` shown above the summary, e.g. a kind's
         typeset equations as inline SVG (trusted HTML made by poinsot, not user text).
+    series : sequence of (str, str, mapping), optional
+        Extra time-series charts ``(title, units, {label: values of shape (n,)})``
+        on the trajectory's times, e.g. the generalised coordinates ``q_i(t)`` of
+        a Lagrangian system (theory §11).
 
     Returns
     -------
@@ -180,8 +195,9 @@ def write_report(
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "report.html"
     >>> p = write_report(out, trajectory=tr, summary={"method": "spin"},
     ...                  shape={"kind": "box", "dims": [1.0, 0.6, 0.2]})
-    >>> p == out, "<script src=" in p.read_text()  # plotly.js inlined, nothing fetched
-    (True, False)
+    >>> text = p.read_text()
+    >>> p == out, "<script src=" in text, "plotly" in text  # nothing fetched, no library
+    (True, False, False)
     """
     tr = _check_trajectory(trajectory, "trajectory")
     ref = None if reference is None else _check_trajectory(reference, "reference")
@@ -234,6 +250,7 @@ def write_report(
     if path.is_dir():
         raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
 
+    extra = _check_series(series, tr.t.size)
     with warnings.catch_warnings():  # gimbal lock of the plotted angles is not the user's
         warnings.simplefilter("ignore")
         payload, notes, meta = _build(
@@ -250,6 +267,7 @@ def write_report(
             euler_seq,
             max_frames,
             max_frame_angle,
+            extra,
         )
     page = page_html(
         title=title, meta=meta, notes=notes, payload=payload, summary=summary, sections=sections
@@ -342,7 +360,58 @@ def write_scenario_report(
         euler_seq=seq if len(seq) == 3 else "ZYX",  # as given (case: intrinsic or extrinsic)
         reference=result.reference,
         sections=sections,
+        series=_kind_series(s, tr) if body is None else (),
     )
+
+
+_GREEK = frozenset(
+    "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi "
+    "sigma tau upsilon phi chi psi omega varphi vartheta".split()
+)
+_LENGTHS = frozenset("x y z r s l d h rho".split())
+
+
+def _coordinate_unit(name: str) -> str:
+    """SI unit of a generalised coordinate guessed from its name: a Greek letter
+    (``theta1``, ``phi``) is an angle (rad), ``x``, ``y``, ``z``, ``r``, ``rho``... a
+    length (m); else unknown (``""``)."""
+    stem = name.rstrip("0123456789_").lower()
+    if stem in _GREEK:
+        return "rad"
+    if stem in _LENGTHS:
+        return "m"
+    return ""
+
+
+def _kind_series(s, tr) -> list:
+    """The kind's own series (``kind.series``) as charts: the generalised coordinates
+    and velocities of a Lagrangian system (theory §11), or a particle's position and
+    velocity components. Never fails the report (a kind without series: none)."""
+    try:
+        cols = s.adapter.series(s, tr)
+    except Exception:  # the extra charts are optional
+        return []
+    if not cols:
+        return []
+    coords = list(tr.info.get("coordinates", ())) if s.adapter.name == "lagrangian" else []
+    groups: dict[tuple[str, str], dict] = {}
+    if coords:
+        for name in coords:
+            u = _coordinate_unit(name)
+            what = {"rad": "angles", "m": "lengths"}.get(u, "")
+            if name in cols:
+                title = "generalised coordinates q(t)" + (f": {what}" if what else "")
+                groups.setdefault((title, u or "unit of q"), {})[name] = cols[name][0]
+            if f"{name}_dot" in cols:
+                title = "generalised velocities q'(t)" + (f": {what}" if what else "")
+                vu = f"{u}/s" if u else "unit of q per s"
+                groups.setdefault((title, vu), {})[f"{name}'"] = cols[f"{name}_dot"][0]
+    else:
+        names = {"m": "position, space axes", "m/s": "velocity, space axes"}
+        for name, (values, units) in cols.items():
+            title = names.get(units, name)
+            groups.setdefault((title, units or "1"), {})[name] = values
+    return [(title, units, d) for (title, units), d in groups.items()]
 
 
 def _body_shapes(body) -> list[dict] | None:
@@ -398,6 +467,9 @@ def _check_shape(shape) -> list[dict] | None:
         )
     out = []
     for s in items:
+        if s.get("kind") == "mesh":
+            out.append(_check_mesh(s))
+            continue
         unknown = set(s) - {"kind", "dims", "center", "axes"}
         if unknown or "kind" not in s or "dims" not in s:
             raise InvalidInputError(
@@ -438,6 +510,76 @@ def _check_shape(shape) -> list[dict] | None:
     return out
 
 
+def _check_mesh(s) -> dict:
+    unknown = set(s) - {"kind", "vertices", "faces", "center", "axes"}
+    if unknown or "vertices" not in s or "faces" not in s:
+        raise InvalidInputError(
+            "Expected a mesh `shape` to have the keys 'kind', 'vertices' and 'faces' (and "
+            f"optionally 'center', 'axes'), got {sorted(s)}."
+        )
+    v = as_float_array(s["vertices"], "shape['vertices']")
+    if v.ndim != 2 or v.shape[1] != 3 or len(v) < 3:
+        raise InvalidInputError(
+            f"Expected `shape['vertices']` to have shape (m, 3) with m >= 3, got {v.shape}."
+        )
+    f = np.asarray(s["faces"])
+    if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0 or not np.issubdtype(f.dtype, np.integer):
+        raise InvalidInputError(
+            "Expected `shape['faces']` to be integer vertex indices of shape (k, 3), got "
+            f"dtype {f.dtype} and shape {f.shape}."
+        )
+    if f.min() < 0 or f.max() >= len(v):
+        raise InvalidInputError(
+            f"Expected `shape['faces']` to index the {len(v)} vertices (0..{len(v) - 1}), got "
+            f"indices {int(f.min())}..{int(f.max())}."
+        )
+    center = np.zeros(3) if s.get("center") is None else as_float_array(s["center"], "center")
+    axes = np.eye(3) if s.get("axes") is None else as_float_array(s["axes"], "shape['axes']")
+    if center.shape != (3,):
+        raise InvalidInputError(
+            f"Expected `shape['center']` to have shape (3,), got {center.shape}."
+        )
+    if axes.shape != (3, 3) or not np.allclose(axes.T @ axes, np.eye(3), atol=1e-6):
+        raise InvalidInputError("Expected `shape['axes']` to be a 3x3 rotation matrix.")
+    v, f = shapes.decimate(v, f, _MAX_MESH_FACES)
+    return {"kind": "mesh", "dims": np.zeros(1), "center": center, "axes": axes,
+            "vertices": v, "faces": f}  # fmt: skip
+
+
+def _check_series(series, n: int) -> list:
+    """Extra panels as ``(title, units, [(label, y, colour, dash)])``."""
+    if isinstance(series, str | Mapping) or not isinstance(series, Sequence):
+        raise InvalidTypeError(
+            "Expected `series` to be a sequence of (title, units, {label: values}), got "
+            f"{type(series).__name__}."
+        )
+    out = []
+    for item in series:
+        if (
+            not isinstance(item, Sequence)
+            or len(item) != 3
+            or not isinstance(item[0], str)
+            or not isinstance(item[1], str)
+            or not isinstance(item[2], Mapping)
+        ):
+            raise InvalidTypeError(
+                "Expected each of `series` to be (title: str, units: str, {label: values}), "
+                f"got {item!r:.80}."
+            )
+        lines = []
+        for k, (label, y) in enumerate(item[2].items()):
+            y = as_float_array(y, f"series[{item[0]!r}][{label!r}]")
+            if y.shape != (n,):
+                raise InvalidInputError(
+                    f"Expected `series` {item[0]!r} / {label!r} to have shape ({n},) (one value "
+                    f"per sample), got {y.shape}."
+                )
+            lines.append((str(label), y, _SERIES_COLOURS[k % len(_SERIES_COLOURS)], None))
+        if lines:
+            out.append((item[0], item[1], lines))
+    return out
+
+
 def _check_inertia(inertia) -> np.ndarray | None:
     if inertia is None:
         return None
@@ -461,12 +603,19 @@ def _body_mesh(parts, J, mass, com):
     if parts:
         vs, ts, n0 = [], [], 0
         size = max(
-            (float(np.max(np.abs(p["dims"]))) for p in parts if p["kind"] != "point"), default=0.1
+            (
+                float(np.max(np.abs(p["vertices"] if p["kind"] == "mesh" else p["dims"])))
+                for p in parts
+                if p["kind"] != "point"
+            ),
+            default=0.1,
         )
         for p in parts:
             if p["kind"] == "point":
                 v, tri = shapes.sphere_grid(7, 10)
                 v = v * 0.04 * size
+            elif p["kind"] == "mesh":
+                v, tri = p["vertices"] @ p["axes"].T, p["faces"]
             else:
                 v, tri = shapes.solid_mesh(p["kind"], p["dims"])
                 v = v @ p["axes"].T
@@ -539,7 +688,7 @@ def _scale(vectors: np.ndarray, length: float) -> float:
 
 
 def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
-    """``x``, ``y`` of a time series, at most about ``m`` points (float32); longer
+    """``x``, ``y`` of a time series (base64 float32), at most about ``m`` points; longer
     series keep the min and max of each of ``m/2`` bins (the envelope survives)."""
     n = t.size
     if n > m:
@@ -550,7 +699,7 @@ def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
             idx += [a + int(np.nanargmin(seg)), a + int(np.nanargmax(seg))]
         idx = np.unique(idx)
         t, y = t[idx], y[idx]
-    return {"x": np.asarray(t, dtype=np.float32), "y": np.asarray(y, dtype=np.float32)}
+    return {"x": b64(t), "y": b64(y)}
 
 
 _ANGLE_NAMES = {
@@ -672,12 +821,10 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
 
 
 def _build(
-    tr, ref, parts, J, mass, com, fixed, free_body, checks, tq, euler_seq, max_frames, max_angle_deg
-):
-    import plotly.graph_objects as go
-    import plotly.io as pio
-    from plotly.subplots import make_subplots
-
+    tr, ref, parts, J, mass, com, fixed, free_body, checks, tq, euler_seq, max_frames,
+    max_angle_deg, extra_panels=(),
+):  # fmt: skip
+    """The viewer's data (``payload``), the notes under the figure and the meta line."""
     t = tr.t
     n = t.size
     rot = tr.rotation
@@ -685,64 +832,26 @@ def _build(
     pos = None if tr.position is None else np.asarray(tr.position, dtype=float)
     has_body = parts is not None or J is not None or moving
     show_scene = has_body or pos is not None
-    panels = _panels(tr, ref, checks, tq, euler_seq, free_body)
-    rows = max(len(panels), 1)
-    if show_scene:
-        specs = [[{"type": "scene", "rowspan": rows}, {"type": "xy"}]] + [
-            [None, {"type": "xy"}] for _ in range(rows - 1)
-        ]
-        fig = make_subplots(
-            rows=rows,
-            cols=2,
-            specs=specs,
-            column_widths=[0.56, 0.44],
-            horizontal_spacing=0.09,
-            vertical_spacing=0.22 / rows + 0.03,
-            subplot_titles=[""] + [p[0] for p in panels],
-        )
-    else:
-        fig = make_subplots(
-            rows=rows,
-            cols=1,
-            vertical_spacing=0.22 / rows + 0.03,
-            subplot_titles=[p[0] for p in panels] or None,
-        )
-    pcol = 2 if show_scene else 1
+    panels = list(extra_panels) + _panels(tr, ref, checks, tq, euler_seq, free_body)
     frames_k, worst = _frame_indices(t, rot, max_frames, math.radians(max_angle_deg))
     sample_turn = float(np.max(_angles_between(rot), initial=0.0))
     qf = tr.quat[frames_k]
-    anim: list[dict] = []
+    layers: list[dict] = []
     notes: list[str] = []
-    f32 = lambda a: np.asarray(a, dtype=np.float32)  # noqa: E731
+    has_ref = ref is not None and ref.t.shape == t.shape
 
-    def add(trace, animated=None):
-        fig.add_trace(trace, row=1, col=1)
-        if animated is not None:
-            anim.append({**animated, "trace": len(fig.data) - 1})
+    def layer(type_, name, colour, *, legend=True, **kw):
+        layers.append({"type": type_, "name": name, "colour": colour, "legend": legend, **kw})
 
     unit = "m"
+    lo = hi = None
     if show_scene and has_body:
         verts, tri, label, metres = _body_mesh(parts, J, mass, com)
         unit = "m" if metres else "scaled"
         L = float(np.max(np.linalg.norm(verts, axis=-1)))
-        v0 = rot[0].apply(verts) if n else verts
-        add(
-            go.Mesh3d(
-                x=f32(v0[:, 0]),
-                y=f32(v0[:, 1]),
-                z=f32(v0[:, 2]),
-                i=tri[:, 0],
-                j=tri[:, 1],
-                k=tri[:, 2],
-                color="#a9b3c1",
-                opacity=0.75,
-                flatshading=True,
-                name=label,
-                showlegend=True,
-                hoverinfo="skip",
-            ),
-            {"kind": "cloud", "v": b64(verts)},
-        )
+        layer("mesh", label, "#a9b3c1", v=b64(verts), f=b64(tri, np.uint32), frame="body",
+              opacity=1.0, group="body")  # fmt: skip
+        s_ell = None
         if J is not None:
             # the inertia ellipsoid r^T J r = 1 about the centre of mass, scaled to the body
             sph, etri = shapes.sphere_grid()
@@ -750,56 +859,19 @@ def _build(
             size = float(np.max(np.linalg.norm(verts - com, axis=-1))) or 1.0
             s_ell = size * math.sqrt(lam[0])  # r^T J r = s_ell^2: longest semi-axis = size
             ell = (sph * np.sqrt(lam[0] / lam)) @ S.T * size + com
-            e0 = rot[0].apply(ell)
-            add(
-                go.Mesh3d(
-                    x=f32(e0[:, 0]),
-                    y=f32(e0[:, 1]),
-                    z=f32(e0[:, 2]),
-                    i=etri[:, 0],
-                    j=etri[:, 1],
-                    k=etri[:, 2],
-                    color="#e377c2",
-                    opacity=0.25,
-                    name=f"inertia ellipsoid r.J r = 1 (scaled x{fmt_number(s_ell)})",
-                    showlegend=True,
-                    visible="legendonly",
-                    hoverinfo="skip",
-                ),
-                {"kind": "cloud", "v": b64(ell)},
-            )
+            layer("mesh", f"inertia ellipsoid r.J r = 1 (scaled x{fmt_number(s_ell)})",
+                  "#e377c2", v=b64(ell), f=b64(etri, np.uint32), frame="body", opacity=0.25,
+                  visible=False)  # fmt: skip
         axis_len = 1.25 * L
         for a, lab in enumerate("xyz"):
             e = np.zeros(3)
             e[a] = axis_len
-            R0 = rot[0].as_matrix()
-            add(
-                go.Scatter3d(
-                    x=[0, R0[0, a] * axis_len],
-                    y=[0, R0[1, a] * axis_len],
-                    z=[0, R0[2, a] * axis_len],
-                    mode="lines",
-                    line={"color": _AXIS_COLOURS[a], "width": 6},
-                    name=f"body {lab} axis",
-                    hoverinfo="skip",
-                ),
-                {"kind": "seg", "e": e.tolist(), "v": None},
-            )
-            if ref is not None and ref.t.shape == t.shape:
-                add(
-                    go.Scatter3d(
-                        x=[0, 0],
-                        y=[0, 0],
-                        z=[0, 0],
-                        mode="lines",
-                        line={"color": _AXIS_COLOURS[a], "width": 3, "dash": "dash"},
-                        name="reference axes",
-                        legendgroup="refaxes",
-                        showlegend=a == 0,
-                        hoverinfo="skip",
-                    ),
-                    {"kind": "seg", "e": e.tolist(), "v": None, "ref": True},
-                )
+            layer("seg", f"body {lab} axis", _AXIS_COLOURS[a], b=e.tolist(), frame="body",
+                  width=3.5, arrow=True)  # fmt: skip
+            if has_ref:
+                layer("seg", "reference axes (dashed)", _AXIS_COLOURS[a], b=e.tolist(),
+                      frame="ref", width=2, dash=True, group="refaxes",
+                      legend=a == 0)  # fmt: skip
         w_s = rot.apply(tr.omega) if n else np.zeros((0, 3))
         vecs = [(w_s, "w, angular velocity", "rad/s", _OMEGA_COLOUR)]
         if tr.momentum is not None:
@@ -807,44 +879,18 @@ def _build(
                 (np.asarray(tr.momentum), "K, angular momentum", "kg m^2/s", _MOMENTUM_COLOUR)
             )
         arrow_unit = "m" if unit == "m" else "scene units"
+        extent = 1.4 * L
         for k, (V, name, vu, colour) in enumerate(vecs):
             c = _scale(V, (1.5 + 0.3 * k) * L)
             if c == 0:
                 continue
             Vf = c * V[frames_k]
-            add(
-                go.Scatter3d(
-                    x=[0, Vf[0, 0]],
-                    y=[0, Vf[0, 1]],
-                    z=[0, Vf[0, 2]],
-                    mode="lines+markers",
-                    marker={"size": [0, 5], "color": colour},
-                    line={"color": colour, "width": 5},
-                    name=f"{name} (arrow: 1 {vu} = {fmt_number(c)} {arrow_unit})",
-                    hoverinfo="skip",
-                ),
-                {"kind": "vec", "v": b64(Vf)},
-            )
-        extent = max(
-            1.4 * L,
-            *(
-                float(np.max(np.abs(_scale(V, (1.5 + 0.3 * k) * L) * V)))
-                for k, (V, *_r) in enumerate(vecs)
-                if V.size
-            ),
-        )
+            layer("vec", f"{name} (arrow: 1 {vu} = {fmt_number(c)} {arrow_unit})", colour,
+                  v=b64(Vf), width=3, arrow=True, scale=c)  # fmt: skip
+            extent = max(extent, float(np.max(np.abs(c * V))))
         if fixed:
-            add(
-                go.Scatter3d(
-                    x=[0],
-                    y=[0],
-                    z=[0],
-                    mode="markers",
-                    marker={"size": 6, "color": "#000000", "symbol": "diamond"},
-                    name="fixed point (origin of the body axes)",
-                    hoverinfo="skip",
-                )
-            )
+            layer("marker", "fixed point (origin of the body axes)", "#000000", p=[0.0, 0.0, 0.0],
+                  symbol="diamond", size=6)  # fmt: skip
         if free_body and J is not None and moving:
             wb = np.asarray(tr.omega)
             wJw = np.einsum("ni,ij,nj->n", wb, J, wb)
@@ -853,164 +899,28 @@ def _build(
             pol_b = np.where(np.isfinite(pol_b), pol_b, com)
             her = rot.apply(pol_b)
             track = _track_indices(t, pol_b, her, m=_MAX_TRACK)
-            add(
-                go.Scatter3d(
-                    x=[],
-                    y=[],
-                    z=[],
-                    mode="lines",
-                    line={"color": _POLHODE_COLOUR, "width": 4},
-                    name="polhode (on the inertia ellipsoid, moves with the body)",
-                    hoverinfo="skip",
-                ),
-                {"kind": "cloud", "v": b64(pol_b[track])},
-            )
+            layer("line", "polhode (on the inertia ellipsoid, moves with the body)",
+                  _POLHODE_COLOUR, v=b64(pol_b[track]), frame="body", width=2.5)  # fmt: skip
             upto = np.searchsorted(t[track], t[frames_k], side="right")
-            add(
-                go.Scatter3d(
-                    x=[],
-                    y=[],
-                    z=[],
-                    mode="lines",
-                    line={"color": _HERPOLHODE_COLOUR, "width": 3},
-                    name="herpolhode (in the invariable plane, fixed in space)",
-                    hoverinfo="skip",
-                ),
-                {"kind": "track", "v": b64(her[track]), "upto": upto.tolist()},
-            )
+            layer("line", "herpolhode (in the invariable plane, fixed in space)",
+                  _HERPOLHODE_COLOUR, v=b64(her[track]), frame="space", upto=upto.tolist(),
+                  width=2)  # fmt: skip
             extent = max(extent, float(np.max(np.abs(her))))
         lo, hi = np.full(3, -1.08 * extent), np.full(3, 1.08 * extent)
     if show_scene and pos is not None:
         track = _track_indices(t, pos, m=_MAX_TRACK * 3)
-        add(
-            go.Scatter3d(
-                x=f32(pos[track, 0]),
-                y=f32(pos[track, 1]),
-                z=f32(pos[track, 2]),
-                mode="lines",
-                line={"color": "#1f77b4", "width": 3},
-                name="path",
-                hoverinfo="skip",
-            )
-        )
-        add(
-            go.Scatter3d(
-                x=[pos[0, 0]],
-                y=[pos[0, 1]],
-                z=[pos[0, 2]],
-                mode="markers",
-                marker={"size": 6, "color": "#d62728"},
-                name="position r(t)",
-                hoverinfo="skip",
-            ),
-            {"kind": "point", "v": b64(pos[frames_k])},
-        )
-        add(
-            go.Scatter3d(
-                x=[0],
-                y=[0],
-                z=[0],
-                mode="markers",
-                marker={"size": 4, "color": "#000000", "symbol": "cross"},
-                name="origin of space axes",
-                hoverinfo="skip",
-            )
-        )
+        layer("line", "path", "#1f77b4", v=b64(pos[track]), frame="space", width=2)
+        layer("point", "position r(t)", "#d62728", v=b64(pos[frames_k]), size=6)
+        layer("marker", "origin of space axes", "#000000", p=[0.0, 0.0, 0.0], symbol="cross")
         plo, phi_ = np.minimum(pos.min(0), 0.0), np.maximum(pos.max(0), 0.0)
         c, r = (plo + phi_) / 2, max(float(np.max(phi_ - plo)) / 2 * 1.1, 1e-9)
         if has_body:
             lo, hi = np.minimum(lo, c - r), np.maximum(hi, c + r)
         else:
             lo, hi, unit = c - r, c + r, "m"
-
-    # ---- time-series panels, one legend each, a cursor line each
-    legends = {}
-    shapes_ = []
-    for r, (_title, yunits, series) in enumerate(panels, start=1):
-        lg = f"legend{r + 1}"
-        for name, y, colour, dash in series:
-            fig.add_trace(
-                go.Scatter(
-                    **_series(t, np.asarray(y, dtype=float)),
-                    mode="lines",
-                    name=name,
-                    legend=lg,
-                    line={"color": colour, "width": 1.8, **({"dash": dash} if dash else {})},
-                ),
-                row=r,
-                col=pcol,
-            )
-        sp = fig.get_subplot(r, pcol)
-        xa, ya = sp.xaxis.plotly_name, sp.yaxis.plotly_name
-        fig.update_yaxes(title_text=f"({yunits})", exponentformat="power", row=r, col=pcol)
-        fig.update_xaxes(
-            title_text="t (s)",
-            row=r,
-            col=pcol,
-            range=[float(t[0]), float(t[-1])] if n > 1 else None,
-        )
-        dom_x, dom_y = fig.layout[xa].domain, fig.layout[ya].domain
-        legends[lg] = {
-            "x": dom_x[1],
-            "y": dom_y[1],
-            "xanchor": "right",
-            "yanchor": "top",
-            "font": {"size": 10},
-            "bgcolor": "rgba(255,255,255,0.75)",
-            "bordercolor": "#dddddd",
-            "borderwidth": 1,
-        }
-        shapes_.append(
-            {
-                "type": "line",
-                "xref": xa.replace("axis", ""),
-                "yref": ya.replace("axis", "") + " domain",
-                "x0": float(t[0]),
-                "x1": float(t[0]),
-                "y0": 0,
-                "y1": 1,
-                "line": {"color": "rgba(0,0,0,0.45)", "width": 1.5, "dash": "dot"},
-            }
-        )
-    height = max(860, 250 * rows + 120)
-    layout = {
-        "height": height,
-        "margin": {"l": 10, "r": 10, "t": 40, "b": 40},
-        "template": "plotly_white",
-        "shapes": shapes_,
-        **legends,
-    }
+    scene = None
     if show_scene:
-        ax = {"zeroline": False, "autorange": False}
-        layout["scene"] = {
-            **{
-                f"{c}axis": {
-                    **ax,
-                    "range": [float(lo[i]), float(hi[i])],
-                    "title": {"text": f"{c} ({unit})"},
-                }
-                for i, c in enumerate("xyz")
-            },
-            "aspectmode": "cube",
-            # a square-ish scene under its legend, at the top left whatever the panels
-            "domain": {
-                "x": [0.0, 0.54],
-                "y": [max(0.0, 1.0 - 1000.0 / height), 1.0 - 200.0 / height],
-            },
-            "camera": {"eye": {"x": 1.5, "y": 1.3, "z": 0.9}},
-            "uirevision": "keep",
-        }
-        layout["legend"] = {
-            "x": 0.0,
-            "y": 1.0,
-            "xanchor": "left",
-            "yanchor": "top",
-            "font": {"size": 11},
-            "bgcolor": "rgba(255,255,255,0.7)",
-        }
-    fig.update_layout(**layout)
-    if fig.layout.annotations:  # panel titles: smaller, left aligned
-        fig.update_annotations(font={"size": 12})
+        scene = {"unit": unit, "lo": lo.tolist(), "hi": hi.tolist(), "layers": layers}
 
     if show_scene and has_body and moving:
         deg = math.degrees(worst)
@@ -1032,19 +942,38 @@ def _build(
             )
     notes.append(
         "Speed: 1x shows every frame (about 25 per second); faster speeds skip frames. "
-        "Scene in space axes (v_space = R v_body); body axes x, y, z in red, green, blue."
+        + (
+            "Scene in space axes (v_space = R v_body); body axes x, y, z in red, green, blue. "
+            if show_scene
+            else ""
+        )
+        + "The dashed vertical line on every chart is the time of the frame shown; hover a "
+        "chart to read its values."
     )
-    fig_json = pio.to_json(fig, validate=False, engine="json")
-    import json
-
     payload = {
-        "fig": json.loads(fig_json),
-        "config": {"displaylogo": False, "responsive": True},
         "t": b64(t[frames_k]),
         "q": b64(qf),
-        "qref": b64(ref.quat[frames_k]) if ref is not None and ref.t.shape == t.shape else None,
-        "anim": anim,
-        "cursors": len(shapes_),
+        "qref": b64(ref.quat[frames_k]) if has_ref else None,
+        "t0": float(t[0]) if n else 0.0,
+        "t1": float(t[-1]) if n else 1.0,
+        "scene": scene,
+        "panels": [
+            {
+                "title": title,
+                "ytitle": f"({yunits})",
+                "unit": "" if yunits in ("relative", "1") else yunits,
+                "series": [
+                    {
+                        "name": name,
+                        **_series(t, np.asarray(y, dtype=float)),
+                        "colour": colour,
+                        "dash": dash,
+                    }  # fmt: skip
+                    for name, y, colour, dash in series
+                ],
+            }
+            for title, yunits, series in panels
+        ],
         "interval": 40,
     }
     meta = (
