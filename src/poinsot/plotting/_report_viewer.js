@@ -103,7 +103,8 @@
         draw(frame);
       });
     }
-    let frame = 0, W = 0, H = 0;
+    let frame = 0, W = 0, H = 0, proj = null;
+    const labels = [];  // the axis titles drawn (read by the browser test)
 
     function size() {
       const dpr = window.devicePixelRatio || 1;
@@ -130,6 +131,7 @@
                 Y0 - s * (x * up[0] + y * up[1] + z * up[2]),
                 x * d[0] + y * d[1] + z * d[2]];
       };
+      proj = P;
       ctx.clearRect(0, 0, W, H);
       ctx.fillStyle = "#ffffff";
       ctx.fillRect(0, 0, W, H);
@@ -290,7 +292,8 @@
           ctx.fillText(fmtTick(x, tk[a].step, big), m[0] + 16 * ox, m[1] + 13 * oy);
         }
         ctx.font = "bold 12px system-ui, sans-serif";
-        ctx.fillText("xyz"[a] + " (" + S.unit + ")", mid[0] + 60 * ox, mid[1] + 34 * oy);
+        labels[a] = "xyz"[a] + " (" + S.unit + ")";
+        ctx.fillText(labels[a], mid[0] + 60 * ox, mid[1] + 34 * oy);
         ctx.font = "11px system-ui, sans-serif";
       }
     }
@@ -313,7 +316,9 @@
     }, {passive: false});
     canvas.addEventListener("dblclick", () => { Object.assign(cam, home); draw(frame); });
     size();
-    return {draw, size, canvas, layers, cam, redraw: () => draw(frame)};
+    // where a space point is drawn (CSS pixels in the canvas) at the current view
+    const project = (x, y, z) => proj(x, y, z).slice(0, 2);
+    return {draw, size, canvas, layers, cam, labels, project, redraw: () => draw(frame)};
   }
 
   // ------------------------------------------------------------------ a time-series chart
