@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: venv demo test test-min bench docs browser clean
+.PHONY: venv demo test test-min test-min-core min-versions-banner bench docs browser clean
 
 venv: $(STAMP)
 
@@ -27,19 +27,37 @@ test: venv browser
 
 # The suite again with NumPy, SciPy and numba at the lowest versions pyproject.toml
 # allows (tools/min_versions.py pins them), in a second venv `.venv-min`.
+# `test-min-core` (run by CI after `test`): the numerical core only (rotations,
+# kinematics, dynamics, mass, symbolic and their doctests), ~2.5 min with the install.
+# `test-min`: the whole suite (every extra installed at versions that fit the pins).
 VENV_MIN := .venv-min
 PY_MIN := $(VENV_MIN)/bin/python
+STAMP_MIN_CORE := $(VENV_MIN)/.installed-core
 STAMP_MIN := $(VENV_MIN)/.installed
+CORE_TESTS := tests/rotations tests/kinematics tests/dynamics tests/mass tests/symbolic tests/peers \
+	tests/test_bad_input_dynamics.py tests/test_bad_input_kinematics.py tests/test_bad_input_mass.py \
+	tests/test_numba_helpers.py tests/test_trajectory.py \
+	src/poinsot/rotations src/poinsot/kinematics src/poinsot/dynamics src/poinsot/mass \
+	src/poinsot/symbolic
 
-$(STAMP_MIN): pyproject.toml tools/min_versions.py
+$(STAMP_MIN_CORE): pyproject.toml tools/min_versions.py
 	test -x $(PY_MIN) || $(PYTHON) -m venv $(VENV_MIN)
 	$(PY_MIN) -m pip install --quiet --upgrade pip
 	$(PY_MIN) tools/min_versions.py > $(VENV_MIN)/constraints.txt
+	$(PY_MIN) -m pip install --quiet -c $(VENV_MIN)/constraints.txt -e ".[test,symbolic]"
+	touch $(STAMP_MIN_CORE)
+
+$(STAMP_MIN): $(STAMP_MIN_CORE)
 	$(PY_MIN) -m pip install --quiet -c $(VENV_MIN)/constraints.txt -e ".[all]"
 	touch $(STAMP_MIN)
 
-test-min: $(STAMP_MIN) browser
-	$(PY_MIN) -c "import numpy, scipy, numba; print('minimum versions: numpy', numpy.__version__, 'scipy', scipy.__version__, 'numba', numba.__version__)"
+min-versions-banner:
+	@$(PY_MIN) -c "import numpy, scipy, numba; print('minimum versions: numpy', numpy.__version__, 'scipy', scipy.__version__, 'numba', numba.__version__)"
+
+test-min-core: $(STAMP_MIN_CORE) min-versions-banner
+	$(PY_MIN) -m pytest $(CORE_TESTS)
+
+test-min: $(STAMP_MIN) browser min-versions-banner
 	$(PY_MIN) -m pytest
 
 bench: venv
