@@ -3,8 +3,8 @@
 Usage: python tools/screenshot_report.py REPORT.html OUT.png [--at FRACTION]
 
 Opens the report offline, jumps the animation to FRACTION of its frames
-(default 0.45) and saves a PNG of the title and figure (``--full``: the whole
-page). Uses the same Chromium and flags as ``tests/browser/test_report_browser.py``
+(default 0.45) and saves a PNG of the title, the controls, the 3-D scene and
+the charts (``--full``: the whole page, with the summary). Uses the same Chromium and flags as ``tests/browser/test_report_browser.py``
 (install it with tools/install_browser.sh).
 """
 
@@ -54,13 +54,13 @@ def main(argv=None) -> int:
         page.evaluate(
             "(at) => window.poinsotDraw(Math.round(at * (window.poinsotFrames - 1)))", a.at
         )
-        page.wait_for_timeout(1000)
+        page.wait_for_timeout(300)
         if a.full:
             page.screenshot(path=str(a.out), full_page=True)
         else:
             box = page.locator("#poinsot-figure").bounding_box()  # title, controls, figure
             clip = {"x": 0, "y": 0, "width": a.width, "height": box["y"] + box["height"] + 10}
-            page.screenshot(path=str(a.out), clip=clip)
+            page.screenshot(path=str(a.out), clip=clip, full_page=True)
         browser.close()
     print(f"wrote {a.out}", file=sys.stderr)
     return 0

@@ -81,7 +81,12 @@
       const o = Object.assign({}, L);
       o.on = L.visible !== false;
       o.rgb = rgb(L.colour);
-      if (L.type === "mesh") { o.v = f32(L.v); o.f = u32(L.f); o.buf = new Float32Array(o.v.length); }
+      if (L.type === "mesh") {
+        o.v = f32(L.v); o.f = u32(L.f); o.buf = new Float32Array(o.v.length);
+        let big = 0;
+        for (const x of o.v) big = Math.max(big, Math.abs(x));
+        o.tiny = 1e-9 * big * big;  // |n| of a degenerate (zero-area) triangle: skipped
+      }
       if (L.type === "line" || L.type === "vec" || L.type === "point") o.v = f32(L.v);
       return o;
     });
@@ -155,7 +160,9 @@
             const ax = b[3 * j] - b[3 * i], ay = b[3 * j + 1] - b[3 * i + 1], az = b[3 * j + 2] - b[3 * i + 2];
             const bx = b[3 * l] - b[3 * i], by = b[3 * l + 1] - b[3 * i + 1], bz = b[3 * l + 2] - b[3 * i + 2];
             const nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-            const nn = Math.hypot(nx, ny, nz) * ln || 1;
+            const area2 = Math.hypot(nx, ny, nz);
+            if (!(area2 > L.tiny)) continue;
+            const nn = area2 * ln;
             const sh = 0.38 + 0.62 * Math.abs((nx * light[0] + ny * light[1] + nz * light[2]) / nn);
             prims.push({z: (pts[i][2] + pts[j][2] + pts[l][2]) / 3, t: 0, p: [pts[i], pts[j], pts[l]],
                         c: "rgba(" + Math.round(col[0] * sh) + "," + Math.round(col[1] * sh) + "," +
