@@ -320,6 +320,57 @@ def integrate_batch(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps
         )
 
 
+@njit(cache=True)
+def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow):  # pragma: no cover - compiled
+    """Classical RK4 for one body with ``nsub[k]`` equal steps in output interval ``k``
+    (``method="rk4"``: the same stages as the NumPy path of ``simulate``, the
+    quaternion renormalised after every step). Returns the index of the first output
+    interval whose end state is non-finite, or -1."""
+    y = y0.copy()
+    k1 = np.empty(7)
+    k2 = np.empty(7)
+    k3 = np.empty(7)
+    k4 = np.empty(7)
+    ys = np.empty(7)
+    _put(y, oq, ow, 0)
+    for k in range(t_out.shape[0] - 1):
+        h = (t_out[k + 1] - t_out[k]) / nsub[k]
+        for s in range(nsub[k]):
+            tn = t_out[k] + s * h
+            _rhs(tn, y, J, Ji, kind, par, k1)
+            for i in range(7):
+                ys[i] = y[i] + h / 2 * k1[i]
+            _rhs(tn + h / 2, ys, J, Ji, kind, par, k2)
+            for i in range(7):
+                ys[i] = y[i] + h / 2 * k2[i]
+            _rhs(tn + h / 2, ys, J, Ji, kind, par, k3)
+            for i in range(7):
+                ys[i] = y[i] + h * k3[i]
+            _rhs(tn + h, ys, J, Ji, kind, par, k4)
+            for i in range(7):
+                y[i] = y[i] + h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i])
+            y[0], y[1], y[2], y[3] = nh.qnormalize(y[0], y[1], y[2], y[3])
+        for i in range(7):
+            if not np.isfinite(y[i]):
+                for m in range(k + 1, t_out.shape[0]):
+                    for c in range(4):
+                        oq[m, c] = np.nan
+                    for c in range(3):
+                        ow[m, c] = np.nan
+                return k
+        _put(y, oq, ow, k + 1)
+    return -1
+
+
+@njit(cache=True, parallel=True)
+def rk4_batch(y0, J, Ji, kind, par, t_out, nsub, oq, ow, failed):  # pragma: no cover - compiled
+    """:func:`rk4_body` for ``N`` bodies in parallel (``failed`` (N,) int64)."""
+    for b in prange(y0.shape[0]):
+        failed[b] = rk4_body(
+            y0[b], J[b], Ji[b], kind, par[b], t_out, nsub, oq[:, b, :], ow[:, b, :]
+        )
+
+
 # ---------------------------------------------------------------------------
 # Python driver (inputs already validated by the caller)
 # ---------------------------------------------------------------------------
@@ -351,15 +402,9 @@ def torque_kernel(torque, batch: tuple[int, ...]):
     return None
 
 
-def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
-    """Run the fused kernel on validated arrays.
-
-    ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
-    axes, ``q0`` (..., 4) unit quaternions, ``w0`` (..., 3) rad/s, ``t`` (n,)
-    increasing output times; ``torque`` ``None`` or a built-in model of
-    :mod:`poinsot.dynamics.torques`. Returns ``(quat (n, ..., 4), omega
-    (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built in.
-    """
+def _flat_problem(j, q0, w0, torque):
+    """``(batch, kind, par, J, J^-1, y0)`` flattened to ``N`` bodies, or ``None`` when
+    the torque is not built in."""
     j = np.asarray(j, dtype=float)
     if j.shape[-2:] != (3, 3):
         j = j[..., :, None] * np.eye(3)
@@ -375,6 +420,45 @@ def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
     y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
     y0[:, 4:] = np.broadcast_to(w0, batch + (3,)).reshape(n_body, 3)
     par = np.ascontiguousarray(par.reshape(n_body, 4))
+    return batch, kind, par, jj, ji, y0
+
+
+def rk4(j, q0, w0, t, nsub, torque):
+    """Run the compiled RK4 on validated arrays (``nsub`` (n - 1,) steps per output
+    interval). Returns ``(quat (n, ..., 4), omega (n, ..., 3), failed (...))`` with
+    ``failed`` the first output interval whose end is non-finite (-1: none), or
+    ``None`` when the torque is not built in."""
+    flat = _flat_problem(j, q0, w0, torque)
+    if flat is None:
+        return None
+    batch, kind, par, jj, ji, y0 = flat
+    t = np.ascontiguousarray(t, dtype=float)
+    oq = np.empty((t.size, y0.shape[0], 4))
+    ow = np.empty((t.size, y0.shape[0], 3))
+    failed = np.empty(y0.shape[0], dtype=np.int64)
+    nsub = np.ascontiguousarray(nsub, dtype=np.int64)
+    rk4_batch(y0, jj, ji, kind, par, t, nsub, oq, ow, failed)
+    return (
+        oq.reshape((t.size,) + batch + (4,)),
+        ow.reshape((t.size,) + batch + (3,)),
+        failed.reshape(batch),
+    )
+
+
+def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
+    """Run the fused kernel on validated arrays.
+
+    ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
+    axes, ``q0`` (..., 4) unit quaternions, ``w0`` (..., 3) rad/s, ``t`` (n,)
+    increasing output times; ``torque`` ``None`` or a built-in model of
+    :mod:`poinsot.dynamics.torques`. Returns ``(quat (n, ..., 4), omega
+    (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built in.
+    """
+    flat = _flat_problem(j, q0, w0, torque)
+    if flat is None:
+        return None
+    batch, kind, par, jj, ji, y0 = flat
+    n_body = y0.shape[0]
     t = np.ascontiguousarray(t, dtype=float)
     oq = np.empty((t.size, n_body, 4))
     ow = np.empty((t.size, n_body, 3))

@@ -23,7 +23,11 @@ one body or a batch of bodies, with a choice of methods:
     round-off and the energy bounded (no drift); exact for a symmetric body.
 ``"rk4"``
     Classical explicit Runge-Kutta of order 4 on ``(L, w)`` with the quaternion
-    renormalised after each step. Conserves nothing exactly.
+    renormalised after each step. Conserves nothing exactly. With no torque or a
+    built-in one (constant in body or space axes, gravity about a fixed point,
+    gravity gradient) it runs in one compiled loop per body (``info["path"] ==
+    "compiled"``, bodies on numba's threads); a Python torque takes the NumPy
+    stages, one batch step at a time.
 ``"adaptive"``
     :func:`scipy.integrate.solve_ivp` (``DOP853`` by default) on ``(L, w)``,
     the quaternion renormalised at the outputs: the reference.
@@ -508,7 +512,10 @@ def simulate(
             else:
                 qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn)
         elif method == "rk4":
-            qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
+            qs, ws, info = _run_rk4_compiled(jb, q, w, tt, h_max, model)
+            if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
+                qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
+                info["path"] = "NumPy (torque is a Python callable)"
         elif method == "dop853":
             from . import _fused  # numba, loaded on first use
 
@@ -813,6 +820,25 @@ def _torque_value(m_const, tfn, tn, q, w):
     if tfn is not None:
         return tfn(tn, q, w)
     return m_const
+
+
+def _run_rk4_compiled(j, q, w, t, h_max, model):
+    """RK4 in one compiled loop per body (built-in torques); ``(None, None, None)``
+    for a Python torque."""
+    from . import _fused  # numba, loaded on first use
+
+    nsub = _substeps(t, h_max)
+    out = _fused.rk4(j, q, w, t, nsub, model)
+    if out is None:
+        return None, None, None
+    qs, ws, failed = out
+    bad = np.flatnonzero(failed >= 0)
+    if bad.size:
+        k = int(failed[bad].min())
+        raise _fail_nonfinite("rk4", float(t[k]), "the state")
+    info = _fixed_step_info(t, nsub)
+    info["path"] = "compiled"
+    return qs, ws, info
 
 
 def _run_rk4(j, j_inv, q, w, t, h_max, m_const, tfn):
