@@ -4,8 +4,10 @@ Usage: python tools/screenshot_report.py REPORT.html OUT.png [--at FRACTION]
 
 Opens the report offline, jumps the animation to FRACTION of its frames
 (default 0.45) and saves a PNG of the title, the controls, the 3-D scene and
-the charts (``--full``: the whole page, with the summary). Uses the same Chromium and flags as ``tests/browser/test_report_browser.py``
-(install it with tools/install_browser.sh).
+the charts (``--full``: the whole page, with the summary). Uses the same
+Chromium and flags as ``tests/browser/test_report_browser.py`` (install it with
+tools/install_browser.sh). Pages without animation (an ensemble's) are shot as
+they are.
 """
 
 from __future__ import annotations
@@ -52,7 +54,9 @@ def main(argv=None) -> int:
             timeout=120_000,
         )
         page.evaluate(
-            "(at) => window.poinsotDraw(Math.round(at * (window.poinsotFrames - 1)))", a.at
+            "(at) => window.poinsotDraw"
+            " && window.poinsotDraw(Math.round(at * (window.poinsotFrames - 1)))",
+            a.at,
         )
         page.wait_for_timeout(300)
         if a.full:

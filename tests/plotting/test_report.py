@@ -674,3 +674,43 @@ def test_particle_scenario_report_plots_position_and_velocity(tmp_path):
     tr = res.trajectory
     np.testing.assert_allclose(y, np.interp(x, tr.t, tr.velocity[:, 0]), atol=1e-5)
     assert "path" in _layers(P)
+
+
+def test_ensemble_report_uses_the_viewer(tmp_path):
+    """The ensemble page: one histogram per metric (counts summing to the finite
+    samples, edges spanning their range) and metric-vs-parameter scatters holding
+    the table's columns; no animation controls, no plotting library."""
+    pytest.importorskip("pyarrow")
+    from poinsot.ensemble.engine import run
+    from poinsot.ensemble.scenario import _report, load_ensemble
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    _, problem = load_ensemble(examples / "tennis_racket_ensemble.toml")
+    res = run(problem, 12, chunk_size=6, client="serial", seed=1)
+    _report(problem, res, tmp_path / "report.html")
+    P, text = _page(tmp_path / "report.html")
+    assert P["scene"] is None and 'id="poinsot-play"' not in text and "plotly" not in text
+    failed = res.column("failed")
+    for m in problem.metrics:
+        v = res.column(m.name)
+        good = v[~failed & np.isfinite(v)]
+        hist = [p for p in P["panels"] if p["title"].startswith(f"Histogram of {m.name}:")]
+        assert len(hist) == (1 if good.size else 0)
+        if good.size:
+            s = hist[0]["series"][0]
+            edges, counts = _f32(s["x"]), _f32(s["y"])
+            assert s["mode"] == "bars" and len(edges) == len(counts) + 1
+            assert counts.sum() == good.size
+            assert edges[0] <= good.min() + 1e-6 * abs(good.min()) and edges[-1] >= good.max() * (
+                1 - 1e-6
+            )
+            assert hist[0]["xtitle"] == f"{m.name} ({m.unit})" if m.unit else m.name
+        for p in P["panels"]:
+            if p["title"].startswith(f"{m.name} against "):
+                param = p["title"].split(" against ")[1]
+                s = p["series"][0]
+                assert s["mode"] == "markers"
+                x, y = _f32(s["x"]), _f32(s["y"])
+                ok = ~failed & np.isfinite(v)
+                np.testing.assert_allclose(x, res.column(param)[ok], rtol=1e-6, atol=1e-30)
+                np.testing.assert_allclose(y, v[ok], rtol=1e-6)

@@ -19,14 +19,14 @@ two tables that ``poinsot run`` passes over::
 
 :func:`run_scenario_ensemble` writes ``chunks/*.parquet`` (one file per chunk,
 atomically; together a Parquet dataset), ``summary.json`` (statistics of every
-metric, failures) and a self-contained ``report.html`` (histograms and
-metric-vs-parameter scatter plots as inline SVG).
+metric, failures) and a self-contained ``report.html`` (the metrics table,
+histograms and metric-vs-parameter scatter charts drawn by the report viewer of
+:mod:`poinsot.plotting.report`, offline, and the summary in sections).
 """
 
 from __future__ import annotations
 
 import html
-import io
 import json
 import os
 from pathlib import Path
@@ -110,15 +110,13 @@ def load_ensemble(path) -> tuple:
     return scenario, problem_from_scenario(scenario)
 
 
-def _svg(fig) -> str:
-    buf = io.StringIO()
-    fig.savefig(buf, format="svg")
-    text = buf.getvalue()
-    return text[text.index("<svg"):]
+_MAX_POINTS = 4000  # points kept per scatter chart (an even subset beyond that)
 
 
-def _figures(problem: EnsembleProblem, result: EnsembleResult) -> list[tuple[str, str]]:
-    from matplotlib.figure import Figure
+def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict]:
+    """Charts of the report viewer: a histogram of every metric and every metric
+    against every dispersed parameter (component)."""
+    from ..plotting._report_page import chart
 
     failed = result.column("failed")
     params = [c for c in result.table.column_names
@@ -127,30 +125,37 @@ def _figures(problem: EnsembleProblem, result: EnsembleResult) -> list[tuple[str
     for m in problem.metrics:
         v = result.column(m.name)
         good = ~failed & np.isfinite(v)
-        fig = Figure(figsize=(5.2, 3.4), constrained_layout=True)
-        ax = fig.add_subplot()
-        if good.any():
-            ax.hist(v[good], bins=min(50, max(5, int(np.sqrt(good.sum())))), color="#4477aa")
-        ax.set_xlabel(f"{m.name} ({m.unit})")
-        ax.set_ylabel("samples")
         never = int((~failed & ~np.isfinite(v)).sum())
-        ax.set_title(f"{m.name}: {int(good.sum())} samples" + (f", {never} never" if never
-                                                               else ""))
-        out.append((f"Histogram of {m.name}", _svg(fig)))
+        title = f"Histogram of {m.name}: {int(good.sum())} samples" + (
+            f", {never} never" if never else "")
+        if good.any():
+            bins = min(50, max(5, int(np.sqrt(good.sum()))))
+            lo, hi = float(v[good].min()), float(v[good].max())
+            if hi <= lo:
+                lo, hi = lo - 0.5 * (abs(lo) or 1.0), hi + 0.5 * (abs(hi) or 1.0)
+            counts, edges = np.histogram(v[good], bins=bins, range=(lo, hi))
+            out.append(chart(title, "samples", [(m.name, edges, counts, "#4477aa", "bars")],
+                             x_name=m.name, x_units=m.unit))  # fmt: skip
+        idx = np.flatnonzero(good)
+        if idx.size > _MAX_POINTS:
+            idx = idx[np.linspace(0, idx.size - 1, _MAX_POINTS).astype(int)]
         for p in params:
             x = result.column(p)
-            fig = Figure(figsize=(5.2, 3.4), constrained_layout=True)
-            ax = fig.add_subplot()
-            ax.plot(x[good], v[good], ".", ms=3, alpha=0.6, color="#aa3377")
             q = p.split("_")[0] if p.split("_")[0] in QUANTITIES else p.rsplit("_", 1)[0]
             unit = QUANTITIES.get(q, QUANTITIES.get(p, ("",)))[0]
-            ax.set_xlabel(f"{p} ({unit})")
-            ax.set_ylabel(f"{m.name} ({m.unit})")
-            out.append((f"{m.name} against {p}", _svg(fig)))
+            if idx.size == 0:
+                continue
+            out.append(chart(f"{m.name} against {p}", m.unit,
+                             [(f"{m.name} ({idx.size} samples)", x[idx], v[idx], "#aa3377",
+                               "markers")], x_name=p, x_units=unit))  # fmt: skip
     return out
 
 
 def _report(problem, result, path: Path) -> None:
+    """``report.html``: the metrics table, the charts (drawn by the report viewer of
+    poinsot.plotting, offline) and the summary in sections with the raw JSON."""
+    from ..plotting._report_page import page_html
+
     rows = []
     for name, s in result.summary["metrics"].items():
         q = s["quantiles"]
@@ -158,24 +163,25 @@ def _report(problem, result, path: Path) -> None:
             f"<tr><td>{html.escape(name)}</td><td>{s['unit']}</td><td>{s['count']}</td>"
             f"<td>{s['never']}</td><td>{s['mean']:.6g}</td><td>{s['std']:.3g}</td>"
             + "".join(f"<td>{q[k]:.6g}</td>" for k in ("5%", "50%", "95%")) + "</tr>")
-    figs = "".join(f"<figure>{svg}<figcaption>{html.escape(cap)}</figcaption></figure>"
-                   for cap, svg in _figures(problem, result))
     s = result.summary
-    page = f"""<!DOCTYPE html><html><head><meta charset="utf-8">
-<title>poinsot ensemble: {html.escape(problem.name)}</title>
-<style>body{{font-family:sans-serif;margin:1.5em;max-width:1200px}}
-table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}
-figure{{display:inline-block;margin:6px}}svg{{width:460px;height:auto}}</style></head><body>
-<h1>Ensemble: {html.escape(problem.name)}</h1>
-<p>{s['samples']} samples in chunks of {s['chunk_size']}, seed {s['seed']};
-{s['failures']} failed; integrator: {html.escape(s['integrator'])}.
-Metrics are defined in the poinsot documentation (ensembles page); attitude
-angles in degrees, times in seconds, theory in docs/theory.md §10.</p>
-<table><tr><th>metric</th><th>unit</th><th>samples</th><th>never</th><th>mean</th>
-<th>std</th><th>5%</th><th>median</th><th>95%</th></tr>{''.join(rows)}</table>
-{figs}
-<details><summary>summary.json</summary><pre>{html.escape(json.dumps(s, indent=2))}</pre>
-</details></body></html>"""
+    table = ('<table class="summary"><tr><th>metric</th><th>unit</th><th>samples</th>'
+             "<th>never</th><th>mean</th><th>std</th><th>5%</th><th>median</th><th>95%</th>"
+             f"</tr>{''.join(rows)}</table>")  # fmt: skip
+    meta = (f"{s['samples']} samples in chunks of {s['chunk_size']}, seed {s['seed']}; "
+            f"{s['failures']} failed; integrator: {html.escape(s['integrator'])}. Metrics "
+            "are defined in the poinsot documentation (ensembles page); attitude angles in "
+            "degrees, times in seconds, theory in docs/theory.md §10.")  # fmt: skip
+    payload = {"t": "", "q": "", "qref": None, "t0": 0.0, "t1": 1.0, "scene": None,
+               "panels": _charts(problem, result), "interval": 40}  # fmt: skip
+    page = page_html(
+        title=f"poinsot ensemble: {problem.name}",
+        meta=meta,
+        lead=table,
+        notes=["Hover a chart to read its values; click a legend item to hide a series."],
+        payload=payload,
+        summary=s,
+        animated=False,
+    )
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(page, encoding="utf-8")
     os.replace(tmp, path)

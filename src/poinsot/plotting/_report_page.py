@@ -34,6 +34,46 @@ def viewer_js() -> str:
     )
 
 
+def chart(
+    title: str,
+    units: str,
+    series: Sequence[tuple],
+    *,
+    x_name: str | None = None,
+    x_units: str = "",
+) -> dict:
+    """One chart of the viewer (its data for the page).
+
+    ``series``: ``(name, x, y, colour[, mode[, dash]])`` with mode ``"line"``
+    (default), ``"markers"`` or ``"bars"`` (``x`` the ``k + 1`` bin edges, ``y`` the
+    ``k`` heights) and dash ``None``, ``"dash"`` or ``"dot"`` (lines). Without
+    ``x_name`` the x axis is the time ``t (s)`` and the chart has a cursor at the
+    animation's time; with it, the x axis is titled ``x_name (x_units)``. ``units``
+    titles the y axis, in parentheses.
+    """
+    out = {
+        "title": title,
+        "ytitle": f"({units})",
+        "unit": "" if units in ("relative", "1") else units,
+        "series": [
+            {
+                "name": s[0],
+                "x": b64(s[1]),
+                "y": b64(s[2]),
+                "colour": s[3],
+                "mode": s[4] if len(s) > 4 else "line",
+                "dash": s[5] if len(s) > 5 else None,
+            }
+            for s in series
+        ],
+    }
+    if x_name is not None:
+        out.update(
+            xtitle=f"{x_name} ({x_units})" if x_units else x_name, xname=x_name, xunit=x_units
+        )
+    return out
+
+
 def b64(a, dtype=np.float32) -> str:
     """Little-endian ``dtype`` array as base64 (decoded by ``f32()``/``u32()`` in the page)."""
     return base64.b64encode(
@@ -61,7 +101,9 @@ details pre { font-size: 0.8em; background: #f7f7f7; padding: 0.6em; overflow-x:
 #poinsot-error { color: #b00; }
 #poinsot-figure { display: grid; grid-template-columns: minmax(0, 56fr) minmax(0, 44fr);
        gap: 1.6em; align-items: start; }
-#poinsot-figure.pv-noscene { grid-template-columns: minmax(0, 1fr); }
+#poinsot-figure.pv-noscene { display: block; }
+.pv-noscene #poinsot-panels { display: grid; gap: 0 1.6em;
+       grid-template-columns: repeat(auto-fill, minmax(520px, 1fr)); }
 #poinsot-scene-col { position: sticky; top: 0; background: #fff; }
 #poinsot-scene { display: block; cursor: grab; touch-action: none; }
 .pv-legend { font-size: 0.82em; line-height: 1.7; margin: 0.2em 0; }
@@ -209,10 +251,10 @@ def summary_html(summary: Mapping[str, Any]) -> str:
     for k in order:
         sec = summary[k]
         title = _SECTION_TITLES.get(k, _words(k).capitalize())
+        rows = "".join(_rows(sec, sec.get("units")))
         parts.append(
-            f'<h3 id="summary-{esc(k)}">{esc(title)}</h3>\n<table class="summary">'
-            + "".join(_rows(sec, sec.get("units")))
-            + "</table>"
+            f'<h3 id="summary-{esc(k)}">{esc(title)}</h3>\n'
+            + (f'<table class="summary">{rows}</table>' if rows else "<p>none</p>")
         )
     raw = json.dumps(summary, indent=2, default=str, allow_nan=True)
     parts.append(
@@ -234,7 +276,12 @@ def page_html(
     summary: Mapping[str, Any] | None,
     sections=(),
     speeds=(0.25, 0.5, 1, 2, 4, 8),
+    animated: bool = True,
+    lead: str = "",
 ) -> str:
+    """The page: title, meta line, ``lead`` (trusted HTML), controls (if
+    ``animated``), the viewer's figure (scene and charts from ``payload``), notes,
+    extra sections, the summary."""
     esc = html.escape
     data = json.dumps(payload, separators=(",", ":")).replace("</", "<\\/")
     opts = "".join(
@@ -247,6 +294,8 @@ def page_html(
         '<span id="poinsot-time">t = 0 s</span>'
         '<label>speed <select id="poinsot-speed">' + opts + "</select></label></div>"
     )
+    if not animated:
+        controls = ""
     note_html = "".join(f'<p class="note">{esc(n)}</p>' for n in notes)
     table = "" if summary is None else summary_html(summary)
     extra = "".join(f"<h2>{esc(head)}</h2>\n<div>{content}</div>\n" for head, content in sections)
@@ -255,7 +304,7 @@ def page_html(
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f"<title>{esc(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
         f'<h1>{esc(title)}</h1>\n<p class="meta">{meta}</p>\n<p id="poinsot-error"></p>\n'
-        f'{controls}\n<div id="{DIV_ID}"><div id="poinsot-scene-col"></div>'
+        f'{lead}{controls}\n<div id="{DIV_ID}"><div id="poinsot-scene-col"></div>'
         '<div id="poinsot-panels"></div></div>\n'
         f"{note_html}\n{table}\n"
         f'<script type="application/json" id="poinsot-data">{data}</script>\n'

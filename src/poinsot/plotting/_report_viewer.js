@@ -328,7 +328,10 @@
     return {draw, size, canvas, layers, cam, labels, project, redraw: () => draw(frame)};
   }
 
-  // ------------------------------------------------------------------ a time-series chart
+  // ------------------------------------------------------------------ a chart
+  // A time series by default (x = t in s, a cursor at the frame's time); with
+  // panel.xtitle, any x. Series modes: "line" (default), "markers" (points), "bars"
+  // (x holds the k + 1 bin edges, y the k heights).
   function Chart(root, panel, t0, t1, k) {
     const box = el("div", {class: "pv-panel", id: "poinsot-panel-" + k}, root);
     el("div", {class: "pv-title"}, box).textContent = panel.title;
@@ -336,6 +339,13 @@
     const holder = el("div", {class: "pv-chart"}, box);
     const tip = el("div", {class: "pv-tip"}, holder);
     const series = panel.series.map(s => Object.assign({}, s, {x: f32(s.x), y: f32(s.y), on: true}));
+    const timed = !panel.xtitle;
+    if (!timed) {  // the x range of the data
+      t0 = Infinity; t1 = -Infinity;
+      for (const s of series) for (const v of s.x) if (isFinite(v)) { t0 = Math.min(t0, v); t1 = Math.max(t1, v); }
+      if (!isFinite(t0)) { t0 = 0; t1 = 1; }
+      if (series.some(s => s.mode === "markers")) { const h = 0.03 * (t1 - t0 || 1); t0 -= h; t1 += h; }
+    }
     series.forEach(s => {
       const item = el("span", {class: "pv-item"}, legend);
       el("i", {style: "background:" + s.colour}, item);
@@ -358,6 +368,7 @@
         if (!s.on) continue;
         for (const v of s.y) if (isFinite(v)) { if (v < ylo) ylo = v; if (v > yhi) yhi = v; }
       }
+      if (series.some(s => s.on && s.mode === "bars")) ylo = Math.min(ylo, 0);
       if (!isFinite(ylo)) { ylo = -1; yhi = 1; }
       if (yhi - ylo <= 1e-12 * Math.max(Math.abs(ylo), Math.abs(yhi))) {
         const h = Math.abs(ylo) * 0.1 || 1; ylo -= h; yhi += h;
@@ -380,7 +391,7 @@
         lab.textContent = fmtTick(y, ty.step, bigy);
       }
       const xt = el("text", {x: m.l + pw / 2, y: H - 6, "text-anchor": "middle", class: "pv-axis-title"}, svg, SVGNS);
-      xt.textContent = "t (s)";
+      xt.textContent = timed ? "t (s)" : panel.xtitle;
       const yt = el("text", {x: 13, y: m.t + ph / 2, "text-anchor": "middle", class: "pv-axis-title",
                              transform: "rotate(-90 13 " + (m.t + ph / 2) + ")"}, svg, SVGNS);
       yt.textContent = panel.ytitle;
@@ -389,6 +400,23 @@
       el("rect", {x: m.l, y: m.t, width: pw, height: ph}, el("clipPath", {id: clip}, defs, SVGNS), SVGNS);
       for (const s of series) {
         if (!s.on) continue;
+        if (s.mode === "bars") {
+          const g = el("g", {fill: s.colour, "fill-opacity": 0.85, class: "pv-series"}, svg, SVGNS);
+          for (let i = 0; i < s.y.length; i++) {
+            const x0 = sx(s.x[i]), x1 = sx(s.x[i + 1]), y0 = sy(Math.max(s.y[i], ylo));
+            el("rect", {x: x0 + 0.5, y: y0, width: Math.max(0.5, x1 - x0 - 1), height: sy(ylo) - y0}, g, SVGNS);
+          }
+          continue;
+        }
+        if (s.mode === "markers") {
+          const g = el("g", {fill: s.colour, "fill-opacity": 0.6, class: "pv-series"}, svg, SVGNS);
+          for (let i = 0; i < s.x.length; i++) {
+            if (isFinite(s.x[i]) && isFinite(s.y[i])) {
+              el("circle", {cx: sx(s.x[i]).toFixed(1), cy: sy(s.y[i]).toFixed(1), r: 2.2}, g, SVGNS);
+            }
+          }
+          continue;
+        }
         const pts = [];
         for (let i = 0; i < s.x.length; i++) {
           if (isFinite(s.y[i])) pts.push(sx(s.x[i]).toFixed(1) + "," + sy(s.y[i]).toFixed(1));
@@ -398,8 +426,8 @@
         if (s.dash) a["stroke-dasharray"] = s.dash === "dot" ? "2 3" : "6 4";
         el("polyline", a, svg, SVGNS);
       }
-      cursor = el("line", {y1: m.t, y2: m.t + ph, stroke: "rgba(0,0,0,0.55)", "stroke-width": 1.5,
-                           "stroke-dasharray": "4 3", class: "pv-cursor"}, svg, SVGNS);
+      cursor = timed ? el("line", {y1: m.t, y2: m.t + ph, stroke: "rgba(0,0,0,0.55)", "stroke-width": 1.5,
+                                   "stroke-dasharray": "4 3", class: "pv-cursor"}, svg, SVGNS) : null;
       hover = el("line", {y1: m.t, y2: m.t + ph, stroke: "#888", "stroke-width": 1, visibility: "hidden"}, svg, SVGNS);
       const cap = el("rect", {x: m.l, y: m.t, width: pw, height: ph, fill: "transparent"}, svg, SVGNS);
       cap.addEventListener("mousemove", e => read(e));
@@ -413,13 +441,29 @@
     }
     function read(e) {
       const r = svg.getBoundingClientRect(), px = e.clientX - r.left;
+      const py = e.clientY - r.top;
       const tt = geo.xlo + (px - m.l) / geo.pw * (geo.xhi - geo.xlo);
-      const lines = ["t = " + fmtVal(tt) + " s"];
+      const u = panel.unit ? " " + panel.unit : "", xu = panel.xunit ? " " + panel.xunit : "";
+      const lines = [timed ? "t = " + fmtVal(tt) + " s" : panel.xname + " = " + fmtVal(tt) + xu];
       for (const s of series) {
         if (!s.on || !s.x.length) continue;
-        const i = nearest(s.x, tt);
-        lines.push('<span style="color:' + s.colour + '">\u25a0</span> ' + s.name.replace(/</g, "&lt;") +
-                   ": " + fmtVal(s.y[i]) + (panel.unit ? " " + panel.unit : ""));
+        const head = '<span style="color:' + s.colour + '">\u25a0</span> ' + s.name.replace(/</g, "&lt;");
+        if (s.mode === "bars") {
+          let i = 0, b = s.x.length - 1;  // the bin [x[i], x[i + 1]) holding tt
+          while (b - i > 1) { const h = (i + b) >> 1; if (s.x[h] <= tt) i = h; else b = h; }
+          lines.push(head + ": " + fmtVal(s.y[i]) + u + " in [" + fmtVal(s.x[i]) + ", " + fmtVal(s.x[i + 1]) + ")" + xu);
+        } else if (s.mode === "markers") {  // the nearest point on screen
+          let best = -1, dmin = Infinity;
+          for (let i = 0; i < s.x.length; i++) {
+            const d = Math.hypot(geo.sx(s.x[i]) - px, geo.sy(s.y[i]) - py);
+            if (d < dmin) { dmin = d; best = i; }
+          }
+          if (best >= 0) {
+            lines.push(head + ": (" + fmtVal(s.x[best]) + xu + ", " + fmtVal(s.y[best]) + u + ")");
+          }
+        } else {
+          lines.push(head + ": " + fmtVal(s.y[nearest(s.x, tt)]) + u);
+        }
       }
       tip.innerHTML = lines.join("<br>");
       tip.style.display = "block";
@@ -453,6 +497,19 @@
     const label = document.getElementById("poinsot-time");
     const play = document.getElementById("poinsot-play");
     const speed = document.getElementById("poinsot-speed");
+    window.poinsotViewer = {scene, charts, data: P};
+    window.addEventListener("resize", () => {
+      clearTimeout(window.poinsotViewer.rs);
+      window.poinsotViewer.rs = setTimeout(() => {
+        if (scene) { scene.size(); scene.redraw(); }
+        charts.forEach(ch => ch.render());
+      }, 150);
+    });
+    if (!slider || n === 0) {  // charts only (e.g. an ensemble's histograms): no animation
+      window.poinsotFrames = 0;
+      g.dataset.ready = "1";
+      return;
+    }
     slider.max = String(Math.max(0, n - 1));
     function draw(f) {
       f = Math.max(0, Math.min(n - 1, f | 0));
@@ -481,17 +538,8 @@
     });
     speed.addEventListener("change", () => { if (timer) { stop(); play.click(); } });
     slider.addEventListener("input", () => draw(+slider.value));
-    let rs = null;
-    window.addEventListener("resize", () => {
-      clearTimeout(rs);
-      rs = setTimeout(() => {
-        if (scene) { scene.size(); scene.redraw(); }
-        charts.forEach(ch => ch.render());
-      }, 150);
-    });
     window.poinsotDraw = draw;
     window.poinsotFrames = n;
-    window.poinsotViewer = {scene, charts, data: P};
     draw(0);
     g.dataset.ready = "1";
   }

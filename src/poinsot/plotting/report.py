@@ -45,7 +45,7 @@ from .._validate import as_float_array, is_integer
 from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Trajectory
 from . import _report_shapes as shapes
-from ._report_page import b64, fmt_number, page_html
+from ._report_page import b64, chart, fmt_number, page_html
 
 __all__ = ["write_report", "write_scenario_report"]
 
@@ -688,8 +688,8 @@ def _scale(vectors: np.ndarray, length: float) -> float:
 
 
 def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
-    """``x``, ``y`` of a time series (base64 float32), at most about ``m`` points; longer
-    series keep the min and max of each of ``m/2`` bins (the envelope survives)."""
+    """``(x, y)`` of a time series, at most about ``m`` points; longer series keep
+    the min and max of each of ``m/2`` bins (the envelope survives)."""
     n = t.size
     if n > m:
         edges = np.linspace(0, n, m // 2 + 1).astype(int)
@@ -699,7 +699,7 @@ def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
             idx += [a + int(np.nanargmin(seg)), a + int(np.nanargmax(seg))]
         idx = np.unique(idx)
         t, y = t[idx], y[idx]
-    return {"x": b64(t), "y": b64(y)}
+    return t, y
 
 
 _ANGLE_NAMES = {
@@ -958,20 +958,14 @@ def _build(
         "t1": float(t[-1]) if n else 1.0,
         "scene": scene,
         "panels": [
-            {
-                "title": title,
-                "ytitle": f"({yunits})",
-                "unit": "" if yunits in ("relative", "1") else yunits,
-                "series": [
-                    {
-                        "name": name,
-                        **_series(t, np.asarray(y, dtype=float)),
-                        "colour": colour,
-                        "dash": dash,
-                    }  # fmt: skip
+            chart(
+                title,
+                yunits,
+                [
+                    (name, *_series(t, np.asarray(y, dtype=float)), colour, "line", dash)
                     for name, y, colour, dash in series
-                ],
-            }
+                ],  # fmt: skip
+            )
             for title, yunits, series in panels
         ],
         "interval": 40,
