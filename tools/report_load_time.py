@@ -13,23 +13,13 @@ can be compared. Uses the Chromium of tools/install_browser.sh; works offline.
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import sys
 from pathlib import Path
 
-CHROMIUM = os.environ.get("POINSOT_CHROMIUM", "/usr/bin/chromium")
-ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--disable-dev-shm-usage",
-]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from screenshot_report import ARGS, CHROMIUM  # noqa: E402  (same browser and flags)
+
 # polled on every animation frame from the first one; the time is taken one frame
 # after the page says it is ready (what was drawn is then painted)
 _INIT = r"""

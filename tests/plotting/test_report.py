@@ -527,31 +527,11 @@ def test_long_runs_keep_the_page_small(tmp_path):
 # ----------------------------------------------------------------- meshes, extra series
 
 
-def _icosphere(levels=3):
-    """A closed unit sphere mesh by subdividing an icosahedron (outward faces)."""
-    g = (1 + 5**0.5) / 2
-    v = [[-1, g, 0], [1, g, 0], [-1, -g, 0], [1, -g, 0], [0, -1, g], [0, 1, g], [0, -1, -g],
-         [0, 1, -g], [g, 0, -1], [g, 0, 1], [-g, 0, -1], [-g, 0, 1]]  # fmt: skip
-    f = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-         [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-         [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]  # fmt: skip
-    v = [np.asarray(x, float) / np.linalg.norm(x) for x in v]
-    for _ in range(levels):
-        mid, nf = {}, []
+def _icosphere(levels):
+    """A closed unit-sphere mesh (the subdivided icosahedron of the mass tests)."""
+    from mass.test_mesh import icosphere
 
-        def m(a, b, mid=mid):
-            k = (min(a, b), max(a, b))
-            if k not in mid:
-                p = v[a] + v[b]
-                v.append(p / np.linalg.norm(p))
-                mid[k] = len(v) - 1
-            return mid[k]
-
-        for a, b, c in f:
-            ab, bc, ca = m(a, b), m(b, c), m(c, a)
-            nf += [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-        f = nf
-    return np.asarray(v), np.asarray(f)
+    return icosphere(levels)
 
 
 def test_mesh_body_drawn_as_given(tmp_path, prec):
