@@ -313,3 +313,69 @@ def test_report_renders_and_animates_in_chromium(browser, tmp_path, record_prope
 
     assert external == [], f"the report tried to reach the network: {external}"
     assert errors == [], "console errors:\n" + "\n".join(errors)
+
+
+def test_charts_only_pages_in_chromium(browser, tmp_path):
+    """Pages without a 3-D scene: a Lagrangian-like run (charts of q(t) with the
+    animation's cursor) and an ensemble-like page (a histogram and a scatter, no
+    animation): drawn without console errors, hover read-outs of bars and points."""
+    from poinsot.plotting._report_page import chart, page_html
+
+    t = np.linspace(0.0, 4.0, 401)
+    tr = poinsot.Trajectory(
+        t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "dop853"
+    )
+    run_page = write_report(
+        tmp_path / "q.html",
+        trajectory=tr,
+        series=[("generalised coordinates q(t): angles", "rad", {"theta": np.sin(2 * t)})],
+    )
+    rng = np.random.default_rng(0)
+    v = rng.normal(1.0, 0.1, 500)
+    counts, edges = np.histogram(v, bins=10)
+    payload = {"t": "", "q": "", "qref": None, "t0": 0.0, "t1": 1.0, "scene": None,
+               "interval": 40, "panels": [
+                   chart("Histogram of flip", "samples", [("flip", edges, counts, "#4477aa",
+                                                           "bars")], x_name="flip", x_units="s"),
+                   chart("flip against omega0_x", "s", [("flip", v * 0.1, v, "#aa3377",
+                                                         "markers")], x_name="omega0_x",
+                         x_units="rad/s")]}  # fmt: skip
+    ens_page = tmp_path / "e.html"
+    ens_page.write_text(
+        page_html(
+            title="ensemble", meta="m", notes=[], payload=payload, summary={"a": 1}, animated=False
+        )  # fmt: skip
+    )
+    for path in (run_page, ens_page):
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        errors: list[str] = []
+        page.on("console", lambda m, e=errors: e.append(m.text) if m.type == "error" else 0)
+        page.on("pageerror", lambda x, e=errors: e.append(str(x)))
+        page.goto(path.resolve().as_uri(), wait_until="load", timeout=120_000)
+        page.wait_for_function(f"() => {FIG}.dataset.ready === '1'", timeout=120_000)
+        assert page.locator("#poinsot-scene").count() == 0
+        assert page.locator(".pv-panel svg").count() >= 1
+        if path == run_page:
+            assert page.locator(".pv-axis-title", has_text="(rad)").count() == 1
+            x0 = float(page.locator(".pv-cursor").get_attribute("x1"))
+            page.evaluate("() => window.poinsotDraw(window.poinsotFrames - 1)")
+            assert float(page.locator(".pv-cursor").get_attribute("x1")) > x0 + 100
+        else:
+            assert page.locator("#poinsot-play").count() == 0  # no animation
+            assert page.locator(".pv-cursor").count() == 0
+            assert page.locator("#poinsot-panel-0 rect[width]").count() >= 10  # the bars
+            assert page.locator("#poinsot-panel-1 circle").count() == v.size
+            assert page.locator(".pv-axis-title", has_text="flip (s)").count() == 1
+            box = _box(page, "#poinsot-panel-0 svg")
+            page.mouse.move(box["x"] + box["width"] * 0.5, box["y"] + box["height"] * 0.5)
+            text = page.locator("#poinsot-panel-0 .pv-tip").inner_text()
+            m = re.search(r"flip: (\d+) samples in \[([0-9.e-]+), ([0-9.e-]+)\) s", text)
+            assert m is not None, text
+            k = int(np.searchsorted(edges, float(m.group(2)) + 1e-6, side="right")) - 1
+            assert int(m.group(1)) == counts[k]  # the count of the bin under the mouse
+            box = _box(page, "#poinsot-panel-1 svg")
+            page.mouse.move(box["x"] + box["width"] * 0.5, box["y"] + box["height"] * 0.5)
+            text = page.locator("#poinsot-panel-1 .pv-tip").inner_text()
+            assert re.search(r"flip: \([0-9.e-]+ rad/s, [0-9.e-]+ s\)", text), text
+        page.close()
+        assert errors == [], errors
