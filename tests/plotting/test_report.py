@@ -694,3 +694,26 @@ def test_ensemble_report_uses_the_viewer(tmp_path):
                 ok = ~failed & np.isfinite(v)
                 np.testing.assert_allclose(x, res.column(param)[ok], rtol=1e-6, atol=1e-30)
                 np.testing.assert_allclose(y, v[ok], rtol=1e-6)
+
+
+def test_heavy_top_scenario_report_panels(tmp_path):
+    """A top on a pin: the disc drawn at its centre of mass (5 cm up body z), the pin
+    marked, no polhode/herpolhode (not a free body), the conserved T + V and K_z, the
+    ZXZ angles (precession, nutation, spin) and the gravity torque."""
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "symmetric_top.toml"), duration=0.2)
+    P, text = _page(write_scenario_report(tmp_path / "r.html", res))
+    disc = _f32(_named(P, "body: cylinder")["v"]).reshape(-1, 3)
+    np.testing.assert_allclose(disc.mean(axis=0), [0.0, 0.0, 0.05], atol=1e-6)
+    np.testing.assert_allclose(np.ptp(disc, axis=0), [0.08, 0.08, 0.01], rtol=1e-2)
+    assert _named(P, "fixed point")["p"] == [0.0, 0.0, 0.0]
+    assert not any(k.startswith(("polhode", "herpolhode")) for k in _layers(P))
+    titles = _titles(P)
+    assert "attitude: Euler angles ZXZ" in titles and "torque N, body axes" in titles
+    names = list(_series(P))
+    assert any(n.startswith("total energy T + V: max") for n in names), names
+    assert any(n.startswith("K_z") for n in names), names
+    assert any(n.startswith("theta, nutation") for n in names), names
+    assert "turns at most" in text  # the spin of 150 rad/s does not strobe
