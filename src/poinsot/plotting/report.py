@@ -490,7 +490,7 @@ def _check_shape(shape) -> list[dict] | None:
             out.append({"kind": "point", "dims": np.zeros(1), "center": center, "axes": np.eye(3)})
             continue
         if kind not in SHAPES:
-            opts = ", ".join(repr(k) for k in SHAPES)
+            opts = ", ".join(repr(k) for k in (*SHAPES, "point", "mesh"))
             raise InvalidInputError(f"Expected `shape['kind']` to be one of {opts}, got {kind!r}.")
         dims = np.atleast_1d(as_float_array(s["dims"], "shape['dims']"))
         n = shapes.NDIMS[kind]
