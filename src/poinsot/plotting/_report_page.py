@@ -105,6 +105,8 @@ details pre { font-size: 0.8em; background: #f7f7f7; padding: 0.6em; overflow-x:
 .pv-noscene #poinsot-panels { display: grid; gap: 0 1.6em;
        grid-template-columns: repeat(auto-fill, minmax(520px, 1fr)); }
 #poinsot-scene-col { position: sticky; top: 0; background: #fff; }
+@media (max-width: 900px) { #poinsot-figure { display: block; }
+       #poinsot-scene-col { position: static; } }
 #poinsot-scene { display: block; cursor: grab; touch-action: none; }
 .pv-legend { font-size: 0.82em; line-height: 1.7; margin: 0.2em 0; }
 .pv-item { cursor: pointer; margin-right: 1.1em; white-space: nowrap; user-select: none; }

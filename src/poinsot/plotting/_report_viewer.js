@@ -272,6 +272,10 @@
         }
       }
       const pc = P(c[0], c[1], c[2]);
+      const text = (str, x, y) => {  // centred on (x, y), kept inside the canvas
+        const h = ctx.measureText(str).width / 2 + 2;
+        ctx.fillText(str, Math.max(h, Math.min(W - h, x)), Math.max(8, Math.min(H - 8, y)));
+      };
       ctx.font = "11px system-ui, sans-serif";
       ctx.fillStyle = "#444";
       for (let a = 0; a < 3; a++) {  // the labelled edge: lowest on screen (x, y), leftmost (z)
@@ -296,11 +300,11 @@
           const p = best.slice(); p[a] = x;
           const m = P(p[0], p[1], p[2]);
           ctx.beginPath(); ctx.moveTo(m[0], m[1]); ctx.lineTo(m[0] + 5 * ox, m[1] + 5 * oy); ctx.stroke();
-          ctx.fillText(fmtTick(x, tk[a].step, big), m[0] + 16 * ox, m[1] + 13 * oy);
+          text(fmtTick(x, tk[a].step, big), m[0] + 16 * ox, m[1] + 13 * oy);
         }
         ctx.font = "bold 12px system-ui, sans-serif";
         labels[a] = "xyz"[a] + " (" + S.unit + ")";
-        ctx.fillText(labels[a], mid[0] + 60 * ox, mid[1] + 34 * oy);
+        text(labels[a], mid[0] + 60 * ox, mid[1] + 34 * oy);
         ctx.font = "11px system-ui, sans-serif";
       }
     }
