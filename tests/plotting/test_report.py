@@ -648,7 +648,7 @@ def test_particle_scenario_report_plots_position_and_velocity(tmp_path):
     examples = Path(__file__).resolve().parents[2] / "examples"
     res = simulate_scenario(load_scenario(examples / "kepler_orbit.toml"), duration=3.0)
     P, _ = _page(write_scenario_report(tmp_path / "r.html", res))
-    assert _titles(P)[:2] == ["position, space axes", "velocity, space axes"]
+    assert _titles(P)[:2] == ["position: x, y, z", "velocity: vx, vy, vz"]
     assert [p["ytitle"] for p in P["panels"][:2]] == ["(m)", "(m/s)"]
     x, y = _named_series(P, "vx")
     tr = res.trajectory
@@ -717,3 +717,25 @@ def test_heavy_top_scenario_report_panels(tmp_path):
     assert any(n.startswith("K_z") for n in names), names
     assert any(n.startswith("theta, nutation") for n in names), names
     assert "turns at most" in text  # the spin of 150 rad/s does not strobe
+
+
+def test_rotating_frame_particle_drawn_in_the_frame(tmp_path):
+    """A body dropped on the turning Earth: the scene shows its path relative to the
+    ground (east, north, up: the eastward deflection), not the Earth frame's attitude
+    as a body; no angular-velocity or attitude chart of the frame."""
+    from poinsot.dynamics import relative_motion
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "free_fall.toml"))
+    P, text = _page(write_scenario_report(tmp_path / "r.html", res))
+    assert sorted(_layers(P)) == ["origin of space axes", "path", "position r(t)"]
+    assert P["scene"]["unit"] == "m"
+    r, _ = relative_motion(res.trajectory)
+    path = _f32(_layers(P)["path"]["v"]).reshape(-1, 3)
+    assert path[0] == pytest.approx(r[0], abs=1e-4) and path[-1] == pytest.approx(r[-1], abs=1e-4)
+    assert r[-1, 0] > 0  # it lands east of the point below its start
+    titles = _titles(P)
+    assert titles[0] == "position: x_east, y_north, z_up"
+    assert not any(t.startswith(("angular velocity", "attitude")) for t in titles)
+    assert "body axes x, y, z" not in text

@@ -342,6 +342,12 @@ def write_scenario_report(
             except Exception:  # the torque is optional in the report
                 torque = None
     seq = s.attitude.sequence if s.attitude.sequence else ("ZXZ" if torque is not None else "ZYX")
+    ref = result.reference
+    series = ()
+    if body is None:
+        series = _kind_series(s, tr)
+        if tr.position is not None:  # a particle: its path, not the attitude of its frame
+            tr, ref = _particle_view(s, tr), None
     if title is None:
         title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
     return write_report(
@@ -358,10 +364,27 @@ def write_scenario_report(
         checks=result.checks,
         torque=torque,
         euler_seq=seq if len(seq) == 3 else "ZYX",  # as given (case: intrinsic or extrinsic)
-        reference=result.reference,
+        reference=ref,
         sections=sections,
-        series=_kind_series(s, tr) if body is None else (),
+        series=series,
     )
+
+
+def _particle_view(s, tr) -> Trajectory:
+    """A particle's motion for the scene: its path in the kind's own position
+    components when it has three in metres (e.g. east, north, up relative to the
+    turning Earth, where the deflection is seen), else the inertial position; the
+    rotation of a moving frame (the Earth's) is not drawn as a body."""
+    from ..rotations.rotation import Rotation
+
+    try:
+        cols = s.adapter.series(s, tr)
+    except Exception:  # the kind's series are optional
+        cols = {}
+    lengths = [np.asarray(v, dtype=float) for v, u in cols.values() if u == "m"]
+    pos = np.column_stack(lengths) if len(lengths) == 3 else tr.position
+    n = tr.t.size
+    return Trajectory(tr.t, Rotation.identity((n,)), np.zeros((n, 3)), tr.method, position=pos)
 
 
 _GREEK = frozenset(
@@ -406,11 +429,14 @@ def _kind_series(s, tr) -> list:
                 title = "generalised velocities q'(t)" + (f": {what}" if what else "")
                 vu = f"{u}/s" if u else "unit of q per s"
                 groups.setdefault((title, vu), {})[f"{name}'"] = cols[f"{name}_dot"][0]
-    else:
-        names = {"m": "position, space axes", "m/s": "velocity, space axes"}
+    else:  # grouped by unit: "position: x, y, z" (m), "velocity: vx, vy, vz" (m/s)...
+        what = {"m": "position", "m/s": "velocity", "J": "energy"}
+        by_unit: dict[str, dict] = {}
         for name, (values, units) in cols.items():
-            title = names.get(units, name)
-            groups.setdefault((title, units or "1"), {})[name] = values
+            by_unit.setdefault(units or "1", {})[name] = values
+        for units, d in by_unit.items():
+            head = f"{what[units]}: " if units in what else ""
+            groups[(head + ", ".join(d), units)] = d
     return [(title, units, d) for (title, units), d in groups.items()]
 
 
@@ -944,6 +970,8 @@ def _build(
         "Speed: 1x shows every frame (about 25 per second); faster speeds skip frames. "
         + (
             "Scene in space axes (v_space = R v_body); body axes x, y, z in red, green, blue. "
+            if show_scene and has_body
+            else "Scene: the path in metres, the red dot the position at the frame's time. "
             if show_scene
             else ""
         )
