@@ -58,6 +58,12 @@ def _h_from_euler_zxz(a):
     )
 
 
+def _h_pow(q, n):
+    v = q[1:]
+    half = np.arctan2(np.sqrt(v @ v), q[0])
+    return np.concatenate(([np.cos(n * half)], np.sin(n * half) * v / np.sqrt(v @ v)))
+
+
 def _h_as_matrix(q):
     w, x, y, z = q
     return np.array(
@@ -160,6 +166,7 @@ def single(rounds: int = 9, number: int = 200) -> None:
     qd = K.quat_rate(q, w)
     md = K.dcm_rate(m, w)
     pair = SciPyRotation.concatenate([s, s2])
+    gen = np.random.default_rng(5)
     cases = [
         # name, poinsot, SciPy (or None), hand NumPy, comparison of results (None: skip)
         (
@@ -196,6 +203,48 @@ def single(rounds: int = 9, number: int = 200) -> None:
             lambda a: a.as_quat(),
         ),
         (
+            "from_mrp",
+            lambda: Rotation.from_mrp(g),
+            lambda: SciPyRotation.from_mrp(g),
+            lambda: np.concatenate(([1 - g @ g], 2 * g)) / (1 + g @ g),
+            lambda a: a.as_quat(),
+        ),
+        (
+            "from_gibbs",
+            lambda: Rotation.from_gibbs(g),
+            None,
+            lambda: np.concatenate(([1.0], g)) / np.sqrt(1 + g @ g),
+            lambda a: a.as_quat(),
+        ),
+        (
+            "from_axis_angle",
+            lambda: Rotation.from_axis_angle(v, 0.7),
+            None,
+            lambda: np.concatenate(([np.cos(0.35)], np.sin(0.35) * v / np.sqrt(v @ v))),
+            lambda a: a.as_quat(),
+        ),
+        (
+            "identity",
+            lambda: Rotation.identity(),
+            lambda: SciPyRotation.identity(),
+            lambda: np.array([1.0, 0.0, 0.0, 0.0]),
+            lambda a: a.as_quat(),
+        ),
+        (
+            "random(rng=Generator)",
+            lambda: Rotation.random(rng=gen),
+            lambda: SciPyRotation.random(rng=gen),
+            lambda: (lambda x: x / np.sqrt(x @ x))(gen.standard_normal(4)),
+            None,
+        ),
+        (
+            "random(rng=seed)",
+            lambda: Rotation.random(rng=7),
+            lambda: SciPyRotation.random(rng=7),
+            lambda: (lambda x: x / np.sqrt(x @ x))(np.random.default_rng(7).standard_normal(4)),
+            lambda a: a.as_quat(),
+        ),
+        (
             "as_quat",
             lambda: r.as_quat(),
             lambda: s.as_quat(scalar_first=True),
@@ -218,6 +267,20 @@ def single(rounds: int = 9, number: int = 200) -> None:
             None,
         ),
         ("as_mrp", lambda: r.as_mrp(), lambda: s.as_mrp(), lambda: q[1:] / (1 + q[0]), None),
+        (
+            "as_gibbs",
+            lambda: r.as_gibbs(),
+            None,
+            lambda: q[1:] / q[0],
+            None,
+        ),
+        (
+            "as_axis_angle",
+            lambda: r.as_axis_angle(),
+            None,
+            lambda: (q[1:] / np.sqrt(q[1:] @ q[1:]), 2 * np.arctan2(np.sqrt(q[1:] @ q[1:]), q[0])),
+            lambda a: np.concatenate((a[0], [a[1]])),
+        ),
         ("apply", lambda: r.apply(v), lambda: s.apply(v), lambda: _h_apply(q, v), None),
         ("inv", lambda: r.inv(), lambda: s.inv(), lambda: q * _CONJ, lambda a: a.as_quat()),
         (
@@ -226,6 +289,27 @@ def single(rounds: int = 9, number: int = 200) -> None:
             lambda: s.magnitude(),
             lambda: 2 * np.arctan2(np.sqrt(q[1:] @ q[1:]), abs(q[0])),
             None,
+        ),
+        (
+            "r ** 0.3",
+            lambda: r**0.3,
+            lambda: s**0.3,
+            lambda: _h_pow(q, 0.3),
+            lambda a: a.as_quat(),
+        ),
+        (
+            "approx_equal",
+            lambda: r.approx_equal(r2),
+            lambda: s.approx_equal(s2),
+            lambda: 2 * np.arccos(min(1.0, abs(q @ q2))) <= 1e-8,
+            None,
+        ),
+        (
+            "mean (one rotation)",
+            lambda: r.mean(),
+            lambda: s.mean(),
+            lambda: q.copy(),
+            lambda a: a.as_quat(),
         ),
         (
             "compose r2 * r",
@@ -330,8 +414,12 @@ def single(rounds: int = 9, number: int = 200) -> None:
         ),
     ]
     for name, ours, _, hand, get in cases:  # the hand expressions compute the same thing
+        if name.startswith("random(rng=G"):
+            continue  # draws from a running generator
         a, b = ours(), hand()
         a = get(a) if get else a
+        if isinstance(b, tuple):  # (axis, angle)
+            b = np.concatenate((b[0], [b[1]]))
         if name == "slerp(r, r2, 0.3)" and np.dot(a, b) < 0:
             b = -b
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-14, err_msg=name)

@@ -371,3 +371,70 @@ def test_chunked_batches_work_in_a_forked_child(big):
     finally:
         set_num_threads(n0)
     assert os.waitstatus_to_exitcode(status) == 0
+
+
+def test_short_paths_of_the_other_constructors_and_conversions_equal_the_batch():
+    # from_mrp, from_gibbs, from_axis_angle, as_gibbs, as_axis_angle, **, identity,
+    # random and mean of one rotation take short paths (plain Python floats or one
+    # compiled call); each must give its row of the batch result.
+    rng = np.random.default_rng(21)
+    vecs = rng.standard_normal((60, 3)) * rng.choice([1e-9, 0.3, 1.0, 5.0, 1e40], (60, 1))
+    angles = rng.uniform(-7, 7, 60)
+    for name, one, batch, atol in [
+        ("from_mrp", lambda v: Rotation.from_mrp(v), lambda: Rotation.from_mrp(vecs), 2e-15),
+        ("from_gibbs", lambda v: Rotation.from_gibbs(v), lambda: Rotation.from_gibbs(vecs), 2e-15),
+    ]:
+        # the same formula; NumPy's einsum / scaled length may round |p|^2 differently:
+        # observed 1.1e-16 (and 4.7e-16 relative on components of 1e-40)
+        got = np.array([one(v).as_quat() for v in vecs])
+        np.testing.assert_allclose(got, batch().as_quat(), rtol=5e-15, atol=atol, err_msg=name)
+    for deg in (False, True):
+        pairs = zip(vecs, angles, strict=True)
+        got = np.array([Rotation.from_axis_angle(v, f, degrees=deg).as_quat() for v, f in pairs])
+        want = Rotation.from_axis_angle(vecs, angles, degrees=deg).as_quat()
+        # math.hypot and NumPy's scaled length may differ by an ulp: observed 2.2e-16
+        np.testing.assert_allclose(got, want, rtol=0, atol=3e-15)
+        batch = Rotation.from_quat(Q)
+        axes, angs = batch.as_axis_angle(degrees=deg)
+        for k, q in enumerate(Q):
+            ax, an = Rotation.from_quat(q).as_axis_angle(degrees=deg)
+            assert type(an) is np.float64 and ax.shape == (3,)
+            # |l| by einsum in the batch: observed 2.2e-16 apart
+            np.testing.assert_allclose(ax, axes[k], rtol=0, atol=3e-15)
+            np.testing.assert_allclose(an, angs[k], rtol=3e-15, atol=3e-15)
+    finite = Q[np.abs(Rotation.from_quat(Q).magnitude() - np.pi) > 1e-12]
+    np.testing.assert_array_equal(
+        np.array([Rotation.from_quat(q).as_gibbs() for q in finite]),
+        Rotation.from_quat(finite).as_gibbs(),
+    )
+    for n in (0.5, -0.3, 2.0, 3, -1, 1, np.float64(0.25)):
+        got = np.array([(Rotation.from_quat(q) ** n).as_quat() for q in Q])
+        np.testing.assert_array_equal(got, (Rotation.from_quat(Q) ** n).as_quat(), err_msg=n)
+    np.testing.assert_array_equal(Rotation.identity().as_quat(), [1.0, 0.0, 0.0, 0.0])
+    assert Rotation.identity().shape == () and Rotation.identity(()).shape == ()
+    np.testing.assert_allclose(
+        Rotation.random(rng=7).as_quat(), Rotation.random(1, rng=7).as_quat()[0], rtol=0, atol=3e-16
+    )
+    r = Rotation.from_quat(Q[4])
+    np.testing.assert_array_equal(r.mean().as_quat(), r.as_quat())  # the mean of one is itself
+    # ... as the eigenvector of the batch path finds it (up to the sign of q)
+    one_of_batch = Rotation.from_quat(Q[4][None]).mean().as_quat()
+    np.testing.assert_allclose(abs(r.mean().as_quat() @ one_of_batch), 1.0, rtol=0, atol=1e-14)
+
+
+def test_random_without_a_seed_differs_between_calls_and_forked_children():
+    import os
+
+    a, b = Rotation.random(), Rotation.random()
+    assert not np.array_equal(a.as_quat(), b.as_quat())
+    if not hasattr(os, "fork"):
+        return
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover - the child
+        os.write(w, Rotation.random().as_quat().tobytes())
+        os._exit(0)
+    os.waitpid(pid, 0)
+    child = np.frombuffer(os.read(r, 32), dtype=np.float64)
+    os.close(r), os.close(w)
+    assert not np.array_equal(child, Rotation.random().as_quat())

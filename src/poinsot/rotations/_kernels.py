@@ -275,6 +275,14 @@ def to_mrp1(q, v):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def pow1(q, n, out):  # pragma: no cover - compiled
+    # r ** n: the rotation vector (shortest rotation) times n, back to a quaternion
+    w, x, y, z = _canonical(q[0], q[1], q[2], q[3])
+    a, b, c = _to_rotvec(w, x, y, z)
+    out[0], out[1], out[2], out[3] = _from_rotvec(n * a, n * b, n * c)
+
+
+@njit(cache=True)
 def angle1(q):  # pragma: no cover - compiled
     return _angle(q[0], q[1], q[2], q[3])
 

@@ -53,6 +53,7 @@ class _OneRotation:
         "to_euler1": ("q", "i1", "f1"),
         "angle1": ("q",),
         "conj1": ("q", "f1"),
+        "pow1": ("q", "f", "f1"),
     }
 
     def __getattr__(self, name: str):
@@ -63,6 +64,7 @@ class _OneRotation:
             "f1": types.Array(types.float64, 1, "C"),
             "f2": types.Array(types.float64, 2, "C"),
             "i1": types.Array(types.int64, 1, "C"),
+            "f": types.float64,
         }
         try:
             sig = self._SIGNATURES[name]

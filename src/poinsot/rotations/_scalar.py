@@ -34,6 +34,8 @@ __all__ = [
     "canonical",
     "to_rotvec",
     "to_mrp",
+    "from_mrp",
+    "axis_angle",
     "from_euler",
     "to_euler",
     "euler_atan2_args",
@@ -176,6 +178,23 @@ def to_mrp(w, x, y, z):
     quaternion of :func:`canonical` sign (callers take it first: numba inlines calls)."""
     d = 1.0 + w
     return x / d, y / d, z / d
+
+
+def from_mrp(a, b, c):
+    """``L = ((1 - |p|^2) + 2 p) / (1 + |p|^2)`` from modified Rodrigues parameters
+    (theory §2), for ``|p|^2`` that does not overflow (callers check)."""
+    n2 = a * a + b * b + c * c
+    d = 1.0 + n2
+    return (1.0 - n2) / d, 2.0 * a / d, 2.0 * b / d, 2.0 * c / d
+
+
+def axis_angle(w, x, y, z):
+    """Unit axis and angle in ``[0, pi]`` of a quaternion of :func:`canonical` sign
+    (theory §2): ``f = 2 atan2(|l|, l0)``, ``e = l / |l|`` (``(1, 0, 0)`` for ``f = 0``)."""
+    n = math.sqrt(x * x + y * y + z * z)
+    if n > 0.0:
+        return x / n, y / n, z / n, 2.0 * math.atan2(n, w)
+    return 1.0, 0.0, 0.0, 2.0 * math.atan2(n, w)
 
 
 def to_rotvec(w, x, y, z):

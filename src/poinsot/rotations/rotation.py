@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
@@ -116,6 +117,19 @@ def _unit4(t) -> tuple[float, float, float, float] | None:
     if abs(n - 1.0) <= _EPS4:
         return w, x, y, z
     return w / n, x / n, y / n, z / n
+
+
+_GENERATOR: tuple[int, np.random.Generator] | None = None
+
+
+def _generator() -> np.random.Generator:
+    """The process's generator for ``random(rng=None)``: seeded once from fresh entropy
+    (building a Generator costs ~10 us, more than the rotation); a forked child
+    reseeds its own, so processes do not repeat each other's rotations."""
+    global _GENERATOR
+    if _GENERATOR is None or _GENERATOR[0] != os.getpid():
+        _GENERATOR = (os.getpid(), np.random.default_rng())
+    return _GENERATOR[1]
 
 
 def _real(x) -> float | None:
@@ -355,7 +369,15 @@ class Rotation:
         >>> Rotation.from_axis_angle([0, 0, 2], 90, degrees=True).apply([1, 0, 0]).round(12) + 0.0
         array([0., 1., 0.])
         """
-        deg = as_bool(degrees, "degrees")
+        deg = False if degrees is False else as_bool(degrees, "degrees")
+        t, f1 = plain_vec3(axis), _real(angle)
+        if t is not None and f1 is not None and cls is Rotation:
+            a, b, c = t
+            n1 = math.hypot(a, b, c)
+            if n1 > 0.0:
+                half = 0.5 * (f1 * _DEG if deg else f1)
+                s = math.sin(half)
+                return _new((math.cos(half), s * (a / n1), s * (b / n1), s * (c / n1)))
         ax = as_vec3(axis, "axis")
         f = as_float_array(angle, "angle")
         n = length_array(ax)  # no overflow/underflow for huge or tiny axes
@@ -426,6 +448,11 @@ class Rotation:
         >>> Rotation.from_gibbs([0, 0, 1]).as_rotvec(degrees=True)
         array([ 0.,  0., 90.])
         """
+        t = plain_vec3(gibbs)
+        if t is not None and cls is Rotation:
+            u = _unit4((1.0, *t))
+            if u is not None:
+                return _new(u)
         return cls._wrap(rodrigues.quat_from_gibbs(as_vec3(gibbs, "gibbs")))
 
     @classmethod
@@ -437,6 +464,11 @@ class Rotation:
         >>> Rotation.from_mrp([0, 0, 1]).as_rotvec(degrees=True)
         array([  0.,   0., 180.])
         """
+        t = plain_vec3(mrp)
+        if t is not None and cls is Rotation:
+            a, b, c = t
+            if a * a + b * b + c * c <= 1e200:  # else the shadow set (general path)
+                return _new(S.from_mrp(a, b, c))
         return cls._wrap(rodrigues.quat_from_mrp(as_vec3(mrp, "mrp")))
 
     @classmethod
@@ -486,6 +518,8 @@ class Rotation:
         array([[1., 0., 0., 0.],
                [1., 0., 0., 0.]])
         """
+        if type(shape) is tuple and shape == () and cls is Rotation:
+            return _new((1.0, 0.0, 0.0, 0.0))
         shape = _as_shape(shape)
         q = np.zeros((*shape, 4))
         q[..., 0] = 1.0
@@ -495,15 +529,21 @@ class Rotation:
     def random(cls, shape: int | Sequence[int] = (), rng=None) -> Rotation:
         """Rotations uniformly distributed on SO(3) (normalised Gaussian quaternions).
 
-        ``rng``: ``None``, a seed or a :class:`numpy.random.Generator`.
+        ``rng``: ``None`` (a generator seeded once per process from fresh entropy,
+        as NumPy's global one), a seed or a :class:`numpy.random.Generator`.
 
         Examples
         --------
         >>> Rotation.random(3, rng=42).shape
         (3,)
         """
+        g = _generator() if rng is None else np.random.default_rng(rng)
+        if type(shape) is tuple and shape == () and cls is Rotation:
+            u = _unit4(g.standard_normal(4).tolist())
+            if u is not None:
+                return _new(u)
+            return cls.random(shape, g)  # pragma: no cover - |q| ~ 0 or huge: never seen
         shape = _as_shape(shape)
-        g = np.random.default_rng(rng)
         q = g.standard_normal((*shape, 4))
         return cls._wrap(q / np.linalg.norm(q, axis=-1, keepdims=True))
 
@@ -601,7 +641,10 @@ class Rotation:
         >>> axis + 0.0, float(angle)
         (array([ 0.,  0., -1.]), 0.5)
         """
-        deg = as_bool(degrees, "degrees")
+        deg = False if degrees is False else as_bool(degrees, "degrees")
+        if self._q.ndim == 1:
+            a, b, c, f = S.axis_angle(*S.canonical(*self._q.tolist()))
+            return np.array((a, b, c)), np.float64(f * _RAD if deg else f)
         q = _canonical(self._q)
         v = q[..., 1:]
         n = np.sqrt(np.einsum("...i,...i->...", v, v))
@@ -645,6 +688,10 @@ class Rotation:
         >>> Rotation.from_rotvec([0, 0, 90], degrees=True).as_gibbs().round(12) + 0.0
         array([0., 0., 1.])
         """
+        if self._q.ndim == 1:
+            w, x, y, z = S.canonical(*self._q.tolist())
+            if w != 0.0:  # (at pi: the general path warns)
+                return np.array((x / w, y / w, z / w))
         return rodrigues.gibbs_from_quat(self._q)
 
     def as_mrp(self) -> np.ndarray:
@@ -774,6 +821,17 @@ class Rotation:
         >>> (Rotation.from_rotvec([0, 0, 0.6]) ** 0.5).as_rotvec().round(15)
         array([0. , 0. , 0.3])
         """
+        f = _real(n)
+        if f is not None and self._q.ndim == 1:
+            if f == 1.0:
+                return self
+            if f == -1.0:
+                return self.inv()
+            out = np.empty(4)
+            one.pow1(self._q, f, out)
+            obj = object.__new__(Rotation)
+            obj._q = out  # private and unshared: see _new
+            return obj
         p = as_float_array(n, "n")
         if p.ndim == 0 and p == 1:
             return self
@@ -804,6 +862,9 @@ class Rotation:
                 raise InvalidInputError(f"Expected `atol` to be non-negative, got {atol!r}.")
             if as_bool(degrees, "degrees"):
                 tol = float(np.deg2rad(tol))
+        if self._q.ndim == 1 and other._q.ndim == 1:
+            w, x, y, z = other._q.tolist()
+            return np.bool_(S.angle(*S.hamilton(w, -x, -y, -z, *self._q.tolist())) <= tol)
         return (other.inv() * self).magnitude() <= tol
 
     def mean(self, weights=None, axis=None) -> Rotation:
@@ -822,6 +883,8 @@ class Rotation:
         array([0., 0., 0.])
         """
         q, shape = self._q, self.shape
+        if q.ndim == 1 and weights is None and axis is None:
+            return self  # the mean of one rotation (immutable: no copy needed)
         nd = len(shape)
         if axis is None:
             axes = tuple(range(nd))
