@@ -717,6 +717,14 @@ def test_heavy_top_scenario_report_panels(tmp_path):
     assert any(n.startswith("K_z") for n in names), names
     assert any(n.startswith("theta, nutation") for n in names), names
     assert "turns at most" in text  # the spin of 150 rad/s does not strobe
+    # regular precession: gravity does no work, T is constant; the balance says so
+    balance = [t for t in titles if t.startswith("energy balance")]
+    assert len(balance) == 1 and "T constant here: round-off only, max" in balance[0], balance
+    # released from rest in nutation, T changes: a real balance, no round-off label
+    released = simulate_scenario(load_scenario(examples / "top_released.toml"), duration=0.5)
+    P2, _ = _page(write_scenario_report(tmp_path / "r2.html", released))
+    balance = [t for t in _titles(P2) if t.startswith("energy balance")]
+    assert balance == ["energy balance: T(t) - T(0) = work of the torque"]
 
 
 def test_rotating_frame_particle_drawn_in_the_frame(tmp_path):

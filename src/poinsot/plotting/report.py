@@ -824,9 +824,15 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             power = np.einsum("ni,ni->n", tq, w)  # dT/dt = N . w (theory §9)
             work = cumulative_trapezoid(power, t, initial=0.0)
             dT = np.asarray(tr.energy) - tr.energy[0]
+            title = "energy balance: T(t) - T(0) = work of the torque"
+            big = max(float(np.max(np.abs(dT))), float(np.max(np.abs(work))))
+            if big <= 1e-9 * max(abs(float(tr.energy[0])), 1e-300):
+                # the torque does no work here (e.g. a top in regular precession): say so
+                # rather than show round-off as if it were a balance
+                title += f" (T constant here: round-off only, max {fmt_number(big)} J)"
             out.append(
                 (
-                    "energy balance: T(t) - T(0) = work of the torque",
+                    title,
                     "J",
                     [
                         ("T(t) - T(0)", dT, "#8c564b", None),
