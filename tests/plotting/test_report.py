@@ -747,3 +747,21 @@ def test_rotating_frame_particle_drawn_in_the_frame(tmp_path):
     assert titles[0] == "position: x_east, y_north, z_up"
     assert not any(t.startswith(("angular velocity", "attitude")) for t in titles)
     assert "body axes x, y, z" not in text
+
+
+def test_quantities_constant_in_this_motion_say_so(tmp_path):
+    """Coning (a prescribed motion): T and |K| are not conserved in general (there is a
+    torque), but T is constant along this one; its chart says so with the size of its
+    change instead of calling it a change (issue: no noise-only panels)."""
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "coning.toml"), duration=0.5)
+    P, _ = _page(write_scenario_report(tmp_path / "r.html", res))
+    titles = _titles(P)
+    energy = [t for t in titles if t.startswith("kinetic energy T")]
+    assert energy == ["kinetic energy T (not conserved in general, constant in this motion)"]
+    names = list(_series(P))
+    assert any(n.startswith("kinetic energy T (constant here: max change") for n in names), names
+    # K in space axes turns with the coning: a real change, no such label
+    assert any(t.startswith("|K|, K (space axes) (changes along this motion)") for t in titles)

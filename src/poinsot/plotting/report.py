@@ -797,19 +797,35 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             )
         )
     others: dict[str, list] = {}
+    steady: dict[str, bool] = {}  # every quantity of these units constant in this motion
     for c in checks:
         if c.conserved or c.expected is not None:
             continue
         v = np.asarray(c.values, dtype=float)
         lst = others.setdefault(c.units, [])
+        # not conserved by the torque model, yet constant along this particular motion
+        # (e.g. T of a uniform coning): said, with the size of its change
+        span = float(np.max(np.ptp(v.reshape(v.shape[0], -1), axis=0), initial=0.0))
+        flat = span <= 1e-9 * max(float(np.max(np.abs(v), initial=0.0)), 1e-300)
+        steady[c.units] = steady.get(c.units, True) and flat
+        note = f" (constant here: max change {fmt_number(span)})" if flat else ""
         if v.ndim == 1:
-            lst.append((c.label, v, _PALETTE[len(lst) % len(_PALETTE)], None))
+            lst.append((c.label + note, v, _PALETTE[len(lst) % len(_PALETTE)], None))
         else:
             for a in range(v.shape[-1]):
                 lst.append((f"{c.label} {'xyz'[a]}", v[:, a], _AXIS_COLOURS[a % 3], "dash"))
     for units, series in others.items():
-        names = ", ".join(dict.fromkeys(s[0].rsplit(" ", 1)[0] if s[3] else s[0] for s in series))
-        out.append((f"{names} (changes along this motion)", units, series))
+        names = ", ".join(
+            dict.fromkeys(
+                s[0].rsplit(" ", 1)[0] if s[3] else s[0].split(" (constant here")[0] for s in series
+            )
+        )
+        how = (
+            "not conserved in general, constant in this motion"
+            if steady[units]
+            else "changes along this motion"
+        )
+        out.append((f"{names} ({how})", units, series))
     if tq is not None and np.any(tq != 0):
         out.append(
             (
