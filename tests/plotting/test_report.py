@@ -765,3 +765,22 @@ def test_quantities_constant_in_this_motion_say_so(tmp_path):
     assert any(n.startswith("kinetic energy T (constant here: max change") for n in names), names
     # K in space axes turns with the coning: a real change, no such label
     assert any(t.startswith("|K|, K (space axes) (changes along this motion)") for t in titles)
+
+
+def test_attitude_error_title_gives_its_size(tmp_path):
+    """The attitude-error chart states its maximum; when two methods agree to round-off
+    (attitude propagation from a piecewise-linear rate: Magnus and RK4 both exact to
+    rounding) the title says so rather than showing noise as an error."""
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "attitude_propagation.toml"))
+    err = (res.reference.rotation.inv() * res.trajectory.rotation).magnitude()
+    P, _ = _page(write_scenario_report(tmp_path / "r.html", res))
+    title = [t for t in _titles(P) if t.startswith("attitude error vs reference")]
+    assert len(title) == 1 and "round-off only, max" in title[0], title
+    assert err.max() < 1e-12
+    res = simulate_scenario(load_scenario(examples / "tennis_racket.toml"), duration=1.0)
+    P, _ = _page(write_scenario_report(tmp_path / "r2.html", res))
+    title = [t for t in _titles(P) if t.startswith("attitude error vs reference")]
+    assert len(title) == 1 and "round-off" not in title[0] and title[0].endswith(" rad)"), title

@@ -858,9 +858,11 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             )
     if ref is not None and ref.t.shape == t.shape and np.allclose(ref.t, t):
         err = (ref.rotation.inv() * tr.rotation).magnitude()
+        worst = float(np.max(err, initial=0.0))
+        noise = "round-off only, " if worst < 1e-12 else ""  # 1e-12 rad: ~4e3 ulp of pi
         out.append(
             (
-                f"attitude error vs reference ({ref.method})",
+                f"attitude error vs reference ({ref.method}; {noise}max {fmt_number(worst)} rad)",
                 "rad",
                 [("|log(R_ref^-1 R)|", err, "#222222", None)],
             )
