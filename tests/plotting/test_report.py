@@ -318,6 +318,11 @@ def test_panels_from_checks_state_round_off(tmp_path, prec):
     assert any(t.startswith("T (reported)") for t in titles)
     assert "deviation from the known law (relative)" in titles
     assert any(re.match(r"T vs closed form: max 1e-9$", n) for n in names), names
+    # an integrator's slow drift of 1e-11 is not round-off
+    slow = Check("energy", "kinetic energy T", "J", tr.energy * (1 + 1e-11 * tr.t / tr.t[-1]))
+    P2, _ = _write(tmp_path, tr, "r2.html", inertia=J, checks=[slow])
+    cons = next(t for t in _titles(P2) if t.startswith("conserved quantities"))
+    assert cons.startswith("conserved quantities: relative change (drift, max 1e-11")
     _, dev = _named_series(P, "T vs closed form")
     np.testing.assert_allclose(dev, 1e-9, rtol=1e-5)
     ylabels = [p["ytitle"] for p in P["panels"]]

@@ -788,7 +788,8 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             worst = max(worst, m)
             what = f"{c.label} vs {c.law}" if c.law else c.label
             series.append((f"{what}: max {fmt_number(m)}", d, _PALETTE[k % len(_PALETTE)], None))
-        kindof = "round-off only" if worst < 1e-10 else "drift"
+        # round-off: a few thousand ulp at most; beyond, the method's error (a drift)
+        kindof = "round-off only" if worst < 1e-12 else "drift"
         out.append(
             (
                 f"conserved quantities: relative change ({kindof}, max {fmt_number(worst)})",
