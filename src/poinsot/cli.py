@@ -697,8 +697,9 @@ def _cmd_ensemble(args) -> int:
         print(f"{s['samples']} samples, {s['failures']} failed; outputs in {res.out}")
         for name, m in s["metrics"].items():
             q = m["quantiles"]
+            label = name if m["unit"] in ("", "1") else f"{name} ({m['unit']})"
             print(
-                f"  {name}: mean {m['mean']:.6g} {m['unit']}, median {q['50%']:.6g}, "
+                f"  {label}: mean {m['mean']:.6g}, median {q['50%']:.6g}, "
                 f"5%-95% [{q['5%']:.6g}, {q['95%']:.6g}], never {m['never']}"
             )
     return 0

@@ -172,7 +172,8 @@ def test_cli_ensemble_writes_outputs_and_refuses_bad_files(tmp_path, capsys):
         "chunk-000000.parquet", "chunk-000001.parquet", "chunk-000002.parquet"]
     html = (out / "report.html").read_text()
     assert 'id="poinsot-data"' in html and "flip_time" in html and "<script src=" not in html
-    assert "flip_time" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "  flip_time (s): mean " in printed and "  energy_drift: mean " in printed
     # resume of a complete run recomputes nothing and succeeds
     assert main(["ensemble", str(src), "--samples", "12", "--chunk-size", "5",
                  "--out", str(out), "--workers", "0", "--resume"]) == 0

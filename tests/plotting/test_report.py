@@ -698,6 +698,11 @@ def test_ensemble_report_uses_the_viewer(tmp_path):
                 x, y = _f32(s["x"]), _f32(s["y"])
                 ok = ~failed & np.isfinite(v)
                 np.testing.assert_allclose(x, res.column(param)[ok], rtol=1e-6, atol=1e-30)
+                # units of the inputs: rad/s for omega0, none for quaternion components
+                if param.startswith("omega0_"):
+                    assert p["xtitle"] == f"{param} (rad/s)"
+                if param.startswith("attitude_"):
+                    assert p["xtitle"] == param
                 np.testing.assert_allclose(y, v[ok], rtol=1e-6)
 
 

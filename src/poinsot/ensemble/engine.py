@@ -43,7 +43,12 @@ __all__ = ["EnsembleProblem", "EnsembleResult", "EnsembleError", "run", "run_chu
 #: Quantities a ``[dispersion]`` table may name, with their units and shapes.
 QUANTITIES = {
     "omega0": ("rad/s", (3,), "initial angular velocity, body axes"),
-    "attitude": ("deg", (4,), "initial attitude (small_rotation / uniform_rotation only)"),
+    "attitude": (
+        "1",
+        (4,),
+        "initial attitude, a unit quaternion (w, x, y, z) body -> space (dispersed by "
+        "small_rotation, sigma in deg, or uniform_rotation only)",
+    ),
     "inertia": ("kg m^2", (3,), "diagonal of the inertia tensor about the centre of mass"),
     "mass": ("kg", (), "mass"),
     "center_of_mass": ("m", (3,), "centre of mass from the fixed point, body axes"),

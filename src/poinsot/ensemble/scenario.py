@@ -147,7 +147,8 @@ def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict]:
                 continue
             out.append(chart(f"{m.name} against {p}", m.unit,
                              [(f"{m.name} ({idx.size} samples)", x[idx], v[idx], "#aa3377",
-                               "markers")], x_name=p, x_units=unit))  # fmt: skip
+                               "markers")], x_name=p,
+                             x_units="" if unit == "1" else unit))  # fmt: skip
     return out
 
 
