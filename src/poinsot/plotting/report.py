@@ -444,13 +444,17 @@ def _body_shapes(body) -> list[dict] | None:
     """The solids of a scenario body (its shape, or its parts) in body axes."""
     from ..mass import solids
 
+    if body.shape == "mesh":  # vertices already in body axes
+        return [{"kind": "mesh", "vertices": body.vertices, "faces": body.faces}]
     if body.shape in SHAPES and body.dims:
         return [{"kind": body.shape, "dims": list(body.dims), "center": body.center_of_mass}]
     if not body.parts:
         return None
     out = []
     for p in body.parts:
-        if p.shape in SHAPES and p.dims:
+        if p.shape == "mesh":  # placed by its position/orientation: in body axes
+            out.append({"kind": "mesh", "vertices": p.vertices, "faces": p.faces})
+        elif p.shape in SHAPES and p.dims:
             canon = np.asarray(getattr(solids, p.shape)(1.0, *p.dims), dtype=float)
             # the part's inertia may be turned (orientation =): find its axes
             j = np.asarray(p.inertia) / p.mass

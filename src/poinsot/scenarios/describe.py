@@ -117,7 +117,9 @@ def describe(result, *, title: str = "poinsot", notes=()) -> str:
     if s.body is not None:
         b = summ["body"]
         shape = (
-            f"{s.body.shape} {' x '.join(fmt(d) for d in s.body.dims)} m, "
+            f"mesh of {len(s.body.faces)} triangles, "
+            if s.body.shape == "mesh"
+            else f"{s.body.shape} {' x '.join(fmt(d) for d in s.body.dims)} m, "
             if s.body.shape
             else f"{len(s.body.parts)} parts, "
             if s.body.parts

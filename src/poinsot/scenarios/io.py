@@ -278,7 +278,7 @@ def _inertia(t: Table, key: str = "inertia") -> np.ndarray:
 
 
 def _solid(t: Table) -> tuple[str, tuple[float, ...], float, np.ndarray]:
-    shape = t.string("shape", choices=tuple(SHAPES), required=True)
+    shape = t.string("shape", choices=(*SHAPES, "mesh"), required=True)
     names = SHAPES[shape]
     dims = t.vector(
         "dims",
@@ -297,11 +297,90 @@ def _solid(t: Table) -> tuple[str, tuple[float, ...], float, np.ndarray]:
     return shape, dims, mass, np.asarray(j, dtype=float)
 
 
+#: Keys of a ``shape = "mesh"`` body or part (besides ``shape``).
+_MESH_KEYS = ("file", "vertices", "faces", "mass", "density")
+
+
+def _mesh_faces(t: Table) -> np.ndarray:
+    v = t.raw("faces")
+    ok = (
+        isinstance(v, list)
+        and v
+        and all(
+            isinstance(r, list)
+            and len(r) == 3
+            and all(isinstance(x, int) and not isinstance(x, bool) for x in r)
+            for r in v
+        )
+    )
+    if not ok:
+        raise t.expected(
+            "faces", "an array of triangles [[i, j, k], ...] of 0-based vertex indices", v
+        )
+    return np.array(v, dtype=np.int64)
+
+
+def _mesh(t: Table):
+    """A ``shape = "mesh"`` table: mass (kg), inertia about the mesh's centre of mass
+    in the mesh's axes (kg m^2), that centre in the mesh's coordinates (m), and the
+    mesh (vertices in m, faces)."""
+    t.forbid(["dims"], 'a `shape = "mesh"` has no `dims`: its size is that of its vertices')
+    how = t.exclusive(
+        ("file", "vertices"),
+        what="a mesh file (OBJ or STL, path relative to the scenario file) or inline "
+        "`vertices` and `faces`",
+    )
+    if how == "file":
+        t.forbid(["faces"], "the faces of a mesh given by `file` are read from the file")
+        name = t.string("file")
+        path = Path(name)
+        if not path.is_absolute() and not t.file.startswith("<"):
+            path = Path(t.file).parent / path
+        from ..mass import read_mesh
+
+        try:
+            v, f = read_mesh(path)
+        except PoinsotError as exc:
+            raise _wrap(t, "file", exc) from None
+        where = "file"
+    else:
+        v = np.array(
+            t.matrix("vertices", None, 3, what="an array of vertices [[x, y, z], ...] (m)")
+        )
+        if not t.has("faces"):
+            raise t.error(None, "missing key `faces`: expected the triangles [[i, j, k], ...] "
+                          "(0-based indices into `vertices`).")  # fmt: skip
+        f = _mesh_faces(t)
+        where = "faces"
+    which = t.exclusive(
+        ("mass", "density"), what="the mass (kg) or the density (kg/m^3) of the uniform solid"
+    )
+    amount = t.number(which, positive=True)
+    from ..mass import mesh
+
+    try:
+        props = mesh(v, f, **{which: amount})
+    except PoinsotError as exc:
+        msg = str(exc).rstrip(".")
+        msg = f"{msg[:1].lower()}{msg[1:]}."
+        raise t.error(where, f"{path}: {msg}" if where == "file" else msg) from None
+    return (
+        float(props.mass),
+        np.asarray(props.inertia, dtype=float),
+        np.asarray(props.center_of_mass, dtype=float),
+        np.asarray(v, dtype=float),
+        np.asarray(f, dtype=np.int64),
+    )
+
+
 def _part(t: Table, index: int) -> PartSpec:
     keys = ("name", "shape", "dims", "mass", "inertia", "position", "orientation")
-    t.known(keys)
+    t.known((*keys, *_MESH_KEYS))
     name = t.string("name", f"part {index}")
     position = np.array(t.vector("position", 3, required=False, default=(0.0, 0.0, 0.0)))
+    if t.raw("shape") == "mesh":
+        return _mesh_part(t, name, position, keys)
+    t.forbid(["file", "vertices", "faces", "density"], 'only a `shape = "mesh"` takes it')
     if t.has("shape"):
         t.forbid(
             ["inertia"],
@@ -312,19 +391,47 @@ def _part(t: Table, index: int) -> PartSpec:
         mass = t.number("mass", positive=True, required=True)
         shape, dims = None, None
         j = _inertia(t) if t.has("inertia") else np.zeros((3, 3))  # a point mass
-    orientation = t.table("orientation")
-    if orientation is not None:  # the part's own axes relative to the body axes
-        q = read_attitude(orientation, t).quat
-        from ..rotations.rotation import Rotation
-
-        c_bp = Rotation.from_quat(q).as_matrix()
+    c_bp = _part_axes(t)
+    if c_bp is not None:  # the part's own axes relative to the body axes
         j = c_bp @ j @ c_bp.T  # J_b = C J_p C^T (docs/theory.md §8)
     t.finish(keys)
     return PartSpec(name=name, mass=mass, inertia=j, position=position, shape=shape, dims=dims)
 
 
+def _part_axes(t: Table) -> np.ndarray | None:
+    """``C_bp`` of a part's ``[orientation]`` (columns: the part's axes in body axes)."""
+    orientation = t.table("orientation")
+    if orientation is None:
+        return None
+    from ..rotations.rotation import Rotation
+
+    return Rotation.from_quat(read_attitude(orientation, t).quat).as_matrix()
+
+
+def _mesh_part(t: Table, name: str, origin: np.ndarray, keys) -> PartSpec:
+    """A mesh part: its vertices ``r_p`` go to ``r_b = position + C_bp r_p`` in body axes."""
+    t.forbid(["inertia"], "the inertia of a mesh part follows from its vertices")
+    mass, j, com, v, f = _mesh(t)
+    c_bp = _part_axes(t)
+    if c_bp is not None:
+        j = c_bp @ j @ c_bp.T  # J_b = C J_p C^T (docs/theory.md §8)
+        com, v = c_bp @ com, v @ c_bp.T
+    t.finish((*keys, *_MESH_KEYS))
+    return PartSpec(
+        name=name,
+        mass=mass,
+        inertia=j,
+        position=origin + com,
+        shape="mesh",
+        vertices=origin + v,
+        faces=f,
+    )
+
+
 def read_body(t: Table) -> BodySpec:
-    t.known(("mass", "inertia", "center_of_mass", "shape", "dims", "parts"))
+    t.known(("mass", "inertia", "center_of_mass", "shape", "dims", "parts", *_MESH_KEYS))
+    if t.raw("shape") != "mesh":
+        t.forbid(["file", "vertices", "faces", "density"], 'only a `shape = "mesh"` takes it')
     how = t.exclusive(
         ("inertia", "shape", "parts"),
         what="a body is given by `mass` and "
@@ -346,6 +453,15 @@ def read_body(t: Table) -> BodySpec:
         except PoinsotError as exc:
             raise _wrap(t, "parts", exc) from None
         return BodySpec(mass=mass, inertia=j, center_of_mass=com, parts=parts)
+    if how == "shape" and t.raw("shape") == "mesh":
+        t.forbid(
+            ["center_of_mass"],
+            "the centre of mass of a mesh body follows from its vertices (the mesh's "
+            "coordinates are the body axes)",
+        )
+        mass, j, com, v, f = _mesh(t)
+        t.finish(("shape", *_MESH_KEYS))
+        return BodySpec(mass=mass, inertia=j, center_of_mass=com, shape="mesh", vertices=v, faces=f)
     com = np.array(t.vector("center_of_mass", 3, required=False, default=(0.0, 0.0, 0.0)))
     if how == "shape":
         shape, dims, mass, j = _solid(t)

@@ -63,7 +63,9 @@ class PartSpec:
     """One part of a composite body (``[[body.parts]]``).
 
     ``inertia`` is the part's inertia tensor about its own centre of mass in body
-    axes; ``position`` is its centre of mass in body axes (m).
+    axes; ``position`` is its centre of mass in body axes (m). A ``shape = "mesh"``
+    part keeps its triangle mesh placed in body axes: ``vertices`` (m) and
+    ``faces`` (0-based indices, counter-clockwise seen from outside).
     """
 
     name: str
@@ -72,16 +74,29 @@ class PartSpec:
     position: np.ndarray
     shape: str | None = None
     dims: tuple[float, ...] | None = None
+    vertices: np.ndarray | None = None
+    faces: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "inertia", _frozen_array(self.inertia))
         object.__setattr__(self, "position", _frozen_array(self.position))
+        _freeze_mesh(self)
+
+
+def _freeze_mesh(spec) -> None:
+    if spec.vertices is not None:
+        object.__setattr__(spec, "vertices", _frozen_array(spec.vertices))
+    if spec.faces is not None:
+        f = np.array(spec.faces, dtype=np.int64)
+        f.setflags(write=False)
+        object.__setattr__(spec, "faces", f)
 
 
 @dataclass(frozen=True, eq=False)
 class BodySpec:
     """The rigid body: total mass (kg), inertia tensor about the centre of mass in body
-    axes (kg m^2), centre of mass in body axes (m) and how it was described."""
+    axes (kg m^2), centre of mass in body axes (m) and how it was described (a
+    ``shape = "mesh"`` body keeps its ``vertices`` (m, body axes) and ``faces``)."""
 
     mass: float
     inertia: np.ndarray
@@ -89,10 +104,13 @@ class BodySpec:
     shape: str | None = None
     dims: tuple[float, ...] | None = None
     parts: tuple[PartSpec, ...] = ()
+    vertices: np.ndarray | None = None
+    faces: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "inertia", _frozen_array(self.inertia))
         object.__setattr__(self, "center_of_mass", _frozen_array(self.center_of_mass))
+        _freeze_mesh(self)
 
     def inertia_about_origin(self) -> np.ndarray:
         """Inertia tensor about the origin of the body axes (Huygens-Steiner,
