@@ -52,6 +52,7 @@ __all__ = [
 
 #: Solids accepted by ``shape =`` and the meaning of their ``dims`` (m), in order.
 #: Axisymmetric solids have their axis along body ``z``; a rod lies along ``z``.
+#: ``shape = "mesh"`` (no ``dims``: ``file`` or ``vertices``/``faces``) is read by ``_mesh``.
 SHAPES: dict[str, tuple[str, ...]] = {
     "box": ("length along x", "width along y", "height along z"),
     "sphere": ("radius",),
