@@ -182,3 +182,20 @@ def test_bad_mesh_files_and_parts(tmp_path):
     with pytest.raises(ScenarioError, match=r"`body\.parts\[0\]\.inertia`.*not allowed"):
         parse('[[body.parts]]\nshape = "mesh"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n'
               + inline(CUBE_V, CUBE_F))  # fmt: skip
+
+
+def test_mesh_top_under_gravity_equals_box_top():
+    """Under gravity the fixed point is the mesh's origin: a box mesh lifted by h along z
+    is the box body with center_of_mass = [0, 0, h] (same inertia about the pin)."""
+    v, f = box_mesh(A, B, C)
+    h = 0.35
+    grav = '[torque]\nmodel = "gravity"\n'
+    s1 = parse(f'[body]\nshape = "mesh"\nmass = {M}\n' + inline(v + [0.0, 0.0, h], f) + grav)
+    s2 = parse(
+        f'[body]\nshape = "box"\ndims = [{A}, {B}, {C}]\nmass = {M}\n'
+        f"center_of_mass = [0.0, 0.0, {h}]\n" + grav
+    )
+    assert_same_body(s1.body, s2.body)
+    np.testing.assert_allclose(
+        s1.body.inertia_about_origin(), s2.body.inertia_about_origin(), rtol=1e-13, atol=1e-15
+    )
