@@ -199,3 +199,17 @@ def test_mesh_top_under_gravity_equals_box_top():
     np.testing.assert_allclose(
         s1.body.inertia_about_origin(), s2.body.inertia_about_origin(), rtol=1e-13, atol=1e-15
     )
+
+
+def test_summary_gives_the_mesh_triangle_count(tmp_path):
+    # a mesh has no dims: the summary's body section says how many triangles it has
+    from poinsot.scenarios import simulate_scenario
+
+    v, f = icosphere(1)
+    write_obj(tmp_path / "rock.obj", v * [0.5, 0.3, 0.2], f)
+    (tmp_path / "rock.toml").write_text(
+        '[body]\nshape = "mesh"\nfile = "rock.obj"\nmass = 3.0\n' + REST
+    )
+    body = simulate_scenario(load_scenario(tmp_path / "rock.toml"), duration=0.1).summary["body"]
+    assert body["shape"] == "mesh" and body["dims"] is None
+    assert body["mesh_triangles"] == len(f)

@@ -324,6 +324,9 @@ class ScenarioResult:
             "dims": Entry(b.dims, "m") if b.dims else None,
             "parts": [p.name for p in b.parts] or None,
         }
+        meshes = [m for m in (b, *b.parts) if getattr(m, "faces", None) is not None]
+        if meshes:  # a mesh has no dims: its size is its triangle count
+            entries["mesh_triangles"] = sum(int(m.faces.shape[0]) for m in meshes)
         entries.update(s.adapter.body_entries(s))
         return section(entries)
 
