@@ -52,6 +52,17 @@ depends_on(__file__, el)
 N_PAR = 26
 
 
+@njit(cache=True, inline="always")
+def _pi_reduced(f, n, r, theta, s, s2, c2, d2):  # pragma: no cover - compiled
+    """``Pi(n; am r)`` on the reduced argument ``r``: the precomputed Fourier series
+    ``f`` when there is one, else ``r + n s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3``."""
+    if f.shape[0] > 0:
+        return f[0] * r + _sine_series(f, theta)
+    if s2 > 0.0:
+        return r + n * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - n * s2) / 3.0
+    return r
+
+
 @njit(cache=True)
 def _sine_series(c, theta):  # pragma: no cover - compiled
     """``sum_{j=1}^{J} c[j] sin(j theta)`` by Clenshaw's recurrence (``c[0]`` unused)."""
@@ -98,21 +109,9 @@ def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi):  # pragma: no cover
         d2 = d * d
         theta = math.pi * r / kq
         if par[P_CP] != 0.0:
-            if fp.shape[0] > 0:
-                pip = fp[0] * r + _sine_series(fp, theta)
-            else:
-                pip = r
-                if s2 > 0.0:
-                    pip += np_ * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - np_ * s2) / 3.0
-            pip += 2.0 * j * par[P_PIP]
+            pip = _pi_reduced(fp, np_, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIP]
         if par[P_CM] != 0.0:
-            if fm.shape[0] > 0:
-                pim = fm[0] * r + _sine_series(fm, theta)
-            else:
-                pim = r
-                if s2 > 0.0:
-                    pim += nm * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - nm * s2) / 3.0
-            pim += 2.0 * j * par[P_PIM]
+            pim = _pi_reduced(fm, nm, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIM]
     if j - 2.0 * math.floor(0.5 * j) != 0.0:
         s, c = -s, -c
     return s, c, d, pip, pim
