@@ -23,6 +23,7 @@ browser:
 
 test: venv browser
 	$(PY) -m ruff check src tests benchmarks
+	$(PY) -m ruff format --check src tests benchmarks tools
 	$(PY) -m pytest
 
 # The suite again with NumPy, SciPy and numba at the lowest versions pyproject.toml

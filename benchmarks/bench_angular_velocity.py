@@ -23,7 +23,6 @@ W1 = np.array([0.3, -0.7, 1.1])
 W2 = np.array([1.3, 0.4, -0.5])
 
 
-
 def motion(n, T=30.0):
     t = np.linspace(0.0, T, n)
     R = Rotation.from_rotvec(t[:, None] * W1) * Rotation.from_rotvec(t[:, None] * W2)

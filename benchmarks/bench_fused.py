@@ -105,8 +105,17 @@ def at_error(points, target):
     return float(10 ** np.interp(lt, errs[order], times[order]))
 
 
-def run_case(name, moments, quat, omega, torque_model, torque_np, ref, sweep_extra,
-             scipy_tols=(1e-5, 1e-7, 1e-9, 1e-11, 1e-13)):
+def run_case(
+    name,
+    moments,
+    quat,
+    omega,
+    torque_model,
+    torque_np,
+    ref,
+    sweep_extra,
+    scipy_tols=(1e-5, 1e-7, 1e-9, 1e-11, 1e-13),
+):
     t = np.array([0.0, DURATION])
     curves = {}
 
@@ -114,8 +123,10 @@ def run_case(name, moments, quat, omega, torque_model, torque_np, ref, sweep_ext
         tr = simulate(moments, quat, omega, t, torque=torque_model, method=method, **kw)
         return tr.quat[-1], tr.omega[-1]
 
-    simulate(moments[:2], quat[:2], omega[:2], t, torque=torque_model, method="dop853",
-             rtol=1e-6)  # compile outside the timings
+    simulate(
+        moments[:2], quat[:2], omega[:2], t, torque=torque_model, method="dop853", rtol=1e-6
+    )  # compile outside the timings
+
     def point(fn):
         dt, res = timed(fn)
         return dt, error(res, ref)
@@ -155,15 +166,25 @@ def main():
     exact = FreeRigidBody(moments, rotation0=quat, omega0=omega)
     ref_free = (exact.rotation(t).as_quat()[:, -1], exact.omega(t)[:, -1])  # batch first
     extra = [
-        ("poinsot splitting order 6", "splitting", [dict(order=6, max_step=h)
-                                                    for h in (0.05, 0.02, 0.01)]),
-        ("poinsot midpoint order 6", "midpoint", [dict(order=6, max_step=h)
-                                                  for h in (0.05, 0.02)]),
+        (
+            "poinsot splitting order 6",
+            "splitting",
+            [dict(order=6, max_step=h) for h in (0.05, 0.02, 0.01)],
+        ),
+        ("poinsot midpoint order 6", "midpoint", [dict(order=6, max_step=h) for h in (0.05, 0.02)]),
         ("poinsot rk4", "rk4", [dict(max_step=h) for h in (0.01, 0.003)]),
     ]
     all_curves = {}
-    all_curves["free"] = run_case("torque-free bodies", moments, quat, omega, None, None,
-                                  ref_free, extra if args.n <= 10_000 else [])
+    all_curves["free"] = run_case(
+        "torque-free bodies",
+        moments,
+        quat,
+        omega,
+        None,
+        None,
+        ref_free,
+        extra if args.n <= 10_000 else [],
+    )
     # exact solution, same error axis: its error is round-off
     dt, res = timed(lambda: (exact.rotation(t).as_quat()[:, -1], exact.omega(t)[:, -1]))
     print(f"  exact FreeRigidBody: {dt:.3f} s (the fastest and most accurate route)")
@@ -179,15 +200,28 @@ def main():
     grav = GravityTorque(1.0, com)
     for key, title, model, fn in (
         ("torque", "constant body torque", tq, lambda m: tq_np),
-        ("heavy", "heavy top (gravity about a fixed point)", grav,
-         lambda m: gravity_numpy(np.broadcast_to(grav.moment, m.shape))),
+        (
+            "heavy",
+            "heavy top (gravity about a fixed point)",
+            grav,
+            lambda m: gravity_numpy(np.broadcast_to(grav.moment, m.shape)),
+        ),
     ):
         ref = scipy_batch(moments, quat, omega, DURATION, 1e-13, fn(moments))
         ref_a = (ref[0][sub], ref[1][sub])
         ref2 = scipy_batch(moments[sub], quat[sub], omega[sub], DURATION, 5e-14, fn(moments[sub]))
         print(f"\nDOP853 reference ({key}) self-error: {error(ref_a, ref2):.1e}")
-        all_curves[key] = run_case(title, moments, quat, omega, model, fn(moments), ref, [],
-                                   scipy_tols=(1e-5, 1e-7, 1e-9, 1e-11, 1e-12))
+        all_curves[key] = run_case(
+            title,
+            moments,
+            quat,
+            omega,
+            model,
+            fn(moments),
+            ref,
+            [],
+            scipy_tols=(1e-5, 1e-7, 1e-9, 1e-11, 1e-12),
+        )
     if args.figure:
         figure(all_curves, args.n)
 
@@ -205,8 +239,11 @@ def one_body():
     print(f"\none body, {t_end:.0f} s (~1e4 periods)")
     pts_f, pts_s = [], []
     for rt in (1e-7, 1e-9, 1e-11):
-        dt, tr = timed(lambda rt=rt: simulate(moments, quat, omega, t, method="dop853",
-                                              rtol=rt, atol=rt * 1e-2))
+        dt, tr = timed(
+            lambda rt=rt: simulate(
+                moments, quat, omega, t, method="dop853", rtol=rt, atol=rt * 1e-2
+            )
+        )
         pts_f.append((dt, error((tr.quat[-1], tr.omega[-1]), ref)))
         dt, r = timed(lambda rt=rt: scipy_batch(moments, quat, omega, t_end, rt))
         pts_s.append((dt, error(r, ref)))
@@ -224,8 +261,11 @@ def figure(all_curves, n):
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
-    titles = {"free": f"torque-free, N = {n}", "torque": "constant body torque",
-              "heavy": "heavy top"}
+    titles = {
+        "free": f"torque-free, N = {n}",
+        "torque": "constant body torque",
+        "heavy": "heavy top",
+    }
     for ax, (key, curves) in zip(axes, all_curves.items(), strict=False):
         for label, pts in curves.items():
             pts = sorted(pts, key=lambda p: -p[1])  # along the sweep (noisy times zigzag)

@@ -188,9 +188,7 @@ def run(ns, rhs_cap, quick):
         t_one = median_time(lambda: f(0.0, y1), repeat=reps, number=number)
         t_one_mf = median_time(sym_mf_one, repeat=reps, number=max(10, number // 10))
         t_one_rhs = (
-            median_time(sym_rhs_one, repeat=reps, number=max(10, number // 10))
-            if lam_rhs
-            else None
+            median_time(sym_rhs_one, repeat=reps, number=max(10, number // 10)) if lam_rhs else None
         )
         nb = 10_000
         yb = rng.normal(size=(nb, 2 * n))

@@ -362,8 +362,17 @@ def main(argv: list[str]) -> int:
     env["PYTHONPATH"] = os.pathsep.join(path)
     env.setdefault("NUMBA_CACHE_DIR", tempfile.mkdtemp(prefix="shake-numba-"))
     cmd = [
-        sys.executable, "-m", "pytest", "-p", "shake_tolerances", "-p", "no:cacheprovider",
-        "-o", "addopts=-q -rs --import-mode=importlib", "--tb=no", "-rf",
+        sys.executable,
+        "-m",
+        "pytest",
+        "-p",
+        "shake_tolerances",
+        "-p",
+        "no:cacheprovider",
+        "-o",
+        "addopts=-q -rs --import-mode=importlib",
+        "--tb=no",
+        "-rf",
         *(argv or ["tests"]),
     ]
     print("+", " ".join(cmd), flush=True)

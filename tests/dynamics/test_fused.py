@@ -73,8 +73,12 @@ def test_measured_order_is_eight_with_projection():
     for h in (0.6, 0.3):
         tr = simulate(moments, quat, omega, t, method="dop853", rtol=1e3, atol=1e3, max_step=h)
         assert np.all(tr.info["rejected"] == 0)
-        errors.append(max(_attitude_error(tr.quat[-1], q_ref[-1]).max(),
-                          np.abs(tr.omega[-1] - w_ref[-1]).max()))
+        errors.append(
+            max(
+                _attitude_error(tr.quat[-1], q_ref[-1]).max(),
+                np.abs(tr.omega[-1] - w_ref[-1]).max(),
+            )
+        )
     ratio = errors[0] / errors[1]
     assert errors[1] > 1e-12  # still far above round-off, so the ratio measures the order
     assert ratio > 2.0**6.5, (errors, ratio)  # observed 255 = 2^8
@@ -96,10 +100,12 @@ def test_fused_torques_match_solve_ivp(torque):
         moments = np.broadcast_to(moments[0], moments.shape)
         torque = GravityGradientTorque(moments[0], 7.0e6, [0.3, -0.4, 0.8], mu=3.986e14 * 1e5)
     t = np.linspace(0.0, 5.0, 11)
-    fused = simulate(moments, quat, omega, t, torque=torque, method="dop853",
-                     rtol=1e-12, atol=1e-14)
-    ref = simulate(moments, quat, omega, t, torque=torque, method="adaptive",
-                   rtol=1e-13, atol=1e-15)
+    fused = simulate(
+        moments, quat, omega, t, torque=torque, method="dop853", rtol=1e-12, atol=1e-14
+    )
+    ref = simulate(
+        moments, quat, omega, t, torque=torque, method="adaptive", rtol=1e-13, atol=1e-15
+    )
     # observed <= 2e-11; the reference's own error ~1e-12
     assert _attitude_error(fused.quat, ref.quat).max() < 1e-9
     assert np.abs(fused.omega - ref.omega).max() < 1e-9
@@ -166,5 +172,6 @@ def test_bad_options_and_divergence_are_named():
     with pytest.raises(InvalidInputError, match="`solver` applies to method='adaptive'"):
         simulate(*args, method="dop853", solver="RK45")
     with pytest.raises(IntegrationError, match="dop853 integration failed for 1 of 1 bodies"):
-        simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [1e300, 1e300, 1e300], [0.0, 1.0],
-                 method="dop853")
+        simulate(
+            [1.0, 2.0, 3.0], [1.0, 0, 0, 0], [1e300, 1e300, 1e300], [0.0, 1.0], method="dop853"
+        )

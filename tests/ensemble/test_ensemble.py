@@ -31,24 +31,41 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 def _sphere(dispersions, metrics, t_end=2.0, n_t=21):
     """A spherical body (J = E): omega stays constant, the attitude turns uniformly."""
     return EnsembleProblem(
-        "sphere", np.eye(3), np.array([1.0, 0, 0, 0]), np.array([0.3, -0.2, 0.5]),
-        np.linspace(0.0, t_end, n_t), dispersions=tuple(dispersions), metrics=tuple(metrics))
+        "sphere",
+        np.eye(3),
+        np.array([1.0, 0, 0, 0]),
+        np.array([0.3, -0.2, 0.5]),
+        np.linspace(0.0, t_end, n_t),
+        dispersions=tuple(dispersions),
+        metrics=tuple(metrics),
+    )
 
 
 def _racket():
     return EnsembleProblem(
-        "racket", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]),
-        np.array([0.01, 2.0, 0.01]), np.linspace(0.0, 15.0, 301),
-        dispersions=(("omega0", Normal(sigma=[0.005, 0.05, 0.005])),
-                     ("attitude", SmallRotation(2.0))),
-        metrics=(Metric("flip", "first_flip_time"), Metric("err", "final_attitude_error"),
-                 Metric("drift", "energy_drift"), Metric("nmax", "nutation_max", axis="y")))
+        "racket",
+        np.diag([1.0, 2.0, 3.0]),
+        np.array([1.0, 0, 0, 0]),
+        np.array([0.01, 2.0, 0.01]),
+        np.linspace(0.0, 15.0, 301),
+        dispersions=(
+            ("omega0", Normal(sigma=[0.005, 0.05, 0.005])),
+            ("attitude", SmallRotation(2.0)),
+        ),
+        metrics=(
+            Metric("flip", "first_flip_time"),
+            Metric("err", "final_attitude_error"),
+            Metric("drift", "energy_drift"),
+            Metric("nmax", "nutation_max", axis="y"),
+        ),
+    )
 
 
 def test_metric_equals_input_for_a_sphere():
     """J = E: |omega| is constant, so max |omega| over the run is |omega0| of the sample."""
-    p = _sphere([("omega0", Normal(sigma=[0.1, 0.1, 0.1]))],
-                [Metric("wmax", "max", component="omega_norm")])
+    p = _sphere(
+        [("omega0", Normal(sigma=[0.1, 0.1, 0.1]))], [Metric("wmax", "max", component="omega_norm")]
+    )
     res = run(p, 50, chunk_size=20, client="serial", seed=3)
     w = np.stack([res.column(f"omega0_{c}") for c in "xyz"], axis=1)
     assert np.allclose(res.column("wmax"), np.linalg.norm(w, axis=1), rtol=1e-12, atol=0)
@@ -84,10 +101,14 @@ def test_same_seed_same_table_other_seed_other_draws(tmp_path):
 
 def test_failed_samples_are_recorded_not_dropped():
     p = EnsembleProblem(
-        "plate", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]), np.array([0.1, 2.0, 0.1]),
+        "plate",
+        np.diag([1.0, 2.0, 3.0]),
+        np.array([1.0, 0, 0, 0]),
+        np.array([0.1, 2.0, 0.1]),
         np.linspace(0.0, 1.0, 11),
         dispersions=(("inertia", Uniform(low=[1.0, 1.0, 1.0], high=[1.0, 1.0, 3.0])),),
-        metrics=(Metric("wmax", "max", component="omega_y"),))
+        metrics=(Metric("wmax", "max", component="omega_y"),),
+    )
     res = run(p, 40, chunk_size=40, client="serial", seed=1)
     c = res.column("inertia_z")
     failed = res.column("failed")
@@ -95,7 +116,9 @@ def test_failed_samples_are_recorded_not_dropped():
     assert np.all(np.isnan(res.column("wmax")[failed]))
     assert np.all(np.isfinite(res.column("wmax")[~failed]))
     assert set(res.table.column("reason").to_pylist()) == {
-        "", "inertia violates the triangle inequality A + B >= C"}
+        "",
+        "inertia violates the triangle inequality A + B >= C",
+    }
     assert res.summary["failures"] == int(failed.sum())
 
 
@@ -106,8 +129,16 @@ def test_resume_recomputes_only_missing_chunks(tmp_path):
     for i in (1, 3):
         os.remove(out / "chunks" / f"chunk-{i:06d}.parquet")
     seen = []
-    resumed = run(p, 50, chunk_size=10, client="serial", seed=2, out=out, resume=True,
-                  progress=lambda done, total: seen.append(done))
+    resumed = run(
+        p,
+        50,
+        chunk_size=10,
+        client="serial",
+        seed=2,
+        out=out,
+        resume=True,
+        progress=lambda done, total: seen.append(done),
+    )
     assert len(seen) == 2  # two chunks computed
     assert resumed.table.equals(full.table)
     with pytest.raises(EnsembleError, match="already holds this ensemble: pass --resume"):
@@ -121,9 +152,16 @@ def test_dask_cluster_with_a_killed_worker_gives_the_serial_result():
 
     p = _racket()
     serial = run(p, 96, chunk_size=8, client="serial", seed=11)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=None, host="127.0.0.1") as cluster, \
-            Client(cluster) as client:
+    with (
+        LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            host="127.0.0.1",
+        ) as cluster,
+        Client(cluster) as client,
+    ):
         victim = sorted(client.scheduler_info()["workers"])[0]
         killed = []
 
@@ -148,8 +186,13 @@ def test_bad_input_is_named():
     with pytest.raises(EnsembleError, match="`samples` > 0"):
         run(p, 0, client="serial")
     with pytest.raises(InvalidInputError, match="`sigma` to be >= 0"):
-        run(_sphere([("omega0", Normal(sigma=[-0.1, 0, 0]))],
-                    [Metric("w", "max", component="omega_x")]), 4, client="serial")
+        run(
+            _sphere(
+                [("omega0", Normal(sigma=[-0.1, 0, 0]))], [Metric("w", "max", component="omega_x")]
+            ),
+            4,
+            client="serial",
+        )
     with pytest.raises(InvalidInputError, match="Unknown dispersed quantity 'spin'"):
         _sphere([("spin", Normal(sigma=1.0))], [Metric("w", "max", component="omega_x")])
     with pytest.raises(EnsembleError, match="did not answer within 2"):
@@ -166,26 +209,77 @@ def _scenario_file(tmp_path, extra):
 def test_cli_ensemble_writes_outputs_and_refuses_bad_files(tmp_path, capsys):
     src = EXAMPLES / "tennis_racket_ensemble.toml"
     out = tmp_path / "out"
-    assert main(["ensemble", str(src), "--samples", "12", "--chunk-size", "5",
-                 "--out", str(out), "--workers", "0"]) == 0
+    assert (
+        main(
+            [
+                "ensemble",
+                str(src),
+                "--samples",
+                "12",
+                "--chunk-size",
+                "5",
+                "--out",
+                str(out),
+                "--workers",
+                "0",
+            ]
+        )
+        == 0
+    )
     assert sorted(p.name for p in (out / "chunks").iterdir()) == [
-        "chunk-000000.parquet", "chunk-000001.parquet", "chunk-000002.parquet"]
+        "chunk-000000.parquet",
+        "chunk-000001.parquet",
+        "chunk-000002.parquet",
+    ]
     html = (out / "report.html").read_text()
     assert 'id="poinsot-data"' in html and "flip_time" in html and "<script src=" not in html
     printed = capsys.readouterr().out
     assert "  flip_time (s): mean " in printed and "  energy_drift: mean " in printed
     # resume of a complete run recomputes nothing and succeeds
-    assert main(["ensemble", str(src), "--samples", "12", "--chunk-size", "5",
-                 "--out", str(out), "--workers", "0", "--resume"]) == 0
+    assert (
+        main(
+            [
+                "ensemble",
+                str(src),
+                "--samples",
+                "12",
+                "--chunk-size",
+                "5",
+                "--out",
+                str(out),
+                "--workers",
+                "0",
+                "--resume",
+            ]
+        )
+        == 0
+    )
     bad = _scenario_file(tmp_path, '\n[dispersion.torque_x]\ndistribution = "normal"\n')
-    assert main(["ensemble", str(bad), "--samples", "4", "--out", str(tmp_path / "b"),
-                 "--workers", "0"]) == 2
+    assert (
+        main(
+            ["ensemble", str(bad), "--samples", "4", "--out", str(tmp_path / "b"), "--workers", "0"]
+        )
+        == 2
+    )
     assert "unknown quantity `dispersion.torque_x`" in capsys.readouterr().err
     shutil.rmtree(tmp_path / "b", ignore_errors=True)
     text = src.read_text().replace('distribution = "normal"', 'distribution = "gaussian"')
     (tmp_path / "g.toml").write_text(text)
-    assert main(["ensemble", str(tmp_path / "g.toml"), "--samples", "4", "--out",
-                 str(tmp_path / "g"), "--workers", "0"]) == 2
+    assert (
+        main(
+            [
+                "ensemble",
+                str(tmp_path / "g.toml"),
+                "--samples",
+                "4",
+                "--out",
+                str(tmp_path / "g"),
+                "--workers",
+                "0",
+            ]
+        )
+        == 2
+    )
     assert "Unknown distribution 'gaussian'" in capsys.readouterr().err
     assert not (tmp_path / "g").exists()  # nothing half-written
 
@@ -194,16 +288,21 @@ def test_failed_integrations_are_recorded_and_the_rest_kept():
     from poinsot.ensemble import Choice
 
     p = EnsembleProblem(
-        "blowup", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]), np.array([0.1, 2.0, 0.1]),
+        "blowup",
+        np.diag([1.0, 2.0, 3.0]),
+        np.array([1.0, 0, 0, 0]),
+        np.array([0.1, 2.0, 0.1]),
         np.linspace(0.0, 1.0, 11),
         dispersions=(("omega0", Choice(values=[[0.1, 2.0, 0.1], [1e300, 1e300, 1e300]])),),
-        metrics=(Metric("w", "max", component="omega_y"),))
+        metrics=(Metric("w", "max", component="omega_y"),),
+    )
     res = run(p, 12, chunk_size=12, client="serial", seed=0)
     bad = res.column("omega0_x") > 1
     assert bad.any() and (~bad).any()
     assert np.array_equal(res.column("failed"), bad)
     assert set(np.asarray(res.table.column("reason").to_pylist())[bad]) == {
-        "integration failed: non-finite state"}
+        "integration failed: non-finite state"
+    }
     # the good samples are the nominal motion: max omega_y = |K|/B-bounded, finite
     assert np.all(np.isfinite(res.column("w")[~bad])) and np.all(np.isnan(res.column("w")[bad]))
 
@@ -217,7 +316,8 @@ def test_heavy_top_nutation_band_matches_the_lagrange_top(tmp_path):
     text = (EXAMPLES / "top_loops.toml").read_text() + (
         '\n[dispersion.omega0]\ndistribution = "normal"\nsigma = [0.0, 0.2, 10.0]\n'
         '\n[[metric]]\nname = "nmin"\nkind = "nutation_min"\n'
-        '\n[[metric]]\nname = "nmax"\nkind = "nutation_max"\n')
+        '\n[[metric]]\nname = "nmax"\nkind = "nutation_max"\n'
+    )
     path = tmp_path / "top.toml"
     path.write_text(text)
     scenario, problem = load_ensemble(path)

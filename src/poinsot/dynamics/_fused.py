@@ -70,8 +70,9 @@ def _rhs(t, y, J, Ji, kind, par, f):
     f[1] = 0.5 * d1
     f[2] = 0.5 * d2
     f[3] = 0.5 * d3
-    k0, k1, k2 = nh.matvec(J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
-                           J[2, 0], J[2, 1], J[2, 2], w0, w1, w2)
+    k0, k1, k2 = nh.matvec(
+        J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0], J[2, 1], J[2, 2], w0, w1, w2
+    )
     t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
         t0, t1, t2 = par[0], par[1], par[2]
@@ -90,13 +91,37 @@ def _rhs(t, y, J, Ji, kind, par, f):
             t0, t1, t2 = nh.cross(b0, b1, b2, par[1], par[2], par[3])
             t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
         else:  # gravity gradient: k n_b x J n_b
-            j0, j1, j2 = nh.matvec(J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
-                                   J[2, 0], J[2, 1], J[2, 2], b0, b1, b2)
+            j0, j1, j2 = nh.matvec(
+                J[0, 0],
+                J[0, 1],
+                J[0, 2],
+                J[1, 0],
+                J[1, 1],
+                J[1, 2],
+                J[2, 0],
+                J[2, 1],
+                J[2, 2],
+                b0,
+                b1,
+                b2,
+            )
             t0, t1, t2 = nh.cross(b0, b1, b2, j0, j1, j2)
             t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
-    f[4], f[5], f[6] = nh.matvec(Ji[0, 0], Ji[0, 1], Ji[0, 2], Ji[1, 0], Ji[1, 1], Ji[1, 2],
-                                 Ji[2, 0], Ji[2, 1], Ji[2, 2], m0, m1, m2)
+    f[4], f[5], f[6] = nh.matvec(
+        Ji[0, 0],
+        Ji[0, 1],
+        Ji[0, 2],
+        Ji[1, 0],
+        Ji[1, 1],
+        Ji[1, 2],
+        Ji[2, 0],
+        Ji[2, 1],
+        Ji[2, 2],
+        m0,
+        m1,
+        m2,
+    )
 
 
 @njit(cache=True, inline="always")
@@ -315,8 +340,19 @@ def integrate_batch(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps
     """
     for b in prange(y0.shape[0]):
         one_body(
-            y0[b], J[b], Ji[b], kind, par[b], t_out, rtol, atol, max_step, max_steps,
-            oq[:, b, :], ow[:, b, :], stats[b],
+            y0[b],
+            J[b],
+            Ji[b],
+            kind,
+            par[b],
+            t_out,
+            rtol,
+            atol,
+            max_step,
+            max_steps,
+            oq[:, b, :],
+            ow[:, b, :],
+            stats[b],
         )
 
 
@@ -464,8 +500,19 @@ def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
     ow = np.empty((t.size, n_body, 3))
     stats = np.zeros((n_body, 4), dtype=np.int64)
     integrate_batch(
-        y0, jj, ji, kind, par, t, float(rtol), float(atol),
-        float(np.inf if max_step is None else max_step), int(max_steps), oq, ow, stats,
+        y0,
+        jj,
+        ji,
+        kind,
+        par,
+        t,
+        float(rtol),
+        float(atol),
+        float(np.inf if max_step is None else max_step),
+        int(max_steps),
+        oq,
+        ow,
+        stats,
     )
     return (
         oq.reshape((t.size,) + batch + (4,)),

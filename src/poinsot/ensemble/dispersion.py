@@ -122,8 +122,9 @@ class TruncatedNormal(Normal):
         if np.any(low >= high):
             raise InvalidInputError(f"Expected `low` < `high`, got {low} and {high}.")
         shape = np.broadcast_shapes(np.shape(mean), sigma.shape, low.shape, high.shape)
-        return _truncate(lambda s: mean + sigma * rng.standard_normal(s), low, high, n, shape,
-                         "truncated_normal")
+        return _truncate(
+            lambda s: mean + sigma * rng.standard_normal(s), low, high, n, shape, "truncated_normal"
+        )
 
 
 @dataclass(frozen=True)
@@ -146,14 +147,15 @@ class Uniform(Dispersion):
         if self.half_width is not None:
             if self.low is not None or self.high is not None:
                 raise InvalidInputError(
-                    "A uniform dispersion takes either `low` and `high` or `half_width`, "
-                    "not both.")
+                    "A uniform dispersion takes either `low` and `high` or `half_width`, not both."
+                )
             hw = _nonneg(self.half_width, "half_width")
             low, high = nominal - hw, nominal + hw
         else:
             if self.low is None or self.high is None:
                 raise InvalidInputError(
-                    "A uniform dispersion needs `low` and `high` (or `half_width`).")
+                    "A uniform dispersion needs `low` and `high` (or `half_width`)."
+                )
             low = as_float_array(self.low, "low")
             high = as_float_array(self.high, "high")
             if np.any(low > high):
@@ -173,7 +175,8 @@ class LogNormal(Dispersion):
         if np.any(np.asarray(nominal) <= 0):
             raise InvalidInputError(
                 "A lognormal dispersion needs a positive nominal value, got "
-                f"{np.asarray(nominal).tolist()}.")
+                f"{np.asarray(nominal).tolist()}."
+            )
         shape = np.broadcast_shapes(np.shape(nominal), sigma.shape)
         return nominal * np.exp(sigma * rng.standard_normal((n, *shape)))
 
@@ -193,8 +196,14 @@ class TruncatedLogNormal(LogNormal):
             raise InvalidInputError(f"Expected `low` < `high`, got {low} and {high}.")
         LogNormal(sigma).sample(nominal, rng, 0)  # validates the nominal
         shape = np.broadcast_shapes(np.shape(nominal), sigma.shape)
-        return _truncate(lambda s: nominal * np.exp(sigma * rng.standard_normal(s)), low, high,
-                         n, shape, "truncated_lognormal")
+        return _truncate(
+            lambda s: nominal * np.exp(sigma * rng.standard_normal(s)),
+            low,
+            high,
+            n,
+            shape,
+            "truncated_lognormal",
+        )
 
 
 @dataclass(frozen=True)
@@ -267,18 +276,22 @@ def from_table(table: dict, name: str) -> Dispersion:
     """
     if not isinstance(table, dict):
         raise InvalidTypeError(
-            f"Expected `dispersion.{name}` to be a table, got {type(table).__name__}.")
+            f"Expected `dispersion.{name}` to be a table, got {type(table).__name__}."
+        )
     kind = table.get("distribution")
     if kind not in DISTRIBUTIONS:
         raise InvalidInputError(
             f"Unknown distribution {kind!r} for `dispersion.{name}`; expected one of "
-            + ", ".join(DISTRIBUTIONS) + ".")
+            + ", ".join(DISTRIBUTIONS)
+            + "."
+        )
     cls, keys = DISTRIBUTIONS[kind]
     extra = sorted(set(table) - {"distribution", *keys})
     if extra:
         raise InvalidInputError(
             f"Unknown key(s) {', '.join(extra)} in `dispersion.{name}` ({kind}); "
-            f"accepted: {', '.join(keys) or 'none'}.")
+            f"accepted: {', '.join(keys) or 'none'}."
+        )
     kwargs = {k: table[k] for k in keys if k in table}
     try:
         d = cls(**kwargs)

@@ -103,20 +103,25 @@ class EnsembleProblem:
             if name not in QUANTITIES:
                 raise InvalidInputError(
                     f"Unknown dispersed quantity {name!r}; expected one of "
-                    + ", ".join(QUANTITIES) + ".")
+                    + ", ".join(QUANTITIES)
+                    + "."
+                )
             rotational = isinstance(d, SmallRotation | UniformRotation)
             if (name == "attitude") != rotational:
                 raise InvalidInputError(
                     f"`dispersion.{name}`: the attitude takes small_rotation or "
-                    "uniform_rotation, and those apply to the attitude only.")
+                    "uniform_rotation, and those apply to the attitude only."
+                )
             if name == "torque" and self.torque_model not in ("body", "space"):
                 raise InvalidInputError(
                     "`dispersion.torque` needs a constant torque ([torque] model = "
-                    f"'body' or 'space'), the scenario has {self.torque_model!r}.")
+                    f"'body' or 'space'), the scenario has {self.torque_model!r}."
+                )
             if name in ("mass", "center_of_mass") and self.torque_model != "gravity":
                 raise InvalidInputError(
                     f"`dispersion.{name}` changes the motion only under gravity about a fixed "
-                    f"point; this scenario's torque is {self.torque_model!r}.")
+                    f"point; this scenario's torque is {self.torque_model!r}."
+                )
         if not self.metrics:
             raise InvalidInputError("An ensemble needs at least one [[metric]].")
         names = [m.name for m in self.metrics]
@@ -125,6 +130,7 @@ class EnsembleProblem:
 
     def digest(self) -> str:
         """SHA-256 of everything that defines the samples (stored with the chunks)."""
+
         def enc(x):
             if isinstance(x, np.ndarray):
                 return x.tolist()
@@ -160,8 +166,12 @@ def _columns_of(name: str, values: np.ndarray) -> dict[str, np.ndarray]:
 
 def _draw(problem, rng, n):
     """Inputs of ``n`` samples (one draw per dispersion, in name order)."""
-    inputs = {name: np.broadcast_to(_nominal(problem, name), (n, *np.shape(_nominal(problem,
-              name)))).copy() for name in QUANTITIES}
+    inputs = {
+        name: np.broadcast_to(
+            _nominal(problem, name), (n, *np.shape(_nominal(problem, name)))
+        ).copy()
+        for name in QUANTITIES
+    }
     for name, d in sorted(problem.dispersions, key=lambda p: p[0]):
         v = np.asarray(d.sample(_nominal(problem, name), rng, n), dtype=float)
         if v.ndim == 1 and inputs[name].ndim == 2:  # one scalar per sample, every component
@@ -182,7 +192,8 @@ def _physical(inputs) -> np.ndarray:
     reason = np.full(n, "", dtype=object)
     moments = np.sort(inputs["inertia"], axis=1)
     reason[moments[:, 0] + moments[:, 1] < moments[:, 2] * (1 - 1e-12)] = (
-        "inertia violates the triangle inequality A + B >= C")
+        "inertia violates the triangle inequality A + B >= C"
+    )
     reason[moments[:, 0] <= 0] = "inertia has a non-positive moment"
     reason[inputs["mass"] <= 0] = "mass <= 0"
     bad = ~np.all(np.isfinite(np.concatenate([v.reshape(n, -1) for v in inputs.values()], 1)), 1)
@@ -207,8 +218,12 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
     ok = reason == ""
     # the nominal sample rides along as body 0 (final attitude error, shared steps)
     nominal = {k: _nominal(problem, k)[None] for k in QUANTITIES}
-    arr = {k: np.concatenate([nominal[k], np.where(ok.reshape((-1,) + (1,) * (v.ndim - 1)),
-                                                   v, nominal[k])]) for k, v in inputs.items()}
+    arr = {
+        k: np.concatenate(
+            [nominal[k], np.where(ok.reshape((-1,) + (1,) * (v.ndim - 1)), v, nominal[k])]
+        )
+        for k, v in inputs.items()
+    }
     j_cm = np.broadcast_to(problem.inertia, (size + 1, 3, 3)).copy()
     j_cm[:, [0, 1, 2], [0, 1, 2]] = arr["inertia"]
     if problem.torque_model == "gravity":
@@ -217,18 +232,28 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
     else:
         j = j_cm
         model = {"none": None, "body": ConstantBodyTorque, "space": ConstantSpaceTorque}[
-            problem.torque_model]
+            problem.torque_model
+        ]
         model = None if model is None else model(arr["torque"])
     q0 = arr["attitude"] / np.linalg.norm(arr["attitude"], axis=1, keepdims=True)
     with np.errstate(all="ignore"):
-        quat, omega, stats = _fused.integrate(j, q0, arr["omega0"], problem.t, model,
-                                              rtol=problem.rtol, atol=problem.atol,
-                                              max_step=None)
+        quat, omega, stats = _fused.integrate(
+            j,
+            q0,
+            arr["omega0"],
+            problem.t,
+            model,
+            rtol=problem.rtol,
+            atol=problem.atol,
+            max_step=None,
+        )
         status = stats[:, 3]
         failed_int = status != _fused.OK
-        text = {_fused.STEP_TOO_SMALL: "integration failed: step size below round-off",
-                _fused.TOO_MANY_STEPS: "integration failed: more than 10^6 steps",
-                _fused.NONFINITE: "integration failed: non-finite state"}
+        text = {
+            _fused.STEP_TOO_SMALL: "integration failed: step size below round-off",
+            _fused.TOO_MANY_STEPS: "integration failed: more than 10^6 steps",
+            _fused.NONFINITE: "integration failed: non-finite state",
+        }
         for i in np.flatnonzero(failed_int[1:]):
             if ok[i]:
                 reason[i] = text[int(status[i + 1])]
@@ -239,12 +264,19 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
             omega[:, failed_int] = omega[:, :1]
         inv = invariants(j, quat, omega, torque=model)
         energy = inv.energy if inv.energy is not None else inv.kinetic
-        motion = Motion(t=problem.t, quat=quat[:, 1:], omega=omega[:, 1:],
-                        kinetic=inv.kinetic[:, 1:], energy=energy[:, 1:],
-                        nominal_final=quat[-1, 0])
+        motion = Motion(
+            t=problem.t,
+            quat=quat[:, 1:],
+            omega=omega[:, 1:],
+            kinetic=inv.kinetic[:, 1:],
+            energy=energy[:, 1:],
+            nominal_final=quat[-1, 0],
+        )
         failed = reason != ""
-        cols: dict[str, Any] = {"sample": np.arange(size, dtype=np.int64), "chunk":
-                                np.full(size, index, dtype=np.int64)}
+        cols: dict[str, Any] = {
+            "sample": np.arange(size, dtype=np.int64),
+            "chunk": np.full(size, index, dtype=np.int64),
+        }
         for name, _d in problem.dispersions:
             cols.update(_columns_of(name, inputs[name]))
         for metric in problem.metrics:
@@ -295,8 +327,9 @@ def _summary(problem: EnsembleProblem, table, samples: int, seed: int, chunk_siz
             "std": float(good.std(ddof=1)) if good.size > 1 else math.nan,
             "min": float(good.min()) if good.size else math.nan,
             "max": float(good.max()) if good.size else math.nan,
-            "quantiles": dict(zip(("5%", "25%", "50%", "75%", "95%"),
-                                  (float(x) for x in q), strict=True)),
+            "quantiles": dict(
+                zip(("5%", "25%", "50%", "75%", "95%"), (float(x) for x in q), strict=True)
+            ),
         }
     return out
 
@@ -334,10 +367,13 @@ def _prepare(out: Path, digest: str, manifest: dict, resume: bool) -> set[int]:
             raise EnsembleError(
                 f"{out} holds an ensemble of a different scenario, seed, sample count or chunk "
                 f"size (digest {str(old.get('digest'))[:12]} != {digest[:12]}): refusing to "
-                f"{'resume' if resume else 'overwrite'} it; use a new --out.")
+                f"{'resume' if resume else 'overwrite'} it; use a new --out."
+            )
         if not resume:
-            raise EnsembleError(f"{out} already holds this ensemble: pass --resume to complete "
-                                "it, or use a new --out.")
+            raise EnsembleError(
+                f"{out} already holds this ensemble: pass --resume to complete "
+                "it, or use a new --out."
+            )
     elif resume and (out / CHUNK_DIR).exists():
         raise EnsembleError(f"{out} has chunks but no {MANIFEST}: cannot resume safely.")
     (out / CHUNK_DIR).mkdir(parents=True, exist_ok=True)
@@ -367,8 +403,7 @@ def _client(scheduler, workers, timeout):
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError as exc:  # pragma: no cover - the extra is part of make test
-        raise EnsembleError(
-            "Ensembles need Dask: pip install 'poinsot[ensemble]'.") from exc
+        raise EnsembleError("Ensembles need Dask: pip install 'poinsot[ensemble]'.") from exc
     if scheduler is not None:
         try:
             return Client(scheduler, timeout=f"{timeout}s"), None
@@ -377,15 +412,26 @@ def _client(scheduler, workers, timeout):
                 f"The Dask scheduler at {scheduler!r} did not answer within {timeout} s ({exc})."
             ) from None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, host="127.0.0.1")
+    cluster = LocalCluster(
+        n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, host="127.0.0.1"
+    )
     return Client(cluster), cluster
 
 
-def run(problem: EnsembleProblem, samples: int, *, chunk_size: int = 1000, client=None,
-        scheduler: str | None = None, workers: int | None = None, seed: int = 0,
-        out=None, resume: bool = False, timeout: float = 10.0,
-        progress=None) -> EnsembleResult:
+def run(
+    problem: EnsembleProblem,
+    samples: int,
+    *,
+    chunk_size: int = 1000,
+    client=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    seed: int = 0,
+    out=None,
+    resume: bool = False,
+    timeout: float = 10.0,
+    progress=None,
+) -> EnsembleResult:
     """Run ``samples`` dispersed motions of ``problem``; return the per-sample table.
 
     Parameters
@@ -440,13 +486,20 @@ def run(problem: EnsembleProblem, samples: int, *, chunk_size: int = 1000, clien
     samples, chunk_size = int(samples), int(chunk_size)
     n_chunks = -(-samples // chunk_size)
     digest = hashlib.sha256(
-        f"{problem.digest()}|{samples}|{chunk_size}|{seed}".encode()).hexdigest()
+        f"{problem.digest()}|{samples}|{chunk_size}|{seed}".encode()
+    ).hexdigest()
     sizes = [min(chunk_size, samples - i * chunk_size) for i in range(n_chunks)]
     done: set[int] = set()
     outp = None if out is None else Path(out)
     if outp is not None:
-        manifest = {"digest": digest, "scenario": problem.name, "samples": samples,
-                    "chunk_size": chunk_size, "seed": seed, "chunks": n_chunks}
+        manifest = {
+            "digest": digest,
+            "scenario": problem.name,
+            "samples": samples,
+            "chunk_size": chunk_size,
+            "seed": seed,
+            "chunks": n_chunks,
+        }
         done = _prepare(outp, digest, manifest, resume)
     todo = [i for i in range(n_chunks) if i not in done]
     tables: dict[int, Any] = {}
@@ -474,8 +527,19 @@ def run(problem: EnsembleProblem, samples: int, *, chunk_size: int = 1000, clien
             # a fresh key: a hashed key may still be being released by a previous run
             pf = client.scatter(problem, broadcast=True, hash=False)
             futures = {
-                client.submit(_chunk_task, pf, i, sizes[i], seed, i * chunk_size, digest, 1,
-                              key=f"poinsot-chunk-{digest[:16]}-{i}", retries=3, pure=False): i
+                client.submit(
+                    _chunk_task,
+                    pf,
+                    i,
+                    sizes[i],
+                    seed,
+                    i * chunk_size,
+                    digest,
+                    1,
+                    key=f"poinsot-chunk-{digest[:16]}-{i}",
+                    retries=3,
+                    pure=False,
+                ): i
                 for i in todo
             }
             for fut in as_completed(futures):

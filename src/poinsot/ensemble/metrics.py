@@ -110,16 +110,20 @@ class Metric:
         if self.kind not in METRICS:
             raise InvalidInputError(
                 f"Unknown metric kind {self.kind!r} for metric {self.name!r}; expected one of "
-                + ", ".join(METRICS) + ".")
+                + ", ".join(METRICS)
+                + "."
+            )
         if self.component is not None and self.component not in COMPONENTS:
             raise InvalidInputError(
                 f"Unknown component {self.component!r} for metric {self.name!r}; expected one "
-                f"of {', '.join(COMPONENTS)}.")
+                f"of {', '.join(COMPONENTS)}."
+            )
         if self.kind in ("max", "min", "first_time") and self.component is None:
             raise InvalidInputError(f"Metric {self.name!r} ({self.kind}) needs a `component`.")
         if self.kind == "first_time" and (self.below is None) == (self.above is None):
             raise InvalidInputError(
-                f"Metric {self.name!r} (first_time) needs exactly one of `below` or `above`.")
+                f"Metric {self.name!r} (first_time) needs exactly one of `below` or `above`."
+            )
         if self.axis not in _AXES:
             raise InvalidInputError(f"Expected `axis` of metric {self.name!r} in x, y, z.")
 
@@ -152,8 +156,9 @@ class Metric:
             q = m.quat[-1]
             p = m.nominal_final * np.where(q @ m.nominal_final < 0, -1.0, 1.0)[:, None]
             # 4 atan(|q - p| / |q + p|): accurate for small and large angles alike
-            return np.degrees(4 * np.arctan2(np.linalg.norm(q - p, axis=-1),
-                                             np.linalg.norm(q + p, axis=-1)))
+            return np.degrees(
+                4 * np.arctan2(np.linalg.norm(q - p, axis=-1), np.linalg.norm(q + p, axis=-1))
+            )
         e = m.energy
         scale = np.maximum(np.abs(e[0]), np.finfo(float).tiny)
         return np.abs(e - e[0]).max(axis=0) / scale
@@ -168,8 +173,12 @@ def from_table(table: dict, index: int) -> Metric:
     if extra:
         raise InvalidInputError(
             f"Unknown key(s) {', '.join(extra)} in `metric[{index}]`; accepted: "
-            + ", ".join(sorted(known)) + ".")
+            + ", ".join(sorted(known))
+            + "."
+        )
     if "kind" not in table:
         raise InvalidInputError(f"`metric[{index}]` needs a `kind` (one of {', '.join(METRICS)}).")
-    return Metric(name=str(table.get("name", table["kind"])), **{
-        k: table[k] for k in ("kind", "component", "axis", "below", "above") if k in table})
+    return Metric(
+        name=str(table.get("name", table["kind"])),
+        **{k: table[k] for k in ("kind", "component", "axis", "below", "above") if k in table},
+    )

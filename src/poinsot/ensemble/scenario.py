@@ -43,14 +43,14 @@ __all__ = ["load_ensemble", "problem_from_scenario", "run_scenario_ensemble"]
 _KINDS = ("free-body", "torqued-body", "heavy-top")
 
 
-def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12
-                          ) -> EnsembleProblem:
+def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12) -> EnsembleProblem:
     """The :class:`EnsembleProblem` of a loaded scenario (its ``data`` holds the tables)."""
     where = scenario.source
     if scenario.kind not in _KINDS:
         raise EnsembleError(
             f"{where}: ensembles run rigid-body scenarios ({', '.join(_KINDS)}), "
-            f"this one is {scenario.kind!r}.")
+            f"this one is {scenario.kind!r}."
+        )
     data = scenario.data or {}
     table = data.get("dispersion", {})
     if not isinstance(table, dict):
@@ -60,15 +60,19 @@ def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12
         if name not in QUANTITIES:
             raise EnsembleError(
                 f"{where}: unknown quantity `dispersion.{name}`; expected one of "
-                + ", ".join(QUANTITIES) + ".")
+                + ", ".join(QUANTITIES)
+                + "."
+            )
         try:
             disps.append((name, _disp.from_table(sub, name)))
         except InvalidInputError as exc:
             raise EnsembleError(f"{where}: {exc}") from None
     mtables = data.get("metric", [])
     if not isinstance(mtables, list) or not mtables:
-        raise EnsembleError(f"{where}: an ensemble needs at least one [[metric]] table "
-                            f"(kinds: {', '.join(_metrics.METRICS)}).")
+        raise EnsembleError(
+            f"{where}: an ensemble needs at least one [[metric]] table "
+            f"(kinds: {', '.join(_metrics.METRICS)})."
+        )
     try:
         metrics = tuple(_metrics.from_table(m, i) for i, m in enumerate(mtables))
     except InvalidInputError as exc:
@@ -119,15 +123,19 @@ def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict]:
     from ..plotting._report_page import chart
 
     failed = result.column("failed")
-    params = [c for c in result.table.column_names
-              if any(c == q or c.startswith(q + "_") for q, _d in problem.dispersions)]
+    params = [
+        c
+        for c in result.table.column_names
+        if any(c == q or c.startswith(q + "_") for q, _d in problem.dispersions)
+    ]
     out = []
     for m in problem.metrics:
         v = result.column(m.name)
         good = ~failed & np.isfinite(v)
         never = int((~failed & ~np.isfinite(v)).sum())
         title = f"Histogram of {m.name}: {int(good.sum())} samples" + (
-            f", {never} never" if never else "")
+            f", {never} never" if never else ""
+        )
         if good.any():
             bins = min(50, max(5, int(np.sqrt(good.sum()))))
             lo, hi = float(v[good].min()), float(v[good].max())
@@ -163,7 +171,9 @@ def _report(problem, result, path: Path) -> None:
         rows.append(
             f"<tr><td>{html.escape(name)}</td><td>{s['unit']}</td><td>{s['count']}</td>"
             f"<td>{s['never']}</td><td>{s['mean']:.6g}</td><td>{s['std']:.3g}</td>"
-            + "".join(f"<td>{q[k]:.6g}</td>" for k in ("5%", "50%", "95%")) + "</tr>")
+            + "".join(f"<td>{q[k]:.6g}</td>" for k in ("5%", "50%", "95%"))
+            + "</tr>"
+        )
     s = result.summary
     table = ('<table class="summary"><tr><th>metric</th><th>unit</th><th>samples</th>'
              "<th>never</th><th>mean</th><th>std</th><th>5%</th><th>median</th><th>95%</th>"
@@ -188,14 +198,35 @@ def _report(problem, result, path: Path) -> None:
     os.replace(tmp, path)
 
 
-def run_scenario_ensemble(path, samples: int, out, *, chunk_size: int = 1000, scheduler=None,
-                          workers=None, seed: int = 0, resume: bool = False, client=None,
-                          timeout: float = 10.0, progress=None) -> EnsembleResult:
+def run_scenario_ensemble(
+    path,
+    samples: int,
+    out,
+    *,
+    chunk_size: int = 1000,
+    scheduler=None,
+    workers=None,
+    seed: int = 0,
+    resume: bool = False,
+    client=None,
+    timeout: float = 10.0,
+    progress=None,
+) -> EnsembleResult:
     """Run the ensemble of a scenario file and write its outputs into ``out``."""
     _scenario, problem = load_ensemble(path)
-    result = run(problem, samples, chunk_size=chunk_size, client=client, scheduler=scheduler,
-                 workers=workers, seed=seed, out=out, resume=resume, timeout=timeout,
-                 progress=progress)
+    result = run(
+        problem,
+        samples,
+        chunk_size=chunk_size,
+        client=client,
+        scheduler=scheduler,
+        workers=workers,
+        seed=seed,
+        out=out,
+        resume=resume,
+        timeout=timeout,
+        progress=progress,
+    )
     outp = Path(out)
     _report(problem, result, outp / "report.html")
     tmp = outp / ".summary.json.tmp"
