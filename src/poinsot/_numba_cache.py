@@ -33,7 +33,7 @@ from numba.core import caching
 __all__ = ["depends_on"]
 
 # numba >= 0.62 names it CacheImpl, older versions _CacheImpl
-_IMPL = getattr(caching, "CacheImpl", None) or caching._CacheImpl
+_IMPL = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # type: ignore[attr-defined]
 
 #: kernel source file (absolute) -> helper source files (absolute) it depends on
 _DEPENDS: dict[str, tuple[str, ...]] = {}

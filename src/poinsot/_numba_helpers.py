@@ -30,6 +30,7 @@ Importing this module imports numba: only kernel modules (imported lazily) do.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 from numba import njit
 
@@ -51,7 +52,8 @@ __all__ = [
     "gravity_kick",
 ]
 
-_INLINE = {"inline": "always"}
+# typed Any: numba's stubs want literal option values, a plain dict[str, str] matches none
+_INLINE: dict[str, Any] = {"inline": "always"}
 
 
 #: ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1): the plain-Python

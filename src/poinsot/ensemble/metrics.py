@@ -70,7 +70,9 @@ def _nutation(quat: np.ndarray, axis: int = 2) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cz, -1.0, 1.0)))
 
 
-def _component(motion: Motion, name: str) -> np.ndarray:
+def _component(motion: Motion, name: str | None) -> np.ndarray:
+    if name is None:  # __post_init__ requires a component for the kinds that read one
+        raise InvalidInputError(f"Expected a component, one of {', '.join(COMPONENTS)}.")
     if name.startswith("omega_") and name[-1] in _AXES and len(name) == 7:
         return motion.omega[..., _AXES[name[-1]]]
     if name == "omega_norm":
@@ -135,7 +137,7 @@ class Metric:
             return "deg"
         if self.kind == "energy_drift":
             return "1"
-        return {"nutation": "deg", "kinetic_energy": "J"}.get(self.component, "rad/s")
+        return {"nutation": "deg", "kinetic_energy": "J"}.get(self.component or "", "rad/s")
 
     def evaluate(self, m: Motion) -> np.ndarray:
         """One value per sample, shape (M,)."""

@@ -299,10 +299,12 @@ class FrameMotion:
     array([-2., 0., 0.])
     """
 
-    origin_velocity: np.ndarray = (0.0, 0.0, 0.0)
-    origin_acceleration: np.ndarray = (0.0, 0.0, 0.0)
-    omega: np.ndarray = (0.0, 0.0, 0.0)
-    eps: np.ndarray = (0.0, 0.0, 0.0)
+    # The defaults are tuples (a dataclass default must be hashable); __post_init__
+    # turns every field into a read-only float array, the type the attributes have.
+    origin_velocity: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
+    origin_acceleration: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
+    omega: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
+    eps: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
 
     def __post_init__(self):
         arrays = {f.name: as_vec3(getattr(self, f.name), f.name) for f in fields(self)}

@@ -94,7 +94,7 @@ class FrenetFrame:
         return np.divide(1.0, k, out=np.full_like(k, np.inf), where=k > 0)
 
 
-def _stencil_derivatives(t, r, w: int, stride: int, where):
+def _stencil_derivatives(t, r, w: int, stride: int | np.ndarray, where):
     """Derivatives 0..3 at the samples ``where`` from ``w`` samples ``stride`` apart
     (``stride`` an int or an array matching ``where``).
 
@@ -104,9 +104,9 @@ def _stencil_derivatives(t, r, w: int, stride: int, where):
     to unit width (well conditioned for any spacing).
     """
     n = t.size
-    stride = np.asarray(stride)
-    start = np.clip(where - stride * (w // 2), 0, n - 1 - stride * (w - 1))
-    idx = start[:, None] + stride[..., None] * np.arange(w)  # (p, w)
+    step = np.asarray(stride)
+    start = np.clip(where - step * (w // 2), 0, n - 1 - step * (w - 1))
+    idx = start[:, None] + step[..., None] * np.arange(w)  # (p, w)
     x = t[idx] - t[where][:, None]
     h = x[:, -1] - x[:, 0]  # stencil width, > 0
     c = _fornberg(0.0, x / h[:, None], 3)  # (p, w, 4)
@@ -141,7 +141,8 @@ def _auto_strides(t, r, w: int) -> tuple[int, int, int]:
     d = d.reshape(3, len(strides), p, *d.shape[2:])
     est = _norm(d[:, :-1] - d[:, 1:]).reshape(3, len(strides) - 1, -1).max(axis=-1).T
     best = np.argmin(est, axis=0)
-    return tuple(int(strides[b]) for b in best)
+    s1, s2, s3 = (int(strides[b]) for b in best)
+    return s1, s2, s3
 
 
 def _sample_derivatives(t, r, w: int, stride):
@@ -392,7 +393,12 @@ def frenet(
     t_arr = as_times(t_arr, "t", min_len=stencil)
     n = t_arr.size
     if not (isinstance(stride, str) and stride == "auto"):
-        if not is_integer(stride) or stride < 1 or stride * (stencil - 1) > n - 1:
+        if (
+            isinstance(stride, str)
+            or not is_integer(stride)
+            or stride < 1
+            or stride * (stencil - 1) > n - 1
+        ):
             raise InvalidInputError(
                 f"Expected `stride` to be 'auto' or an integer >= 1 with "
                 f"stride * (stencil - 1) <= len(t) - 1 = {n - 1}, got {stride!r}."

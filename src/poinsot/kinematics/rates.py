@@ -231,7 +231,8 @@ def quat_rate(q, omega, *, frame: str = "body") -> np.ndarray:
     s = _fast_sign(frame)
     t, w = _plain_quat(q), plain_vec3(omega)
     if s is not None and t is not None and w is not None:
-        r = S.hamilton(*t, 0.0, *w) if s > 0 else S.hamilton(0.0, *w, *t)
+        w1, w2, w3 = w
+        r = S.hamilton(*t, 0.0, w1, w2, w3) if s > 0 else S.hamilton(0.0, w1, w2, w3, *t)
         return np.array((0.5 * r[0], 0.5 * r[1], 0.5 * r[2], 0.5 * r[3]))
     frame = _frame(frame)
     q = _quat_arg(q, "q")
@@ -280,10 +281,11 @@ def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
     t, d = _plain_quat(q), plain_floats(qdot, 4)
     if s is not None and t is not None and d is not None:
         w, x, y, z = t
+        d0, d1, d2, d3 = d
         if s > 0:
-            r = S.hamilton(w, -x, -y, -z, *d)
+            r = S.hamilton(w, -x, -y, -z, d0, d1, d2, d3)
         else:
-            r = S.hamilton(*d, w, -x, -y, -z)
+            r = S.hamilton(d0, d1, d2, d3, w, -x, -y, -z)
         return np.array((2.0 * r[1], 2.0 * r[2], 2.0 * r[3]))
     frame = _frame(frame)
     q = _quat_arg(q, "q")
@@ -408,9 +410,8 @@ def _elementary(axis: int, angle):
     c, s = np.cos(angle), np.sin(angle)
     one, zero = np.ones_like(c), np.zeros_like(c)
     i, j = (axis + 1) % 3, (axis + 2) % 3
-    rows = [[None] * 3 for _ in range(3)]
+    rows = [[zero, zero, zero] for _ in range(3)]
     rows[axis][axis] = one
-    rows[axis][i] = rows[axis][j] = rows[i][axis] = rows[j][axis] = zero
     rows[i][i], rows[i][j], rows[j][i], rows[j][j] = c, -s, s, c
     return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
 
@@ -429,7 +430,7 @@ def _euler_matrix(seq, angles, frame):
         raise InvalidInputError(f"Expected `seq` to have 3 axes, got {seq!r}.")
     order = (0, 1, 2) if intrinsic else (2, 1, 0)
     factors = [(axes[k], k, _elementary(axes[k], angles[..., k])) for k in order]
-    cols = [None, None, None]
+    cols: dict[int, np.ndarray] = {}
     eye = np.broadcast_to(np.eye(3), angles.shape[:-1] + (3, 3))
     if frame == "space":
         P = eye
@@ -441,7 +442,7 @@ def _euler_matrix(seq, angles, frame):
         for axis, k, F in reversed(factors):
             cols[k] = Q[..., axis, :]
             Q = F @ Q
-    return np.stack(cols, axis=-1)
+    return np.stack([cols[k] for k in range(3)], axis=-1)
 
 
 def _euler_one(seq, angles, other, degrees, frame):
@@ -799,8 +800,8 @@ def mrp_rate(p, omega, *, frame: str = "body") -> np.ndarray:
     w = as_vec3(omega, "omega")
     _batch(p=(p, 1), omega=(w, 1))
     with np.errstate(over="ignore", invalid="ignore"):
-        pp = _dot(p, p)[..., None]
-        out = 0.25 * ((1.0 - pp) * w + 2.0 * s * _cross(p, w) + 2.0 * _dot(p, w)[..., None] * p)
+        p2 = _dot(p, p)[..., None]
+        out = 0.25 * ((1.0 - p2) * w + 2.0 * s * _cross(p, w) + 2.0 * _dot(p, w)[..., None] * p)
     return _finite_result(out, "p")
 
 
@@ -850,9 +851,9 @@ def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
     pd = as_vec3(pdot, "pdot")
     _batch(p=(p, 1), pdot=(pd, 1))
     with np.errstate(over="ignore", invalid="ignore"):
-        pp = _dot(p, p)[..., None]
-        num = (1.0 - pp) * pd - 2.0 * s * _cross(p, pd) + 2.0 * _dot(p, pd)[..., None] * p
-        out = 4.0 * num / (1.0 + pp) ** 2
+        p2 = _dot(p, p)[..., None]
+        num = (1.0 - p2) * pd - 2.0 * s * _cross(p, pd) + 2.0 * _dot(p, pd)[..., None] * p
+        out = 4.0 * num / (1.0 + p2) ** 2
     return _finite_result(out, "p")
 
 

@@ -186,7 +186,7 @@ def combine(*bodies: RigidBody) -> RigidBody:
                 f"Expected every body to be a RigidBody, got {type(b).__name__} at position {k}."
             )
     masses = [np.asarray(b.mass) for b in bodies]
-    m = sum(masses)
+    m = sum(masses[1:], masses[0])
     com = sum(mi[..., None] * b.center_of_mass for mi, b in zip(masses, bodies, strict=True))
     com = com / m[..., None]
     j = sum(

@@ -29,6 +29,7 @@ does not appear among their inputs take a small ``dummy`` array of that size
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numba import guvectorize, njit, prange
@@ -42,8 +43,9 @@ depends_on(__file__, S)
 _D3 = np.zeros(3)
 _D4 = np.zeros(4)
 
-_OPTS = {"nopython": True, "cache": True}
-_PAR = {"cache": True, "parallel": True}
+# typed Any: numba's stubs want literal option values, a plain dict[str, bool] matches none
+_OPTS: dict[str, Any] = {"nopython": True, "cache": True}
+_PAR: dict[str, Any] = {"cache": True, "parallel": True}
 
 _inline = njit(inline="always", cache=True)
 

@@ -107,11 +107,13 @@ def set_num_threads(n: int | None) -> None:
         _USER_THREADS = False
         return
     k = as_int(n, "n", minimum=1)
-    if k > config.NUMBA_NUM_THREADS:
+    # numba.config sets its NUMBA_* attributes at import: its stubs do not list them
+    limit: int = config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+    if k > limit:
         from ..errors import InvalidInputError
 
         raise InvalidInputError(
-            f"Expected `n` to be at most NUMBA_NUM_THREADS = {config.NUMBA_NUM_THREADS}, got {n!r}."
+            f"Expected `n` to be at most NUMBA_NUM_THREADS = {limit}, got {n!r}."
         )
     _set(k)
     _USER_THREADS = True
@@ -190,7 +192,10 @@ def chunked(step, n: int) -> None:
 
         _POOL = (
             os.getpid(),
-            ThreadPoolExecutor(config.NUMBA_NUM_THREADS, thread_name_prefix="poinsot"),
+            ThreadPoolExecutor(
+                config.NUMBA_NUM_THREADS,  # type: ignore[attr-defined]  # set at import
+                thread_name_prefix="poinsot",
+            ),
         )
 
     def run(part):

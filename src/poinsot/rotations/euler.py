@@ -111,10 +111,9 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
         chunked(step, f.shape[0])
     else:
         k.quat_to_euler_serial(f, code, angles, singular)
-    angles = angles.reshape(q.shape[:-1] + (3,))
     if warn and np.any(singular):
         warn_gimbal_lock(seq, stacklevel=3)
-    return angles
+    return angles.reshape(q.shape[:-1] + (3,))
 
 
 def warn_gimbal_lock(seq: str, stacklevel: int) -> None:

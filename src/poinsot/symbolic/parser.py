@@ -205,8 +205,11 @@ class _Builder:
             op = _BINOPS.get(type(node.op))
             if op is None:
                 sym = {ast.Mod: "%", ast.FloorDiv: "//", ast.MatMult: "@", ast.BitXor: "^"}
-                tok = sym.get(type(node.op), type(node.op).__name__)
-                raise self.fail("operator not allowed (only + - * / **)", node, tok)
+                raise self.fail(
+                    "operator not allowed (only + - * / **)",
+                    node,
+                    sym.get(type(node.op), type(node.op).__name__),
+                )
             a = self.build(node.left, depth + 1)
             b = self.build(node.right, depth + 1)
             if op == "+":
@@ -250,7 +253,7 @@ class _Builder:
             ast.NamedExpr: "assignments are not allowed",
             ast.JoinedStr: "strings are not allowed",
         }.get(type(node), f"syntax not allowed ({type(node).__name__})")
-        tok = None
+        tok: str | None = None
         if isinstance(node, ast.Attribute):
             tok = "." + node.attr
         elif isinstance(node, ast.Lambda):
@@ -363,7 +366,7 @@ def parse_expression(text, symbols=None):
         ) from None
     builder = _Builder(text.strip(), names)
     # the most dangerous tokens first, leftmost first: private names, attributes, lambdas
-    worst = []
+    worst: list[tuple[int, str, ast.AST, str | None]] = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Name) and node.id.startswith("_"):
             worst.append((node.col_offset, "names starting with '_' are not allowed", node, None))
