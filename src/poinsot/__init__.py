@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+from types import ModuleType
 
 from .errors import (
     AccuracyWarning,
@@ -55,11 +56,11 @@ __all__ = [
 _LAZY = {"kinematics", "mass", "dynamics", "plotting", "scenarios", "cli"}
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> ModuleType:
     if name in _LAZY:
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def __dir__():
+def __dir__() -> list[str]:
     return sorted(set(globals()) | _LAZY)

@@ -60,14 +60,16 @@ def mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Hamilton product ``P o Q`` (theory §1), compiled kernel, broadcasting."""
     from .rotations._lazy import kernels
 
-    return kernels().qmul(p, q)
+    out: np.ndarray = kernels().qmul(p, q)  # the lazily loaded kernel module is untyped
+    return out
 
 
 def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``L o (0, v) o L~`` for unit ``L``: body components -> space components."""
     from .rotations._lazy import kernels
 
-    return kernels().qrot(q, v)
+    out: np.ndarray = kernels().qrot(q, v)
+    return out
 
 
 def normalize(q: np.ndarray) -> np.ndarray:

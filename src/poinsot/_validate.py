@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
+from typing import Any
 
 import numpy as np
 
+from ._typing import BoolArray, FloatArray
 from ._vec import length, unit
 from .errors import InvalidInputError, InvalidTypeError
 
@@ -50,7 +52,7 @@ def _shape_str(tail: Sequence[int | None]) -> str:
     return "(" + ", ".join(parts) + ")"
 
 
-def as_float_array(x, name: str, *, finite: bool = True) -> np.ndarray:
+def as_float_array(x: object, name: str, *, finite: bool = True) -> FloatArray:
     """Convert ``x`` to a float64 array, checking it is numeric (and finite)."""
     if isinstance(x, str | bytes):
         raise InvalidTypeError(f"Expected `{name}` to be array-like of numbers, got a string.")
@@ -67,7 +69,9 @@ def as_float_array(x, name: str, *, finite: bool = True) -> np.ndarray:
     return a
 
 
-def as_trailing(x, name: str, tail: Sequence[int | None], *, finite: bool = True) -> np.ndarray:
+def as_trailing(
+    x: object, name: str, tail: Sequence[int | None], *, finite: bool = True
+) -> FloatArray:
     """Array with trailing shape ``tail`` (``None`` = any length) and any leading shape."""
     a = as_float_array(x, name, finite=finite)
     k = len(tail)
@@ -81,7 +85,7 @@ def as_trailing(x, name: str, tail: Sequence[int | None], *, finite: bool = True
     return a
 
 
-def as_quat(q, name: str = "quat", *, normalize: bool = True) -> np.ndarray:
+def as_quat(q: object, name: str = "quat", *, normalize: bool = True) -> FloatArray:
     """Quaternions of shape ``(..., 4)``, scalar first; non-zero; normalised if asked."""
     a = as_trailing(q, name, (4,))
     n = length(a)  # overflow/underflow-free: (1e200, 1e200, 0, 0) is a valid quaternion
@@ -92,17 +96,17 @@ def as_quat(q, name: str = "quat", *, normalize: bool = True) -> np.ndarray:
     return a
 
 
-def as_vec3(v, name: str) -> np.ndarray:
+def as_vec3(v: object, name: str) -> FloatArray:
     """3-vectors of shape ``(..., 3)``."""
     return as_trailing(v, name, (3,))
 
 
-def as_matrix3(m, name: str) -> np.ndarray:
+def as_matrix3(m: object, name: str) -> FloatArray:
     """3x3 matrices of shape ``(..., 3, 3)``."""
     return as_trailing(m, name, (3, 3))
 
 
-def as_positive(x, name: str, *, strict: bool = True) -> np.ndarray:
+def as_positive(x: object, name: str, *, strict: bool = True) -> FloatArray:
     """Real numbers that must be > 0 (or >= 0 if ``strict=False``)."""
     a = as_float_array(x, name)
     bad = a <= 0 if strict else a < 0
@@ -117,7 +121,7 @@ def as_positive(x, name: str, *, strict: bool = True) -> np.ndarray:
 _SCALAR_TYPES = (float, int, np.float64)
 
 
-def plain_vec3(x) -> list[float] | None:
+def plain_vec3(x: Any) -> list[float] | None:
     """Short path for one 3-vector: ``[a, b, c]`` as Python floats when ``x`` is a list or
     tuple of three real numbers (not bools) or a float64 array of shape ``(3,)``, all
     finite; else ``None`` (the caller then takes its general, validating path, which
@@ -129,7 +133,7 @@ def plain_vec3(x) -> list[float] | None:
     return plain_floats(x, 3)
 
 
-def plain_floats(x, n: int) -> list[float] | None:
+def plain_floats(x: Any, n: int) -> list[float] | None:
     """Short path for one ``n``-vector (a quaternion, a flattened 3x3 matrix...): a list
     of ``n`` finite Python floats when ``x`` is a float64 array of shape ``(n,)``, or a
     list/tuple of ``n`` real numbers (not bools); else ``None`` (the caller then takes
@@ -154,14 +158,14 @@ def plain_floats(x, n: int) -> list[float] | None:
     return t if math.isfinite(sum(t)) else None
 
 
-def as_bool(value, name: str) -> bool:
+def as_bool(value: object, name: str) -> bool:
     """A Python or NumPy bool (e.g. ``degrees``); anything else is a type error."""
     if not isinstance(value, bool | np.bool_):
         raise InvalidTypeError(f"Expected `{name}` to be a bool, got {value!r}.")
     return bool(value)
 
 
-def as_choice(value, name: str, choices: Sequence[str]) -> str:
+def as_choice(value: object, name: str, choices: Sequence[str]) -> str:
     """A string that must be one of ``choices`` (a non-string is a type error)."""
     opts = ", ".join(repr(c) for c in choices)
     if not isinstance(value, str):
@@ -174,7 +178,14 @@ def as_choice(value, name: str, choices: Sequence[str]) -> str:
     return value
 
 
-def as_int(value, name: str, *, minimum: int | None = None, choices=None, what: str = "") -> int:
+def as_int(
+    value: Any,
+    name: str,
+    *,
+    minimum: int | None = None,
+    choices: Collection[int] | None = None,
+    what: str = "",
+) -> int:
     """A Python or NumPy integer (not a bool, float or string: those are type errors),
     ``>= minimum`` and in ``choices`` when given (else a value error).
 
@@ -199,7 +210,9 @@ def as_int(value, name: str, *, minimum: int | None = None, choices=None, what: 
     return v
 
 
-def as_times(t, name: str = "t", *, min_len: int = 1, strictly_increasing: bool = True):
+def as_times(
+    t: object, name: str = "t", *, min_len: int = 1, strictly_increasing: bool = True
+) -> FloatArray:
     """A 1-D array of finite, strictly increasing times with at least ``min_len`` samples."""
     a = as_float_array(t, name)
     if a.ndim != 1:
@@ -213,11 +226,11 @@ def as_times(t, name: str = "t", *, min_len: int = 1, strictly_increasing: bool 
     return a
 
 
-def is_integer(x) -> bool:
+def is_integer(x: object) -> bool:
     return isinstance(x, numbers.Integral) and not isinstance(x, bool)
 
 
-def batch_shape(**named) -> tuple[int, ...]:
+def batch_shape(**named: tuple[Any, int]) -> tuple[int, ...]:
     """The broadcast batch (leading) shape of ``name=(array_or_shape, core_ndim)`` pairs.
 
     The ONE batch-broadcast checker: each argument contributes its shape minus its
@@ -244,12 +257,12 @@ def batch_shape(**named) -> tuple[int, ...]:
         ) from None
 
 
-def _is_scipy_rotation(x) -> bool:
+def _is_scipy_rotation(x: object) -> bool:
     cls = type(x)
     return cls.__name__ == "Rotation" and cls.__module__.startswith("scipy.spatial")
 
 
-def as_rotation_quat(x, name: str = "rotation0") -> np.ndarray:
+def as_rotation_quat(x: Any, name: str = "rotation0") -> FloatArray:
     """Unit scalar-first quaternions ``(..., 4)`` from any accepted attitude.
 
     The ONE attitude converter at public entry points (docs/conventions.md, "one
@@ -282,7 +295,7 @@ def as_rotation_quat(x, name: str = "rotation0") -> np.ndarray:
     return as_quat(x, name)
 
 
-def _first_bad(values: np.ndarray, bad: np.ndarray) -> tuple[str, float]:
+def _first_bad(values: FloatArray, bad: BoolArray) -> tuple[str, float]:
     """`` at batch index (i, ...)`` of the first bad entry (empty if unbatched), and its value."""
     if bad.ndim == 0:
         return "", float(values)
@@ -290,7 +303,9 @@ def _first_bad(values: np.ndarray, bad: np.ndarray) -> tuple[str, float]:
     return f" at batch index {idx}", float(values[idx])
 
 
-def check_rotation_matrix(matrix, name: str = "matrix", *, atol: float = ROTATION_MATRIX_ATOL):
+def check_rotation_matrix(
+    matrix: object, name: str = "matrix", *, atol: float = ROTATION_MATRIX_ATOL
+) -> FloatArray:
     """Proper rotation matrices ``(..., 3, 3)``: ``max |S^T S - E| <= atol`` and ``det S > 0``.
 
     The ONE rotation-matrix validator; its default tolerance is

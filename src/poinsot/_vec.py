@@ -16,7 +16,8 @@ _N2_LO, _N2_HI = 1e-290, 1e290
 
 def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a . b`` over the last axis (broadcasting)."""
-    return np.einsum("...i,...i->...", a, b)
+    out: np.ndarray = np.einsum("...i,...i->...", a, b)  # einsum is typed Any
+    return out
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -48,14 +49,15 @@ def length(x: np.ndarray) -> np.ndarray:
     so quaternions like ``(1e200, 1e200, 0, 0)`` or ``(1e-200, 0, 0, 0)`` keep their
     true length instead of ``inf``/``0``.
     """
-    n2 = np.einsum("...i,...i->...", x, x)
+    n2: np.ndarray = np.einsum("...i,...i->...", x, x)  # einsum is typed Any
     odd = (n2 < _N2_LO) | (n2 > _N2_HI)
     if not np.any(odd):
         return np.sqrt(n2)
     m = np.max(np.abs(x), axis=-1)
     safe_m = np.where(m > 0, m, 1.0)
     y = x / safe_m[..., None]
-    scaled = m * np.sqrt(np.einsum("...i,...i->...", y, y))
+    y2: np.ndarray = np.einsum("...i,...i->...", y, y)
+    scaled = m * np.sqrt(y2)
     return np.where(odd, scaled, np.sqrt(n2))
 
 
