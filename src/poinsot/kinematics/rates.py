@@ -989,7 +989,7 @@ def _rotvec_one(rotvec, other, frame, inverse: bool):
         return None
     c, k1, k2 = _rotvec_coefficients_one(f)
     a = S.cross(*t, *u)
-    b = S.cross(*t, *a)
+    b = S.cross(t[0], t[1], t[2], *a)
     if inverse:  # J phi' = phi' - s k1 phi x phi' + k2 phi x (phi x phi')
         return np.array([u[i] - s * k1 * a[i] + k2 * b[i] for i in range(3)])
     # J^-1 w = w + s/2 phi x w + c phi x (phi x w)

@@ -16,9 +16,14 @@ from __future__ import annotations
 
 import importlib
 import os
+from collections.abc import Callable
 from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from concurrent.futures import ThreadPoolExecutor
 
 _MODULE: ModuleType | None = None
 _USER_THREADS = False  # set_num_threads was called: use numba's count as it is
@@ -56,7 +61,7 @@ class _OneRotation:
         "pow1": ("q", "f", "f1"),
     }
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> Any:
         from numba import types
 
         kinds = {
@@ -147,7 +152,7 @@ def thread_count() -> int:
     return n0 if _USER_THREADS else _idle_threads(n0)
 
 
-def threaded(kernel, *args):
+def threaded(kernel: Callable[..., Any], *args: Any) -> Any:
     """Call a threaded flat kernel with the thread count described in the module notes."""
     if _USER_THREADS:
         return kernel(*args)
@@ -167,10 +172,10 @@ def threaded(kernel, *args):
 
 #: Rotations per chunk of :func:`chunked` (fixed: results do not depend on threads).
 CHUNK = 4096
-_POOL = None
+_POOL: tuple[int, ThreadPoolExecutor] | None = None
 
 
-def chunked(step, n: int) -> None:
+def chunked(step: Callable[[int, int], object], n: int) -> None:
     """Call ``step(lo, hi)`` on the chunks ``[lo, hi)`` of :data:`CHUNK` rotations
     covering ``range(n)``, spread over :func:`thread_count` threads.
 
@@ -198,7 +203,7 @@ def chunked(step, n: int) -> None:
             ),
         )
 
-    def run(part):
+    def run(part: range) -> None:
         for lo in part:
             step(lo, min(lo + CHUNK, n))
 

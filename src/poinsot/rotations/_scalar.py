@@ -21,6 +21,7 @@ by the callers. Quaternions are Hamilton, scalar first ``(w, x, y, z)``
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 __all__ = [
     "hamilton",
@@ -46,7 +47,16 @@ __all__ = [
 ]
 
 
-def hamilton(p0, p1, p2, p3, q0, q1, q2, q3):
+def hamilton(
+    p0: float,
+    p1: float,
+    p2: float,
+    p3: float,
+    q0: float,
+    q1: float,
+    q2: float,
+    q3: float,
+) -> tuple[float, float, float, float]:
     """``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1)."""
     return (
         p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
@@ -56,7 +66,15 @@ def hamilton(p0, p1, p2, p3, q0, q1, q2, q3):
     )
 
 
-def rotate(w, x, y, z, a, b, c):
+def rotate(
+    w: float,
+    x: float,
+    y: float,
+    z: float,
+    a: float,
+    b: float,
+    c: float,
+) -> tuple[float, float, float]:
     """The sandwich ``q o v o q~`` expanded (theory §2).
 
     ``v' = (w^2 - |u|^2) v + 2 (u.v) u + 2 w (u x v)``; for ``|q| != 1`` it is
@@ -72,7 +90,7 @@ def rotate(w, x, y, z, a, b, c):
     )
 
 
-def to_matrix(w, x, y, z):
+def to_matrix(w: float, x: float, y: float, z: float) -> tuple[float, ...]:
     """``A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T`` row by row, unit ``q`` (theory §2)."""
     xx, yy, zz = x * x, y * y, z * z
     xy, xz, yz = x * y, x * z, y * z
@@ -90,7 +108,17 @@ def to_matrix(w, x, y, z):
     )
 
 
-def matrix_check(a00, a01, a02, a10, a11, a12, a20, a21, a22):
+def matrix_check(
+    a00: float,
+    a01: float,
+    a02: float,
+    a10: float,
+    a11: float,
+    a12: float,
+    a20: float,
+    a21: float,
+    a22: float,
+) -> tuple[float, float]:
     """``(max |A^T A - E|, det A)`` of a 3x3 matrix given by rows."""
     c00 = a00 * a00 + a10 * a10 + a20 * a20 - 1.0
     c11 = a01 * a01 + a11 * a11 + a21 * a21 - 1.0
@@ -107,7 +135,17 @@ def matrix_check(a00, a01, a02, a10, a11, a12, a20, a21, a22):
     return e, det
 
 
-def from_matrix(a00, a01, a02, a10, a11, a12, a20, a21, a22):
+def from_matrix(
+    a00: float,
+    a01: float,
+    a02: float,
+    a10: float,
+    a11: float,
+    a12: float,
+    a20: float,
+    a21: float,
+    a22: float,
+) -> tuple[float, float, float, float]:
     """Unit quaternion of a rotation matrix, largest square first (theory §2).
 
     ``4 l0^2 = 1 + tr A``, ``4 l1^2 = 1 + a11 - a22 - a33`` (cyclic): the largest
@@ -126,7 +164,7 @@ def from_matrix(a00, a01, a02, a10, a11, a12, a20, a21, a22):
     return q0 / n, q1 / n, q2 / n, q3 / n
 
 
-def from_rotvec(a, b, c):
+def from_rotvec(a: float, b: float, c: float) -> tuple[float, float, float, float]:
     """``L = cos(f/2) + e sin(f/2)`` from ``phi = f e`` (theory §2).
 
     Up to ``f = pi`` through the half-angle tangent ``t = tan(f/4)``:
@@ -142,7 +180,7 @@ def from_rotvec(a, b, c):
     return from_rotvec_tan(a, b, c, f, math.tan(0.25 * f) if f <= math.pi else 0.0)
 
 
-def rotvec_angle(a, b, c):
+def rotvec_angle(a: float, b: float, c: float) -> float:
     """``f = |phi|``, scaled when ``|phi|^2`` would overflow."""
     m = max(abs(a), abs(b), abs(c))
     if m > 1e150:
@@ -150,7 +188,13 @@ def rotvec_angle(a, b, c):
     return math.sqrt(a * a + b * b + c * c)
 
 
-def from_rotvec_tan(a, b, c, f, t):
+def from_rotvec_tan(
+    a: float,
+    b: float,
+    c: float,
+    f: float,
+    t: float,
+) -> tuple[float, float, float, float]:
     """:func:`from_rotvec` given ``f = |phi|`` and ``t = tan(f/4)`` (ignored unless
     ``0 < f <= pi``)."""
     if f == 0.0:
@@ -165,7 +209,7 @@ def from_rotvec_tan(a, b, c, f, t):
     return co, s * a, s * b, s * c
 
 
-def canonical(w, x, y, z):
+def canonical(w: float, x: float, y: float, z: float) -> tuple[float, float, float, float]:
     """``q`` or ``-q``, whichever has ``w > 0`` (at ``w = 0``: the first non-zero
     component positive): the sign SciPy calls canonical (theory §2)."""
     if w < 0.0 or (w == 0.0 and (x < 0.0 or (x == 0.0 and (y < 0.0 or (y == 0.0 and z < 0.0))))):
@@ -173,14 +217,14 @@ def canonical(w, x, y, z):
     return w, x, y, z
 
 
-def to_mrp(w, x, y, z):
+def to_mrp(w: float, x: float, y: float, z: float) -> tuple[float, float, float]:
     """Modified Rodrigues parameters ``p = l / (1 + l0)``, ``|p| <= 1`` (theory §2), of a
     quaternion of :func:`canonical` sign (callers take it first: numba inlines calls)."""
     d = 1.0 + w
     return x / d, y / d, z / d
 
 
-def from_mrp(a, b, c):
+def from_mrp(a: float, b: float, c: float) -> tuple[float, float, float, float]:
     """``L = ((1 - |p|^2) + 2 p) / (1 + |p|^2)`` from modified Rodrigues parameters
     (theory §2), for ``|p|^2`` that does not overflow (callers check)."""
     n2 = a * a + b * b + c * c
@@ -188,7 +232,7 @@ def from_mrp(a, b, c):
     return (1.0 - n2) / d, 2.0 * a / d, 2.0 * b / d, 2.0 * c / d
 
 
-def axis_angle(w, x, y, z):
+def axis_angle(w: float, x: float, y: float, z: float) -> tuple[float, float, float, float]:
     """Unit axis and angle in ``[0, pi]`` of a quaternion of :func:`canonical` sign
     (theory §2): ``f = 2 atan2(|l|, l0)``, ``e = l / |l|`` (``(1, 0, 0)`` for ``f = 0``)."""
     n = math.sqrt(x * x + y * y + z * z)
@@ -197,7 +241,7 @@ def axis_angle(w, x, y, z):
     return 1.0, 0.0, 0.0, 2.0 * math.atan2(n, w)
 
 
-def to_rotvec(w, x, y, z):
+def to_rotvec(w: float, x: float, y: float, z: float) -> tuple[float, float, float]:
     """``phi = 2 atan2(|l|, l0) l / |l|`` of a quaternion of :func:`canonical` sign
     (theory §2; callers take it first).
 
@@ -213,7 +257,12 @@ def to_rotvec(w, x, y, z):
     return s * x, s * y, s * z
 
 
-def from_euler(axes, a0, a1, a2):
+def from_euler(
+    axes: Sequence[int],
+    a0: float,
+    a1: float,
+    a2: float,
+) -> tuple[float, float, float, float]:
     """``L = L_a1(f1) o L_a2(f2) o L_a3(f3)`` for an intrinsic sequence (theory §3).
 
     ``axes`` lists the axes (0, 1, 2) of the sequence (1 to 3 of them; the unused
@@ -235,7 +284,17 @@ def from_euler(axes, a0, a1, a2):
     return w, x, y, z
 
 
-def to_euler(w, x, y, z, i, j, k, extrinsic, eps):
+def to_euler(
+    w: float,
+    x: float,
+    y: float,
+    z: float,
+    i: int,
+    j: int,
+    k: int,
+    extrinsic: bool,
+    eps: float,
+) -> tuple[float, float, float, bool]:
     """Euler angles ``(a1, a2, a3, singular)`` of a unit quaternion (theory §3).
 
     Bernardes & Viollet (2022), "Quaternion to Euler angles conversion: a direct,
@@ -256,7 +315,15 @@ def to_euler(w, x, y, z, i, j, k, extrinsic, eps):
     )
 
 
-def euler_atan2_args(w, x, y, z, i, j, k):
+def euler_atan2_args(
+    w: float,
+    x: float,
+    y: float,
+    z: float,
+    i: int,
+    j: int,
+    k: int,
+) -> tuple[float, float, float, float, float, float]:
     """The arguments ``(y, x)`` of the three ``atan2`` of :func:`to_euler`: half the
     middle angle, the half sum and the half difference of the outer ones."""
     symmetric = i == k
@@ -273,7 +340,16 @@ def euler_atan2_args(w, x, y, z, i, j, k):
     return math.sqrt(c * c + d * d), math.sqrt(a * a + b * b), b, a, d, c
 
 
-def euler_from_atan2(half_mid, half_sum, half_diff, i, j, k, extrinsic, eps):
+def euler_from_atan2(
+    half_mid: float,
+    half_sum: float,
+    half_diff: float,
+    i: int,
+    j: int,
+    k: int,
+    extrinsic: bool,
+    eps: float,
+) -> tuple[float, float, float, bool]:
     """The angles of :func:`to_euler` from its three ``atan2`` values."""
     symmetric = i == k
     if symmetric:
@@ -302,17 +378,35 @@ def euler_from_atan2(half_mid, half_sum, half_diff, i, j, k, extrinsic, eps):
     return first, mid, third, singular
 
 
-def angle(w, x, y, z):
+def angle(w: float, x: float, y: float, z: float) -> float:
     """Rotation angle in ``[0, pi]``: ``2 atan2(|l|, |l0|)`` (theory §2)."""
     return 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), abs(w))
 
 
-def cross(a0, a1, a2, b0, b1, b2):
+def cross(
+    a0: float,
+    a1: float,
+    a2: float,
+    b0: float,
+    b1: float,
+    b2: float,
+) -> tuple[float, float, float]:
     """``a x b``."""
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
-def euler_columns(ax0, ax1, ax2, c0, s0, c1, s1, c2, s2, space):
+def euler_columns(
+    ax0: int,
+    ax1: int,
+    ax2: int,
+    c0: float,
+    s0: float,
+    c1: float,
+    s1: float,
+    c2: float,
+    s2: float,
+    space: bool,
+) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Columns of the Euler rate matrix ``M`` (``omega = M angles'``, theory §3), in
     factor order, for ``C = F0 F1 F2`` with ``F_m`` the turn about coordinate axis
     ``ax_m`` (0, 1, 2) by the angle of cosine ``c_m`` and sine ``s_m``.
@@ -322,7 +416,14 @@ def euler_columns(ax0, ax1, ax2, c0, s0, c1, s1, c2, s2, space):
     (body frame: ``(F(m+1) .. F2)^T e``). Returns 9 floats, column after column.
     """
 
-    def turn(v0, v1, v2, axis, c, s):  # A_axis v, right-handed (s -> -s: transpose)
+    def turn(
+        v0: float,
+        v1: float,
+        v2: float,
+        axis: int,
+        c: float,
+        s: float,
+    ) -> tuple[float, float, float]:  # A_axis v, right-handed (s -> -s: transpose)
         if axis == 0:
             return v0, c * v1 - s * v2, s * v1 + c * v2
         if axis == 1:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_matrix3
 from ..errors import InvalidInputError
 from ._lazy import big, flat, kernels, threaded
@@ -40,7 +41,7 @@ def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     return kernels().quat_to_matrix(q, _D3)
 
 
-def _to_quat(m: np.ndarray):
+def _to_quat(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(q, max |A^T A - E|, det A)`` for matrices (..., 3, 3) (threaded when large)."""
     shape = m.shape[:-2]
     if big(shape):
@@ -68,7 +69,7 @@ def _nearest_rotation(m: np.ndarray) -> np.ndarray:
 
 
 def quat_from_user_matrix(
-    m, name: str = "matrix", *, atol: float = ORTHOGONALITY_ATOL
+    m: ArrayLike, name: str = "matrix", *, atol: float = ORTHOGONALITY_ATOL
 ) -> np.ndarray:
     """Check, project if needed, and convert user matrices (see module notes)."""
     m = as_matrix3(m, name)

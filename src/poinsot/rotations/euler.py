@@ -32,6 +32,7 @@ import warnings
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_float_array
 from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError
 from ._lazy import big, chunked, flat, kernels, threaded
@@ -102,7 +103,7 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
     k = kernels()
     if big(q.shape[:-1]):
 
-        def step(lo, hi):
+        def step(lo: int, hi: int) -> None:
             buf = np.empty((6, hi - lo))
             k.euler_atan2_args_flat(f[lo:hi], code, buf)
             np.arctan2(buf[:3], buf[3:], out=buf[:3])
@@ -127,7 +128,7 @@ def warn_gimbal_lock(seq: str, stacklevel: int) -> None:
     )
 
 
-def as_angles(angles, k: int, name: str = "angles") -> np.ndarray:
+def as_angles(angles: ArrayLike, k: int, name: str = "angles") -> np.ndarray:
     """Validate angles for a ``k``-axis sequence: shape (..., k), or (...) when k == 1.
 
     For one axis, an array of two or more dimensions whose last axis has length 1

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_float_array, as_vec3
 from ..errors import InvalidInputError
 from .dcm import EXACT_ATOL, ORTHOGONALITY_ATOL, _nearest_rotation
@@ -13,7 +14,9 @@ __all__ = ["quat_from_basis", "align_vectors"]
 _EYE = np.eye(3)
 
 
-def quat_from_basis(e1, e2, e3, *, atol: float = ORTHOGONALITY_ATOL) -> np.ndarray:
+def quat_from_basis(
+    e1: ArrayLike, e2: ArrayLike, e3: ArrayLike, *, atol: float = ORTHOGONALITY_ATOL
+) -> np.ndarray:
     """Quaternion ``L`` with ``e_k = L o i_k o L~`` (SPEC S2, the notes' Theorem 1).
 
     With ``r_k = e_k - i_k``, ``s_k = e_k + i_k``:
@@ -59,7 +62,13 @@ def quat_from_basis(e1, e2, e3, *, atol: float = ORTHOGONALITY_ATOL) -> np.ndarr
     return np.where(best[..., :1] < 0, -best, best)
 
 
-def align_vectors(a, b, weights=None, *, return_sensitivity: bool = False):
+def align_vectors(
+    a: ArrayLike,
+    b: ArrayLike,
+    weights: ArrayLike | None = None,
+    *,
+    return_sensitivity: bool = False,
+) -> tuple[np.ndarray, float] | tuple[np.ndarray, float, np.ndarray]:
     """Optimal rotation matrix ``C`` for Wahba's problem ``a_i ~ C b_i`` and the RSSD.
 
     Minimises ``sum_i w_i |a_i - C b_i|^2`` by the SVD of ``B = sum_i w_i a_i b_i^T``

@@ -17,8 +17,11 @@ array([ 0.,  0.,  0., -1.])
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_trailing, as_vec3
 from .._vec import length as length_array
 from .._vec import unit
@@ -43,7 +46,7 @@ __all__ = [
 _LOG_MAX = float(np.log(np.finfo(np.float64).max))
 
 
-def _quat(q, name: str = "q") -> np.ndarray:
+def _quat(q: ArrayLike, name: str = "q") -> np.ndarray:
     return as_trailing(q, name, (4,))
 
 
@@ -60,7 +63,7 @@ def normalize_array(q: np.ndarray, name: str = "quat") -> np.ndarray:
     return unit(q, _nonzero(q, name))
 
 
-def _checked(kernel, what: str, *args) -> np.ndarray:
+def _checked(kernel: Callable[..., np.ndarray], what: str, *args: np.ndarray) -> np.ndarray:
     # A float64 overflow inside a kernel becomes a named error instead of inf/NaN
     # and a RuntimeWarning.
     with np.errstate(over="raise", invalid="raise"):
@@ -82,7 +85,7 @@ def _broadcast(name_a: str, a: np.ndarray, name_b: str, b: np.ndarray) -> None:
         ) from None
 
 
-def multiply(p, q) -> np.ndarray:
+def multiply(p: ArrayLike, q: ArrayLike) -> FloatArray:
     """Hamilton product ``P o Q``.
 
     ``P o Q = p0 q0 - p.q + p0 q + q0 p + p x q`` (SPEC S1).
@@ -111,7 +114,7 @@ def multiply(p, q) -> np.ndarray:
     return _checked(kernels().qmul, "the product of `p` and `q`", p, q)
 
 
-def conjugate(q) -> np.ndarray:
+def conjugate(q: ArrayLike) -> FloatArray:
     """Conjugate ``L~ = l0 - l`` (SPEC S1).
 
     Examples
@@ -137,7 +140,7 @@ def canonical_array(q: np.ndarray) -> np.ndarray:
     return np.where(lead < 0, -q, q)
 
 
-def norm_squared(q) -> np.ndarray:
+def norm_squared(q: ArrayLike) -> FloatArray:
     """The notes' norm ``||L|| = L o L~ = l0^2 + |l|^2`` (SPEC S1).
 
     Examples
@@ -149,7 +152,7 @@ def norm_squared(q) -> np.ndarray:
     return np.einsum("...i,...i->...", q, q)[()]
 
 
-def norm(q) -> np.ndarray:
+def norm(q: ArrayLike) -> FloatArray:
     """Length ``|L| = sqrt(||L||)`` (SPEC S1).
 
     Examples
@@ -160,7 +163,7 @@ def norm(q) -> np.ndarray:
     return length_array(_quat(q))[()]
 
 
-def normalize(q) -> np.ndarray:
+def normalize(q: ArrayLike) -> FloatArray:
     """``L / |L|``; a zero quaternion raises :class:`~poinsot.InvalidInputError`.
 
     Examples
@@ -171,7 +174,7 @@ def normalize(q) -> np.ndarray:
     return normalize_array(_quat(q), "q")
 
 
-def inverse(q) -> np.ndarray:
+def inverse(q: ArrayLike) -> FloatArray:
     """Inverse ``L^-1 = L~ / ||L||`` for ``L != 0`` (SPEC S1).
 
     Examples
@@ -184,7 +187,7 @@ def inverse(q) -> np.ndarray:
     return conjugate_array(q) / n / n  # two divisions: |q|^2 may over/underflow
 
 
-def exp(q) -> np.ndarray:
+def exp(q: ArrayLike) -> FloatArray:
     """Quaternion exponential ``exp(a + v) = e^a (cos|v| + v/|v| sin|v|)``.
 
     The analogue of de Moivre's formula (SPEC S1); for a pure quaternion
@@ -213,7 +216,7 @@ def _exp(q: np.ndarray, message: str) -> np.ndarray:
     return out
 
 
-def log(q) -> np.ndarray:
+def log(q: ArrayLike) -> FloatArray:
     """Quaternion logarithm ``log L = log|L| + e f`` with ``L = |L|(cos f + e sin f)``.
 
     ``f = atan2(|l|, l0)`` lies in ``[0, pi]``. For a negative real ``L`` the
@@ -242,7 +245,7 @@ def log(q) -> np.ndarray:
     return out
 
 
-def power(q, t) -> np.ndarray:
+def power(q: ArrayLike, t: ArrayLike) -> FloatArray:
     """Real power ``L^t = |L|^t (cos tf + e sin tf) = exp(t log L)`` (SPEC S1, de Moivre).
 
     Parameters
@@ -274,7 +277,7 @@ def power(q, t) -> np.ndarray:
     return _exp(lt, "Expected `t` log|q| to be at most")
 
 
-def rotate(q, v) -> np.ndarray:
+def rotate(q: ArrayLike, v: ArrayLike) -> FloatArray:
     """The sandwich ``q o v o q~`` of a vector ``v`` (as a pure quaternion).
 
     For a unit ``q = cos(f/2) + e sin(f/2)`` this rotates ``v`` by ``f`` about

@@ -16,8 +16,9 @@ import warnings
 
 import numpy as np
 
+from .._vec import length as length_array
 from ..errors import SingularityWarning
-from .quaternion import canonical_array, length_array
+from .quaternion import canonical_array
 
 __all__ = ["quat_from_gibbs", "gibbs_from_quat", "quat_from_mrp", "mrp_from_quat"]
 

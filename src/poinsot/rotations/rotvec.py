@@ -22,7 +22,7 @@ def quat_from_rotvec(v: np.ndarray) -> np.ndarray:
         q = np.empty(v.shape[:-1] + (4,))
         vf, qf, k = flat(v, 3), q.reshape(-1, 4), kernels()
 
-        def step(lo, hi):
+        def step(lo: int, hi: int) -> None:
             buf = np.empty((2, hi - lo))
             k.rotvec_angle_flat(vf[lo:hi], buf)
             np.tan(buf[1], out=buf[1])
