@@ -20,10 +20,12 @@ sequence is made continuous (or the shortest increment is taken) first.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import (
     _is_scipy_rotation,
     as_choice,
@@ -33,14 +35,14 @@ from .._validate import (
     as_times,
     as_trailing,
 )
+from .._vec import cross as _cross
+from .._vec import dot as _dot
 from ..errors import InvalidInputError
 from ..rotations import quaternion as _quat
 from ..rotations.rotation import Rotation
 from ..rotations.rotvec import quat_from_rotvec
 from .rates import (
     FRAMES,
-    _cross,
-    _dot,
     _rotvec_coefficients,
     _rotvec_jacobian_apply,
 )
@@ -53,7 +55,7 @@ _ORDERS = (2, 4, 6, 8)
 # --------------------------------------------------------------------------
 # helpers
 # --------------------------------------------------------------------------
-def _quat_samples(rotations, name="rotations"):
+def _quat_samples(rotations: object, name: str = "rotations") -> np.ndarray:
     """Unit quaternions ``(n, ..., 4)`` from a Rotation or a scalar-first array."""
     single = isinstance(rotations, Rotation) or _is_scipy_rotation(rotations)
     q = as_rotation_quat(rotations, name)
@@ -67,7 +69,7 @@ def _quat_samples(rotations, name="rotations"):
     return q
 
 
-def _check_lengths(t, q, name="rotations"):
+def _check_lengths(t: np.ndarray, q: np.ndarray, name: str = "rotations") -> None:
     if q.shape[0] != t.shape[0]:
         raise InvalidInputError(
             f"Expected `{name}` to have {t.shape[0]} samples along axis 0 (one per time in "
@@ -75,20 +77,20 @@ def _check_lengths(t, q, name="rotations"):
         )
 
 
-def _make_continuous(q):
+def _make_continuous(q: np.ndarray) -> np.ndarray:
     """Flip signs along axis 0 so that consecutive quaternions have ``q_k . q_k-1 >= 0``."""
     d = _dot(q[1:], q[:-1])
     flips = np.concatenate([np.ones((1,) + d.shape[1:]), np.where(d < 0.0, -1.0, 1.0)])
     return q * np.cumprod(flips, axis=0)[..., None]
 
 
-def _rotvec_unwrapped(q):
+def _rotvec_unwrapped(q: np.ndarray) -> np.ndarray:
     """``2 vec(log q)`` for unit ``q`` without taking the shortest path: the angle
     is ``2 atan2(|v|, w)`` in ``[0, 2 pi]``, continuous along a continuous path."""
     return 2.0 * _quat.log(q)[..., 1:]
 
 
-def _fornberg(x0, x, m):
+def _fornberg(x0: ArrayLike, x: ArrayLike, m: int) -> np.ndarray:
     """Finite-difference weights (Fornberg 1988), vectorised over leading dims.
 
     ``x0`` (...), ``x`` (..., N) -> ``c`` (..., N, m + 1) such that
@@ -120,7 +122,7 @@ def _fornberg(x0, x, m):
     return c
 
 
-def fornberg_weights(x0, x, deriv: int = 1) -> np.ndarray:
+def fornberg_weights(x0: ArrayLike, x: ArrayLike, deriv: int = 1) -> FloatArray:
     """Finite-difference weights for the ``deriv``-th derivative at ``x0`` on nodes ``x``.
 
     Fornberg's algorithm (Math. Comp. 51, 1988): with ``N`` distinct nodes the
@@ -164,7 +166,7 @@ def fornberg_weights(x0, x, deriv: int = 1) -> np.ndarray:
 # --------------------------------------------------------------------------
 # angular velocity at the samples
 # --------------------------------------------------------------------------
-def _angular_velocity(t, q, frame, order):
+def _angular_velocity(t: np.ndarray, q: np.ndarray, frame: str, order: int) -> np.ndarray:
     """Core of :func:`angular_velocity` (validated, continuous ``q`` (n, ..., 4))."""
     n = t.shape[0]
     m = order + 1
@@ -181,7 +183,9 @@ def _angular_velocity(t, q, frame, order):
     return omega_b
 
 
-def angular_velocity(t, rotations, *, frame: str = "body", order: int = 4) -> np.ndarray:
+def angular_velocity(
+    t: ArrayLike, rotations: Rotation | ArrayLike, *, frame: str = "body", order: int = 4
+) -> FloatArray:
     """Angular velocity at the samples of an attitude history (theory §5, task (b)).
 
     For each sample ``k`` the rotation vectors of the neighbouring samples
@@ -241,7 +245,7 @@ def angular_velocity(t, rotations, *, frame: str = "body", order: int = 4) -> np
 # --------------------------------------------------------------------------
 # C2 rotation spline
 # --------------------------------------------------------------------------
-def _series(f2, terms):
+def _series(f2: np.ndarray, terms: Sequence[float]) -> np.ndarray:
     """Horner evaluation of ``sum_k terms[k] f2^k``."""
     out = np.zeros_like(f2) + terms[-1]
     for c in terms[-2::-1]:
@@ -249,7 +253,7 @@ def _series(f2, terms):
     return out
 
 
-def _fact(k):
+def _fact(k: int) -> float:
     out = 1.0
     for i in range(2, k + 1):
         out *= i
@@ -262,7 +266,7 @@ _M2_TERMS = [(-1) ** n * 2 * n / _fact(2 * n + 3) for n in range(1, 10)]
 _ACCEL_SERIES_ANGLE = 0.5
 
 
-def _rotvec_accel_term(r, rd):
+def _rotvec_accel_term(r: np.ndarray, rd: np.ndarray) -> np.ndarray:
     """``(d/dt J_r(r)) r'``: the part of the angular acceleration of ``exp(r^)`` that
     is quadratic in ``r'`` (``alpha_xi = J_r(r) r'' + this``)."""
     f2 = _dot(r, r)
@@ -281,14 +285,14 @@ def _rotvec_accel_term(r, rd):
     )
 
 
-def _jr_inv_apply(r, w):
+def _jr_inv_apply(r: np.ndarray, w: np.ndarray) -> np.ndarray:
     """``J_r(r)^-1 w`` (body frame rotation-vector rate)."""
     from .rates import _rotvec_rate
 
     return _rotvec_rate(r, w, 1.0)
 
 
-def _jr_matrices(r):
+def _jr_matrices(r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``J_r(r)`` and ``J_r(r)^-1`` as (..., 3, 3) matrices (columns = images of e_k)."""
     eye = np.broadcast_to(np.eye(3), r.shape[:-1] + (3, 3))
     rr = r[..., None, :]
@@ -301,7 +305,9 @@ _SPLINE_MAX_ITER = 30
 _SPLINE_TOL = 1e-13
 
 
-def _solve_knot_rates(dt, r, w_first, w_last):
+def _solve_knot_rates(
+    dt: np.ndarray, r: np.ndarray, w_first: np.ndarray, w_last: np.ndarray
+) -> np.ndarray:
     """Body angular velocities at the interior knots making the angular
     acceleration continuous.
 
@@ -410,7 +416,9 @@ class RotationSpline:
     knots: Rotation
     coefficients: np.ndarray
 
-    def _locate(self, t):
+    def _locate(
+        self, t: ArrayLike
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         t = as_float_array(t, "t")
         if t.ndim > 1:
             raise InvalidInputError(f"Expected `t` to have shape () or (m,), got {t.shape}.")
@@ -419,22 +427,22 @@ class RotationSpline:
         a, b, c = (self.coefficients[i][k] for i in range(3))
         return k, tau, a, b, c
 
-    def _r(self, t):
+    def _r(self, t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         k, tau, a, b, c = self._locate(t)
         r = ((a * tau + b) * tau + c) * tau
         rd = (3.0 * a * tau + 2.0 * b) * tau + c
         rdd = 6.0 * a * tau + 2.0 * b
         return k, r, rd, rdd
 
-    def _attitude(self, k, r):
+    def _attitude(self, k: np.ndarray, r: np.ndarray) -> np.ndarray:
         return _quat.multiply(self.knots.as_quat()[k], quat_from_rotvec(r))
 
-    def rotation(self, t) -> Rotation:
+    def rotation(self, t: ArrayLike) -> Rotation:
         """Interpolated attitude at ``t`` (shape () or (m,))."""
         k, r, _, _ = self._r(t)
         return Rotation.from_quat(self._attitude(k, r))
 
-    def omega(self, t, *, frame: str = "body") -> np.ndarray:
+    def omega(self, t: ArrayLike, *, frame: str = "body") -> FloatArray:
         """Angular velocity (rad/s) at ``t`` in ``frame`` axes, shape (..., 3)."""
         k, r, rd, _ = self._r(t)
         w = _rotvec_jacobian_apply(r, rd, 1.0)
@@ -442,7 +450,7 @@ class RotationSpline:
             return _quat.rotate(self._attitude(k, r), w)
         return w
 
-    def alpha(self, t, *, frame: str = "body") -> np.ndarray:
+    def alpha(self, t: ArrayLike, *, frame: str = "body") -> FloatArray:
         """Angular acceleration ``omega'`` (rad/s^2) at ``t`` in ``frame`` axes.
 
         ``alpha_x = R alpha_xi`` (the two frames' derivatives agree because
@@ -454,7 +462,7 @@ class RotationSpline:
             return _quat.rotate(self._attitude(k, r), a)
         return a
 
-    def __call__(self, t, order: int = 0):
+    def __call__(self, t: ArrayLike, order: int = 0) -> Rotation | FloatArray:
         """SciPy-style evaluation: ``order`` 0 -> Rotation, 1 -> body angular
         velocity, 2 -> body angular acceleration."""
         if order == 0:
@@ -466,7 +474,12 @@ class RotationSpline:
         raise InvalidInputError(f"Expected `order` to be 0, 1 or 2, got {order!r}.")
 
 
-def rotation_spline(t, rotations, *, end_omega="estimate") -> RotationSpline:
+def rotation_spline(
+    t: ArrayLike,
+    rotations: Rotation | ArrayLike,
+    *,
+    end_omega: str | ArrayLike = "estimate",
+) -> RotationSpline:
     """C2 attitude interpolant through samples ``(t_k, R_k)``.
 
     The rotation vector of ``R_k^T R(t)`` is a cubic in ``t`` on each interval

@@ -15,18 +15,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array
 
 __all__ = ["coning_quat", "coning_omega"]
 
 
-def _args(half_angle, rate, t):
+def _args(half_angle: ArrayLike, rate: ArrayLike, t: ArrayLike) -> tuple[float, float, np.ndarray]:
     a = float(as_float_array(half_angle, "half_angle"))
     w = float(as_float_array(rate, "rate"))
     return a, w, as_float_array(t, "t")
 
 
-def coning_quat(half_angle: float, rate: float, t) -> np.ndarray:
+def coning_quat(half_angle: float, rate: float, t: ArrayLike) -> FloatArray:
     """Attitude of classical coning motion ``Lc(t)``, scalar-first quaternions.
 
     ``Lc(t) = (cos a/2, sin a/2 cos W t, sin a/2 sin W t, 0)`` (docs/theory.md §5).
@@ -59,7 +60,7 @@ def coning_quat(half_angle: float, rate: float, t) -> np.ndarray:
     )
 
 
-def coning_omega(half_angle: float, rate: float, t) -> np.ndarray:
+def coning_omega(half_angle: float, rate: float, t: ArrayLike) -> FloatArray:
     """Body angular velocity of :func:`coning_quat` (rad/s).
 
     ``w = (-W sin a sin W t, W sin a cos W t, -2 W sin^2(a/2))`` in body axes

@@ -22,11 +22,13 @@ everything else. Every function broadcasts over leading batch dimensions
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_vec3, batch_shape
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -52,14 +54,18 @@ def _euler(v0: np.ndarray, omega: np.ndarray, rho: np.ndarray) -> np.ndarray:
     return v0 + np.cross(omega, rho)
 
 
-def _rivals_terms(a0, omega, eps, rho):
+def _rivals_terms(
+    a0: np.ndarray, omega: np.ndarray, eps: np.ndarray, rho: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The three terms of Rivals' formula: ``W0``, ``eps x rho``, ``w x (w x rho)``."""
     rotational = np.cross(eps, rho)
     centripetal = np.cross(omega, np.cross(omega, rho))
     return a0, rotational, centripetal
 
 
-def _compose_angular(omega_e, eps_e, omega_r, eps_r):
+def _compose_angular(
+    omega_e: np.ndarray, eps_e: np.ndarray, omega_r: np.ndarray, eps_r: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """``w = w_e + w_r``, ``eps = eps_e + eps_r + w_e x w_r``."""
     return omega_e + omega_r, eps_e + eps_r + np.cross(omega_e, omega_r)
 
@@ -69,21 +75,21 @@ def _broadcast_shape(arrays: dict[str, np.ndarray]) -> tuple[int, ...]:
     return batch_shape(**{k: (a, 0) for k, a in arrays.items()})
 
 
-def _vectors(**named) -> list[np.ndarray]:
+def _vectors(**named: object) -> list[np.ndarray]:
     """Validate named (..., 3) arguments and check that they broadcast together."""
     arrays = {k: as_vec3(v, k) for k, v in named.items()}
     _broadcast_shape(arrays)
     return list(arrays.values())
 
 
-def _as_list(x, name: str, what: str) -> list:
+def _as_list(x: Any, name: str, what: str) -> list[Any]:
     """``list(x)`` for a sequence argument; a non-iterable (or a string) is a type error."""
     if isinstance(x, str | bytes) or not hasattr(x, "__iter__"):
         raise InvalidTypeError(f"Expected `{name}` to be {what}, got {type(x).__name__}.")
     return list(x)
 
 
-def _scalar(x, name: str, *, strict: bool = False) -> float:
+def _scalar(x: ArrayLike, name: str, *, strict: bool = False) -> float:
     """A real scalar that must be >= 0 (> 0 if ``strict``), e.g. a tolerance or a step."""
     a = as_float_array(x, name)
     ok = a.ndim == 0 and (a > 0 if strict else a >= 0)
@@ -93,7 +99,7 @@ def _scalar(x, name: str, *, strict: bool = False) -> float:
     return float(a)
 
 
-def _rho_args(**named) -> list[np.ndarray]:
+def _rho_args(**named: ArrayLike | None) -> list[np.ndarray]:
     """Validate the vectors and the pole; return them with ``rho = point - pole`` last."""
     pole = named.pop("pole")
     if pole is not None:
@@ -116,7 +122,9 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def velocity_field(v0, omega, point, *, pole=None) -> np.ndarray:
+def velocity_field(
+    v0: ArrayLike, omega: ArrayLike, point: ArrayLike, *, pole: ArrayLike | None = None
+) -> FloatArray:
     """Velocity of the points ``point`` of a rigid body (Euler's formula, theory §6).
 
     Parameters
@@ -156,7 +164,14 @@ def velocity_field(v0, omega, point, *, pole=None) -> np.ndarray:
     return _euler(v0, omega, rho)
 
 
-def acceleration_field(a0, omega, eps, point, *, pole=None) -> np.ndarray:
+def acceleration_field(
+    a0: ArrayLike,
+    omega: ArrayLike,
+    eps: ArrayLike,
+    point: ArrayLike,
+    *,
+    pole: ArrayLike | None = None,
+) -> FloatArray:
     """Acceleration of the points ``point`` of a rigid body (Rivals' formula, theory §6).
 
     Parameters
@@ -220,11 +235,13 @@ class AngularMotion:
     omega: np.ndarray
     eps: np.ndarray
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[np.ndarray]:
         return iter((self.omega, self.eps))
 
 
-def compose_angular(omega_e, eps_e, omega_r, eps_r) -> AngularMotion:
+def compose_angular(
+    omega_e: ArrayLike, eps_e: ArrayLike, omega_r: ArrayLike, eps_r: ArrayLike
+) -> AngularMotion:
     """Compose a transport and a relative rotation (theory §6).
 
     Parameters
@@ -306,7 +323,7 @@ class FrameMotion:
     omega: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
     eps: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         arrays = {f.name: as_vec3(getattr(self, f.name), f.name) for f in fields(self)}
         shape = _broadcast_shape(arrays)
         for name, a in arrays.items():
@@ -317,14 +334,14 @@ class FrameMotion:
         """Batch shape of the attributes (without the trailing 3)."""
         return self.omega.shape[:-1]
 
-    def velocity_at(self, offset) -> np.ndarray:
+    def velocity_at(self, offset: ArrayLike) -> FloatArray:
         """Velocity ``V0 + w x rho`` of the point fixed in the frame at the offset
         ``rho = offset`` from the frame's origin (fixed-frame components)."""
         rho = as_vec3(offset, "offset")
         _broadcast_shape({"offset": rho, "omega": self.omega})
         return _euler(self.origin_velocity, self.omega, rho)
 
-    def acceleration_at(self, offset) -> np.ndarray:
+    def acceleration_at(self, offset: ArrayLike) -> FloatArray:
         """Acceleration ``W0 + eps x rho + w x (w x rho)`` of the point fixed in
         the frame at the offset ``rho = offset`` from the frame's origin."""
         rho = as_vec3(offset, "offset")
@@ -332,7 +349,7 @@ class FrameMotion:
         w0, rot, cen = _rivals_terms(self.origin_acceleration, self.omega, self.eps, rho)
         return w0 + rot + cen
 
-    def compose(self, inner: FrameMotion, offset) -> FrameMotion:
+    def compose(self, inner: FrameMotion, offset: ArrayLike) -> FrameMotion:
         """Absolute motion of a frame that moves relative to this one.
 
         Parameters
@@ -376,7 +393,7 @@ class FrameMotion:
         return FrameMotion(m.velocity, m.acceleration, omega, eps)
 
 
-def chain(motions: Sequence[FrameMotion], offsets: Sequence) -> FrameMotion:
+def chain(motions: Sequence[FrameMotion], offsets: Sequence[ArrayLike]) -> FrameMotion:
     """Absolute motion of the last frame of a chain of moving frames.
 
     Parameters
@@ -466,14 +483,16 @@ class CompositeMotion:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
-def _point_motion(frame: FrameMotion, s, v_rel, a_rel) -> CompositeMotion:
+def _point_motion(
+    frame: FrameMotion, s: np.ndarray, v_rel: np.ndarray, a_rel: np.ndarray
+) -> CompositeMotion:
     shape = np.broadcast_shapes(s.shape, v_rel.shape, a_rel.shape, frame.omega.shape)
     ve = _euler(frame.origin_velocity, frame.omega, s)
     w0, rot, cen = _rivals_terms(frame.origin_acceleration, frame.omega, frame.eps, s)
     we = w0 + rot + cen
     wc = 2.0 * np.cross(frame.omega, v_rel)
 
-    def full(a):
+    def full(a: np.ndarray) -> np.ndarray:
         return np.broadcast_to(a, shape).copy()
 
     return CompositeMotion(
@@ -491,7 +510,10 @@ def _point_motion(frame: FrameMotion, s, v_rel, a_rel) -> CompositeMotion:
 
 
 def point_motion(
-    frame: FrameMotion, s, v_rel=(0.0, 0.0, 0.0), a_rel=(0.0, 0.0, 0.0)
+    frame: FrameMotion,
+    s: ArrayLike,
+    v_rel: ArrayLike = (0.0, 0.0, 0.0),
+    a_rel: ArrayLike = (0.0, 0.0, 0.0),
 ) -> CompositeMotion:
     """Velocity and acceleration of a point moving in a moving frame (theory §6).
 

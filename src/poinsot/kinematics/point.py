@@ -18,9 +18,11 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_float_array, as_int, as_times, is_integer
 from ..errors import InvalidInputError, SingularityWarning
 from .attitude_history import _fornberg
@@ -94,7 +96,9 @@ class FrenetFrame:
         return np.divide(1.0, k, out=np.full_like(k, np.inf), where=k > 0)
 
 
-def _stencil_derivatives(t, r, w: int, stride: int | np.ndarray, where):
+def _stencil_derivatives(
+    t: np.ndarray, r: np.ndarray, w: int, stride: int | np.ndarray, where: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Derivatives 0..3 at the samples ``where`` from ``w`` samples ``stride`` apart
     (``stride`` an int or an array matching ``where``).
 
@@ -118,7 +122,7 @@ def _stencil_derivatives(t, r, w: int, stride: int | np.ndarray, where):
     return d, noise
 
 
-def _auto_strides(t, r, w: int) -> tuple[int, int, int]:
+def _auto_strides(t: np.ndarray, r: np.ndarray, w: int) -> tuple[int, int, int]:
     """Stride for derivatives 1, 2, 3 that minimises the estimated error.
 
     For strides ``s = 1, 2, 4, ...`` the difference between the estimates with
@@ -145,12 +149,15 @@ def _auto_strides(t, r, w: int) -> tuple[int, int, int]:
     return s1, s2, s3
 
 
-def _sample_derivatives(t, r, w: int, stride):
+def _sample_derivatives(
+    t: np.ndarray, r: np.ndarray, w: int, stride: int | str
+) -> tuple[list[np.ndarray], list[np.ndarray], tuple[int, ...]]:
     """Derivatives 1..3 of samples ``r`` (n, m, 3), their rounding bounds, the strides."""
     n = t.size
-    strides = _auto_strides(t, r, w) if stride == "auto" else (stride,) * 3
+    # `stride` is validated by the caller: "auto" or an int
+    strides = _auto_strides(t, r, w) if isinstance(stride, str) else (stride,) * 3
     where = np.arange(n)
-    cache = {}
+    cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     derivs, noises = [], []
     for k, s in enumerate(strides, start=1):
         if s not in cache:
@@ -160,7 +167,7 @@ def _sample_derivatives(t, r, w: int, stride):
     return derivs, noises, strides
 
 
-def _eval_curve(func: Callable, tt: np.ndarray, name: str) -> np.ndarray:
+def _eval_curve(func: Callable[..., Any], tt: np.ndarray, name: str) -> np.ndarray:
     """Call a curve and return shape ``tt.shape + (3,)`` (2-D curves padded)."""
     try:
         out = func(tt)
@@ -207,7 +214,16 @@ def _scaled(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return m, x / m[..., None]
 
 
-def _frenet_kernel(t, r, v, a, j, noise_v, noise_a, rtol) -> FrenetFrame:
+def _frenet_kernel(
+    t: np.ndarray,
+    r: np.ndarray,
+    v: np.ndarray,
+    a: np.ndarray,
+    j: np.ndarray,
+    noise_v: np.ndarray,
+    noise_a: np.ndarray,
+    rtol: float,
+) -> FrenetFrame:
     """The trihedron from the derivatives; ``noise_*`` bound their rounding errors.
 
     Every product is formed from per-point scaled vectors ``v = V v^``, ``a = A a^``,
@@ -275,10 +291,10 @@ def _frenet_kernel(t, r, v, a, j, noise_v, noise_a, rtol) -> FrenetFrame:
 
 
 def frenet(
-    t,
-    r,
+    t: ArrayLike,
+    r: ArrayLike | Callable[..., Any],
     *,
-    derivatives: tuple[Callable, Callable, Callable] | None = None,
+    derivatives: tuple[Callable[..., Any], Callable[..., Any], Callable[..., Any]] | None = None,
     step: float = DEFAULT_STEP,
     stencil: int = DEFAULT_STENCIL,
     stride: int | str = "auto",
@@ -420,13 +436,19 @@ def frenet(
             "they overflow (rescale the time or length unit)."
         )
 
-    def back(x):
+    def back(x: np.ndarray) -> np.ndarray:
         return x.reshape((n, *batch) + x.shape[2:])
 
     return _frenet_kernel(t_arr, r, back(v), back(a), back(j), back(nv), back(na), rtol)
 
 
-def _frenet_callable(t, r, derivatives, step, rtol) -> FrenetFrame:
+def _frenet_callable(
+    t: ArrayLike,
+    r: Callable[..., Any],
+    derivatives: tuple[Callable[..., Any], Callable[..., Any], Callable[..., Any]] | None,
+    step: float,
+    rtol: float,
+) -> FrenetFrame:
     t = as_float_array(t, "t")
     if derivatives is not None:
         if (

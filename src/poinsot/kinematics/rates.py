@@ -32,9 +32,11 @@ from __future__ import annotations
 import math
 import numbers
 import warnings
+from typing import Any, TypeGuard
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import (
     as_bool,
     as_choice,
@@ -99,7 +101,7 @@ ROTVEC_WARN_GAP = 1e-2
 # --------------------------------------------------------------------------
 
 
-def _vee_antisym(m):
+def _vee_antisym(m: np.ndarray) -> np.ndarray:
     """Vector of the antisymmetric part of ``m``: ``vee((m - m^T)/2)``."""
     return 0.5 * np.stack(
         [m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]],
@@ -107,13 +109,13 @@ def _vee_antisym(m):
     )
 
 
-def _pure(v):
+def _pure(v: ArrayLike) -> np.ndarray:
     """The pure quaternion ``(0, v)``."""
     v = np.asarray(v, dtype=float)
     return np.concatenate([np.zeros(v.shape[:-1] + (1,)), v], axis=-1)
 
 
-def _frame(frame) -> str:
+def _frame(frame: object) -> str:
     return as_choice(frame, "frame", FRAMES)
 
 
@@ -121,7 +123,7 @@ def _sign(frame: str) -> float:
     return 1.0 if frame == "body" else -1.0
 
 
-def _batch(**named) -> tuple[int, ...]:
+def _batch(**named: tuple[np.ndarray, int]) -> tuple[int, ...]:
     """Check that the batch (leading) shapes of named arrays broadcast together.
 
     ``named`` maps an argument name to ``(array, core_ndim)``, where ``core_ndim``
@@ -137,7 +139,7 @@ def _batch(**named) -> tuple[int, ...]:
         ) from None
 
 
-def _finite_result(out, name: str):
+def _finite_result(out: np.ndarray, name: str) -> np.ndarray:
     """Raise instead of returning inf/NaN produced by an overflowing magnitude."""
     if not np.all(np.isfinite(out)):
         raise InvalidInputError(
@@ -154,11 +156,11 @@ def _finite_result(out, name: str):
 _SIGNS = {"body": 1.0, "space": -1.0}
 
 
-def _fast_sign(frame) -> float | None:
+def _fast_sign(frame: object) -> float | None:
     return _SIGNS.get(frame) if type(frame) is str else None
 
 
-def _plain_quat(q) -> tuple[float, float, float, float] | None:
+def _plain_quat(q: object) -> tuple[float, float, float, float] | None:
     """A single attitude as four unit Python floats, or None (general path)."""
     if type(q) is Rotation:
         return q._q.tolist() if q._q.ndim == 1 else None
@@ -170,12 +172,12 @@ def _finite3(a: float, b: float, c: float) -> np.ndarray | None:
     return np.array((a, b, c)) if math.isfinite(a + b + c) else None
 
 
-def _is_matrix(m) -> bool:
+def _is_matrix(m: object) -> TypeGuard[np.ndarray]:
     """A float64 array of shape (3, 3) (its values are checked by the caller)."""
     return type(m) is np.ndarray and m.shape == (3, 3) and m.dtype == np.float64
 
 
-def _quat_arg(q, name):
+def _quat_arg(q: Any, name: str) -> np.ndarray:
     """Unit quaternions from an array (scalar first) or a :class:`Rotation`."""
     if hasattr(q, "as_quat") and not isinstance(q, np.ndarray):
         q = q.as_quat(scalar_first=True)  # poinsot's or SciPy's Rotation
@@ -185,19 +187,19 @@ def _quat_arg(q, name):
 # --------------------------------------------------------------------------
 # quaternion (SPEC S5)
 # --------------------------------------------------------------------------
-def _quat_rate(q, omega, frame):
+def _quat_rate(q: np.ndarray, omega: np.ndarray, frame: str) -> np.ndarray:
     if frame == "body":
         return 0.5 * _quat.multiply(q, _pure(omega))
     return 0.5 * _quat.multiply(_pure(omega), q)
 
 
-def _omega_from_quat_rate(q, qdot, frame):
+def _omega_from_quat_rate(q: np.ndarray, qdot: np.ndarray, frame: str) -> np.ndarray:
     if frame == "body":
         return 2.0 * _quat.multiply(_quat.conjugate(q), qdot)[..., 1:]
     return 2.0 * _quat.multiply(qdot, _quat.conjugate(q))[..., 1:]
 
 
-def quat_rate(q, omega, *, frame: str = "body") -> np.ndarray:
+def quat_rate(q: Rotation | ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Time derivative of the attitude quaternion (Poisson's equation, SPEC S5).
 
     Parameters
@@ -241,7 +243,9 @@ def quat_rate(q, omega, *, frame: str = "body") -> np.ndarray:
     return _quat_rate(q, omega, frame)
 
 
-def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
+def omega_from_quat_rate(
+    q: Rotation | ArrayLike, qdot: ArrayLike, *, frame: str = "body"
+) -> FloatArray:
     """Angular velocity from the quaternion and its derivative (SPEC S5).
 
     ``w_xi = 2 vec(L~ o L')`` (body) or ``w_x = 2 vec(L' o L~)`` (space).
@@ -300,7 +304,7 @@ def omega_from_quat_rate(q, qdot, *, frame: str = "body") -> np.ndarray:
 _ORTHO_TOL = ORTHOGONALITY_ATOL
 
 
-def _as_rotation_matrix(C, name):
+def _as_rotation_matrix(C: ArrayLike, name: str) -> np.ndarray:
     C = as_matrix3(C, name)
     err = np.abs(np.swapaxes(C, -1, -2) @ C - np.eye(3)).max(axis=(-2, -1), initial=0.0)
     det = np.linalg.det(C) if C.size else np.ones(C.shape[:-2])
@@ -312,7 +316,7 @@ def _as_rotation_matrix(C, name):
     return C
 
 
-def dcm_rate(C, omega, *, frame: str = "body") -> np.ndarray:
+def dcm_rate(C: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Time derivative of a direction cosine matrix (Poisson, SPEC S5).
 
     ``A' = A w_xi^`` (body) or ``A' = w_x^ A`` (space); column by column
@@ -358,7 +362,7 @@ def dcm_rate(C, omega, *, frame: str = "body") -> np.ndarray:
     return C @ w_hat if frame == "body" else w_hat @ C
 
 
-def omega_from_dcm_rate(C, Cdot, *, frame: str = "body") -> np.ndarray:
+def omega_from_dcm_rate(C: ArrayLike, Cdot: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Angular velocity from a rotation matrix and its derivative (SPEC S5).
 
     ``w_xi^ = A^T A'`` (body) or ``w_x^ = A' A^T`` (space). The product is
@@ -405,7 +409,7 @@ def omega_from_dcm_rate(C, Cdot, *, frame: str = "body") -> np.ndarray:
 # --------------------------------------------------------------------------
 # Euler angles, all 12 sequences (SPEC S3)
 # --------------------------------------------------------------------------
-def _elementary(axis: int, angle):
+def _elementary(axis: int, angle: np.ndarray) -> np.ndarray:
     """Rotation matrices about coordinate axis ``axis`` by ``angle``, (..., 3, 3)."""
     c, s = np.cos(angle), np.sin(angle)
     one, zero = np.ones_like(c), np.zeros_like(c)
@@ -416,7 +420,7 @@ def _elementary(axis: int, angle):
     return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
 
 
-def _euler_matrix(seq, angles, frame):
+def _euler_matrix(seq: str, angles: np.ndarray, frame: str) -> np.ndarray:
     """Matrix ``M`` with ``omega = M @ angle_rates`` (angles in rad), (..., 3, 3).
 
     Column ``k`` is the axis of the ``k``-th elementary rotation written in the
@@ -445,7 +449,9 @@ def _euler_matrix(seq, angles, frame):
     return np.stack([cols[k] for k in range(3)], axis=-1)
 
 
-def _euler_one(seq, angles, other, degrees, frame):
+def _euler_one(
+    seq: object, angles: object, other: object, degrees: object, frame: object
+) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, bool] | None:
     """One state of the Euler kinematics: ``(kernels, code, angles (rad), other, space)``
     as float64 arrays for the one-state compiled kernels, or ``None`` (general path)."""
     s = _fast_sign(frame)
@@ -468,7 +474,7 @@ _DEG = math.pi / 180.0  # the constants of np.deg2rad and np.rad2deg
 _RAD = 180.0 / math.pi
 
 
-def _euler_args(seq, angles, degrees):
+def _euler_args(seq: object, angles: ArrayLike, degrees: object) -> np.ndarray:
     if not isinstance(seq, str):
         raise InvalidTypeError(f"Expected `seq` to be a string, got {type(seq).__name__}.")
     angles = as_vec3(angles, "angles")
@@ -477,7 +483,9 @@ def _euler_args(seq, angles, degrees):
     return angles
 
 
-def euler_rate_matrix(seq: str, angles, *, frame: str = "body", degrees: bool = False):
+def euler_rate_matrix(
+    seq: str, angles: ArrayLike, *, frame: str = "body", degrees: bool = False
+) -> FloatArray:
     """The matrix ``M(angles)`` of the Euler kinematic equations ``omega = M angles'``.
 
     One construction for all 12 sequences (SPEC S3): column ``k`` is the unit
@@ -524,8 +532,8 @@ def euler_rate_matrix(seq: str, angles, *, frame: str = "body", degrees: bool = 
 
 
 def omega_from_euler_rates(
-    seq: str, angles, rates, *, frame: str = "body", degrees: bool = False
-) -> np.ndarray:
+    seq: str, angles: ArrayLike, rates: ArrayLike, *, frame: str = "body", degrees: bool = False
+) -> FloatArray:
     """Angular velocity from Euler angles and their rates (SPEC S3).
 
     ``omega = sum_k angle_k' * (axis of the k-th elementary rotation)``. For
@@ -584,8 +592,8 @@ def omega_from_euler_rates(
 
 
 def euler_rates(
-    seq: str, angles, omega, *, frame: str = "body", degrees: bool = False
-) -> np.ndarray:
+    seq: str, angles: ArrayLike, omega: ArrayLike, *, frame: str = "body", degrees: bool = False
+) -> FloatArray:
     """Euler angle rates from the angular velocity (SPEC S3, inverted).
 
     Solves ``M(angles) angles' = omega`` in closed form
@@ -670,7 +678,7 @@ def euler_rates(
 # --------------------------------------------------------------------------
 # Gibbs vector g = e tan(f/2) = l / l0
 # --------------------------------------------------------------------------
-def gibbs_rate(g, omega, *, frame: str = "body") -> np.ndarray:
+def gibbs_rate(g: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Time derivative of the Gibbs vector (Rodrigues parameters).
 
     ``g' = 1/2 (w + s g x w + (g.w) g)``, ``s = +1`` (body) or ``-1`` (space);
@@ -713,7 +721,7 @@ def gibbs_rate(g, omega, *, frame: str = "body") -> np.ndarray:
     return _finite_result(out, "g")
 
 
-def omega_from_gibbs_rate(g, gdot, *, frame: str = "body") -> np.ndarray:
+def omega_from_gibbs_rate(g: ArrayLike, gdot: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Angular velocity from the Gibbs vector and its rate.
 
     ``w = 2 (g' - s g x g') / (1 + g.g)``: the inverse of
@@ -756,7 +764,7 @@ def omega_from_gibbs_rate(g, gdot, *, frame: str = "body") -> np.ndarray:
 # --------------------------------------------------------------------------
 # modified Rodrigues parameters p = e tan(f/4) = l / (1 + l0)
 # --------------------------------------------------------------------------
-def mrp_rate(p, omega, *, frame: str = "body") -> np.ndarray:
+def mrp_rate(p: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Time derivative of modified Rodrigues parameters (MRP).
 
     ``p' = 1/4 [(1 - p.p) E + 2 s p^ + 2 p p^T] w``, ``s = +1`` (body) or
@@ -805,7 +813,7 @@ def mrp_rate(p, omega, *, frame: str = "body") -> np.ndarray:
     return _finite_result(out, "p")
 
 
-def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
+def omega_from_mrp_rate(p: ArrayLike, pdot: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Angular velocity from MRPs and their rate.
 
     ``w = 4 [(1 - p.p) E - 2 s p^ + 2 p p^T] p' / (1 + p.p)^2`` (the MRP rate
@@ -857,7 +865,7 @@ def omega_from_mrp_rate(p, pdot, *, frame: str = "body") -> np.ndarray:
     return _finite_result(out, "p")
 
 
-def mrp_shadow(p) -> np.ndarray:
+def mrp_shadow(p: ArrayLike) -> FloatArray:
     """The shadow MRP set ``p_s = -p / (p.p)`` (same rotation, ``|p_s| = 1/|p|``).
 
     Parameters
@@ -890,7 +898,7 @@ def mrp_shadow(p) -> np.ndarray:
     return _finite_result(out, "p")
 
 
-def mrp_switch(p, *, threshold: float = 1.0) -> np.ndarray:
+def mrp_switch(p: ArrayLike, *, threshold: float = 1.0) -> FloatArray:
     """Switch MRPs to their shadow set where ``|p| > threshold`` (keeps ``|p| <= 1``).
 
     The usual rule for propagating MRPs: after each step, replace ``p`` by
@@ -935,7 +943,7 @@ def mrp_switch(p, *, threshold: float = 1.0) -> np.ndarray:
 # --------------------------------------------------------------------------
 # rotation vector phi = f e
 # --------------------------------------------------------------------------
-def _rotvec_coefficients(f):
+def _rotvec_coefficients(f: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``c = (1 - (f/2) cot(f/2))/f^2`` (for ``J^-1``), ``k1 = (1 - cos f)/f^2``,
     ``k2 = (f - sin f)/f^3`` (for ``J``), with Taylor series below
     ``ROTVEC_SERIES_ANGLE``."""
@@ -973,7 +981,7 @@ def _rotvec_coefficients_one(f: float) -> tuple[float, float, float]:
     )
 
 
-def _rotvec_one(rotvec, other, frame, inverse: bool):
+def _rotvec_one(rotvec: object, other: object, frame: object, inverse: bool) -> np.ndarray | None:
     """One state of :func:`rotvec_rate` (``inverse=False``) or
     :func:`omega_from_rotvec_rate` (``True``) on Python floats, or ``None`` (general
     path: also every case that warns or raises)."""
@@ -996,7 +1004,7 @@ def _rotvec_one(rotvec, other, frame, inverse: bool):
     return np.array([u[i] + 0.5 * s * a[i] + c * b[i] for i in range(3)])
 
 
-def _rotvec_rate(phi, w, s):
+def _rotvec_rate(phi: np.ndarray, w: np.ndarray, s: float) -> np.ndarray:
     """``J^-1 w = w + s/2 phi x w + c phi x (phi x w)`` (no validation)."""
     f = np.sqrt(_dot(phi, phi))
     c = _rotvec_coefficients(f)[0][..., None]
@@ -1004,7 +1012,7 @@ def _rotvec_rate(phi, w, s):
     return w + 0.5 * s * pxw + c * _cross(phi, pxw)
 
 
-def _rotvec_jacobian_apply(phi, phidot, s):
+def _rotvec_jacobian_apply(phi: np.ndarray, phidot: np.ndarray, s: float) -> np.ndarray:
     """``J phi' = phi' - s k1 phi x phi' + k2 phi x (phi x phi')`` (no validation).
 
     ``J = J_r`` (body, ``s = +1``) or ``J_l`` (space, ``s = -1``): the angular
@@ -1021,7 +1029,7 @@ def _rotvec_jacobian_apply(phi, phidot, s):
 ROTVEC_MAX_ANGLE = 1e12
 
 
-def _check_rotvec_angle(f):
+def _check_rotvec_angle(f: np.ndarray) -> None:
     if np.any(f > ROTVEC_MAX_ANGLE):
         raise InvalidInputError(
             f"Expected `rotvec` to have a norm (rotation angle) below {ROTVEC_MAX_ANGLE:g} rad, "
@@ -1029,7 +1037,7 @@ def _check_rotvec_angle(f):
         )
 
 
-def rotvec_rate(rotvec, omega, *, frame: str = "body") -> np.ndarray:
+def rotvec_rate(rotvec: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
     """Time derivative of the rotation vector (Bortz's equation).
 
     ``phi' = w + s/2 phi x w + (1/f^2)(1 - (f/2) cot(f/2)) phi x (phi x w)``
@@ -1092,7 +1100,9 @@ def rotvec_rate(rotvec, omega, *, frame: str = "body") -> np.ndarray:
     return _rotvec_rate(phi, w, s)
 
 
-def omega_from_rotvec_rate(rotvec, rotvec_dot, *, frame: str = "body") -> np.ndarray:
+def omega_from_rotvec_rate(
+    rotvec: ArrayLike, rotvec_dot: ArrayLike, *, frame: str = "body"
+) -> FloatArray:
     """Angular velocity from the rotation vector and its rate.
 
     ``w = phi' - s (1 - cos f)/f^2 phi x phi' + (f - sin f)/f^3 phi x (phi x phi')``

@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_vec3
 from .._vec import cross as _cross
 from ..errors import InvalidInputError
@@ -57,7 +58,7 @@ class Screw:
     parameter: np.ndarray
     min_speed: np.ndarray
 
-    def closest_point(self, point) -> np.ndarray:
+    def closest_point(self, point: ArrayLike) -> FloatArray:
         """The point of the axis nearest ``point`` (shape ``(..., 3)``)."""
         x = as_vec3(point, "point")
         d = self.direction
@@ -90,7 +91,13 @@ def _screw(v0: np.ndarray, omega: np.ndarray, origin: np.ndarray) -> Screw:
     )
 
 
-def screw_axis(v0, omega, *, pole=(0.0, 0.0, 0.0), atol: float = OMEGA_ATOL) -> Screw:
+def screw_axis(
+    v0: ArrayLike,
+    omega: ArrayLike,
+    *,
+    pole: ArrayLike = (0.0, 0.0, 0.0),
+    atol: float = OMEGA_ATOL,
+) -> Screw:
     """Instantaneous screw axis of a rigid body (Chasles/Mozzi, theory §6).
 
     Parameters
@@ -182,13 +189,13 @@ class ReducedMotion:
     kind: str
     screw: Screw | None
 
-    def velocity_at(self, point) -> np.ndarray:
+    def velocity_at(self, point: ArrayLike) -> FloatArray:
         """Velocity ``v + w x (point - pole)`` of the body point at ``point``."""
         r = as_vec3(point, "point")
         return self.velocity + _cross(self.omega, r - self.pole)
 
 
-def _as_single(v, name: str) -> np.ndarray:
+def _as_single(v: object, name: str) -> np.ndarray:
     a = as_float_array(v, name)
     if a.shape != (3,):
         raise InvalidInputError(f"Expected `{name}` to have shape (3,), got {a.shape}.")
@@ -196,10 +203,10 @@ def _as_single(v, name: str) -> np.ndarray:
 
 
 def reduce_motions(
-    rotations: Sequence = (),
-    translations: Sequence = (),
+    rotations: Sequence[tuple[ArrayLike, ArrayLike]] = (),
+    translations: Sequence[ArrayLike] = (),
     *,
-    pole=(0.0, 0.0, 0.0),
+    pole: ArrayLike = (0.0, 0.0, 0.0),
     rtol: float = REDUCE_RTOL,
     atol: float = 0.0,
 ) -> ReducedMotion:
