@@ -13,10 +13,11 @@ to ``O``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_positive, as_vec3, batch_shape
 from .._vec import cross
 from ..errors import InvalidInputError, InvalidTypeError
@@ -26,6 +27,9 @@ from .tensor import _as_rotation_matrix, _steiner, _transpose, as_inertia
 from .tensor import points as _points
 from .tensor import principal_axes as _principal_axes
 
+if TYPE_CHECKING:
+    from ..rotations.rotation import Rotation
+
 __all__ = ["RigidBody", "combine", "kinetic_energy", "angular_momentum"]
 
 
@@ -34,7 +38,9 @@ __all__ = ["RigidBody", "combine", "kinetic_energy", "angular_momentum"]
 # ---------------------------------------------------------------------------
 
 
-def _kinetic_energy(m, j, w, v, principal=False):
+def _kinetic_energy(
+    m: np.ndarray, j: np.ndarray, w: np.ndarray, v: np.ndarray, principal: bool = False
+) -> np.ndarray:
     """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (the rotational part from
     :mod:`poinsot.dynamics.invariants`, the one place of ``w^T J w / 2``)."""
     from ..dynamics.invariants import _kinetic
@@ -42,7 +48,14 @@ def _kinetic_energy(m, j, w, v, principal=False):
     return 0.5 * m * np.einsum("...i,...i->...", v, v) + _kinetic(j, principal, w)
 
 
-def _angular_momentum(m, j, w, v, r_oc, principal=False):
+def _angular_momentum(
+    m: ArrayLike,
+    j: np.ndarray,
+    w: np.ndarray,
+    v: np.ndarray,
+    r_oc: np.ndarray,
+    principal: bool = False,
+) -> np.ndarray:
     """``K_O = J_c w + OC x m V_c`` (``J_c w`` from :mod:`poinsot.dynamics.invariants`)."""
     from ..dynamics.invariants import _momentum
 
@@ -54,7 +67,9 @@ def _angular_momentum(m, j, w, v, r_oc, principal=False):
 # ---------------------------------------------------------------------------
 
 
-def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
+def kinetic_energy(
+    mass: ArrayLike, inertia_cm: ArrayLike, omega: ArrayLike, v_cm: ArrayLike = (0.0, 0.0, 0.0)
+) -> FloatArray:
     """Kinetic energy of a rigid body by Koenig's theorem.
 
     ``T = m V_c^2 / 2 + w^T J_c w / 2`` (theory §8); in principal axes
@@ -97,8 +112,12 @@ def kinetic_energy(mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
 
 
 def angular_momentum(
-    mass, inertia_cm, omega, v_cm=(0.0, 0.0, 0.0), r_oc=(0.0, 0.0, 0.0)
-) -> np.ndarray:
+    mass: ArrayLike,
+    inertia_cm: ArrayLike,
+    omega: ArrayLike,
+    v_cm: ArrayLike = (0.0, 0.0, 0.0),
+    r_oc: ArrayLike = (0.0, 0.0, 0.0),
+) -> FloatArray:
     """Angular momentum of a rigid body about a point ``O``.
 
     ``K_O = J_c w + OC x m V_c`` (theory §8): the spin about the centre of mass
@@ -267,47 +286,49 @@ class RigidBody:
     # -- construction ------------------------------------------------------
 
     @classmethod
-    def box(cls, mass, a, b, c) -> RigidBody:
+    def box(cls, mass: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> RigidBody:
         """Uniform box with edges ``a, b, c`` (see :func:`poinsot.mass.box`), centred at ``O``."""
         return cls(mass, solids.box(mass, a, b, c))
 
     @classmethod
-    def sphere(cls, mass, radius, *, hollow: bool = False) -> RigidBody:
+    def sphere(cls, mass: ArrayLike, radius: ArrayLike, *, hollow: bool = False) -> RigidBody:
         """Uniform ball or shell (see :func:`poinsot.mass.sphere`), centred at ``O``."""
         return cls(mass, solids.sphere(mass, radius, hollow=hollow))
 
     @classmethod
-    def cylinder(cls, mass, radius, height, *, hollow: bool = False) -> RigidBody:
+    def cylinder(
+        cls, mass: ArrayLike, radius: ArrayLike, height: ArrayLike, *, hollow: bool = False
+    ) -> RigidBody:
         """Uniform cylinder or tube, axis ``z`` (see :func:`poinsot.mass.cylinder`), centred."""
         return cls(mass, solids.cylinder(mass, radius, height, hollow=hollow))
 
     @classmethod
-    def cone(cls, mass, radius, height) -> RigidBody:
+    def cone(cls, mass: ArrayLike, radius: ArrayLike, height: ArrayLike) -> RigidBody:
         """Uniform cone, axis ``z`` (see :func:`poinsot.mass.cone`), centre of mass at ``O``."""
         return cls(mass, solids.cone(mass, radius, height))
 
     @classmethod
-    def ellipsoid(cls, mass, a, b, c) -> RigidBody:
+    def ellipsoid(cls, mass: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> RigidBody:
         """Uniform ellipsoid (see :func:`poinsot.mass.ellipsoid`), centred at ``O``."""
         return cls(mass, solids.ellipsoid(mass, a, b, c))
 
     @classmethod
-    def rod(cls, mass, length) -> RigidBody:
+    def rod(cls, mass: ArrayLike, length: ArrayLike) -> RigidBody:
         """Thin rod along ``z`` (see :func:`poinsot.mass.rod`), midpoint at ``O``."""
         return cls(mass, solids.rod(mass, length))
 
     @classmethod
-    def disc(cls, mass, radius) -> RigidBody:
+    def disc(cls, mass: ArrayLike, radius: ArrayLike) -> RigidBody:
         """Thin disc, normal ``z`` (see :func:`poinsot.mass.disc`), centred at ``O``."""
         return cls(mass, solids.disc(mass, radius))
 
     @classmethod
-    def ring(cls, mass, radius) -> RigidBody:
+    def ring(cls, mass: ArrayLike, radius: ArrayLike) -> RigidBody:
         """Thin ring, normal ``z`` (see :func:`poinsot.mass.ring`), centred at ``O``."""
         return cls(mass, solids.ring(mass, radius))
 
     @classmethod
-    def from_points(cls, masses, positions) -> RigidBody:
+    def from_points(cls, masses: ArrayLike, positions: ArrayLike) -> RigidBody:
         """Point masses ``masses`` (..., n) at ``positions`` (..., n, 3) relative to ``O``.
 
         ``r_c = sum m r / sum m`` and ``J_c = J_O - m (r_c^T r_c E - r_c r_c^T)``
@@ -328,12 +349,21 @@ class RigidBody:
         return cls(m, j_o - _steiner(m, com), com)
 
     @classmethod
-    def from_mesh(cls, vertices, faces, *, mass=None, density=None) -> RigidBody:
+    def from_mesh(
+        cls,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        *,
+        mass: ArrayLike | None = None,
+        density: ArrayLike | None = None,
+    ) -> RigidBody:
         """Uniform solid bounded by a closed triangle mesh (see :func:`poinsot.mass.mesh`)."""
         props = _mesh(vertices, faces, mass=mass, density=density)
         return cls(props.mass, props.inertia, props.center_of_mass)
 
-    def placed(self, rotation=None, position=None) -> RigidBody:
+    def placed(
+        self, rotation: Rotation | ArrayLike | None = None, position: ArrayLike | None = None
+    ) -> RigidBody:
         """The same body described in an assembly frame ``a``.
 
         The body's own axes ``b`` have attitude ``rotation = C_ab`` relative to
@@ -381,7 +411,7 @@ class RigidBody:
             np.shape(self.mass), self.inertia.shape[:-2], self.center_of_mass.shape[:-1]
         )
 
-    def inertia_about(self, point=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def inertia_about(self, point: ArrayLike = (0.0, 0.0, 0.0)) -> FloatArray:
         """Inertia about ``point`` (relative to ``O``, body axes; default ``O``).
 
         ``J_P = J_C + m (a^T a E - a a^T)``, ``a = P - C`` (Huygens-Steiner, theory §8).
@@ -389,7 +419,7 @@ class RigidBody:
         p = as_vec3(point, "point")
         return self.inertia + _steiner(self.mass, p - self.center_of_mass)
 
-    def principal_axes(self):
+    def principal_axes(self) -> tuple[FloatArray, Rotation]:
         """Principal moments and axes of the central inertia: ``(moments, S)``.
 
         ``moments`` ascending ``(..., 3)`` (= :attr:`principal_moments`); ``S`` a
@@ -405,14 +435,19 @@ class RigidBody:
         """Principal moments ``A <= B <= C`` of the central inertia, shape (..., 3)."""
         return np.linalg.eigvalsh(self.inertia)
 
-    def kinetic_energy(self, omega, v_cm=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def kinetic_energy(self, omega: ArrayLike, v_cm: ArrayLike = (0.0, 0.0, 0.0)) -> FloatArray:
         """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (body axes; see :func:`kinetic_energy`)."""
         w = as_vec3(omega, "omega")
         v = as_vec3(v_cm, "v_cm")
         batch_shape(body=(self.mass, 0), omega=(w, 1), v_cm=(v, 1))
         return _kinetic_energy(self.mass, self.inertia, w, v)
 
-    def angular_momentum(self, omega, v_cm=(0.0, 0.0, 0.0), point=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def angular_momentum(
+        self,
+        omega: ArrayLike,
+        v_cm: ArrayLike = (0.0, 0.0, 0.0),
+        point: ArrayLike = (0.0, 0.0, 0.0),
+    ) -> FloatArray:
         """``K_P = J_c w + PC x m V_c`` about ``point`` ``P`` (relative to ``O``).
 
         ``point`` defaults to the reference point ``O``.
@@ -435,12 +470,12 @@ class RigidBody:
 
     # -- composition -----------------------------------------------------------
 
-    def __add__(self, other):
+    def __add__(self, other: object) -> RigidBody:
         if not isinstance(other, RigidBody):
             return NotImplemented
         return combine(self, other)
 
-    def __radd__(self, other):
+    def __radd__(self, other: object) -> RigidBody:
         # lets sum(bodies) work (it starts from 0)
         if isinstance(other, int) and not isinstance(other, bool) and other == 0:
             return self

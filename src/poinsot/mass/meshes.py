@@ -9,11 +9,13 @@ reads the vertices and triangles of a Wavefront OBJ or STL file.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray, IntArray
 from .._validate import as_positive, as_trailing
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -50,7 +52,7 @@ class MeshProperties:
     inertia: np.ndarray
 
 
-def _as_faces(faces, n_vertices: int) -> np.ndarray:
+def _as_faces(faces: ArrayLike, n_vertices: int) -> np.ndarray:
     try:
         f = np.asarray(faces)
     except (TypeError, ValueError):
@@ -108,14 +110,20 @@ def _check_closed(f: np.ndarray, n: int) -> None:
         )
 
 
-def _scalar_positive(x, name: str) -> float:
+def _scalar_positive(x: ArrayLike, name: str) -> float:
     a = as_positive(x, name)
     if a.ndim != 0:
         raise InvalidInputError(f"Expected `{name}` to be a scalar, got shape {a.shape}.")
     return float(a)
 
 
-def mesh(vertices, faces, *, mass=None, density=None) -> MeshProperties:
+def mesh(
+    vertices: ArrayLike,
+    faces: ArrayLike,
+    *,
+    mass: ArrayLike | None = None,
+    density: ArrayLike | None = None,
+) -> MeshProperties:
     """Mass, centre of mass and inertia of a uniform solid bounded by a triangle mesh.
 
     With the tetrahedra ``(O', v0, v1, v2)`` over the faces (``O'`` the mean vertex)
@@ -216,7 +224,7 @@ def mesh(vertices, faces, *, mass=None, density=None) -> MeshProperties:
 
 
 # ------------------------------------------------------------------------------ reading
-def read_mesh(path) -> tuple[np.ndarray, np.ndarray]:
+def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
     """Vertices and triangles of a Wavefront OBJ or an STL (ASCII or binary) file.
 
     OBJ (``.obj``): ``v x y z`` lines are vertices and ``f i j k ...`` lines
@@ -292,14 +300,14 @@ def read_mesh(path) -> tuple[np.ndarray, np.ndarray]:
     return v, f
 
 
-def _text(raw: bytes, path) -> str:
+def _text(raw: bytes, path: object) -> str:
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InvalidInputError(f"{path}: not a text mesh file ({exc.reason}).") from None
 
 
-def _xyz(words, where: str, what: str, line: str) -> list[float]:
+def _xyz(words: Iterable[str], where: str, what: str, line: str) -> list[float]:
     try:
         xyz = [float(x) for x in words]
     except ValueError:
@@ -311,7 +319,7 @@ def _xyz(words, where: str, what: str, line: str) -> list[float]:
     return xyz
 
 
-def _read_obj(text: str, path) -> tuple[np.ndarray, np.ndarray]:
+def _read_obj(text: str, path: object) -> tuple[np.ndarray, np.ndarray]:
     verts: list[list[float]] = []
     faces: list[tuple[int, int, int]] = []
     for no, line in enumerate(text.splitlines(), start=1):
@@ -366,7 +374,7 @@ def _read_binary_stl(raw: bytes) -> tuple[np.ndarray, np.ndarray]:
     return _merged(rec["v"].astype(float))
 
 
-def _read_ascii_stl(text: str, path) -> tuple[np.ndarray, np.ndarray]:
+def _read_ascii_stl(text: str, path: object) -> tuple[np.ndarray, np.ndarray]:
     corners: list[list[float]] = []
     in_facet = 0
     for no, line in enumerate(text.splitlines(), start=1):

@@ -30,16 +30,21 @@ References
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
+from typing import ParamSpec
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_positive, batch_shape
 from ..errors import InvalidInputError
 
 __all__ = ["box", "sphere", "cylinder", "cone", "ellipsoid", "rod", "disc", "ring"]
 
+_P = ParamSpec("_P")
 
-def _diag(jxx, jyy, jzz) -> np.ndarray:
+
+def _diag(jxx: ArrayLike, jyy: ArrayLike, jzz: ArrayLike) -> np.ndarray:
     """Kernel: diagonal tensors of shape (..., 3, 3) from broadcastable diagonals."""
     jxx, jyy, jzz = np.broadcast_arrays(jxx, jyy, jzz)
     out = np.zeros(jxx.shape + (3, 3))
@@ -49,20 +54,22 @@ def _diag(jxx, jyy, jzz) -> np.ndarray:
     return out
 
 
-def _positive(**named) -> list[np.ndarray]:
+def _positive(**named: ArrayLike) -> list[np.ndarray]:
     """Validate positive arguments and check that their shapes broadcast together."""
     arrays = {k: as_positive(v, k) for k, v in named.items()}
     batch_shape(**{k: (a, 0) for k, a in arrays.items()})
     return list(arrays.values())
 
 
-def _representable(*, zero_zz: bool = False):
+def _representable(
+    *, zero_zz: bool = False
+) -> Callable[[Callable[_P, FloatArray]], Callable[_P, FloatArray]]:
     """Decorator: a mass or dimension so large (small) that ``m d^2`` overflows
     (underflows to 0) raises :class:`InvalidInputError` instead of returning inf/0."""
 
-    def deco(fn):
+    def deco(fn: Callable[_P, FloatArray]) -> Callable[_P, FloatArray]:
         @functools.wraps(fn)
-        def wrapper(*args, **kwargs):
+        def wrapper(*args: _P.args, **kwargs: _P.kwargs) -> FloatArray:
             with np.errstate(over="ignore", under="ignore"):
                 out = fn(*args, **kwargs)
             d = np.diagonal(out, axis1=-2, axis2=-1)
@@ -81,7 +88,7 @@ def _representable(*, zero_zz: bool = False):
 
 
 @_representable()
-def box(mass, a, b, c) -> np.ndarray:
+def box(mass: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> FloatArray:
     """Uniform rectangular box (cuboid) with edges ``a, b, c`` along ``x, y, z``.
 
     ``J = m/12 diag(b^2 + c^2, a^2 + c^2, a^2 + b^2)`` (Landau-Lifshitz, Sec. 32).
@@ -114,7 +121,7 @@ def box(mass, a, b, c) -> np.ndarray:
 
 
 @_representable()
-def sphere(mass, radius, *, hollow: bool = False) -> np.ndarray:
+def sphere(mass: ArrayLike, radius: ArrayLike, *, hollow: bool = False) -> FloatArray:
     """Uniform solid ball, or thin spherical shell if ``hollow``.
 
     ``J = 2/5 m r^2 E`` (solid), ``J = 2/3 m r^2 E`` (shell).
@@ -149,7 +156,9 @@ def sphere(mass, radius, *, hollow: bool = False) -> np.ndarray:
 
 
 @_representable()
-def cylinder(mass, radius, height, *, hollow: bool = False) -> np.ndarray:
+def cylinder(
+    mass: ArrayLike, radius: ArrayLike, height: ArrayLike, *, hollow: bool = False
+) -> FloatArray:
     """Uniform solid circular cylinder, or thin-walled tube if ``hollow``; axis ``z``.
 
     Solid: ``J_zz = m r^2 / 2``, ``J_xx = J_yy = m (3 r^2 + h^2) / 12``.
@@ -185,7 +194,7 @@ def cylinder(mass, radius, height, *, hollow: bool = False) -> np.ndarray:
 
 
 @_representable()
-def cone(mass, radius, height) -> np.ndarray:
+def cone(mass: ArrayLike, radius: ArrayLike, height: ArrayLike) -> FloatArray:
     """Uniform solid right circular cone about its centre of mass; axis ``z``.
 
     ``J_zz = 3/10 m r^2``, ``J_xx = J_yy = 3/80 m (4 r^2 + h^2)``
@@ -219,7 +228,7 @@ def cone(mass, radius, height) -> np.ndarray:
 
 
 @_representable()
-def ellipsoid(mass, a, b, c) -> np.ndarray:
+def ellipsoid(mass: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> FloatArray:
     """Uniform solid ellipsoid with semi-axes ``a, b, c`` along ``x, y, z``.
 
     ``J = m/5 diag(b^2 + c^2, a^2 + c^2, a^2 + b^2)`` (Landau-Lifshitz, Sec. 32).
@@ -252,7 +261,7 @@ def ellipsoid(mass, a, b, c) -> np.ndarray:
 
 
 @_representable(zero_zz=True)
-def rod(mass, length) -> np.ndarray:
+def rod(mass: ArrayLike, length: ArrayLike) -> FloatArray:
     """Thin uniform rod along ``z``: ``J_xx = J_yy = m L^2 / 12``, ``J_zz = 0``.
 
     Parameters
@@ -283,7 +292,7 @@ def rod(mass, length) -> np.ndarray:
 
 
 @_representable()
-def disc(mass, radius) -> np.ndarray:
+def disc(mass: ArrayLike, radius: ArrayLike) -> FloatArray:
     """Thin uniform disc with normal ``z``: ``J_zz = m r^2 / 2``, ``J_xx = J_yy = m r^2 / 4``.
 
     Parameters
@@ -312,7 +321,7 @@ def disc(mass, radius) -> np.ndarray:
 
 
 @_representable()
-def ring(mass, radius) -> np.ndarray:
+def ring(mass: ArrayLike, radius: ArrayLike) -> FloatArray:
     """Thin uniform ring (hoop) with normal ``z``: ``J_zz = m r^2``, ``J_xx = J_yy = m r^2 / 2``.
 
     Parameters

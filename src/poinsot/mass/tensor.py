@@ -18,8 +18,12 @@ Conventions
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+from typing import Any
+
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import (
     _is_scipy_rotation,
     as_bool,
@@ -55,7 +59,7 @@ RTOL = 1e-9
 # ---------------------------------------------------------------------------
 
 
-def _steiner(mass, offset):
+def _steiner(mass: ArrayLike, offset: ArrayLike) -> np.ndarray:
     """``m (a^T a E - a a^T)``: the inertia of a point mass ``m`` at ``a`` about the origin.
 
     ``mass`` has shape ``(...)`` and ``offset`` shape ``(..., 3)``; broadcasts.
@@ -67,7 +71,7 @@ def _steiner(mass, offset):
     return m * (aa * np.eye(3) - a[..., :, None] * a[..., None, :])
 
 
-def _transpose(m):
+def _transpose(m: np.ndarray) -> np.ndarray:
     return np.swapaxes(m, -1, -2)
 
 
@@ -83,7 +87,9 @@ def _first(values: np.ndarray, bad: np.ndarray) -> np.ndarray:
     return values[tuple(np.argwhere(bad)[0])] if bad.ndim else values
 
 
-def _check_moments(moments, tol, name, allow_singular, what):
+def _check_moments(
+    moments: np.ndarray, tol: np.ndarray | float, name: str, allow_singular: object, what: str
+) -> None:
     """Raise unless sorted principal ``moments`` (..., 3) are >= / > 0 and satisfy A + B >= C."""
     allow_singular = as_bool(allow_singular, "allow_singular")
     a, b, c = moments[..., 0], moments[..., 1], moments[..., 2]
@@ -105,11 +111,11 @@ def _check_moments(moments, tol, name, allow_singular, what):
         )
 
 
-def _fmt(m) -> str:
+def _fmt(m: Iterable[float]) -> str:
     return "(" + ", ".join(f"{x:.6g}" for x in m) + ")"
 
 
-def _tolerance(scale, rtol, atol):
+def _tolerance(scale: np.ndarray | float, rtol: ArrayLike, atol: ArrayLike) -> np.ndarray:
     rtol, atol = as_float_array(rtol, "rtol"), as_float_array(atol, "atol")
     if rtol.ndim or atol.ndim or rtol < 0 or atol < 0:
         raise InvalidInputError(
@@ -124,7 +130,14 @@ def _tolerance(scale, rtol, atol):
 # ---------------------------------------------------------------------------
 
 
-def _validated(inertia, name, rtol=RTOL, atol=0.0, allow_singular=False, vectors=False):
+def _validated(
+    inertia: ArrayLike,
+    name: str,
+    rtol: float = RTOL,
+    atol: float = 0.0,
+    allow_singular: object = False,
+    vectors: bool = False,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """:func:`check_inertia`, also returning the ascending moments (and eigenvectors)."""
     j = as_matrix3(inertia, name)
     scale = np.max(np.abs(j), axis=(-2, -1))
@@ -147,13 +160,13 @@ def _validated(inertia, name, rtol=RTOL, atol=0.0, allow_singular=False, vectors
 
 
 def check_inertia(
-    inertia,
+    inertia: ArrayLike,
     name: str = "inertia",
     *,
     rtol: float = RTOL,
     atol: float = 0.0,
     allow_singular: bool = False,
-) -> np.ndarray:
+) -> FloatArray:
     """Validate a physical inertia tensor and return it as a symmetric float array.
 
     Checks, in this order, that ``inertia`` has shape ``(..., 3, 3)``, is finite,
@@ -208,13 +221,13 @@ def check_inertia(
 
 
 def check_principal_moments(
-    moments,
+    moments: ArrayLike,
     name: str = "moments",
     *,
     rtol: float = RTOL,
     atol: float = 0.0,
     allow_singular: bool = False,
-) -> np.ndarray:
+) -> FloatArray:
     """Validate principal moments ``(A, B, C)`` (any order) and return them as floats.
 
     Same physical conditions as :func:`check_inertia` (positive, and
@@ -253,7 +266,7 @@ def check_principal_moments(
     return m
 
 
-def single_principal_moments(x) -> list[float] | None:
+def single_principal_moments(x: object) -> list[float] | None:
     """Short path of :func:`check_principal_moments` for one plain 3-vector: the moments as
     Python floats when they pass the same checks (finite, positive, ``A + B >= C`` within
     ``RTOL`` of the largest), else ``None`` (the caller's general path then raises)."""
@@ -268,7 +281,7 @@ def single_principal_moments(x) -> list[float] | None:
 
 
 def as_inertia(
-    inertia, name: str = "inertia", *, allow_singular: bool = False
+    inertia: object, name: str = "inertia", *, allow_singular: bool = False
 ) -> tuple[np.ndarray, bool]:
     """Validated inertia: ``(moments (..., 3), True)`` or ``(tensor (..., 3, 3), False)``.
 
@@ -292,7 +305,7 @@ def as_inertia(
     )
 
 
-def _as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
+def _as_rotation_matrix(rotation: Any, name: str = "rotation") -> np.ndarray:
     """``S`` (..., 3, 3) from a poinsot or SciPy ``Rotation`` or a proper orthogonal matrix
     (checked by :func:`poinsot._validate.check_rotation_matrix`, tolerance 1e-6)."""
     if isinstance(rotation, Rotation) or _is_scipy_rotation(rotation):
@@ -305,7 +318,7 @@ def _as_rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def points(masses, positions) -> np.ndarray:
+def points(masses: ArrayLike, positions: ArrayLike) -> FloatArray:
     """Inertia tensor of point masses about the origin.
 
     ``J_O = sum_k m_k (rho_k^T rho_k E - rho_k rho_k^T)`` (theory §8).
@@ -347,7 +360,7 @@ def points(masses, positions) -> np.ndarray:
     return _steiner(m, r).sum(axis=-3)
 
 
-def parallel_axis(inertia_cm, mass, offset) -> np.ndarray:
+def parallel_axis(inertia_cm: ArrayLike, mass: ArrayLike, offset: ArrayLike) -> FloatArray:
     """Huygens-Steiner: inertia about the point at ``offset`` from the centre of mass.
 
     ``J_O = J_C + m (a^T a E - a a^T)`` with ``a = offset`` (theory §8); about an
@@ -386,7 +399,7 @@ def parallel_axis(inertia_cm, mass, offset) -> np.ndarray:
     return j + _steiner(m, a)
 
 
-def to_center_of_mass(inertia_o, mass, offset) -> np.ndarray:
+def to_center_of_mass(inertia_o: ArrayLike, mass: ArrayLike, offset: ArrayLike) -> FloatArray:
     """Inverse Huygens-Steiner: inertia about the centre of mass from that about ``O``.
 
     ``J_C = J_O - m (a^T a E - a a^T)`` with ``a`` the position of ``O``
@@ -437,7 +450,7 @@ def to_center_of_mass(inertia_o, mass, offset) -> np.ndarray:
     return jc
 
 
-def rotate_inertia(inertia, rotation) -> np.ndarray:
+def rotate_inertia(inertia: ArrayLike, rotation: Rotation | ArrayLike) -> FloatArray:
     """Express an inertia tensor in new axes: ``J_b = S^T J_a S`` (theory §8).
 
     Parameters
@@ -476,7 +489,7 @@ def rotate_inertia(inertia, rotation) -> np.ndarray:
     return _transpose(s) @ j @ s
 
 
-def moment_about(inertia, axis) -> np.ndarray:
+def moment_about(inertia: ArrayLike, axis: ArrayLike) -> FloatArray:
     """Moment of inertia about an axis through the tensor's point: ``J_e = e^T J e``.
 
     Parameters
@@ -518,13 +531,13 @@ def moment_about(inertia, axis) -> np.ndarray:
         ) from None
 
 
-def _principal(j):
+def _principal(j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Kernel: ascending moments and a proper rotation matrix of principal axes (columns)."""
     w, v = np.linalg.eigh(j)
     return w, _proper_axes(v)
 
 
-def _proper_axes(v):
+def _proper_axes(v: ArrayLike) -> np.ndarray:
     """Deterministic signs for eigenvector columns, third = first x second (det +1)."""
     v = np.array(v, copy=True)
     for k in (0, 1):
@@ -536,7 +549,7 @@ def _proper_axes(v):
     return v
 
 
-def principal_axes(inertia):
+def principal_axes(inertia: ArrayLike) -> tuple[FloatArray, Rotation]:
     """Principal moments (ascending) and principal axes as a proper rotation.
 
     Solves ``S^T J S = diag(A, B, C)``, ``A <= B <= C`` (theory §8).
@@ -583,10 +596,11 @@ def principal_axes(inertia):
            [0., 1., 0.]])
     """
     _, w, v = _validated(inertia, "inertia", allow_singular=True, vectors=True)
+    assert v is not None  # vectors=True
     return w, Rotation.from_matrix(_proper_axes(v))
 
 
-def inertia_ellipsoid(inertia):
+def inertia_ellipsoid(inertia: ArrayLike) -> tuple[FloatArray, Rotation]:
     """Semi-axes and orientation of the inertia ellipsoid ``r^T J r = 1`` (theory §8).
 
     In principal axes the ellipsoid is ``A x^2 + B y^2 + C z^2 = 1``; the point
@@ -621,4 +635,5 @@ def inertia_ellipsoid(inertia):
     array([1. , 0.5, 0.5])
     """
     _, w, v = _validated(inertia, "inertia", vectors=True)
+    assert v is not None  # vectors=True
     return 1.0 / np.sqrt(w), Rotation.from_matrix(_proper_axes(v))
