@@ -10,11 +10,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from ..errors import InvalidInputError, InvalidTypeError
 
 
-def default_time():
+def default_time() -> Any:
     """SymPy's time symbol ``t`` used by :func:`sympy.physics.mechanics.dynamicsymbols`."""
     from sympy.physics.mechanics import dynamicsymbols
 
@@ -30,23 +31,23 @@ class Coordinates:
     for ``q'`` and ``q''``; ``time`` the time symbol.
     """
 
-    given: tuple
-    funcs: tuple
-    plain: tuple
-    vel: tuple
-    acc: tuple
-    time: object
+    given: tuple[Any, ...]
+    funcs: tuple[Any, ...]
+    plain: tuple[Any, ...]
+    vel: tuple[Any, ...]
+    acc: tuple[Any, ...]
+    time: Any
 
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(str(getattr(f, "func", f)) for f in self.funcs)
 
     @property
-    def velocities(self) -> tuple:
+    def velocities(self) -> tuple[Any, ...]:
         """``q'(t)`` for each coordinate."""
         return tuple(f.diff(self.time) for f in self.funcs)
 
-    def to_plain(self, expr):
+    def to_plain(self, expr: Any) -> Any:
         """``q(t), q'(t), q''(t)`` (and given plain symbols) -> plain symbols."""
         import sympy
 
@@ -63,7 +64,7 @@ class Coordinates:
             expr = expr.subs(sub)  # derivatives spelt differently (e.g. unevaluated forms)
         return expr.xreplace({f: p for f, p in zip(self.funcs, self.plain, strict=True)})
 
-    def to_funcs(self, expr):
+    def to_funcs(self, expr: Any) -> Any:
         """Plain symbols -> ``q(t), q'(t), q''(t)``."""
         import sympy
 
@@ -75,7 +76,7 @@ class Coordinates:
             sub[a] = f.diff(t, 2)
         return sympy.sympify(expr).xreplace(sub)
 
-    def time_derivative(self, expr):
+    def time_derivative(self, expr: Any) -> Any:
         """``d/dt`` of an expression in plain symbols (``q, u`` -> ``u, a``)."""
         out = expr.diff(self.time)
         for p, v, a in zip(self.plain, self.vel, self.acc, strict=True):
@@ -83,7 +84,7 @@ class Coordinates:
         return out
 
 
-def as_coordinates(coordinates, time=None, name: str = "coordinates") -> Coordinates:
+def as_coordinates(coordinates: Any, time: Any = None, name: str = "coordinates") -> Coordinates:
     """Validate ``coordinates``: names, SymPy symbols or functions of ``time``."""
     import sympy
     from sympy.core.function import AppliedUndef

@@ -13,6 +13,7 @@ For a position ``r = r(q)`` in Cartesian components:
 from __future__ import annotations
 
 from functools import cached_property
+from typing import Any
 
 from ..errors import InvalidInputError, InvalidTypeError
 from ._symbols import Coordinates, as_coordinates
@@ -20,11 +21,11 @@ from ._symbols import Coordinates, as_coordinates
 __all__ = ["curvilinear", "CurvilinearCoordinates"]
 
 
-def _reduce_squares(expr):
+def _reduce_squares(expr: Any) -> Any:
     """``cos^2 -> 1 - sin^2`` and ``cosh^2 -> 1 + sinh^2`` (even powers only)."""
     import sympy
 
-    def is_even_power(p):
+    def is_even_power(p: Any) -> bool:
         return (
             p.is_Pow
             and p.base.func in (sympy.cos, sympy.cosh)
@@ -33,7 +34,7 @@ def _reduce_squares(expr):
             and p.exp % 2 == 0
         )
 
-    def reduce(p):
+    def reduce(p: Any) -> Any:
         s = sympy.sin(p.base.args[0]) if p.base.func is sympy.cos else sympy.sinh(p.base.args[0])
         sign = -1 if p.base.func is sympy.cos else 1
         return (1 + sign * s**2) ** (p.exp // 2)
@@ -41,7 +42,7 @@ def _reduce_squares(expr):
     return expr.replace(is_even_power, reduce)
 
 
-def _simplify(expr):
+def _simplify(expr: Any) -> Any:
     """A cheap simplification: the shorter of ``trigsimp`` and the Pythagorean reduction.
 
     ``sympy.simplify`` is avoided (seconds per component for elliptic coordinates).
@@ -57,7 +58,7 @@ def _simplify(expr):
     return min(candidates, key=sympy.count_ops)
 
 
-def _positive_sqrt(expr):
+def _positive_sqrt(expr: Any) -> Any:
     """``sqrt(expr)`` simplified on the chart where the factors are positive."""
     import sympy
 
@@ -92,36 +93,36 @@ class CurvilinearCoordinates:
     -r(t)*Derivative(phi(t), t)**2 + Derivative(r(t), (t, 2))
     """
 
-    def __init__(self, position, coords: Coordinates):
+    def __init__(self, position: Any, coords: Coordinates) -> None:
         self._c = coords
         self._r = position  # Matrix in plain symbols
 
     @property
-    def coordinates(self) -> tuple:
+    def coordinates(self) -> tuple[Any, ...]:
         """The coordinates as given."""
         return self._c.given
 
     @property
-    def time(self):
+    def time(self) -> Any:
         """The time symbol."""
         return self._c.time
 
     @cached_property
-    def position(self):
+    def position(self) -> Any:
         """``r(q)``, Cartesian components (a column ``Matrix``)."""
         return self._given(self._r)
 
-    def _given(self, expr):
+    def _given(self, expr: Any) -> Any:
         """Plain symbols -> the coordinates as given (functions of t if given so)."""
         sub = dict(zip(self._c.plain, self._c.given, strict=True))
         return expr.xreplace(sub)
 
     @cached_property
-    def _tangents(self):
+    def _tangents(self) -> Any:
         return tuple(self._r.diff(q) for q in self._c.plain)
 
     @cached_property
-    def _metric(self):
+    def _metric(self) -> Any:
         import sympy
 
         n = len(self._c.plain)
@@ -132,21 +133,21 @@ class CurvilinearCoordinates:
         return g
 
     @cached_property
-    def _lame(self):
+    def _lame(self) -> Any:
         return tuple(_positive_sqrt(self._metric[k, k]) for k in range(len(self._c.plain)))
 
     @property
-    def tangent_vectors(self) -> tuple:
+    def tangent_vectors(self) -> tuple[Any, ...]:
         """``g_k = dr/dq^k`` (column matrices, Cartesian components)."""
         return tuple(self._given(g) for g in self._tangents)
 
     @property
-    def metric(self):
+    def metric(self) -> Any:
         """Metric tensor ``g_ik = g_i . g_k`` (symmetric ``Matrix``)."""
         return self._given(self._metric)
 
     @property
-    def lame(self) -> tuple:
+    def lame(self) -> tuple[Any, ...]:
         """Lame coefficients ``H_k = |g_k|``."""
         return tuple(self._given(h) for h in self._lame)
 
@@ -157,7 +158,7 @@ class CurvilinearCoordinates:
         return all(self._metric[i, k] == 0 for i in range(n) for k in range(i + 1, n))
 
     @cached_property
-    def unit_vectors(self) -> tuple:
+    def unit_vectors(self) -> tuple[Any, ...]:
         """``e_k = g_k / H_k`` (column matrices, Cartesian components)."""
         return tuple(
             self._given((g / h).applyfunc(_simplify))
@@ -165,7 +166,7 @@ class CurvilinearCoordinates:
         )
 
     @cached_property
-    def _half_v2(self):
+    def _half_v2(self) -> Any:
         u = self._c.vel
         n = len(u)
         return (
@@ -177,14 +178,14 @@ class CurvilinearCoordinates:
         )
 
     @property
-    def speed_squared(self):
+    def speed_squared(self) -> Any:
         """``v^2 = g_ik q'^i q'^k`` in ``q(t)``, ``q'(t)``."""
         import sympy
 
         return self._c.to_funcs(sympy.expand(2 * self._half_v2))
 
     @cached_property
-    def velocity_components(self) -> tuple:
+    def velocity_components(self) -> tuple[Any, ...]:
         """``v . e_k = (1/H_k) d(v^2/2)/dq'^k`` (``= H_k q'^k`` if orthogonal)."""
         return tuple(
             self._c.to_funcs(_simplify(self._half_v2.diff(u) / h))
@@ -192,7 +193,7 @@ class CurvilinearCoordinates:
         )
 
     @cached_property
-    def acceleration_components(self) -> tuple:
+    def acceleration_components(self) -> tuple[Any, ...]:
         """``w . e_k = (1/H_k)(d/dt d(v^2/2)/dq'^k - d(v^2/2)/dq^k)`` (theory §7)."""
         import sympy
 
@@ -211,7 +212,7 @@ class CurvilinearCoordinates:
             out.append(self._c.to_funcs(comp))
         return tuple(out)
 
-    def _substitution(self, old_in_new, new_coordinates):
+    def _substitution(self, old_in_new: Any, new_coordinates: Any) -> Any:
         import sympy
 
         new = as_coordinates(new_coordinates, self._c.time, name="new_coordinates")
@@ -228,7 +229,7 @@ class CurvilinearCoordinates:
         exprs = [new.to_plain(sympy.sympify(e)) for e in exprs]
         return new, dict(zip(self._c.plain, exprs, strict=True)), exprs
 
-    def transformed_metric(self, old_in_new, new_coordinates):
+    def transformed_metric(self, old_in_new: Any, new_coordinates: Any) -> Any:
         """The metric in new coordinates by the tensor law (theory §7).
 
         ``g~_ik = J^a_i J^b_k g_ab`` with ``J^a_i = dq^a/dq~^i``; velocities
@@ -263,7 +264,7 @@ class CurvilinearCoordinates:
         g = (jac.T * self._metric.xreplace(sub) * jac).applyfunc(_simplify)
         return g.xreplace(dict(zip(new.plain, new.given, strict=True)))
 
-    def change_coordinates(self, old_in_new, new_coordinates) -> CurvilinearCoordinates:
+    def change_coordinates(self, old_in_new: Any, new_coordinates: Any) -> CurvilinearCoordinates:
         """The same point described by new coordinates ``q = q(q~)``.
 
         Examples
@@ -283,7 +284,7 @@ class CurvilinearCoordinates:
         return f"CurvilinearCoordinates(position={pos}, coordinates={coords})"
 
 
-def curvilinear(position, coordinates, *, time=None) -> CurvilinearCoordinates:
+def curvilinear(position: Any, coordinates: Any, *, time: Any = None) -> CurvilinearCoordinates:
     """Curvilinear coordinates ``r = r(q)`` of a point (theory §7).
 
     Parameters

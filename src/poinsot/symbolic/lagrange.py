@@ -28,14 +28,19 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 from ..errors import InvalidInputError, InvalidTypeError
 from ._symbols import Coordinates, as_coordinates
 
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
+    from .numeric import LagrangeTrajectory, NumericLagrangian
+
 __all__ = ["LagrangeSystem"]
 
 
-def _is_zero(expr) -> bool:
+def _is_zero(expr: Any) -> bool:
     import sympy
 
     if expr == 0:
@@ -46,7 +51,7 @@ def _is_zero(expr) -> bool:
     return sympy.simplify(e) == 0
 
 
-def _expr(value, name: str, coords: Coordinates):
+def _expr(value: Any, name: str, coords: Coordinates) -> Any:
     import sympy
     from sympy.core.function import AppliedUndef
 
@@ -75,7 +80,7 @@ def _expr(value, name: str, coords: Coordinates):
     return plain
 
 
-def _matrix(value, name: str, coords: Coordinates, n: int):
+def _matrix(value: Any, name: str, coords: Coordinates, n: int) -> Any:
     import sympy
 
     m = sympy.Matrix(value)
@@ -147,17 +152,17 @@ class LagrangeSystem:
 
     def __init__(
         self,
-        coordinates,
-        kinetic,
-        potential=0,
+        coordinates: Any,
+        kinetic: Any,
+        potential: Any = 0,
         *,
-        generalized_forces=None,
-        generalized_potential=None,
-        holonomic=(),
-        nonholonomic=(),
-        eliminate=(),
-        time=None,
-    ):
+        generalized_forces: Any = None,
+        generalized_potential: Any = None,
+        holonomic: Any = (),
+        nonholonomic: Any = (),
+        eliminate: Any = (),
+        time: Any = None,
+    ) -> None:
         import sympy
 
         c = as_coordinates(coordinates, time)
@@ -256,41 +261,41 @@ class LagrangeSystem:
 
     # ------------------------------------------------------------------ basics
     @property
-    def coordinates(self) -> tuple:
+    def coordinates(self) -> tuple[Any, ...]:
         """The generalized coordinates ``q(t)`` (after any elimination)."""
         return self._c.funcs
 
     @property
-    def velocities(self) -> tuple:
+    def velocities(self) -> tuple[Any, ...]:
         """``q'(t)``."""
         return self._c.velocities
 
     @property
-    def time(self):
+    def time(self) -> Any:
         """The time symbol."""
         return self._c.time
 
     @cached_property
-    def _L(self):
+    def _L(self) -> Any:
         return self._T - self._P - self._V
 
     @property
-    def lagrangian(self):
+    def lagrangian(self) -> Any:
         """``L = T - P - V`` in ``q(t)``, ``q'(t)``."""
         return self._c.to_funcs(self._L)
 
     @property
-    def kinetic(self):
+    def kinetic(self) -> Any:
         """The kinetic energy ``T``."""
         return self._c.to_funcs(self._T)
 
     @property
-    def potential(self):
+    def potential(self) -> Any:
         """The potential energy ``P``."""
         return self._c.to_funcs(self._P)
 
     @cached_property
-    def parameters(self) -> tuple:
+    def parameters(self) -> tuple[Any, ...]:
         """The free symbols other than coordinates and time, sorted by name."""
         exprs = [self._T, self._P, self._V, *self._Q, *self._hol, *self._nonhol]
         known = set(self._c.plain) | set(self._c.vel) | {self._c.time}
@@ -298,7 +303,7 @@ class LagrangeSystem:
         return tuple(sorted(free, key=lambda s: s.name))
 
     @property
-    def multipliers(self) -> tuple:
+    def multipliers(self) -> tuple[Any, ...]:
         """The multiplier functions ``lambda_j(t)``, one per kept constraint."""
         from sympy.physics.mechanics import dynamicsymbols
 
@@ -307,7 +312,7 @@ class LagrangeSystem:
 
     # ------------------------------------------------------------- derivation
     @cached_property
-    def _MF(self):
+    def _MF(self) -> Any:
         import sympy
 
         c, L = self._c, self._L
@@ -326,7 +331,7 @@ class LagrangeSystem:
         return M, F
 
     @cached_property
-    def _constraints(self):
+    def _constraints(self) -> Any:
         """``A`` (m, n), ``b`` (m,), ``gamma`` (m,) in plain symbols."""
         import sympy
 
@@ -359,31 +364,31 @@ class LagrangeSystem:
         return A, b, gamma
 
     @property
-    def mass_matrix(self):
+    def mass_matrix(self) -> Any:
         """``M = d^2 L / dq' dq'`` (n, n), in ``q(t)``, ``q'(t)``."""
         return self._c.to_funcs(self._MF[0])
 
     @property
-    def forcing(self):
+    def forcing(self) -> Any:
         """``F`` with ``M q'' = F + A^T lambda`` (n, 1): ``Q* + dL/dq - L_q'q q' - L_q't``."""
         return self._c.to_funcs(self._MF[1])
 
     @property
-    def constraint_matrix(self):
+    def constraint_matrix(self) -> Any:
         """``A`` (m, n) of the kept constraints ``A q' + b = 0``."""
         return self._c.to_funcs(self._constraints[0])
 
     @property
-    def constraint_bias(self):
+    def constraint_bias(self) -> Any:
         """``b`` (m, 1) of the kept constraints ``A q' + b = 0``."""
         return self._c.to_funcs(self._constraints[1])
 
     @property
-    def constraint_acceleration(self):
+    def constraint_acceleration(self) -> Any:
         """``gamma`` (m, 1): the constraints differentiated read ``A q'' + gamma = 0``."""
         return self._c.to_funcs(self._constraints[2])
 
-    def equations(self, *, simplify: bool = True) -> list:
+    def equations(self, *, simplify: bool = True) -> list[Any]:
         """Lagrange's equations ``E_k L = Q*_k + sum_j lambda_j A_jk`` (theory §11).
 
         Returns
@@ -419,14 +424,14 @@ class LagrangeSystem:
 
     # ----------------------------------------------------------- integrals
     @cached_property
-    def _energy_plain(self):
+    def _energy_plain(self) -> Any:
         import sympy
 
         c = self._c
         V0 = self._V - sum((self._V.diff(u) * u for u in c.vel), start=0)
         return self._T + self._P + sympy.expand(V0)
 
-    def energy(self):
+    def energy(self) -> Any:
         """Mechanical energy ``T + P + V0`` (``V0`` the velocity-free part of ``V``).
 
         Conserved when nothing depends on time explicitly and ``T`` is quadratic
@@ -435,7 +440,7 @@ class LagrangeSystem:
         return self._c.to_funcs(self._energy_plain)
 
     @cached_property
-    def _jacobi_plain(self):
+    def _jacobi_plain(self) -> Any:
         import sympy
 
         c, L = self._c, self._L
@@ -461,7 +466,7 @@ class LagrangeSystem:
         b = self._constraints[1]
         return all(_is_zero(e) for e in b)
 
-    def jacobi_integral(self):
+    def jacobi_integral(self) -> Any:
         """The Jacobi integral ``h = q'^k dL/dq'^k - L`` (theory §11).
 
         Equal to ``T2 - T0 + P + V0`` when ``T = T2 + T1 + T0`` by degree in the
@@ -493,7 +498,7 @@ class LagrangeSystem:
         return self._c.to_funcs(self._jacobi_plain)
 
     @cached_property
-    def _cyclic(self):
+    def _cyclic(self) -> Any:
         c = self._c
         A, b, _ = self._constraints
         cons = [*self._hol, *self._nonhol]
@@ -509,22 +514,22 @@ class LagrangeSystem:
         return tuple(out)
 
     @property
-    def cyclic_coordinates(self) -> tuple:
+    def cyclic_coordinates(self) -> tuple[Any, ...]:
         """Coordinates absent from ``L`` with no force or constraint acting on them."""
         return tuple(self._c.funcs[k] for k in self._cyclic)
 
     @property
-    def momenta(self) -> tuple:
+    def momenta(self) -> tuple[Any, ...]:
         """Generalized momenta ``p_k = dL/dq'^k``."""
         return tuple(self._c.to_funcs(self._L.diff(u)) for u in self._c.vel)
 
     @property
-    def cyclic_momenta(self) -> dict:
+    def cyclic_momenta(self) -> dict[Any, Any]:
         """``{q_k: p_k}`` for each cyclic coordinate: conserved momenta."""
         mom = self.momenta
         return {self._c.funcs[k]: mom[k] for k in self._cyclic}
 
-    def conserved_quantities(self) -> dict:
+    def conserved_quantities(self) -> dict[str, Any]:
         """First integrals found: ``"jacobi"`` (when conserved) and ``"p_<q>"`` per
         cyclic coordinate, as expressions in ``q(t)``, ``q'(t)``."""
         out = {}
@@ -535,7 +540,7 @@ class LagrangeSystem:
         return out
 
     # ---------------------------------------------------------------- numbers
-    def to_numeric(self, parameters=None):
+    def to_numeric(self, parameters: Mapping[str, float] | None = None) -> NumericLagrangian:
         """A compiled right-hand side ``f(t, y, params=None)``, ``y = [q, q']``.
 
         See :class:`poinsot.symbolic.NumericLagrangian`.
@@ -567,7 +572,15 @@ class LagrangeSystem:
             self.__dict__["_numeric_cache"][key] = out
         return out
 
-    def simulate(self, q0, qdot0, t, *, parameters=None, **options):
+    def simulate(
+        self,
+        q0: ArrayLike,
+        qdot0: ArrayLike,
+        t: ArrayLike,
+        *,
+        parameters: Mapping[str, float] | ArrayLike | None = None,
+        **options: Any,
+    ) -> LagrangeTrajectory:
         """Integrate the equations of motion (see :meth:`NumericLagrangian.simulate`).
 
         Examples
@@ -589,7 +602,7 @@ class LagrangeSystem:
         )
 
 
-def _seq(value, name: str):
+def _seq(value: Any, name: str) -> Any:
     import sympy
 
     if value is None:
@@ -605,7 +618,9 @@ def _seq(value, name: str):
     return tuple(value)
 
 
-def _eliminate(c: Coordinates, elim, T, P, V, Q, hol, nonhol):
+def _eliminate(
+    c: Coordinates, elim: Any, T: Any, P: Any, V: Any, Q: Any, hol: Any, nonhol: Any
+) -> Any:
     """Solve the holonomic constraints for the coordinates ``elim`` and substitute."""
     import sympy
 
@@ -656,7 +671,7 @@ def _eliminate(c: Coordinates, elim, T, P, V, Q, hol, nonhol):
     for i in idx:
         sub[c.vel[i]] = new.time_derivative(sol[c.plain[i]])
 
-    def s(e):
+    def s(e: Any) -> Any:
         return e.xreplace(sub)
 
     # Q_reduced_i = Q_i + sum_e Q_e dq_e/dq_i

@@ -25,6 +25,7 @@ from __future__ import annotations
 import ast
 import math
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -87,14 +88,16 @@ class ExpressionError(InvalidInputError):
         1-based column of the token in ``text`` (None when unknown).
     """
 
-    def __init__(self, message: str, *, text: str = "", token: str = "", column=None):
+    def __init__(
+        self, message: str, *, text: str = "", token: str = "", column: int | None = None
+    ) -> None:
         super().__init__(message)
         self.text = text
         self.token = token
         self.column = column
 
 
-def _declared(symbols) -> dict:
+def _declared(symbols: object) -> dict[str, Any]:
     import sympy
 
     if symbols is None:
@@ -119,7 +122,7 @@ def _declared(symbols) -> dict:
         raise InvalidTypeError(
             f"Expected `symbols` to be a mapping or a sequence, got {type(symbols).__name__}."
         )
-    out = {}
+    out: dict[str, Any] = {}
     for name, value in items:
         if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
             raise InvalidInputError(
@@ -152,7 +155,7 @@ def _token(text: str, node: ast.AST) -> tuple[str, int | None]:
 
 
 class _Builder:
-    def __init__(self, text: str, names: dict):
+    def __init__(self, text: str, names: dict[str, Any]) -> None:
         import sympy
 
         self.sp = sympy
@@ -171,7 +174,7 @@ class _Builder:
             column=col,
         )
 
-    def build(self, node: ast.AST, depth: int = 1):
+    def build(self, node: ast.AST, depth: int = 1) -> Any:
         if depth > MAX_DEPTH:
             raise self.fail(f"expression nested deeper than {MAX_DEPTH} levels", node)
         sp = self.sp
@@ -260,7 +263,7 @@ class _Builder:
             tok = "lambda"
         raise self.fail(what, node, tok)
 
-    def power(self, a, b, node):
+    def power(self, a: Any, b: Any, node: ast.AST) -> Any:
         sp = self.sp
         if b.is_Number:
             if not b.is_real or abs(b) > MAX_EXPONENT:
@@ -278,7 +281,7 @@ class _Builder:
         return a**b
 
 
-def parse_expression(text, symbols=None):
+def parse_expression(text: str, symbols: Mapping[str, Any] | Sequence[Any] | None = None) -> Any:
     """Parse an untrusted formula into a SymPy expression, without running any code.
 
     Parameters
@@ -376,6 +379,6 @@ def parse_expression(text, symbols=None):
         elif isinstance(node, ast.Lambda):
             worst.append((node.col_offset, "lambdas are not allowed", node, "lambda"))
     if worst:
-        _, what, node, tok = min(worst, key=lambda w: w[0])
-        raise builder.fail(what, node, tok)
+        _, what, node, first_tok = min(worst, key=lambda w: w[0])
+        raise builder.fail(what, node, first_tok)
     return builder.build(tree.body)
