@@ -20,6 +20,7 @@ from importlib import resources
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 DIV_ID = "poinsot-figure"
 
@@ -37,11 +38,11 @@ def viewer_js() -> str:
 def chart(
     title: str,
     units: str,
-    series: Sequence[tuple],
+    series: Sequence[tuple[Any, ...]],
     *,
     x_name: str | None = None,
     x_units: str = "",
-) -> dict:
+) -> dict[str, Any]:
     """One chart of the viewer (its data for the page).
 
     ``series``: ``(name, x, y, colour[, mode[, dash]])`` with mode ``"line"``
@@ -74,7 +75,7 @@ def chart(
     return out
 
 
-def b64(a, dtype=np.float32) -> str:
+def b64(a: ArrayLike, dtype: DTypeLike = np.float32) -> str:
     """Little-endian ``dtype`` array as base64 (decoded by ``f32()``/``u32()`` in the page)."""
     return base64.b64encode(
         np.ascontiguousarray(a, dtype=dtype).astype("<" + np.dtype(dtype).str[1:]).tobytes()
@@ -274,10 +275,10 @@ def page_html(
     title: str,
     meta: str,
     notes: Sequence[str],
-    payload: dict,
+    payload: dict[str, Any],
     summary: Mapping[str, Any] | None,
-    sections=(),
-    speeds=(0.25, 0.5, 1, 2, 4, 8),
+    sections: Sequence[tuple[str, str]] = (),
+    speeds: Sequence[float] = (0.25, 0.5, 1, 2, 4, 8),
     animated: bool = True,
     lead: str = "",
 ) -> str:

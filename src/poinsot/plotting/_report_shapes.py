@@ -8,6 +8,8 @@ centre of mass and turns it to the axes of its inertia tensor.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 
 #: Solids the report draws, with the meaning of their ``dims`` (m).
@@ -33,7 +35,7 @@ NDIMS = {
 }
 
 
-def sphere_grid(n_lat: int = 11, n_lon: int = 20):
+def sphere_grid(n_lat: int = 11, n_lon: int = 20) -> tuple[np.ndarray, np.ndarray]:
     """Unit-sphere vertices and triangles (latitude-longitude grid)."""
     th = np.linspace(0.0, np.pi, n_lat)
     ph = np.linspace(0.0, 2.0 * np.pi, n_lon, endpoint=False)
@@ -47,7 +49,7 @@ def sphere_grid(n_lat: int = 11, n_lon: int = 20):
     return v.reshape(-1, 3), np.array(tri)
 
 
-def box(a: float, b: float, c: float):
+def box(a: float, b: float, c: float) -> tuple[np.ndarray, np.ndarray]:
     s = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
     v = 0.5 * s * [a, b, c]
     tri = np.array(
@@ -69,7 +71,9 @@ def box(a: float, b: float, c: float):
     return v, tri
 
 
-def frustum(r0: float, r1: float, z0: float, z1: float, n: int = 28):
+def frustum(
+    r0: float, r1: float, z0: float, z1: float, n: int = 28
+) -> tuple[np.ndarray, np.ndarray]:
     """A closed cylinder (``r0 == r1``) or cone (``r1 == 0``) along ``z``."""
     ph = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
     c, s = np.cos(ph), np.sin(ph)
@@ -87,7 +91,7 @@ def frustum(r0: float, r1: float, z0: float, z1: float, n: int = 28):
     return v, np.array(tri)
 
 
-def torus(big: float, small: float, n: int = 28, m: int = 8):
+def torus(big: float, small: float, n: int = 28, m: int = 8) -> tuple[np.ndarray, np.ndarray]:
     u = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
     w = np.linspace(0.0, 2.0 * np.pi, m, endpoint=False)
     U, W = np.meshgrid(u, w, indexing="ij")
@@ -102,7 +106,7 @@ def torus(big: float, small: float, n: int = 28, m: int = 8):
     return v, np.array(tri)
 
 
-def solid_mesh(kind: str, dims) -> tuple[np.ndarray, np.ndarray]:
+def solid_mesh(kind: str, dims: Iterable[float]) -> tuple[np.ndarray, np.ndarray]:
     """Vertices (centred on the solid's centre of mass) and triangles of a solid."""
     d = [float(x) for x in dims]
     if kind == "box":
@@ -138,7 +142,7 @@ def axes_from_inertia(canonical: np.ndarray, inertia: np.ndarray) -> np.ndarray:
     return r
 
 
-def equivalent_ellipsoid(mass: float, inertia: np.ndarray):
+def equivalent_ellipsoid(mass: float, inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Semi-axes (m) and axes (columns) of the uniform ellipsoid of the same mass and
     inertia about its centre: ``A = m (b^2 + c^2) / 5`` and cyclically, so
     ``a^2 = 5 (B + C - A) / (2 m)`` (flat bodies get a small thickness)."""
@@ -148,7 +152,9 @@ def equivalent_ellipsoid(mass: float, inertia: np.ndarray):
     return np.sqrt(a2), s
 
 
-def decimate(vertices: np.ndarray, faces: np.ndarray, max_faces: int = 3000):
+def decimate(
+    vertices: np.ndarray, faces: np.ndarray, max_faces: int = 3000
+) -> tuple[np.ndarray, np.ndarray]:
     """A mesh cut to at most ``max_faces`` triangles by vertex clustering.
 
     Vertices are merged per cell of a cubic grid over the bounding box (each

@@ -8,15 +8,23 @@ it). Each function draws on ``ax`` (a new figure if ``None``) and returns it.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_times
 from ..errors import InvalidInputError, InvalidTypeError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..dynamics.free_body import FreeRigidBody
 
 __all__ = ["plot_maccullagh", "plot_poinsot", "plot_omega"]
 
 
-def _body(body):
+def _body(body: object) -> Any:
     # Duck typing (a FreeRigidBody or anything with its geometry methods).
     if not all(hasattr(body, a) for a in ("maccullagh", "poinsot", "omega", "regime")):
         raise InvalidTypeError(
@@ -30,7 +38,7 @@ def _body(body):
     return body
 
 
-def _axes3d(ax):
+def _axes3d(ax: Any) -> Any:
     import matplotlib.pyplot as plt
 
     if ax is None:
@@ -41,7 +49,9 @@ def _axes3d(ax):
     return ax
 
 
-def _ellipsoid_mesh(semi_axes, rotation=None, n: int = 30):
+def _ellipsoid_mesh(
+    semi_axes: np.ndarray, rotation: np.ndarray | None = None, n: int = 30
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Surface (x, y, z) of the ellipsoid with principal semi-axes; rotated by a 3x3 matrix."""
     u = np.linspace(0.0, 2.0 * np.pi, n)
     v = np.linspace(0.0, np.pi, n // 2 + 1)
@@ -58,13 +68,13 @@ def _ellipsoid_mesh(semi_axes, rotation=None, n: int = 30):
     return pts[..., 0], pts[..., 1], pts[..., 2]
 
 
-def _equal_aspect(ax, radius: float) -> None:
+def _equal_aspect(ax: Any, radius: float) -> None:
     for set_lim in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         set_lim(-radius, radius)
     ax.set_box_aspect((1, 1, 1))
 
 
-def plot_maccullagh(body, *, n: int = 200, ax=None):
+def plot_maccullagh(body: FreeRigidBody, *, n: int = 200, ax: Any = None) -> Axes:
     """MacCullagh's picture: momentum sphere, energy ellipsoid, the track of ``K``, separatrices.
 
     Parameters
@@ -116,7 +126,9 @@ def plot_maccullagh(body, *, n: int = 200, ax=None):
     return ax
 
 
-def plot_poinsot(body, t=None, *, n: int = 400, ax=None):
+def plot_poinsot(
+    body: FreeRigidBody, t: ArrayLike | None = None, *, n: int = 400, ax: Any = None
+) -> Axes:
     """Poinsot's picture: the inertia ellipsoid rolling on the invariable plane.
 
     Parameters
@@ -180,7 +192,7 @@ def plot_poinsot(body, t=None, *, n: int = 400, ax=None):
     return ax
 
 
-def plot_omega(body, t, *, ax=None):
+def plot_omega(body: FreeRigidBody, t: ArrayLike, *, ax: Axes | None = None) -> Axes:
     """Body angular velocity components ``w_k(t)`` of the exact solution.
 
     Parameters

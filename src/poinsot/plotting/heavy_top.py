@@ -12,9 +12,20 @@ never changes the backend or closes a figure.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
+from .._typing import ArrayLike
 from ..errors import InvalidInputError, InvalidTypeError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..dynamics.heavy import HeavyRigidBody
+    from ..dynamics.lagrange_top import LagrangeTop
+    from ..trajectory import Trajectory
 
 __all__ = [
     "plot_axis_track",
@@ -25,7 +36,7 @@ __all__ = [
 ]
 
 
-def _top(top):
+def _top(top: object) -> Any:
     from ..dynamics.lagrange_top import LagrangeTop
 
     if not isinstance(top, LagrangeTop):
@@ -35,7 +46,7 @@ def _top(top):
     return top
 
 
-def _axes(ax, projection=None):
+def _axes(ax: Axes | None, projection: str | None = None) -> Any:
     if ax is not None:
         if projection == "3d" and getattr(ax, "name", "") != "3d":
             raise InvalidInputError("Expected `ax` to be a 3D axes (projection='3d').")
@@ -46,12 +57,19 @@ def _axes(ax, projection=None):
     return fig.add_subplot(projection=projection)
 
 
-def _window(top, periods: float) -> float:
+def _window(top: Any, periods: float) -> float:
     period = top.nutation_period
     return periods * period if np.isfinite(period) and period > 0 else 10.0
 
 
-def plot_axis_track(top, t=None, *, periods: float = 3.0, n: int = 1500, ax=None):
+def plot_axis_track(
+    top: LagrangeTop,
+    t: ArrayLike | None = None,
+    *,
+    periods: float = 3.0,
+    n: int = 1500,
+    ax: Any = None,  # 3D axes: mpl_toolkits.mplot3d is untyped
+) -> Axes:
     """The track of the symmetry axis ``e_3`` on the unit sphere, inside the nutation band.
 
     Parameters
@@ -124,7 +142,7 @@ def plot_axis_track(top, t=None, *, periods: float = 3.0, n: int = 1500, ax=None
     return ax
 
 
-def plot_cubic(top, *, n: int = 400, ax=None):
+def plot_cubic(top: LagrangeTop, *, n: int = 400, ax: Axes | None = None) -> Axes:
     """The cubic ``P(u) = u'^2`` over ``u = cos(theta)`` with its roots and the band.
 
     Parameters
@@ -167,7 +185,7 @@ def plot_cubic(top, *, n: int = 400, ax=None):
     ax.set_ylim(-1.2 * top_p, 1.2 * top_p)
     u1, u2 = roots[0], roots[1]
     if 0.0 < u2 - u1 < 0.05 * (hi - lo):  # a narrow band: zoom on it
-        ins = ax.inset_axes([0.62, 0.1, 0.35, 0.35])
+        ins = ax.inset_axes((0.62, 0.1, 0.35, 0.35))
         d = u2 - u1
         uz = np.linspace(u1 - 0.3 * d, u2 + 0.3 * d, 200)
         ins.plot(uz, top.P(uz), color="C0")
@@ -183,7 +201,14 @@ def plot_cubic(top, *, n: int = 400, ax=None):
     return ax
 
 
-def plot_nutation(top, trajectory=None, *, periods: float = 3.0, n: int = 1000, ax=None):
+def plot_nutation(
+    top: LagrangeTop,
+    trajectory: Trajectory | None = None,
+    *,
+    periods: float = 3.0,
+    n: int = 1000,
+    ax: Axes | None = None,
+) -> Axes:
     """``theta(t)`` exact, with a numerical trajectory's tilt if given, and the bounds.
 
     Parameters
@@ -239,7 +264,9 @@ def plot_nutation(top, trajectory=None, *, periods: float = 3.0, n: int = 1000, 
     return ax
 
 
-def plot_invariant_drift(body, trajectory, *, ax=None):
+def plot_invariant_drift(
+    body: HeavyRigidBody, trajectory: Trajectory, *, ax: Axes | None = None
+) -> Axes:
     """Relative drift of ``E``, ``K_z`` and ``|gamma| - 1`` of a heavy body along a run.
 
     Parameters
@@ -289,7 +316,9 @@ def plot_invariant_drift(body, trajectory, *, ax=None):
     return ax
 
 
-def plot_kovalevskaya(runs, *, ax=None):
+def plot_kovalevskaya(
+    runs: Sequence[tuple[str, HeavyRigidBody, Trajectory]], *, ax: Axes | None = None
+) -> Axes:
     """The Kovalevskaya integral ``k(t) / k(0) - 1`` along one or more runs.
 
     Parameters

@@ -10,13 +10,21 @@ mathtext from SymPy's LaTeX (no TeX installation, nothing fetched).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from ..errors import InvalidTypeError
 from .scenario import _new_axes
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..symbolic.lagrange import LagrangeSystem
+    from ..symbolic.numeric import LagrangeTrajectory
 
 __all__ = ["plot_coordinates", "plot_phase", "plot_equations", "equation_latex"]
 
 
-def _finish(ax, title):
+def _finish(ax: Axes, title: str | None) -> Axes:
     ax.legend(loc="best", fontsize="small")
     ax.grid(True, alpha=0.3)
     if title:
@@ -24,7 +32,7 @@ def _finish(ax, title):
     return ax
 
 
-def _lagrange_trajectory(tr):
+def _lagrange_trajectory(tr: object) -> Any:
     if not all(hasattr(tr, a) for a in ("t", "q", "qdot", "coordinates")):
         raise InvalidTypeError(
             f"Expected `trajectory` to be a LagrangeTrajectory, got {type(tr).__name__}."
@@ -32,7 +40,9 @@ def _lagrange_trajectory(tr):
     return tr
 
 
-def plot_coordinates(trajectory, *, ax=None, title: str | None = None):
+def plot_coordinates(
+    trajectory: LagrangeTrajectory, *, ax: Axes | None = None, title: str | None = None
+) -> Axes:
     """Plot each generalized coordinate ``q_k(t)`` against time.
 
     Parameters
@@ -69,7 +79,12 @@ def plot_coordinates(trajectory, *, ax=None, title: str | None = None):
     return _finish(ax, title)
 
 
-def plot_phase(trajectory, *, ax=None, title: str | None = "phase portrait"):
+def plot_phase(
+    trajectory: LagrangeTrajectory,
+    *,
+    ax: Axes | None = None,
+    title: str | None = "phase portrait",
+) -> Axes:
     """Plot each coordinate's phase curve ``(q_k, q_k')``.
 
     Examples
@@ -92,7 +107,7 @@ def plot_phase(trajectory, *, ax=None, title: str | None = "phase portrait"):
     return _finish(ax, title)
 
 
-def equation_latex(system) -> list[str]:
+def equation_latex(system: LagrangeSystem) -> list[str]:
     """Lagrange's equations of ``system`` as LaTeX, with ``q'`` written ``\\dot q``.
 
     Examples
@@ -122,7 +137,7 @@ def equation_latex(system) -> list[str]:
     return out
 
 
-def plot_equations(system, *, ax=None, fontsize: float = 11):
+def plot_equations(system: LagrangeSystem, *, ax: Axes | None = None, fontsize: float = 11) -> Axes:
     """Typeset Lagrange's equations ``E_k L = Q*_k + ...`` of ``system`` on ``ax``.
 
     Each line is SymPy's LaTeX drawn by matplotlib's mathtext (offline); a line

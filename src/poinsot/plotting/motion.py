@@ -6,18 +6,25 @@ matplotlib is imported here only (a leaf module; ``import poinsot`` never loads 
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_float_array, as_times, is_integer
 from ..errors import InvalidInputError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..kinematics.fields import CompositeMotion
 
 __all__ = ["plot_acceleration_terms"]
 
 _COMPONENTS = {"norm": None, "x": 0, "y": 1, "z": 2, 0: 0, 1: 1, 2: 2}
 
 
-def _composite_terms(m) -> dict[str, np.ndarray]:
+def _composite_terms(m: Any) -> dict[str, np.ndarray]:
     return {
         r"transport $W_e = W_0 + \varepsilon\times s + \omega\times(\omega\times s)$": (
             m.transport_acceleration
@@ -28,7 +35,7 @@ def _composite_terms(m) -> dict[str, np.ndarray]:
     }
 
 
-def _parse_component(component, n: int):
+def _parse_component(component: Any, n: int) -> tuple[int | None, np.ndarray | None]:
     """(index, direction): index None = norm; direction an (n, 3) or (3,) array."""
     if isinstance(component, str) or is_integer(component):
         key = component if isinstance(component, str) else int(component)
@@ -44,7 +51,13 @@ def _parse_component(component, n: int):
     )
 
 
-def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
+def plot_acceleration_terms(
+    t: ArrayLike,
+    terms: CompositeMotion | Mapping[str, ArrayLike],
+    ax: Axes | None = None,
+    *,
+    component: str | int | ArrayLike = "norm",
+) -> Axes:
     """Plot the contributions to a point's acceleration against time.
 
     Parameters
@@ -87,7 +100,7 @@ def plot_acceleration_terms(t, terms, ax=None, *, component="norm"):
     t = as_times(t, "t")
     index, direction = _parse_component(component, t.size)
     if isinstance(terms, Mapping):
-        named = dict(terms)
+        named: dict[str, Any] = dict(terms)
     elif all(hasattr(terms, a) for a in ("transport_acceleration", "coriolis_acceleration")):
         named = _composite_terms(terms)
     else:

@@ -7,10 +7,18 @@ matplotlib is imported inside the functions. See ``docs/particles.md``.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike
 from ..errors import InvalidInputError, InvalidTypeError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..dynamics.central import CentralOrbit
+    from ..dynamics.particles import ParticleTrajectory
 
 __all__ = [
     "plot_path",
@@ -21,7 +29,7 @@ __all__ = [
 ]
 
 
-def _new_axes(ax, size=(6.0, 4.5)):
+def _new_axes(ax: Axes | None, size: tuple[float, float] = (6.0, 4.5)) -> Axes:
     if ax is None:
         import matplotlib.pyplot as plt
 
@@ -29,7 +37,7 @@ def _new_axes(ax, size=(6.0, 4.5)):
     return ax
 
 
-def _components(components):
+def _components(components: object) -> tuple[int, int]:
     if (
         not isinstance(components, tuple | list)
         or len(components) != 2
@@ -42,8 +50,14 @@ def _components(components):
 
 
 def plot_path(
-    position, *, components=(0, 1), ax=None, title=None, label=None, axis_names=("x", "y", "z")
-):
+    position: ArrayLike,
+    *,
+    components: tuple[int, int] = (0, 1),
+    ax: Axes | None = None,
+    title: str | None = None,
+    label: str | None = None,
+    axis_names: tuple[str, str, str] = ("x", "y", "z"),
+) -> Axes:
     """A path projected on two axes, its start marked.
 
     Parameters
@@ -89,8 +103,13 @@ def plot_path(
 
 
 def plot_particle_path(
-    trajectory, *, frame: str = "relative", components=(0, 1), ax=None, label=None
-):
+    trajectory: ParticleTrajectory,
+    *,
+    frame: str = "relative",
+    components: tuple[int, int] = (0, 1),
+    ax: Axes | None = None,
+    label: str | None = None,
+) -> Axes:
     """The path of a particle: relative to the moving frame or in the inertial frame.
 
     Parameters
@@ -129,6 +148,7 @@ def plot_particle_path(
             f"Expected `trajectory` to be a ParticleTrajectory, got {type(trajectory).__name__}."
         )
     i, j = _components(components)
+    p: np.ndarray | None
     if frame == "relative":
         p = trajectory.position
         words = "relative to the moving frame"
@@ -144,7 +164,9 @@ def plot_particle_path(
     return plot_path(p, components=(i, j), ax=ax, title=f"Particle path {words}", label=label)
 
 
-def plot_orbit(orbit, t=None, *, samples: int = 600, ax=None):
+def plot_orbit(
+    orbit: CentralOrbit, t: ArrayLike | None = None, *, samples: int = 600, ax: Axes | None = None
+) -> Axes:
     """An orbit in its plane, with the centre, the apsides and the pericentre marked.
 
     Parameters
@@ -205,12 +227,14 @@ def plot_orbit(orbit, t=None, *, samples: int = 600, ax=None):
     return ax
 
 
-def _escape_time(orbit) -> float:
+def _escape_time(orbit: Any) -> float:
     v = math.sqrt(max(2.0 * orbit.energy / orbit.mass, 1e-300))
     return 5.0 * orbit.apsides.pericentre / v
 
 
-def plot_effective_potential(orbit, *, ax=None, span: float = 4.0):
+def plot_effective_potential(
+    orbit: CentralOrbit, *, ax: Axes | None = None, span: float = 4.0
+) -> Axes:
     """``U_eff(r) = U(r) + L^2/(2 m r^2)``, the energy level and the apsides.
 
     Examples
@@ -243,7 +267,9 @@ def plot_effective_potential(orbit, *, ax=None, span: float = 4.0):
     return ax
 
 
-def plot_swing_plane(trajectory, *, rate=None, ax=None):
+def plot_swing_plane(
+    trajectory: ParticleTrajectory, *, rate: float | None = None, ax: Axes | None = None
+) -> Axes:
     """Azimuth of a pendulum's swing plane against time, with a predicted rate.
 
     Parameters

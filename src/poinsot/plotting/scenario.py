@@ -6,17 +6,24 @@ matplotlib is imported here only (a leaf module; ``import poinsot`` never loads 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
+from typing import TYPE_CHECKING, Any
 
+from .._typing import ArrayLike
 from .._validate import as_float_array, as_times
 from ..errors import InvalidInputError, InvalidTypeError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..trajectory import Trajectory
 
 __all__ = ["plot_angular_velocity", "plot_relative_change"]
 
 _COLOURS = ("C3", "C2", "C0")  # x, y, z
 
 
-def _new_axes(ax, size=(7, 3.6)):
+def _new_axes(ax: Axes | None, size: tuple[float, float] = (7, 3.6)) -> Axes:
     if ax is None:
         import matplotlib.pyplot as plt
 
@@ -24,7 +31,7 @@ def _new_axes(ax, size=(7, 3.6)):
     return ax
 
 
-def _trajectory(tr, name: str):
+def _trajectory(tr: object, name: str) -> Any:
     if not all(hasattr(tr, a) for a in ("t", "omega", "method")):
         raise InvalidTypeError(
             f"Expected `{name}` to be a poinsot Trajectory, got {type(tr).__name__}."
@@ -32,7 +39,13 @@ def _trajectory(tr, name: str):
     return tr
 
 
-def plot_angular_velocity(trajectory, reference=None, *, ax=None, title: str | None = None):
+def plot_angular_velocity(
+    trajectory: Trajectory,
+    reference: Trajectory | None = None,
+    *,
+    ax: Axes | None = None,
+    title: str | None = None,
+) -> Axes:
     """Plot the body angular velocity ``w_x, w_y, w_z`` against time.
 
     Parameters
@@ -87,7 +100,14 @@ def plot_angular_velocity(trajectory, reference=None, *, ax=None, title: str | N
     return ax
 
 
-def plot_relative_change(t, curves, *, dashed=(), ax=None, title: str | None = None):
+def plot_relative_change(
+    t: ArrayLike,
+    curves: Mapping[str, ArrayLike],
+    *,
+    dashed: Collection[str] = (),
+    ax: Axes | None = None,
+    title: str | None = None,
+) -> Axes:
     """Plot relative changes (``(q(t) - q(0)) / scale``) of quantities against time.
 
     Parameters
@@ -131,7 +151,7 @@ def plot_relative_change(t, curves, *, dashed=(), ax=None, title: str | None = N
                 f"Expected `curves[{label!r}]` to have shape {tt.shape} to match `t`, "
                 f"got {ya.shape}."
             )
-        style = {"ls": "--", "lw": 1} if label in dashed else {}
+        style: dict[str, Any] = {"ls": "--", "lw": 1} if label in dashed else {}
         ax.plot(tt, ya, label=label, **style)
     ax.set(xlabel="t (s)", ylabel="relative change")
     if title:
