@@ -28,11 +28,13 @@ file's convention for angles).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .._validate import as_float_array
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -53,7 +55,7 @@ __all__ = [
 _MAX_REJECTION_ROUNDS = 200
 
 
-def _nonneg(x, name: str) -> np.ndarray:
+def _nonneg(x: ArrayLike, name: str) -> np.ndarray:
     a = as_float_array(x, name)
     if np.any(a < 0):
         raise InvalidInputError(f"Expected `{name}` to be >= 0 (a spread), got {a.tolist()}.")
@@ -67,7 +69,14 @@ class Dispersion:
         raise NotImplementedError
 
 
-def _truncate(draw, low, high, n, shape, name):
+def _truncate(
+    draw: Callable[[tuple[int, ...]], np.ndarray],
+    low: ArrayLike,
+    high: ArrayLike,
+    n: int,
+    shape: tuple[int, ...],
+    name: str,
+) -> np.ndarray:
     """Exact rejection sampling of ``draw(k)`` restricted to ``[low, high]``."""
     out = np.empty((n, *shape))
     todo = np.ones((n, *shape), dtype=bool)
@@ -100,7 +109,7 @@ class Normal(Dispersion):
     sigma: Any
     mean: Any = None
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         sigma = _nonneg(self.sigma, "sigma")
         mean = nominal if self.mean is None else as_float_array(self.mean, "mean")
         shape = np.broadcast_shapes(np.shape(mean), sigma.shape)
@@ -114,7 +123,7 @@ class TruncatedNormal(Normal):
     low: Any = -np.inf
     high: Any = np.inf
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         sigma = _nonneg(self.sigma, "sigma")
         mean = nominal if self.mean is None else as_float_array(self.mean, "mean")
         low = as_float_array(self.low, "low", finite=False)
@@ -143,7 +152,7 @@ class Uniform(Dispersion):
     high: Any = None
     half_width: Any = None
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         if self.half_width is not None:
             if self.low is not None or self.high is not None:
                 raise InvalidInputError(
@@ -170,7 +179,7 @@ class LogNormal(Dispersion):
 
     sigma: Any
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         sigma = _nonneg(self.sigma, "sigma")
         if np.any(np.asarray(nominal) <= 0):
             raise InvalidInputError(
@@ -188,7 +197,7 @@ class TruncatedLogNormal(LogNormal):
     low: Any = 0.0
     high: Any = np.inf
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         sigma = _nonneg(self.sigma, "sigma")
         low = as_float_array(self.low, "low", finite=False)
         high = as_float_array(self.high, "high", finite=False)
@@ -212,7 +221,7 @@ class Choice(Dispersion):
 
     values: Any
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         v = as_float_array(self.values, "values")
         if v.ndim == 0 or len(v) == 0:
             raise InvalidInputError("Expected `values` to be a non-empty list.")
@@ -229,7 +238,7 @@ class SmallRotation(Dispersion):
 
     sigma: Any
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         from ..rotations import quaternion as qa
 
         sigma = float(_nonneg(self.sigma, "sigma"))
@@ -241,7 +250,7 @@ class SmallRotation(Dispersion):
 class UniformRotation(Dispersion):
     """Attitude uniform on SO(3): a normalised 4-D Gaussian (Haar measure)."""
 
-    def sample(self, nominal, rng, n):
+    def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
         q = rng.standard_normal((n, 4))
         q /= np.linalg.norm(q, axis=1, keepdims=True)
         return q * np.where(q[:, :1] < 0, -1.0, 1.0)
@@ -260,7 +269,7 @@ DISTRIBUTIONS: dict[str, tuple[type, tuple[str, ...]]] = {
 }
 
 
-def from_table(table: dict, name: str) -> Dispersion:
+def from_table(table: dict[str, Any], name: str) -> Dispersion:
     """Build a dispersion from a TOML table ``{distribution = "...", ...}``.
 
     Examples

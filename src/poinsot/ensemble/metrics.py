@@ -29,6 +29,7 @@ Components: ``omega_x``, ``omega_y``, ``omega_z`` (rad/s, body axes),
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -108,7 +109,7 @@ class Metric:
     below: float | None = None
     above: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.kind not in METRICS:
             raise InvalidInputError(
                 f"Unknown metric kind {self.kind!r} for metric {self.name!r}; expected one of "
@@ -166,7 +167,7 @@ class Metric:
         return np.abs(e - e[0]).max(axis=0) / scale
 
 
-def from_table(table: dict, index: int) -> Metric:
+def from_table(table: dict[str, Any], index: int) -> Metric:
     """A :class:`Metric` from one ``[[metric]]`` TOML table."""
     if not isinstance(table, dict):
         raise InvalidInputError(f"Expected `metric[{index}]` to be a table.")

@@ -29,7 +29,9 @@ from __future__ import annotations
 import html
 import json
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -38,12 +40,17 @@ from . import dispersion as _disp
 from . import metrics as _metrics
 from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, run
 
+if TYPE_CHECKING:
+    from ..scenarios.schema import Scenario
+
 __all__ = ["load_ensemble", "problem_from_scenario", "run_scenario_ensemble"]
 
 _KINDS = ("free-body", "torqued-body", "heavy-top")
 
 
-def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12) -> EnsembleProblem:
+def problem_from_scenario(
+    scenario: Scenario, *, rtol: float = 1e-10, atol: float = 1e-12
+) -> EnsembleProblem:
     """The :class:`EnsembleProblem` of a loaded scenario (its ``data`` holds the tables)."""
     where = scenario.source
     if scenario.kind not in _KINDS:
@@ -79,13 +86,15 @@ def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12)
         raise EnsembleError(f"{where}: {exc}") from None
     tq = scenario.torque
     model = "none" if tq is None else tq.model
-    body = scenario.body
+    body, spin = scenario.body, scenario.angular_velocity
+    if body is None or spin is None:  # the rigid-body kinds always read both
+        raise EnsembleError(f"{where}: an ensemble needs a [body] and an [angular_velocity].")
     try:
         problem = EnsembleProblem(
             name=scenario.name,
             inertia=np.asarray(body.inertia, dtype=float),
             rotation0=np.asarray(scenario.attitude.quat, dtype=float),
-            omega0=np.asarray(scenario.angular_velocity.omega_body, dtype=float),
+            omega0=np.asarray(spin.omega_body, dtype=float),
             t=np.asarray(scenario.simulation.times(), dtype=float),
             mass=float(body.mass),
             center_of_mass=np.asarray(body.center_of_mass, dtype=float),
@@ -106,7 +115,7 @@ def problem_from_scenario(scenario, *, rtol: float = 1e-10, atol: float = 1e-12)
     return problem
 
 
-def load_ensemble(path) -> tuple:
+def load_ensemble(path: str | os.PathLike[str]) -> tuple[Scenario, EnsembleProblem]:
     """``(scenario, problem)`` of a scenario file with ``[dispersion]`` and ``[[metric]]``."""
     from ..scenarios import load_scenario
 
@@ -117,7 +126,7 @@ def load_ensemble(path) -> tuple:
 _MAX_POINTS = 4000  # points kept per scatter chart (an even subset beyond that)
 
 
-def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict]:
+def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict[str, Any]]:
     """Charts of the report viewer: a histogram of every metric and every metric
     against every dispersed parameter (component)."""
     from ..plotting._report_page import chart
@@ -160,7 +169,7 @@ def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict]:
     return out
 
 
-def _report(problem, result, path: Path) -> None:
+def _report(problem: EnsembleProblem, result: EnsembleResult, path: Path) -> None:
     """``report.html``: the metrics table, the charts (drawn by the report viewer of
     poinsot.plotting, offline) and the summary in sections with the raw JSON."""
     from ..plotting._report_page import page_html
@@ -199,18 +208,18 @@ def _report(problem, result, path: Path) -> None:
 
 
 def run_scenario_ensemble(
-    path,
+    path: str | os.PathLike[str],
     samples: int,
-    out,
+    out: str | os.PathLike[str],
     *,
     chunk_size: int = 1000,
-    scheduler=None,
-    workers=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
     seed: int = 0,
     resume: bool = False,
-    client=None,
+    client: Any = None,
     timeout: float = 10.0,
-    progress=None,
+    progress: Callable[..., object] | None = None,
 ) -> EnsembleResult:
     """Run the ensemble of a scenario file and write its outputs into ``out``."""
     _scenario, problem = load_ensemble(path)
