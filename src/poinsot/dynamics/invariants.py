@@ -17,12 +17,19 @@ kg m^2/s.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_rotation_quat, as_vec3, batch_shape, plain_vec3
 from ..mass.tensor import single_principal_moments
+
+if TYPE_CHECKING:
+    from ..rotations.rotation import Rotation
+    from .torques import TorqueModel
 
 __all__ = ["kinetic_energy", "angular_momentum", "invariants", "Invariants"]
 
@@ -44,13 +51,13 @@ def _kinetic(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
     return 0.5 * np.einsum("...i,...i->...", w, _momentum(j, principal, w))
 
 
-def _inertia(inertia):
+def _inertia(inertia: object) -> tuple[np.ndarray, bool]:
     from ..mass.tensor import as_inertia
 
     return as_inertia(inertia, "inertia")
 
 
-def _checked(inertia, omega):
+def _checked(inertia: object, omega: ArrayLike) -> tuple[np.ndarray, bool, np.ndarray]:
     j, principal = _inertia(inertia)
     w = as_vec3(omega, "omega")
     batch_shape(inertia=(j, 1 if principal else 2), omega=(w, 1))
@@ -62,7 +69,7 @@ def _checked(inertia, omega):
 # ---------------------------------------------------------------------------
 
 
-def kinetic_energy(inertia, omega) -> np.ndarray:
+def kinetic_energy(inertia: ArrayLike, omega: ArrayLike) -> FloatArray | np.float64:
     """Rotational kinetic energy ``T = w^T J w / 2`` (theory §8).
 
     Parameters
@@ -92,15 +99,15 @@ def kinetic_energy(inertia, omega) -> np.ndarray:
     """
     j = single_principal_moments(inertia)
     w = None if j is None else plain_vec3(omega)
-    if w is not None:  # one state: same checks and operations, no array overhead
+    if j is not None and w is not None:  # one state: same checks and operations, no array overhead
         return np.float64(
             0.5 * (w[0] * (j[0] * w[0]) + w[1] * (j[1] * w[1]) + w[2] * (j[2] * w[2]))
         )
-    j, principal, w = _checked(inertia, omega)
-    return _kinetic(j, principal, w)
+    ja, principal, wa = _checked(inertia, omega)
+    return _kinetic(ja, principal, wa)
 
 
-def angular_momentum(inertia, omega) -> np.ndarray:
+def angular_momentum(inertia: ArrayLike, omega: ArrayLike) -> FloatArray:
     """Angular momentum in body axes, ``K = J w`` (theory §8).
 
     Parameters
@@ -166,7 +173,9 @@ class Invariants:
         return length(self.momentum_body)
 
 
-def _invariants(j, principal, q, w, torque_model) -> Invariants:
+def _invariants(
+    j: np.ndarray, principal: bool, q: np.ndarray, w: np.ndarray, torque_model: TorqueModel | None
+) -> Invariants:
     """Kernel of :func:`invariants` (validated arrays, a TorqueModel or None)."""
     from ..rotations._lazy import kernels
 
@@ -186,7 +195,13 @@ def _invariants(j, principal, q, w, torque_model) -> Invariants:
     )
 
 
-def invariants(inertia, rotation, omega, *, torque=None) -> Invariants:
+def invariants(
+    inertia: ArrayLike,
+    rotation: Rotation | ArrayLike,
+    omega: ArrayLike,
+    *,
+    torque: TorqueModel | ArrayLike | Callable[..., ArrayLike] | None = None,
+) -> Invariants:
     """Energies and angular momenta of a rigid body (theory §8, §10): the one place.
 
     Parameters

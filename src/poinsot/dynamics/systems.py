@@ -22,9 +22,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_vec3
 from .._vec import cross, dot, length
 from ..errors import InvalidInputError, InvalidTypeError
@@ -48,7 +50,14 @@ FORCE_KINDS = ("potential", "gyroscopic", "dissipative", "none")
 # ---------------------------------------------------------------------------
 
 
-def _call_force(force, t, r, v, *, nonfinite=InvalidInputError) -> np.ndarray:
+def _call_force(
+    force: Callable[..., Any],
+    t: float,
+    r: np.ndarray,
+    v: np.ndarray,
+    *,
+    nonfinite: type[Exception] = InvalidInputError,
+) -> np.ndarray:
     """``force(t, r, v)`` as a checked (3,) array (the ONE force-call validator,
     also used by :func:`~poinsot.dynamics.simulate_particle`, which passes
     ``nonfinite=IntegrationError``)."""
@@ -87,11 +96,11 @@ class LinePotential:
     array([2.])
     """
 
-    force: Callable
+    force: Callable[..., Any]
     reference: np.ndarray
     time: float = 0.0
 
-    def __call__(self, r) -> np.ndarray:
+    def __call__(self, r: ArrayLike) -> FloatArray:
         r = as_vec3(r, "r")
         x, w = np.polynomial.legendre.leggauss(16)
         s = 0.5 * (x + 1.0)
@@ -140,12 +149,12 @@ class ForceClassification:
 
 
 def classify_force(
-    force: Callable,
+    force: Callable[..., Any],
     *,
-    center=(0.0, 0.0, 0.0),
+    center: ArrayLike = (0.0, 0.0, 0.0),
     size: float = 1.0,
     speed: float = 1.0,
-    times=(0.0, 1.0),
+    times: ArrayLike = (0.0, 1.0),
     samples: int = 24,
     rtol: float = 1e-6,
     seed: int = 0,
@@ -230,8 +239,8 @@ def classify_force(
     F2 = np.array([_call_force(force, t0, r, v) for r, v in zip(R, V2, strict=True)])
     scale = max(float(np.max(length(F))), float(np.max(length(F0))), float(np.max(length(F2))))
     if scale == 0.0:  # the zero force: potential U = 0
-        pot = LinePotential(force, c, t0)
-        return ForceClassification("potential", pot, False, False, True, 0.0, (0.0, 0.0), 0.0)
+        zero_pot = LinePotential(force, c, t0)
+        return ForceClassification("potential", zero_pot, False, False, True, 0.0, (0.0, 0.0), 0.0)
     tol = rtol * scale
     vel_dep = bool(np.max(np.abs(F - F0)) > tol or np.max(np.abs(F2 - F0)) > tol)
     time_dep = False
@@ -247,7 +256,7 @@ def classify_force(
             e = np.zeros(3)
             e[j] = h
 
-            def f(x, r=r):
+            def f(x: np.ndarray, r: np.ndarray = r) -> np.ndarray:
                 return _call_force(force, t0, x, zero)
 
             J[k, :, j] = (8 * (f(r + e) - f(r - e)) - (f(r + 2 * e) - f(r - 2 * e))) / (12 * h)
@@ -271,7 +280,7 @@ def classify_force(
         # check F = -grad U on a few samples
         idx = np.arange(min(samples, 6))
         err = 0.0
-        for k in idx:
+        for k in idx.tolist():
             g = np.empty(3)
             for j in range(3):
                 e = np.zeros(3)
@@ -293,7 +302,7 @@ def classify_force(
     )
 
 
-def _positive(x, name) -> float:
+def _positive(x: ArrayLike, name: str) -> float:
     a = as_float_array(x, name)
     if a.ndim or not a > 0:
         raise InvalidInputError(f"Expected `{name}` to be a positive scalar, got {x!r}.")
@@ -324,7 +333,9 @@ class KoenigSplit:
     relative: np.ndarray
 
 
-def shift_angular_momentum(k_o, momentum, o, o_prime) -> np.ndarray:
+def shift_angular_momentum(
+    k_o: ArrayLike, momentum: ArrayLike, o: ArrayLike, o_prime: ArrayLike
+) -> FloatArray:
     """Angular momentum about another point: ``K_O' = K_O + O'O x p`` (theory §9).
 
     Parameters
@@ -380,7 +391,7 @@ class ParticleSystem:
     positions: np.ndarray
     velocities: np.ndarray
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         m = as_float_array(self.masses, "masses")
         r = as_float_array(self.positions, "positions")
         v = as_float_array(self.velocities, "velocities")
@@ -432,7 +443,7 @@ class ParticleSystem:
         """``V_c = p / M`` (m/s)."""
         return self.momentum / self.total_mass[..., None]
 
-    def angular_momentum(self, point=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def angular_momentum(self, point: ArrayLike = (0.0, 0.0, 0.0)) -> FloatArray:
         """``K_O = sum (r - O) x m v`` about ``point`` (kg m^2/s), absolute velocities."""
         o = as_vec3(point, "point")
         rel = self.positions - o[..., None, :]
@@ -451,20 +462,20 @@ class ParticleSystem:
         t_c = 0.5 * self.total_mass * dot(vc, vc)
         return KoenigSplit(total=self.kinetic_energy, center=t_c, relative=t_rel)
 
-    def resultant(self, forces) -> np.ndarray:
+    def resultant(self, forces: ArrayLike) -> FloatArray:
         """``R = sum F`` of forces ``(..., N, 3)`` acting on the particles (N)."""
         return np.sum(self._forces(forces), axis=-2)
 
-    def moment(self, forces, point=(0.0, 0.0, 0.0)) -> np.ndarray:
+    def moment(self, forces: ArrayLike, point: ArrayLike = (0.0, 0.0, 0.0)) -> FloatArray:
         """``M_O = sum (r - O) x F`` (N m)."""
         o = as_vec3(point, "point")
         return np.sum(cross(self.positions - o[..., None, :], self._forces(forces)), axis=-2)
 
-    def power(self, forces) -> np.ndarray:
+    def power(self, forces: ArrayLike) -> FloatArray:
         """``N = sum F . v`` (W)."""
         return np.sum(dot(self._forces(forces), self.velocities), axis=-1)
 
-    def _forces(self, forces):
+    def _forces(self, forces: ArrayLike) -> np.ndarray:
         f = as_float_array(forces, "forces")
         if f.shape[-2:] != self.positions.shape[-2:]:
             raise InvalidInputError(

@@ -136,7 +136,7 @@ class ConstantBodyTorque(TorqueModel):
     def __post_init__(self) -> None:
         object.__setattr__(self, "torque", _readonly(as_vec3(self.torque, "torque")))
 
-    def body_torque(self, t, quat, omega) -> np.ndarray:
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
         shape = batch_shape(torque=(self.torque, 1), quat=(np.shape(quat), 1))
         return np.broadcast_to(self.torque, shape + (3,))
 
@@ -167,7 +167,7 @@ class ConstantSpaceTorque(TorqueModel):
     def __post_init__(self) -> None:
         object.__setattr__(self, "torque", _readonly(as_vec3(self.torque, "torque")))
 
-    def body_torque(self, t, quat, omega) -> np.ndarray:
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
         return _to_body(np.asarray(quat, dtype=float), self.torque)
 
 
@@ -230,10 +230,10 @@ class GravityTorque(TorqueModel):
         """``m g c`` (N m), the vector whose cross product with ``gamma`` is the torque."""
         return (self.mass * self.g)[..., None] * self.center_of_mass
 
-    def body_torque(self, t, quat, omega) -> np.ndarray:
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
         return cross(_up_body(np.asarray(quat, dtype=float)), self.moment)
 
-    def potential(self, quat) -> np.ndarray:
+    def potential(self, quat: np.ndarray) -> np.ndarray:
         gamma = _up_body(np.asarray(quat, dtype=float))
         return np.einsum("...i,...i->...", gamma, self.moment)
 
@@ -270,10 +270,10 @@ class CallableTorque(TorqueModel):
     array([-0., -0., -1.])
     """
 
-    function: Callable
+    function: Callable[..., Any]
     frame: str = "body"
     attitude: str = "quat"
-    potential_function: Callable | None = None
+    potential_function: Callable[..., Any] | None = None
 
     def __post_init__(self) -> None:
         if not callable(self.function):
@@ -292,13 +292,13 @@ class CallableTorque(TorqueModel):
     def conservative(self) -> bool:
         return self.potential_function is not None
 
-    def body_torque(self, t, quat, omega) -> np.ndarray:
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
         quat = np.asarray(quat, dtype=float)
         omega = np.asarray(omega, dtype=float)
         if self.attitude == "rotation":
             from ..rotations.rotation import Rotation
 
-            att = Rotation.from_quat(quat)
+            att: Rotation | np.ndarray = Rotation.from_quat(quat)
         else:
             att = quat
         out = self.function(t, att, omega)
@@ -318,7 +318,7 @@ class CallableTorque(TorqueModel):
             m = _to_body(quat, m)
         return np.broadcast_to(m, batch + (3,))
 
-    def potential(self, quat) -> np.ndarray | None:
+    def potential(self, quat: np.ndarray) -> np.ndarray | None:
         if self.potential_function is None:
             return None
         return np.asarray(self.potential_function(np.asarray(quat, dtype=float)), dtype=float)
@@ -389,18 +389,18 @@ class GravityGradientTorque(TorqueModel):
         """``3 mu / R^3`` (1/s^2)."""
         return 3.0 * self.mu / self.radius**3
 
-    def body_torque(self, t, quat, omega) -> np.ndarray:
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
         nb = _to_body(np.asarray(quat, dtype=float), self.direction)
         jn = np.einsum("...ij,...j->...i", self.inertia, nb)
         return self.coefficient[..., None] * cross(nb, jn)
 
-    def potential(self, quat) -> np.ndarray:
+    def potential(self, quat: np.ndarray) -> np.ndarray:
         nb = _to_body(np.asarray(quat, dtype=float), self.direction)
         jn = np.einsum("...ij,...j->...i", self.inertia, nb)
         return 0.5 * self.coefficient * np.einsum("...i,...i->...", nb, jn)
 
 
-def as_torque(torque) -> TorqueModel | None:
+def as_torque(torque: object) -> TorqueModel | None:
     """The torque model for what ``simulate(torque=...)`` accepts.
 
     Parameters
