@@ -57,14 +57,19 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
 from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
 from ..rotations import quaternion as _quaternion
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from ..mass.body import RigidBody
 
 __all__ = [
     "FreeRigidBody",
@@ -101,7 +106,7 @@ NEAR_SEPARATRIX = 1e-6
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
 
-def _kernels():
+def _kernels() -> Any:
     from . import _free_body_numba
 
     return _free_body_numba
@@ -126,7 +131,7 @@ def _pow2(x: np.ndarray) -> np.ndarray:
     return np.where(x > 0.0, np.ldexp(1.0, e), 1.0)
 
 
-def _samples(n) -> int:
+def _samples(n: Any) -> int:
     """A number of curve samples: an integer >= 2."""
     if not (is_integer(n) or isinstance(n, np.integer)) or n < 2:
         raise InvalidInputError(f"Expected `n` to be an integer >= 2, got {n!r}.")
@@ -276,7 +281,13 @@ class FreeRigidBody:
     ((2,), ['major', 'symmetric'], (2, 4, 3))
     """
 
-    def __init__(self, inertia, *, rotation0=None, omega0):
+    def __init__(
+        self,
+        inertia: ArrayLike | RigidBody,
+        *,
+        rotation0: Rotation | ArrayLike | None = None,
+        omega0: ArrayLike,
+    ) -> None:
         from ..mass import RigidBody, principal_axes
         from ..mass.tensor import as_inertia
 
@@ -375,7 +386,7 @@ class FreeRigidBody:
         self._momentum = _quaternion.rotate(qp0, k_body)
         self._kmom = np.linalg.norm(k_body, axis=-1)
 
-    def _out(self, x: np.ndarray, tail: tuple[int, ...] = ()):
+    def _out(self, x: np.ndarray, tail: tuple[int, ...] = ()) -> Any:
         """Per-body values (n, *tail) as the batch shape: a float for one body."""
         x = x.reshape(self._shape + tail)
         if self._shape == () and tail == ():
@@ -433,7 +444,7 @@ class FreeRigidBody:
         return Rotation.from_quat(self._q0.reshape(self._shape + (4,)))
 
     @property
-    def energy(self):
+    def energy(self) -> float | FloatArray:
         """Kinetic energy ``T = w^T J w / 2`` (J; constant), float or ``(...)``."""
         return self._out(self._energy)
 
@@ -443,12 +454,12 @@ class FreeRigidBody:
         return self._momentum.reshape(self._shape + (3,)).copy()
 
     @property
-    def momentum_norm(self):
+    def momentum_norm(self) -> float | FloatArray:
         """``|K|`` (kg m^2/s), float or ``(...)``."""
         return self._out(self._kmom)
 
     @property
-    def regime(self):
+    def regime(self) -> str | np.ndarray:
         """``"major"``/``"minor"`` (the polhode encircles that axis), ``"separatrix"``,
         ``"symmetric"``, ``"spherical"`` or ``"rest"``; a str, or an array of str for
         a batch."""
@@ -456,7 +467,7 @@ class FreeRigidBody:
         return str(names[0]) if self._shape == () else names.reshape(self._shape)
 
     @property
-    def polhode_axis(self):
+    def polhode_axis(self) -> int | None | np.ndarray:
         """Index (into :attr:`principal_moments`) of the axis the polhode encircles.
 
         ``None`` (``-1`` in a batch's int array) on the separatrix, for a spherical
@@ -479,7 +490,7 @@ class FreeRigidBody:
         return _quaternion.rotate(_quaternion.conjugate(self._qv), self._omega0)
 
     @property
-    def stable_axes(self):
+    def stable_axes(self) -> tuple[bool, ...] | np.ndarray:
         """Stability of permanent rotation about each principal axis.
 
         Distinct moments: the major and minor axes are stable, the middle one is not
@@ -501,7 +512,7 @@ class FreeRigidBody:
         return out.reshape(self._shape + (3,))
 
     @property
-    def period(self):
+    def period(self) -> float | FloatArray:
         """Period of ``omega(t)`` (s), float or ``(...)``.
 
         ``4 K(k^2) / lam``; ``2 pi / |(C - A) r / A|`` for a symmetric body; the
@@ -512,7 +523,7 @@ class FreeRigidBody:
         return self._out(self._info[:, 1] / self._wscale)
 
     @property
-    def precession_per_period(self):
+    def precession_per_period(self) -> float | FloatArray:
         """Angle (rad) the body turns about ``K`` per period of ``omega``.
 
         ``R(t + period) = Rot(K, angle) R(t)``; the angle is the increase of the
@@ -524,13 +535,15 @@ class FreeRigidBody:
         return self._out(self._info[:, 2].copy())
 
     @property
-    def complementary_parameter(self):
+    def complementary_parameter(self) -> float | FloatArray:
         """``1 - k^2``: the relative distance to the separatrix (``0`` on it, ``nan``
         if the motion is not elliptic), correct to a few ulp for the given inputs."""
         return self._out(self._info[:, 3].copy())
 
     # -- evaluation ---------------------------------------------------------
-    def _eval(self, t: np.ndarray, want_q: bool, *, principal: bool = False):
+    def _eval(
+        self, t: np.ndarray, want_q: bool, *, principal: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``w`` (n, nt, 3) and ``q`` (n, nt, 4) at flat times ``t`` (nt,)."""
         kern = _kernels()
         nt = t.shape[0]
@@ -555,11 +568,11 @@ class FreeRigidBody:
         )
         return w, q
 
-    def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:
+    def _times(self, t: ArrayLike) -> tuple[np.ndarray, tuple[int, ...]]:
         ta = as_float_array(t, "t")
         return ta.reshape(-1), ta.shape
 
-    def omega(self, t) -> np.ndarray:
+    def omega(self, t: ArrayLike) -> FloatArray:
         """Body angular velocity at times ``t`` (rad/s).
 
         Parameters
@@ -589,7 +602,7 @@ class FreeRigidBody:
         w, _ = self._eval(tf, False)
         return w.reshape(self._shape + tshape + (3,))
 
-    def momentum_body(self, t) -> np.ndarray:
+    def momentum_body(self, t: ArrayLike) -> FloatArray:
         """Angular momentum ``J w(t)`` in body axes, shape ``shape + t.shape + (3,)``.
 
         **Convention:** body axes of the given inertia (kg m^2/s).
@@ -607,12 +620,12 @@ class FreeRigidBody:
         k = angular_momentum(self.inertia.reshape(self._n, 1, 3, 3), w)
         return k.reshape(self._shape + tshape + (3,))
 
-    def _state(self, t):
+    def _state(self, t: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         tf, tshape = self._times(t)
         w, q = self._eval(tf, True)
         return w.reshape(self._shape + tshape + (3,)), q.reshape(self._shape + tshape + (4,))
 
-    def rotation(self, t) -> Rotation:
+    def rotation(self, t: ArrayLike) -> Rotation:
         """Attitude (body -> space) at times ``t``, a Rotation of shape ``shape + t.shape``.
 
         Notes
@@ -633,7 +646,7 @@ class FreeRigidBody:
         """
         return Rotation.from_quat(self._state(t)[1])
 
-    def state(self, t) -> tuple[np.ndarray, Rotation]:
+    def state(self, t: ArrayLike) -> tuple[FloatArray, Rotation]:
         """``(omega(t), rotation(t))`` in one pass (cheaper than two calls).
 
         **Convention:** as :meth:`omega` and :meth:`rotation`.
@@ -648,7 +661,7 @@ class FreeRigidBody:
         w, q = self._state(t)
         return w, Rotation.from_quat(q)
 
-    def trajectory(self, t) -> Trajectory:
+    def trajectory(self, t: ArrayLike) -> Trajectory:
         """The exact motion sampled at 1-D times ``t`` as a :class:`~poinsot.Trajectory`.
 
         Time is the first axis: ``omega`` has shape ``(n,) + shape + (3,)``.
@@ -677,7 +690,11 @@ class FreeRigidBody:
         q = np.moveaxis(q, 1, 0)
         inv = invariants(self.inertia.reshape(1, self._n, 3, 3), q, w)
         lead = (ta.shape[0],) + self._shape
-        regime = self.regime if self._shape == () else tuple(self.regime.reshape(-1).tolist())
+        regime = (
+            self.regime
+            if self._shape == ()
+            else tuple(np.asarray(self.regime).reshape(-1).tolist())
+        )
         return Trajectory(
             ta,
             Rotation.from_quat(q.reshape(lead + (4,))),
@@ -688,7 +705,7 @@ class FreeRigidBody:
             info={"regime": regime, "closed_form": "jacobi"},
         )
 
-    def __getitem__(self, key) -> FreeRigidBody:
+    def __getitem__(self, key: int | slice | tuple[Any, ...]) -> FreeRigidBody:
         """One body (or a sub-batch) of a batch, e.g. ``bodies[3]``.
 
         >>> from poinsot.dynamics import FreeRigidBody
@@ -800,7 +817,7 @@ class FreeRigidBody:
             separatrices=seps,
         )
 
-    def poinsot(self, t=None, n: int = 400) -> PoinsotGeometry:
+    def poinsot(self, t: ArrayLike | None = None, n: int = 400) -> PoinsotGeometry:
         """Poinsot's picture: inertia ellipsoid, invariable plane, polhode, herpolhode.
 
         Parameters
