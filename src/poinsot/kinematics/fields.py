@@ -278,7 +278,7 @@ def compose_angular(
     return AngularMotion(omega, eps)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class FrameMotion:
     """The motion of a moving frame at one instant (or a batch of instants).
 
@@ -316,12 +316,25 @@ class FrameMotion:
     array([-2., 0., 0.])
     """
 
-    # The defaults are tuples (a dataclass default must be hashable); __post_init__
-    # turns every field into a read-only float array, the type the attributes have.
-    origin_velocity: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
-    origin_acceleration: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
-    omega: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
-    eps: np.ndarray = (0.0, 0.0, 0.0)  # type: ignore[assignment]
+    origin_velocity: np.ndarray
+    origin_acceleration: np.ndarray
+    omega: np.ndarray
+    eps: np.ndarray
+
+    # Written out (not generated) so that it takes array_like and stores arrays: the
+    # attributes are read-only float arrays whatever was passed.
+    def __init__(
+        self,
+        origin_velocity: ArrayLike = (0.0, 0.0, 0.0),
+        origin_acceleration: ArrayLike = (0.0, 0.0, 0.0),
+        omega: ArrayLike = (0.0, 0.0, 0.0),
+        eps: ArrayLike = (0.0, 0.0, 0.0),
+    ) -> None:
+        object.__setattr__(self, "origin_velocity", origin_velocity)
+        object.__setattr__(self, "origin_acceleration", origin_acceleration)
+        object.__setattr__(self, "omega", omega)
+        object.__setattr__(self, "eps", eps)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         arrays = {f.name: as_vec3(getattr(self, f.name), f.name) for f in fields(self)}
