@@ -11,8 +11,8 @@ from __future__ import annotations
 import difflib
 import math
 import re
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Collection, Mapping, Sequence
+from typing import Any, Literal, overload
 
 from ..errors import InvalidInputError
 
@@ -201,6 +201,37 @@ class Table:
             raise self.error(None, f"missing key `{key}`: expected {expected}.")
         return self.raw(key)
 
+    # The overloads tell the type checker that a required key or a default gives a value.
+    @overload
+    def number(
+        self,
+        key: str,
+        default: float,
+        *,
+        positive: bool = ...,
+        nonnegative: bool = ...,
+        required: bool = ...,
+    ) -> float: ...
+    @overload
+    def number(
+        self,
+        key: str,
+        default: None = None,
+        *,
+        positive: bool = ...,
+        nonnegative: bool = ...,
+        required: Literal[True],
+    ) -> float: ...
+    @overload
+    def number(
+        self,
+        key: str,
+        default: float | None = None,
+        *,
+        positive: bool = ...,
+        nonnegative: bool = ...,
+        required: bool = ...,
+    ) -> float | None: ...
     def number(
         self,
         key: str,
@@ -227,6 +258,18 @@ class Table:
             raise self.expected(key, what, v)
         return float(v)
 
+    @overload
+    def integer(
+        self, key: str, default: int, *, minimum: int = ..., required: bool = ...
+    ) -> int: ...
+    @overload
+    def integer(
+        self, key: str, default: None = None, *, minimum: int = ..., required: Literal[True]
+    ) -> int: ...
+    @overload
+    def integer(
+        self, key: str, default: int | None = None, *, minimum: int = ..., required: bool = ...
+    ) -> int | None: ...
     def integer(
         self, key: str, default: int | None = None, *, minimum: int = 1, required: bool = False
     ) -> int | None:
@@ -241,6 +284,16 @@ class Table:
             raise self.expected(key, what, v)
         return v
 
+    @overload
+    def boolean(self, key: str, default: bool, *, required: bool = ..., why: str = ...) -> bool: ...
+    @overload
+    def boolean(
+        self, key: str, default: None = None, *, required: Literal[True], why: str = ...
+    ) -> bool: ...
+    @overload
+    def boolean(
+        self, key: str, default: bool | None = None, *, required: bool = ..., why: str = ...
+    ) -> bool | None: ...
     def boolean(
         self, key: str, default: bool | None = None, *, required: bool = False, why: str = ""
     ) -> bool | None:
@@ -254,8 +307,40 @@ class Table:
             raise self.expected(key, "true or false", v)
         return v
 
+    @overload
     def string(
-        self, key: str, default: str | None = None, *, choices=None, required: bool = False
+        self,
+        key: str,
+        default: str,
+        *,
+        choices: Collection[str] | None = ...,
+        required: bool = ...,
+    ) -> str: ...
+    @overload
+    def string(
+        self,
+        key: str,
+        default: None = None,
+        *,
+        choices: Collection[str] | None = ...,
+        required: Literal[True],
+    ) -> str: ...
+    @overload
+    def string(
+        self,
+        key: str,
+        default: str | None = None,
+        *,
+        choices: Collection[str] | None = ...,
+        required: bool = ...,
+    ) -> str | None: ...
+    def string(
+        self,
+        key: str,
+        default: str | None = None,
+        *,
+        choices: Collection[str] | None = None,
+        required: bool = False,
     ) -> str | None:
         what = "a string" if choices is None else "one of " + ", ".join(f'"{c}"' for c in choices)
         if key not in self.data:
@@ -272,13 +357,43 @@ class Table:
             raise self.error(key, f"expected {what}, found {v!r}.{extra}")
         return v
 
+    @overload
+    def vector(
+        self,
+        key: str,
+        n: int | None = ...,
+        *,
+        required: Literal[True] = ...,
+        default: None = None,
+        what: str | None = ...,
+    ) -> tuple[float, ...]: ...
+    @overload
+    def vector(
+        self,
+        key: str,
+        n: int | None = ...,
+        *,
+        required: bool = ...,
+        default: tuple[float, ...],
+        what: str | None = ...,
+    ) -> tuple[float, ...]: ...
+    @overload
+    def vector(
+        self,
+        key: str,
+        n: int | None = ...,
+        *,
+        required: bool = ...,
+        default: tuple[float, ...] | None = None,
+        what: str | None = ...,
+    ) -> tuple[float, ...] | None: ...
     def vector(
         self,
         key: str,
         n: int | None = 3,
         *,
         required: bool = True,
-        default=None,
+        default: tuple[float, ...] | None = None,
         what: str | None = None,
     ) -> tuple[float, ...] | None:
         desc = what or (f"an array of {n} numbers" if n else "an array of numbers")
@@ -321,6 +436,10 @@ class Table:
             raise self.expected(key, desc, v)
         return tuple(tuple(float(x) for x in r) for r in v)
 
+    @overload
+    def table(self, key: str, *, required: Literal[True]) -> Table: ...
+    @overload
+    def table(self, key: str, *, required: bool = ...) -> Table | None: ...
     def table(self, key: str, *, required: bool = False) -> Table | None:
         if key not in self.data:
             if required:
@@ -340,7 +459,17 @@ class Table:
             Table(x, f"{self.key_path(key)}[{i}]", self.file, self.lines) for i, x in enumerate(v)
         ]
 
-    def exclusive(self, keys, *, required: bool = True, what: str = "") -> str | None:
+    @overload
+    def exclusive(
+        self, keys: Sequence[str], *, required: Literal[True] = ..., what: str = ...
+    ) -> str: ...
+    @overload
+    def exclusive(
+        self, keys: Sequence[str], *, required: bool = ..., what: str = ...
+    ) -> str | None: ...
+    def exclusive(
+        self, keys: Sequence[str], *, required: bool = True, what: str = ""
+    ) -> str | None:
         """The one key of ``keys`` present (error if several, or none and required)."""
         present = [k for k in keys if k in self.data]
         if len(present) > 1:
