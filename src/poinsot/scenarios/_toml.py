@@ -11,7 +11,7 @@ from __future__ import annotations
 import difflib
 import math
 import re
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from typing import Any, Literal, overload
 
 from ..errors import InvalidInputError
@@ -119,7 +119,7 @@ def locate_keys(text: str) -> dict[str, int]:
     return where
 
 
-def suggest(word: str, valid) -> list[str]:
+def suggest(word: str, valid: Iterable[str]) -> list[str]:
     """The closest valid word (difflib), or one that is a prefix of ``word`` or has it as
     prefix (``quaternion`` -> ``quat``); empty if none is close.
 
@@ -490,17 +490,17 @@ class Table:
             return None
         return present[0]
 
-    def forbid(self, keys, reason: str) -> None:
+    def forbid(self, keys: Iterable[str], reason: str) -> None:
         for k in keys:
             if k in self.data:
                 raise self.error(k, f"not allowed here: {reason}.")
 
-    def known(self, allowed) -> None:
+    def known(self, allowed: Iterable[str]) -> None:
         """Raise on the first key not in ``allowed`` (checked before reading, so that a
         misspelt required key is reported as a typo rather than as missing)."""
         self.finish(allowed, only_unknown=True)
 
-    def finish(self, allowed=None, *, only_unknown: bool = False) -> None:
+    def finish(self, allowed: Iterable[str] | None = None, *, only_unknown: bool = False) -> None:
         """Raise on the first key that was never taken (a typo), suggesting the closest."""
         valid = sorted(set(allowed) if allowed is not None else self._used)
         for key in self.data:
