@@ -74,6 +74,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .._typing import ArrayLike, FloatArray
+
 __all__ = [
     "LMAX",
     "landen_fill",
@@ -533,7 +535,7 @@ def _carlson_loop(kind, x, y, z, p, out):  # pragma: no cover - compiled
             out[i] = carlson_rc(x[i], y[i])
 
 
-def _flat(*arrays):
+def _flat(*arrays: ArrayLike) -> tuple[tuple[int, ...], list[np.ndarray]]:
     """Broadcast float arrays; return the shape and contiguous flat copies."""
     b = np.broadcast_arrays(*[np.asarray(a, dtype=np.float64) for a in arrays])
     shape = b[0].shape
@@ -552,7 +554,14 @@ def _out(shape, *arrays):
     return res if len(res) > 1 else res[0]
 
 
-def ellipj(u, m, *, m1=None):
+def ellipj(
+    u: ArrayLike, m: ArrayLike, *, m1: ArrayLike | None = None
+) -> tuple[
+    FloatArray | np.float64,
+    FloatArray | np.float64,
+    FloatArray | np.float64,
+    FloatArray | np.float64,
+]:
     """Jacobi elliptic functions ``sn, cn, dn`` and the amplitude ``am`` of ``u`` and ``m``.
 
     Same convention and outputs as ``scipy.special.ellipj(u, m)`` (parameter
@@ -579,7 +588,7 @@ def _complete(kind, n, m, m1):
     return _out(shape, out)
 
 
-def ellipk(m, *, m1=None):
+def ellipk(m: ArrayLike, *, m1: ArrayLike | None = None) -> FloatArray | np.float64:
     """Complete integral of the first kind ``K(m)``, as ``scipy.special.ellipk``.
 
     >>> from poinsot.dynamics._elliptic import ellipk
@@ -589,7 +598,7 @@ def ellipk(m, *, m1=None):
     return _complete(0, 0.0, m, m1)
 
 
-def ellipe(m, *, m1=None):
+def ellipe(m: ArrayLike, *, m1: ArrayLike | None = None) -> FloatArray | np.float64:
     """Complete integral of the second kind ``E(m)``, as ``scipy.special.ellipe``.
 
     >>> from poinsot.dynamics._elliptic import ellipe
@@ -599,7 +608,7 @@ def ellipe(m, *, m1=None):
     return _complete(1, 0.0, m, m1)
 
 
-def ellippi(n, m, *, m1=None):
+def ellippi(n: ArrayLike, m: ArrayLike, *, m1: ArrayLike | None = None) -> FloatArray | np.float64:
     """Complete integral of the third kind ``Pi(n | m)`` (mpmath ``ellippi(n, m)``), ``n < 1``.
 
     >>> from poinsot.dynamics._elliptic import ellippi
@@ -617,7 +626,9 @@ def _incomplete(kind, n, phi, m, m1):
     return _out(shape, out)
 
 
-def ellipkinc(phi, m, *, m1=None):
+def ellipkinc(
+    phi: ArrayLike, m: ArrayLike, *, m1: ArrayLike | None = None
+) -> FloatArray | np.float64:
     """Incomplete integral of the first kind ``F(phi | m)``, as ``scipy.special.ellipkinc``.
 
     >>> from poinsot.dynamics._elliptic import ellipkinc
@@ -627,7 +638,9 @@ def ellipkinc(phi, m, *, m1=None):
     return _incomplete(0, 0.0, phi, m, m1)
 
 
-def ellipeinc(phi, m, *, m1=None):
+def ellipeinc(
+    phi: ArrayLike, m: ArrayLike, *, m1: ArrayLike | None = None
+) -> FloatArray | np.float64:
     """Incomplete integral of the second kind ``E(phi | m)``, as ``scipy.special.ellipeinc``.
 
     >>> from poinsot.dynamics._elliptic import ellipeinc
@@ -637,7 +650,9 @@ def ellipeinc(phi, m, *, m1=None):
     return _incomplete(1, 0.0, phi, m, m1)
 
 
-def ellippiinc(n, phi, m, *, m1=None):
+def ellippiinc(
+    n: ArrayLike, phi: ArrayLike, m: ArrayLike, *, m1: ArrayLike | None = None
+) -> FloatArray | np.float64:
     """Incomplete integral of the third kind ``Pi(n; phi | m)`` (mpmath ``ellippi(n, phi, m)``).
 
     >>> from poinsot.dynamics._elliptic import ellippiinc
@@ -654,21 +669,21 @@ def _carlson(kind, x, y, z, p):
     return _out(shape, out)
 
 
-def elliprf(x, y, z):
+def elliprf(x: ArrayLike, y: ArrayLike, z: ArrayLike) -> FloatArray | np.float64:
     """Carlson's ``R_F(x, y, z)``, as ``scipy.special.elliprf`` (real arguments)."""
     return _carlson(0, x, y, z, 0.0)
 
 
-def elliprd(x, y, z):
+def elliprd(x: ArrayLike, y: ArrayLike, z: ArrayLike) -> FloatArray | np.float64:
     """Carlson's ``R_D(x, y, z)``, as ``scipy.special.elliprd`` (real arguments)."""
     return _carlson(1, x, y, z, 0.0)
 
 
-def elliprj(x, y, z, p):
+def elliprj(x: ArrayLike, y: ArrayLike, z: ArrayLike, p: ArrayLike) -> FloatArray | np.float64:
     """Carlson's ``R_J(x, y, z, p)``, as ``scipy.special.elliprj`` (real, ``p > 0``)."""
     return _carlson(2, x, y, z, p)
 
 
-def elliprc(x, y):
+def elliprc(x: ArrayLike, y: ArrayLike) -> FloatArray | np.float64:
     """Carlson's ``R_C(x, y)``, as ``scipy.special.elliprc`` (real, ``y > 0``)."""
     return _carlson(3, x, y, 1.0, 0.0)

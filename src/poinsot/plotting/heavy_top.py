@@ -172,7 +172,7 @@ def plot_cubic(top: LagrangeTop, *, n: int = 400, ax: Axes | None = None) -> Axe
     hi = max(1.0, max(roots))
     pad = 0.05 * (hi - lo)
     u = np.linspace(lo - pad, hi + pad, n)
-    p = top.P(u)
+    p = np.asarray(top.P(u))
     ax.plot(u, p, color="C0", label="P(u)")
     ax.axhline(0.0, color="0.5", linewidth=0.6)
     for x in (-1.0, 1.0):
