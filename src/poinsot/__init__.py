@@ -28,7 +28,14 @@ from .errors import (
 )
 from .rotations import quaternion
 from .rotations.rotation import Rotation, compose, slerp
-from .trajectory import Trajectory
+from .trajectory import (
+    Comparison,
+    CoordinateTrajectory,
+    PointTrajectory,
+    Result,
+    Trajectory,
+    compare,
+)
 
 # `import poinsot.quaternion` works as well as `poinsot.quaternion`.
 sys.modules[__name__ + ".quaternion"] = quaternion
@@ -46,6 +53,11 @@ __all__ = [
     "Rotation",
     "SingularityWarning",
     "Trajectory",
+    "PointTrajectory",
+    "CoordinateTrajectory",
+    "Result",
+    "Comparison",
+    "compare",
     "compose",
     "quaternion",
     "slerp",

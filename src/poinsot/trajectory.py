@@ -1,19 +1,34 @@
-"""The result of every time-stepping computation: a frozen :class:`Trajectory`.
+"""The results of every time-stepping computation: one family of frozen result types.
 
-Both attitude propagation (:func:`poinsot.kinematics.propagate`, theory §5) and
-rigid-body simulation (:func:`poinsot.dynamics.simulate`, theory §10) return one.
+Each kind of motion returns its own kind of result (never a dummy attitude):
+
+- :class:`Trajectory` for a rigid body's rotation (attitude propagation,
+  :func:`poinsot.kinematics.propagate`, theory §5; rigid-body simulation and the
+  exact solutions, :func:`poinsot.dynamics.simulate`, theory §10);
+- :class:`PointTrajectory` for a point's motion (particles in moving frames,
+  central orbits, theory §7, §9);
+- :class:`CoordinateTrajectory` for a system in generalized coordinates
+  (Lagrange's equations, theory §11).
+
+They share one small protocol, :class:`Result`: ``t`` (s), ``method``, ``info``
+(read-only, keys of :data:`INFO_KEYS`), :meth:`~Result.channels` (named series with
+units), :meth:`~Result.state_channels` (the quantities that make up the state),
+:meth:`~Result.to_pandas`, pickling and a one-line ``repr``. :func:`compare` measures
+how far two results of the same kind differ, on their own state and in its units.
 
 Conventions: ``rotation[k]`` maps body components to space components at time
 ``t[k]`` (``v_space = R v_body``, theory §2); ``omega`` is the angular velocity in
 **body** axes (rad/s); ``momentum`` is the angular momentum in **space** axes;
-``position`` and ``velocity`` (optional translational part) are in space axes.
+a point's vectors are in the axes of the frame its ``frame_name`` names; SI units;
+angles in radians.
 
-The keys of :attr:`Trajectory.info` are listed once, in :data:`INFO_KEYS` (and in
+The keys of ``info`` are listed once, in :data:`INFO_KEYS` (and in
 ``docs/conventions.md``); every method uses these names and only these.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -21,13 +36,24 @@ from typing import Any
 
 import numpy as np
 
+from ._typing import FloatArray
 from ._validate import as_float_array
 from .errors import InvalidInputError, InvalidTypeError
 from .rotations.rotation import Rotation
 
-__all__ = ["Trajectory", "INFO_KEYS"]
+__all__ = [
+    "Result",
+    "Channel",
+    "Trajectory",
+    "PointTrajectory",
+    "CoordinateTrajectory",
+    "Comparison",
+    "Difference",
+    "compare",
+    "INFO_KEYS",
+]
 
-#: The documented keys of ``Trajectory.info`` (a method sets those that apply to it).
+#: The documented keys of ``info`` of every result (a method sets those that apply to it).
 INFO_KEYS = {
     "steps": "number of steps taken per body (int; fixed-step methods)",
     "step_size": "longest step taken (s)",
@@ -52,9 +78,154 @@ INFO_KEYS = {
     "path": "which implementation ran (e.g. compiled kernel or solve_ivp fallback)",
 }
 
+_XYZ = ("x", "y", "z")
 
-@dataclass(frozen=True, eq=False)
-class Trajectory:
+
+@dataclass(frozen=True)
+class Channel:
+    """One named series of a result, with its units.
+
+    Attributes
+    ----------
+    name : str
+        Key of the series (``"omega"``, ``"position"``, ``"theta1"``...).
+    values : ndarray, shape (n, ...)
+        Samples, first axis the result's times ``t``.
+    units : str
+        SI units of ``values`` (``"1"`` for a pure number).
+    components : tuple of str
+        Labels of the last axis (``("x", "y", "z")``), empty for a scalar series.
+    description : str
+        What it is, in words.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> c = Channel("omega", np.zeros((2, 3)), "rad/s", ("x", "y", "z"), "angular velocity")
+    >>> c.units, c.components
+    ('rad/s', ('x', 'y', 'z'))
+    """
+
+    name: str
+    values: FloatArray
+    units: str
+    components: tuple[str, ...] = ()
+    description: str = ""
+
+
+def _readonly(a: object, name: str) -> FloatArray:
+    arr = np.array(as_float_array(a, name, finite=False), dtype=float)
+    arr.setflags(write=False)
+    return arr
+
+
+def _rebuild(cls: type, kwargs: dict[str, Any]) -> Any:
+    return cls(**kwargs)
+
+
+class Result:
+    """The protocol every poinsot result follows (a mixin of the frozen dataclasses
+    :class:`Trajectory`, :class:`PointTrajectory`, :class:`CoordinateTrajectory`).
+
+    Each result has ``t`` (s), ``method`` (the name of the method that produced it)
+    and ``info`` (read-only mapping with the keys of :data:`INFO_KEYS`); it lists its
+    series with their units (:meth:`channels`), names those that make up the state
+    (:meth:`state_channels`, compared by :func:`compare`), converts to a pandas
+    DataFrame (:meth:`to_pandas`), pickles (results cross process boundaries in
+    ``multiprocessing`` and Dask) and has a one-line ``repr``.
+
+    Examples
+    --------
+    >>> import numpy as np, pickle, poinsot
+    >>> tr = poinsot.dynamics.simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 1.0, 0.0],
+    ...                                np.linspace(0.0, 1.0, 11))
+    >>> isinstance(tr, Result), list(tr.state_channels())
+    (True, ['attitude', 'omega'])
+    >>> {name: c.units for name, c in tr.channels().items()}
+    {'quat': '1', 'omega': 'rad/s', 'energy': 'J', 'momentum': 'kg m^2/s'}
+    >>> compare(pickle.loads(pickle.dumps(tr)), tr).worst.max
+    0.0
+    """
+
+    t: FloatArray
+    method: str
+    info: Mapping[str, Any]
+
+    #: names of the channels that make up the state (compared by :func:`compare`)
+    _state: tuple[str, ...] = ()
+
+    def channels(self) -> dict[str, Channel]:
+        """Every series of the result, ``name -> Channel`` (values with units)."""
+        raise NotImplementedError
+
+    def state_channels(self) -> dict[str, Channel]:
+        """The channels that make up the state (what :func:`compare` compares)."""
+        ch = self.channels()
+        return {name: ch[name] for name in self._state_names() if name in ch}
+
+    def _state_names(self) -> tuple[str, ...]:
+        return self._state
+
+    def to_pandas(self) -> Any:
+        """The channels as a :class:`pandas.DataFrame` indexed by ``t`` (s).
+
+        One column per component (``omega_x``; for a batch ``omega_x[2]``, the
+        batch index in brackets); ``df.attrs["units"]`` maps each column to its units.
+        Needs pandas (not a dependency of poinsot).
+        """
+        try:
+            import pandas as pd
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError(
+                "to_pandas() needs pandas, which poinsot does not install: pip install pandas"
+            ) from exc
+        columns: dict[str, FloatArray] = {}
+        units: dict[str, str] = {}
+        n = self.t.size
+        for ch in self.channels().values():
+            v = np.asarray(ch.values, dtype=float)
+            comps = ch.components
+            inner = v.shape[1:-1] if comps else v.shape[1:]
+            flat = v.reshape(n, -1, len(comps)) if comps else v.reshape(n, -1)
+            for b, idx in enumerate(np.ndindex(*inner)):
+                tag = "" if not inner else "[" + ",".join(str(i) for i in idx) + "]"
+                for c, comp in enumerate(comps or ("",)):
+                    col = f"{ch.name}_{comp}{tag}" if comp else f"{ch.name}{tag}"
+                    columns[col] = flat[:, b, c] if comps else flat[:, b]
+                    units[col] = ch.units
+        df = pd.DataFrame(columns, index=pd.Index(np.asarray(self.t), name="t"))
+        df.attrs["units"] = units
+        return df
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # MappingProxyType does not pickle: rebuild from plain values
+        kwargs = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}  # type: ignore[arg-type]
+        kwargs["info"] = dict(self.info)
+        return (_rebuild, (type(self), self._picklable(kwargs)))
+
+    def _picklable(self, kwargs: dict[str, Any]) -> dict[str, Any]:
+        return kwargs
+
+    def _span(self) -> str:
+        n = self.t.size
+        if n == 0:
+            return "0 samples"
+        return f"{n} samples, t = {float(self.t[0]):.4g}..{float(self.t[-1]):.4g} s"
+
+    def _batch(self) -> str:
+        return ""
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self._span()}{self._batch()}, method={self.method!r})"
+
+    def _freeze_info(self) -> None:
+        if not isinstance(self.method, str):
+            raise InvalidTypeError(f"Expected `method` to be a string, got {self.method!r}.")
+        object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Trajectory(Result):
     """Samples of a rigid body's rotational motion.
 
     Attributes
@@ -68,27 +239,22 @@ class Trajectory:
     method : str
         Name of the method that produced the samples.
     energy : ndarray, shape (n,) or (n, N), optional
-        Rotational kinetic energy ``T = w^T J w / 2`` (theory §8).
+        Rotational kinetic energy ``T = w^T J w / 2`` (J, theory §8).
     momentum : ndarray, shape (n, 3) or (n, N, 3), optional
-        Angular momentum ``K = R J w`` in space axes (theory §8, §10).
+        Angular momentum ``K = R J w`` in space axes (kg m^2/s, theory §8, §10).
     info : mapping
-        Read-only details of the method, with the keys of :data:`INFO_KEYS`:
-        ``steps``, ``step_size``, ``min_step_size``, ``order``,
-        ``stages_per_step``, ``rtol``, ``atol``, ``solver``, ``evaluations``,
-        ``status``, ``message``, ``torque_calls``, ``max_newton_iterations``,
-        ``regime``, ``frame``, ``omega_input``, ``interpolation``, ``chunks``,
-        ``closed_form``, ``motion_type``, ``path``
+        Read-only details of the method, with the keys of :data:`INFO_KEYS`
         (each method sets those that apply).
     position : ndarray, shape (n, 3) or (n, N, 3), optional
-        Translational part: position of the body's reference point (or a
-        particle) in space axes (m).
+        Translational part: position of the body's reference point in space axes (m).
     velocity : ndarray, shape (n, 3) or (n, N, 3), optional
         Its velocity in space axes (m/s).
 
     Notes
     -----
     Frozen and picklable (ensembles send trajectories between processes); the
-    arrays are read-only.
+    arrays are read-only. The state compared by :func:`compare` is the attitude
+    (``"attitude"``, rad) and ``"omega"`` (rad/s).
 
     Examples
     --------
@@ -97,34 +263,33 @@ class Trajectory:
     >>> tr = Trajectory(t, poinsot.Rotation.identity((3,)), np.zeros((3, 3)), "none")
     >>> tr.quat.shape
     (3, 4)
+    >>> tr
+    Trajectory(3 samples, t = 0..1 s, method='none')
     >>> import pickle
     >>> pickle.loads(pickle.dumps(tr)).omega.shape
     (3, 3)
+    >>> sorted(tr.channels())
+    ['omega', 'quat']
     """
 
-    t: np.ndarray
+    t: FloatArray
     rotation: Rotation
-    omega: np.ndarray
+    omega: FloatArray
     method: str
-    energy: np.ndarray | None = None
-    momentum: np.ndarray | None = None
+    energy: FloatArray | None = None
+    momentum: FloatArray | None = None
     info: Mapping[str, Any] = field(default_factory=dict)
-    position: np.ndarray | None = None
-    velocity: np.ndarray | None = None
+    position: FloatArray | None = None
+    velocity: FloatArray | None = None
 
-    def __reduce__(self):
-        # MappingProxyType does not pickle: rebuild from a plain dict
-        args = (self.t, self.rotation, self.omega, self.method, self.energy, self.momentum)
-        return (_rebuild, (args, dict(self.info), self.position, self.velocity))
+    _state = ("attitude", "omega")
 
     def __post_init__(self) -> None:
         if not isinstance(self.rotation, Rotation):
             raise InvalidTypeError(
                 f"Expected `rotation` to be a poinsot.Rotation, got {type(self.rotation).__name__}."
             )
-        if not isinstance(self.method, str):
-            raise InvalidTypeError(f"Expected `method` to be a string, got {self.method!r}.")
-        object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
+        self._freeze_info()
         n = self.rotation.shape[:1]
         expected = {
             "t": n,
@@ -138,27 +303,61 @@ class Trajectory:
             a = getattr(self, name)
             if a is None:
                 continue
-            a = np.array(as_float_array(a, name, finite=False), dtype=float)
-            if a.shape != shape:
+            arr = _readonly(a, name)
+            if arr.shape != shape:
                 raise InvalidInputError(
                     f"Expected `{name}` to have shape {shape} to match `rotation` "
-                    f"{self.rotation.shape}, got {a.shape}."
+                    f"{self.rotation.shape}, got {arr.shape}."
                 )
-            a.setflags(write=False)
-            object.__setattr__(self, name, a)
+            object.__setattr__(self, name, arr)
+
+    def _batch(self) -> str:
+        shape = self.rotation.shape[1:]
+        return f", batch {shape}" if shape else ""
+
+    def channels(self) -> dict[str, Channel]:
+        """``quat`` (1; w, x, y, z), ``omega`` (rad/s, body axes), and where present
+        ``energy`` (J), ``momentum`` (kg m^2/s, space axes), ``position`` (m) and
+        ``velocity`` (m/s)."""
+        out = {
+            "quat": Channel(
+                "quat", self.quat, "1", ("w", "x", "y", "z"), "attitude quaternion body -> space"
+            ),
+            "omega": Channel("omega", self.omega, "rad/s", _XYZ, "angular velocity, body axes"),
+        }
+        if self.energy is not None:
+            out["energy"] = Channel("energy", self.energy, "J", (), "kinetic energy T")
+        if self.momentum is not None:
+            out["momentum"] = Channel(
+                "momentum", self.momentum, "kg m^2/s", _XYZ, "angular momentum K, space axes"
+            )
+        if self.position is not None:
+            out["position"] = Channel("position", self.position, "m", _XYZ, "position, space axes")
+        if self.velocity is not None:
+            out["velocity"] = Channel(
+                "velocity", self.velocity, "m/s", _XYZ, "velocity, space axes"
+            )
+        return out
+
+    def state_channels(self) -> dict[str, Channel]:
+        """``attitude`` (the quaternion channel, compared as an angle in rad) and
+        ``omega`` (rad/s)."""
+        ch = self.channels()
+        att = dataclasses.replace(ch["quat"], name="attitude")
+        return {"attitude": att, "omega": ch["omega"]}
 
     @property
-    def quat(self) -> np.ndarray:
+    def quat(self) -> FloatArray:
         """Scalar-first unit quaternions, shape ``rotation.shape + (4,)``."""
         return self.rotation.as_quat()
 
     @property
-    def omega_space(self) -> np.ndarray:
+    def omega_space(self) -> FloatArray:
         """Angular velocity in space axes, ``w_x = R w_xi`` (rad/s)."""
         return self.rotation.apply(self.omega)
 
     @property
-    def momentum_norm(self) -> np.ndarray | None:
+    def momentum_norm(self) -> FloatArray | None:
         """``|K|`` at each sample."""
         return None if self.momentum is None else np.linalg.norm(self.momentum, axis=-1)
 
@@ -189,12 +388,501 @@ class Trajectory:
         return _relative(d, np.linalg.norm(self.momentum[0], axis=-1))
 
 
-def _rebuild(args, info, position, velocity) -> Trajectory:
-    return Trajectory(*args, info=info, position=position, velocity=velocity)
-
-
-def _relative(diff: np.ndarray, ref: np.ndarray) -> float:
+def _relative(diff: FloatArray, ref: FloatArray) -> float:
     """Largest ``diff / ref``, using ``diff`` itself where the reference is zero."""
     ref = np.broadcast_to(ref, diff.shape)
     scaled = np.divide(diff, ref, out=np.array(diff, dtype=float), where=ref != 0)
     return float(np.max(scaled))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class PointTrajectory(Result):
+    """Samples of a point's motion (a particle, a body's centre of mass on an orbit).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Output times (s).
+    position, velocity : ndarray, shape (n, ..., 3)
+        ``r`` (m) and ``v`` (m/s) in the axes of the frame named by ``frame_name``
+        (for a moving frame: the motion relative to it).
+    method : str
+        Name of the method that produced the samples.
+    frame_name : str
+        The frame whose axes ``position`` and ``velocity`` are in (``"inertial"``,
+        ``"frame"`` for a moving frame, ``"earth"`` for east, north, up axes...).
+    frame : FrameMotion, callable or None
+        The moving frame itself (None: inertial). A frame given as a Python
+        callable is not pickled (it may be a lambda): it is ``None`` after a round
+        trip, everything else is kept.
+    mass : ndarray, shape (...), optional
+        Masses (kg).
+    acceleration : ndarray, shape (n, ..., 3), optional
+        Acceleration (m/s^2) in the same axes.
+    energy : ndarray, shape (n, ...), optional
+        Energy of the motion (J), as the method defines it.
+    inertial_position, inertial_velocity : ndarray, shape (n, ..., 3), optional
+        The same motion seen from the inertial frame (inertial axes, m and m/s).
+    frame_rotation : Rotation, shape (n,), optional
+        Attitude of the moving frame (frame -> inertial components).
+    frame_origin : ndarray, shape (n, 3), optional
+        Position of the moving frame's origin in the inertial frame (m).
+    info : mapping
+        Read-only details of the method (keys of :data:`INFO_KEYS`).
+
+    Notes
+    -----
+    Frozen, picklable, arrays read-only. The state compared by :func:`compare` is
+    ``"position"`` (m) and ``"velocity"`` (m/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> r = np.stack([t, 0 * t, 0 * t], axis=-1)
+    >>> p = PointTrajectory(t, r, np.ones((5, 3)) * [1, 0, 0], "exact", frame_name="inertial")
+    >>> p
+    PointTrajectory(5 samples, t = 0..1 s, method='exact')
+    >>> p.channels()["velocity"].units
+    'm/s'
+    """
+
+    t: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    method: str
+    frame_name: str = "inertial"
+    frame: Any = None
+    mass: FloatArray | None = None
+    acceleration: FloatArray | None = None
+    energy: FloatArray | None = None
+    inertial_position: FloatArray | None = None
+    inertial_velocity: FloatArray | None = None
+    frame_rotation: Rotation | None = None
+    frame_origin: FloatArray | None = None
+    info: Mapping[str, Any] = field(default_factory=dict)
+
+    _state = ("position", "velocity")
+
+    def __post_init__(self) -> None:
+        self._freeze_info()
+        if not isinstance(self.frame_name, str):
+            raise InvalidTypeError(
+                f"Expected `frame_name` to be a string, got {self.frame_name!r}."
+            )
+        t = _readonly(self.t, "t")
+        object.__setattr__(self, "t", t)
+        pos = _readonly(self.position, "position")
+        if pos.ndim < 2 or pos.shape[0] != t.size or pos.shape[-1] != 3:
+            raise InvalidInputError(
+                f"Expected `position` to have shape ({t.size}, ..., 3), got {pos.shape}."
+            )
+        object.__setattr__(self, "position", pos)
+        vec = {"velocity": pos.shape, "acceleration": pos.shape}
+        vec["inertial_position"] = vec["inertial_velocity"] = pos.shape
+        for name, shape in vec.items():
+            a = getattr(self, name)
+            if a is None:
+                continue
+            arr = _readonly(a, name)
+            if arr.shape != shape:
+                raise InvalidInputError(
+                    f"Expected `{name}` to have shape {shape} to match `position`, got {arr.shape}."
+                )
+            object.__setattr__(self, name, arr)
+        for name in ("mass", "energy", "frame_origin"):
+            a = getattr(self, name)
+            if a is not None:
+                object.__setattr__(self, name, _readonly(a, name))
+        if self.frame_rotation is not None and not isinstance(self.frame_rotation, Rotation):
+            raise InvalidTypeError(
+                f"Expected `frame_rotation` to be a poinsot.Rotation, "
+                f"got {type(self.frame_rotation).__name__}."
+            )
+
+    def _picklable(self, kwargs: dict[str, Any]) -> dict[str, Any]:
+        import pickle
+
+        if kwargs["frame"] is not None:
+            try:  # a lambda or a local function cannot cross a process boundary
+                pickle.dumps(kwargs["frame"])
+            except Exception:
+                kwargs["frame"] = None
+        return kwargs
+
+    def _batch(self) -> str:
+        shape = self.position.shape[1:-1]
+        return f", batch {shape}" if shape else ""
+
+    def channels(self) -> dict[str, Channel]:
+        """``position`` (m), ``velocity`` (m/s) in the ``frame_name`` axes, and where
+        present ``acceleration`` (m/s^2), ``energy`` (J), ``inertial_position`` (m)
+        and ``inertial_velocity`` (m/s)."""
+        where = f"{self.frame_name} axes"
+        out = {
+            "position": Channel("position", self.position, "m", _XYZ, f"position, {where}"),
+            "velocity": Channel("velocity", self.velocity, "m/s", _XYZ, f"velocity, {where}"),
+        }
+        extra = (
+            ("acceleration", "m/s^2", _XYZ, f"acceleration, {where}"),
+            ("energy", "J", (), "energy"),
+            ("inertial_position", "m", _XYZ, "position, inertial axes"),
+            ("inertial_velocity", "m/s", _XYZ, "velocity, inertial axes"),
+        )
+        for name, units, comps, what in extra:
+            v = getattr(self, name)
+            if v is not None:
+                out[name] = Channel(name, v, units, comps, what)
+        return out
+
+
+def _rate_units(units: str) -> str:
+    return f"{units}/s" if units else "1/s"
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class CoordinateTrajectory(Result):
+    """Samples of a motion in generalized coordinates (docs/theory.md §11).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Times (s).
+    q, qdot : ndarray, shape (n, ..., k)
+        Coordinates and their rates (units of each coordinate, and per second).
+    coordinates : tuple of str
+        The coordinate names, in the order of the last axis.
+    method : str
+        Name of the method that produced the samples.
+    units : tuple of str
+        The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` when unknown).
+    energy : ndarray, shape (n, ...), optional
+        Mechanical energy ``T + P + V0`` (J in SI).
+    kinetic : ndarray, shape (n, ...), optional
+        Kinetic energy ``T`` (J in SI).
+    jacobi : ndarray, shape (n, ...), optional
+        Jacobi integral ``q' . dL/dq' - L`` (None if ``L`` depends on time).
+    multipliers : ndarray, shape (n, ..., m), optional
+        Constraint multipliers (None without kept constraints).
+    multiplier_names : tuple of str
+        Their names (default ``lambda1``, ``lambda2``...).
+    jacobi_conserved : bool
+        Whether the Jacobi integral is a first integral of this system.
+    info : mapping
+        Read-only details of the method (keys of :data:`INFO_KEYS`).
+
+    Notes
+    -----
+    Frozen, picklable, arrays read-only. The state compared by :func:`compare` is
+    each coordinate (``"theta1"``, in its units) and each rate (``"theta1_dot"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 1.0, 4)
+    >>> c = CoordinateTrajectory(t, np.zeros((4, 2)), np.zeros((4, 2)), ("x", "phi"),
+    ...                          "DOP853", units=("m", "rad"))
+    >>> c
+    CoordinateTrajectory(4 samples, t = 0..1 s, coordinates (x, phi), method='DOP853')
+    >>> c.channels()["phi_dot"].units
+    'rad/s'
+    """
+
+    t: FloatArray
+    q: FloatArray
+    qdot: FloatArray
+    coordinates: tuple[str, ...]
+    method: str = ""
+    units: tuple[str, ...] = ()
+    energy: FloatArray | None = None
+    kinetic: FloatArray | None = None
+    jacobi: FloatArray | None = None
+    multipliers: FloatArray | None = None
+    multiplier_names: tuple[str, ...] = ()
+    jacobi_conserved: bool = False
+    info: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self._freeze_info()
+        names = tuple(str(c) for c in self.coordinates)
+        object.__setattr__(self, "coordinates", names)
+        for name in ("t", "q", "qdot", "energy", "kinetic", "jacobi", "multipliers"):
+            a = getattr(self, name)
+            if a is not None:
+                object.__setattr__(self, name, _readonly(a, name))
+        k = len(names)
+        for name in ("q", "qdot"):
+            a = getattr(self, name)
+            if a.ndim < 2 or a.shape[0] != self.t.size or a.shape[-1] != k:
+                raise InvalidInputError(
+                    f"Expected `{name}` to have shape ({self.t.size}, ..., {k}), got {a.shape}."
+                )
+        units = tuple(self.units) if self.units else ("",) * k
+        if len(units) != k or not all(isinstance(u, str) for u in units):
+            raise InvalidInputError(
+                f"Expected `units` to be {k} strings (one per coordinate), got {self.units!r}."
+            )
+        object.__setattr__(self, "units", units)
+        m = 0 if self.multipliers is None else self.multipliers.shape[-1]
+        lam = tuple(self.multiplier_names) or tuple(f"lambda{i + 1}" for i in range(m))
+        if len(lam) != m:
+            raise InvalidInputError(
+                f"Expected `multiplier_names` to have {m} names, got {self.multiplier_names!r}."
+            )
+        object.__setattr__(self, "multiplier_names", lam)
+        object.__setattr__(self, "jacobi_conserved", bool(self.jacobi_conserved))
+
+    def __repr__(self) -> str:
+        return (
+            f"{type(self).__name__}({self._span()}{self._batch()}, coordinates "
+            f"({', '.join(self.coordinates)}), method={self.method!r})"
+        )
+
+    def _batch(self) -> str:
+        shape = self.q.shape[1:-1]
+        return f", batch {shape}" if shape else ""
+
+    def _state_names(self) -> tuple[str, ...]:
+        return (*self.coordinates, *(f"{c}_dot" for c in self.coordinates))
+
+    def channels(self) -> dict[str, Channel]:
+        """One channel per coordinate (its units) and per rate (``<name>_dot``, its
+        units per second), then ``energy``, ``kinetic``, ``jacobi`` (J) and the
+        multipliers where present."""
+        out: dict[str, Channel] = {}
+        for i, (c, u) in enumerate(zip(self.coordinates, self.units, strict=True)):
+            out[c] = Channel(c, self.q[..., i], u, (), f"coordinate {c}")
+        for i, (c, u) in enumerate(zip(self.coordinates, self.units, strict=True)):
+            out[f"{c}_dot"] = Channel(f"{c}_dot", self.qdot[..., i], _rate_units(u), (), f"{c}'")
+        for name, what in (
+            ("energy", "energy T + P"),
+            ("kinetic", "kinetic energy T"),
+            ("jacobi", "Jacobi integral h"),
+        ):
+            v = getattr(self, name)
+            if v is not None:
+                out[name] = Channel(name, v, "J", (), what)
+        if self.multipliers is not None:
+            for i, lam in enumerate(self.multiplier_names):
+                out[lam] = Channel(lam, self.multipliers[..., i], "", (), "constraint multiplier")
+        return out
+
+    def coordinate(self, name: str) -> FloatArray:
+        """The samples of one coordinate by name, shape (n, ...)."""
+        if name not in self.coordinates:
+            raise InvalidInputError(
+                f"Expected a coordinate among {list(self.coordinates)}, got {name!r}."
+            )
+        return self.q[..., self.coordinates.index(name)]
+
+    def _scale(self) -> FloatArray | None:
+        """``max_t |T|`` per batch member: the size energies are compared with."""
+        return None if self.kinetic is None else np.max(np.abs(self.kinetic), axis=0)
+
+    @property
+    def energy_drift(self) -> float | None:
+        """``max_t |E - E_0| / max(|E_0|, max_t T)`` over the batch (relative to the
+        larger of the initial energy and the largest kinetic energy, so that an
+        energy that starts at 0 is judged on the scale of the motion)."""
+        return _drift(self.energy, self._scale())
+
+    @property
+    def jacobi_drift(self) -> float | None:
+        """``max_t |h - h_0| / max(|h_0|, max_t T)`` (as :attr:`energy_drift`), or None."""
+        return _drift(self.jacobi, self._scale())
+
+
+def _drift(x: FloatArray | None, scale: FloatArray | None = None) -> float | None:
+    if x is None:
+        return None
+    d = np.max(np.abs(x - x[0]), axis=0)
+    ref = np.abs(x[0]) if scale is None else np.maximum(np.abs(x[0]), scale)
+    rel = np.where(ref > 0, d / np.where(ref > 0, ref, 1.0), d)
+    return float(np.max(rel))
+
+
+# --------------------------------------------------------------------------- compare
+@dataclass(frozen=True)
+class Difference:
+    """How far one state quantity of two results differs.
+
+    Attributes
+    ----------
+    name : str
+        The quantity (``"attitude"``, ``"omega"``, ``"position"``, ``"theta1"``,
+        ``"theta1_dot"``...).
+    units : str
+        Its units (of ``max``, ``final`` and ``scale``).
+    max : float
+        Largest difference over the samples (and the batch).
+    time_of_max : float
+        When it occurs (s).
+    final : float
+        Largest difference at the last sample.
+    scale : float
+        The size of the quantity: its largest magnitude along the second result
+        (``pi`` rad for an attitude).
+    """
+
+    name: str
+    units: str
+    max: float
+    time_of_max: float
+    final: float
+    scale: float
+
+    @property
+    def relative(self) -> float:
+        """``max / scale`` (``max`` itself when the scale is 0)."""
+        return self.max / self.scale if self.scale > 0 else self.max
+
+    def describe(self) -> str:
+        """``"theta1 differs by up to 0.19 rad (at t = 8.3 s)"``."""
+        units = f" {self.units}" if self.units and self.units != "1" else ""
+        at = f"(at t = {self.time_of_max:.4g} s)"
+        return f"{_label(self.name)} differs by up to {self.max:.3g}{units} {at}"
+
+
+def _label(name: str) -> str:
+    return name[:-4] + "'" if name.endswith("_dot") else name
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """The differences between two results on their own state (:func:`compare`).
+
+    Attributes
+    ----------
+    differences : tuple of Difference
+        One per state quantity, in the order of the result's state channels.
+    methods : tuple of str
+        The ``method`` of the two results compared.
+    """
+
+    differences: tuple[Difference, ...]
+    methods: tuple[str, str] = ("", "")
+
+    def __getitem__(self, name: str) -> Difference:
+        for d in self.differences:
+            if d.name == name:
+                return d
+        raise KeyError(name)
+
+    def names(self) -> tuple[str, ...]:
+        """The names of the compared quantities."""
+        return tuple(d.name for d in self.differences)
+
+    @property
+    def worst(self) -> Difference:
+        """The difference largest relative to its scale."""
+        return max(self.differences, key=lambda d: d.relative)
+
+    def exceeding(self, rtol: float = 0.0, atol: float = 0.0) -> tuple[Difference, ...]:
+        """The differences with ``max > rtol * scale + atol`` (each in its units)."""
+        return tuple(d for d in self.differences if d.max > rtol * d.scale + atol)
+
+    def describe(self) -> list[str]:
+        """One line per quantity, e.g. ``"theta1 differs by up to 0.19 rad (at t = 8.3 s)"``."""
+        return [d.describe() for d in self.differences]
+
+
+def _family(r: object) -> type:
+    for cls in (Trajectory, PointTrajectory, CoordinateTrajectory):
+        if isinstance(r, cls):
+            return cls
+    raise InvalidTypeError(
+        "Expected a poinsot result (Trajectory, PointTrajectory or CoordinateTrajectory), "
+        f"got {type(r).__name__}."
+    )
+
+
+def compare(a: Result, b: Result) -> Comparison:
+    """Compare two results of the same kind on their own state, in its units.
+
+    ``b`` is the reference. A rigid body (:class:`Trajectory`) is compared on its
+    attitude, the angle of ``R_b^-1 R_a`` (rad, theory §4), and on ``|w_a - w_b|``
+    (rad/s); a point (:class:`PointTrajectory`) on ``|r_a - r_b|`` (m) and
+    ``|v_a - v_b|`` (m/s); a system in generalized coordinates
+    (:class:`CoordinateTrajectory`) on each coordinate ``|q_k,a - q_k,b|`` and each
+    rate, in their own units. Each :class:`Difference` gives the largest difference
+    over the samples (and the batch), when it occurs, the final difference and the
+    quantity's scale (its largest magnitude along ``b``).
+
+    Parameters
+    ----------
+    a, b : Result
+        Two results of the same type on the same times (and batch shape).
+
+    Returns
+    -------
+    Comparison
+
+    Raises
+    ------
+    InvalidTypeError
+        ``a`` and ``b`` are not results of the same kind.
+    InvalidInputError
+        Different times, batch shapes or coordinates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 2.0, 3)
+    >>> a = CoordinateTrajectory(t, [[0.0], [0.1], [0.2]], [[0.1]] * 3, ("theta",), "a",
+    ...                          units=("rad",))
+    >>> b = CoordinateTrajectory(t, [[0.0], [0.1], [0.5]], [[0.1]] * 3, ("theta",), "b",
+    ...                          units=("rad",))
+    >>> c = compare(a, b)
+    >>> c.describe()[0]
+    'theta differs by up to 0.3 rad (at t = 2 s)'
+    >>> [d.name for d in c.exceeding(rtol=0.1)]
+    ['theta']
+    """
+    fa, fb = _family(a), _family(b)
+    if fa is not fb:
+        raise InvalidTypeError(
+            f"Expected two results of the same kind, got {type(a).__name__} and {type(b).__name__}."
+        )
+    if a.t.shape != b.t.shape or not np.array_equal(a.t, b.t):
+        raise InvalidInputError(
+            f"Expected the two results on the same times, got {a.t.size} and {b.t.size} samples"
+            + (" with different values." if a.t.shape == b.t.shape else ".")
+        )
+    if isinstance(a, CoordinateTrajectory) and isinstance(b, CoordinateTrajectory):
+        if a.coordinates != b.coordinates:
+            raise InvalidInputError(
+                f"Expected the same coordinates, got {a.coordinates} and {b.coordinates}."
+            )
+    sa, sb = a.state_channels(), b.state_channels()
+    out = []
+    for name, ca in sa.items():
+        cb = sb[name]
+        va, vb = np.asarray(ca.values, dtype=float), np.asarray(cb.values, dtype=float)
+        if va.shape != vb.shape:
+            raise InvalidInputError(
+                f"Expected `{name}` of the same shape in both results, got {va.shape} and "
+                f"{vb.shape}."
+            )
+        if name == "attitude":
+            ra, rb = a.rotation, b.rotation  # type: ignore[attr-defined]
+            d = np.asarray((rb.inv() * ra).magnitude(), dtype=float)
+            units, scale = "rad", float(np.pi)
+        elif ca.components:
+            d = np.linalg.norm(va - vb, axis=-1)
+            units, scale = ca.units, float(np.max(np.linalg.norm(vb, axis=-1), initial=0.0))
+        else:
+            d = np.abs(va - vb)
+            units, scale = ca.units, float(np.max(np.abs(vb), initial=0.0))
+        per_time = d.reshape(d.shape[0], -1).max(axis=1) if d.size else np.zeros(0)
+        k = int(np.argmax(per_time)) if per_time.size else 0
+        out.append(
+            Difference(
+                name,
+                units,
+                float(per_time[k]) if per_time.size else 0.0,
+                float(a.t[k]) if per_time.size else 0.0,
+                float(per_time[-1]) if per_time.size else 0.0,
+                scale,
+            )
+        )
+    return Comparison(tuple(out), (a.method, b.method))

@@ -26,9 +26,7 @@ origin with the frame's origin.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
-from types import MappingProxyType
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -37,6 +35,7 @@ from .._validate import as_bool, as_choice, as_float_array, as_times, as_vec3, b
 from .._vec import cross, dot, hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..kinematics.fields import FrameMotion, _rivals_terms
+from ..trajectory import PointTrajectory
 from .systems import _call_force
 from .torques import STANDARD_GRAVITY
 
@@ -294,9 +293,10 @@ def jacobi_integral(frame: FrameMotion, r, v, *, mass=1.0, potential=None) -> np
 # ---------------------------------------------------------------------------
 
 
-@dataclass(frozen=True, eq=False)
-class ParticleTrajectory:
-    """Samples of a particle's motion relative to a moving frame.
+@dataclass(frozen=True, eq=False, repr=False)
+class ParticleTrajectory(PointTrajectory):
+    """Samples of a particle's motion relative to a moving frame: a
+    :class:`poinsot.trajectory.PointTrajectory` that knows its frame's motion.
 
     Attributes
     ----------
@@ -309,7 +309,10 @@ class ParticleTrajectory:
     method : str
         Solver name (a ``scipy.integrate.solve_ivp`` method).
     frame : FrameMotion or callable
-        The frame the motion was computed in.
+        The frame the motion was computed in (a callable frame is not pickled:
+        it is ``None`` after a round trip through pickle).
+    frame_name : str
+        ``"frame"``: the vectors are in the moving frame's axes.
     inertial_position, inertial_velocity : ndarray, shape (n, ..., 3) or None
         The same motion seen from the inertial frame (inertial axes), when
         asked for (``inertial=True``).
@@ -322,34 +325,13 @@ class ParticleTrajectory:
         calls, summed over the batch), ``message`` (keys of :data:`poinsot.trajectory.INFO_KEYS`).
     """
 
-    t: np.ndarray
-    position: np.ndarray
-    velocity: np.ndarray
-    mass: np.ndarray
-    method: str
-    frame: Any
-    inertial_position: np.ndarray | None = None
-    inertial_velocity: np.ndarray | None = None
-    frame_rotation: Any = None
-    frame_origin: np.ndarray | None = None
-    info: Mapping[str, Any] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
-        for name in (
-            "t",
-            "position",
-            "velocity",
-            "mass",
-            "inertial_position",
-            "inertial_velocity",
-            "frame_origin",
-        ):
-            a = getattr(self, name)
-            if a is not None:
-                a = np.array(a, dtype=float)
-                a.setflags(write=False)
-                object.__setattr__(self, name, a)
+    def _frame_motion(self) -> Any:
+        if self.frame is None:
+            raise InvalidInputError(
+                "This particle trajectory no longer knows its frame (a frame given as a "
+                "Python callable is not pickled): recompute it with simulate_particle."
+            )
+        return self.frame
 
     @property
     def kinetic_energy(self) -> np.ndarray:
@@ -372,10 +354,11 @@ class ParticleTrajectory:
             raise InvalidInputError(
                 "Expected one particle simulated with inertial=True for a Trajectory."
             )
-        if isinstance(self.frame, FrameMotion):
-            omega = np.broadcast_to(self.frame.omega, self.position.shape)
+        frame = self._frame_motion()
+        if isinstance(frame, FrameMotion):
+            omega = np.broadcast_to(frame.omega, self.position.shape)
         else:
-            omega = np.stack([_frame_at(self.frame, tk).omega for tk in self.t])
+            omega = np.stack([_frame_at(frame, tk).omega for tk in self.t])
         return Trajectory(
             self.t,
             self.frame_rotation,
@@ -388,10 +371,11 @@ class ParticleTrajectory:
 
     def inertial_forces(self) -> InertialForces:
         """:func:`inertial_forces` at every sample, shape (n, ..., 3)."""
-        if isinstance(self.frame, FrameMotion):
-            return inertial_forces(self.frame, self.position, self.velocity, self.mass)
+        frame = self._frame_motion()
+        if isinstance(frame, FrameMotion):
+            return inertial_forces(frame, self.position, self.velocity, self.mass)
         parts = [
-            inertial_forces(self.frame, self.position[k], self.velocity[k], self.mass, tk)
+            inertial_forces(frame, self.position[k], self.velocity[k], self.mass, tk)
             for k, tk in enumerate(self.t)
         ]
         return InertialForces(
@@ -626,6 +610,7 @@ def simulate_particle(
         velocity=vel.reshape(shape),
         mass=np.broadcast_to(m, batch).copy(),
         method=method,
+        frame_name="frame",
         frame=frame,
         info=info,
         **extra,

@@ -26,13 +26,11 @@ import itertools
 import math
 import threading
 from collections.abc import Mapping
-from dataclasses import dataclass, field
-from types import MappingProxyType
-from typing import Any
 
 import numpy as np
 
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..trajectory import CoordinateTrajectory
 
 __all__ = ["NumericLagrangian", "LagrangeTrajectory", "SOLVERS"]
 
@@ -576,7 +574,7 @@ class NumericLagrangian:
 
         if tt.size == 1:
             ys = y0.reshape(1, *y0.shape)
-            info = {"nfev": 0, "status": 0, "message": "single output time"}
+            info = {"evaluations": 0, "status": 0, "message": "single output time"}
         else:
             sol = solve_ivp(
                 fun,
@@ -594,8 +592,10 @@ class NumericLagrangian:
                     f"solve_ivp({method}) failed at t = {reached}: {sol.message}"
                 )
             ys = sol.y.T.reshape(tt.size, *batch, 2 * self.n)
-            info = {"nfev": int(sol.nfev), "status": int(sol.status), "message": sol.message}
-        info.update(method=method, rtol=float(rtol), atol=float(atol), evaluations=next(counter))
+            info = {"status": int(sol.status), "message": sol.message}
+        # evaluations of the compiled right-hand side (solve_ivp's nfev plus the
+        # finite-difference Jacobians of the implicit methods)
+        info.update(solver=method, rtol=float(rtol), atol=float(atol), evaluations=next(counter))
         tb = tt.reshape(tt.size, *([1] * len(batch)))
         energy = self.energy(tb, ys, pmap)
         kinetic = self.kinetic(tb, ys, pmap)
@@ -605,8 +605,9 @@ class NumericLagrangian:
         lam = None
         if self.n_constraints:
             lam = self.multipliers(tb, ys, pmap)
-        return LagrangeTrajectory(
+        return CoordinateTrajectory(
             t=tt,
+            method=method,
             q=ys[..., : self.n],
             qdot=ys[..., self.n :],
             coordinates=self.coordinates,
@@ -619,85 +620,6 @@ class NumericLagrangian:
         )
 
 
-def _drift(x, scale=None) -> float | None:
-    if x is None:
-        return None
-    d = np.max(np.abs(x - x[0]), axis=0)
-    ref = np.abs(x[0]) if scale is None else np.maximum(np.abs(x[0]), scale)
-    rel = np.where(ref > 0, d / np.where(ref > 0, ref, 1.0), d)
-    return float(np.max(rel))
-
-
-@dataclass(frozen=True, eq=False)
-class LagrangeTrajectory:
-    """Samples of a motion in generalized coordinates (docs/theory.md §11).
-
-    Attributes
-    ----------
-    t : ndarray, shape (k,)
-        Times (s).
-    q, qdot : ndarray, shape (k, ..., n)
-        Coordinates and their rates (units of the coordinates, per second).
-    coordinates : tuple of str
-        The coordinate names, in the order of the last axis.
-    energy : ndarray, shape (k, ...)
-        Mechanical energy ``T + P + V0`` (J in SI).
-    kinetic : ndarray, shape (k, ...) or None
-        Kinetic energy ``T`` (J in SI).
-    jacobi : ndarray, shape (k, ...) or None
-        Jacobi integral ``q' . dL/dq' - L`` (None if ``L`` depends on time).
-    multipliers : ndarray, shape (k, ..., m) or None
-        Constraint multipliers (None without kept constraints).
-    jacobi_conserved : bool
-        Whether the Jacobi integral is a first integral of this system.
-    info : mapping
-        ``method``, ``rtol``, ``atol``, ``nfev``, ``evaluations``, ``status``, ``message``.
-
-    Examples
-    --------
-    Returned by :meth:`NumericLagrangian.simulate`; see there.
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    qdot: np.ndarray
-    coordinates: tuple
-    energy: np.ndarray
-    kinetic: np.ndarray | None = None
-    jacobi: np.ndarray | None = None
-    multipliers: np.ndarray | None = None
-    jacobi_conserved: bool = False
-    info: Mapping[str, Any] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "info", MappingProxyType(dict(self.info)))
-        for name in ("t", "q", "qdot", "energy", "kinetic", "jacobi", "multipliers"):
-            a = getattr(self, name)
-            if a is not None:
-                a = np.array(a, dtype=float)
-                a.setflags(write=False)
-                object.__setattr__(self, name, a)
-
-    def coordinate(self, name: str) -> np.ndarray:
-        """The samples of one coordinate by name, shape (k, ...)."""
-        if name not in self.coordinates:
-            raise InvalidInputError(
-                f"Expected a coordinate among {list(self.coordinates)}, got {name!r}."
-            )
-        return self.q[..., self.coordinates.index(name)]
-
-    def _scale(self):
-        """``max_t |T|`` per batch member: the size energies are compared with."""
-        return None if self.kinetic is None else np.max(np.abs(self.kinetic), axis=0)
-
-    @property
-    def energy_drift(self) -> float:
-        """``max_t |E - E_0| / max(|E_0|, max_t T)`` over the batch (relative to the
-        larger of the initial energy and the largest kinetic energy, so that an
-        energy that starts at 0 is judged on the scale of the motion)."""
-        return _drift(self.energy, self._scale())
-
-    @property
-    def jacobi_drift(self) -> float | None:
-        """``max_t |h - h_0| / max(|h_0|, max_t T)`` (as :attr:`energy_drift`), or None."""
-        return _drift(self.jacobi, self._scale())
+#: The result of :meth:`NumericLagrangian.simulate` (the name of earlier versions):
+#: a :class:`poinsot.trajectory.CoordinateTrajectory`.
+LagrangeTrajectory = CoordinateTrajectory
