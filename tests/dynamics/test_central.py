@@ -247,3 +247,14 @@ def test_trajectory_result():
     tr2 = orb.trajectory(t, method="integrate")
     assert tr2.method == "adaptive"
     np.testing.assert_allclose(tr2.position, x, atol=1e-10)
+
+
+def test_trajectory_is_a_point_result_with_conserved_energy():
+    """A central orbit is a point's motion (no dummy attitude); its energy
+    m v^2/2 + U(r) is the orbit's own constant energy (theory §9)."""
+    from poinsot.trajectory import PointTrajectory
+
+    orb = CentralOrbit.from_state(kepler(1.0), [1.0, 0.2, 0.1], [0.1, 1.1, 0.3])
+    tr = orb.trajectory(np.linspace(0, 5, 11))
+    assert isinstance(tr, PointTrajectory) and not hasattr(tr, "rotation")
+    np.testing.assert_allclose(tr.energy, orb.energy, rtol=1e-13)

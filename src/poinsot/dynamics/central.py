@@ -979,12 +979,13 @@ class CentralOrbit:
         return self._plane_to_space(r, phi)
 
     def trajectory(self, t, *, method: str = "auto", rtol: float = 1e-12):
-        """The orbit as a :class:`poinsot.trajectory.Trajectory` on times ``t`` (n,).
+        """The orbit as a :class:`poinsot.trajectory.PointTrajectory` on times ``t`` (n,).
 
-        ``position`` and ``velocity`` in space axes (m, m/s); the rotational part
-        is the identity with zero angular velocity (a point mass). ``method`` as
-        in :meth:`orbit`; ``Trajectory.method`` is ``"exact"`` (Kepler's
-        equation) or ``"adaptive"`` (integration).
+        ``position`` and ``velocity`` in inertial (space) axes (m, m/s), ``mass``
+        (kg) and ``energy`` the total energy ``E = m v^2/2 + U(r)`` (J) at each
+        sample (constant along the exact orbit). ``method`` as in :meth:`orbit`;
+        the result's ``method`` is ``"exact"`` (Kepler's equation) or
+        ``"adaptive"`` (integration).
         """
         return _trajectory(self, t, method, rtol)
 
@@ -1046,8 +1047,7 @@ class CentralOrbit:
 
 
 def _trajectory(orbit, t, method, rtol):
-    from ..rotations.rotation import Rotation
-    from ..trajectory import Trajectory
+    from ..trajectory import PointTrajectory
 
     t = as_float_array(t, "t")
     if t.ndim != 1:
@@ -1060,14 +1060,16 @@ def _trajectory(orbit, t, method, rtol):
         if used == "kepler"
         else {"solver": "DOP853", "rtol": rtol, "atol": rtol * orbit.apsides.pericentre}
     )
-    return Trajectory(
+    energy = 0.5 * orbit.mass * np.sum(v * v, axis=-1) + orbit.potential(np.linalg.norm(x, axis=-1))
+    return PointTrajectory(
         t,
-        Rotation.identity((t.size,)),
-        np.zeros((t.size, 3)),
+        x,
+        v,
         "exact" if used == "kepler" else "adaptive",
+        frame_name="inertial",
+        mass=orbit.mass,
+        energy=energy,
         info=info,
-        position=x,
-        velocity=v,
     )
 
 
