@@ -64,6 +64,7 @@ INFO_KEYS = {
     "atol": "absolute tolerance (adaptive methods)",
     "solver": "scipy.integrate.solve_ivp method (adaptive methods)",
     "evaluations": "right-hand-side evaluations (adaptive methods, int)",
+    "rejected": "steps rejected by the error control (adaptive methods, int)",
     "status": "solve_ivp status (adaptive propagation, int)",
     "message": "solver message (adaptive methods)",
     "torque_calls": "calls of a torque model evaluated in Python (int)",

@@ -494,7 +494,8 @@ class NumericLagrangian:
         rtol: float = 1e-10,
         atol: float = 1e-12,
         max_step: float = math.inf,
-    ) -> LagrangeTrajectory:
+        units=None,
+    ) -> CoordinateTrajectory:
         """Integrate from ``q(t[0]) = q0``, ``q'(t[0]) = qdot0`` with ``solve_ivp``.
 
         Parameters
@@ -510,12 +511,16 @@ class NumericLagrangian:
             A ``solve_ivp`` method (:data:`SOLVERS`), default ``"DOP853"``.
         rtol, atol, max_step : float, optional
             Passed to ``solve_ivp`` (defaults ``1e-10``, ``1e-12``, no limit).
+        units : sequence of str, optional
+            The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` unknown, the
+            default), carried by the result and its channels.
 
         Returns
         -------
-        LagrangeTrajectory
+        CoordinateTrajectory
             ``q``, ``qdot`` (k, ..., n), ``energy`` and ``jacobi`` (k, ...) when
-            defined, ``multipliers`` (k, ..., m) when there are constraints.
+            defined, ``multipliers`` (k, ..., m) when there are constraints;
+            ``method`` the ``solve_ivp`` method.
 
         Raises
         ------
@@ -608,6 +613,7 @@ class NumericLagrangian:
         return CoordinateTrajectory(
             t=tt,
             method=method,
+            units=() if units is None else tuple(units),
             q=ys[..., : self.n],
             qdot=ys[..., self.n :],
             coordinates=self.coordinates,
