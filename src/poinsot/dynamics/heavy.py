@@ -62,11 +62,16 @@ class HeavyRigidBody:
     ----------
     inertia : array_like, shape (3,) or (3, 3), or RigidBody
         Inertia **about the fixed point** in body axes: principal moments
-        ``(A, B, C)`` (body axes principal) or a tensor.
+        ``(A, B, C)`` (body axes principal) or a tensor. A
+        :class:`poinsot.mass.RigidBody` is fixed at its reference point ``O``:
+        its inertia about the centre of mass is moved to ``O`` by the
+        parallel-axis theorem, ``J_O = J_C + m (|c|^2 E - c c^T)`` (theory §8),
+        and its mass and centre of mass are used.
     mass : float
-        Mass ``m`` (kg), > 0.
+        Mass ``m`` (kg), > 0 (optional with a RigidBody; if given, it must agree).
     center_of_mass : array_like, shape (3,)
-        ``c``, the centre of mass from the fixed point in body axes (m).
+        ``c``, the centre of mass from the fixed point in body axes (m)
+        (optional with a RigidBody; if given, it must agree).
     g : float, optional
         Gravity (m/s^2) along ``-z`` of space; default ``9.80665``.
 
@@ -96,12 +101,32 @@ class HeavyRigidBody:
     (True, True)
     """
 
-    def __init__(self, inertia, mass, center_of_mass, *, g=STANDARD_GRAVITY):
+    def __init__(self, inertia, mass=None, center_of_mass=None, *, g=STANDARD_GRAVITY):
         from ..mass import RigidBody
         from ..mass.tensor import as_inertia
 
         if isinstance(inertia, RigidBody):
-            inertia = inertia.inertia
+            body = inertia
+            if body.shape != ():
+                raise InvalidInputError(
+                    f"Expected `inertia` to be one RigidBody, got a batch of shape {body.shape}."
+                )
+            for name, given, own in (
+                ("mass", mass, body.mass),
+                ("center_of_mass", center_of_mass, body.center_of_mass),
+            ):
+                if given is not None and not np.allclose(given, own, rtol=1e-12, atol=0.0):
+                    raise InvalidInputError(
+                        f"Expected `{name}` to agree with the RigidBody's ({np.asarray(own)}), "
+                        f"got {given!r} (leave it out to use the body's)."
+                    )
+            mass, center_of_mass = body.mass, body.center_of_mass
+            inertia = body.inertia_about((0.0, 0.0, 0.0))  # about the fixed point O
+        elif mass is None or center_of_mass is None:
+            raise InvalidInputError(
+                "Expected `mass` and `center_of_mass` (they are optional only when "
+                "`inertia` is a RigidBody)."
+            )
         j, principal = as_inertia(inertia, "inertia")
         if principal:
             j = j[..., :, None] * np.eye(3)
