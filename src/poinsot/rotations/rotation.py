@@ -47,6 +47,7 @@ import math
 import numbers
 import os
 from collections.abc import Iterable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -291,6 +292,11 @@ class Rotation:
 
         A zero quaternion raises :class:`~poinsot.InvalidInputError`.
 
+        .. warning:: **SciPy's quaternions are scalar last** ``(x, y, z, w)``:
+           ``Rotation.from_quat(scipy_rotation.as_quat())`` silently gives
+           *another* rotation. Use :meth:`from_scipy`, or pass
+           ``scalar_first=False`` (or ``scipy_rotation.as_quat(scalar_first=True)``).
+
         Examples
         --------
         >>> Rotation.from_quat([2.0, 0.0, 0.0, 0.0]).as_quat()
@@ -308,6 +314,47 @@ class Rotation:
         if not first:
             q = np.roll(q, 1, axis=-1)
         return cls._wrap(q)
+
+    @classmethod
+    def from_scipy(cls, rotation: Any) -> Rotation:
+        """From a :class:`scipy.spatial.transform.Rotation` (one or a batch).
+
+        The same rotations (SciPy's scalar-last quaternions are reordered, so the
+        quaternion order trap of :meth:`from_quat` cannot occur); a SciPy batch of
+        ``N`` gives shape ``(N,)``, a single SciPy rotation shape ``()``.
+
+        Examples
+        --------
+        >>> from scipy.spatial.transform import Rotation as SciPyRotation
+        >>> r = SciPyRotation.from_euler("z", 90, degrees=True)
+        >>> Rotation.from_scipy(r).as_quat().round(6)
+        array([0.707107, 0.      , 0.      , 0.707107])
+        """
+        from scipy.spatial.transform import Rotation as SciPyRotation
+
+        if not isinstance(rotation, SciPyRotation):
+            raise InvalidTypeError(
+                "Expected `rotation` to be a scipy.spatial.transform.Rotation, "
+                f"got {type(rotation).__name__}."
+            )
+        return cls.from_quat(rotation.as_quat(), scalar_first=False)
+
+    def to_scipy(self) -> Any:
+        """The same rotation(s) as a :class:`scipy.spatial.transform.Rotation`.
+
+        SciPy holds one rotation or a 1-D batch: a batch of shape ``(..., )`` with
+        more than one axis is flattened (C order).
+
+        Examples
+        --------
+        >>> r = Rotation.from_rotvec([0.0, 0.0, 0.5])
+        >>> bool(abs(r.to_scipy().magnitude() - 0.5) < 1e-15)
+        True
+        """
+        from scipy.spatial.transform import Rotation as SciPyRotation
+
+        q = self.as_quat(scalar_first=False)
+        return SciPyRotation.from_quat(q if q.ndim <= 2 else q.reshape(-1, 4))
 
     @classmethod
     def from_matrix(cls, matrix, *, atol: float = dcm.ORTHOGONALITY_ATOL) -> Rotation:
@@ -931,7 +978,7 @@ def _as_rotation(r, name: str) -> Rotation:
         kind = type(r)
         raise InvalidTypeError(
             f"Expected `{name}` to be a poinsot.Rotation, got {kind.__module__}.{kind.__qualname__}"
-            " (convert SciPy rotations with Rotation.from_quat(r.as_quat(scalar_first=True)))."
+            " (convert SciPy rotations with Rotation.from_scipy(r))."
             if kind.__name__ == "Rotation"
             else f"Expected `{name}` to be a poinsot.Rotation, got {kind.__name__}."
         )
@@ -941,7 +988,7 @@ def _as_rotation(r, name: str) -> Rotation:
 def _not_composable(other, expr: str):
     kind = type(other)
     if kind.__name__ == "Rotation":
-        hint = " (convert SciPy rotations with Rotation.from_quat(r.as_quat(scalar_first=True)))"
+        hint = " (convert SciPy rotations with Rotation.from_scipy(r))"
     elif isinstance(other, numbers.Number | np.ndarray):
         hint = " (rotations compose with rotations: use r.apply(v) for vectors, r ** n for powers)"
     else:
