@@ -385,6 +385,12 @@ def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow):  # pragma: no cover - c
             _rhs(tn + h, ys, J, Ji, kind, par, k4)
             for i in range(7):
                 y[i] = y[i] + h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i])
+            n2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]
+            if not (0.0 < n2 < np.inf):
+                # a diverged step: normalising would divide by zero, and an exception
+                # raised inside the parallel loop reaches Python as a SystemError
+                y[0] = np.nan
+                break
             y[0], y[1], y[2], y[3] = nh.qnormalize(y[0], y[1], y[2], y[3])
         for i in range(7):
             if not np.isfinite(y[i]):

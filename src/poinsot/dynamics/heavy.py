@@ -241,7 +241,7 @@ class HeavyRigidBody:
         omega0,
         t,
         *,
-        method: str = "splitting",
+        method: str | None = None,
         order: int | None = None,
         max_step: float | None = None,
         rtol: float | None = None,
@@ -259,7 +259,9 @@ class HeavyRigidBody:
         t : array_like, shape (n,)
             Output times (s), increasing.
         method : {"splitting", "midpoint", "rk4", "dop853", "adaptive"}, optional
-            ``"splitting"`` (default): free-body Lie-Poisson splitting with exact
+            ``"splitting"`` (the default, unless ``rtol`` or ``atol`` is given: then
+            ``"dop853"``, as :func:`poinsot.dynamics.simulate` chooses): free-body
+            Lie-Poisson splitting with exact
             gravity kicks (compiled; keeps ``K_z`` and ``|gamma|`` to round-off,
             bounded energy error). ``"midpoint"``: the implicit Lie-Poisson
             midpoint rule with the torque at the midpoint. ``"rk4"``, ``"dop853"``
@@ -287,6 +289,8 @@ class HeavyRigidBody:
         """
         from .euler_equations import simulate
 
+        if method is None:  # tolerances ask for an adaptive method, as in simulate()
+            method = "dop853" if (rtol is not None or atol is not None) else "splitting"
         if method not in HEAVY_METHODS:
             from .._validate import as_choice
 
