@@ -65,7 +65,16 @@ __all__ = [
 
 # Heavy or optional subpackages load on first access so that `import poinsot`
 # stays fast and never pulls in SymPy or matplotlib.
-_LAZY = {"kinematics", "mass", "dynamics", "plotting", "scenarios", "cli"}
+_LAZY = {
+    "kinematics",
+    "mass",
+    "dynamics",
+    "symbolic",
+    "ensemble",
+    "plotting",
+    "scenarios",
+    "cli",
+}
 
 
 def __getattr__(name: str) -> ModuleType:
@@ -75,4 +84,5 @@ def __getattr__(name: str) -> ModuleType:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | _LAZY)
+    # the public API only: no `annotations`, `importlib`, private helpers
+    return sorted({*__all__, "__version__"} | _LAZY)

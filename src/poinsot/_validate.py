@@ -277,9 +277,7 @@ def as_rotation_quat(x: Any, name: str = "rotation0") -> FloatArray:
     >>> as_rotation_quat(SciPyRotation.from_quat([0.0, 0.0, 1.0, 1.0])).round(6)
     array([0.707107, 0.      , 0.      , 0.707107])
     """
-    from .rotations.rotation import Rotation
-
-    if isinstance(x, Rotation):
+    if getattr(type(x), "_is_poinsot_rotation", False):  # a poinsot Rotation
         return np.asarray(x.as_quat(), dtype=np.float64)
     if _is_scipy_rotation(x):
         try:

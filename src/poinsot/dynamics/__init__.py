@@ -164,3 +164,8 @@ __all__ = [
     "KoenigSplit",
     "shift_angular_momentum",
 ]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

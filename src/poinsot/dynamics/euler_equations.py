@@ -74,10 +74,10 @@ from .._validate import (
 from .._vec import cross as _cross
 from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError
-from ..mass.tensor import single_principal_moments
+from ..mass.tensor import _momentum, single_principal_moments
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
-from .invariants import _invariants, _momentum
+from .invariants import _invariants
 from .torques import ConstantBodyTorque, GravityTorque, as_torque
 
 __all__ = ["euler_rhs", "simulate", "METHODS"]

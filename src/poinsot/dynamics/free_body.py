@@ -379,7 +379,7 @@ class FreeRigidBody:
                 SingularityWarning,
                 stacklevel=3,
             )
-        from .invariants import _kinetic, _momentum  # the one T and K (validated above)
+        from ..mass.tensor import _kinetic, _momentum  # the one T and K (validated above)
 
         k_body = _momentum(self._moments, True, wp)
         self._energy = _kinetic(self._moments, True, wp)

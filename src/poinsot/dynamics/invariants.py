@@ -25,7 +25,7 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_rotation_quat, as_vec3, batch_shape, plain_vec3
-from ..mass.tensor import single_principal_moments
+from ..mass.tensor import _kinetic, _momentum, single_principal_moments
 
 if TYPE_CHECKING:
     from ..rotations.rotation import Rotation
@@ -35,20 +35,9 @@ __all__ = ["kinetic_energy", "angular_momentum", "invariants", "Invariants"]
 
 
 # ---------------------------------------------------------------------------
-# Kernels (no validation): the single implementation of each formula
+# Kernels (no validation): K = J w and T = w . J w / 2 live with the inertia tensor
+# (poinsot.mass.tensor: mass sits below dynamics); imported here for the callers.
 # ---------------------------------------------------------------------------
-
-
-def _momentum(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
-    """``K = J w`` for principal moments ``j`` (..., 3) or a tensor ``j`` (..., 3, 3)."""
-    if principal:
-        return j * w
-    return np.einsum("...ij,...j->...i", j, w)
-
-
-def _kinetic(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
-    """``T = w . J w / 2``."""
-    return 0.5 * np.einsum("...i,...i->...", w, _momentum(j, principal, w))
 
 
 def _inertia(inertia: object) -> tuple[np.ndarray, bool]:

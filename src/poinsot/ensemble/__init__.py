@@ -46,3 +46,8 @@ __all__ = [
     "problem_from_scenario",
     "run_scenario_ensemble",
 ]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

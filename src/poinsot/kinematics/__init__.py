@@ -106,3 +106,8 @@ __all__ = [
     "coning_quat",
     "coning_omega",
 ]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

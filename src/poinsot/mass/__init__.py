@@ -31,3 +31,8 @@ from .solids import *  # noqa: F403
 from .tensor import *  # noqa: F403
 
 __all__ = [*solids.__all__, *tensor.__all__, *meshes.__all__, *body.__all__]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

@@ -23,7 +23,7 @@ from .._vec import cross
 from ..errors import InvalidInputError, InvalidTypeError
 from . import solids
 from .meshes import mesh as _mesh
-from .tensor import _as_rotation_matrix, _steiner, _transpose, as_inertia
+from .tensor import _as_rotation_matrix, _kinetic, _momentum, _steiner, _transpose, as_inertia
 from .tensor import points as _points
 from .tensor import principal_axes as _principal_axes
 
@@ -42,9 +42,7 @@ def _kinetic_energy(
     m: np.ndarray, j: np.ndarray, w: np.ndarray, v: np.ndarray, principal: bool = False
 ) -> np.ndarray:
     """Koenig: ``T = m V_c^2 / 2 + w^T J_c w / 2`` (the rotational part from
-    :mod:`poinsot.dynamics.invariants`, the one place of ``w^T J w / 2``)."""
-    from ..dynamics.invariants import _kinetic
-
+    :func:`poinsot.mass.tensor._kinetic`, the one place of ``w^T J w / 2``)."""
     return 0.5 * m * np.einsum("...i,...i->...", v, v) + _kinetic(j, principal, w)
 
 
@@ -56,9 +54,7 @@ def _angular_momentum(
     r_oc: np.ndarray,
     principal: bool = False,
 ) -> np.ndarray:
-    """``K_O = J_c w + OC x m V_c`` (``J_c w`` from :mod:`poinsot.dynamics.invariants`)."""
-    from ..dynamics.invariants import _momentum
-
+    """``K_O = J_c w + OC x m V_c`` (``J_c w`` from :func:`poinsot.mass.tensor._momentum`)."""
     return _momentum(j, principal, w) + cross(r_oc, np.asarray(m)[..., None] * v)
 
 

@@ -637,3 +637,21 @@ def inertia_ellipsoid(inertia: ArrayLike) -> tuple[FloatArray, Rotation]:
     _, w, v = _validated(inertia, "inertia", vectors=True)
     assert v is not None  # vectors=True
     return 1.0 / np.sqrt(w), Rotation.from_matrix(_proper_axes(v))
+
+
+# ---------------------------------------------------------------------------
+# Kernels (no validation): the single implementation of K = J w and T = w.J w/2,
+# used by poinsot.mass (Koenig) and poinsot.dynamics (invariants, free body)
+# ---------------------------------------------------------------------------
+
+
+def _momentum(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
+    """``K = J w`` for principal moments ``j`` (..., 3) or a tensor ``j`` (..., 3, 3)."""
+    if principal:
+        return j * w
+    return np.einsum("...ij,...j->...i", j, w)
+
+
+def _kinetic(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
+    """``T = w . J w / 2``."""
+    return 0.5 * np.einsum("...i,...i->...", w, _momentum(j, principal, w))

@@ -55,3 +55,8 @@ __all__ = [
     "plot_invariant_drift",
     "plot_kovalevskaya",
 ]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

@@ -18,3 +18,8 @@ __all__ = [
     "set_num_threads",
     "slerp",
 ]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

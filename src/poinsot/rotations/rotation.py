@@ -213,6 +213,9 @@ class Rotation:
     """
 
     __slots__ = ("_q",)
+    #: Recognised by the bottom-layer validators (poinsot._validate), which may not
+    #: import this module (imports flow one way: _validate -> rotations).
+    _is_poinsot_rotation = True
 
     def __init__(self, quat, *, normalize: bool = True):
         q = as_trailing(quat, "quat", (4,))

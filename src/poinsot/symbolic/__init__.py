@@ -45,3 +45,8 @@ __all__ = [
     "MAX_EXPONENT",
     "MAX_POWER_DIGITS",
 ]
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)
