@@ -92,8 +92,14 @@ def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()
                 f"(the integration step is {acc['integration_step']:g} s; thresholds in "
                 "docs/cli.md, 'Accuracy')"
             )
-        else:
+        elif acc["integration_step"] is not None:
             _warn("suggestion: a shorter `step` or `max_step` (docs/cli.md, 'Accuracy')")
+        else:  # adaptive methods only: their tolerances, or a motion sensitive to its start
+            _warn(
+                "suggestion: tighter tolerances where the scenario sets them, or a shorter "
+                "duration; methods that disagree while each keeps its integrals often mean a "
+                "motion sensitive to its initial state (docs/cli.md, 'Accuracy')"
+            )
     if quiet:
         return
     from .scenarios.describe import describe
@@ -105,7 +111,10 @@ def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()
         if not ln.startswith(("accuracy warning", "suggestion"))  # already on stderr
     ]
     if acc["warnings"]:
-        lines.append(f"accuracy: {len(acc['warnings'])} warning(s), on stderr and in summary.json")
+        lines.append(
+            f"accuracy: {len(acc['warnings'])} warning(s), on stderr, in summary.json and "
+            "report.html"
+        )
     print("\n".join(lines))
     for line in extra:
         print(line)
@@ -422,8 +431,10 @@ The integration step of a fixed-step method is the output spacing, unless
 [simulation] max_step is shorter. A run beyond the limits (5000000 output
 samples; 2 GiB of memory or 5e7 integration steps without --allow-large) is
 refused before any work; `poinsot check` prints the estimate. When a conserved
-quantity drifts by more than 1e-6 (relative) or the attitude differs from the
-reference by more than 1e-2 rad, a warning with a suggested max_step is printed.
+quantity drifts by more than 1e-6 (relative), or the method and the reference
+differ by more than 1e-2 rad in attitude or by more than 1e-2 of its scale in any
+other state quantity (omega, a particle's position and velocity, each coordinate
+and rate), a warning is printed with a suggestion.
 """
 _DEMO_EPILOG = """\
 example:

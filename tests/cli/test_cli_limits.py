@@ -179,6 +179,15 @@ def test_thresholds_can_be_set_in_the_scenario(tmp_path):
     result = simulate_scenario(load_scenario(p), duration=2.0)
     acc = result.summary["accuracy"]
     assert acc["drift_threshold"] == 0.5 and acc["attitude_threshold"] == 3.0
+    # omega is judged on its own rule: agreement_threshold of its scale (default 1e-2)
+    omega = acc["comparison"]["differences"]["omega"]
+    assert omega["max"] > 1e-2 * omega["scale"] and result.warnings != ()
+    assert all("in omega" in w for w in result.warnings)
+    p = racket(
+        tmp_path, "\ndrift_threshold = 0.5\nattitude_threshold = 3.0\nagreement_threshold = 0.5"
+    )
+    result = simulate_scenario(load_scenario(p), duration=2.0)
+    assert result.summary["accuracy"]["agreement_threshold"] == 0.5
     assert result.warnings == ()
 
 

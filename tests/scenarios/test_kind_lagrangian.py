@@ -35,10 +35,11 @@ def test_charged_particle_outputs_match_the_drift():
     period = 2 * np.pi * 2.0 / (0.5 * 4.0)
     sc = parse_scenario(CHARGED.format(V=V_OK, T=period), source="charge.toml")
     result = simulate_scenario(sc)
-    series = sc.adapter.series(sc, result.trajectory)
-    assert series["x"][0][-1] == pytest.approx(0.0, abs=1e-7)
-    assert series["y"][0][-1] == pytest.approx(-3.0 / 4.0 * period, rel=1e-7)
-    assert abs(series["y_dot"][0][-1]) < 1e-7
+    tr = result.trajectory  # the kind's own CoordinateTrajectory
+    assert tuple(tr.coordinates) == ("x", "y", "z") and tuple(tr.units) == ("m", "m", "m")
+    assert tr.q[-1, 0] == pytest.approx(0.0, abs=1e-7)
+    assert tr.q[-1, 1] == pytest.approx(-3.0 / 4.0 * period, rel=1e-7)
+    assert abs(tr.qdot[-1, 1]) < 1e-7
     acc = result.summary["accuracy"]
     assert acc["invariants"]["jacobi"]["max_relative_drift"] < 1e-8
     assert acc["warnings"] == []

@@ -121,8 +121,7 @@ def test_mesh_file_relative_to_scenario(tmp_path):
 
 
 def test_report_draws_the_mesh(tmp_path):
-    from poinsot.plotting.report import write_scenario_report
-    from poinsot.scenarios import simulate_scenario
+    from poinsot.scenarios import simulate_scenario, write_scenario_report
 
     v, f = icosphere(1)
     v = v * [0.3, 0.2, 0.1]

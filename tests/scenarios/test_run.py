@@ -19,6 +19,7 @@ from poinsot.scenarios import (
     run_scenario,
     simulate_scenario,
 )
+from poinsot.trajectory import Trajectory
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 EXAMPLE_FILES = sorted(EXAMPLES.glob("*.toml"))
@@ -73,10 +74,21 @@ def test_every_example_runs(path, tmp_path):
         assert not any("skipped" in n for n in files.notes), files.notes
     assert sorted(p.name for p in out.iterdir()) == sorted(names)  # no temporary left
     header, cols = read_csv(out / "trajectory.csv")
-    assert any("scalar first" in h for h in header) and any("rad/s" in h for h in header)
-    q = np.stack([cols[k] for k in ("qw", "qx", "qy", "qz")], axis=-1)
-    np.testing.assert_allclose(np.linalg.norm(q, axis=-1), 1.0, atol=1e-12)
-    np.testing.assert_allclose(cols["t"], result.trajectory.t, rtol=0, atol=0)  # exact repr
+    tr = result.trajectory
+    np.testing.assert_allclose(cols["t"], tr.t, rtol=0, atol=0)  # exact repr
+    units = dict(zip(cols, header[-2].removeprefix("# units: ").split(","), strict=True))
+    if isinstance(tr, Trajectory):  # a rigid body: attitude and omega
+        assert any("scalar first" in h for h in header) and any("rad/s" in h for h in header)
+        q = np.stack([cols[k] for k in ("qw", "qx", "qy", "qz")], axis=-1)
+        np.testing.assert_allclose(np.linalg.norm(q, axis=-1), 1.0, atol=1e-12)
+    else:  # the kind's own state, in its units; no dead attitude columns
+        assert not {"qw", "qx", "qy", "qz", "wx", "wy", "wz"} & set(cols)
+        for name, ch in tr.state_channels().items():
+            v = np.asarray(ch.values).reshape(tr.t.size, -1)
+            keys = [k for k in cols if k == name or k.startswith(f"{name}_")][: v.shape[1]]
+            assert len(keys) == v.shape[1], (name, list(cols))
+            np.testing.assert_array_equal(np.column_stack([cols[k] for k in keys]), v)
+            assert {units[k] for k in keys} == {ch.units or "1"}
     summary = json.loads((out / "summary.json").read_text())
     assert summary["scenario"]["name"] == scenario.name
     assert summary["scenario"]["file"] == scenario.data

@@ -1,4 +1,5 @@
-"""A self-contained interactive HTML report of a rigid body's (or a particle's) motion.
+"""A self-contained interactive HTML report of a motion: a rigid body, a particle, or
+any poinsot result with named time series.
 
 :func:`write_report` writes ONE HTML file that works offline (a small built-in
 viewer, plain JavaScript shipped with poinsot; no plotting library, nothing
@@ -25,8 +26,9 @@ fetched; typically 0.1-0.3 MB plus the kind's figures) holding
   not strobe); the page says the largest turn between frames;
 
 and the run's summary in sections (units on numbers, values in words, the raw
-JSON collapsible). :func:`write_scenario_report` fills all of it from a scenario
-result.
+JSON collapsible). The function is generic: it draws what it is given and never
+asks what kind of scenario produced it (``poinsot.scenarios.write_scenario_report``
+asks the scenario's kind what to draw, then calls it).
 """
 
 from __future__ import annotations
@@ -47,7 +49,7 @@ from ..trajectory import Trajectory
 from . import _report_shapes as shapes
 from ._report_page import b64, chart, fmt_number, page_html
 
-__all__ = ["write_report", "write_scenario_report"]
+__all__ = ["write_report"]
 
 #: Shapes :func:`write_report` can draw, with the meaning of their ``dims`` (m).
 SHAPES = shapes.SOLIDS
@@ -67,7 +69,7 @@ _MAX_MESH_FACES = 3000  # a mesh body is decimated to at most this many triangle
 def write_report(
     path: str | os.PathLike,
     *,
-    trajectory: Trajectory,
+    trajectory: Any,
     summary: Mapping[str, Any] | None = None,
     title: str = "poinsot report",
     shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
@@ -79,7 +81,7 @@ def write_report(
     checks: Sequence[Any] = (),
     torque=None,
     euler_seq: str = "ZYX",
-    reference: Trajectory | None = None,
+    reference: Any = None,
     max_frames: int = 1500,
     max_frame_angle: float = 20.0,
     sections: Sequence[tuple[str, str]] = (),
@@ -92,10 +94,16 @@ def write_report(
     path : str or os.PathLike
         Output file (conventionally ``report.html``), written atomically (a
         temporary name in the same directory, then renamed). Its directory must exist.
-    trajectory : Trajectory
-        Motion of ONE body: ``rotation`` of shape ``(n,)``, ``omega`` ``(n, 3)``
-        (body axes, rad/s); ``momentum`` (space axes) is drawn when present;
-        ``position`` (space axes, m) is drawn as a path when present.
+    trajectory : Trajectory, PointTrajectory or another poinsot result
+        The motion, on its times ``t`` of shape ``(n,)``. A
+        :class:`~poinsot.trajectory.Trajectory` of ONE body (``rotation`` of shape
+        ``(n,)``, ``omega`` ``(n, 3)`` in body axes, rad/s) is drawn as a turning
+        body, with its ``momentum`` (space axes) when present. A result with a
+        ``position`` of shape ``(n, 3)`` (m, e.g. a
+        :class:`~poinsot.trajectory.PointTrajectory`, in the axes its ``frame``
+        names) is drawn as a path. Any other result (e.g. a
+        :class:`~poinsot.trajectory.CoordinateTrajectory`) has no scene: only
+        the charts of ``series`` and ``checks``.
     summary : mapping, optional
         The run's summary (e.g. ``summary.json``): top-level mappings are shown as
         sections, each with its ``"units"`` mapping; the raw JSON is collapsible.
@@ -135,8 +143,10 @@ def write_report(
         Sequence of the attitude angles plotted (e.g. ``"ZXZ"`` precession,
         nutation, spin; ``"ZYX"`` yaw, pitch, roll). Default ``"ZYX"``.
     reference : Trajectory, optional
-        A second motion on the same times: its body axes are drawn dashed, its
-        ``w`` overlaid, and the attitude error ``|log(R_ref^-1 R)|`` plotted.
+        A second motion of a rigid body on the same times: its body axes are
+        drawn dashed, its ``w`` overlaid, and the attitude error
+        ``|log(R_ref^-1 R)|`` plotted (ignored for other results: give their
+        differences as ``series``).
     max_frames : int, optional
         Largest number of animation frames, in [2, 20000]. Default 1500.
     max_frame_angle : float, optional
@@ -161,7 +171,8 @@ def write_report(
     Raises
     ------
     InvalidTypeError
-        If ``trajectory``/``reference`` is not a :class:`~poinsot.Trajectory`,
+        If ``trajectory`` is not a poinsot result (``reference``: not a
+        :class:`~poinsot.Trajectory`),
         ``summary``/``shape`` of the wrong type, ``title``/``euler_seq`` not a
         string or ``max_frames`` not an integer.
     InvalidInputError
@@ -200,7 +211,9 @@ def write_report(
     (True, False, False)
     """
     tr = _check_trajectory(trajectory, "trajectory")
-    ref = None if reference is None else _check_trajectory(reference, "reference")
+    ref = None  # a rigid body's reference only (attitude error, dashed axes)
+    if reference is not None and isinstance(tr, Trajectory):
+        ref = _check_trajectory(reference, "reference", rigid=True)
     if summary is not None and not isinstance(summary, Mapping):
         raise InvalidTypeError(
             f"Expected `summary` to be a mapping or None, got {type(summary).__name__}."
@@ -233,9 +246,10 @@ def write_report(
     tq = None
     if torque is not None:
         tq = as_float_array(torque, "torque")
-        if tq.shape != tr.omega.shape:
+        if not isinstance(tr, Trajectory) or tq.shape != tr.omega.shape:
+            wanted = tr.omega.shape if isinstance(tr, Trajectory) else "(no rigid body)"
             raise InvalidInputError(
-                f"Expected `torque` to have shape {tr.omega.shape} (one body-axes torque per "
+                f"Expected `torque` to have shape {wanted} (one body-axes torque per "
                 f"sample, N m), got {tq.shape}."
             )
     if not isinstance(path, str | os.PathLike):
@@ -276,203 +290,24 @@ def write_report(
     return path
 
 
-def write_scenario_report(
-    path, result, summary: Mapping[str, Any] | None = None, *, title: str | None = None, sections=()
-) -> Path:
-    """Write ``report.html`` for a scenario result (as :func:`poinsot.scenarios.write_outputs`).
-
-    The scenario's kind chooses the panels: its ``checks`` (conserved quantities
-    of its torque model), a fixed point for a top under gravity, the polhode
-    and herpolhode for the torque-free body only, the torque of a torqued body,
-    Euler angles of the scenario's sequence (``"ZXZ"``, precession, nutation and
-    spin, for a body under a torque or a top; else ``"ZYX"``).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        Output file.
-    result : poinsot.scenarios.ScenarioResult
-        The run (from :func:`poinsot.scenarios.simulate_scenario`).
-    summary : mapping, optional
-        The summary to show (default ``result.summary``).
-    title : str, optional
-        Page title (default: the scenario's name and description).
-    sections : sequence of (str, str), optional
-        Extra ``(heading, html)`` sections (see :func:`write_report`).
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> from poinsot.scenarios import demo_scenario, simulate_scenario
-    >>> from poinsot.plotting.report import write_scenario_report
-    >>> res = simulate_scenario(demo_scenario(), duration=1.0)
-    >>> out = pathlib.Path(tempfile.mkdtemp()) / "report.html"
-    >>> write_scenario_report(out, res).name
-    'report.html'
-    """
-    s = result.scenario
-    kind = s.adapter
-    body = s.body
-    tr = result.trajectory
-    shape = None
-    inertia = mass = com = None
-    fixed = False
-    free = kind.name == "free-body"
-    torque = None
-    if body is not None:
-        inertia, mass, com = (
-            np.asarray(body.inertia),
-            float(body.mass),
-            np.asarray(body.center_of_mass),
-        )
-        shape = _body_shapes(body)
-        fixed = s.torque is not None and s.torque.model == "gravity"
-        if s.torque is not None and s.torque.model != "none" and tr.rotation.shape == tr.t.shape:
-            try:
-                from ..scenarios.kinds._rigid import torque_model
-
-                model = torque_model(s)
-                torque = np.asarray(model.body_torque(tr.t, tr.quat, tr.omega), dtype=float)
-                torque = np.broadcast_to(torque, tr.omega.shape)
-            except Exception:  # the torque is optional in the report
-                torque = None
-    seq = s.attitude.sequence if s.attitude.sequence else ("ZXZ" if torque is not None else "ZYX")
-    ref = result.reference
-    series = ()
-    if body is None:
-        series = _kind_series(s, tr)
-        if tr.position is not None:  # a particle: its path, not the attitude of its frame
-            tr, ref = _particle_view(s, tr), None
-    if title is None:
-        title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
-    return write_report(
-        path,
-        trajectory=tr,
-        summary=result.summary if summary is None else summary,
-        title=title,
-        shape=shape,
-        inertia=inertia,
-        mass=mass,
-        center_of_mass=com,
-        fixed_point=fixed,
-        free_body=free,
-        checks=result.checks,
-        torque=torque,
-        euler_seq=seq if len(seq) == 3 else "ZYX",  # as given (case: intrinsic or extrinsic)
-        reference=ref,
-        sections=sections,
-        series=series,
-    )
-
-
-def _particle_view(s, tr) -> Trajectory:
-    """A particle's motion for the scene: its path in the kind's own position
-    components when it has three in metres (e.g. east, north, up relative to the
-    turning Earth, where the deflection is seen), else the inertial position; the
-    rotation of a moving frame (the Earth's) is not drawn as a body."""
-    from ..rotations.rotation import Rotation
-
-    try:
-        cols = s.adapter.series(s, tr)
-    except Exception:  # the kind's series are optional
-        cols = {}
-    lengths = [np.asarray(v, dtype=float) for v, u in cols.values() if u == "m"]
-    pos = np.column_stack(lengths) if len(lengths) == 3 else tr.position
-    n = tr.t.size
-    return Trajectory(tr.t, Rotation.identity((n,)), np.zeros((n, 3)), tr.method, position=pos)
-
-
-_GREEK = frozenset(
-    "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi "
-    "sigma tau upsilon phi chi psi omega varphi vartheta".split()
-)
-_LENGTHS = frozenset("x y z r s l d h rho".split())
-
-
-def _coordinate_unit(name: str) -> str:
-    """SI unit of a generalised coordinate guessed from its name: a Greek letter
-    (``theta1``, ``phi``) is an angle (rad), ``x``, ``y``, ``z``, ``r``, ``rho``... a
-    length (m); else unknown (``""``)."""
-    stem = name.rstrip("0123456789_").lower()
-    if stem in _GREEK:
-        return "rad"
-    if stem in _LENGTHS:
-        return "m"
-    return ""
-
-
-def _kind_series(s, tr) -> list:
-    """The kind's own series (``kind.series``) as charts: the generalised coordinates
-    and velocities of a Lagrangian system (theory §11), or a particle's position and
-    velocity components. Never fails the report (a kind without series: none)."""
-    try:
-        cols = s.adapter.series(s, tr)
-    except Exception:  # the extra charts are optional
-        return []
-    if not cols:
-        return []
-    coords = list(tr.info.get("coordinates", ())) if s.adapter.name == "lagrangian" else []
-    groups: dict[tuple[str, str], dict] = {}
-    if coords:
-        for name in coords:
-            u = _coordinate_unit(name)
-            what = {"rad": "angles", "m": "lengths"}.get(u, "")
-            if name in cols:
-                title = "generalised coordinates q(t)" + (f": {what}" if what else "")
-                groups.setdefault((title, u or "unit of q"), {})[name] = cols[name][0]
-            if f"{name}_dot" in cols:
-                title = "generalised velocities q'(t)" + (f": {what}" if what else "")
-                vu = f"{u}/s" if u else "unit of q per s"
-                groups.setdefault((title, vu), {})[f"{name}'"] = cols[f"{name}_dot"][0]
-    else:  # grouped by unit: "position: x, y, z" (m), "velocity: vx, vy, vz" (m/s)...
-        what = {"m": "position", "m/s": "velocity", "J": "energy"}
-        by_unit: dict[str, dict] = {}
-        for name, (values, units) in cols.items():
-            by_unit.setdefault(units or "1", {})[name] = values
-        for units, d in by_unit.items():
-            head = f"{what[units]}: " if units in what else ""
-            groups[(head + ", ".join(d), units)] = d
-    return [(title, units, d) for (title, units), d in groups.items()]
-
-
-def _body_shapes(body) -> list[dict] | None:
-    """The solids of a scenario body (its shape, or its parts) in body axes."""
-    from ..mass import solids
-
-    if body.shape == "mesh":  # vertices already in body axes
-        return [{"kind": "mesh", "vertices": body.vertices, "faces": body.faces}]
-    if body.shape in SHAPES and body.dims:
-        return [{"kind": body.shape, "dims": list(body.dims), "center": body.center_of_mass}]
-    if not body.parts:
-        return None
-    out = []
-    for p in body.parts:
-        if p.shape == "mesh":  # placed by its position/orientation: in body axes
-            out.append({"kind": "mesh", "vertices": p.vertices, "faces": p.faces})
-        elif p.shape in SHAPES and p.dims:
-            canon = np.asarray(getattr(solids, p.shape)(1.0, *p.dims), dtype=float)
-            # the part's inertia may be turned (orientation =): find its axes
-            j = np.asarray(p.inertia) / p.mass
-            axes = shapes.axes_from_inertia(canon, j)
-            out.append({"kind": p.shape, "dims": list(p.dims), "center": p.position, "axes": axes})
-        else:  # a point mass (or a part given by its inertia): a small sphere
-            out.append({"kind": "point", "dims": [0.0], "center": p.position})
-    return out
-
-
 # --------------------------------------------------------------------------- checks
 
 
-def _check_trajectory(tr, name: str) -> Trajectory:
+def _check_trajectory(tr, name: str, *, rigid: bool = False):
+    """A Trajectory of one body, or (``rigid`` False) another result with times ``t``
+    and an optional ``position`` of shape (n, 3)."""
     if not isinstance(tr, Trajectory):
-        raise InvalidTypeError(
-            f"Expected `{name}` to be a poinsot.Trajectory, got {type(tr).__name__}."
-        )
+        t = getattr(tr, "t", None)
+        if rigid or not (isinstance(t, np.ndarray) and t.ndim == 1 and hasattr(tr, "channels")):
+            what = "a poinsot.Trajectory" + ("" if rigid else " or another poinsot result")
+            raise InvalidTypeError(f"Expected `{name}` to be {what}, got {type(tr).__name__}.")
+        pos = getattr(tr, "position", None)
+        if pos is not None and np.shape(pos) != t.shape + (3,):
+            raise InvalidInputError(
+                f"Expected `{name}` to hold one point (position shape {t.shape + (3,)}), got "
+                f"position shape {np.shape(pos)}; select one point of a batch first."
+            )
+        return tr
     if tr.rotation.shape != tr.t.shape or tr.omega.shape != tr.t.shape + (3,):
         raise InvalidInputError(
             f"Expected `{name}` to hold one body (rotation shape (n,), omega shape (n, 3)), "
@@ -671,15 +506,16 @@ def _angles_between(rot) -> np.ndarray:
     return np.asarray((rot[:-1].inv() * rot[1:]).magnitude(), dtype=float)
 
 
-def _frame_indices(t, rot, max_frames: int, max_angle: float):
+def _frame_indices(t, turns, max_frames: int, max_angle: float):
     """Frames: each the latest sample within ``max_angle`` of turn and ``1/_MIN_FRAMES``
-    of the duration from the previous one (greedy); if that needs more than
+    of the duration from the previous one (greedy; ``turns`` the turn between
+    consecutive samples, zeros for a motion without attitude); if that needs more than
     ``max_frames``, ``max_frames`` frames even in time plus turn. Returns the
     indices and the largest turn between frames (rad)."""
     n = t.size
     if n <= 2:
         return np.arange(n), 0.0
-    turn = np.concatenate([[0.0], np.cumsum(_angles_between(rot))])
+    turn = np.concatenate([[0.0], np.cumsum(turns)])
     dt = float(t[-1] - t[0]) / min(_MIN_FRAMES, n - 1)
     frames, i = [0], 0
     while i < n - 1 and len(frames) <= max_frames:
@@ -743,8 +579,9 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
     from ..errors import InvalidInputError as _Bad
 
     t = tr.t
-    out = []
-    w = np.asarray(tr.omega)
+    out: list = []
+    rigid = isinstance(tr, Trajectory)
+    w = np.asarray(tr.omega) if rigid else np.zeros((t.size, 3))
     if np.any(w != 0):
         series = [
             (f"w{a + 1} (body {c})", w[:, a], _AXIS_COLOURS[a], None) for a, c in enumerate("xyz")
@@ -754,8 +591,8 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
                 (f"w{a + 1} reference", ref.omega[:, a], _AXIS_COLOURS[a], "dot") for a in range(3)
             ]
         out.append(("angular velocity w, body axes", "rad/s", series))
-    q = tr.rotation
-    if t.size > 1 and float(np.max(_angles_between(q), initial=0.0)) > 0:
+    q = tr.rotation if isinstance(tr, Trajectory) else None
+    if q is not None and t.size > 1 and float(np.max(_angles_between(q), initial=0.0)) > 0:
         try:
             ang = np.unwrap(np.asarray(q.as_euler(euler_seq)), axis=0)
             wrapped = np.ptp(ang, axis=0) > 4.0 * np.pi  # a spin: shown in (-180, 180] deg
@@ -839,7 +676,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
                 [(f"N{'xyz'[a]}", tq[:, a], _AXIS_COLOURS[a], None) for a in range(3)],
             )
         )
-        if tr.energy is not None and not free_body:
+        if rigid and tr.energy is not None and not free_body:
             from scipy.integrate import cumulative_trapezoid
 
             power = np.einsum("ni,ni->n", tq, w)  # dT/dt = N . w (theory §9)
@@ -882,15 +719,18 @@ def _build(
     """The viewer's data (``payload``), the notes under the figure and the meta line."""
     t = tr.t
     n = t.size
-    rot = tr.rotation
-    moving = n > 1 and float(np.max(_angles_between(rot), initial=0.0)) > 0
-    pos = None if tr.position is None else np.asarray(tr.position, dtype=float)
-    has_body = parts is not None or J is not None or moving
+    rigid = isinstance(tr, Trajectory)
+    rot = tr.rotation if rigid else None
+    turns = _angles_between(rot) if rigid else np.zeros(max(n - 1, 0))
+    moving = n > 1 and float(np.max(turns, initial=0.0)) > 0
+    pos = getattr(tr, "position", None)
+    pos = None if pos is None else np.asarray(pos, dtype=float)
+    has_body = rigid and (parts is not None or J is not None or moving)
     show_scene = has_body or pos is not None
     panels = list(extra_panels) + _panels(tr, ref, checks, tq, euler_seq, free_body)
-    frames_k, worst = _frame_indices(t, rot, max_frames, math.radians(max_angle_deg))
-    sample_turn = float(np.max(_angles_between(rot), initial=0.0))
-    qf = tr.quat[frames_k]
+    frames_k, worst = _frame_indices(t, turns, max_frames, math.radians(max_angle_deg))
+    sample_turn = float(np.max(turns, initial=0.0))
+    qf = tr.quat[frames_k] if rigid else None
     layers: list[dict] = []
     notes: list[str] = []
     has_ref = ref is not None and ref.t.shape == t.shape
@@ -900,7 +740,7 @@ def _build(
 
     unit = "m"
     lo = hi = None
-    if show_scene and has_body:
+    if show_scene and has_body and rot is not None:
         verts, tri, label, metres = _body_mesh(parts, J, mass, com)
         unit = "m" if metres else "scaled"
         L = float(np.max(np.linalg.norm(verts, axis=-1)))
@@ -966,7 +806,9 @@ def _build(
         track = _track_indices(t, pos, m=_MAX_TRACK * 3)
         layer("line", "path", "#1f77b4", v=b64(pos[track]), frame="space", width=2)
         layer("point", "position r(t)", "#d62728", v=b64(pos[frames_k]), size=6)
-        layer("marker", "origin of space axes", "#000000", p=[0.0, 0.0, 0.0], symbol="cross")
+        axes = getattr(tr, "frame_name", None) if not rigid else None
+        axes = axes if isinstance(axes, str) and axes else "space"
+        layer("marker", f"origin of {axes} axes", "#000000", p=[0.0, 0.0, 0.0], symbol="cross")
         plo, phi_ = np.minimum(pos.min(0), 0.0), np.maximum(pos.max(0), 0.0)
         c, r = (plo + phi_) / 2, max(float(np.max(phi_ - plo)) / 2 * 1.1, 1e-9)
         if has_body:
@@ -1009,7 +851,7 @@ def _build(
     )
     payload = {
         "t": b64(t[frames_k]),
-        "q": b64(qf),
+        "q": None if qf is None else b64(qf),
         "qref": b64(ref.quat[frames_k]) if has_ref else None,
         "t0": float(t[0]) if n else 0.0,
         "t1": float(t[-1]) if n else 1.0,

@@ -8,7 +8,9 @@
 - :class:`ScenarioResult` (``summary``): the trajectories and a summary in sections
   with units; :func:`describe` / :func:`describe_scenario` (``describe``): text;
 - :func:`run_scenario` / :func:`write_outputs` (``output``): write
-  ``trajectory.csv``, ``summary.json``, figures and ``report.html`` atomically.
+  ``trajectory.csv``, ``summary.json``, figures and ``report.html`` atomically;
+  :func:`write_scenario_report` (``report``): ``report.html`` alone, drawn from
+  the kind's :class:`ReportSpec` (:meth:`ScenarioKind.report`).
 
 The format is documented in ``docs/cli.md``, the way to add a kind of motion in
 ``docs/adding-a-motion.md``; ``examples/*.toml`` are worked cases and
@@ -20,9 +22,10 @@ from __future__ import annotations
 from ._toml import ScenarioError
 from .describe import describe, describe_scenario
 from .io import SHAPES, demo_scenario_text, load_scenario, parse_scenario
-from .kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from .kind import BodyLayer, Chart, Check, Entry, Facts, FigureSpec, ReportSpec, ScenarioKind
 from .output import OutputFiles, prepare_output_dir, run_scenario, write_outputs
 from .registry import KINDS
+from .report import write_scenario_report
 from .schema import (
     AngularVelocitySpec,
     AttitudeSpec,
@@ -34,10 +37,21 @@ from .schema import (
     TorqueSpec,
 )
 from .solve import Cost, estimate_cost, simulate_scenario
-from .summary import ATTITUDE_THRESHOLD, CONVENTIONS, DRIFT_THRESHOLD, ScenarioResult
+from .summary import (
+    AGREEMENT_THRESHOLD,
+    ATTITUDE_THRESHOLD,
+    CONVENTIONS,
+    DRIFT_THRESHOLD,
+    ScenarioResult,
+)
 
 __all__ = [
+    "AGREEMENT_THRESHOLD",
     "ATTITUDE_THRESHOLD",
+    "BodyLayer",
+    "Chart",
+    "ReportSpec",
+    "write_scenario_report",
     "AngularVelocitySpec",
     "Check",
     "Cost",
@@ -87,3 +101,8 @@ def demo_scenario() -> Scenario:
         source="<embedded demo: tennis_racket.toml>",
         name="tennis-racket-flip",
     )
+
+
+def __dir__() -> list[str]:
+    # the public API only (not `annotations` or the submodules' names)
+    return sorted(__all__)

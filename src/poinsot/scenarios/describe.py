@@ -8,9 +8,18 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..trajectory import quantity_label
 from .schema import Scenario
 
-__all__ = ["describe", "describe_scenario", "clean", "fmt", "fmt_vector", "NOISE"]
+__all__ = [
+    "describe",
+    "describe_scenario",
+    "describe_comparison",
+    "clean",
+    "fmt",
+    "fmt_vector",
+    "NOISE",
+]
 
 #: Relative size below which a component is round-off noise and printed as 0.
 NOISE = 1e-12
@@ -100,6 +109,30 @@ def _drifts(inv: dict) -> str:
     return ", ".join(changes) if changes else "done"
 
 
+def describe_comparison(comparison: dict) -> str:
+    """One line from ``accuracy.comparison`` of a summary: the largest difference of
+    each state quantity from the reference run, in its units, and when.
+
+    Examples
+    --------
+    >>> print(describe_comparison({"reference": "radau", "differences": {
+    ...     "theta1": {"max": 0.1912, "time_of_max": 20.0, "units": "rad"},
+    ...     "theta1_dot": {"max": 0.7562, "time_of_max": 19.9, "units": "rad/s"}}}))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    vs radau: theta1 differs by up to 0.191 rad (at t = 20 s),
+    theta1' by up to 0.756 rad/s (at t = 19.9 s)
+    """
+    parts = []
+    for k, (name, d) in enumerate(comparison["differences"].items()):
+        units = f" {d['units']}" if d.get("units") else ""
+        verb = " differs" if k == 0 else ""
+        parts.append(
+            f"{quantity_label(name)}{verb} by up to {float(d['max']):.3g}{units} "
+            f"(at t = {float(d['time_of_max']):.4g} s)"
+        )
+    return f"vs {comparison['reference']}: " + (", ".join(parts) if parts else "no difference")
+
+
 def describe(result, *, title: str = "poinsot", notes=()) -> str:
     """A short human summary of a run (printed by ``poinsot run`` and ``poinsot demo``).
 
@@ -131,11 +164,19 @@ def describe(result, *, title: str = "poinsot", notes=()) -> str:
         )
     init = summ["initial_state"]
     times = summ["run"]["times"]
-    lines.append(
-        f"start: omega {fmt_vector(init['omega_body'])} rad/s (body), "
-        f"quat {fmt_vector(init['quat'])}; {times['samples']} samples "
-        f"over {fmt(times['duration'])} s"
-    )
+    if "omega_body" in init:  # a rigid body
+        start = (
+            f"omega {fmt_vector(init['omega_body'])} rad/s (body), quat {fmt_vector(init['quat'])}"
+        )
+    else:  # the initial value of each state quantity of the kind's result
+        units = init.get("units", {})
+        start = ", ".join(
+            f"{quantity_label(k)} {fmt_vector(v) if isinstance(v, list) else fmt(v)}"
+            + (f" {units[k]}" if units.get(k) else "")
+            for k, v in init.items()
+            if k != "units" and v is not None
+        )
+    lines.append(f"start: {start}; {times['samples']} samples over {fmt(times['duration'])} s")
     lines += result.facts.describe()
     acc = summ["accuracy"]
     lines.append(f"{acc['method']}: {_drifts(acc['invariants'])} ({result.wall_time:.2f} s)")
@@ -143,11 +184,7 @@ def describe(result, *, title: str = "poinsot", notes=()) -> str:
         lines.append(f"{acc['reference']}: {_drifts(acc['reference_invariants'])}")
     cmp_ = acc["comparison"]
     if cmp_:
-        lines.append(
-            f"vs {cmp_['reference']}: max attitude difference "
-            f"{cmp_['max_attitude_error_rad']:.2e} rad, max |omega| difference "
-            f"{cmp_['max_omega_error']:.2e} rad/s"
-        )
+        lines.append(describe_comparison(cmp_))
     for w in acc["warnings"]:
         lines.append(f"accuracy warning: {w}")
     if acc["warnings"] and acc["suggested_max_step"]:

@@ -705,6 +705,7 @@ def _simulation(t: Table, kind, fields) -> SimulationSpec:
         "max_step",
         "drift_threshold",
         "attitude_threshold",
+        "agreement_threshold",
     )
     t.known(keys)
     duration = t.number("duration", positive=True, required=True)
@@ -734,6 +735,7 @@ def _simulation(t: Table, kind, fields) -> SimulationSpec:
     max_step = t.number("max_step", positive=True)
     drift_threshold = t.number("drift_threshold", positive=True)
     attitude_threshold = t.number("attitude_threshold", positive=True)
+    agreement_threshold = t.number("agreement_threshold", positive=True)
     if reference is not None and reference == method:
         raise t.error("reference", f"expected a method other than `method` ({method!r}).")
     sim = SimulationSpec(
@@ -745,6 +747,7 @@ def _simulation(t: Table, kind, fields) -> SimulationSpec:
         max_step=max_step,
         drift_threshold=drift_threshold,
         attitude_threshold=attitude_threshold,
+        agreement_threshold=agreement_threshold,
     )
     bad = kind.check_simulation(sim, fields)
     if bad is not None:

@@ -8,18 +8,25 @@ in :data:`poinsot.scenarios.registry.KINDS`. The physics stays in the library
 
 1. reads its TOML tables (:meth:`ScenarioKind.parse`, with the precise errors of
    :class:`~poinsot.scenarios._toml.Table`),
-2. calls the library (:meth:`ScenarioKind.solve` -> a
-   :class:`~poinsot.trajectory.Trajectory` on the output times),
+2. calls the library (:meth:`ScenarioKind.solve` -> the library's own result on
+   the output times: a :class:`~poinsot.trajectory.Trajectory` for a rigid body,
+   a :class:`~poinsot.trajectory.PointTrajectory` for a particle, a
+   :class:`~poinsot.trajectory.CoordinateTrajectory` for generalized
+   coordinates; never a result of another kind filled with dummy values),
 3. says what is known in closed form (:meth:`ScenarioKind.facts` -> a
    :class:`Facts`, which summarises and describes itself),
 4. says which quantities must be conserved or follow a law along the motion
    (:meth:`ScenarioKind.checks` -> :class:`Check` objects, from which the
    accuracy section and the warnings are built), and
 5. lists the figures that apply (:meth:`ScenarioKind.figures` ->
-   :class:`FigureSpec`, drawn by functions of :mod:`poinsot.plotting`).
+   :class:`FigureSpec`, drawn by functions of :mod:`poinsot.plotting`), and
+6. says what ``report.html`` shows (:meth:`ScenarioKind.report` -> a
+   :class:`ReportSpec`: the scene, the charts, extra HTML sections), rendered by
+   the generic :func:`poinsot.plotting.write_report`.
 
 Everything else (times, overrides, cost limits, progress, the reference run, the
-comparison, the summary's common sections, files, text) is shared. The recipe,
+comparison with it on the result's own state, :func:`poinsot.trajectory.compare`,
+the summary's common sections, files, text) is shared. The recipe,
 with a complete example, is ``docs/adding-a-motion.md``.
 
 Summaries are grouped in sections (``scenario``, ``body``, ``initial_state``,
@@ -36,11 +43,21 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..trajectory import Trajectory
     from ._toml import Table
     from .schema import AttitudeSpec, Scenario
 
-__all__ = ["ScenarioKind", "Facts", "Check", "FigureSpec", "Entry", "section", "Progress"]
+__all__ = [
+    "ScenarioKind",
+    "Facts",
+    "Check",
+    "FigureSpec",
+    "Entry",
+    "section",
+    "Progress",
+    "Chart",
+    "BodyLayer",
+    "ReportSpec",
+]
 
 #: ``progress(fraction, stage)``: called as a computation advances (fraction in [0, 1]).
 Progress = Callable[[float, str], None]
@@ -239,6 +256,102 @@ class FigureSpec:
     projection: str | None = None
 
 
+@dataclass(frozen=True)
+class Chart:
+    """One chart of ``report.html``: named time series on the run's output times.
+
+    Attributes
+    ----------
+    title : str
+        Chart title (``"generalised coordinates q(t): angles"``).
+    units : str
+        Units of every series of the chart (``"rad"``; ``"relative"`` for ratios).
+    series : Mapping[str, ndarray]
+        Label -> values of shape (n,), one per output time.
+
+    Examples
+    --------
+    >>> Chart("position", "m", {"x": np.zeros(3)}).units
+    'm'
+    """
+
+    title: str
+    units: str
+    series: Mapping[str, np.ndarray]
+
+
+@dataclass(frozen=True)
+class BodyLayer:
+    """A rigid body in the scene of ``report.html``, turned by the attitude of the
+    report's :class:`~poinsot.trajectory.Trajectory`.
+
+    Attributes
+    ----------
+    shapes : sequence of mapping or None
+        The solids in body axes, as :func:`poinsot.plotting.write_report` takes
+        them (``{"kind": "box", "dims": [...], "center": [...]}``, meshes...);
+        None: the uniform ellipsoid of the same ``mass`` and ``inertia``.
+    inertia : ndarray, shape (3, 3), or None
+        Inertia tensor about the centre of mass, body axes (kg m^2).
+    mass : float or None
+        Mass (kg).
+    center_of_mass : ndarray, shape (3,), or None
+        Centre of mass in body axes (m).
+    fixed_point : bool
+        The origin of the body axes is fixed in space (a top's pin): marked.
+    polhode : bool
+        Draw the polhode and herpolhode (a torque-free body only, docs/theory.md §10).
+    """
+
+    shapes: Sequence[Mapping[str, Any]] | None = None
+    inertia: np.ndarray | None = None
+    mass: float | None = None
+    center_of_mass: np.ndarray | None = None
+    fixed_point: bool = False
+    polhode: bool = False
+
+
+@dataclass(frozen=True)
+class ReportSpec:
+    """What ``report.html`` shows for a run: made by :meth:`ScenarioKind.report`,
+    rendered by :func:`poinsot.scenarios.write_scenario_report` through the
+    generic :func:`poinsot.plotting.write_report`.
+
+    Attributes
+    ----------
+    motion : Result
+        The result the page animates: a :class:`~poinsot.trajectory.Trajectory`
+        turns the ``body`` layer; a result with a ``position`` (a
+        :class:`~poinsot.trajectory.PointTrajectory`) is drawn as a point and its
+        path (in the axes of its ``frame``); any other result has no scene.
+    body : BodyLayer or None
+        The rigid body drawn (with a Trajectory ``motion``).
+    reference : Trajectory or None
+        A rigid body's reference run: its axes dashed, its ``w`` overlaid, the
+        attitude error plotted. Other kinds show their differences as ``charts``.
+    torque : ndarray, shape (n, 3), or None
+        Torque on a rigid body in body axes (N m): plotted with its energy balance.
+    euler_seq : str
+        Sequence of the attitude angles plotted for a rigid body.
+    charts : tuple of Chart
+        The kind's own charts, shown first.
+    checks : tuple of Check
+        Quantities with a known behaviour (conserved ones as relative changes).
+    sections : tuple of (str, str)
+        Extra ``(heading, html)`` sections (trusted HTML made by poinsot, e.g. a
+        kind's figures as inline SVG).
+    """
+
+    motion: Any
+    body: BodyLayer | None = None
+    reference: Any = None
+    torque: np.ndarray | None = None
+    euler_seq: str = "ZYX"
+    charts: tuple[Chart, ...] = ()
+    checks: tuple[Check, ...] = ()
+    sections: tuple[tuple[str, str], ...] = ()
+
+
 class ScenarioKind:
     """Base class of a scenario adapter (one per kind; see ``docs/adding-a-motion.md``).
 
@@ -289,7 +402,8 @@ class ScenarioKind:
 
     # ------------------------------------------------------------------ solving
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress):
-        """The motion on the output times ``t`` by ``method`` -> Trajectory."""
+        """The motion on the output times ``t`` by ``method``: the result the library
+        call returns (a Trajectory, PointTrajectory, CoordinateTrajectory...)."""
         raise NotImplementedError
 
     def motion_inertia(self, scenario: Scenario) -> np.ndarray | None:
@@ -305,20 +419,52 @@ class ScenarioKind:
         """Extra entries of the ``body`` section (e.g. the inertia about a pin)."""
         return {}
 
-    def series(self, scenario: Scenario, tr: Trajectory) -> dict[str, tuple[np.ndarray, str]]:
+    def series(self, scenario: Scenario, tr) -> dict[str, tuple[np.ndarray, str]]:
         """Extra columns of the trajectory files, ``name -> (values (n,), units)``
-        (e.g. ``"V"`` the potential energy)."""
+        (e.g. ``"V"`` the potential energy), read from the kind's own result ``tr``."""
         return {}
 
-    def checks(self, scenario: Scenario, tr: Trajectory) -> Sequence[Check]:
-        """The quantities with a known behaviour along ``tr`` (accuracy)."""
+    def checks(self, scenario: Scenario, tr) -> Sequence[Check]:
+        """The quantities with a known behaviour along ``tr`` (the kind's own
+        result; accuracy)."""
         return ()
+
+    def tolerances(self, scenario: Scenario, comparison) -> dict[str, float]:
+        """The largest accepted difference from the reference run of each quantity
+        of ``comparison`` (a :class:`poinsot.trajectory.Comparison`), in its units.
+
+        The rule (``docs/cli.md``, "Accuracy"): the attitude of a rigid body
+        ``[simulation] attitude_threshold`` rad (default 1e-2); every other
+        quantity (a rigid body's ``omega``, a particle's position and velocity,
+        each generalized coordinate and rate) ``agreement_threshold`` (default
+        1e-2) times its scale, the largest magnitude of the quantity along the
+        reference run. A kind may override it.
+        """
+        from .summary import agreement_thresholds
+
+        att_tol, rel_tol = agreement_thresholds(scenario)
+        return {
+            d.name: att_tol if d.name == "attitude" and d.units == "rad" else rel_tol * d.scale
+            for d in comparison.differences
+        }
 
     def figures(self, result) -> list[FigureSpec]:
         """The figures that apply to ``result`` (a ScenarioResult)."""
         from . import figures as common
 
         return common.default_figures(result)
+
+    def report(self, result) -> ReportSpec:
+        """What ``report.html`` shows for ``result`` (a ScenarioResult).
+
+        The default draws a rigid body (``result.trajectory`` a Trajectory): its
+        shape, the fixed point under gravity, the torque and the Euler angles,
+        the reference's axes and attitude error (:func:`.kinds._rigid.rigid_report`).
+        Kinds of other motions override it.
+        """
+        from .kinds._rigid import rigid_report
+
+        return rigid_report(result)
 
     def describe_scenario(self, scenario: Scenario) -> list[str]:
         """Phrases describing the scenario before it is run (``poinsot check``)."""

@@ -98,49 +98,79 @@ def _atomic(path: Path, write: Callable[[Any], None], mode: str = "w") -> Path:
 
 
 # ----------------------------------------------------------------------------- trajectory
-def _columns(result: ScenarioResult, tr: Trajectory):
-    names = ["t", "qw", "qx", "qy", "qz", "wx", "wy", "wz"]
-    units = ["s"] + ["1"] * 4 + ["rad/s"] * 3
-    cols = [tr.t[:, None], tr.quat, tr.omega]
-    if tr.momentum is not None:
-        names += ["Kx", "Ky", "Kz", "T"]
-        units += ["kg m^2/s"] * 3 + ["J"]
-        cols += [tr.momentum, tr.energy[:, None]]
+def _columns(result: ScenarioResult, tr):
+    """Column names, units, descriptions and data of a trajectory file: a rigid
+    body's attitude, omega, K and T; any other result's own channels
+    (:meth:`~poinsot.trajectory.Result.channels`); then the kind's extra series."""
+    if isinstance(tr, Trajectory):
+        names = ["t", "qw", "qx", "qy", "qz", "wx", "wy", "wz"]
+        units = ["s"] + ["1"] * 4 + ["rad/s"] * 3
+        cols = [tr.t[:, None], tr.quat, tr.omega]
+        if tr.momentum is not None:
+            names += ["Kx", "Ky", "Kz", "T"]
+            units += ["kg m^2/s"] * 3 + ["J"]
+            cols += [tr.momentum, tr.energy[:, None]]
+        described: list[str] = []
+    else:
+        names, units, cols, described = ["t"], ["s"], [tr.t[:, None]], ["t: time (s)"]
+        for ch in tr.channels().values():
+            v = np.asarray(ch.values, dtype=float).reshape(tr.t.size, -1)
+            comps = list(getattr(ch, "components", None) or ())
+            if v.shape[1] == 1:
+                col_names = [ch.name]
+            elif len(comps) == v.shape[1]:
+                col_names = [f"{ch.name}_{c}" for c in comps]
+            else:
+                col_names = [f"{ch.name}_{k}" for k in range(v.shape[1])]
+            names += col_names
+            units += [ch.units or "1"] * v.shape[1]
+            cols.append(v)
+            what = getattr(ch, "description", "") or ch.name
+            described.append(f"{','.join(col_names)}: {what} ({ch.units or '1'})")
     extra = result.scenario.adapter.series(result.scenario, tr)
     for name, (values, unit) in extra.items():
+        if name in names:
+            continue
         names.append(name)
         units.append(unit)
         cols.append(np.asarray(values)[:, None])
-    return names, units, np.hstack(cols)
+        described.append(f"{name}: a series of the {result.scenario.kind} kind ({unit or '1'})")
+    return names, units, described, np.hstack(cols)
 
 
-def _header(result: ScenarioResult, tr: Trajectory, names, units) -> list[str]:
+def _header(result: ScenarioResult, tr, names, units, described) -> list[str]:
     s = result.scenario
-    gravity = s.torque is not None and s.torque.model == "gravity"
-    point = "the fixed point (origin of the body axes)" if gravity else "the centre of mass"
     lines = [
         f"poinsot {versions()['poinsot']} trajectory of scenario {s.name!r} "
         f"(kind {s.kind}, method {tr.method}, {tr.t.size} samples)",
-        "conventions: " + CONVENTIONS,
-        "t: time (s); qw,qx,qy,qz: unit quaternion of the attitude, scalar first, body -> "
-        "space (v_space = q o v_body o q~)",
-        "wx,wy,wz: angular velocity in BODY axes (rad/s)",
     ]
-    if "Kx" in names:
+    if isinstance(tr, Trajectory):
+        lines.append("conventions: " + CONVENTIONS)
+        gravity = s.torque is not None and s.torque.model == "gravity"
+        point = "the fixed point (origin of the body axes)" if gravity else "the centre of mass"
         lines += [
-            f"Kx,Ky,Kz: angular momentum about {point} in SPACE axes (kg m^2/s)",
-            "T: rotational kinetic energy (J)",
+            "t: time (s); qw,qx,qy,qz: unit quaternion of the attitude, scalar first, body -> "
+            "space (v_space = q o v_body o q~)",
+            "wx,wy,wz: angular velocity in BODY axes (rad/s)",
         ]
-    if "V" in names:
-        lines.append("V: potential energy of gravity m g z_c, g along -z of space (J)")
+        if "Kx" in names:
+            lines += [
+                f"Kx,Ky,Kz: angular momentum about {point} in SPACE axes (kg m^2/s)",
+                "T: rotational kinetic energy (J)",
+            ]
+        if "V" in names:
+            lines.append("V: potential energy of gravity m g z_c, g along -z of space (J)")
+    else:
+        lines.append("conventions: SI units, angles in radians; each column's axes as said")
+        lines += described
     lines.append("units: " + ",".join(units))
     lines.append(",".join(names))
     return lines
 
 
-def _write_trajectory(result: ScenarioResult, tr: Trajectory, path: Path, fmt: str) -> Path:
-    names, units, data = _columns(result, tr)
-    header = _header(result, tr, names, units)
+def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> Path:
+    names, units, described, data = _columns(result, tr)
+    header = _header(result, tr, names, units, described)
     if fmt == "csv":
 
         def write(fh):
@@ -151,12 +181,17 @@ def _write_trajectory(result: ScenarioResult, tr: Trajectory, path: Path, fmt: s
 
         return _atomic(path, write)
 
-    arrays = {"t": tr.t, "quat": tr.quat, "omega_body": np.asarray(tr.omega)}
-    if tr.momentum is not None:
-        arrays["momentum_space"] = np.asarray(tr.momentum)
-        arrays["energy"] = np.asarray(tr.energy)
+    if isinstance(tr, Trajectory):
+        arrays = {"t": tr.t, "quat": tr.quat, "omega_body": np.asarray(tr.omega)}
+        if tr.momentum is not None:
+            arrays["momentum_space"] = np.asarray(tr.momentum)
+            arrays["energy"] = np.asarray(tr.energy)
+    else:
+        arrays = {"t": tr.t}
+        arrays.update({name: np.asarray(ch.values) for name, ch in tr.channels().items()})
     for name, (values, _) in result.scenario.adapter.series(result.scenario, tr).items():
-        arrays["potential" if name == "V" else name] = np.asarray(values)
+        key = "potential" if name == "V" else name
+        arrays.setdefault(key, np.asarray(values))
     arrays["header"] = np.array("\n".join(header))
     return _atomic(path, lambda fh: np.savez(fh, **arrays), mode="b")
 
@@ -185,28 +220,11 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
     return files
 
 
-def _report_sections(result: ScenarioResult, notes: list[str]):
-    """A kind's extra report sections (``report_sections(result)``, optional)."""
-    make = getattr(result.scenario.adapter, "report_sections", None)
-    if make is None:
-        return ()
-    try:
-        return tuple(make(result))
-    except Exception as exc:  # a section that fails never sinks the report
-        notes.append(f"report section skipped: {type(exc).__name__}: {exc}")
-        return ()
-
-
 def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) -> list[Path]:
-    try:
-        from ..plotting.report import write_scenario_report
-    except ImportError as exc:
-        notes.append(f"report.html skipped: {exc}")
-        return []
-    try:  # the kind chooses the body's drawing and the panels (poinsot.plotting.report)
-        path = write_scenario_report(
-            out / "report.html", result, summary, sections=_report_sections(result, notes)
-        )
+    from .report import write_scenario_report
+
+    try:  # the kind says what to show (ScenarioKind.report); plotting draws it
+        path = write_scenario_report(out / "report.html", result, summary)
     except ImportError as exc:  # the report needs only NumPy/SciPy: a broken install
         notes.append(f"report.html skipped: {exc}")
         return []

@@ -198,8 +198,9 @@ class SimulationSpec:
     """Output times and method: ``duration`` (s) and either ``step`` (s) or ``samples``;
     ``reference`` is an optional second method run on the same times for comparison;
     ``max_step`` (s) bounds the integration step (default: the output spacing);
-    ``drift_threshold`` (relative) and ``attitude_threshold`` (rad) replace the
-    default accuracy thresholds of :mod:`poinsot.scenarios.summary`."""
+    ``drift_threshold`` (relative), ``attitude_threshold`` (rad) and
+    ``agreement_threshold`` (relative to each quantity's scale) replace the default
+    accuracy thresholds of :mod:`poinsot.scenarios.summary`."""
 
     def n_samples(self) -> int:
         """The number of output times, computed without building them."""
@@ -232,6 +233,7 @@ class SimulationSpec:
     max_step: float | None = None
     drift_threshold: float | None = None
     attitude_threshold: float | None = None
+    agreement_threshold: float | None = None
 
     def times(self) -> np.ndarray:
         """The output times ``0 .. duration`` (s)."""

@@ -19,6 +19,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -179,12 +180,16 @@ def estimate_cost(scenario: Scenario, *, duration: float | None = None) -> Cost:
 
 
 # ----------------------------------------------------------------------------- solving
-def chunked(solve, r0, w0, t: np.ndarray, progress: Progress, stage: str) -> Trajectory:
+def chunked(solve, r0, w0, t: np.ndarray, progress: Progress, stage: str, *, resume=None):
     """Run ``solve(r0, w0, t)`` in consecutive chunks of ``t`` to report progress.
 
     Each chunk starts from the last state of the previous one, so a fixed-step method
     advances exactly as in one call (the step is tied to the output spacing).
-    ``w0`` may be ``None`` (attitude propagation carries no angular velocity).
+    ``resume(result) -> (r0, w0)`` gives that state; by default, for a
+    :class:`~poinsot.trajectory.Trajectory`, its last attitude and angular
+    velocity (``w0`` may be ``None``: attitude propagation carries no angular
+    velocity). A solve returning another result must pass ``resume``. The chunks
+    are joined field by field (:func:`_concatenate`), whatever the result type.
     """
     n = t.size
     if n <= _CHUNK_SAMPLES:
@@ -193,38 +198,51 @@ def chunked(solve, r0, w0, t: np.ndarray, progress: Progress, stage: str) -> Tra
         progress(1.0, stage)
         return tr
     edges = np.unique(np.linspace(0, n - 1, _N_CHUNKS + 1).round().astype(int))
-    parts: list[Trajectory] = []
-    rot, w = r0, w0
+    parts: list = []
+    state = (r0, w0)
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
         progress(k / (len(edges) - 1), stage)
-        tr = solve(rot, w, t[a : b + 1])
+        tr = solve(*state, t[a : b + 1])
         parts.append(tr)
-        rot, w = tr.rotation[-1], np.asarray(tr.omega[-1])
+        state = _last_state(tr) if resume is None else resume(tr)
     progress(1.0, stage)
     return _concatenate(parts)
 
 
-def _concatenate(parts: list[Trajectory]) -> Trajectory:
+def _last_state(tr) -> tuple:
+    if not isinstance(tr, Trajectory):
+        raise InvalidTypeError(
+            f"Expected `resume` for a chunked run returning {type(tr).__name__} (only a "
+            "Trajectory resumes from its last attitude and angular velocity)."
+        )
+    return tr.rotation[-1], np.asarray(tr.omega[-1])
+
+
+def _concatenate(parts: list):
+    """One result from consecutive chunks that share their boundary samples: every
+    per-sample field (an array or a Rotation whose first axis runs over the times)
+    joined without the repeated samples, the others from the first chunk;
+    ``info`` from the last, with ``chunks``."""
     from ..rotations.rotation import Rotation
 
-    def cat(name):
-        arrays = [getattr(p, name) for p in parts]
-        if any(a is None for a in arrays):
-            return None
-        return np.concatenate([arrays[0]] + [a[1:] for a in arrays[1:]])
-
-    rotation = Rotation.concatenate([parts[0].rotation] + [p.rotation[1:] for p in parts[1:]])
+    first = parts[0]
+    n0 = first.t.shape[0]
+    kwargs: dict[str, Any] = {}
+    for f in dataclasses.fields(first):
+        if not f.init:
+            continue
+        values = [getattr(p, f.name) for p in parts]
+        v0 = values[0]
+        if isinstance(v0, Rotation) and v0.shape[:1] == (n0,):
+            kwargs[f.name] = Rotation.concatenate([v0] + [v[1:] for v in values[1:]])
+        elif isinstance(v0, np.ndarray) and v0.ndim >= 1 and v0.shape[0] == n0:
+            kwargs[f.name] = np.concatenate([v0] + [np.asarray(v)[1:] for v in values[1:]])
+        else:
+            kwargs[f.name] = v0
     info = dict(parts[-1].info)
     info["chunks"] = len(parts)
-    return Trajectory(
-        cat("t"),
-        rotation,
-        cat("omega"),
-        parts[0].method,
-        energy=cat("energy"),
-        momentum=cat("momentum"),
-        info=info,
-    )
+    kwargs["info"] = info
+    return type(first)(**kwargs)
 
 
 def _override(scenario: Scenario, duration: float | None) -> Scenario:

@@ -14,19 +14,31 @@ Sections of ``summary.json`` (each numeric entry's units in the section's
 - ``conventions``: one line;
 - ``body``: mass, inertia, centre of mass, principal moments and axes;
 - ``initial_state``: attitude quaternion, angular velocity in body and space axes;
+- ``initial_state``: a rigid body's attitude quaternion and angular velocity in
+  body and space axes; for other motions the initial value of each state quantity
+  of the kind's result (a particle's position and velocity, each coordinate and
+  rate), with units;
 - ``results``: what is known in closed form for this kind;
 - ``accuracy``: the method and reference, the integration step, the drift of every
   conserved quantity (``invariants``, ``reference_invariants``), the comparison with
-  the reference, the thresholds, ``warnings`` and a ``suggested_max_step``;
+  the reference on the result's own state (:func:`poinsot.trajectory.compare`:
+  each quantity's largest difference, when, its final difference and tolerance,
+  in its units), the thresholds, ``warnings`` and a ``suggested_max_step``;
 - ``run``: output times, wall time, the cost estimate, solver details, versions,
   notes and (once written) the list of files.
 
 Accuracy thresholds (docs/cli.md): a conserved quantity whose maximum relative
-drift exceeds :data:`DRIFT_THRESHOLD`, or an attitude that differs from the
-reference by more than :data:`ATTITUDE_THRESHOLD` rad, gives a warning (printed by
-``poinsot run``, recorded in ``accuracy.warnings``) with a suggested ``max_step``.
-A scenario may set its own in ``[simulation] drift_threshold`` and
-``attitude_threshold``.
+drift exceeds :data:`DRIFT_THRESHOLD`, or a state quantity that differs from the
+reference run by more than its tolerance, gives a warning (printed by ``poinsot
+run``, recorded in ``accuracy.warnings``, shown in ``report.html``) with a
+suggested ``max_step``. The tolerance of a rigid body's attitude is
+:data:`ATTITUDE_THRESHOLD` rad; that of every other quantity (a rigid body's
+``omega``, a particle's position and velocity, each generalized coordinate and
+rate) :data:`AGREEMENT_THRESHOLD` times its scale, the largest magnitude of the
+quantity along the reference run (:meth:`ScenarioKind.tolerances
+<poinsot.scenarios.ScenarioKind.tolerances>`). A scenario may set its own in
+``[simulation] drift_threshold``, ``attitude_threshold`` and
+``agreement_threshold``.
 """
 
 from __future__ import annotations
@@ -40,7 +52,7 @@ from typing import Any
 
 import numpy as np
 
-from ..trajectory import Trajectory
+from ..trajectory import Trajectory, compare, quantity_label
 from .kind import Check, Entry, Facts, jsonable, section
 from .schema import Scenario
 
@@ -49,6 +61,8 @@ __all__ = [
     "CONVENTIONS",
     "DRIFT_THRESHOLD",
     "ATTITUDE_THRESHOLD",
+    "AGREEMENT_THRESHOLD",
+    "agreement_thresholds",
     "versions",
 ]
 
@@ -63,6 +77,27 @@ CONVENTIONS = (
 DRIFT_THRESHOLD = 1e-6
 #: Largest attitude difference from the reference (rad) accepted without a warning.
 ATTITUDE_THRESHOLD = 1e-2
+#: Largest difference from the reference of any other state quantity accepted without
+#: a warning, relative to the quantity's scale (its largest magnitude along the
+#: reference run).
+AGREEMENT_THRESHOLD = 1e-2
+
+
+def agreement_thresholds(scenario: Scenario) -> tuple[float, float]:
+    """``(attitude_threshold (rad), agreement_threshold (relative))`` of a scenario:
+    its ``[simulation]`` values, else :data:`ATTITUDE_THRESHOLD` and
+    :data:`AGREEMENT_THRESHOLD`.
+
+    Examples
+    --------
+    >>> from poinsot.scenarios import demo_scenario
+    >>> agreement_thresholds(demo_scenario())
+    (0.01, 0.01)
+    """
+    sim = scenario.simulation
+    att = getattr(sim, "attitude_threshold", None) or ATTITUDE_THRESHOLD
+    rel = getattr(sim, "agreement_threshold", None) or AGREEMENT_THRESHOLD
+    return float(att), float(rel)
 
 
 def versions() -> dict:
@@ -85,24 +120,48 @@ def versions() -> dict:
     }
 
 
-def _comparison(tr: Trajectory, ref: Trajectory | None) -> dict | None:
+def _comparison(scenario: Scenario, tr, ref) -> tuple[dict | None, list]:
+    """The ``accuracy.comparison`` entry, from :func:`poinsot.trajectory.compare` on
+    the kind's own state, and the differences beyond their tolerance as
+    ``(Difference, tolerance)`` pairs."""
     if ref is None:
-        return None
-    err = (ref.rotation.inv() * tr.rotation).magnitude()
-    dw = np.linalg.norm(np.asarray(tr.omega) - np.asarray(ref.omega), axis=-1)
-    wmax = float(np.max(np.linalg.norm(ref.omega, axis=-1)))
-    return {
-        "reference": ref.method,
-        "max_attitude_error_rad": float(np.max(err)),
-        "final_attitude_error_rad": float(err[-1]),
-        "max_omega_error": float(np.max(dw)),
-        "max_relative_omega_error": float(np.max(dw) / wmax) if wmax > 0 else None,
-        "units": {
-            "max_attitude_error_rad": "rad",
-            "final_attitude_error_rad": "rad",
-            "max_omega_error": "rad/s",
-        },
-    }
+        return None, []
+    cmp = compare(tr, ref)
+    tols = scenario.adapter.tolerances(scenario, cmp)
+    differences = {}
+    exceeded = []
+    for d in cmp.differences:
+        tol = tols.get(d.name)
+        differences[d.name] = {
+            "max": float(d.max),
+            "time_of_max": float(d.time_of_max),
+            "final": float(d.final),
+            "scale": float(d.scale),
+            "tolerance": None if tol is None else float(tol),
+            "units": d.units,
+        }
+        if tol is not None and d.max > tol:
+            exceeded.append((d, float(tol)))
+    out: dict[str, Any] = {"reference": ref.method, "differences": differences}
+    att, omega = differences.get("attitude"), differences.get("omega")
+    if isinstance(tr, Trajectory) and att is not None and omega is not None:
+        # the rigid body's keys of earlier versions (same numbers, stated units)
+        out.update(
+            {
+                "max_attitude_error_rad": att["max"],
+                "final_attitude_error_rad": att["final"],
+                "max_omega_error": omega["max"],
+                "max_relative_omega_error": (
+                    omega["max"] / omega["scale"] if omega["scale"] > 0 else None
+                ),
+                "units": {
+                    "max_attitude_error_rad": "rad",
+                    "final_attitude_error_rad": "rad",
+                    "max_omega_error": "rad/s",
+                },
+            }
+        )
+    return out, exceeded
 
 
 def _round_step(h: float) -> float:
@@ -115,20 +174,21 @@ def _round_step(h: float) -> float:
 
 @dataclass(frozen=True)
 class Accuracy:
-    """The accuracy assessment of a run: warnings and a suggested step."""
+    """The accuracy assessment of a run: thresholds, warnings and a suggested step."""
 
     drift_threshold: float
     attitude_threshold: float
     integration_step: float | None
     warnings: tuple[str, ...] = ()
     suggested_max_step: float | None = None
+    agreement_threshold: float = AGREEMENT_THRESHOLD
 
 
-def _assess(scenario: Scenario, checks, ref_checks, comparison) -> Accuracy:
+def _assess(scenario: Scenario, checks, ref_checks, exceeded) -> Accuracy:
     kind = scenario.adapter
     sim = scenario.simulation
     drift_tol = getattr(sim, "drift_threshold", None) or DRIFT_THRESHOLD
-    att_tol = getattr(sim, "attitude_threshold", None) or ATTITUDE_THRESHOLD
+    att_tol, rel_tol = agreement_thresholds(scenario)
     numerical = [m for m in (sim.method, sim.reference) if m is not None and m in kind.orders]
     h = sim.integration_step() if numerical else None
     warnings: list[str] = []
@@ -146,21 +206,28 @@ def _assess(scenario: Scenario, checks, ref_checks, comparison) -> Accuracy:
                 )
                 if method in kind.orders:
                     factors.append((drift / drift_tol, kind.orders[method]))
-    if comparison is not None and comparison["max_attitude_error_rad"] > att_tol:
-        err = comparison["max_attitude_error_rad"]
+    orders = [kind.orders[m] for m in (sim.method, sim.reference) if m in kind.orders]
+    for d, tol in exceeded:
+        units = f" {d.units}" if d.units else ""
+        if d.name == "attitude" and tol == att_tol:
+            rule = "the attitude threshold"
+        elif math.isclose(tol, rel_tol * d.scale, rel_tol=1e-12):
+            rule = f"{rel_tol:g} of its scale {d.scale:.3g}{units}"
+        else:
+            rule = f"the tolerance of the {scenario.kind} kind"
         warnings.append(
-            f"the attitudes of {sim.method!r} and {sim.reference!r} differ by up to "
-            f"{err:.2g} rad, more than the threshold {att_tol:g} rad"
+            f"{sim.method!r} and {sim.reference!r} differ by up to {d.max:.3g}{units} in "
+            f"{quantity_label(d.name)} (at t = {d.time_of_max:.4g} s), more than the threshold "
+            f"{tol:.3g}{units} ({rule})"
         )
-        orders = [kind.orders[m] for m in (sim.method, sim.reference) if m in kind.orders]
-        if orders:
-            factors.append((err / att_tol, min(orders)))
+        if orders and tol > 0:
+            factors.append((d.max / tol, min(orders)))
     suggested = None
     if factors and h is not None:
         # error ~ C h^p: a step that brings the worst quantity 10x below its threshold
         suggested = min(h * (0.1 / ratio) ** (1.0 / p) for ratio, p in factors)
         suggested = _round_step(suggested)
-    return Accuracy(drift_tol, att_tol, h, tuple(warnings), suggested)
+    return Accuracy(drift_tol, att_tol, h, tuple(warnings), suggested, rel_tol)
 
 
 @dataclass(frozen=True, eq=False)
@@ -171,10 +238,14 @@ class ScenarioResult:
     ----------
     scenario : Scenario
         The scenario run (with any override applied).
-    trajectory : Trajectory
-        The motion computed by ``simulation.method``.
-    reference : Trajectory or None
-        The motion computed by ``simulation.reference``, on the same times.
+    trajectory : Result
+        The result of ``simulation.method``: the kind's own result (a
+        :class:`~poinsot.trajectory.Trajectory` for a rigid body, a
+        :class:`~poinsot.trajectory.PointTrajectory` for a particle, a
+        :class:`~poinsot.trajectory.CoordinateTrajectory` for generalized
+        coordinates).
+    reference : Result or None
+        The result of ``simulation.reference`` (same type), on the same times.
     facts : Facts
         What the kind knows in closed form (the ``results`` section).
     checks, reference_checks : tuple of Check
@@ -185,27 +256,31 @@ class ScenarioResult:
         Seconds spent by ``simulation.method``.
     cost : Cost or None
         The cost estimated before the run.
+    comparison : dict or None
+        ``accuracy.comparison`` of the summary: the differences from the
+        reference on the result's own state, in its units.
     """
 
     scenario: Scenario
-    trajectory: Trajectory
-    reference: Trajectory | None
+    trajectory: Any
+    reference: Any
     facts: Facts = field(default_factory=Facts)
     checks: tuple[Check, ...] = ()
     reference_checks: tuple[Check, ...] = ()
     accuracy: Accuracy | None = None
     wall_time: float = 0.0
     cost: Any = None
+    comparison: dict | None = None
 
     @classmethod
-    def build(
-        cls, scenario: Scenario, tr: Trajectory, ref: Trajectory | None, *, wall_time=0.0, cost=None
-    ) -> ScenarioResult:
-        """Ask the scenario's kind for its facts and checks and assess the accuracy."""
+    def build(cls, scenario: Scenario, tr, ref, *, wall_time=0.0, cost=None) -> ScenarioResult:
+        """Ask the scenario's kind for its facts and checks, compare the result with
+        the reference on its own state and assess the accuracy."""
         kind = scenario.adapter
         checks = tuple(kind.checks(scenario, tr))
         ref_checks = tuple(kind.checks(scenario, ref)) if ref is not None else ()
-        accuracy = _assess(scenario, checks, ref_checks, _comparison(tr, ref))
+        comparison, exceeded = _comparison(scenario, tr, ref)
+        accuracy = _assess(scenario, checks, ref_checks, exceeded)
         return cls(
             scenario,
             tr,
@@ -216,6 +291,7 @@ class ScenarioResult:
             accuracy,
             float(wall_time),
             cost,
+            comparison,
         )
 
     # ------------------------------------------------------------------ pieces
@@ -250,17 +326,11 @@ class ScenarioResult:
             },
             "conventions": CONVENTIONS,
             "body": self._body(),
-            "initial_state": section(
-                {
-                    "quat": Entry(s.attitude.quat, "1"),
-                    "omega_body": Entry(tr.omega[0], "rad/s"),
-                    "omega_space": Entry(tr.rotation[0].apply(tr.omega[0]), "rad/s"),
-                }
-            ),
+            "initial_state": self._initial_state(),
             "results": self.facts.section(),
         }
         acc = self.accuracy
-        comparison = _comparison(tr, ref)
+        comparison = copy.deepcopy(self.comparison)
         out["accuracy"] = {
             "method": tr.method,
             "reference": None if ref is None else ref.method,
@@ -272,6 +342,7 @@ class ScenarioResult:
             "comparison": comparison,
             "drift_threshold": None if acc is None else acc.drift_threshold,
             "attitude_threshold": None if acc is None else acc.attitude_threshold,
+            "agreement_threshold": None if acc is None else acc.agreement_threshold,
             "warnings": [] if acc is None else list(acc.warnings),
             "suggested_max_step": None if acc is None else acc.suggested_max_step,
             "units": {
@@ -305,6 +376,23 @@ class ScenarioResult:
             "units": {"wall_time_s": "s"},
         }
         return out
+
+    def _initial_state(self) -> dict:
+        tr = self.trajectory
+        if isinstance(tr, Trajectory):
+            return section(
+                {
+                    "quat": Entry(self.scenario.attitude.quat, "1"),
+                    "omega_body": Entry(tr.omega[0], "rad/s"),
+                    "omega_space": Entry(tr.rotation[0].apply(tr.omega[0]), "rad/s"),
+                }
+            )
+        return section(
+            {
+                name: Entry(np.asarray(ch.values)[0], ch.units)
+                for name, ch in tr.state_channels().items()
+            }
+        )
 
     def _body(self) -> dict | None:
         s = self.scenario

@@ -1,5 +1,6 @@
 """What the rigid-body kinds share: reading [body], [angular_velocity], [torque],
-solving with :func:`poinsot.dynamics.simulate`, and the invariants of a trajectory."""
+solving with :func:`poinsot.dynamics.simulate`, the invariants of a trajectory, and
+what ``report.html`` shows of a rigid body (:func:`rigid_report`)."""
 
 from __future__ import annotations
 
@@ -88,3 +89,80 @@ def with_invariants(inertia, tr):
         return tr
     inv = invariants_of(inertia, tr)
     return dataclasses.replace(tr, energy=inv.kinetic, momentum=inv.momentum_space)
+
+
+def body_shapes(body) -> list[dict] | None:
+    """The solids of a scenario body (its shape, or its parts) in body axes, as
+    :func:`poinsot.plotting.write_report` takes them (None: draw the equivalent
+    ellipsoid)."""
+    from ...mass import solids
+    from ...plotting._report_shapes import SOLIDS, axes_from_inertia
+
+    if body.shape == "mesh":  # vertices already in body axes
+        return [{"kind": "mesh", "vertices": body.vertices, "faces": body.faces}]
+    if body.shape in SOLIDS and body.dims:
+        return [{"kind": body.shape, "dims": list(body.dims), "center": body.center_of_mass}]
+    if not body.parts:
+        return None
+    out = []
+    for p in body.parts:
+        if p.shape == "mesh":  # placed by its position/orientation: in body axes
+            out.append({"kind": "mesh", "vertices": p.vertices, "faces": p.faces})
+        elif p.shape in SOLIDS and p.dims:
+            canon = np.asarray(getattr(solids, p.shape)(1.0, *p.dims), dtype=float)
+            # the part's inertia may be turned (orientation =): find its axes
+            axes = axes_from_inertia(canon, np.asarray(p.inertia) / p.mass)
+            out.append({"kind": p.shape, "dims": list(p.dims), "center": p.position, "axes": axes})
+        else:  # a point mass (or a part given by its inertia): a small sphere
+            out.append({"kind": "point", "dims": [0.0], "center": p.position})
+    return out
+
+
+def body_torque(scenario, tr) -> np.ndarray | None:
+    """The torque of the scenario's model on the body along ``tr`` (body axes, N m,
+    shape (n, 3)), or None without a torque (or if the model cannot say)."""
+    if scenario.torque is None or scenario.torque.model == "none":
+        return None
+    if tr.rotation.shape != tr.t.shape:
+        return None
+    try:
+        model = torque_model(scenario)
+        torque = np.asarray(model.body_torque(tr.t, tr.quat, tr.omega), dtype=float)
+        return np.array(np.broadcast_to(torque, tr.omega.shape))
+    except Exception:  # the torque is optional in the report
+        return None
+
+
+def rigid_report(result, *, polhode: bool = False, sections=()):
+    """The :class:`~poinsot.scenarios.kind.ReportSpec` of a rigid body's run: the
+    body's shape at its centre of mass, the fixed point under gravity, the polhode
+    and herpolhode when ``polhode`` (the torque-free body, docs/theory.md §10), the
+    torque, Euler angles of the scenario's sequence (``"ZXZ"`` precession,
+    nutation and spin under a torque, else ``"ZYX"``) and the reference run."""
+    from ..kind import BodyLayer, ReportSpec
+
+    s = result.scenario
+    tr = result.trajectory
+    body = None
+    torque = None
+    if s.body is not None:
+        b = s.body
+        body = BodyLayer(
+            shapes=body_shapes(b),
+            inertia=np.asarray(b.inertia),
+            mass=float(b.mass),
+            center_of_mass=np.asarray(b.center_of_mass),
+            fixed_point=s.torque is not None and s.torque.model == "gravity",
+            polhode=polhode,
+        )
+        torque = body_torque(s, tr)
+    seq = s.attitude.sequence if s.attitude.sequence else ("ZXZ" if torque is not None else "ZYX")
+    return ReportSpec(
+        motion=tr,
+        body=body,
+        reference=result.reference,
+        torque=torque,
+        euler_seq=seq if len(seq) == 3 else "ZYX",  # as given (case: intrinsic or extrinsic)
+        checks=tuple(result.checks),
+        sections=tuple(sections),
+    )

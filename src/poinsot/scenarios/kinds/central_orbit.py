@@ -6,8 +6,9 @@ Table [orbit]: the potential energy as a sum of terms -- ``mu`` (Kepler
 and ``velocity`` (m/s), or ``energy`` (J) and ``angular_momentum`` (kg m^2/s)
 (start at the pericentre). Solved by :class:`poinsot.dynamics.CentralOrbit`:
 ``method = "exact"`` is Kepler's equation (a pure Kepler potential only),
-``"adaptive"`` the integration (DOP853, rtol 1e-12). Checks: energy and the
-angular momentum vector are conserved.
+``"adaptive"`` the integration (DOP853, rtol 1e-12); either returns the
+library's :class:`~poinsot.trajectory.PointTrajectory` (position and velocity in
+inertial axes). Checks: energy and the angular momentum vector are conserved.
 """
 
 from __future__ import annotations
@@ -201,12 +202,6 @@ class CentralOrbitKind(ScenarioKind):
             ),
         )
 
-    def series(self, scenario, tr):
-        names = ("x", "y", "z")
-        out = {n: (tr.position[:, k], "m") for k, n in enumerate(names)}
-        out.update({f"v{n}": (tr.velocity[:, k], "m/s") for k, n in enumerate(names)})
-        return out
-
     def figures(self, result):
         tr = result.trajectory
         orb = _orbit(result.scenario.spec)
@@ -228,16 +223,28 @@ class CentralOrbitKind(ScenarioKind):
         inv = invariants_figure(result)
         return figs + ([inv] if inv is not None else [])
 
-    def report_sections(self, result):
-        """The orbit with its apsides and the effective potential as SVG."""
-        from .rotating_frame import figure_sections
+    def report(self, result):
+        """``report.html``: the point and its orbit in space, charts of the position
+        and velocity components, the checks, and the orbit (apsides marked) and the
+        effective potential as inline SVG."""
+        from ..kind import ReportSpec
+        from ..report import figure_sections, unit_charts
 
+        tr = result.trajectory
+        names = ("x", "y", "z")
+        columns = {n: (tr.position[:, k], "m") for k, n in enumerate(names)}
+        columns.update({f"v{n}": (tr.velocity[:, k], "m/s") for k, n in enumerate(names)})
         specs = [f for f in self.figures(result) if f.name != "invariants.png"]
         titles = {
             "orbit.png": "The orbit, apsides marked (docs/theory.md §9)",
             "effective_potential.png": "Effective potential U + L^2/(2 m r^2)",
         }
-        return figure_sections(result, specs, [titles.get(f.name, f.name) for f in specs])
+        return ReportSpec(
+            motion=tr,
+            charts=tuple(unit_charts(columns)),
+            checks=tuple(result.checks),
+            sections=tuple(figure_sections(specs, [titles.get(f.name, f.name) for f in specs])),
+        )
 
     def describe_scenario(self, scenario):
         sp = scenario.spec

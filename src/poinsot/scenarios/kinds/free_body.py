@@ -165,5 +165,9 @@ class FreeBody(ScenarioKind):
         figs.append(FigureSpec("poinsot.png", poinsot, (6.0, 6.0), "3d"))
         return figs
 
+    def report(self, result):
+        """A rigid body's report with the polhode and herpolhode (docs/theory.md §10)."""
+        return _rigid.rigid_report(result, polhode=True)
+
 
 KIND = FreeBody()

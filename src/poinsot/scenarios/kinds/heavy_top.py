@@ -293,9 +293,11 @@ class HeavyTop(ScenarioKind):
             figs.append(FigureSpec("kovalevskaya.png", kova))
         return figs
 
-    def report_sections(self, result):
-        """The heavy-top figures (axis track, P(u), theta(t), invariants) as inline SVG."""
-        from .rotating_frame import figure_sections
+    def report(self, result):
+        """A rigid body's report (the top on its pin, the gravity torque, ZXZ angles)
+        with the heavy-top figures (axis track, P(u), theta(t), invariants) as
+        inline SVG."""
+        from ..report import figure_sections
 
         titles = {
             "axis_track.png": "Track of the symmetry axis on the unit sphere (docs/theory.md §10)",
@@ -305,7 +307,8 @@ class HeavyTop(ScenarioKind):
             "kovalevskaya.png": "The Kovalevskaya integral along the run",
         }
         specs = [f for f in self.figures(result) if f.name in titles]
-        return figure_sections(result, specs, [titles[f.name] for f in specs])
+        sections = figure_sections(specs, [titles[f.name] for f in specs])
+        return _rigid.rigid_report(result, sections=sections)
 
     def describe_scenario(self, scenario):
         top, _ = _lagrange(scenario.body, scenario.torque)

@@ -4,7 +4,9 @@ Table: [lagrangian] with ``coordinates`` (names), ``parameters`` (name = number)
 ``kinetic`` and ``potential`` (formulas), optional ``generalized_potential``,
 ``generalized_forces`` (one formula per coordinate), ``holonomic``,
 ``nonholonomic`` (lists of formulas, ``= 0``), ``eliminate`` (coordinates solved
-from the holonomic constraints), and the initial state ``q0``, ``qdot0``.
+from the holonomic constraints), ``units`` (the SI unit of each coordinate,
+``{theta1 = "rad", x = "m"}``; default guessed from the name by
+:func:`coordinate_unit`), and the initial state ``q0``, ``qdot0``.
 Formulas use the coordinates, their rates ``<name>_dot``, the parameters, ``t`` and
 the functions of :data:`poinsot.symbolic.FUNCTIONS`; they are read by the
 whitelist parser :func:`poinsot.symbolic.parse_expression` (never evaluated as
@@ -12,14 +14,15 @@ code; the rules are in ``docs/lagrange.md``). Solved by
 :class:`poinsot.symbolic.LagrangeSystem` (compiled right-hand side,
 ``solve_ivp``).
 
-The trajectory files carry the coordinates and rates as extra columns; the
-attitude columns of a rigid-body run hold the identity (there is no body
-attitude in a generalized-coordinate system).
+The kind returns the library's own result, a
+:class:`~poinsot.trajectory.CoordinateTrajectory` (coordinates and rates in the
+units of each coordinate, energies, multipliers); the trajectory files, the
+comparison with a reference run and ``report.html`` read it directly.
 """
 
 from __future__ import annotations
 
-import weakref
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -43,9 +46,46 @@ _KEYS = (
     "qdot0",
     "rtol",
     "atol",
+    "units",
 )
-#: the LagrangeTrajectory of each Trajectory solved here (for series, checks, figures)
-_RUNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: Units a coordinate may have in ``[lagrangian] units`` ("": none stated).
+UNITS = ("rad", "m", "")
+
+_GREEK = frozenset(
+    "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi "
+    "sigma tau upsilon phi chi psi omega varphi vartheta".split()
+)
+_LENGTHS = frozenset("x y z r s l d h rho".split())
+
+
+def coordinate_unit(name: str) -> str:
+    """SI unit of a generalized coordinate guessed from its name: a Greek letter
+    (``theta1``, ``phi``) is an angle (``"rad"``); ``x``, ``y``, ``z``, ``r``, ``s``,
+    ``l``, ``d``, ``h``, ``rho`` (with digits or ``_`` after) a length (``"m"``);
+    else unknown (``""``). ``[lagrangian] units`` overrides the guess.
+
+    Examples
+    --------
+    >>> [coordinate_unit(n) for n in ("theta1", "phi", "x", "rho", "z_2", "q")]
+    ['rad', 'rad', 'm', 'm', 'm', '']
+    """
+    stem = name.rstrip("0123456789_").lower()
+    if stem in _GREEK:
+        return "rad"
+    if stem in _LENGTHS:
+        return "m"
+    return ""
+
+
+def rate_unit(unit: str) -> str:
+    """Unit of a coordinate's rate: ``"rad"`` -> ``"rad/s"``, ``""`` -> ``"1/s"``.
+
+    Examples
+    --------
+    >>> rate_unit("m"), rate_unit("")
+    ('m/s', '1/s')
+    """
+    return f"{unit}/s" if unit else "1/s"
 
 
 @dataclass(frozen=True)
@@ -60,6 +100,7 @@ class LagrangianSpec:
     rtol: float
     atol: float
     system: Any = field(default=None, repr=False, compare=False)  # LagrangeSystem
+    units: tuple[str, ...] = ()  # of each kept coordinate (SI; "" unknown)
 
 
 def _strings(t, key, n=None):
@@ -188,19 +229,35 @@ class Lagrangian(ScenarioKind):
         qdot0 = t.vector("qdot0", m, what=f"an array of {m} numbers (initial rates)")
         rtol = t.number("rtol", 1e-10, positive=True)
         atol = t.number("atol", 1e-12, positive=True)
+        units = self._units(t, kept)
         t.finish(_KEYS)
         spec = LagrangianSpec(coords, tuple(params), tuple(formulas), q0, qdot0, rtol, atol,
-                              system)  # fmt: skip
+                              system, units)  # fmt: skip
         return {"spec": spec}
 
-    def solve(self, scenario, method, t, progress):
-        from ...rotations.rotation import Rotation
-        from ...trajectory import Trajectory
+    @staticmethod
+    def _units(t, kept) -> tuple[str, ...]:
+        """``[lagrangian] units`` (name -> "rad", "m" or ""), else the guess of
+        :func:`coordinate_unit`, for each kept coordinate."""
+        given = t.raw("units") if t.has("units") else {}
+        if not isinstance(given, dict):
+            raise t.expected("units", 'a table {coordinate = "rad" or "m"}', given)
+        for name, unit in given.items():
+            if name not in kept:
+                raise t.error("units", f"expected a coordinate among {kept}, found {name!r}.")
+            if unit not in UNITS:
+                raise t.error(
+                    "units",
+                    f"expected the unit of {name!r} to be one of {list(UNITS)}, found {unit!r}.",
+                )
+        return tuple(given.get(c, coordinate_unit(c)) for c in kept)
 
+    def solve(self, scenario, method, t, progress):
         spec = scenario.spec
         f = spec.system.to_numeric(dict(spec.parameters))
         progress(0.0, method)
         sim = scenario.simulation
+        kept = [str(c.func) for c in spec.system.coordinates]
         lt = f.simulate(
             spec.q0,
             spec.qdot0,
@@ -209,13 +266,10 @@ class Lagrangian(ScenarioKind):
             rtol=spec.rtol,
             atol=spec.atol,
             max_step=sim.max_step if sim.max_step is not None else np.inf,
+            units=spec.units or tuple(coordinate_unit(c) for c in kept),
         )
         progress(1.0, method)
-        info = {k: v for k, v in lt.info.items() if k != "message"}
-        info["coordinates"] = list(lt.coordinates)
-        tr = Trajectory(t, Rotation.identity((t.size,)), np.zeros((t.size, 3)), method, info=info)
-        _RUNS[tr] = lt
-        return tr
+        return dataclasses.replace(lt, method=method)  # named as the scenario names it
 
     def motion_inertia(self, scenario):
         return None
@@ -241,64 +295,44 @@ class Lagrangian(ScenarioKind):
         )
         return Facts(entries, tuple(lines))
 
-    def series(self, scenario, tr):
-        lt = _RUNS.get(tr)
-        if lt is None:
-            return {}
-        out = {}
-        for k, name in enumerate(lt.coordinates):
-            out[name] = (lt.q[:, k], "")
-            out[f"{name}_dot"] = (lt.qdot[:, k], "1/s")
-        out["E"] = (lt.energy, "J")
-        if lt.jacobi is not None:
-            out["h"] = (lt.jacobi, "J")
-        return out
-
     def checks(self, scenario, tr):
-        lt = _RUNS.get(tr)
-        if lt is None:
-            return ()
         system = scenario.spec.system
         out = []
         # relative to the larger of |initial value| and the largest kinetic energy
-        big = float(np.max(np.abs(lt.kinetic)))
-        if lt.jacobi is not None:
+        big = float(np.max(np.abs(tr.kinetic)))
+        if tr.jacobi is not None:
             out.append(
                 Check(
                     "jacobi",
                     "Jacobi integral h",
                     "J",
-                    lt.jacobi,
-                    scale=max(abs(float(lt.jacobi[0])), big) or None,
+                    tr.jacobi,
+                    scale=max(abs(float(tr.jacobi[0])), big) or None,
                     conserved=bool(system.jacobi_conserved),
                 )  # fmt: skip
             )
-        same = lt.jacobi is not None and np.allclose(lt.energy, lt.jacobi, rtol=1e-12, atol=0)
+        same = tr.jacobi is not None and np.allclose(tr.energy, tr.jacobi, rtol=1e-12, atol=0)
         if not same:
-            out.append(Check("energy", "energy T + P", "J", lt.energy,
-                             scale=max(abs(float(lt.energy[0])), big) or None,
+            out.append(Check("energy", "energy T + P", "J", tr.energy,
+                             scale=max(abs(float(tr.energy[0])), big) or None,
                              conserved=False))  # fmt: skip
         return tuple(out)
 
     def figures(self, result):
         from ..figures import invariants_figure
 
-        lt = _RUNS.get(result.trajectory)
-        figs = [invariants_figure(result)]
+        lt = result.trajectory
         system = result.scenario.spec.system
-        if lt is not None:
 
-            def coords(ax, lt=lt):
-                from ...plotting.lagrange import plot_coordinates
+        def coords(ax, lt=lt):
+            from ...plotting.lagrange import plot_coordinates
 
-                return plot_coordinates(lt, ax=ax, title=f"{result.scenario.name}: coordinates")
+            return plot_coordinates(lt, ax=ax, title=f"{result.scenario.name}: coordinates")
 
-            def phase(ax, lt=lt):
-                from ...plotting.lagrange import plot_phase
+        def phase(ax, lt=lt):
+            from ...plotting.lagrange import plot_phase
 
-                return plot_phase(lt, ax=ax)
-
-            figs += [FigureSpec("coordinates.png", coords), FigureSpec("phase.png", phase)]
+            return plot_phase(lt, ax=ax)
 
         def eqs(ax, system=system):
             from ...plotting.lagrange import plot_equations
@@ -306,25 +340,48 @@ class Lagrangian(ScenarioKind):
             return plot_equations(system, ax=ax)
 
         n = len(system.coordinates) + len(system.multipliers)
-        figs.append(FigureSpec("equations.svg", eqs, size=(9.0, 0.9 + 0.7 * n)))
+        figs = [
+            invariants_figure(result),
+            FigureSpec("coordinates.png", coords),
+            FigureSpec("phase.png", phase),
+            FigureSpec("equations.svg", eqs, size=(9.0, 0.9 + 0.7 * n)),
+        ]
         return [f for f in figs if f is not None]
 
-    def report_sections(self, result):
-        """The equations typeset as inline SVG for ``report.html`` (offline)."""
-        import io
+    def report(self, result):
+        """``report.html``: no scene (no body); charts of ``q(t)`` and ``q'(t)``
+        grouped by unit, the checks, and the equations typeset as inline SVG
+        (offline)."""
+        from ..kind import Chart, ReportSpec
+        from ..report import figure_sections
 
-        from matplotlib.figure import Figure
-
-        from ...plotting.lagrange import plot_equations
-
+        lt = result.trajectory
+        groups: dict[tuple[str, str], dict] = {}
+        what = {"rad": "angles", "m": "lengths"}
+        for k, (name, unit) in enumerate(zip(lt.coordinates, lt.units, strict=True)):
+            head = f": {what[unit]}" if unit in what else ""
+            key = (f"generalised coordinates q(t){head}", unit or "unit of q")
+            groups.setdefault(key, {})[name] = lt.q[:, k]
+        for k, (name, unit) in enumerate(zip(lt.coordinates, lt.units, strict=True)):
+            head = f": {what[unit]}" if unit in what else ""
+            key = (f"generalised velocities q'(t){head}", rate_unit(unit) if unit else "1/s")
+            groups.setdefault(key, {})[f"{name}'"] = lt.qdot[:, k]
+        charts = [Chart(title, units, d) for (title, units), d in groups.items()]
         system = result.scenario.spec.system
         n = len(system.coordinates)
-        fig = Figure(figsize=(9.0, 0.9 + 0.7 * n))
-        plot_equations(system, ax=fig.add_subplot())
-        buf = io.StringIO()
-        fig.savefig(buf, format="svg")
-        svg = buf.getvalue()
-        return [("Lagrange's equations (docs/theory.md §11)", svg[svg.index("<svg") :])]
+
+        def eqs(ax):
+            from ...plotting.lagrange import plot_equations
+
+            return plot_equations(system, ax=ax)
+
+        sections = figure_sections(
+            [FigureSpec("equations.svg", eqs, size=(9.0, 0.9 + 0.7 * n))],
+            ["Lagrange's equations (docs/theory.md §11)"],
+        )
+        return ReportSpec(
+            motion=lt, charts=tuple(charts), checks=tuple(result.checks), sections=tuple(sections)
+        )
 
     def describe_scenario(self, scenario):
         s = scenario.spec.system

@@ -15,15 +15,16 @@ Kinds:
     pendulum of :func:`poinsot.dynamics.foucault_pendulum`; its swing plane
     turns at :func:`poinsot.dynamics.foucault_precession_rate`.
 
-Both return a Trajectory whose ``rotation`` is the frame's attitude, ``omega``
-its angular velocity (frame axes), ``position``/``velocity`` the inertial motion;
-the trajectory files carry the relative motion (east, north, up) as extra
-columns. ``method = "adaptive"`` (DOP853, tolerances ``rtol = 1e-11``,
-``atol = 1e-12`` m).
+Both return the library's :class:`~poinsot.trajectory.PointTrajectory`: the
+position and velocity relative to the Earth (east, north, up axes, m and m/s),
+with the inertial motion and the frame's attitude alongside; the trajectory files,
+the comparison with a reference run and ``report.html`` read it directly.
+``method = "adaptive"`` (DOP853, tolerances ``rtol = 1e-11``, ``atol = 1e-12`` m).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,26 +67,6 @@ def _read_common(t, extra):
     return keys, common
 
 
-def figure_sections(result, specs, titles):
-    """``report.html`` sections: the kind's figures as inline SVG (offline, no files).
-
-    ``specs`` are FigureSpec objects, ``titles`` their headings.
-    """
-    import io
-
-    from matplotlib.figure import Figure
-
-    out = []
-    for spec, title in zip(specs, titles, strict=True):
-        fig = Figure(figsize=spec.size, layout="constrained")
-        spec.draw(fig.add_subplot(projection=spec.projection))
-        buf = io.StringIO()
-        fig.savefig(buf, format="svg")
-        svg = buf.getvalue()
-        out.append((title, svg[svg.index("<svg") :]))
-    return out
-
-
 class _EarthKind(ScenarioKind):
     methods = ("adaptive",)
     orders = {}
@@ -94,19 +75,17 @@ class _EarthKind(ScenarioKind):
     def motion_inertia(self, scenario):
         return None
 
-    def series(self, scenario, tr):
-        from ...dynamics import relative_motion
-
-        r, v = relative_motion(tr)
+    def components(self, tr) -> dict[str, tuple[np.ndarray, str]]:
+        """The relative position and velocity by named component (east, north, up)."""
         names = ("x_east", "y_north", "z_up")
-        out = {n: (r[:, k], "m") for k, n in enumerate(names)}
-        out.update({f"v{n[0]}": (v[:, k], "m/s") for k, n in enumerate(names)})
+        out = {n: (tr.position[:, k], "m") for k, n in enumerate(names)}
+        out.update({f"v{n[0]}": (tr.velocity[:, k], "m/s") for k, n in enumerate(names)})
         return out
 
     def _jacobi(self, scenario, tr, frame, potential):
-        from ...dynamics import jacobi_integral, relative_motion
+        from ...dynamics import jacobi_integral
 
-        r, v = relative_motion(tr)
+        r, v = tr.position, tr.velocity
         h = jacobi_integral(frame, r, v, mass=scenario.spec.mass, potential=potential(r))
         return Check(
             "jacobi_integral",
@@ -116,26 +95,36 @@ class _EarthKind(ScenarioKind):
             scale=float(np.max(np.abs(h))) or 1.0,
         )
 
-    def report_sections(self, result):
-        """The path in the Earth's frame and in space (and the swing plane) as SVG."""
+    def report(self, result):
+        """``report.html``: the point and its path relative to the Earth (east,
+        north, up), charts of its position and velocity components, the checks,
+        and the kind's figures (the path in the Earth's frame and in space, the
+        swing plane) as inline SVG."""
+        from ..kind import ReportSpec
+        from ..report import figure_sections, unit_charts
+
+        tr = result.trajectory
         specs = [f for f in self.figures(result) if f.name != "invariants.png"]
         titles = {
             "path_frame.png": "Path relative to the Earth (docs/theory.md §9)",
             "path_space.png": "Path in space (inertial axes)",
             "swing_plane.png": "The swing plane turning at -Omega sin(latitude)",
         }
-        return figure_sections(result, specs, [titles.get(f.name, f.name) for f in specs])
+        return ReportSpec(
+            motion=tr,
+            charts=tuple(unit_charts(self.components(tr))),
+            checks=tuple(result.checks),
+            sections=tuple(figure_sections(specs, [titles.get(f.name, f.name) for f in specs])),
+        )
 
     def _path_figures(self, result, components, what):
         tr = result.trajectory
 
         def relative(ax):
-            from ...dynamics import relative_motion
             from ...plotting.particles import plot_path
 
-            r, _ = relative_motion(tr)
             return plot_path(
-                r,
+                tr.position,
                 components=components,
                 ax=ax,
                 title=f"{result.scenario.name}: path relative to the Earth ({what})",
@@ -146,7 +135,7 @@ class _EarthKind(ScenarioKind):
             from ...plotting.particles import plot_path
 
             return plot_path(
-                tr.position,
+                tr.inertial_position,
                 components=components,
                 ax=ax,
                 title=f"{result.scenario.name}: path in space (inertial axes)",
@@ -204,7 +193,7 @@ class FreeFall(_EarthKind):
             max_step=scenario.simulation.max_step or np.inf,
         )
         progress(1.0, "adaptive (DOP853)")
-        return tr.to_trajectory(method)
+        return dataclasses.replace(tr, method=method, frame_name="the Earth's east, north, up")
 
     def facts(self, scenario):
         from ...dynamics import eastward_deflection
@@ -229,12 +218,12 @@ class FreeFall(_EarthKind):
         )
 
     def checks(self, scenario, tr):
-        from ...dynamics import UniformGravity, earth_frame, eastward_deflection, relative_motion
+        from ...dynamics import UniformGravity, earth_frame, eastward_deflection
 
         sp = scenario.spec
         frame = earth_frame(sp.latitude, sp.omega)
         jac = self._jacobi(scenario, tr, frame, UniformGravity(sp.mass, sp.g).potential)
-        r, _ = relative_motion(tr)
+        r = tr.position
         first = eastward_deflection(sp.height - r[:, 2], sp.latitude, sp.g, sp.omega)
         east = Check(
             "eastward_deflection",
@@ -296,7 +285,7 @@ class Foucault(_EarthKind):
             inertial=True,
         )
         progress(1.0, "adaptive (DOP853)")
-        return tr.to_trajectory(method)
+        return dataclasses.replace(tr, method=method, frame_name="the Earth's east, north, up")
 
     def facts(self, scenario):
         from ...dynamics import foucault_period, foucault_precession_rate
@@ -332,17 +321,10 @@ class Foucault(_EarthKind):
         sp = result.scenario.spec
 
         def plane(ax):
-            from types import SimpleNamespace
-
-            from ...dynamics import foucault_precession_rate, relative_motion
+            from ...dynamics import foucault_precession_rate
             from ...plotting.particles import plot_swing_plane
 
-            r, v = relative_motion(tr)
-            return plot_swing_plane(
-                SimpleNamespace(t=tr.t, position=r, velocity=v),
-                rate=foucault_precession_rate(sp.latitude, sp.omega),
-                ax=ax,
-            )
+            return plot_swing_plane(tr, rate=foucault_precession_rate(sp.latitude, sp.omega), ax=ax)
 
         figs.append(FigureSpec("swing_plane.png", plane))
         inv = invariants_figure(result)
