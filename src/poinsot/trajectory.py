@@ -50,6 +50,7 @@ __all__ = [
     "Comparison",
     "Difference",
     "compare",
+    "quantity_label",
     "INFO_KEYS",
 ]
 
@@ -741,10 +742,18 @@ class Difference:
         """``"theta1 differs by up to 0.19 rad (at t = 8.3 s)"``."""
         units = f" {self.units}" if self.units and self.units != "1" else ""
         at = f"(at t = {self.time_of_max:.4g} s)"
-        return f"{_label(self.name)} differs by up to {self.max:.3g}{units} {at}"
+        return f"{quantity_label(self.name)} differs by up to {self.max:.3g}{units} {at}"
 
 
-def _label(name: str) -> str:
+def quantity_label(name: str) -> str:
+    """How a state quantity is written in text: a rate ``theta1_dot`` as ``theta1'``
+    (channel names, CSV columns and JSON keys keep ``theta1_dot``).
+
+    Examples
+    --------
+    >>> quantity_label("theta1_dot"), quantity_label("omega")
+    ("theta1'", 'omega')
+    """
     return name[:-4] + "'" if name.endswith("_dot") else name
 
 
