@@ -45,7 +45,7 @@ import numpy as np
 
 from .._validate import as_float_array, is_integer
 from ..errors import InvalidInputError, InvalidTypeError
-from ..trajectory import Trajectory
+from ..trajectory import Result, Trajectory
 from . import _report_shapes as shapes
 from ._report_page import b64, chart, fmt_number, page_html
 
@@ -69,7 +69,7 @@ _MAX_MESH_FACES = 3000  # a mesh body is decimated to at most this many triangle
 def write_report(
     path: str | os.PathLike,
     *,
-    trajectory: Any,
+    trajectory: Result,
     summary: Mapping[str, Any] | None = None,
     title: str = "poinsot report",
     shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
@@ -81,7 +81,7 @@ def write_report(
     checks: Sequence[Any] = (),
     torque=None,
     euler_seq: str = "ZYX",
-    reference: Any = None,
+    reference: Trajectory | None = None,
     max_frames: int = 1500,
     max_frame_angle: float = 20.0,
     sections: Sequence[tuple[str, str]] = (),
@@ -100,8 +100,8 @@ def write_report(
         ``(n,)``, ``omega`` ``(n, 3)`` in body axes, rad/s) is drawn as a turning
         body, with its ``momentum`` (space axes) when present. A result with a
         ``position`` of shape ``(n, 3)`` (m, e.g. a
-        :class:`~poinsot.trajectory.PointTrajectory`, in the axes its ``frame``
-        names) is drawn as a path. Any other result (e.g. a
+        :class:`~poinsot.trajectory.PointTrajectory`, in the axes its
+        ``frame_name`` names) is drawn as a path. Any other result (e.g. a
         :class:`~poinsot.trajectory.CoordinateTrajectory`) has no scene: only
         the charts of ``series`` and ``checks``.
     summary : mapping, optional

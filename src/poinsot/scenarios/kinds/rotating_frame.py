@@ -15,9 +15,10 @@ Kinds:
     pendulum of :func:`poinsot.dynamics.foucault_pendulum`; its swing plane
     turns at :func:`poinsot.dynamics.foucault_precession_rate`.
 
-Both return the library's :class:`~poinsot.trajectory.PointTrajectory`: the
-position and velocity relative to the Earth (east, north, up axes, m and m/s),
-with the inertial motion and the frame's attitude alongside; the trajectory files,
+Both return the library's :class:`~poinsot.dynamics.ParticleTrajectory` (a
+:class:`~poinsot.trajectory.PointTrajectory`): the position and velocity relative
+to the Earth (east, north, up axes, m and m/s; its ``frame_name`` says so), with
+the inertial motion and the frame's attitude alongside; the trajectory files,
 the comparison with a reference run and ``report.html`` read it directly.
 ``method = "adaptive"`` (DOP853, tolerances ``rtol = 1e-11``, ``atol = 1e-12`` m).
 """
