@@ -128,8 +128,8 @@ def _comparison(scenario: Scenario, tr, ref) -> tuple[dict | None, list]:
         return None, []
     cmp = compare(tr, ref)
     tols = scenario.adapter.tolerances(scenario, cmp)
-    differences = {}
-    exceeded = []
+    differences: dict[str, dict[str, Any]] = {}
+    exceeded: list[tuple[Any, float]] = []
     for d in cmp.differences:
         tol = tols.get(d.name)
         differences[d.name] = {
@@ -143,16 +143,17 @@ def _comparison(scenario: Scenario, tr, ref) -> tuple[dict | None, list]:
         if tol is not None and d.max > tol:
             exceeded.append((d, float(tol)))
     out: dict[str, Any] = {"reference": ref.method, "differences": differences}
-    att, omega = differences.get("attitude"), differences.get("omega")
-    if isinstance(tr, Trajectory) and att is not None and omega is not None:
+    names = cmp.names()
+    if isinstance(tr, Trajectory) and "attitude" in names and "omega" in names:
         # the rigid body's keys of earlier versions (same numbers, stated units)
+        att, omega = cmp["attitude"], cmp["omega"]
         out.update(
             {
-                "max_attitude_error_rad": att["max"],
-                "final_attitude_error_rad": att["final"],
-                "max_omega_error": omega["max"],
+                "max_attitude_error_rad": float(att.max),
+                "final_attitude_error_rad": float(att.final),
+                "max_omega_error": float(omega.max),
                 "max_relative_omega_error": (
-                    omega["max"] / omega["scale"] if omega["scale"] > 0 else None
+                    float(omega.max / omega.scale) if omega.scale > 0 else None
                 ),
                 "units": {
                     "max_attitude_error_rad": "rad",
@@ -402,7 +403,7 @@ class ScenarioResult:
 
         b = s.body
         moments, axes = principal_axes(np.asarray(b.inertia))
-        entries = {
+        entries: dict[str, Any] = {
             "mass": Entry(b.mass, "kg"),
             "inertia": Entry(b.inertia, "kg m^2"),
             "center_of_mass": Entry(b.center_of_mass, "m"),
@@ -412,9 +413,9 @@ class ScenarioResult:
             "dims": Entry(b.dims, "m") if b.dims else None,
             "parts": [p.name for p in b.parts] or None,
         }
-        meshes = [m for m in (b, *b.parts) if getattr(m, "faces", None) is not None]
-        if meshes:  # a mesh has no dims: its size is its triangle count
-            entries["mesh_triangles"] = sum(int(m.faces.shape[0]) for m in meshes)
+        faces = [f for f in (b.faces, *(p.faces for p in b.parts)) if f is not None]
+        if faces:  # a mesh has no dims: its size is its triangle count
+            entries["mesh_triangles"] = sum(int(f.shape[0]) for f in faces)
         entries.update(s.adapter.body_entries(s))
         return section(entries)
 
