@@ -54,6 +54,11 @@ __all__ = [
 QUADRATURE_RTOL = 1e-13
 _MAX_NODES = 1 << 15
 _EPS = float(np.finfo(float).eps)
+#: Below this ``(r_max - r_min) / (r_max + r_min)`` the radial period and the apsidal
+#: angle come from the circular limit (see ``CentralOrbit._near_circular``): there the
+#: apsides, roots of ``E - U_eff`` ~ ``U_eff'' (r - r_c)^2 / 2``, are known only to
+#: ~sqrt(eps), while the period and the angle are smooth functions of the energy.
+_NEAR_CIRCULAR = 1e-5
 
 
 # ---------------------------------------------------------------------------
@@ -705,22 +710,63 @@ class CentralOrbit:
         )
         return val
 
-    def _circular_rates(self):
-        """``(omega_r, phi')`` for a circular orbit: radial frequency and angular rate,
-        ``omega_r^2 = U_eff''(r) / m`` (5-point differences of ``U_eff'``, step ``1e-3 r``)."""
-        r = self._r1
-        h = 1e-3 * r
-        f = self._ueff_deriv
-        upp = float(
-            8.0 * (f(np.array(r + h)) - f(np.array(r - h)))
-            - (f(np.array(r + 2 * h)) - f(np.array(r - 2 * h)))
-        ) / (12.0 * h)
-        if upp <= 0:
+    def _bottom(self) -> float:
+        """``r_c``, the minimum of ``U_eff`` (``U_eff'(r_c) = 0``, a well-conditioned root)."""
+        from scipy.optimize import brentq
+
+        if self._circular:
+            return self._r1
+        f = lambda r: float(self._ueff_deriv(np.array(r)))  # noqa: E731
+        lo, hi = self._r1, self._r2
+        for _ in range(60):  # the apsides may be off by ~sqrt(eps): widen the bracket
+            if f(lo) < 0 < f(hi):
+                return float(brentq(f, lo, hi, xtol=4 * _EPS * hi, rtol=4 * _EPS))
+            lo, hi = lo * (1 - 1e-6), hi * (1 + 1e-6)
+        return 0.5 * (self._r1 + self._r2)  # pragma: no cover - U_eff' without a sign change
+
+    @functools.cached_property
+    def _near_circular(self) -> tuple[float, float]:
+        """``(radial period, apsidal angle)`` of a circular or nearly circular orbit.
+
+        Both are smooth in the depth ``delta = E - U_eff(r_c)`` of the orbit in the
+        well: ``T(delta) = T_0 + T_1 delta + O(delta^2)``. They are evaluated by the
+        quadratures on two orbits of the same ``L`` with depths ``delta_1`` and
+        ``2 delta_1`` (half-widths ~1e-4 r_c, where the quadratures keep 1e-13) and
+        extrapolated linearly to ``delta`` (``0`` for a circular orbit): the neglected
+        ``T_2 delta_1^2`` is ~1e-16 relative. This replaces both the degenerate
+        quadrature and finite differences of ``U_eff''`` (which were 3e-11 off).
+        """
+        rc = self._bottom()
+        u_min = float(self._ueff_raw(np.array(rc)))
+        h = 1e-3 * rc  # U_eff'' only sets the depth's scale: a difference quotient will do
+        upp = float(self._ueff_deriv(np.array(rc + h)) - self._ueff_deriv(np.array(rc - h)))
+        upp /= 2.0 * h
+        if not upp > 0:
             raise InvalidInputError(
                 "The circular orbit sits on a maximum of U_eff (unstable): no radial "
                 "oscillation, no apsidal angle."
             )
-        return math.sqrt(upp / self.mass), abs(self.angular_momentum) / (self.mass * r * r)
+        delta1 = 0.5 * upp * (1e-4 * rc) ** 2
+        values = []
+        for k in (1.0, 2.0):
+            orb = CentralOrbit(
+                self.potential,
+                energy=u_min + k * delta1,
+                angular_momentum=self.angular_momentum,
+                mass=self.mass,
+                radius=rc,
+            )
+            values.append((orb.radial_period, orb.apsidal_angle))
+        x = max(self.energy - u_min, 0.0) / delta1
+        (t1, a1), (t2, a2) = values
+        return t1 + (t2 - t1) * (x - 1.0), a1 + (a2 - a1) * (x - 1.0)
+
+    def _is_near_circular(self) -> bool:
+        if self._circular:
+            return True
+        if self.unbound:
+            return False
+        return (self._r2 - self._r1) <= _NEAR_CIRCULAR * (self._r2 + self._r1)
 
     @property
     def radial_period(self) -> float:
@@ -731,8 +777,8 @@ class CentralOrbit:
         """
         if self.unbound:
             return math.inf
-        if self._circular:
-            return 2.0 * math.pi / self._circular_rates()[0]
+        if self._is_near_circular():
+            return self._near_circular[0]
         return 2.0 * float(self._converged(self._bound_integrals)[0])
 
     @property
@@ -744,9 +790,8 @@ class CentralOrbit:
         ``pi - 2 apsidal_angle``); for a circular orbit the limit
         ``pi phi' / omega_r``.
         """
-        if self._circular:
-            wr, wphi = self._circular_rates()
-            return math.pi * wphi / wr
+        if self._is_near_circular():
+            return self._near_circular[1]
         if self.unbound:
             return float(self._converged(self._unbound_angle, max_nodes=_MAX_GAUSS))
         return float(self._converged(self._bound_integrals)[1])

@@ -1,0 +1,62 @@
+"""Circular and nearly circular orbits (theory §9): the radial period and the apsidal
+angle are smooth in the energy, so they must keep ~1e-13 there, against closed forms:
+Kepler T = 2 pi sqrt(a^3/mu), apsidal angle pi; the oscillator T_r = pi/sqrt(k/m),
+angle pi/2; U = -mu/r + beta/r^2: angle pi / sqrt(1 + 2 m beta / L^2) for every e."""
+
+import math
+
+import numpy as np
+import pytest
+
+from poinsot.dynamics import CentralOrbit, harmonic, inverse_square, kepler
+
+# observed <= 5e-14; 1e-12 keeps 20x headroom (the issue's target)
+TOL = 1e-12
+
+
+@pytest.mark.parametrize("e", [0.0, 1e-12, 1e-8, 1e-6, 1e-5, 1e-4, 1e-2])
+@pytest.mark.parametrize("r0", [1.0, 3.0])
+def test_kepler_near_circular_period_and_apsidal_angle(e, r0):
+    """Released at pericentre r0 with the speed of eccentricity e (the 1e-8 orbit had a
+    period 4.6e140 times too long before, the circular one 3e-11 off)."""
+    mu = 1.0
+    v = math.sqrt(mu * (1.0 + e) / r0)
+    orb = CentralOrbit.from_state(kepler(mu), [r0, 0.0, 0.0], [0.0, v, 0.0])
+    a = r0 / (1.0 - e)
+    assert orb.radial_period == pytest.approx(2 * math.pi * math.sqrt(a**3 / mu), rel=TOL)
+    assert orb.apsidal_angle == pytest.approx(math.pi, rel=TOL)
+
+
+@pytest.mark.parametrize("k", [1.0, 4.0])
+def test_oscillator_circular(k):
+    r0 = 2.0
+    orb = CentralOrbit.from_state(harmonic(k), [r0, 0.0, 0.0], [0.0, math.sqrt(k) * r0, 0.0])
+    assert orb.is_circular
+    assert orb.radial_period == pytest.approx(math.pi / math.sqrt(k), rel=TOL)
+    assert orb.apsidal_angle == pytest.approx(math.pi / 2, rel=TOL)
+
+
+@pytest.mark.parametrize("e", [0.0, 1e-9, 1e-7, 1e-3])
+def test_perturbed_kepler_apsidal_angle_near_circular(e):
+    """U = -1/r + 0.1/r^2 (a precessing ellipse): the apsidal angle is
+    pi / sqrt(1 + 2 m beta / L^2) at every energy, the circular limit included."""
+    beta = 0.1
+    pot = kepler(1.0) + inverse_square(beta)
+    r0 = 1.5
+    # circular speed: m v^2 / r = U'(r) = 1/r^2 - 2 beta / r^3
+    vc = math.sqrt(1.0 / r0 - 2.0 * beta / r0**2)
+    orb = CentralOrbit.from_state(pot, [r0, 0.0, 0.0], [0.0, vc * (1 + e), 0.0])
+    L = r0 * vc * (1 + e)
+    assert orb.apsidal_angle == pytest.approx(math.pi / math.sqrt(1 + 2 * beta / L**2), rel=TOL)
+
+
+def test_period_is_continuous_through_the_circular_limit():
+    """T(E) near the bottom of the well: the near-circular branch and the quadratures
+    (e = 1e-4 ... 1e-3, where both apply) agree with the closed form alike."""
+    es = np.array([0.0, 1e-10, 1e-7, 3e-6, 1e-5, 2e-5, 1e-4])
+    got = []
+    for e in es:
+        v = math.sqrt((1.0 + e) / 2.0)
+        got.append(CentralOrbit.from_state(kepler(1.0), [2, 0, 0], [0, v, 0]).radial_period)
+    ref = 2 * math.pi * np.sqrt((2.0 / (1.0 - es)) ** 3)
+    np.testing.assert_allclose(got, ref, rtol=TOL)
