@@ -795,3 +795,32 @@ def test_attitude_error_title_gives_its_size(tmp_path):
     P, _ = _page(write_scenario_report(tmp_path / "r2.html", res))
     title = [t for t in _titles(P) if t.startswith("attitude error vs reference")]
     assert len(title) == 1 and "round-off" not in title[0] and title[0].endswith(" rad)"), title
+
+
+def test_point_and_coordinate_results_need_no_attitude(tmp_path):
+    """The renderer draws a PointTrajectory as its path (no attitude in the page, no
+    body, no angular-velocity chart) and a CoordinateTrajectory as charts only. The
+    path is a circle r = (cos t, sin t, 0) m, written here in closed form."""
+    from poinsot.trajectory import CoordinateTrajectory, PointTrajectory
+
+    t = np.linspace(0.0, 2 * np.pi, 200)
+    r = np.column_stack([np.cos(t), np.sin(t), 0 * t])
+    v = np.column_stack([-np.sin(t), np.cos(t), 0 * t])
+    p = PointTrajectory(t, r, v, "exact", frame_name="inertial")
+    P, text = _page(
+        write_report(tmp_path / "p.html", trajectory=p, series=[("x", "m", {"x": r[:, 0]})])
+    )
+    assert P["q"] is None and P["qref"] is None
+    assert sorted(_layers(P)) == ["origin of inertial axes", "path", "position r(t)"]
+    path = _f32(_layers(P)["path"]["v"]).reshape(-1, 3)
+    np.testing.assert_allclose(np.linalg.norm(path[:, :2], axis=1), 1.0, atol=1e-6)
+    assert not any(s.startswith(("angular velocity", "attitude")) for s in _titles(P))
+    x, y = _named_series(P, "x")
+    np.testing.assert_allclose(y, np.cos(x), atol=1e-6)
+    with pytest.raises(InvalidInputError, match="no rigid body"):
+        write_report(tmp_path / "bad.html", trajectory=p, torque=np.zeros((200, 3)))
+    c = CoordinateTrajectory(t, r[:, :1], v[:, :1], ("x",), "exact", units=("m",))
+    P, _ = _page(
+        write_report(tmp_path / "c.html", trajectory=c, series=[("q", "m", {"x": r[:, 0]})])
+    )
+    assert P["scene"] is None and P["q"] is None and _titles(P) == ["q"]
