@@ -205,6 +205,10 @@ def test_trajectory_files_carry_the_kind_s_own_channels(tmp_path):
     names = names.split(",")
     units = next(ln for ln in lines if ln.startswith("# units: "))[9:].split(",")
     assert not {"qw", "qx", "qy", "qz", "wx", "wy", "wz"} & set(names)
+    # no rigid-body conventions (quaternions, body axes) for a system without a body
+    conventions = next(ln for ln in lines if ln.startswith("# conventions: "))
+    assert "quaternion" not in conventions.lower() and "generalized coordinates" in conventions
+    assert r.summary["conventions"] == conventions.removeprefix("# conventions: ")
     cols = dict(zip(names, units, strict=True))
     assert cols["t"] == "s" and cols["theta1"] == "rad" and cols["theta2_dot"] == "rad/s"
     data = np.loadtxt(tmp_path / "o" / "trajectory.csv", delimiter=",", comments="#")

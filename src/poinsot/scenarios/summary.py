@@ -11,7 +11,8 @@ Sections of ``summary.json`` (each numeric entry's units in the section's
 ``"units"`` object):
 
 - ``scenario``: name, description, source file, kind, the parsed file echoed;
-- ``conventions``: one line;
+- ``conventions``: one line (:data:`CONVENTIONS` for a rigid body,
+  :data:`MOTION_CONVENTIONS` for other motions);
 - ``body``: mass, inertia, centre of mass, principal moments and axes;
 - ``initial_state``: attitude quaternion, angular velocity in body and space axes;
 - ``initial_state``: a rigid body's attitude quaternion and angular velocity in
@@ -59,6 +60,7 @@ from .schema import Scenario
 __all__ = [
     "ScenarioResult",
     "CONVENTIONS",
+    "MOTION_CONVENTIONS",
     "DRIFT_THRESHOLD",
     "ATTITUDE_THRESHOLD",
     "AGREEMENT_THRESHOLD",
@@ -71,6 +73,12 @@ CONVENTIONS = (
     "Hamilton quaternions, scalar first (w, x, y, z); attitude R maps body to space "
     "components (v_space = R v_body); omega in body axes (rad/s); angular momentum K in "
     "space axes (kg m^2/s); SI units; angles in radians."
+)
+#: The conventions of the outputs of other motions (particles, generalized coordinates).
+MOTION_CONVENTIONS = (
+    "SI units; angles in radians; a particle's position and velocity in the axes of the "
+    "frame its result names (inertial axes, or a moving frame's); generalized coordinates "
+    "in the unit of each coordinate, their rates per second."
 )
 
 #: Largest maximum relative drift of a conserved quantity accepted without a warning.
@@ -325,7 +333,7 @@ class ScenarioResult:
                 "kind_title": kind.title,
                 "file": jsonable(s.data),
             },
-            "conventions": CONVENTIONS,
+            "conventions": CONVENTIONS if isinstance(tr, Trajectory) else MOTION_CONVENTIONS,
             "body": self._body(),
             "initial_state": self._initial_state(),
             "results": self.facts.section(),
