@@ -311,6 +311,33 @@ def test_chunked_run_equals_single_call(monkeypatch):
     )
 
 
+def test_chunked_joins_any_result_type(monkeypatch):
+    """chunked() never assumes a rotation: a PointTrajectory of uniform motion
+    r = r0 + v t (closed form) is joined chunk by chunk from the state ``resume``
+    gives, and equals one call; without ``resume`` it says what is missing."""
+    from poinsot import InvalidTypeError
+    from poinsot.scenarios import solve as solve_mod
+    from poinsot.trajectory import PointTrajectory
+
+    monkeypatch.setattr(solve_mod, "_CHUNK_SAMPLES", 50)
+    t = np.linspace(0.0, 2.0, 201)
+
+    def uniform(r0, v, tt):
+        r = np.asarray(r0) + np.outer(tt - tt[0], v)
+        return PointTrajectory(tt, r, np.broadcast_to(v, r.shape), "exact")
+
+    r0, v = np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25])
+    joined = solve_mod.chunked(
+        uniform, r0, v, t, solve_mod.quiet_progress, "moving",
+        resume=lambda p: (p.position[-1], p.velocity[-1]),
+    )  # fmt: skip
+    assert isinstance(joined, PointTrajectory) and joined.info["chunks"] > 1
+    np.testing.assert_array_equal(joined.t, t)
+    np.testing.assert_allclose(joined.position, r0 + np.outer(t, v), rtol=0, atol=1e-14)
+    with pytest.raises(InvalidTypeError, match="resume"):
+        solve_mod.chunked(uniform, r0, v, t, solve_mod.quiet_progress, "moving")
+
+
 def test_npz_output(tmp_path):
     result, files = run_scenario(
         demo_scenario(), tmp_path / "o", fmt="npz", report=False, duration=0.5, figures=False
