@@ -1002,10 +1002,13 @@ class CentralOrbit:
             Times (s, any shape, any order; ``t = 0`` is the initial state).
         method : {"auto", "kepler", "integrate"}
             ``"kepler"``: the conic and Kepler's equation (pure :func:`kepler`
-            potentials); ``"integrate"``: DOP853 on ``(r, r', phi)`` with
-            ``r'' = L^2/(m^2 r^3) - U'(r)/m`` and ``phi' = L / (m r^2)``, so
-            that ``r^2 phi' = L/m`` holds to round-off at every step;
-            ``"auto"`` (default): Kepler's when it applies.
+            potentials); ``"integrate"``: a bound orbit by DOP853 on Binet's
+            equation ``u'' + u = m U'(1/u) / (L^2 u^2)`` in the swept angle
+            (``u = 1/r``, ``t' = m / (L u^2)``) over one radial period, read at
+            ``2 k A + psi(tau)`` for ``t = k T + tau`` (no error accumulates
+            over periods; docs/particles.md gives the accuracy up to e = 0.9999);
+            an unbound or nearly circular one by DOP853 in time on
+            ``(r, r', phi)``; ``"auto"`` (default): Kepler's when it applies.
         rtol : float, optional
             Integration tolerance (default 1e-12; ``atol = rtol * r_min``).
 
@@ -1035,11 +1038,69 @@ class CentralOrbit:
         return _trajectory(self, t, method, rtol)
 
     def _integrate(self, t, rtol):
-        from scipy.integrate import solve_ivp
-
         rtol = _coef(rtol, "rtol")
         if not rtol > 0:
             raise InvalidInputError(f"Expected `rtol` > 0, got {rtol!r}.")
+        if not self.unbound and not self._is_near_circular():
+            return self._integrate_binet(t, rtol)
+        return self._integrate_time(t, rtol)
+
+    def _integrate_binet(self, t, rtol):
+        """``(r, r', phi)`` of a bound orbit by integrating in the swept angle ``psi``.
+
+        Binet's form ``u'' + u = (m / (L^2 u^2)) U'(1/u)`` with ``u = 1/r`` and
+        ``t' = m / (|L| u^2)`` (primes: ``d/dpsi``): the step follows the angle, not
+        the time, so a pericentre passage of an orbit with ``e -> 1`` takes as many
+        steps as any other arc (integrating in time lost 4e-8 at e = 0.99 and 2e-3
+        at e = 0.999999 over three periods). The samples at the requested times are
+        found by Newton's method on ``t(psi)`` through the dense output.
+        """
+        from scipy.integrate import solve_ivp
+
+        m, L = self.mass, abs(self.angular_momentum)
+        d = self.potential._deriv
+
+        def rhs(_psi, y):
+            u = y[0]
+            return np.array(
+                [y[1], -u + m * float(d(np.array(1.0 / u))) / (L * L * u * u), m / (L * u * u)]
+            )
+
+        flat = t.ravel()
+        y0 = np.array([1.0 / self._r0, -self._rdot0 * m / L, 0.0])
+        sgn_l = math.copysign(1.0, self.angular_momentum)
+        period, angle = self.radial_period, self.apsidal_angle
+        # One radial period suffices: (u, u') is periodic in psi with period 2 A and t
+        # grows by T each time, so a time t = k T + tau is psi = 2 k A + psi(tau). No
+        # error accumulates over many periods. The tolerance of t is tighter: near the
+        # pericentre of an orbit with e -> 1 an error dt moves the point by v_p dt.
+        tol = min(rtol, 1e-13)
+        atol = [tol / self._r1, tol / self._r1, tol * 1e-3 * period]
+        sol = solve_ivp(
+            rhs, (0.0, 2.0 * angle), y0, method="DOP853", rtol=tol, atol=atol, dense_output=True
+        )
+        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            raise IntegrationError(f"Orbit integration failed: {sol.message}")
+        t_one = float(sol.y[2, -1])  # = T to the integration's accuracy
+        k = np.floor(flat / t_one)
+        tau = flat - k * t_one
+        psi = np.interp(tau, sol.y[2], sol.t)
+        for _ in range(8):  # Newton on t(psi) = tau, t' = m / (L u^2) > 0
+            y = sol.sol(psi)
+            step = (y[2] - tau) * (L * y[0] * y[0] / m)
+            psi = np.clip(psi - step, 0.0, 2.0 * angle)
+            if np.all(np.abs(step) <= 4 * _EPS * np.maximum(1.0, psi)):
+                break
+        y = sol.sol(psi)
+        r = 1.0 / y[0]
+        rdot = -y[1] * L / m
+        phi = sgn_l * (psi + 2.0 * angle * k)
+        return r.reshape(t.shape), rdot.reshape(t.shape), phi.reshape(t.shape)
+
+    def _integrate_time(self, t, rtol):
+        """``(r, r', phi)`` by DOP853 in time (unbound and nearly circular orbits)."""
+        from scipy.integrate import solve_ivp
+
         m, L = self.mass, self.angular_momentum
         d = self.potential._deriv
 
