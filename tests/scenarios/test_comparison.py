@@ -63,7 +63,7 @@ def test_double_pendulum_difference_matches_an_independent_solve(pendulum):
     _, _, out = pendulum
     summary = json.loads((out / "summary.json").read_text())
     cmp = summary["accuracy"]["comparison"]
-    assert cmp["reference"] == "radau"
+    assert cmp["reference"] == "Radau"
     diffs = cmp["differences"]
     assert list(diffs) == ["theta1", "theta2", "theta1_dot", "theta2_dot"]
     assert [diffs[k]["units"] for k in diffs] == ["rad", "rad", "rad/s", "rad/s"]
@@ -103,7 +103,7 @@ def test_double_pendulum_disagreement_warns_everywhere(pendulum):
     w = warnings[0]
     assert f"differ by up to {d['max']:.3g} rad in theta1 (at t = {d['time_of_max']:.4g} s)" in w
     assert f"poinsot: warning: accuracy: {w}" in stderr
-    assert "vs radau: theta1 differs by up to" in stdout and "theta2' by up to" in stdout
+    assert "vs Radau: theta1 differs by up to" in stdout and "theta2' by up to" in stdout
     page = (out / "report.html").read_text()
     assert "Accuracy warnings" in page
     import html

@@ -24,7 +24,7 @@ qdot0 = [0.0, 0.0, 0.0]
 [simulation]
 duration = {T}
 samples = 41
-method = "dop853"
+method = "DOP853"
 """
 V_OK = "-q*E*x - q*(x_dot*(-B*y/2) + y_dot*(B*x/2))"
 

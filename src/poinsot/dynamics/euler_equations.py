@@ -60,7 +60,7 @@ import math
 
 import numpy as np
 
-from .. import _quat
+from .. import _quat, integrators
 from .._validate import (
     as_choice,
     as_float_array,
@@ -83,7 +83,8 @@ from .torques import ConstantBodyTorque, GravityTorque, as_torque
 __all__ = ["euler_rhs", "simulate", "METHODS"]
 
 #: Names accepted by ``simulate(method=...)``.
-METHODS = ("midpoint", "splitting", "rk4", "adaptive", "dop853")
+#: The integrators of Euler's equations (from :data:`poinsot.integrators.INTEGRATORS`).
+METHODS = integrators.names("rigid")
 
 _EPS = np.finfo(float).eps
 _MAXIT = 100
@@ -435,7 +436,7 @@ def simulate(
     if method is None:
         # an accuracy asked for picks the compiled adaptive integrator
         method = "dop853" if (rtol is not None or atol is not None) else "midpoint"
-    method = as_choice(method, "method", METHODS)
+    method = integrators.check_method(method, METHODS, "a rigid body")
     j = _body_inertia(body)
     q0 = as_rotation_quat(rotation0, "rotation0")
     w0 = as_vec3(omega0, "omega0")

@@ -36,6 +36,7 @@ import math
 
 import numpy as np
 
+from .. import integrators
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape
 from .._vec import cross
 from ..errors import InvalidInputError
@@ -45,7 +46,8 @@ from .torques import STANDARD_GRAVITY, GravityTorque
 __all__ = ["HeavyRigidBody", "kovalevskaya_integral", "HEAVY_METHODS"]
 
 #: Methods of :meth:`HeavyRigidBody.simulate`.
-HEAVY_METHODS = ("splitting", "midpoint", "rk4", "dop853", "adaptive")
+#: The integrators of the heavy body (from :data:`poinsot.integrators.INTEGRATORS`).
+HEAVY_METHODS = integrators.names("rigid")
 
 
 def _upward(q: np.ndarray) -> np.ndarray:
@@ -292,9 +294,7 @@ class HeavyRigidBody:
         if method is None:  # tolerances ask for an adaptive method, as in simulate()
             method = "dop853" if (rtol is not None or atol is not None) else "splitting"
         if method not in HEAVY_METHODS:
-            from .._validate import as_choice
-
-            as_choice(method, "method", HEAVY_METHODS)
+            integrators.check_method(method, HEAVY_METHODS, "a heavy body")
         return simulate(
             self.inertia_tensor,
             rotation0,

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import integrators
 from .._validate import as_bool, as_choice, as_float_array, as_times, as_vec3, batch_shape
 from .._vec import cross, dot, hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
@@ -65,7 +66,8 @@ __all__ = [
 EARTH_ROTATION_RATE = 7.2921159e-5
 
 #: ``scipy.integrate.solve_ivp`` methods accepted by :func:`simulate_particle`.
-PARTICLE_SOLVERS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+#: SciPy's solve_ivp methods (from :data:`poinsot.integrators.INTEGRATORS`).
+PARTICLE_SOLVERS = integrators.names("lagrangian")
 
 
 # ---------------------------------------------------------------------------
@@ -529,7 +531,7 @@ def simulate_particle(
             f"Expected `mass` to be positive (kg), got {float(m[m <= 0].ravel()[0])!r}."
         )
     t = as_times(t, "t")
-    method = as_choice(method, "method", PARTICLE_SOLVERS)
+    method = integrators.check_method(method, PARTICLE_SOLVERS, "a particle")
     rtol = _tolerance(rtol, "rtol", True)
     atol = _tolerance(atol, "atol", False)
     max_step = _tolerance(max_step, "max_step", True)

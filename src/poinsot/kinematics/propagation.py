@@ -21,6 +21,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import _quat as _q
+from .. import integrators
 from .._validate import (
     as_bool,
     as_choice,
@@ -39,7 +40,8 @@ from ..trajectory import Trajectory
 
 __all__ = ["propagate"]
 
-METHODS = ("magnus4", "magnus6", "rk4", "exponential", "adaptive")
+#: The attitude-propagation methods (from :data:`poinsot.integrators.INTEGRATORS`).
+METHODS = integrators.names("attitude")
 FRAMES = ("body", "space")
 
 #: Order of accuracy of each fixed-step method for smooth ``w(t)`` (global error ~ h^p).
@@ -468,7 +470,7 @@ def propagate(
             "'adaptive', got 'exact': method='exact' means an exact solution only; the "
             "exponential step exact for constant `omega` is method='exponential'."
         )
-    method = as_choice(method, "method", METHODS)
+    method = integrators.check_method(method, METHODS, "attitude propagation")
     frame = as_choice(frame, "frame", FRAMES)
     vectorized = as_bool(vectorized, "vectorized")
     steps_per_sample = as_int(steps_per_sample, "steps_per_sample", minimum=1)

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import integrators
 from ..dynamics.torques import STANDARD_GRAVITY  # the one value (m/s^2)
 
 __all__ = [
@@ -41,10 +42,11 @@ __all__ = [
     "MAX_SAMPLES",
 ]
 
-#: Integrators of Euler's equations accepted in ``[simulation] method`` (plus ``"exact"``).
-DYNAMICS_METHODS = ("exact", "midpoint", "splitting", "rk4", "adaptive")
+#: Integrators of Euler's equations accepted in ``[simulation] method`` (plus ``"exact"``),
+#: from the one table :data:`poinsot.integrators.INTEGRATORS`.
+DYNAMICS_METHODS = integrators.names("rigid", exact=True)
 #: Attitude-propagation methods accepted for ``[omega_profile]`` scenarios.
-KINEMATICS_METHODS = ("exact", "magnus4", "rk4", "adaptive")
+KINEMATICS_METHODS = integrators.names("attitude", exact=True)
 TORQUE_MODELS = ("none", "body", "space", "gravity")
 #: Angular velocity units and their factor to rad/s.
 OMEGA_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0, "rpm": 2.0 * np.pi / 60.0, "Hz": 2.0 * np.pi}

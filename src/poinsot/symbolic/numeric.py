@@ -29,13 +29,15 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from .. import integrators
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..trajectory import CoordinateTrajectory
 
 __all__ = ["NumericLagrangian", "LagrangeTrajectory", "SOLVERS"]
 
 #: ``solve_ivp`` methods accepted by :meth:`NumericLagrangian.simulate`.
-SOLVERS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+#: SciPy's solve_ivp methods (from :data:`poinsot.integrators.INTEGRATORS`).
+SOLVERS = integrators.names("lagrangian")
 
 _ALLOWED_FUNCS = {
     "sin", "cos", "tan", "cot", "asin", "acos", "atan", "atan2", "sinh", "cosh",
@@ -539,9 +541,9 @@ class NumericLagrangian:
         """
         from scipy.integrate import solve_ivp
 
-        from .._validate import as_choice, as_times
+        from .._validate import as_times
 
-        method = as_choice(method, "method", SOLVERS)
+        method = integrators.check_method(method, SOLVERS, "a Lagrangian system")
         tt = as_times(t, "t")
         p = self._params(params)
         pmap = dict(zip(self.parameters, p.tolist(), strict=True))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ... import integrators
 from ..io import read_body, read_omega_profile
 from ..kind import Check, Entry, Facts, ScenarioKind
 from ..schema import KINEMATICS_METHODS
@@ -38,7 +39,7 @@ class Attitude(ScenarioKind):
     title = "attitude propagated from a prescribed angular velocity (Poisson's equation)"
     tables = ("body", "omega_profile")
     methods = KINEMATICS_METHODS
-    orders = {"magnus4": 4, "rk4": 4}
+    orders = integrators.orders(KINEMATICS_METHODS)
     theory = "docs/theory.md §5"
     # measured on the shipped examples: a Python omega(t) per step dominates
     seconds_per_step = {"exact": 1e-6, "magnus4": 2e-4, "rk4": 1e-4, "adaptive": 1.5e-4}

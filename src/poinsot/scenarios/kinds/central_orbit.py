@@ -62,8 +62,8 @@ class CentralOrbitKind(ScenarioKind):
     name = "central-orbit"
     title = "particle under a central force (Kepler and beyond)"
     tables = ("orbit",)
-    methods = ("exact", "adaptive")
-    orders = {}
+    methods = ("exact", "adaptive")  # of integrators.names("particle", exact=True)
+    orders: dict[str, int] = {}
     theory = "docs/theory.md §9"
 
     def claims(self, data):

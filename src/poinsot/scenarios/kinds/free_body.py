@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import integrators
 from ..describe import fmt
 from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
 from ..schema import DYNAMICS_METHODS
@@ -105,7 +106,7 @@ class FreeBody(ScenarioKind):
     title = "torque-free rigid body (Euler-Poinsot case)"
     tables = _rigid.TABLES
     methods = DYNAMICS_METHODS
-    orders = {"midpoint": 2, "splitting": 2, "rk4": 4}
+    orders = integrators.orders(DYNAMICS_METHODS)
     theory = "docs/theory.md §10"
     seconds_per_step = _rigid.SECONDS_PER_STEP
 

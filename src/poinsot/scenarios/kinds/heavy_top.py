@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from ... import integrators
 from ..describe import fmt
 from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
 from ..schema import DYNAMICS_METHODS
@@ -121,8 +122,8 @@ class HeavyTop(ScenarioKind):
     name = "heavy-top"
     title = "heavy rigid body about a fixed point (Euler-Poisson; Lagrange, Kovalevskaya tops)"
     tables = _rigid.TABLES
-    methods = (*DYNAMICS_METHODS, "dop853")  # "dop853": poinsot's compiled DOP853
-    orders = {"midpoint": 2, "splitting": 2, "rk4": 4}
+    methods = DYNAMICS_METHODS
+    orders = integrators.orders(DYNAMICS_METHODS)
     theory = "docs/theory.md §10"
 
     def claims(self, data):

@@ -28,10 +28,14 @@ from typing import Any
 
 import numpy as np
 
+from ... import integrators
 from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
 
 #: ``[simulation] method`` -> ``solve_ivp`` method.
-_METHODS = {"dop853": "DOP853", "rk45": "RK45", "radau": "Radau", "lsoda": "LSODA"}
+#: ``[simulation] method``: SciPy's solve_ivp methods under SciPy's names (the one
+#: table, :data:`poinsot.integrators.INTEGRATORS`; lower-case ``"dop853"`` is poinsot's
+#: compiled rigid-body integrator, not this one).
+_METHODS = integrators.names("lagrangian")
 _KEYS = (
     "coordinates",
     "parameters",
@@ -169,7 +173,7 @@ class Lagrangian(ScenarioKind):
     name = "lagrangian"
     title = "a system given by its Lagrangian (Lagrange's equations of the second kind)"
     tables = ("lagrangian",)
-    methods = tuple(_METHODS)
+    methods = _METHODS
     orders: dict = {}
     theory = "docs/theory.md §11"
 
@@ -262,7 +266,7 @@ class Lagrangian(ScenarioKind):
             spec.q0,
             spec.qdot0,
             t,
-            method=_METHODS[method],
+            method=method,
             rtol=spec.rtol,
             atol=spec.atol,
             max_step=sim.max_step if sim.max_step is not None else np.inf,

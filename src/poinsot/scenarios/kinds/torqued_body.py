@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ... import integrators
 from ..kind import Check, Entry, Facts, ScenarioKind
 from ..schema import DYNAMICS_METHODS
 from . import _rigid
@@ -23,7 +24,7 @@ class TorquedBody(ScenarioKind):
     title = "rigid body under a torque (constant body or space torque, or gravity about a pin)"
     tables = _rigid.TABLES
     methods = DYNAMICS_METHODS
-    orders = {"midpoint": 2, "splitting": 2, "rk4": 4}
+    orders = integrators.orders(DYNAMICS_METHODS)
     theory = "docs/theory.md §10"
 
     def claims(self, data):

@@ -1,0 +1,71 @@
+"""One table of integration methods (poinsot.integrators): every API, scenario kind
+and the docs read it; a name means the same integrator everywhere."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from poinsot import integrators
+from poinsot.dynamics import HEAVY_METHODS, METHODS, PARTICLE_SOLVERS, simulate, simulate_particle
+from poinsot.errors import InvalidInputError
+from poinsot.integrators import INTEGRATORS, check_method, names
+from poinsot.kinematics import FrameMotion, propagate
+from poinsot.scenarios.registry import KINDS
+
+DOCS = Path(__file__).parents[1] / "docs"
+
+
+def test_docs_page_holds_the_registry_table():
+    assert integrators.markdown_table() in (DOCS / "integrators.md").read_text()
+
+
+def test_public_constants_come_from_the_table():
+    assert set(METHODS) == set(HEAVY_METHODS) == set(names("rigid"))
+    assert set(PARTICLE_SOLVERS) == set(names("lagrangian"))
+    from poinsot.kinematics.propagation import METHODS as ATT
+
+    assert set(ATT) == set(names("attitude"))
+
+
+def test_no_name_is_two_integrators():
+    lowered = {}
+    for name, i in INTEGRATORS.items():
+        assert name == i.name
+        assert not (name.lower() in lowered and lowered[name.lower()] == i.implementation)
+        lowered[name.lower()] = i.implementation
+    # the two DOP853: poinsot's compiled one for rigid bodies, SciPy's for the others
+    assert INTEGRATORS["dop853"].systems == ("rigid",)
+    assert "rigid" not in INTEGRATORS["DOP853"].systems
+
+
+def test_every_method_a_kind_accepts_is_registered_for_it():
+    for kind in KINDS.values():
+        for m in kind.methods:
+            assert m in INTEGRATORS, (kind.name, m)
+        for m, order in kind.orders.items():
+            assert INTEGRATORS[m].order == order, (kind.name, m)
+
+
+@pytest.mark.parametrize(
+    ("call", "wrong", "match"),
+    [
+        (lambda m: simulate([1.0, 2, 3], [1.0, 0, 0, 0], [0, 0, 1.0], [0.0, 1.0], method=m),
+         "Radau", "methods for a rigid body.*'Radau' is SciPy"),
+        (lambda m: simulate([1.0, 2, 3], [1.0, 0, 0, 0], [0, 0, 1.0], [0.0, 1.0], method=m),
+         "magnus4", "methods for a rigid body.*attitude"),
+        (lambda m: propagate([1.0, 0, 0, 0], np.zeros((2, 3)), [0.0, 1.0], method=m),
+         "splitting", "methods for attitude propagation.*rigid"),
+        (lambda m: simulate_particle(FrameMotion(), None, [1.0, 0, 0], [0, 0, 0], [0.0, 1.0], method=m),
+         "dop853", "methods for a particle.*poinsot's compiled.*did you mean 'DOP853'"),
+    ],
+)  # fmt: skip
+def test_a_method_of_another_system_is_refused_with_the_table_s_words(call, wrong, match):
+    with pytest.raises(InvalidInputError, match=match):
+        call(wrong)
+
+
+def test_check_method_messages():
+    assert check_method("rk4", names("rigid"), "x") == "rk4"
+    with pytest.raises(InvalidInputError, match="one of 'DOP853'"):
+        check_method("nope", names("lagrangian"), "a Lagrangian system")
