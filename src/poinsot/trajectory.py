@@ -78,6 +78,7 @@ INFO_KEYS = {
     "closed_form": "name of the closed-form solution used (e.g. 'coning', 'jacobi')",
     "motion_type": "kind of motion of a closed form (e.g. a Lagrange top's nutation type)",
     "path": "which implementation ran (e.g. compiled kernel or solve_ivp fallback)",
+    "failed": "why each body of a batch failed ('' if it did not; failures='mark' only)",
 }
 
 _XYZ = ("x", "y", "z")

@@ -7,6 +7,7 @@ import warnings
 import numpy as np
 import pytest
 
+import poinsot
 from poinsot.dynamics import GravityTorque, HeavyRigidBody, simulate
 from poinsot.errors import IntegrationError
 
@@ -50,3 +51,22 @@ def test_heavy_simulate_with_tolerances_and_no_method_matches_simulate():
     np.testing.assert_array_equal(a.quat, b.quat)
     # and the default without tolerances stays the structure-preserving splitting
     assert top.simulate([1.0, 0, 0, 0], [0.1, 0.0, 5.0], t, max_step=1e-2).method == "splitting"
+
+
+def test_failures_mark_keeps_the_batch_and_names_the_failed_body():
+    """failures='mark' (the ensembles' mode): a diverging body of a dop853 batch is held
+    at its last finite state and named in info['failed']; the others equal a run of
+    their own (independent: the same body alone)."""
+    w0 = np.array([[0.1, 2.0, 0.1], [1e300, 1e300, 1e300]])
+    t = np.linspace(0.0, 1.0, 11)
+    with np.errstate(all="ignore"):
+        tr = simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], w0, t, method="dop853", failures="mark")
+    assert list(tr.info["failed"]) == ["", "the state became non-finite"]
+    alone = simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], w0[0], t, method="dop853")
+    np.testing.assert_array_equal(tr.quat[:, 0], alone.quat)
+    assert np.isfinite(tr.quat).all() and np.isfinite(tr.omega).all()
+    with pytest.raises(IntegrationError, match="1 of 2 bodies"):
+        with np.errstate(all="ignore"):
+            simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], w0, t, method="dop853")
+    with pytest.raises(poinsot.InvalidInputError, match="failures='mark'"):
+        simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], w0[0], t, method="rk4", failures="mark")

@@ -301,7 +301,7 @@ def test_failed_integrations_are_recorded_and_the_rest_kept():
     assert bad.any() and (~bad).any()
     assert np.array_equal(res.column("failed"), bad)
     assert set(np.asarray(res.table.column("reason").to_pylist())[bad]) == {
-        "integration failed: non-finite state"
+        "integration failed: the state became non-finite"
     }
     # the good samples are the nominal motion: max omega_y = |K|/B-bounded, finite
     assert np.all(np.isfinite(res.column("w")[~bad])) and np.all(np.isnan(res.column("w")[bad]))

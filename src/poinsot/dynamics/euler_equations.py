@@ -320,6 +320,7 @@ def simulate(
     rtol: float | None = None,
     atol: float | None = None,
     solver: str | None = None,
+    failures: str = "raise",
 ) -> Trajectory:
     """Integrate Euler's dynamic equations with the attitude (theory §10, §5).
 
@@ -370,6 +371,14 @@ def simulate(
         ignored.
     solver : str, optional
         ``solve_ivp`` method for ``"adaptive"`` (default ``"DOP853"``).
+    failures : {"raise", "mark"}, optional
+        What a body of a ``"dop853"`` batch that fails (step below round-off,
+        more than 10^6 steps, a non-finite state) does: ``"raise"`` (default) an
+        :class:`~poinsot.IntegrationError` for the whole call; ``"mark"`` (for
+        Monte-Carlo ensembles, where a few diverging samples are data) keeps the
+        others, holds the failed body at its last finite state from the time it
+        failed on, and names the reason in ``info["failed"]`` (an array of
+        strings, one per body, ``""`` for a body that succeeded).
 
     Returns
     -------
@@ -437,6 +446,12 @@ def simulate(
         # an accuracy asked for picks the compiled adaptive integrator
         method = "dop853" if (rtol is not None or atol is not None) else "midpoint"
     method = integrators.check_method(method, METHODS, "a rigid body")
+    failures = as_choice(failures, "failures", ("raise", "mark"))
+    if failures == "mark" and method != "dop853":
+        raise InvalidInputError(
+            f"`failures='mark'` applies to method='dop853' (the compiled batch integrator), "
+            f"got method={method!r}."
+        )
     j = _body_inertia(body)
     q0 = as_rotation_quat(rotation0, "rotation0")
     w0 = as_vec3(omega0, "omega0")
@@ -527,7 +542,7 @@ def simulate(
                 )
                 info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
             else:
-                qs, ws, info = _fused_info(fused, tt, rtol, atol)
+                qs, ws, info = _fused_info(fused, tt, rtol, atol, mark=failures == "mark")
         else:
             qs, ws, info = _run_adaptive(jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, solver)
     if method not in ("adaptive", "dop853"):
@@ -539,9 +554,12 @@ def simulate(
     inv = _invariants(jb, False, qs, ws, None)
     energy, momentum = inv.kinetic, inv.momentum_space
     out = batch
+    quat = qs.reshape((n,) + out + (4,))
+    compiled_dop853 = method == "dop853" and "path" not in info
     return Trajectory(
         t=tt,
-        rotation=Rotation.from_quat(qs.reshape((n,) + out + (4,))),
+        # the compiled DOP853 returns unit quaternions (held, for a marked failure)
+        rotation=Rotation._wrap(quat) if compiled_dop853 else Rotation.from_quat(quat),
         omega=ws.reshape((n,) + out + (3,)),
         method=method,
         energy=energy.reshape((n,) + out),
@@ -555,13 +573,33 @@ def simulate(
 # ---------------------------------------------------------------------------
 
 
-def _fused_info(fused, tt, rtol, atol):
-    """Outputs and ``info`` of the compiled DOP853 run; raise if any body failed."""
+#: Why a body of a compiled DOP853 batch failed (``info["failed"]`` with failures="mark").
+FAILURE_REASONS = {
+    1: "the step size fell below round-off",
+    2: "it needed more than 10^6 steps",
+    3: "the state became non-finite",
+}
+
+
+def _fused_info(fused, tt, rtol, atol, *, mark: bool = False):
+    """Outputs and ``info`` of the compiled DOP853 run; raise if any body failed
+    (``mark``: hold each failed body at its last finite state and name the reason)."""
     from . import _fused
 
     qs, ws, stats = fused
     bad = np.flatnonzero(stats[:, 3] != _fused.OK)
-    if bad.size:
+    failed = None
+    if bad.size and mark:
+        failed = np.full(stats.shape[0], "", dtype=object)
+        for b in bad:
+            failed[b] = FAILURE_REASONS[int(stats[b, 3])]
+            ok = np.isfinite(qs[:, b]).all(axis=-1) & np.isfinite(ws[:, b]).all(axis=-1)
+            last = int(np.flatnonzero(ok)[-1]) if ok.any() else -1
+            if last < 0:  # not even the start: the identity at rest stands in
+                qs[:, b], ws[:, b] = (1.0, 0.0, 0.0, 0.0), 0.0
+            else:
+                qs[last + 1 :, b], ws[last + 1 :, b] = qs[last, b], ws[last, b]
+    elif bad.size:
         b = int(bad[0])
         reason = {
             _fused.STEP_TOO_SMALL: "the step size fell below round-off",
@@ -584,6 +622,8 @@ def _fused_info(fused, tt, rtol, atol):
         "atol": atol,
         "solver": "DOP853 (compiled, per-body step control)",
     }
+    if failed is not None:
+        info["failed"] = failed
     return qs, ws, info
 
 
