@@ -56,7 +56,8 @@ def test_every_method_a_kind_accepts_is_registered_for_it():
          "magnus4", "methods for a rigid body.*attitude"),
         (lambda m: propagate([1.0, 0, 0, 0], np.zeros((2, 3)), [0.0, 1.0], method=m),
          "splitting", "methods for attitude propagation.*rigid"),
-        (lambda m: simulate_particle(FrameMotion(), None, [1.0, 0, 0], [0, 0, 0], [0.0, 1.0], method=m),
+        (lambda m: simulate_particle(FrameMotion(), None, [1.0, 0, 0], [0, 0, 0], [0, 1.0],
+                                     method=m),
          "dop853", "methods for a particle.*poinsot's compiled.*did you mean 'DOP853'"),
     ],
 )  # fmt: skip
