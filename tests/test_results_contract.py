@@ -67,6 +67,19 @@ def _results():
         ("simulate-rk4", lambda: simulate(J, [1.0, 0, 0, 0], W0, T, method="rk4")),
         ("simulate-dop853", lambda: simulate(J, [1.0, 0, 0, 0], W0, T, method="dop853")),
         ("propagate", lambda: propagate([1.0, 0, 0, 0], np.tile([0.0, 0.2, 1.0], (T.size, 1)), T)),
+        (
+            "propagate-adaptive",
+            lambda: propagate([1.0, 0, 0, 0], lambda t: [0.0, 0.2, 1.0], T, method="adaptive"),
+        ),
+        ("simulate-midpoint", lambda: simulate(J, [1.0, 0, 0, 0], W0, T, method="midpoint")),
+        ("simulate-splitting", lambda: simulate(J, [1.0, 0, 0, 0], W0, T, method="splitting")),
+        ("simulate-adaptive", lambda: simulate(J, [1.0, 0, 0, 0], W0, T, method="adaptive")),
+        (
+            "simulate-python-torque",
+            lambda: simulate(
+                J, [1.0, 0, 0, 0], W0, T, method="dop853", torque=lambda t, r, w: [0.0, 0.0, 0.1]
+            ),
+        ),
         ("free-body", lambda: FreeRigidBody(J, omega0=W0).trajectory(T)),
         ("lagrange-top", lambda: LagrangeTop(1.0, 0.5, 1.0, theta=0.5, spin=10.0).trajectory(T)),
         ("heavy", lambda: heavy.simulate([1.0, 0, 0, 0], [0.1, 0.0, 5.0], T)),
