@@ -107,7 +107,7 @@ def test_approx_equal_tolerance_in_degrees_and_its_validation():
         r.approx_equal(s, atol=np.nan)
     with pytest.raises(InvalidTypeError, match="`atol`"):
         r.approx_equal(s, atol="x")
-    with pytest.raises(InvalidTypeError, match=r"poinsot.Rotation, got scipy.*from_quat"):
+    with pytest.raises(InvalidTypeError, match=r"poinsot.Rotation, got scipy.*from_scipy"):
         r.approx_equal(SciPyRotation.identity())
 
 
