@@ -7,7 +7,7 @@ matplotlib is imported inside the functions. See ``docs/particles.md``.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, SupportsFloat
 
 import numpy as np
 
@@ -268,7 +268,7 @@ def plot_effective_potential(
 
 
 def plot_swing_plane(
-    trajectory: ParticleTrajectory, *, rate: float | None = None, ax: Axes | None = None
+    trajectory: ParticleTrajectory, *, rate: SupportsFloat | None = None, ax: Axes | None = None
 ) -> Axes:
     """Azimuth of a pendulum's swing plane against time, with a predicted rate.
 
