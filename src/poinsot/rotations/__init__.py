@@ -1,4 +1,5 @@
-"""Rotations: quaternion algebra and every representation (SPEC S1-S4).
+"""Rotations: quaternion algebra, every representation (docs/theory.md §1-§4) and the
+finite displacements of SE(3) (§6).
 
 The unit quaternion is the hub: each representation module converts to and
 from it (``dcm``, ``rotvec``, ``euler``, ``rodrigues``, ``frames``), and
@@ -8,13 +9,17 @@ from it (``dcm``, ``rotvec``, ``euler``, ``rodrigues``, ``frames``), and
 from . import quaternion
 from ._lazy import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
 from .rotation import Rotation, compose, slerp
+from .transform import FiniteScrew, RigidTransform, sclerp
 
 __all__ = [
     "PARALLEL_MIN_SIZE",
+    "FiniteScrew",
+    "RigidTransform",
     "Rotation",
     "compose",
     "get_num_threads",
     "quaternion",
+    "sclerp",
     "set_num_threads",
     "slerp",
 ]
