@@ -12,7 +12,15 @@ from pathlib import Path
 import pytest
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
-PAGES = ["mass.md", "dynamics.md", "conventions.md", "math-to-code.md", "kinematics-propagate.md"]
+PAGES = [
+    "mass.md",
+    "dynamics.md",
+    "conventions.md",
+    "math-to-code.md",
+    "kinematics-propagate.md",
+    "guide-rotations.md",
+    "integrators.md",
+]
 
 
 @pytest.mark.parametrize("page", PAGES)
