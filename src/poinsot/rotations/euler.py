@@ -6,12 +6,22 @@
 ``(f1, f2, f3)`` is extrinsic ``cba`` with ``(f3, f2, f1)``, and the rotation is
 ``C = A_a(f1) A_b(f2) A_c(f3)`` (SPEC S3: ``C = A_psi A_theta A_phi``). Presets:
 
-========== ======== ==================================================
-preset     sequence angles
-========== ======== ==================================================
-``euler``  ``ZXZ``  precession psi, nutation theta, spin phi (SPEC S3)
-``krylov`` ``ZXY``  heading (yaw), pitch, roll (SPEC S3, ship angles)
-========== ======== ==================================================
+=========== ======== ==================================================
+preset      sequence angles
+=========== ======== ==================================================
+``euler``   ``ZXZ``  precession psi, nutation theta, spin phi (theory §3)
+``krylov``  ``ZXY``  heading (yaw), pitch, roll (theory §3)
+``ship``    ``ZXY``  the course's ship angles: psi about axis 3 turns by
+                     **minus** psi (heading measured the other way),
+                     then theta about 1', then phi about 2''
+``bryant``  ``XYZ``  Bryant (Cardan) angles: roll, pitch, yaw about the
+                     moving axes 1, 2', 3''
+``cardan``  ``XYZ``  the same as ``bryant``
+=========== ======== ==================================================
+
+``"ship"`` and ``"krylov"`` differ only in the sign of the first angle:
+``from_euler("ship", [psi, theta, phi]) == from_euler("krylov", [-psi, theta, phi])``
+(:data:`PRESET_SIGNS`).
 
 **Gimbal lock.** The middle angle is singular at 0 or pi (proper Euler) or at
 +-pi/2 (Tait-Bryan). Within :data:`GIMBAL_LOCK_ATOL` of it the first and third
@@ -39,19 +49,35 @@ from ._lazy import big, chunked, flat, kernels, threaded
 
 __all__ = [
     "PRESETS",
+    "PRESET_SIGNS",
+    "preset_signs",
     "GIMBAL_LOCK_ATOL",
     "parse_sequence",
     "quat_from_euler",
     "euler_from_quat",
 ]
 
-PRESETS = {"euler": "ZXZ", "krylov": "ZXY"}
+PRESETS = {"euler": "ZXZ", "krylov": "ZXY", "ship": "ZXY", "bryant": "XYZ", "cardan": "XYZ"}
+#: Presets whose angles enter with a sign: the rotation is that of the preset's
+#: sequence with the angles multiplied by these signs (and ``as_euler`` gives them back).
+PRESET_SIGNS = {"ship": (-1.0, 1.0, 1.0)}
 #: Distance (rad) of the middle angle from its singular value inside which
 #: :func:`euler_from_quat` reports gimbal lock.
 GIMBAL_LOCK_ATOL = 1e-7
 
 _D4 = np.zeros(4)
 _SEQ = re.compile(r"^([xyz]{1,3}|[XYZ]{1,3})$")
+
+
+def preset_signs(seq: object) -> tuple[float, float, float] | None:
+    """The signs of a preset's angles (``None``: all +1).
+
+    Examples
+    --------
+    >>> preset_signs("ship"), preset_signs("ZXY")
+    ((-1.0, 1.0, 1.0), None)
+    """
+    return PRESET_SIGNS.get(seq.lower()) if isinstance(seq, str) else None
 
 
 def parse_sequence(seq: str) -> tuple[tuple[int, ...], bool]:

@@ -472,6 +472,9 @@ class Rotation:
         """
         deg = as_bool(degrees, "degrees")
         axes, extrinsic, _ = _seq(seq)
+        signs = euler.preset_signs(seq)
+        if signs is not None:  # e.g. "ship": the first angle turns the other way
+            angles = as_float_array(angles, "angles") * np.asarray(signs)
         k = len(axes)
         t = plain_vec3(angles) if k == 3 else None
         if k == 1:
@@ -722,13 +725,16 @@ class Rotation:
         """
         deg = as_bool(degrees, "degrees")
         code = _seq(seq)[2]
+        signs = euler.preset_signs(seq)
         if self._q.ndim == 1 and code is not None:
             a = np.empty(3)
             if one.to_euler1(self._q, code, a):
                 euler.warn_gimbal_lock(seq, stacklevel=2)
-            return a * _RAD if deg else a
-        a = euler.euler_from_quat(seq, self._q)
-        return np.rad2deg(a) if deg else a
+        else:
+            a = euler.euler_from_quat(seq, self._q)
+        if signs is not None:
+            a = a * np.asarray(signs)
+        return a * _RAD if deg else a
 
     def as_gibbs(self) -> np.ndarray:
         """Gibbs vectors ``e tan(f/2)`` (..., 3); ``+-inf`` along the axis at ``f = pi``.
