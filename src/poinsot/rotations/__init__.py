@@ -8,6 +8,16 @@ from it (``dcm``, ``rotvec``, ``euler``, ``rodrigues``, ``frames``), and
 
 from . import quaternion
 from ._lazy import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
+from .lie import (
+    RotationEigen,
+    expm_so3,
+    hat,
+    logm_so3,
+    quat_left_matrix,
+    quat_right_matrix,
+    rotation_eigen,
+    vee,
+)
 from .rotation import Rotation, compose, slerp
 from .transform import FiniteScrew, RigidTransform, sclerp
 
@@ -16,7 +26,15 @@ __all__ = [
     "FiniteScrew",
     "RigidTransform",
     "Rotation",
+    "RotationEigen",
     "compose",
+    "expm_so3",
+    "hat",
+    "logm_so3",
+    "quat_left_matrix",
+    "quat_right_matrix",
+    "rotation_eigen",
+    "vee",
     "get_num_threads",
     "quaternion",
     "sclerp",
