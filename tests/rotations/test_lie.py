@@ -4,7 +4,7 @@ against the product itself, and the eigen-structure against numpy.linalg.eig."""
 
 import numpy as np
 import pytest
-from poinsot.quaternion import multiply
+from poinsot.rotations.quaternion import multiply
 from scipy.linalg import expm
 
 from poinsot import InvalidInputError
