@@ -4,7 +4,6 @@ against the product itself, and the eigen-structure against numpy.linalg.eig."""
 
 import numpy as np
 import pytest
-from poinsot.rotations.quaternion import multiply
 from scipy.linalg import expm
 
 from poinsot import InvalidInputError
@@ -17,6 +16,7 @@ from poinsot.rotations import (
     rotation_eigen,
     vee,
 )
+from poinsot.rotations.quaternion import multiply
 
 RNG = np.random.default_rng(3)
 AXIS = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
