@@ -33,6 +33,7 @@ from .fields import (
     point_motion,
     velocity_field,
 )
+from .plane import Centrodes, acceleration_center, centrodes, velocity_center
 from .point import (
     FrenetFrame,
     frenet,
@@ -67,6 +68,10 @@ from .screw import (
 )
 
 __all__ = [
+    "Centrodes",
+    "acceleration_center",
+    "centrodes",
+    "velocity_center",
     "quat_rate",
     "omega_from_quat_rate",
     "dcm_rate",
