@@ -76,10 +76,12 @@ from .particles import (
 from .systems import (
     FORCE_KINDS,
     ForceClassification,
+    ForceSystem,
     KoenigSplit,
     LinePotential,
     ParticleSystem,
     classify_force,
+    reduce_forces,
     shift_angular_momentum,
 )
 from .torques import (
@@ -94,6 +96,8 @@ from .torques import (
 )
 
 __all__ = [
+    "ForceSystem",
+    "reduce_forces",
     # heavy body about a fixed point, Lagrange and Kovalevskaya tops (theory §10)
     "HeavyRigidBody",
     "HEAVY_METHODS",

@@ -39,6 +39,8 @@ __all__ = [
     "ParticleSystem",
     "KoenigSplit",
     "shift_angular_momentum",
+    "ForceSystem",
+    "reduce_forces",
 ]
 
 #: The kinds :func:`classify_force` reports.
@@ -483,3 +485,136 @@ class ParticleSystem:
                 f"got {f.shape}."
             )
         return f
+
+
+# ---------------------------------------------------------------------------
+# Systems of forces on a rigid body
+# ---------------------------------------------------------------------------
+
+#: The simplest equivalent of a force system (:func:`reduce_forces`), by the kind of
+#: the kinematic reduction with the same algebra (:func:`poinsot.kinematics.reduce_motions`).
+_FORCE_KIND = {
+    "screw": "wrench",
+    "rotation": "resultant",
+    "translation": "couple",
+    "rest": "equilibrium",
+}
+
+
+@dataclass(frozen=True, eq=False)
+class ForceSystem:
+    """A system of forces and couples on a rigid body, reduced at a pole (theory §9).
+
+    Attributes
+    ----------
+    resultant : ndarray, shape (3,)
+        The principal vector ``R = sum F_i`` (N).
+    moment : ndarray, shape (3,)
+        The principal moment about the pole, ``M_O = sum OP_i x F_i + sum C_k`` (N m).
+    pole : ndarray, shape (3,)
+        The pole ``O`` (m).
+    invariant : float
+        ``R . M_O``, the same for every pole (N^2 m).
+    kind : str
+        The simplest equivalent: ``"wrench"`` (a force along the central axis and a
+        couple about it, ``R . M != 0``), ``"resultant"`` (a single force on the
+        central axis), ``"couple"`` (``R = 0``, ``M != 0``) or ``"equilibrium"``.
+    central_axis : Screw or None
+        For a wrench or a resultant: the central axis (``point``: its point nearest
+        the pole, ``direction`` along ``R``, ``parameter`` the pitch
+        ``p = R . M / |R|^2`` in m, ``min_speed`` the smallest moment
+        ``|R . M| / |R|`` in N m, reached on the axis); else ``None``.
+    """
+
+    resultant: FloatArray
+    moment: FloatArray
+    pole: FloatArray
+    invariant: float
+    kind: str
+    central_axis: Any
+
+    def moment_about(self, point: ArrayLike) -> FloatArray:
+        """``M_O' = M_O + O'O x R`` (N m), the principal moment about ``point``."""
+        r = as_vec3(point, "point")
+        return self.moment + cross(self.resultant, r - self.pole)
+
+
+def reduce_forces(
+    forces: Any = (),
+    couples: Any = (),
+    *,
+    pole: ArrayLike = (0.0, 0.0, 0.0),
+    rtol: float = 1e-10,
+    atol: float = 0.0,
+) -> ForceSystem:
+    """Reduce forces at points and couples to the simplest equivalent system (theory §9).
+
+    ``R = sum F_i``, ``M_O = sum OP_i x F_i + sum C_k``; ``M_O' = M_O + O'O x R``; the
+    invariant ``R . M_O``; then a wrench on the central axis, a single resultant, a
+    couple, or equilibrium. This is the algebra of the kinematic screw (a force at
+    ``P_i`` like a rotation about an axis through ``P_i``, a couple like a
+    translation): it is computed by :func:`poinsot.kinematics.reduce_motions`, one
+    implementation for both.
+
+    Parameters
+    ----------
+    forces : sequence of (F_i, P_i)
+        Forces (N, shape (3,)) applied at points (m, shape (3,)).
+    couples : sequence of array_like, shape (3,)
+        Couples (N m).
+    pole : array_like, shape (3,), optional
+        The reduction point ``O`` (default the origin).
+    rtol, atol : float, optional
+        Classification tolerances (as :func:`poinsot.kinematics.reduce_motions`).
+
+    Returns
+    -------
+    ForceSystem
+
+    Examples
+    --------
+    Two equal and opposite parallel forces are a couple; a force and a couple about
+    its line are a wrench:
+
+    >>> from poinsot.dynamics import reduce_forces
+    >>> s = reduce_forces([([0, 1.0, 0], [0, 0, 0]), ([0, -1.0, 0], [2.0, 0, 0])])
+    >>> s.kind, s.moment + 0.0
+    ('couple', array([ 0.,  0., -2.]))
+    >>> w = reduce_forces([([0, 0, 2.0], [1.0, 0, 0])], [[0, 0, 1.0]])
+    >>> w.kind, w.central_axis.point + 0.0, float(w.central_axis.parameter)
+    ('wrench', array([1., 0., 0.]), 0.5)
+    """
+    from ..kinematics.screw import reduce_motions
+
+    pairs = []
+    for i, item in enumerate(_sequence(forces, "forces")):
+        try:
+            f_i, p_i = item
+        except (TypeError, ValueError):
+            raise InvalidInputError(
+                f"Expected `forces[{i}]` to be a pair (force, point), got {item!r}."
+            ) from None
+        pairs.append((_vector(f_i, f"forces[{i}][0]"), _vector(p_i, f"forces[{i}][1]")))
+    cs = [_vector(c, f"couples[{k}]") for k, c in enumerate(_sequence(couples, "couples"))]
+    m = reduce_motions(pairs, cs, pole=_vector(pole, "pole"), rtol=rtol, atol=atol)
+    return ForceSystem(
+        resultant=m.omega,
+        moment=m.velocity,
+        pole=m.pole,
+        invariant=float(m.omega @ m.velocity),
+        kind=_FORCE_KIND[m.kind],
+        central_axis=m.screw,
+    )
+
+
+def _sequence(x: Any, name: str) -> list[Any]:
+    if isinstance(x, str | bytes) or not hasattr(x, "__iter__"):
+        raise InvalidTypeError(f"Expected `{name}` to be a sequence, got {type(x).__name__}.")
+    return list(x)
+
+
+def _vector(x: Any, name: str) -> FloatArray:
+    a = as_float_array(x, name)
+    if a.shape != (3,):
+        raise InvalidInputError(f"Expected `{name}` to have shape (3,), got {a.shape}.")
+    return a
