@@ -56,3 +56,23 @@ def test_bad_inputs_name_forces_and_couples():
         reduce_forces([[1.0, 2.0, 3.0]])
     with pytest.raises(InvalidInputError, match=r"`couples\[1\]`"):
         reduce_forces([], [[0, 0, 1.0], [1.0, 2.0]])
+
+
+def test_fully_dissipative_versus_merely_dissipative():
+    """-beta v has F . v = -beta |v|^2 < 0 for every v != 0 (fully); a force damping
+    v_x alone has F . v = 0 for v along y (merely dissipative); quadratic drag
+    -c |v| v is fully dissipative; a linear damping matrix with an undamped oblique
+    direction is found by the Jacobian's softest direction."""
+    from poinsot.dynamics import classify_force
+
+    full = classify_force(lambda t, r, v: -0.3 * v)
+    assert full.kind == "dissipative" and full.fully_dissipative
+    partial = classify_force(lambda t, r, v: np.array([-0.3 * v[0], 0.0, 0.0]))
+    assert partial.kind == "dissipative" and not partial.fully_dissipative
+    drag = classify_force(lambda t, r, v: -0.2 * np.linalg.norm(v) * v)
+    assert drag.kind == "dissipative" and drag.fully_dissipative
+    n = np.array([1.0, 2.0, -0.7]) / np.linalg.norm([1.0, 2.0, -0.7])
+    d = np.eye(3) - np.outer(n, n)  # damps everything but v along n
+    oblique = classify_force(lambda t, r, v: -d @ v)
+    assert oblique.kind == "dissipative" and not oblique.fully_dissipative
+    assert not classify_force(lambda t, r, v: -2.0 * r).fully_dissipative

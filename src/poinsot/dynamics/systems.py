@@ -138,6 +138,12 @@ class ForceClassification:
         Smallest and largest ``F . v / (|F| |v|)`` over the samples.
     potential_residual : float or None
         ``max |F + grad U| / max |F|`` on the samples (central differences).
+    fully_dissipative : bool
+        For a dissipative force: ``F . v < 0`` for **every** ``v != 0`` (tested along
+        26 directions of the cube's axes and diagonals and the softest direction of
+        the velocity Jacobian, at every sample point), e.g. ``-beta v``; False for
+        a merely dissipative force that damps some velocities only (``F . v = 0``
+        for others, e.g. a force damping ``v_x`` alone).
     """
 
     kind: str
@@ -148,6 +154,7 @@ class ForceClassification:
     asymmetry: float
     power_range: tuple[float, float]
     potential_residual: float | None
+    fully_dissipative: bool = False
 
 
 def classify_force(
@@ -299,9 +306,42 @@ def classify_force(
         kind = "dissipative"
     else:
         kind = "none"
+    fully = kind == "dissipative" and _strictly_dissipative(force, t0, R, speed, rtol, scale)
     return ForceClassification(
-        kind, pot, vel_dep, time_dep, bool(curl_free), asym, prange, residual
+        kind, pot, vel_dep, time_dep, bool(curl_free), asym, prange, residual, fully
     )
+
+
+def _directions() -> FloatArray:
+    """26 unit directions: the cube's 3 axes, 4 body and 6 face diagonals, both signs."""
+    pts = np.array(
+        [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)], dtype=float
+    )
+    pts = pts[np.any(pts != 0, axis=1)]
+    return pts / np.linalg.norm(pts, axis=1, keepdims=True)
+
+
+def _strictly_dissipative(
+    force: Callable[..., Any], t0: float, R: FloatArray, speed: float, rtol: float, scale: float
+) -> bool:
+    """``F . v < 0`` along every test direction at every sample point (see
+    :class:`ForceClassification`): also along the softest direction of the symmetric
+    part of ``-dF/dv`` at ``v = 0``, which a linear damping leaves undamped."""
+    dirs = _directions()
+    h = 1e-3 * speed
+    for r in R:
+        jv = np.empty((3, 3))
+        for j in range(3):
+            e = np.zeros(3)
+            e[j] = h
+            jv[:, j] = (_call_force(force, t0, r, e) - _call_force(force, t0, r, -e)) / (2 * h)
+        sym = -0.5 * (jv + jv.T)
+        soft = np.linalg.eigh(sym)[1][:, 0]
+        for d in (*dirs, soft, -soft):
+            v = speed * d
+            if float(_call_force(force, t0, r, v) @ v) >= -rtol * scale * speed:
+                return False
+    return True
 
 
 def _positive(x: ArrayLike, name: str) -> float:
