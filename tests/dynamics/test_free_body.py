@@ -1027,3 +1027,39 @@ def test_kernel_cache_depends_on_the_shared_helpers():
     deps = _numba_cache._DEPENDS[os.path.abspath(kern.__file__)]
     assert os.path.abspath(_elliptic.__file__) in deps
     assert any(d.endswith("_numba_helpers.py") for d in deps)
+
+
+@pytest.mark.parametrize(
+    ("moments", "w0"),
+    [([2.0, 2.0, 1.0], [0.3, 0.4, 2.0]), ([1.0, 3.0, 3.0], [1.5, -0.2, 0.7])],
+)
+def test_regular_precession_rates_against_the_exact_motion(moments, w0):
+    """psi' = K/A, phi' = r (A - C)/A, cos(theta) = C r / K (theory §10), read off the
+    exact FreeRigidBody motion: the symmetry axis keeps the angle theta to K and turns
+    about K at psi'; in body axes the transverse omega turns at -phi'."""
+    from poinsot.dynamics import FreeRigidBody
+
+    body = FreeRigidBody(moments, omega0=w0)
+    p = body.regular_precession()
+    t = np.linspace(0.0, 3.0, 61)
+    tr = body.trajectory(t)
+    e = np.zeros(3)
+    e[p.axis] = 1.0
+    axis_space = tr.rotation.apply(e)
+    k = body.momentum / np.linalg.norm(body.momentum)
+    np.testing.assert_allclose(np.arccos(axis_space @ k), p.nutation, atol=1e-12)
+    u = np.cross(k, [0.3, 0.5, 0.8])
+    u /= np.linalg.norm(u)
+    v = np.cross(k, u)
+    az = np.unwrap(np.arctan2(axis_space @ v, axis_space @ u))
+    np.testing.assert_allclose(az - az[0], p.precession_rate * t, atol=1e-11)
+    i, j = (p.axis + 1) % 3, (p.axis + 2) % 3
+    ang = np.unwrap(np.arctan2(tr.omega[:, j], tr.omega[:, i]))
+    np.testing.assert_allclose(ang - ang[0], -p.spin_rate * t, atol=1e-11)
+
+
+def test_regular_precession_needs_a_symmetric_body():
+    from poinsot.dynamics import FreeRigidBody
+
+    with pytest.raises(InvalidInputError, match="symmetric body"):
+        FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.0]).regular_precession()

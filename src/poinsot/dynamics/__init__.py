@@ -38,6 +38,7 @@ from .free_body import (
     SEPARATRIX_RTOL,
     SYMMETRY_RTOL,
     FreeRigidBody,
+    RegularPrecession,
     MacCullaghGeometry,
     PoinsotGeometry,
 )
@@ -114,6 +115,7 @@ __all__ = [
     "simulate",
     "METHODS",
     "FreeRigidBody",
+    "RegularPrecession",
     "MacCullaghGeometry",
     "PoinsotGeometry",
     "SYMMETRY_RTOL",

@@ -73,6 +73,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FreeRigidBody",
+    "RegularPrecession",
     "MacCullaghGeometry",
     "PoinsotGeometry",
     "SYMMETRY_RTOL",
@@ -136,6 +137,30 @@ def _samples(n: Any) -> int:
     if not (is_integer(n) or isinstance(n, np.integer)) or n < 2:
         raise InvalidInputError(f"Expected `n` to be an integer >= 2, got {n!r}.")
     return int(n)
+
+
+@dataclass(frozen=True, eq=False)
+class RegularPrecession:
+    """The regular precession of a free symmetric body (docs/theory.md §10).
+
+    Attributes
+    ----------
+    precession_rate : float or ndarray
+        ``psi' = K / A`` (rad/s): the symmetry axis turns about ``K`` at this rate.
+    spin_rate : float or ndarray
+        ``phi' = r (A - C) / A`` (rad/s): the body turns about its symmetry axis
+        relative to the precessing frame (Euler angles with ``z`` along ``K``).
+    nutation : float or ndarray
+        ``theta`` with ``cos theta = C r / K`` (rad): the constant angle between the
+        symmetry axis and ``K``.
+    axis : int or ndarray
+        Index of the symmetry axis among the principal axes (moment ``C``).
+    """
+
+    precession_rate: Any
+    spin_rate: Any
+    nutation: Any
+    axis: Any
 
 
 @dataclass(frozen=True, eq=False)
@@ -533,6 +558,44 @@ class FreeRigidBody:
         infinite.
         """
         return self._out(self._info[:, 2].copy())
+
+    def regular_precession(self) -> RegularPrecession:
+        """Precession rate, spin rate and nutation angle of a symmetric body (theory §10).
+
+        With ``A = B != C`` (``C`` about the symmetry axis, ``r`` the angular velocity
+        about it), ``K = |K|``: ``psi' = K / A``, ``phi' = r (A - C) / A``,
+        ``cos theta = C r / K``. Raises :class:`~poinsot.InvalidInputError` for a body
+        without exactly two equal moments (asymmetric or spherical); ``nan`` at rest.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeRigidBody
+        >>> p = FreeRigidBody([2.0, 2.0, 1.0], omega0=[0.0, 0.5, 2.0]).regular_precession()
+        >>> round(float(p.precession_rate), 12), float(p.spin_rate), p.axis
+        (1.11803398875, 1.0, 2)
+        """
+        m = self._moments
+        eq01, eq12, eq02 = m[:, 0] == m[:, 1], m[:, 1] == m[:, 2], m[:, 0] == m[:, 2]
+        pairs = eq01.astype(int) + eq12 + eq02
+        if np.any(pairs != 1):
+            bad = int(np.flatnonzero(pairs != 1)[0])
+            raise InvalidInputError(
+                "Expected a symmetric body (exactly two equal principal moments) for a "
+                f"regular precession, got moments {m[bad].tolist()}."
+            )
+        k = np.where(eq01, 2, np.where(eq12, 0, 1))
+        rows = np.arange(m.shape[0])
+        c = m[rows, k]
+        a = m[rows, (k + 1) % 3]
+        wp = _quaternion.rotate(_quaternion.conjugate(self._qv), self._omega0)
+        r = wp[rows, k]
+        kk = self._kmom
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos = np.clip(c * r / kk, -1.0, 1.0)
+        axis = int(k[0]) if self._shape == () else k.reshape(self._shape)
+        return RegularPrecession(
+            self._out(kk / a), self._out(r * (a - c) / a), self._out(np.arccos(cos)), axis
+        )
 
     @property
     def complementary_parameter(self) -> float | FloatArray:
