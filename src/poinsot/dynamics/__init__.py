@@ -38,9 +38,9 @@ from .free_body import (
     SEPARATRIX_RTOL,
     SYMMETRY_RTOL,
     FreeRigidBody,
-    RegularPrecession,
     MacCullaghGeometry,
     PoinsotGeometry,
+    RegularPrecession,
 )
 from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
