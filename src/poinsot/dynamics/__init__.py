@@ -57,10 +57,12 @@ from .lagrange_top import (
 from .particles import (
     EARTH_ROTATION_RATE,
     PARTICLE_SOLVERS,
+    BodyInertialForces,
     InertialForces,
     ParticleTrajectory,
     PendulumForce,
     UniformGravity,
+    body_inertial_forces,
     earth_frame,
     eastward_deflection,
     foucault_frame,
@@ -97,6 +99,8 @@ from .torques import (
 )
 
 __all__ = [
+    "BodyInertialForces",
+    "body_inertial_forces",
     "ForceSystem",
     "reduce_forces",
     # heavy body about a fixed point, Lagrange and Kovalevskaya tops (theory §10)

@@ -26,12 +26,14 @@ origin with the frame's origin.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .. import integrators
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_choice, as_float_array, as_times, as_vec3, batch_shape
 from .._vec import cross, dot, hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
@@ -39,6 +41,9 @@ from ..kinematics.fields import FrameMotion, _rivals_terms
 from ..trajectory import PointTrajectory
 from .systems import _call_force
 from .torques import STANDARD_GRAVITY
+
+if TYPE_CHECKING:
+    from ..trajectory import Trajectory
 
 __all__ = [
     "EARTH_ROTATION_RATE",
@@ -59,6 +64,8 @@ __all__ = [
     "PendulumForce",
     "foucault_frame",
     "PARTICLE_SOLVERS",
+    "BodyInertialForces",
+    "body_inertial_forces",
 ]
 
 #: Rotation rate of the Earth relative to the stars (rad/s), IERS nominal value
@@ -149,7 +156,9 @@ class InertialForces:
         return self.transport + self.coriolis
 
 
-def inertial_forces(frame: FrameMotion, r, v, mass=1.0, t=0.0) -> InertialForces:
+def inertial_forces(
+    frame: FrameMotion, r: ArrayLike, v: ArrayLike, mass: ArrayLike = 1.0, t: float = 0.0
+) -> InertialForces:
     """Every inertial force on a particle moving in a moving frame (theory §9).
 
     Parameters
@@ -213,6 +222,115 @@ def inertial_forces(frame: FrameMotion, r, v, mass=1.0, t=0.0) -> InertialForces
     )
 
 
+@dataclass(frozen=True, eq=False)
+class BodyInertialForces:
+    """The inertial forces on a whole rigid body in a moving frame (theory §9),
+    reduced at the frame's origin ``O``.
+
+    Attributes
+    ----------
+    transport_force, coriolis_force : ndarray, shape (3,)
+        Resultants ``R^e = -m (W0 + eps x r_c + w x (w x r_c))`` and
+        ``R^c = -2 m w x u_c`` (N).
+    transport_moment, coriolis_moment : ndarray, shape (3,)
+        Their moments about ``O``: ``M^e = -(m r_c x W0 + J_O eps + w x J_O w)`` and
+        ``M^c = r_c x R^c + 2 W x (S w)``, ``S = (tr J_c / 2) E - J_c`` (N m).
+
+    All in the frame's axes.
+    """
+
+    transport_force: FloatArray
+    transport_moment: FloatArray
+    coriolis_force: FloatArray
+    coriolis_moment: FloatArray
+
+    def moment_about(self, point: ArrayLike) -> FloatArray:
+        """Moment of all the inertial forces about ``point`` (frame axes, m):
+        ``M_P = M_O + PO x R`` (N m)."""
+        p = as_vec3(point, "point")
+        r = self.transport_force + self.coriolis_force
+        return self.transport_moment + self.coriolis_moment + cross(r, p)
+
+
+def body_inertial_forces(
+    frame: FrameMotion,
+    body: Any,
+    *,
+    velocity: ArrayLike = (0.0, 0.0, 0.0),
+    angular_velocity: ArrayLike = (0.0, 0.0, 0.0),
+    t: float = 0.0,
+) -> BodyInertialForces:
+    """Resultants and moments of the transport and Coriolis forces over a rigid body
+    moving in a moving frame (theory §9).
+
+    Parameters
+    ----------
+    frame : FrameMotion or callable
+        The frame's motion (``W0``, ``w``, ``eps``), or ``frame(t)``.
+    body : RigidBody
+        Mass, centre of mass ``r_c`` and inertia about it, all in the frame's axes
+        and relative to the frame's origin ``O`` (the body's reference point is
+        ``O``).
+    velocity : array_like, shape (3,), optional
+        Velocity of the centre of mass relative to the frame, ``u_c`` (m/s).
+    angular_velocity : array_like, shape (3,), optional
+        Angular velocity of the body relative to the frame, ``W`` (rad/s).
+    t : float, optional
+        Time at which a callable ``frame`` is evaluated.
+
+    Returns
+    -------
+    BodyInertialForces
+        The sums over the body of :func:`inertial_forces`:
+        ``sum r x (eps x r) dm = J_O eps``, ``sum r x (w x (w x r)) dm = w x J_O w``,
+        and, with ``v_r = u_c + W x rho``, ``sum rho x (w x (W x rho)) dm = -W x (S w)``.
+        The moment of the transport forces is **not** the resultant applied at the
+        centre of mass unless ``w`` and ``eps`` are principal directions there.
+
+    Examples
+    --------
+    A rod of mass 3 kg and length 2 m along x from the axis, the frame turning at
+    2 rad/s about z: ``R^e = m w^2 L/2`` outwards, no moment about ``O``.
+
+    >>> from poinsot.kinematics import FrameMotion
+    >>> from poinsot.mass import RigidBody
+    >>> from poinsot.dynamics import body_inertial_forces
+    >>> rod = RigidBody(3.0, [0.0, 1.0, 1.0], center_of_mass=[1.0, 0.0, 0.0])
+    >>> f = body_inertial_forces(FrameMotion(omega=[0, 0, 2.0]), rod)
+    >>> f.transport_force + 0.0, f.transport_moment + 0.0
+    (array([12.,  0.,  0.]), array([0., 0., 0.]))
+    """
+    from ..mass import RigidBody
+
+    if not isinstance(body, RigidBody) or body.shape != ():
+        raise InvalidTypeError(
+            f"Expected `body` to be one poinsot.mass.RigidBody, got {type(body).__name__}."
+        )
+    fr = _frame_at(frame, t)
+    if fr.omega.shape != (3,):
+        raise InvalidInputError("Expected one frame motion (vectors of shape (3,)).")
+    u = as_vec3(velocity, "velocity")
+    big_w = as_vec3(angular_velocity, "angular_velocity")
+    if u.shape != (3,) or big_w.shape != (3,):
+        raise InvalidInputError(
+            "Expected `velocity` and `angular_velocity` of shape (3,), got "
+            f"{u.shape} and {big_w.shape}."
+        )
+    m = float(body.mass)
+    rc = np.asarray(body.center_of_mass, dtype=float)
+    j_c = np.asarray(body.inertia, dtype=float)
+    j_o = np.asarray(body.inertia_about((0.0, 0.0, 0.0)), dtype=float)
+    w, eps, w0 = fr.omega, fr.eps, fr.origin_acceleration
+    # the point kernel (Rivals' terms) at the centre of mass gives the resultant
+    a0, rot, cen = _rivals_terms(w0, w, eps, rc)
+    r_e = -m * (a0 + rot + cen)
+    m_e = -(m * cross(rc, w0) + j_o @ eps + cross(w, j_o @ w))
+    r_c = -2.0 * m * cross(w, u)
+    s = 0.5 * np.trace(j_c) * np.eye(3) - j_c
+    m_c = cross(rc, r_c) + 2.0 * cross(big_w, s @ w)
+    return BodyInertialForces(r_e, m_e, r_c, m_c)
+
+
 def _frame_at(frame, t) -> FrameMotion:
     """The frame at time ``t``: a FrameMotion as is, a callable evaluated and checked."""
     if isinstance(frame, FrameMotion):
@@ -230,7 +348,14 @@ def _frame_at(frame, t) -> FrameMotion:
     )
 
 
-def jacobi_integral(frame: FrameMotion, r, v, *, mass=1.0, potential=None) -> np.ndarray:
+def jacobi_integral(
+    frame: FrameMotion,
+    r: ArrayLike,
+    v: ArrayLike,
+    *,
+    mass: ArrayLike = 1.0,
+    potential: Callable[[np.ndarray], ArrayLike] | None = None,
+) -> FloatArray:
     """Jacobi's integral of relative motion in a uniformly rotating frame (theory §9).
 
     ``h = m |v_r|^2 / 2 - m |w x r|^2 / 2 + m W0 . r + U(r)``
@@ -338,9 +463,11 @@ class ParticleTrajectory(PointTrajectory):
     @property
     def kinetic_energy(self) -> np.ndarray:
         """Relative kinetic energy ``T_r = m |v_r|^2 / 2`` (J), shape (n, ...)."""
-        return 0.5 * self.mass * dot(self.velocity, self.velocity)
+        m = self.mass
+        assert m is not None  # simulate_particle always records the mass
+        return 0.5 * m * dot(self.velocity, self.velocity)
 
-    def to_trajectory(self, method: str | None = None):
+    def to_trajectory(self, method: str | None = None) -> Trajectory:
         """The motion as a :class:`poinsot.trajectory.Trajectory` (one particle).
 
         ``rotation`` is the frame's attitude (frame -> inertial), ``omega`` the
@@ -352,7 +479,11 @@ class ParticleTrajectory(PointTrajectory):
         """
         from ..trajectory import Trajectory
 
-        if self.inertial_position is None or self.position.ndim != 2:
+        if (
+            self.inertial_position is None
+            or self.frame_rotation is None  # set with inertial_position
+            or self.position.ndim != 2
+        ):
             raise InvalidInputError(
                 "Expected one particle simulated with inertial=True for a Trajectory."
             )
@@ -374,10 +505,12 @@ class ParticleTrajectory(PointTrajectory):
     def inertial_forces(self) -> InertialForces:
         """:func:`inertial_forces` at every sample, shape (n, ..., 3)."""
         frame = self._frame_motion()
+        mass = self.mass
+        assert mass is not None  # simulate_particle always records the mass
         if isinstance(frame, FrameMotion):
-            return inertial_forces(frame, self.position, self.velocity, self.mass)
+            return inertial_forces(frame, self.position, self.velocity, mass)
         parts = [
-            inertial_forces(frame, self.position[k], self.velocity[k], self.mass, tk)
+            inertial_forces(frame, self.position[k], self.velocity[k], mass, tk)
             for k, tk in enumerate(self.t)
         ]
         return InertialForces(
@@ -391,8 +524,10 @@ class ParticleTrajectory(PointTrajectory):
 class _Force:
     """A validated force: None (zero), a constant vector or ``force(t, r, v)``."""
 
-    def __init__(self, force):
+    def __init__(self, force: Any) -> None:
         self.calls = 0
+        self.const: Any  # a (3,) or (N, 3) array; None when `fn` is the force
+        self.fn: Any
         if force is None:
             self.const = np.zeros(3)
             self.fn = None
@@ -426,13 +561,13 @@ def _tolerance(x, name: str, strict: bool) -> float:
 
 
 def simulate_particle(
-    frame,
-    force,
-    r0,
-    v0,
-    t,
+    frame: Any,  # a FrameMotion or frame(t) -> FrameMotion (checked below)
+    force: ArrayLike | Callable[..., ArrayLike] | None,
+    r0: ArrayLike,
+    v0: ArrayLike,
+    t: ArrayLike,
     *,
-    mass=1.0,
+    mass: ArrayLike = 1.0,
     method: str = "DOP853",
     rtol: float = 1e-10,
     atol: float = 1e-12,
@@ -666,7 +801,7 @@ def _frame_path(frame, t, rtol, atol, max_step):
     return Rotation.from_quat(ys[:4].T), ys[4:7].T.copy(), ys[7:].T.copy()
 
 
-def relative_motion(trajectory) -> tuple[np.ndarray, np.ndarray]:
+def relative_motion(trajectory: Any) -> tuple[FloatArray, FloatArray]:
     """Position and velocity relative to a frame turning about a fixed origin.
 
     ``r = R^T x`` and ``v_r = R^T v - w x r`` from a
@@ -711,7 +846,9 @@ def relative_motion(trajectory) -> tuple[np.ndarray, np.ndarray]:
 # ---------------------------------------------------------------------------
 
 
-def earth_frame(latitude, omega=EARTH_ROTATION_RATE, *, degrees: bool = False) -> FrameMotion:
+def earth_frame(
+    latitude: ArrayLike, omega: float = EARTH_ROTATION_RATE, *, degrees: bool = False
+) -> FrameMotion:
     """Local east-north-up frame on the rotating Earth (theory §9).
 
     Axes ``x`` east, ``y`` north, ``z`` up (along the plumb line); the frame
@@ -757,7 +894,7 @@ def earth_frame(latitude, omega=EARTH_ROTATION_RATE, *, degrees: bool = False) -
     return FrameMotion(omega=float(om) * np.array([0.0, math.cos(lat), math.sin(lat)]))
 
 
-def normal_gravity(latitude, *, degrees: bool = False) -> np.ndarray:
+def normal_gravity(latitude: ArrayLike, *, degrees: bool = False) -> FloatArray:
     """Effective gravity on the WGS 84 ellipsoid (Somigliana's formula), m/s^2.
 
     ``g = g_e (1 + k sin^2 lat) / sqrt(1 - e^2 sin^2 lat)`` with
@@ -774,8 +911,13 @@ def normal_gravity(latitude, *, degrees: bool = False) -> np.ndarray:
 
 
 def eastward_deflection(
-    height, latitude, g=STANDARD_GRAVITY, omega=EARTH_ROTATION_RATE, *, degrees: bool = False
-) -> np.ndarray:
+    height: ArrayLike,
+    latitude: ArrayLike,
+    g: float = STANDARD_GRAVITY,
+    omega: float = EARTH_ROTATION_RATE,
+    *,
+    degrees: bool = False,
+) -> FloatArray:
     """Eastward deflection of a body dropped from rest (first order in ``Omega``).
 
     ``d = (1/3) Omega g t^3 cos(lat)`` with ``t = sqrt(2 h / g)`` the fall time,
@@ -818,7 +960,9 @@ def eastward_deflection(
     return om * np.cos(lat) * np.sqrt(8.0 * h**3 / gg) / 3.0
 
 
-def foucault_precession_rate(latitude, omega=EARTH_ROTATION_RATE, *, degrees=False):
+def foucault_precession_rate(
+    latitude: ArrayLike, omega: float = EARTH_ROTATION_RATE, *, degrees: bool = False
+) -> FloatArray | float:
     """Turning rate of a Foucault pendulum's swing plane, ``-Omega sin(lat)`` (rad/s).
 
     Positive counter-clockwise seen from above (about the local up axis): the
@@ -833,7 +977,9 @@ def foucault_precession_rate(latitude, omega=EARTH_ROTATION_RATE, *, degrees=Fal
     return -_real(omega, "omega") * np.sin(lat)
 
 
-def foucault_period(latitude, omega=EARTH_ROTATION_RATE, *, degrees=False):
+def foucault_period(
+    latitude: ArrayLike, omega: float = EARTH_ROTATION_RATE, *, degrees: bool = False
+) -> FloatArray | float:
     """Time for a Foucault pendulum's plane to turn a full circle: ``2 pi / (Omega |sin lat|)``.
 
     In s; ``inf`` at the equator. At the pole it is one sidereal day
@@ -864,7 +1010,7 @@ class UniformGravity:
     mass: float = 1.0
     g: float = STANDARD_GRAVITY
 
-    def __call__(self, _t, _r, _v) -> np.ndarray:
+    def __call__(self, _t: float, _r: np.ndarray, _v: np.ndarray) -> np.ndarray:
         return np.array([0.0, 0.0, -self.mass * self.g])
 
     def potential(self, r) -> np.ndarray:
@@ -889,7 +1035,7 @@ class PendulumForce:
     g: float = STANDARD_GRAVITY
     length: float = 1.0
 
-    def __call__(self, _t, r, _v) -> np.ndarray:
+    def __call__(self, _t: float, r: np.ndarray, _v: np.ndarray) -> np.ndarray:
         k = self.mass * self.g / self.length
         return np.array([-k * r[0], -k * r[1], 0.0])
 
@@ -899,7 +1045,9 @@ class PendulumForce:
         return 0.5 * self.mass * self.g / self.length * (r[..., 0] ** 2 + r[..., 1] ** 2)
 
 
-def foucault_frame(latitude, omega=EARTH_ROTATION_RATE, *, degrees: bool = False) -> FrameMotion:
+def foucault_frame(
+    latitude: ArrayLike, omega: float = EARTH_ROTATION_RATE, *, degrees: bool = False
+) -> FrameMotion:
     """The frame of the linearised Foucault pendulum: east-north-up turning at the
     vertical component ``Omega sin(lat)`` of the Earth's rotation only.
 
@@ -913,14 +1061,14 @@ def foucault_frame(latitude, omega=EARTH_ROTATION_RATE, *, degrees: bool = False
 
 
 def foucault_pendulum(
-    length,
-    latitude,
-    t,
+    length: float,
+    latitude: float,
+    t: ArrayLike,
     *,
-    amplitude=1.0,
-    g=STANDARD_GRAVITY,
-    omega=EARTH_ROTATION_RATE,
-    mass=1.0,
+    amplitude: float = 1.0,
+    g: float = STANDARD_GRAVITY,
+    omega: float = EARTH_ROTATION_RATE,
+    mass: float = 1.0,
     degrees: bool = False,
     rtol: float = 1e-10,
     atol: float = 1e-12,
@@ -1017,7 +1165,9 @@ def foucault_pendulum(
     )
 
 
-def swing_plane_angles(t, position, velocity) -> tuple[np.ndarray, np.ndarray]:
+def swing_plane_angles(
+    t: ArrayLike, position: ArrayLike, velocity: ArrayLike
+) -> tuple[FloatArray, FloatArray]:
     """Azimuth of a pendulum's swing plane at each extreme of the swing.
 
     At each maximum of the horizontal distance (``r . v`` changing sign from
