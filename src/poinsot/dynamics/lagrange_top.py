@@ -67,14 +67,21 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
 from ..errors import GimbalLockWarning, InvalidInputError
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from .free_body import FreeRigidBody
+    from .heavy import HeavyRigidBody
 
 __all__ = [
     "LagrangeTop",
@@ -103,14 +110,16 @@ _PI_X = np.array([0.0, 1.0, 0.0, 0.0])  # Rx(pi)
 # ---------------------------------------------------------------------------
 
 
-def _scalar(x, name: str) -> float:
+def _scalar(x: ArrayLike, name: str) -> float:
     a = as_float_array(x, name)
     if a.ndim != 0:
         raise InvalidInputError(f"Expected `{name}` to be a scalar, got shape {a.shape}.")
     return float(a)
 
 
-def _moments(a, c, names=("A", "C")) -> tuple[float, float]:
+def _moments(
+    a: ArrayLike, c: ArrayLike, names: tuple[str, str] = ("A", "C")
+) -> tuple[float, float]:
     """``A > 0``, ``C > 0`` and ``C <= 2 A`` (the triangle inequality ``A + B >= C``)."""
     av = _scalar(a, names[0])
     cv = _scalar(c, names[1])
@@ -125,7 +134,7 @@ def _moments(a, c, names=("A", "C")) -> tuple[float, float]:
     return av, cv
 
 
-def _moment_arrays(a, c) -> tuple[np.ndarray, np.ndarray]:
+def _moment_arrays(a: ArrayLike, c: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     av = as_float_array(a, "A")
     cv = as_float_array(c, "C")
     if np.any(av <= 0):
@@ -143,7 +152,9 @@ def _moment_arrays(a, c) -> tuple[np.ndarray, np.ndarray]:
     return av, cv
 
 
-def _angle(x, name: str, degrees: bool, *, lo=None, hi=None) -> np.ndarray:
+def _angle(
+    x: ArrayLike, name: str, degrees: bool, *, lo: float | None = None, hi: Any = None
+) -> np.ndarray:
     a = as_float_array(x, name)
     if degrees:
         a = np.deg2rad(a)
@@ -166,7 +177,15 @@ def _angle(x, name: str, degrees: bool, *, lo=None, hi=None) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def regular_precession_rates(A, C, mgl, theta, spin, *, degrees: bool = False):
+def regular_precession_rates(
+    A: ArrayLike,
+    C: ArrayLike,
+    mgl: ArrayLike,
+    theta: ArrayLike,
+    spin: ArrayLike,
+    *,
+    degrees: bool = False,
+) -> tuple[FloatArray | float, FloatArray | float]:
     """The two precession rates ``psi'`` of a regular precession of the heavy top.
 
     ``theta`` stays constant iff ``A psi'^2 cos(theta) - H psi' + m g l = 0``,
@@ -244,7 +263,7 @@ def regular_precession_rates(A, C, mgl, theta, spin, *, degrees: bool = False):
     return slow[()], fast[()]
 
 
-def gyroscope_precession_rate(C, mgl, spin):
+def gyroscope_precession_rate(C: ArrayLike, mgl: ArrayLike, spin: ArrayLike) -> FloatArray | float:
     """The gyroscope approximation of the slow precession, ``psi' ~ m g l / (C r)``.
 
     The slow root of :func:`regular_precession_rates` for a fast top (``H = C r``
@@ -283,7 +302,7 @@ def gyroscope_precession_rate(C, mgl, spin):
     return (g / (c * r))[()]
 
 
-def critical_spin(A, C, mgl):
+def critical_spin(A: ArrayLike, C: ArrayLike, mgl: ArrayLike) -> FloatArray | float:
     """Maievskii's critical spin of the sleeping top, ``r_c = 2 sqrt(A m g l) / C``.
 
     The upright (sleeping) top is stable iff ``C^2 r^2 > 4 A m g l``
@@ -313,7 +332,9 @@ def critical_spin(A, C, mgl):
     return (2.0 * np.sqrt(np.maximum(a * g, 0.0)) / c)[()]
 
 
-def sleeping_top_stable(A, C, mgl, spin):
+def sleeping_top_stable(
+    A: ArrayLike, C: ArrayLike, mgl: ArrayLike, spin: ArrayLike
+) -> bool | BoolArray:
     """Whether the upright (sleeping) top is stable: ``C^2 r^2 > 4 A m g l`` (Maievskii).
 
     Parameters
@@ -364,7 +385,15 @@ class GyroscopicMoment:
     relative_error: np.ndarray
 
 
-def gyroscopic_moment(A, C, theta, precession_rate, spin_rate, *, degrees: bool = False):
+def gyroscopic_moment(
+    A: ArrayLike,
+    C: ArrayLike,
+    theta: ArrayLike,
+    precession_rate: ArrayLike,
+    spin_rate: ArrayLike,
+    *,
+    degrees: bool = False,
+) -> GyroscopicMoment:
     """Moment needed for a regular precession of a symmetric body (the gyroscope).
 
     ``M = [C + (C - A)(psi'/phi') cos(theta)] psi' x phi'`` with ``psi'`` along the
@@ -427,7 +456,9 @@ def gyroscopic_moment(A, C, theta, precession_rate, spin_rate, *, degrees: bool 
 # ---------------------------------------------------------------------------
 
 
-def _rtsafe(f, df, lo: float, hi: float) -> float:
+def _rtsafe(
+    f: Callable[[float], float], df: Callable[[float], float], lo: float, hi: float
+) -> float:
     """A root of ``f`` in ``[lo, hi]`` with ``f(lo) f(hi) <= 0``: Newton kept in the bracket."""
     flo, fhi = f(lo), f(hi)
     if flo == 0.0:
@@ -462,17 +493,21 @@ def _rtsafe(f, df, lo: float, hi: float) -> float:
     return float(x)
 
 
-def _cubic(c3, c2, c1, c0):
-    def f(x):
+def _cubic(
+    c3: float, c2: float, c1: float, c0: float
+) -> tuple[Callable[[float], float], Callable[[float], float]]:
+    def f(x: float) -> float:
         return ((c3 * x + c2) * x + c1) * x + c0
 
-    def df(x):
+    def df(x: float) -> float:
         return (3.0 * c3 * x + 2.0 * c2) * x + c1
 
     return f, df
 
 
-def _polish(f, df, x: float, lo: float, hi: float) -> float:
+def _polish(
+    f: Callable[[float], float], df: Callable[[float], float], x: float, lo: float, hi: float
+) -> float:
     """Bracketed root near ``x`` in ``[lo, hi]`` (expanded until it brackets)."""
     if f(lo) * f(hi) > 0:
         return x
@@ -487,8 +522,45 @@ def _polish(f, df, x: float, lo: float, hi: float) -> float:
 class _State:
     """Constants of one top in the frame where ``m g l >= 0`` (internal)."""
 
+    # Set by LagrangeTop._setup and the steps it calls (_roots, _classify,
+    # _motion_constants); declared for the type checker (no class attributes).
+    q: np.ndarray
+    om: float
+    op: float
+    u0: float
+    s2: float
+    L: float
+    V: float
+    w2: float
+    H: float
+    r: float
+    g: float
+    p: float
+    qq: float
+    kmh: float
+    kph: float
+    coef: tuple[float, float, float, float]
+    double: bool
+    x: tuple[float, float, float]
+    sorted: tuple[float, ...]
+    unstable_vertical: bool
+    kind: str
+    ws: float
+    free: bool
+    body: FreeRigidBody
+    period: float
+    sig_rate: float
+    del_rate: float
+    sig0: float
+    del0: float
+    wps: float
+    sign0: tuple[float, float]
+    par: np.ndarray
+    fp: np.ndarray
+    fm: np.ndarray
 
-def _zxz_quat(psi, theta, phi):
+
+def _zxz_quat(psi: float, theta: float, phi: float) -> np.ndarray:
     """``Rz(psi) Rx(theta) Rz(phi)``; ``theta = pi`` gives ``cos(theta/2) = 0`` exactly."""
     s, c = math.sin, math.cos
     ch = 0.0 if theta == math.pi else c(0.5 * theta)
@@ -503,7 +575,7 @@ def _zxz_quat(psi, theta, phi):
     )
 
 
-def _flip(q):
+def _flip(q: np.ndarray) -> np.ndarray:
     """``q o (0, 1, 0, 0)``: the attitude with the body axes ``e_2, e_3`` reversed."""
     from ..rotations import quaternion
 
@@ -575,18 +647,18 @@ class LagrangeTop:
 
     def __init__(
         self,
-        A,
-        C,
-        mgl,
+        A: ArrayLike,
+        C: ArrayLike,
+        mgl: ArrayLike,
         *,
-        theta,
-        theta_rate=0.0,
-        precession_rate=0.0,
-        spin,
-        psi=0.0,
-        phi=0.0,
+        theta: ArrayLike,
+        theta_rate: ArrayLike = 0.0,
+        precession_rate: ArrayLike = 0.0,
+        spin: ArrayLike,
+        psi: ArrayLike = 0.0,
+        phi: ArrayLike = 0.0,
         degrees: bool = False,
-    ):
+    ) -> None:
         a, c = _moments(A, C)
         g = _scalar(mgl, "mgl")
         deg = as_bool(degrees, "degrees")
@@ -609,7 +681,13 @@ class LagrangeTop:
 
     # -- construction --------------------------------------------------------
     @classmethod
-    def from_state(cls, body_or_moments, mgl=None, rotation=None, omega=None) -> LagrangeTop:
+    def from_state(
+        cls,
+        body_or_moments: HeavyRigidBody | ArrayLike,
+        mgl: ArrayLike | None = None,
+        rotation: Rotation | ArrayLike | None = None,
+        omega: ArrayLike | None = None,
+    ) -> LagrangeTop:
         """A Lagrange top from an attitude and a body angular velocity.
 
         Parameters
@@ -704,7 +782,17 @@ class LagrangeTop:
         self._setup(a, c, g, np.array(q0, dtype=float), np.array(w0, dtype=float), ps, ph, th)
         return self
 
-    def _setup(self, a, c, mgl, q0, w0, psi0, phi0, theta0) -> None:
+    def _setup(
+        self,
+        a: float,
+        c: float,
+        mgl: float,
+        q0: np.ndarray,
+        w0: np.ndarray,
+        psi0: float,
+        phi0: float,
+        theta0: float,
+    ) -> None:
         self._a, self._c, self._mgl = a, c, mgl
         self._q0 = q0
         self._w0 = w0
@@ -760,7 +848,7 @@ class LagrangeTop:
         self._classify(s)
         self._motion_constants(s)
 
-    def _roots(self, s) -> None:
+    def _roots(self, s: _State) -> None:
         c3, c2, c1, c0 = s.coef
         om, op = s.om, s.op
         f, df = _cubic(c3, c2, c1, c0)
@@ -837,7 +925,7 @@ class LagrangeTop:
             s.unstable_vertical = False
         s.sorted = tuple(xs)
 
-    def _classify(self, s) -> None:
+    def _classify(self, s: _State) -> None:
         x1, x2, x3 = s.x
         a, big_h = self._a, s.H
         if s.double:
@@ -866,7 +954,7 @@ class LagrangeTop:
         else:
             s.kind = "loops"
 
-    def _motion_constants(self, s) -> None:
+    def _motion_constants(self, s: _State) -> None:
         from . import _elliptic as el
 
         a, c = self._a, self._c
@@ -1014,7 +1102,7 @@ class LagrangeTop:
         """Total mechanical energy ``T + V = E + C r^2 / 2`` (J)."""
         return self._E + 0.5 * self._c * self.spin**2
 
-    def P(self, u):
+    def P(self, u: ArrayLike) -> FloatArray | float:
         """The cubic ``P(u) = (2/A)(E - m g l u)(1 - u^2) - (K_z - H u)^2 / A^2`` (1/s^2).
 
         ``u'^2 = P(u)`` with ``u = cos(theta)``; evaluated as the polynomial in
@@ -1036,12 +1124,13 @@ class LagrangeTop:
         s = self._s
         if s.free:
             x1, x2, _ = s.x
-            us = (s.u0 + x1, s.u0 + x2, math.inf)
+            us = [s.u0 + x1, s.u0 + x2, math.inf]
         else:
-            us = tuple(s.u0 + x for x in s.sorted)
+            us = [s.u0 + x for x in s.sorted]
         if self._flip:
-            us = tuple(sorted(-u for u in us))
-        return us
+            us = sorted(-u for u in us)
+        u1, u2, u3 = us
+        return u1, u2, u3
 
     @property
     def cos_theta_roots(self) -> tuple[float, float, float]:
@@ -1136,7 +1225,9 @@ class LagrangeTop:
         return self.precession_per_nutation / s.period
 
     # -- evaluation ----------------------------------------------------------------
-    def _eval(self, t, want_q=True, want_w=True, angles=True):
+    def _eval(
+        self, t: np.ndarray, want_q: bool = True, want_w: bool = True, angles: bool = True
+    ) -> tuple[Any, ...]:
         """Flattened ``(q (n, 4), w (n, 3), s, c, psi_increment, phi_increment)`` in the
         internal frame (``m g l >= 0``)."""
         s = self._s
@@ -1168,11 +1259,11 @@ class LagrangeTop:
             return q, w, xs[:, 0], xs[:, 1], None, None
         return q, w, xs[:, 0], xs[:, 1], xs[:, 2] - s.par[kn.P_SIG0], xs[:, 3] - s.par[kn.P_DEL0]
 
-    def _times(self, t) -> tuple[np.ndarray, tuple[int, ...]]:
+    def _times(self, t: ArrayLike) -> tuple[np.ndarray, tuple[int, ...]]:
         ta = as_float_array(t, "t")
         return ta, ta.shape
 
-    def rotation(self, t) -> Rotation:
+    def rotation(self, t: ArrayLike) -> Rotation:
         """Attitude (body -> space) at times ``t`` (any shape), a :class:`~poinsot.Rotation`.
 
         Examples
@@ -1185,7 +1276,7 @@ class LagrangeTop:
         ta, shape = self._times(t)
         return Rotation.from_quat(self._quat(ta).reshape(shape + (4,)))
 
-    def _quat(self, ta) -> np.ndarray:
+    def _quat(self, ta: np.ndarray) -> np.ndarray:
         s = self._s
         if s.free:
             return s.body.rotation(ta.reshape(-1)).as_quat().reshape(-1, 4)
@@ -1194,7 +1285,7 @@ class LagrangeTop:
             q = _flip_back(q)
         return q
 
-    def omega(self, t) -> np.ndarray:
+    def omega(self, t: ArrayLike) -> FloatArray:
         """Angular velocity in body axes at times ``t`` (rad/s), shape ``t.shape + (3,)``.
 
         ``p = psi' sin(theta) sin(phi) + theta' cos(phi)``,
@@ -1203,7 +1294,7 @@ class LagrangeTop:
         ta, shape = self._times(t)
         return self._omega(ta).reshape(shape + (3,))
 
-    def _omega(self, ta) -> np.ndarray:
+    def _omega(self, ta: np.ndarray) -> np.ndarray:
         s = self._s
         if s.free:
             return s.body.omega(ta.reshape(-1)).reshape(-1, 3)
@@ -1212,7 +1303,7 @@ class LagrangeTop:
             w = w * np.array([1.0, -1.0, -1.0])
         return w
 
-    def state(self, t) -> tuple[np.ndarray, Rotation]:
+    def state(self, t: ArrayLike) -> tuple[FloatArray, Rotation]:
         """``(omega(t), rotation(t))`` in one pass."""
         ta, shape = self._times(t)
         s = self._s
@@ -1226,7 +1317,7 @@ class LagrangeTop:
             w = w * np.array([1.0, -1.0, -1.0])
         return w.reshape(shape + (3,)), Rotation.from_quat(q.reshape(shape + (4,)))
 
-    def theta(self, t) -> np.ndarray:
+    def theta(self, t: ArrayLike) -> FloatArray:
         """Nutation angle ``theta(t)`` in ``[0, pi]`` (rad), exact:
         ``cos theta = u1 + (u2 - u1) sn^2(tau' t + tau0 | m)``."""
         ta, shape = self._times(t)
@@ -1244,7 +1335,7 @@ class LagrangeTop:
             th = math.pi - th
         return th.reshape(shape)
 
-    def _angles(self, ta):
+    def _angles(self, ta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """ZXZ ``(psi, phi)`` from the initial ``(psi0, phi0)`` (flattened)."""
         s = self._s
         if s.free:
@@ -1269,7 +1360,7 @@ class LagrangeTop:
             dphi = -dphi
         return self._psi0 + dpsi, self._phi0 + dphi
 
-    def psi(self, t) -> np.ndarray:
+    def psi(self, t: ArrayLike) -> FloatArray:
         """Precession angle ``psi(t)`` (rad), z-x-z, from ``psi0`` at ``t = 0``.
 
         Continuous (not wrapped): ``psi0 + (Delta sigma + Delta delta) / 2`` from the
@@ -1288,12 +1379,12 @@ class LagrangeTop:
         ta, shape = self._times(t)
         return self._angles(ta)[0].reshape(shape)
 
-    def phi(self, t) -> np.ndarray:
+    def phi(self, t: ArrayLike) -> FloatArray:
         """Spin angle ``phi(t)`` (rad), z-x-z, from ``phi0``, continuous like :meth:`psi`."""
         ta, shape = self._times(t)
         return self._angles(ta)[1].reshape(shape)
 
-    def trajectory(self, t) -> Trajectory:
+    def trajectory(self, t: ArrayLike) -> Trajectory:
         """The exact motion sampled at times ``t`` (n,), as a :class:`~poinsot.Trajectory`.
 
         ``energy`` is the kinetic energy ``T`` and ``momentum`` the space angular
@@ -1368,7 +1459,7 @@ def _fourier(n: float, m: float, m1: float, kq: float, pi_complete: float) -> np
     return _EMPTY
 
 
-def _wrap(x):
+def _wrap(x: np.ndarray) -> np.ndarray:
     return (x + math.pi) % (2.0 * math.pi) - math.pi
 
 

@@ -17,11 +17,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any, cast
 
 import numpy as np
 
 from .. import _quat as _q
 from .. import integrators
+from .._typing import ArrayLike
 from .._validate import (
     as_bool,
     as_choice,
@@ -67,7 +69,7 @@ _mul = _q.mul
 _normalize = _q.normalize
 
 
-def _chain(mul, d: np.ndarray) -> np.ndarray:
+def _chain(mul: Callable[[np.ndarray, np.ndarray], np.ndarray], d: np.ndarray) -> np.ndarray:
     """Inclusive scan ``S_j = mul(S_{j-1}, D_j)`` along axis 0 (Hillis-Steele, log2 passes)."""
     s = d.copy()
     k = 1
@@ -85,11 +87,11 @@ class _Samples:
 
     kind = "samples"
 
-    def __init__(self, t: np.ndarray, w: np.ndarray, hold: bool):
+    def __init__(self, t: np.ndarray, w: np.ndarray, hold: bool) -> None:
         self.t = t
         self.w = w  # (n, Nw, 3)
         self.hold = hold
-        self._spline = None
+        self._spline: Any = None  # scipy's CubicSpline (SciPy ships no types)
         if not hold:
             from scipy.interpolate import CubicSpline
 
@@ -115,7 +117,7 @@ class _Callable:
     kind = "callable"
     interpolation = None
 
-    def __init__(self, fun: Callable, t: np.ndarray, vectorized: bool):
+    def __init__(self, fun: Callable[..., Any], t: np.ndarray, vectorized: bool) -> None:
         self.fun = fun
         self.t = t
         self.vectorized = vectorized
@@ -137,12 +139,13 @@ class _Callable:
         self.nw = math.prod(self.bshape)
         self.expand_to: tuple[int, ...] | None = None  # batch shape to broadcast to
 
-    def _call(self, s) -> np.ndarray:
+    def _call(self, s: float | np.ndarray) -> np.ndarray:
         # finiteness is checked by the callers, which know the time
         return as_float_array(self.fun(s), "omega(t)", finite=False)
 
     def at(self, s: np.ndarray) -> np.ndarray:
         """Values at the times ``s`` (1-D), shape ``(len(s), Nw, 3)``, checked finite."""
+        w: np.ndarray | None
         if self.vectorized:
             w = self._call(s)
             expect = (len(s),) + self.bshape + (3,)
@@ -187,7 +190,9 @@ class _Callable:
 # --------------------------------------------------------------------------- increments
 
 
-def _increments(method, frame, src, a, h):
+def _increments(
+    method: str, frame: str, src: _Callable | _Samples, a: np.ndarray, h: np.ndarray
+) -> np.ndarray:
     """Increment quaternions ``D_j`` of the steps ``[a_j, a_j + h_j]``, shape ``(m, Nw, 4)``."""
     hh = h[:, None, None]
     if method == "exponential":
@@ -217,8 +222,8 @@ def _increments(method, frame, src, a, h):
             br = _cross
         else:
 
-            def br(x, y):
-                return _cross(y, x)
+            def br(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+                return _cross(b, a)
 
         a1 = hh * w2
         a2 = (math.sqrt(15.0) / 3.0) * hh * (w3 - w1)
@@ -240,12 +245,12 @@ def _increments(method, frame, src, a, h):
     w_a, w_m, w_b = _pure(w[0:-1:2]), _pure(w[1::2]), _pure(w[2::2])
     if frame == "body":
 
-        def f(wq, y):
+        def f(wq: np.ndarray, y: np.ndarray) -> np.ndarray:
             return 0.5 * _mul(y, wq)
 
     else:
 
-        def f(wq, y):
+        def f(wq: np.ndarray, y: np.ndarray) -> np.ndarray:
             return 0.5 * _mul(wq, y)
 
     one = np.zeros((1, 1, 4))
@@ -257,7 +262,14 @@ def _increments(method, frame, src, a, h):
     return _normalize(one + hh / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4))
 
 
-def _fixed_step(method, frame, src, q, t, nsub):
+def _fixed_step(
+    method: str,
+    frame: str,
+    src: _Callable | _Samples,
+    q: np.ndarray,
+    t: np.ndarray,
+    nsub: np.ndarray,
+) -> np.ndarray:
     """Unit quaternions at the output times, shape ``(len(t), N, 4)``."""
     n_bodies = q.shape[0]
     out = np.empty((len(t), n_bodies, 4))
@@ -272,12 +284,12 @@ def _fixed_step(method, frame, src, q, t, nsub):
     ends = np.cumsum(nsub)  # output k (k >= 1) is the state after step ends[k-1] - 1
     if frame == "body":
 
-        def mul(x, y):  # x earlier, y later
+        def mul(x: np.ndarray, y: np.ndarray) -> np.ndarray:  # x earlier, y later
             return _mul(x, y)
 
     else:
 
-        def mul(x, y):
+        def mul(x: np.ndarray, y: np.ndarray) -> np.ndarray:
             return _mul(y, x)
 
     m = len(a)
@@ -311,14 +323,22 @@ def _fixed_step(method, frame, src, q, t, nsub):
     return out
 
 
-def _adaptive(frame, src, q, t, rtol, atol, max_step):
+def _adaptive(
+    frame: str,
+    src: _Callable | _Samples,
+    q: np.ndarray,
+    t: np.ndarray,
+    rtol: float | None,
+    atol: float | None,
+    max_step: float | None,
+) -> tuple[np.ndarray, dict[str, Any]]:
     from scipy.integrate import solve_ivp
 
     n_bodies = q.shape[0]
     if len(t) == 1:
         return q[None].copy(), {"evaluations": 0, "status": 0, "message": "nothing to integrate"}
 
-    def rhs(s, y):
+    def rhs(s: float, y: np.ndarray) -> np.ndarray:
         lq = y.reshape(n_bodies, 4)
         wq = _pure(src.at(np.array([s]))[0])
         dq = _mul(lq, wq) if frame == "body" else _mul(wq, lq)
@@ -344,9 +364,9 @@ def _adaptive(frame, src, q, t, rtol, atol, max_step):
 
 
 def propagate(
-    rotation0,
-    omega,
-    t,
+    rotation0: Rotation | ArrayLike,
+    omega: Callable[..., ArrayLike] | ArrayLike,
+    t: ArrayLike,
     *,
     frame: str = "body",
     method: str = "magnus4",
@@ -498,6 +518,7 @@ def propagate(
 
     q = as_rotation_quat(rotation0, "rotation0")
 
+    src: _Callable | _Samples
     if callable(omega):
         t = as_times(t, "t", min_len=1)
         src = _Callable(omega, t, vectorized)
@@ -525,7 +546,7 @@ def propagate(
     expand = padded != bshape and math.prod(wshape) != 1
     if callable(omega):
         if expand:
-            src.expand_to = bshape
+            cast(_Callable, src).expand_to = bshape
     else:
         if expand:
             w = np.broadcast_to(w.reshape((len(t),) + padded + (3,)), (len(t),) + bshape + (3,))
@@ -533,7 +554,7 @@ def propagate(
     n_bodies = math.prod(bshape)
     qn = np.ascontiguousarray(np.broadcast_to(q, bshape + (4,)).reshape(n_bodies, 4))
 
-    info = {"frame": frame, "omega_input": src.kind}
+    info: dict[str, Any] = {"frame": frame, "omega_input": src.kind}
     if src.interpolation is not None:
         info["interpolation"] = src.interpolation
     if method == "adaptive":

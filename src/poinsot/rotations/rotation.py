@@ -47,10 +47,11 @@ import math
 import numbers
 import os
 from collections.abc import Iterable, Iterator, Sequence
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
+from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validate import (
     as_bool,
     as_choice,
@@ -60,18 +61,19 @@ from .._validate import (
     plain_floats,
     plain_vec3,
 )
+from .._vec import length as length_array
 from ..errors import InvalidInputError, InvalidTypeError
 from . import _scalar as S
 from . import dcm, euler, frames, rodrigues
 from . import rotvec as rotvec_mod
 from ._lazy import big, flat, kernels, one, threaded
 from .quaternion import canonical_array as _canonical
-from .quaternion import conjugate_array, length_array, normalize_array
+from .quaternion import conjugate_array, normalize_array
 
 __all__ = ["Rotation", "compose", "slerp"]
 
 
-def _as_shape(shape, name: str = "shape") -> tuple[int, ...]:
+def _as_shape(shape: Any, name: str = "shape") -> tuple[int, ...]:
     """A leading shape: ``None`` or ``()`` (single), an int, or a sequence of ints >= 0."""
     if shape is None:
         return ()
@@ -95,7 +97,7 @@ _DEG = math.pi / 180.0  # the constants of np.deg2rad / np.rad2deg: same bits
 _RAD = 180.0 / math.pi
 
 
-def _new(values) -> Rotation:
+def _new(values: Sequence[float]) -> Rotation:
     """A single rotation from four trusted Python floats (the short path).
 
     Its ``(4,)`` array is left writable: no other object shares it (batches are made
@@ -107,7 +109,7 @@ def _new(values) -> Rotation:
     return obj
 
 
-def _unit4(t) -> tuple[float, float, float, float] | None:
+def _unit4(t: Sequence[float]) -> tuple[float, float, float, float] | None:
     """``q / |q|`` on Python floats as :func:`normalize_array` does it, or ``None`` when
     ``|q|^2`` leaves the range where that is exact (zero, tiny, huge: general path)."""
     w, x, y, z = t
@@ -133,7 +135,7 @@ def _generator() -> np.random.Generator:
     return _GENERATOR[1]
 
 
-def _real(x) -> float | None:
+def _real(x: Any) -> float | None:
     """A Python float for a real number (int/float/NumPy scalar, not bool) that is finite."""
     if type(x) in (float, int, np.float64) and math.isfinite(x):
         return float(x)
@@ -144,7 +146,7 @@ def _real(x) -> float | None:
 _SEQS: dict[str, tuple[tuple[int, ...], bool, np.ndarray | None]] = {}
 
 
-def _seq(seq) -> tuple[tuple[int, ...], bool, np.ndarray | None]:
+def _seq(seq: Any) -> tuple[tuple[int, ...], bool, np.ndarray | None]:
     """Parsed ``seq`` (cached): its axes as an intrinsic sequence, whether it is
     extrinsic, and for three axes the code ``(i, j, k, extrinsic)`` (int64) of
     :func:`poinsot.rotations._scalar.to_euler` (axes in extrinsic order)."""
@@ -217,7 +219,7 @@ class Rotation:
     #: import this module (imports flow one way: _validate -> rotations).
     _is_poinsot_rotation = True
 
-    def __init__(self, quat, *, normalize: bool = True):
+    def __init__(self, quat: ArrayLike, *, normalize: bool = True) -> None:
         q = as_trailing(quat, "quat", (4,))
         if as_bool(normalize, "normalize"):
             q = normalize_array(q, "quat")  # also rejects zero quaternions
@@ -257,7 +259,7 @@ class Rotation:
             raise InvalidTypeError("A single rotation has no len().")
         return self._q.shape[0]
 
-    def __getitem__(self, index) -> Rotation:
+    def __getitem__(self, index: Any) -> Rotation:
         if self.single:
             raise InvalidTypeError("A single rotation is not subscriptable.")
         idx = index if isinstance(index, tuple) else (index,)
@@ -269,7 +271,7 @@ class Rotation:
         for k in range(len(self)):
             yield self[k]
 
-    def reshape(self, *shape) -> Rotation:
+    def reshape(self, *shape: Any) -> Rotation:
         """A view with another leading shape."""
         if len(shape) == 1 and isinstance(shape[0], tuple | list):
             shape = tuple(shape[0])
@@ -285,12 +287,12 @@ class Rotation:
             return f"Rotation(quat=np.empty({self._q.shape}))"
         return f"Rotation(quat={np.array2string(self._q, precision=6, separator=', ')})"
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[type[Rotation], tuple[np.ndarray]]:
         return (Rotation, (np.array(self._q),))
 
     # ----------------------------------------------------------- constructors
     @classmethod
-    def from_quat(cls, quat, *, scalar_first: bool = True) -> Rotation:
+    def from_quat(cls, quat: ArrayLike, *, scalar_first: bool = True) -> Rotation:
         """From quaternions (..., 4), normalised; scalar first ``(w, x, y, z)`` by default.
 
         A zero quaternion raises :class:`~poinsot.InvalidInputError`.
@@ -360,7 +362,7 @@ class Rotation:
         return SciPyRotation.from_quat(q if q.ndim <= 2 else q.reshape(-1, 4))
 
     @classmethod
-    def from_matrix(cls, matrix, *, atol: float = dcm.ORTHOGONALITY_ATOL) -> Rotation:
+    def from_matrix(cls, matrix: ArrayLike, *, atol: float = dcm.ORTHOGONALITY_ATOL) -> Rotation:
         """From direction cosine matrices (..., 3, 3) (SPEC S2).
 
         Determinant must be > 0; the matrix must be orthogonal within ``atol``
@@ -387,7 +389,7 @@ class Rotation:
         return cls._wrap(dcm.quat_from_user_matrix(matrix, "matrix", atol=tol))
 
     @classmethod
-    def from_rotvec(cls, rotvec, *, degrees: bool = False) -> Rotation:
+    def from_rotvec(cls, rotvec: ArrayLike, *, degrees: bool = False) -> Rotation:
         """From rotation vectors ``phi = f e`` (..., 3) (SPEC S2, ``A = exp(phi^)``).
 
         Examples
@@ -408,7 +410,9 @@ class Rotation:
         return cls._wrap(rotvec_mod.quat_from_rotvec(v))
 
     @classmethod
-    def from_axis_angle(cls, axis, angle, *, degrees: bool = False) -> Rotation:
+    def from_axis_angle(
+        cls, axis: ArrayLike, angle: ArrayLike, *, degrees: bool = False
+    ) -> Rotation:
         """From a (not necessarily unit) axis (..., 3) and angle (...), right-handed.
 
         ``L = cos(f/2) + e sin(f/2)`` with ``e = axis / |axis|`` (SPEC S2). A zero
@@ -425,9 +429,9 @@ class Rotation:
             a, b, c = t
             n1 = math.hypot(a, b, c)
             if n1 > 0.0:
-                half = 0.5 * (f1 * _DEG if deg else f1)
-                s = math.sin(half)
-                return _new((math.cos(half), s * (a / n1), s * (b / n1), s * (c / n1)))
+                h1 = 0.5 * (f1 * _DEG if deg else f1)
+                s = math.sin(h1)
+                return _new((math.cos(h1), s * (a / n1), s * (b / n1), s * (c / n1)))
         ax = as_vec3(axis, "axis")
         f = as_float_array(angle, "angle")
         n = length_array(ax)  # no overflow/underflow for huge or tiny axes
@@ -443,7 +447,7 @@ class Rotation:
         return cls._wrap(q)
 
     @classmethod
-    def from_euler(cls, seq: str, angles, *, degrees: bool = False) -> Rotation:
+    def from_euler(cls, seq: str, angles: ArrayLike, *, degrees: bool = False) -> Rotation:
         """From Euler/Tait-Bryan angles (SPEC S3).
 
         Parameters
@@ -476,7 +480,7 @@ class Rotation:
         if signs is not None:  # e.g. "ship": the first angle turns the other way
             angles = as_float_array(angles, "angles") * np.asarray(signs)
         k = len(axes)
-        t = plain_vec3(angles) if k == 3 else None
+        t: Sequence[float] | None = plain_vec3(angles) if k == 3 else None
         if k == 1:
             a0 = _real(angles)
             t = None if a0 is None else (a0, 0.0, 0.0)
@@ -493,7 +497,7 @@ class Rotation:
         return cls._wrap(euler.quat_from_euler(seq, a))
 
     @classmethod
-    def from_gibbs(cls, gibbs) -> Rotation:
+    def from_gibbs(cls, gibbs: ArrayLike) -> Rotation:
         """From Gibbs (Rodrigues) vectors ``g = e tan(f/2)`` (..., 3) (SPEC S2).
 
         Examples
@@ -509,7 +513,7 @@ class Rotation:
         return cls._wrap(rodrigues.quat_from_gibbs(as_vec3(gibbs, "gibbs")))
 
     @classmethod
-    def from_mrp(cls, mrp) -> Rotation:
+    def from_mrp(cls, mrp: ArrayLike) -> Rotation:
         """From modified Rodrigues parameters ``p = e tan(f/4)`` (..., 3).
 
         Examples
@@ -525,7 +529,7 @@ class Rotation:
         return cls._wrap(rodrigues.quat_from_mrp(as_vec3(mrp, "mrp")))
 
     @classmethod
-    def from_basis(cls, e1, e2, e3) -> Rotation:
+    def from_basis(cls, e1: ArrayLike, e2: ArrayLike, e3: ArrayLike) -> Rotation:
         """The rotation taking the reference basis ``i_k`` onto ``e_k`` (SPEC S2, Theorem 1).
 
         ``e_k = L o i_k o L~``; the ``e_k`` (each (..., 3)) must be orthonormal
@@ -542,7 +546,14 @@ class Rotation:
         return cls._wrap(frames.quat_from_basis(e1, e2, e3))
 
     @classmethod
-    def align_vectors(cls, a, b, weights=None, *, return_sensitivity: bool = False):
+    def align_vectors(
+        cls,
+        a: ArrayLike,
+        b: ArrayLike,
+        weights: ArrayLike | None = None,
+        *,
+        return_sensitivity: bool = False,
+    ) -> tuple[Rotation, float] | tuple[Rotation, float, FloatArray]:
         """Solve Wahba's problem: the rotation ``R`` minimising ``sum w_i |a_i - R b_i|^2``.
 
         Same argument order as SciPy (``a ~ R b``). Returns ``(R, rssd)`` with
@@ -579,7 +590,9 @@ class Rotation:
         return cls._wrap(q)
 
     @classmethod
-    def random(cls, shape: int | Sequence[int] = (), rng=None) -> Rotation:
+    def random(
+        cls, shape: int | Sequence[int] = (), rng: int | np.random.Generator | None = None
+    ) -> Rotation:
         """Rotations uniformly distributed on SO(3) (normalised Gaussian quaternions).
 
         ``rng``: ``None`` (a generator seeded once per process from fresh entropy,
@@ -681,7 +694,7 @@ class Rotation:
         v = rotvec_mod.rotvec_from_quat(self._q)
         return np.rad2deg(v) if deg else v
 
-    def as_axis_angle(self, *, degrees: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def as_axis_angle(self, *, degrees: bool = False) -> tuple[FloatArray, FloatArray | np.float64]:
         """Unit axis (..., 3) and angle (...) in ``[0, pi]``.
 
         For the identity (angle 0) the axis is undetermined and ``(1, 0, 0)`` is
@@ -765,7 +778,7 @@ class Rotation:
         return rodrigues.mrp_from_quat(self._q)
 
     # ------------------------------------------------------------- operations
-    def __mul__(self, other) -> Rotation:
+    def __mul__(self, other: Rotation) -> Rotation:
         """``self * other``: ``other`` first, then ``self``, about fixed axes (SPEC S4)."""
         if not isinstance(other, Rotation):
             _not_composable(other, "r * other")
@@ -788,7 +801,7 @@ class Rotation:
         obj._q = out
         return obj
 
-    def __rmul__(self, other):
+    def __rmul__(self, other: object) -> NoReturn:
         _not_composable(other, "other * r")
 
     def inv(self) -> Rotation:
@@ -813,7 +826,7 @@ class Rotation:
             return Rotation._wrap(out)
         return Rotation._wrap(conjugate_array(q))
 
-    def apply(self, vectors, *, inverse: bool = False) -> np.ndarray:
+    def apply(self, vectors: ArrayLike, *, inverse: bool = False) -> FloatArray:
         """Rotate vectors (..., 3): ``v' = L o v o L~`` (SPEC S2), or the inverse.
 
         Rotation and vector leading shapes broadcast. **Convention:** if the
@@ -852,7 +865,7 @@ class Rotation:
             q = conjugate_array(q)
         return k.qrot(q, v)
 
-    def magnitude(self) -> np.ndarray:
+    def magnitude(self) -> FloatArray | np.float64:
         """Rotation angles in ``[0, pi]`` (radians), ``2 atan2(|l|, |l0|)``.
 
         Examples
@@ -865,7 +878,7 @@ class Rotation:
             return np.float64(one.angle1(q))
         return (2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0])))[()]
 
-    def __pow__(self, n) -> Rotation:
+    def __pow__(self, n: ArrayLike) -> Rotation:
         """``r ** n``: the rotation about the same axis by ``n`` times its angle.
 
         ``n`` a real number (or array broadcasting with the shape); uses the
@@ -897,7 +910,9 @@ class Rotation:
             _broadcast_shapes("the rotations and `n`", self.shape, p.shape)
         return Rotation._wrap(rotvec_mod.quat_from_rotvec(p[..., None] * self.as_rotvec()))
 
-    def approx_equal(self, other: Rotation, *, atol=None, degrees: bool = False) -> np.ndarray:
+    def approx_equal(
+        self, other: Rotation, *, atol: float | None = None, degrees: bool = False
+    ) -> BoolArray | np.bool_:
         """Whether the rotations differ by an angle ``<= atol`` (q and -q are equal).
 
         ``atol`` is in radians (degrees if ``degrees=True``); ``None`` means 1e-8
@@ -923,7 +938,7 @@ class Rotation:
             return np.bool_(S.angle(*S.hamilton(w, -x, -y, -z, *self._q.tolist())) <= tol)
         return (other.inv() * self).magnitude() <= tol
 
-    def mean(self, weights=None, axis=None) -> Rotation:
+    def mean(self, weights: ArrayLike | None = None, axis: Any = None) -> Rotation:
         """Chordal L2 mean (Markley et al. 2007), over all rotations or along ``axis``.
 
         The quaternion maximising ``sum w_i (q . q_i)^2``: the eigenvector of the
@@ -982,7 +997,7 @@ class Rotation:
         return Rotation._wrap(vecs[..., :, -1])
 
 
-def _as_rotation(r, name: str) -> Rotation:
+def _as_rotation(r: object, name: str) -> Rotation:
     if not isinstance(r, Rotation):
         kind = type(r)
         raise InvalidTypeError(
@@ -994,7 +1009,7 @@ def _as_rotation(r, name: str) -> Rotation:
     return r
 
 
-def _not_composable(other, expr: str):
+def _not_composable(other: object, expr: str) -> NoReturn:
     kind = type(other)
     if kind.__name__ == "Rotation":
         hint = " (convert SciPy rotations with Rotation.from_scipy(r))"
@@ -1047,7 +1062,7 @@ def compose(rotations: Sequence[Rotation] | Rotation, *, axes: str = "fixed") ->
     return out
 
 
-def slerp(r0: Rotation, r1: Rotation, t) -> Rotation:
+def slerp(r0: Rotation, r1: Rotation, t: ArrayLike) -> Rotation:
     """Spherical linear interpolation ``r(t) = (r1 r0^-1)^t r0`` along the shortest arc.
 
     ``t = 0`` gives ``r0``, ``t = 1`` gives ``r1``; ``t`` (any shape) broadcasts
@@ -1064,9 +1079,10 @@ def slerp(r0: Rotation, r1: Rotation, t) -> Rotation:
     f = _real(t)
     if f is not None and r0._q.ndim == 1 and r1._q.ndim == 1:
         w0, x0, y0, z0 = r0._q.tolist()
-        a, b, c = S.to_rotvec(*S.canonical(*S.hamilton(*r1._q.tolist(), w0, -x0, -y0, -z0)))
-        step = S.from_rotvec(f * a, f * b, f * c)
-        return _new(S.hamilton(*step, w0, x0, y0, z0))
+        w1, x1, y1, z1 = r1._q.tolist()
+        a, b, c = S.to_rotvec(*S.canonical(*S.hamilton(w1, x1, y1, z1, w0, -x0, -y0, -z0)))
+        step1 = S.from_rotvec(f * a, f * b, f * c)
+        return _new(S.hamilton(*step1, w0, x0, y0, z0))
     t = as_float_array(t, "t")
     shape = _broadcast_shapes("`r0`, `r1` and `t`", r0.shape, r1.shape, t.shape)
     delta = (r1 * r0.inv()).as_rotvec()

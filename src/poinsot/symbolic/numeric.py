@@ -25,12 +25,18 @@ from __future__ import annotations
 import itertools
 import math
 import threading
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .. import integrators
+from .._typing import ArrayLike, FloatArray
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+
+if TYPE_CHECKING:
+    from .lagrange import LagrangeSystem
 from ..trajectory import CoordinateTrajectory
 
 __all__ = ["NumericLagrangian", "LagrangeTrajectory", "SOLVERS"]
@@ -49,7 +55,7 @@ _COMPILE_LOCK = threading.Lock()
 _SOLVER = None
 
 
-def _solver():
+def _solver() -> Any:
     """The compiled dense solver shared by every generated kernel (compiled once)."""
     global _SOLVER
     if _SOLVER is None:
@@ -59,7 +65,7 @@ def _solver():
     return _SOLVER
 
 
-def _solve_py(K, b, size):
+def _solve_py(K: np.ndarray, b: np.ndarray, size: int) -> bool:
     """Solve ``K x = b`` (first ``size`` rows) in place by Gaussian elimination with
     partial pivoting; ``x`` is left in ``b``. False if ``K`` is singular."""
     for k in range(size):
@@ -128,7 +134,7 @@ def _mass(t, y, p, out):
 """
 
 
-def _generate(system, params: tuple) -> tuple[str, dict]:
+def _generate(system: LagrangeSystem, params: tuple[Any, ...]) -> tuple[str, dict[Any, Any]]:
     """Python source of ``_system(t, y, p, K, b)`` filling the augmented system."""
     import sympy
     from sympy.core.function import AppliedUndef
@@ -147,7 +153,9 @@ def _generate(system, params: tuple) -> tuple[str, dict]:
         names[s] = sympy.Symbol(f"p_{k}")
     names[c.time] = sympy.Symbol("t_")
 
-    targets, exprs = [], []
+    # (row, column[, "neg"]) entries of the matrix, or ("b", row[, "neg"]) of the vector
+    targets: list[list[tuple[Any, ...]]] = []
+    exprs: list[Any] = []
     for r in range(n):
         for s in range(r, n):
             targets.append([(r, s), (s, r)] if s != r else [(r, s)])
@@ -195,7 +203,7 @@ def _generate(system, params: tuple) -> tuple[str, dict]:
     return src, names
 
 
-def _cache_dir():
+def _cache_dir() -> Path | None:
     """Where generated kernels are written so numba can cache their machine code.
 
     ``POINSOT_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/poinsot`` or
@@ -221,7 +229,7 @@ _HEADER += "import math\nimport numpy as np\nfrom numba import njit\n"
 _HEADER += "from poinsot.symbolic.numeric import _solver\n\n_solve = _solver()\nCACHE = {cache}\n\n"
 
 
-def _compile(src: str) -> dict:
+def _compile(src: str) -> dict[str, Any]:
     """Compile the generated source: as a module file (numba caches the machine code
     across processes) or, if no cache directory is writable, in memory."""
     import hashlib
@@ -233,7 +241,7 @@ def _compile(src: str) -> dict:
     with _COMPILE_LOCK:
         folder = _cache_dir()
         if folder is None:
-            namespace: dict = {"np": np, "math": math, "njit": njit, "CACHE": False}
+            namespace: dict[str, Any] = {"np": np, "math": math, "njit": njit, "CACHE": False}
             namespace["_solve"] = _solver()
             exec(compile(src, "<poinsot.symbolic generated rhs>", "exec"), namespace)  # noqa: S102
             return namespace
@@ -254,6 +262,8 @@ def _compile(src: str) -> dict:
         module = sys.modules.get(name)
         if module is None:
             spec = importlib.util.spec_from_file_location(name, path)
+            if spec is None or spec.loader is None:  # not for a .py path: for the type checker
+                raise ImportError(f"cannot load the generated module {path}")
             module = importlib.util.module_from_spec(spec)
             sys.modules[name] = module  # numba's cache locates functions by module
             spec.loader.exec_module(module)
@@ -298,7 +308,9 @@ class NumericLagrangian:
     (5, 3, 2)
     """
 
-    def __init__(self, system, parameters=None):
+    def __init__(
+        self, system: LagrangeSystem, parameters: Mapping[str, float] | None = None
+    ) -> None:
         import sympy
 
         self._system = system
@@ -314,8 +326,8 @@ class NumericLagrangian:
         self._defaults = defaults
         self._defaults_ok = not np.isnan(defaults).any()
         self._src, self._names = _generate(system, self._params_sym)
-        self._ns: dict | None = None
-        self._aux: dict = {}
+        self._ns: dict[str, Any] | None = None
+        self._aux: dict[str, Any] = {}
         self._sympy = sympy
 
     # --------------------------------------------------------------- helpers
@@ -325,11 +337,13 @@ class NumericLagrangian:
         return self._src
 
     @property
-    def parameter_values(self) -> dict:
+    def parameter_values(self) -> dict[str, float]:
         """The default parameter values (NaN where none was given)."""
         return dict(zip(self.parameters, self._defaults.tolist(), strict=True))
 
-    def _param_vector(self, params, base, name="params") -> np.ndarray:
+    def _param_vector(
+        self, params: Mapping[str, float] | ArrayLike | None, base: np.ndarray, name: str = "params"
+    ) -> np.ndarray:
         if not isinstance(params, Mapping):
             raise InvalidTypeError(
                 f"Expected `{name}` to be a mapping of parameter names to floats, "
@@ -354,7 +368,7 @@ class NumericLagrangian:
             out[self.parameters.index(k)] = v
         return out
 
-    def _params(self, params) -> np.ndarray:
+    def _params(self, params: Mapping[str, float] | ArrayLike | None) -> np.ndarray:
         p = self._defaults if params is None else self._param_vector(params, self._defaults)
         if np.isnan(p).any():
             missing = [nm for nm, v in zip(self.parameters, p, strict=True) if np.isnan(v)]
@@ -364,7 +378,7 @@ class NumericLagrangian:
             )
         return p
 
-    def _kernels(self) -> dict:
+    def _kernels(self) -> dict[str, Any]:
         if self._ns is None:
             self._ns = _compile(self._src)
         return self._ns
@@ -378,7 +392,7 @@ class NumericLagrangian:
         ns["_batch"](np.zeros(1), y, p, np.empty((1, 2 * self.n)), lam)
         return self
 
-    def _state(self, y) -> np.ndarray:
+    def _state(self, y: ArrayLike) -> np.ndarray:
         try:
             a = np.asarray(y, dtype=float)
         except (TypeError, ValueError):
@@ -392,7 +406,9 @@ class NumericLagrangian:
             )
         return a
 
-    def _run(self, t, y, params):
+    def _run(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None
+    ) -> tuple[np.ndarray, np.ndarray]:
         ns = self._kernels()
         p = self._params(params)
         a = self._state(y)
@@ -409,7 +425,9 @@ class NumericLagrangian:
             )
         return out.reshape(a.shape), lam.reshape((*batch, self.n_constraints))
 
-    def __call__(self, t, y, params=None) -> np.ndarray:
+    def __call__(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+    ) -> FloatArray:
         """``y' = [q', q'']`` at time ``t`` (shape of ``y``)."""
         if (
             params is None
@@ -431,11 +449,15 @@ class NumericLagrangian:
 
     rhs = __call__
 
-    def multipliers(self, t, y, params=None) -> np.ndarray:
+    def multipliers(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+    ) -> FloatArray:
         """The constraint multipliers ``lambda`` (shape ``(..., m)``) at the states ``y``."""
         return self._run(t, y, params)[1]
 
-    def mass_matrix(self, t, y, params=None) -> np.ndarray:
+    def mass_matrix(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+    ) -> FloatArray:
         """``M(q, t)`` (shape ``(..., n, n)``) at the states ``y``."""
         ns = self._kernels()
         p = self._params(params)
@@ -447,7 +469,7 @@ class NumericLagrangian:
         ns["_mass"](tt, flat, p, out)
         return out.reshape((*a.shape[:-1], self.n, self.n))
 
-    def _lambdified(self, which: str):
+    def _lambdified(self, which: str) -> Any:
         if which not in self._aux:
             sp = self._sympy
             sysm = self._system
@@ -464,7 +486,9 @@ class NumericLagrangian:
             self._aux[which] = sp.lambdify([sp.Symbol("t_"), q, u, p], expr, modules="numpy")
         return self._aux[which]
 
-    def _scalar(self, which, t, y, params):
+    def _scalar(
+        self, which: str, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None
+    ) -> np.ndarray:
         a = self._state(y)
         p = self._params(params)
         fn = self._lambdified(which)
@@ -473,30 +497,36 @@ class NumericLagrangian:
         val = fn(np.asarray(t, dtype=float), q, u, p)
         return np.broadcast_to(np.asarray(val, dtype=float), a.shape[:-1]).copy()
 
-    def energy(self, t, y, params=None) -> np.ndarray:
+    def energy(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+    ) -> FloatArray:
         """Mechanical energy ``T + P + V0`` at the states ``y`` (shape ``y.shape[:-1]``)."""
         return self._scalar("energy", t, y, params)
 
-    def kinetic(self, t, y, params=None) -> np.ndarray:
+    def kinetic(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+    ) -> FloatArray:
         """Kinetic energy ``T`` at the states ``y`` (shape ``y.shape[:-1]``)."""
         return self._scalar("kinetic", t, y, params)
 
-    def jacobi(self, t, y, params=None) -> np.ndarray:
+    def jacobi(
+        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+    ) -> FloatArray:
         """Jacobi integral ``q' . dL/dq' - L`` at the states ``y``."""
         return self._scalar("jacobi", t, y, params)
 
     def simulate(
         self,
-        q0,
-        qdot0,
-        t,
+        q0: ArrayLike,
+        qdot0: ArrayLike,
+        t: ArrayLike,
         *,
-        params=None,
+        params: Mapping[str, float] | ArrayLike | None = None,
         method: str = "DOP853",
         rtol: float = 1e-10,
         atol: float = 1e-12,
         max_step: float = math.inf,
-        units=None,
+        units: Mapping[str, str] | Sequence[str] | None = None,
     ) -> CoordinateTrajectory:
         """Integrate from ``q(t[0]) = q0``, ``q'(t[0]) = qdot0`` with ``solve_ivp``.
 
@@ -567,7 +597,7 @@ class NumericLagrangian:
         t_buf = np.empty(nb)
         counter = itertools.count()
 
-        def fun(time, yy):
+        def fun(time: float, yy: np.ndarray) -> np.ndarray:
             next(counter)
             t_buf.fill(time)
             flat_out = np.empty((nb, 2 * self.n))  # a new array: solve_ivp keeps them
