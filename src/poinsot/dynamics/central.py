@@ -29,15 +29,20 @@ from __future__ import annotations
 import functools
 import math
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_choice, as_float_array, as_vec3
 from .._vec import cross, dot
 from ..errors import AccuracyWarning, IntegrationError, InvalidInputError, InvalidTypeError
+
+if TYPE_CHECKING:
+    from ..trajectory import Trajectory
 
 __all__ = [
     "Potential",
@@ -94,7 +99,13 @@ class Potential:
     (-1.5, 3.0)
     """
 
-    def __init__(self, function: Callable, derivative: Callable | None = None, *, name=None):
+    def __init__(
+        self,
+        function: Callable[..., Any],
+        derivative: Callable[..., Any] | None = None,
+        *,
+        name: str | None = None,
+    ) -> None:
         if not callable(function):
             raise InvalidTypeError(
                 f"Expected `function` to be a callable U(r), got {type(function).__name__}."
@@ -125,7 +136,7 @@ class Potential:
                     f"calling it failed: {type(exc).__name__}: {exc}"
                 ) from None
 
-    def __call__(self, r) -> np.ndarray:
+    def __call__(self, r: ArrayLike) -> FloatArray:
         """``U(r)`` in J."""
         r = as_float_array(r, "r")
         return _checked(self._raw(r), r, "potential")
@@ -135,7 +146,7 @@ class Potential:
         """Whether ``dU/dr`` was given in closed form."""
         return self._df is not None
 
-    def derivative(self, r) -> np.ndarray:
+    def derivative(self, r: ArrayLike) -> FloatArray:
         """``dU/dr`` in N (given, or 5-point central differences with step ``1e-3 r``)."""
         r = as_float_array(r, "r")
         return _checked(self._deriv(r), r, "potential derivative")
@@ -147,11 +158,11 @@ class Potential:
         f = self._raw
         return (8.0 * (f(r + h) - f(r - h)) - (f(r + 2 * h) - f(r - 2 * h))) / (12.0 * h)
 
-    def force(self, r) -> np.ndarray:
+    def force(self, r: ArrayLike) -> FloatArray:
         """Radial force ``F_r = -dU/dr`` (N, positive outwards)."""
         return -self.derivative(r)
 
-    def __add__(self, other):
+    def __add__(self, other: Potential | float) -> Potential:
         if isinstance(other, int | float | np.floating | np.integer):
             c = float(other)
             return Potential(lambda r, f=self._f: f(r) + c, self._df, name=f"{self.name} + {c:g}")
@@ -169,7 +180,7 @@ class Potential:
     __radd__ = __add__
 
 
-def _as_potential(potential) -> Potential:
+def _as_potential(potential: object) -> Potential:
     """A Potential as is; a callable wrapped (derivative by differences)."""
     if isinstance(potential, Potential):
         return potential
@@ -198,7 +209,7 @@ def _coef(x, name) -> float:
     return float(a)
 
 
-def kepler(mu) -> Potential:
+def kepler(mu: float) -> Potential:
     """Kepler's potential ``U = -mu / r`` (attractive for ``mu > 0``).
 
     ``mu`` is in J m: for gravity ``mu = G M m`` (with the default ``mass=1``
@@ -214,7 +225,7 @@ def kepler(mu) -> Potential:
     return p
 
 
-def inverse_square(beta) -> Potential:
+def inverse_square(beta: float) -> Potential:
     """``U = beta / r^2`` (repulsive for ``beta > 0``): with Kepler's, a precessing ellipse.
 
     >>> from poinsot.dynamics import inverse_square
@@ -225,7 +236,7 @@ def inverse_square(beta) -> Potential:
     return Potential(lambda r: beta / r**2, lambda r: -2.0 * beta / r**3, name=f"{beta:g}/r^2")
 
 
-def harmonic(k) -> Potential:
+def harmonic(k: float) -> Potential:
     """The isotropic oscillator ``U = k r^2 / 2`` (a centred ellipse for ``k > 0``).
 
     >>> from poinsot.dynamics import harmonic
@@ -236,7 +247,7 @@ def harmonic(k) -> Potential:
     return Potential(lambda r: 0.5 * k * r**2, lambda r: k * r, name=f"{k:g} r^2/2")
 
 
-def power_law(k, n) -> Potential:
+def power_law(k: float, n: float) -> Potential:
     """``U = k r^n / n`` (``n != 0``; force ``-k r^(n-1)``); ``n = -1`` is Kepler with ``mu = k``.
 
     >>> from poinsot.dynamics import power_law
@@ -266,7 +277,7 @@ class Apsides:
     pericentre: float
     apocentre: float
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[float]:
         return iter((self.pericentre, self.apocentre))
 
 
@@ -367,7 +378,16 @@ class CentralOrbit:
     (1.0, 3.14159265359)
     """
 
-    def __init__(self, potential, *, energy, angular_momentum, mass=1.0, radius=None, _state=None):
+    def __init__(
+        self,
+        potential: Potential | Callable[[np.ndarray], ArrayLike],
+        *,
+        energy: float,
+        angular_momentum: float,
+        mass: float = 1.0,
+        radius: float | None = None,
+        _state: Any = None,
+    ) -> None:
         self.potential = potential = _as_potential(potential)
         self.energy = _coef(energy, "energy")
         L = _coef(angular_momentum, "angular_momentum")
@@ -397,7 +417,13 @@ class CentralOrbit:
     # -- construction -------------------------------------------------------
 
     @classmethod
-    def from_state(cls, potential, position, velocity, mass=1.0) -> CentralOrbit:
+    def from_state(
+        cls,
+        potential: Potential | Callable[[np.ndarray], ArrayLike],
+        position: ArrayLike,
+        velocity: ArrayLike,
+        mass: float = 1.0,
+    ) -> CentralOrbit:
         """The orbit through a position and velocity (relative to the centre).
 
         Parameters
@@ -461,7 +487,7 @@ class CentralOrbit:
 
     # -- effective potential and apsides -------------------------------------
 
-    def effective_potential(self, r) -> np.ndarray:
+    def effective_potential(self, r: ArrayLike) -> FloatArray:
         """``U_eff(r) = U(r) + L^2 / (2 m r^2)`` (J)."""
         r = as_float_array(r, "r")
         return self.potential(r) + self.angular_momentum**2 / (2.0 * self.mass * r**2)
@@ -910,7 +936,9 @@ class CentralOrbit:
     def _kepler_time_since_pericentre(self):
         c = self.conic
         r, rdot = self._r0, self._rdot0
-        mus = self.potential.kepler_mu / self.mass
+        mu = self.potential.kepler_mu
+        assert mu is not None  # only reached for a Kepler potential (self.conic exists)
+        mus = mu / self.mass
         if c.e == 0:
             return 0.0
         if self.energy < 0:
@@ -967,7 +995,9 @@ class CentralOrbit:
         y = r * np.sin(phi)
         return x[..., None] * self._basis[:, 0] + y[..., None] * self._basis[:, 1]
 
-    def polar(self, t, *, method: str = "auto", rtol: float = 1e-12):
+    def polar(
+        self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12
+    ) -> tuple[FloatArray, FloatArray]:
         """Distance ``r`` (m) and angle ``phi`` (rad, from ``e1``, continuous) at times ``t``.
 
         See :meth:`orbit` for ``method``. Returns a pair of arrays of ``t``'s shape.
@@ -993,7 +1023,7 @@ class CentralOrbit:
         sgn = math.copysign(1.0, self.angular_momentum)
         return r, rdot, sgn * nu + self._peri_angle
 
-    def orbit(self, t, *, method: str = "auto", rtol: float = 1e-12) -> np.ndarray:
+    def orbit(self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12) -> FloatArray:
         """Positions (m) at times ``t`` (s), shape ``t.shape + (3,)``, space axes.
 
         Parameters
@@ -1026,7 +1056,7 @@ class CentralOrbit:
         r, phi = self.polar(t, method=method, rtol=rtol)
         return self._plane_to_space(r, phi)
 
-    def trajectory(self, t, *, method: str = "auto", rtol: float = 1e-12):
+    def trajectory(self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12) -> Trajectory:
         """The orbit as a :class:`poinsot.trajectory.PointTrajectory` on times ``t`` (n,).
 
         ``position`` and ``velocity`` in inertial (space) axes (m, m/s), ``mass``
@@ -1140,7 +1170,9 @@ class CentralOrbit:
             out_r[sel], out_v[sel], out_p[sel] = ys[0][idx], ys[1][idx], ys[2][idx]
         return out_r.reshape(t.shape), out_v.reshape(t.shape), out_p.reshape(t.shape)
 
-    def state(self, t, *, method: str = "auto", rtol: float = 1e-12):
+    def state(
+        self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12
+    ) -> tuple[FloatArray, FloatArray]:
         """``(position, velocity)`` at times ``t``: shape ``t.shape + (3,)`` each (m, m/s).
 
         ``v = r' e_r + r phi' e_phi`` with ``phi' = L / (m r^2)``; see :meth:`orbit`.

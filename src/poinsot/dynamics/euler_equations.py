@@ -57,10 +57,13 @@ returned is the space vector ``K_s = R J w``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .. import _quat, integrators
+from .._typing import ArrayLike, FloatArray
 from .._validate import (
     as_choice,
     as_float_array,
@@ -76,6 +79,10 @@ from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError
 from ..mass.tensor import _momentum, single_principal_moments
 from ..rotations.rotation import Rotation
+
+if TYPE_CHECKING:
+    from ..mass.body import RigidBody
+    from .torques import TorqueModel
 from ..trajectory import Trajectory
 from .invariants import _invariants
 from .torques import ConstantBodyTorque, GravityTorque, as_torque
@@ -95,13 +102,13 @@ _MAXIT = 100
 # ---------------------------------------------------------------------------
 
 
-def _as_inertia(inertia, name: str) -> tuple[np.ndarray, bool]:
+def _as_inertia(inertia: object, name: str) -> tuple[np.ndarray, bool]:
     from ..mass.tensor import as_inertia
 
     return as_inertia(inertia, name)
 
 
-def _body_inertia(body) -> np.ndarray:
+def _body_inertia(body: Any) -> np.ndarray:
     """The body-axes inertia tensor ``(..., 3, 3)`` of ``body`` (RigidBody or array)."""
     if hasattr(body, "inertia") and hasattr(body, "mass"):
         mass = np.asarray(body.mass, dtype=float)
@@ -125,7 +132,13 @@ def _body_inertia(body) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def _rhs(j, j_inv, w, torque, principal=False):
+def _rhs(
+    j: np.ndarray,
+    j_inv: Any,  # (..., 3, 3); None when `principal`
+    w: np.ndarray,
+    torque: np.ndarray | None,
+    principal: bool = False,
+) -> np.ndarray:
     """Euler's right-hand side ``w' = J^-1 (M - w x J w)``: the one implementation.
 
     ``j`` principal moments (..., 3) when ``principal`` (then ``j_inv`` is
@@ -155,7 +168,7 @@ _axis_quat = _quat.axis_angle_principal
 # ---------------------------------------------------------------------------
 
 
-def _euler_rhs_single(inertia, omega, torque):
+def _euler_rhs_single(inertia: object, omega: object, torque: object) -> np.ndarray | None:
     """Short path of :func:`euler_rhs` for one state given by principal moments.
 
     Same checks as the general path (finite numbers, positive moments with
@@ -185,7 +198,7 @@ def _euler_rhs_single(inertia, omega, torque):
     return np.array((f0 / a, f1 / b, f2 / c))
 
 
-def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
+def euler_rhs(inertia: ArrayLike, omega: ArrayLike, torque: ArrayLike | None = None) -> FloatArray:
     """Angular acceleration from Euler's dynamic equations, ``J w' = M - w x J w``.
 
     Parameters
@@ -250,7 +263,7 @@ def euler_rhs(inertia, omega, torque=None) -> np.ndarray:
 SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
 
-def _tolerances(rtol, atol) -> tuple[float, float]:
+def _tolerances(rtol: ArrayLike, atol: ArrayLike) -> tuple[float, float]:
     """``rtol > 0`` and ``atol >= 0`` as floats (scalars; solve_ivp's own floor still applies)."""
     out = []
     for name, x, strict in (("rtol", rtol, True), ("atol", atol, False)):
@@ -308,12 +321,12 @@ def _substeps(t: np.ndarray, max_step: float) -> np.ndarray:
 
 
 def simulate(
-    body,
-    rotation0,
-    omega0,
-    t,
+    body: RigidBody | ArrayLike,
+    rotation0: Rotation | ArrayLike,
+    omega0: ArrayLike,
+    t: ArrayLike,
     *,
-    torque=None,
+    torque: TorqueModel | ArrayLike | Callable[..., ArrayLike] | None = None,
     method: str | None = None,
     max_step: float | None = None,
     order: int | None = None,
@@ -600,17 +613,17 @@ def _fused_info(fused, tt, rtol, atol, *, mark: bool = False):
             else:
                 qs[last + 1 :, b], ws[last + 1 :, b] = qs[last, b], ws[last, b]
     elif bad.size:
-        b = int(bad[0])
+        first = int(bad[0])
         reason = {
             _fused.STEP_TOO_SMALL: "the step size fell below round-off",
             _fused.TOO_MANY_STEPS: "it needed more than 10^6 steps",
             _fused.NONFINITE: "the state became non-finite",
-        }[int(stats[b, 3])]
-        last = np.flatnonzero(np.isfinite(ws[:, b, 0]))
-        t_reached = float(tt[last[-1]]) if last.size else float(tt[0])
+        }[int(stats[first, 3])]
+        alive = np.flatnonzero(np.isfinite(ws[:, first, 0]))
+        t_reached = float(tt[alive[-1]]) if alive.size else float(tt[0])
         raise IntegrationError(
             f"dop853 integration failed for {bad.size} of {stats.shape[0]} bodies (first: body "
-            f"{b}): {reason} after t = {t_reached:.6g}. The problem may be stiff or diverging: "
+            f"{first}): {reason} after t = {t_reached:.6g}. The problem may be stiff or diverging: "
             f"loosen `rtol`, shorten the run, or check the torque."
         )
     info = {

@@ -33,15 +33,22 @@ body axes (rad/s), ``gamma`` the upward vertical in body axes, SI units.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import integrators
+from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape
 from .._vec import cross
 from ..errors import InvalidInputError
 from ..trajectory import Trajectory
 from .torques import STANDARD_GRAVITY, GravityTorque
+
+if TYPE_CHECKING:
+    from ..mass.body import RigidBody
+    from ..rotations.rotation import Rotation
+    from .invariants import Invariants
 
 __all__ = ["HeavyRigidBody", "kovalevskaya_integral", "HEAVY_METHODS"]
 
@@ -103,7 +110,14 @@ class HeavyRigidBody:
     (True, True)
     """
 
-    def __init__(self, inertia, mass=None, center_of_mass=None, *, g=STANDARD_GRAVITY):
+    def __init__(
+        self,
+        inertia: RigidBody | ArrayLike,
+        mass: ArrayLike | None = None,
+        center_of_mass: ArrayLike | None = None,
+        *,
+        g: float = STANDARD_GRAVITY,
+    ) -> None:
         from ..mass import RigidBody
         from ..mass.tensor import as_inertia
 
@@ -155,7 +169,7 @@ class HeavyRigidBody:
         return self.torque.moment
 
     # -- the equations -------------------------------------------------------
-    def euler_poisson(self, omega, gamma) -> tuple[np.ndarray, np.ndarray]:
+    def euler_poisson(self, omega: ArrayLike, gamma: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """The Euler-Poisson right-hand side ``(w', gamma')``.
 
         ``w' = J^-1 (m g gamma x c - w x J w)``, ``gamma' = gamma x w``.
@@ -184,7 +198,7 @@ class HeavyRigidBody:
         m = cross(gam, self.moment)
         return _rhs(self.inertia_tensor, self._j_inv, w, m), cross(gam, w)
 
-    def rhs(self, t, state) -> np.ndarray:
+    def rhs(self, t: float, state: ArrayLike) -> FloatArray:
         """Time derivative of ``state = (quaternion (4), omega (3))`` (..., 7).
 
         ``L' = L o (0, w) / 2`` (theory §5) and the Euler-Poisson ``w'`` with
@@ -213,24 +227,24 @@ class HeavyRigidBody:
         return np.concatenate([dq, dw], axis=-1)
 
     # -- integrals -------------------------------------------------------------
-    def gamma(self, rotation) -> np.ndarray:
+    def gamma(self, rotation: Rotation | ArrayLike) -> FloatArray:
         """The upward vertical in body axes, ``gamma = R^T e_z`` (..., 3)."""
         return _upward(as_rotation_quat(rotation, "rotation"))
 
-    def _inv(self, rotation, omega):
+    def _inv(self, rotation: Rotation | ArrayLike, omega: ArrayLike) -> Invariants:
         from .invariants import invariants
 
         return invariants(self.inertia_tensor, rotation, omega, torque=self.torque)
 
-    def energy(self, rotation, omega) -> np.ndarray:
+    def energy(self, rotation: Rotation | ArrayLike, omega: ArrayLike) -> FloatArray:
         """Total energy ``E = w . J w / 2 + m g c . gamma`` (J), conserved."""
         return self._inv(rotation, omega).energy
 
-    def momentum_z(self, rotation, omega) -> np.ndarray:
+    def momentum_z(self, rotation: Rotation | ArrayLike, omega: ArrayLike) -> FloatArray:
         """The area integral ``K . e_z = (J w) . gamma`` (kg m^2/s), conserved."""
         return self._inv(rotation, omega).momentum_z
 
-    def kovalevskaya_integral(self, rotation, omega) -> np.ndarray:
+    def kovalevskaya_integral(self, rotation: Rotation | ArrayLike, omega: ArrayLike) -> FloatArray:
         """:func:`kovalevskaya_integral` at these states, with this body's ``C`` and ``m g c``."""
         return kovalevskaya_integral(
             omega, self.gamma(rotation), self.inertia_tensor[2, 2], self.moment
@@ -239,9 +253,9 @@ class HeavyRigidBody:
     # -- integration -----------------------------------------------------------
     def simulate(
         self,
-        rotation0,
-        omega0,
-        t,
+        rotation0: Rotation | ArrayLike,
+        omega0: ArrayLike,
+        t: ArrayLike,
         *,
         method: str | None = None,
         order: int | None = None,
@@ -316,7 +330,9 @@ class HeavyRigidBody:
         )
 
 
-def kovalevskaya_integral(omega, gamma, axial_moment, moment) -> np.ndarray:
+def kovalevskaya_integral(
+    omega: ArrayLike, gamma: ArrayLike, axial_moment: ArrayLike, moment: ArrayLike
+) -> FloatArray:
     """The Kovalevskaya integral ``|(p + i q)^2 - (m g / C)(c1 + i c2)(gamma1 + i gamma2)|^2``.
 
     For ``A = B = 2 C`` and the centre of mass in the equatorial plane

@@ -28,6 +28,7 @@ import hashlib
 import json
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -92,7 +93,7 @@ class EnsembleProblem:
     dispersions: tuple[tuple[str, Dispersion], ...] = ()
     metrics: tuple[Metric, ...] = ()
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         from .._validate import as_rotation_quat
 
         q = as_rotation_quat(self.rotation0, "rotation0")
@@ -131,7 +132,7 @@ class EnsembleProblem:
     def digest(self) -> str:
         """SHA-256 of everything that defines the samples (stored with the chunks)."""
 
-        def enc(x):
+        def enc(x: Any) -> Any:
             if isinstance(x, np.ndarray):
                 return x.tolist()
             if isinstance(x, Dispersion | Metric):
@@ -164,7 +165,7 @@ def _columns_of(name: str, values: np.ndarray) -> dict[str, np.ndarray]:
     return {f"{name}_{c}": values[:, i] for i, c in enumerate(labels)}
 
 
-def _draw(problem, rng, n):
+def _draw(problem: EnsembleProblem, rng: np.random.Generator, n: int) -> dict[str, np.ndarray]:
     """Inputs of ``n`` samples (one draw per dispersion, in name order)."""
     inputs = {
         name: np.broadcast_to(
@@ -186,7 +187,7 @@ def _draw(problem, rng, n):
     return inputs
 
 
-def _physical(inputs) -> np.ndarray:
+def _physical(inputs: dict[str, np.ndarray]) -> np.ndarray:
     """Reason per sample ('' when physical)."""
     n = inputs["mass"].shape[0]
     reason = np.full(n, "", dtype=object)
@@ -225,15 +226,16 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
     }
     j_cm = np.broadcast_to(problem.inertia, (size + 1, 3, 3)).copy()
     j_cm[:, [0, 1, 2], [0, 1, 2]] = arr["inertia"]
+    model: GravityTorque | ConstantBodyTorque | ConstantSpaceTorque | None
     if problem.torque_model == "gravity":
         j = parallel_axis(j_cm, arr["mass"], arr["center_of_mass"])
         model = GravityTorque(arr["mass"], arr["center_of_mass"], g=problem.g)
     else:
         j = j_cm
-        model = {"none": None, "body": ConstantBodyTorque, "space": ConstantSpaceTorque}[
+        kind = {"none": None, "body": ConstantBodyTorque, "space": ConstantSpaceTorque}[
             problem.torque_model
         ]
-        model = None if model is None else model(arr["torque"])
+        model = None if kind is None else kind(arr["torque"])
     q0 = arr["attitude"] / np.linalg.norm(arr["attitude"], axis=1, keepdims=True)
     with np.errstate(all="ignore"):
         # the public batch integrator (poinsot's compiled DOP853); a failing sample is
@@ -250,7 +252,7 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
             failures="mark",
         )
         quat, omega = np.array(tr.quat), np.array(tr.omega)
-        why = tr.info.get("failed")
+        why: Any = tr.info.get("failed")  # per-body reasons ("" = fine) or None
         failed_int = np.zeros(size + 1, dtype=bool) if why is None else why != ""
         for i in np.flatnonzero(failed_int[1:]):
             if ok[i]:
@@ -294,7 +296,7 @@ class EnsembleResult:
     its statistics (``summary``: per metric mean, std, quantiles, failures)."""
 
     table: Any
-    summary: dict
+    summary: dict[str, Any]
     out: Path | None = None
 
     def column(self, name: str) -> np.ndarray:
@@ -304,7 +306,7 @@ class EnsembleResult:
 def _summary(problem: EnsembleProblem, table, samples: int, seed: int, chunk_size: int) -> dict:
     failed = table.column("failed").to_numpy(zero_copy_only=False)
     reasons = table.column("reason").to_pylist()
-    out = {
+    out: dict[str, Any] = {
         "scenario": problem.name,
         "samples": samples,
         "seed": seed,
@@ -423,14 +425,14 @@ def run(
     samples: int,
     *,
     chunk_size: int = 1000,
-    client=None,
+    client: Any = None,
     scheduler: str | None = None,
     workers: int | None = None,
     seed: int = 0,
-    out=None,
+    out: str | os.PathLike[str] | None = None,
     resume: bool = False,
     timeout: float = 10.0,
-    progress=None,
+    progress: Callable[[int, int], object] | None = None,
 ) -> EnsembleResult:
     """Run ``samples`` dispersed motions of ``problem``; return the per-sample table.
 
