@@ -17,6 +17,14 @@ Eq(k*x(t) + m*Derivative(x(t), (t, 2)), 0)
 
 from __future__ import annotations
 
+from .analysis import (
+    ConstraintKind,
+    FirstIntegralCheck,
+    constraint_kind,
+    generalized_forces,
+    is_first_integral,
+    transform_generalized_forces,
+)
 from .curvilinear import CurvilinearCoordinates, curvilinear
 from .lagrange import LagrangeSystem
 from .numeric import SOLVERS, LagrangeTrajectory, NumericLagrangian
@@ -32,6 +40,12 @@ from .parser import (
 
 __all__ = [
     "LagrangeSystem",
+    "generalized_forces",
+    "transform_generalized_forces",
+    "constraint_kind",
+    "ConstraintKind",
+    "is_first_integral",
+    "FirstIntegralCheck",
     "NumericLagrangian",
     "LagrangeTrajectory",
     "SOLVERS",

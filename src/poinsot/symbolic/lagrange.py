@@ -303,6 +303,21 @@ class LagrangeSystem:
         return tuple(sorted(free, key=lambda s: s.name))
 
     @property
+    def degrees_of_freedom(self) -> int:
+        """Coordinates minus kept constraints, holonomic and nonholonomic (theory §11).
+
+        Examples
+        --------
+        >>> import sympy
+        >>> from sympy.physics.mechanics import dynamicsymbols
+        >>> x, y = dynamicsymbols("x y")
+        >>> LagrangeSystem([x, y], (x.diff() ** 2 + y.diff() ** 2) / 2,
+        ...                holonomic=[x**2 + y**2 - 1]).degrees_of_freedom
+        1
+        """
+        return len(self._c.plain) - len(self._hol) - len(self._nonhol)
+
+    @property
     def multipliers(self) -> tuple[Any, ...]:
         """The multiplier functions ``lambda_j(t)``, one per kept constraint."""
         from sympy.physics.mechanics import dynamicsymbols
