@@ -14,6 +14,7 @@ import re
 import tomllib
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -216,7 +217,7 @@ def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenari
         )
     description = top.string("description", "")
     if top.has("kind"):
-        kind = get_kind(top.string("kind", choices=tuple(KINDS)))
+        kind = get_kind(top.string("kind", choices=tuple(KINDS), required=True))
     else:
         kind = kind_for(data)
     attitude = read_attitude(top.table("attitude"), top)
@@ -333,7 +334,7 @@ def _mesh(t: Table):
     )
     if how == "file":
         t.forbid(["faces"], "the faces of a mesh given by `file` are read from the file")
-        name = t.string("file")
+        name = t.string("file", required=True)  # present: `how` is "file"
         path = Path(name)
         if not path.is_absolute() and not t.file.startswith("<"):
             path = Path(t.file).parent / path
@@ -492,6 +493,7 @@ def read_attitude(t: Table | None, top: Table) -> AttitudeSpec:
     t.known(_EVERY_ATTITUDE_KEY)
     rep = t.exclusive(_ATTITUDE_KEYS, what="the initial attitude (body -> space)")
     seq = deg = sf = None
+    values: tuple[Any, ...]  # numbers, or the rows of a matrix
     try:
         if rep == "quat":
             values = t.vector("quat", 4)
@@ -710,9 +712,10 @@ def _simulation(t: Table, kind, fields) -> SimulationSpec:
     t.known(keys)
     duration = t.number("duration", positive=True, required=True)
     how = t.exclusive(("step", "samples"), what="the output times")
-    step = samples = None
-    if how == "step":
-        step = t.number("step", positive=True)
+    step: float | None = None
+    samples: int | None = None
+    if how == "step":  # the key is present (exclusive)
+        step = t.number("step", positive=True, required=True)
         if step > duration:
             raise t.error("step", f"expected a step <= duration ({duration:g} s), found {step:g}.")
         if duration / step > MAX_SAMPLES:
@@ -722,7 +725,7 @@ def _simulation(t: Table, kind, fields) -> SimulationSpec:
                 f"{duration / step:.3g}: choose a longer step.",
             )
     else:
-        samples = t.integer("samples", minimum=2)
+        samples = t.integer("samples", minimum=2, required=True)
         if samples > MAX_SAMPLES:
             raise t.expected("samples", f"at most {MAX_SAMPLES} samples", samples)
     methods = kind.methods

@@ -148,7 +148,7 @@ class AttitudeSpec:
 class AngularVelocitySpec:
     """Initial angular velocity as written and resolved to body axes in rad/s."""
 
-    vector: tuple[float, float, float]
+    vector: tuple[float, ...]
     frame: str
     units: str
     omega_body: np.ndarray
@@ -208,17 +208,20 @@ class SimulationSpec:
         """The number of output times, computed without building them."""
         if self.samples is not None:
             return int(self.samples)
-        ratio = self.duration / self.step
+        step = self.step
+        assert step is not None  # exactly one of `step` and `samples` is given
+        ratio = self.duration / step
         if not ratio < 1e15:
             return 10**15  # beyond any limit: refused before anything is allocated
         n = int(np.floor(ratio + 1e-9))
-        last = self.step * n
+        last = step * n
         return n + 1 + (1 if self.duration - last > 1e-9 * self.duration else 0)
 
     def spacing(self) -> float:
         """The output spacing (s): ``step``, or ``duration / (samples - 1)``."""
         if self.step is not None:
             return float(self.step)
+        assert self.samples is not None  # exactly one of `step` and `samples` is given
         return self.duration / (self.samples - 1)
 
     def integration_step(self) -> float:
@@ -241,8 +244,10 @@ class SimulationSpec:
         """The output times ``0 .. duration`` (s)."""
         if self.samples is not None:
             return np.linspace(0.0, self.duration, self.samples)
-        n = int(np.floor(self.duration / self.step + 1e-9))
-        t = self.step * np.arange(n + 1)
+        step = self.step
+        assert step is not None  # exactly one of `step` and `samples` is given
+        n = int(np.floor(self.duration / step + 1e-9))
+        t = step * np.arange(n + 1)
         if self.duration - t[-1] > 1e-9 * self.duration:
             t = np.append(t, self.duration)
         return t

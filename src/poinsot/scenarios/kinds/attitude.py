@@ -43,7 +43,7 @@ class Attitude(ScenarioKind):
     theory = "docs/theory.md §5"
     # measured on the shipped examples: a Python omega(t) per step dominates
     seconds_per_step = {"exact": 1e-6, "magnus4": 2e-4, "rk4": 1e-4, "adaptive": 1.5e-4}
-    profiles = ("constant", "samples")
+    profiles: tuple[str, ...] = ("constant", "samples")
 
     def claims(self, data):
         return "omega_profile" in data

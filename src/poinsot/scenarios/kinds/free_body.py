@@ -9,6 +9,7 @@ elliptic functions) or :func:`poinsot.dynamics.simulate` (integrators). Checks:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -33,7 +34,7 @@ def _free_body(scenario):
 class FreeBodyFacts(Facts):
     """The closed-form properties of a torque-free motion (a FreeRigidBody)."""
 
-    body: object = None  # the FreeRigidBody
+    body: Any = None  # the FreeRigidBody
     diagonal: bool = True  # body axes are principal (axes named x, y, z in text)
 
     def entries_(self):
@@ -52,7 +53,7 @@ class FreeBodyFacts(Facts):
             ("precession_per_period", "rad"),
             ("complementary_parameter", "1"),
         ):
-            value = getattr(fb, key, None)
+            value: Any = getattr(fb, key, None)
             if key == "principal_axes":  # a method, as on mass.RigidBody: (moments, S)
                 value = value()[1].as_matrix()
             if value is not None:
