@@ -106,7 +106,7 @@ def _columns(result: ScenarioResult, tr):
         names = ["t", "qw", "qx", "qy", "qz", "wx", "wy", "wz"]
         units = ["s"] + ["1"] * 4 + ["rad/s"] * 3
         cols = [tr.t[:, None], tr.quat, tr.omega]
-        if tr.momentum is not None:
+        if tr.momentum is not None and tr.energy is not None:  # recorded together
             names += ["Kx", "Ky", "Kz", "T"]
             units += ["kg m^2/s"] * 3 + ["J"]
             cols += [tr.momentum, tr.energy[:, None]]
@@ -193,7 +193,8 @@ def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> Path:
         key = "potential" if name == "V" else name
         arrays.setdefault(key, np.asarray(values))
     arrays["header"] = np.array("\n".join(header))
-    return _atomic(path, lambda fh: np.savez(fh, **arrays), mode="b")
+    # numpy's stub lets **kwds fill savez's allow_pickle: bool (a false positive)
+    return _atomic(path, lambda fh: np.savez(fh, **arrays), mode="b")  # type: ignore[arg-type]
 
 
 # ----------------------------------------------------------------------------- figures
@@ -214,9 +215,11 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
         except Exception as exc:  # a figure must not sink the run
             notes.append(f"{spec.name} skipped: {type(exc).__name__}: {exc}")
             continue
-        files.append(
-            _atomic(out / spec.name, lambda fh, f=fig: f.savefig(fh, format="png", dpi=110), "b")
-        )
+
+        def save_png(fh: Any, f: Any = fig) -> None:
+            f.savefig(fh, format="png", dpi=110)
+
+        files.append(_atomic(out / spec.name, save_png, "b"))
     return files
 
 
