@@ -25,6 +25,7 @@ from poinsot.dynamics import (
     simulate_particle,
 )
 from poinsot.kinematics import FrameMotion, propagate
+from poinsot.mass import RigidBody
 from poinsot.trajectory import (
     INFO_KEYS,
     CoordinateTrajectory,
@@ -92,6 +93,18 @@ def _results():
         ("foucault", lambda: foucault_pendulum(1.0, 0.8, T, amplitude=0.01)),
         ("orbit", lambda: orbit.trajectory(T)),
         ("lagrangian", lambda: _double_pendulum("DOP853", T)),
+        (
+            "free-motion",
+            lambda: poinsot.dynamics.simulate_free_motion(
+                RigidBody.box(1.0, 0.3, 0.2, 0.1),
+                [0, 0, 0],
+                [1.0, 0, 2.0],
+                [1.0, 0, 0, 0],
+                W0,
+                T,
+                force=[0.0, 0.0, -9.81],
+            ),
+        ),
     ]
 
 
@@ -121,7 +134,9 @@ def result(request):
 
 def test_family_and_info_keys(result):
     assert isinstance(result, Result)
-    assert isinstance(result, Trajectory | PointTrajectory | CoordinateTrajectory)
+    assert isinstance(
+        result, Trajectory | PointTrajectory | CoordinateTrajectory
+    )  # Pose is a Trajectory
     assert set(result.info) <= set(INFO_KEYS), set(result.info) - set(INFO_KEYS)
     assert isinstance(result.method, str) and result.method
     assert not isinstance(result, Trajectory) or not isinstance(result, PointTrajectory)

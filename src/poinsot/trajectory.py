@@ -45,6 +45,7 @@ __all__ = [
     "Result",
     "Channel",
     "Trajectory",
+    "PoseTrajectory",
     "PointTrajectory",
     "CoordinateTrajectory",
     "Comparison",
@@ -389,6 +390,41 @@ class Trajectory(Result):
             return None
         d = np.linalg.norm(self.momentum - self.momentum[0], axis=-1)
         return _relative(d, np.linalg.norm(self.momentum[0], axis=-1))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class PoseTrajectory(Trajectory):
+    """Samples of a free rigid body's six-degree-of-freedom motion: a
+    :class:`Trajectory` whose ``position`` and ``velocity`` (of the centre of mass,
+    space axes, m and m/s) are part of the state.
+
+    The state compared by :func:`compare` is ``"position"`` (m), ``"velocity"``
+    (m/s), ``"attitude"`` (rad) and ``"omega"`` (rad/s). Returned by
+    :func:`poinsot.dynamics.simulate_free_motion`.
+
+    Examples
+    --------
+    >>> import numpy as np, poinsot
+    >>> t = np.linspace(0.0, 1.0, 3)
+    >>> p = PoseTrajectory(t, poinsot.Rotation.identity((3,)), np.zeros((3, 3)), "x",
+    ...                    position=np.zeros((3, 3)), velocity=np.zeros((3, 3)))
+    >>> list(p.state_channels())
+    ['position', 'velocity', 'attitude', 'omega']
+    """
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.position is None or self.velocity is None:
+            raise InvalidInputError(
+                "Expected `position` and `velocity` for a PoseTrajectory (the state of a "
+                "six-degree-of-freedom motion)."
+            )
+
+    def state_channels(self) -> dict[str, Channel]:
+        """``position`` (m), ``velocity`` (m/s), ``attitude`` (rad) and ``omega`` (rad/s)."""
+        ch = self.channels()
+        rot = super().state_channels()
+        return {"position": ch["position"], "velocity": ch["velocity"], **rot}
 
 
 def _relative(diff: FloatArray, ref: FloatArray) -> float:
@@ -798,7 +834,7 @@ class Comparison:
 
 
 def _family(r: object) -> type:
-    for cls in (Trajectory, PointTrajectory, CoordinateTrajectory):
+    for cls in (PoseTrajectory, Trajectory, PointTrajectory, CoordinateTrajectory):
         if isinstance(r, cls):
             return cls
     raise InvalidTypeError(

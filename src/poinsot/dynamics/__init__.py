@@ -42,6 +42,7 @@ from .free_body import (
     PoinsotGeometry,
     RegularPrecession,
 )
+from .free_motion import simulate_free_motion
 from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
 from .lagrange_top import (
@@ -99,6 +100,7 @@ from .torques import (
 )
 
 __all__ = [
+    "simulate_free_motion",
     "BodyInertialForces",
     "body_inertial_forces",
     "ForceSystem",
