@@ -553,7 +553,7 @@ def _scale(vectors: np.ndarray, length: float) -> float:
     return length / m if m > 0 else 0.0
 
 
-def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
+def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> tuple[np.ndarray, np.ndarray]:
     """``(x, y)`` of a time series, at most about ``m`` points; longer series keep
     the min and max of each of ``m/2`` bins (the envelope survives)."""
     n = t.size
@@ -563,8 +563,8 @@ def _series(t: np.ndarray, y: np.ndarray, m: int = _MAX_SERIES) -> dict:
         for a, b in zip(edges[:-1], edges[1:], strict=True):
             seg = y[a:b]
             idx += [a + int(np.nanargmin(seg)), a + int(np.nanargmax(seg))]
-        idx = np.unique(idx)
-        t, y = t[idx], y[idx]
+        keep = np.unique(idx)
+        t, y = t[keep], y[keep]
     return t, y
 
 
@@ -583,7 +583,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
     rigid = isinstance(tr, Trajectory)
     w = np.asarray(tr.omega) if rigid else np.zeros((t.size, 3))
     if np.any(w != 0):
-        series = [
+        series: list[tuple[str, Any, str, str | None]] = [
             (f"w{a + 1} (body {c})", w[:, a], _AXIS_COLOURS[a], None) for a, c in enumerate("xyz")
         ]
         if ref is not None and ref.t.shape == t.shape:
@@ -657,7 +657,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             for a in range(v.shape[-1]):
                 lst.append((f"{c.label} {'xyz'[a]}", v[:, a], _AXIS_COLOURS[a % 3], "dash"))
     for units, series in others.items():
-        names = ", ".join(
+        quantities = ", ".join(
             dict.fromkeys(
                 s[0].rsplit(" ", 1)[0] if s[3] else s[0].split(" (constant here")[0] for s in series
             )
@@ -667,7 +667,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             if steady[units]
             else "changes along this motion"
         )
-        out.append((f"{names} ({how})", units, series))
+        out.append((f"{quantities} ({how})", units, series))
     if tq is not None and np.any(tq != 0):
         out.append(
             (
@@ -739,7 +739,8 @@ def _build(
         layers.append({"type": type_, "name": name, "colour": colour, "legend": legend, **kw})
 
     unit = "m"
-    lo = hi = None
+    lo: Any = None  # the scene's box: set with the body or the path
+    hi: Any = None
     if show_scene and has_body and rot is not None:
         verts, tri, label, metres = _body_mesh(parts, J, mass, com)
         unit = "m" if metres else "scaled"
