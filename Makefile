@@ -24,6 +24,7 @@ browser:
 test: venv browser
 	$(PY) -m ruff check src tests benchmarks
 	$(PY) -m ruff format --check src tests benchmarks tools
+	$(PY) -m mypy src/poinsot
 	$(PY) -m pytest
 
 # The suite again with NumPy, SciPy and numba at the lowest versions pyproject.toml
