@@ -38,6 +38,7 @@ from .point import (
     FrenetFrame,
     frenet,
 )
+from .poisson_matrix import PoissonMatrixRun, integrate_poisson_matrix
 from .propagation import (
     propagate,
 )
@@ -68,6 +69,8 @@ from .screw import (
 )
 
 __all__ = [
+    "PoissonMatrixRun",
+    "integrate_poisson_matrix",
     "Centrodes",
     "acceleration_center",
     "centrodes",
