@@ -20,6 +20,7 @@ PAGES = [
     "kinematics-propagate.md",
     "guide-rotations.md",
     "integrators.md",
+    "lagrange.md",
 ]
 
 
