@@ -6,10 +6,16 @@ than :data:`NOISE` times the largest one prints as ``0`` (see :func:`clean`).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..trajectory import quantity_label
 from .schema import Scenario
+
+if TYPE_CHECKING:
+    pass
 
 __all__ = [
     "describe",
@@ -25,7 +31,7 @@ __all__ = [
 NOISE = 1e-12
 
 
-def clean(values, scale: float | None = None) -> np.ndarray:
+def clean(values: Any, scale: float | None = None) -> np.ndarray:
     """``values`` with the entries smaller than ``NOISE * scale`` set to 0
     (``scale``: the largest ``|value|`` by default); ``-0.0`` becomes ``0.0``.
 
@@ -42,7 +48,7 @@ def clean(values, scale: float | None = None) -> np.ndarray:
     return a + 0.0
 
 
-def fmt(x, digits: int = 4) -> str:
+def fmt(x: Any, digits: int = 4) -> str:
     """A number with ``digits`` significant digits (``-0`` printed as ``0``).
 
     Examples
@@ -53,7 +59,7 @@ def fmt(x, digits: int = 4) -> str:
     return f"{float(x) + 0.0:.{digits}g}"
 
 
-def fmt_vector(v, digits: int = 4) -> str:
+def fmt_vector(v: Any, digits: int = 4) -> str:
     """``[a, b, c]`` with round-off noise printed as 0.
 
     Examples
@@ -93,7 +99,7 @@ def describe_scenario(scenario: Scenario) -> str:
     return head + ", ".join(parts)
 
 
-def _drifts(inv: dict) -> str:
+def _drifts(inv: dict[str, Any]) -> str:
     kept = [
         f"{k.replace('_', ' ')} drift {v['max_relative_drift']:.2e}"
         for k, v in inv.items()
@@ -109,7 +115,7 @@ def _drifts(inv: dict) -> str:
     return ", ".join(changes) if changes else "done"
 
 
-def describe_comparison(comparison: dict) -> str:
+def describe_comparison(comparison: dict[str, Any]) -> str:
     """One line from ``accuracy.comparison`` of a summary: the largest difference of
     each state quantity from the reference run, in its units, and when.
 
@@ -133,7 +139,7 @@ def describe_comparison(comparison: dict) -> str:
     return f"vs {comparison['reference']}: " + (", ".join(parts) if parts else "no difference")
 
 
-def describe(result, *, title: str = "poinsot", notes=()) -> str:
+def describe(result: Any, *, title: str = "poinsot", notes: Iterable[str] = ()) -> str:
     """A short human summary of a run (printed by ``poinsot run`` and ``poinsot demo``).
 
     Examples

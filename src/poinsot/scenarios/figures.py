@@ -8,15 +8,20 @@ of :mod:`poinsot.plotting` on axes the writer provides.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from .kind import FigureSpec
+
+if TYPE_CHECKING:
+    from .summary import ScenarioResult
 
 __all__ = ["default_figures", "omega_figure", "invariants_figure"]
 
 
-def omega_figure(result) -> FigureSpec:
+def omega_figure(result: ScenarioResult) -> FigureSpec:
     """``omega.png``: body angular velocity of the method (and the reference, dashed)."""
 
-    def draw(ax):
+    def draw(ax: Any) -> Any:
         from ..plotting.scenario import plot_angular_velocity
 
         return plot_angular_velocity(
@@ -29,13 +34,13 @@ def omega_figure(result) -> FigureSpec:
     return FigureSpec("omega.png", draw)
 
 
-def invariants_figure(result) -> FigureSpec | None:
+def invariants_figure(result: ScenarioResult) -> FigureSpec | None:
     """``invariants.png``: relative change of every checked quantity, or None."""
     if not result.checks:
         return None
     tr, ref = result.trajectory, result.reference
 
-    def draw(ax):
+    def draw(ax: Any) -> Any:
         from ..plotting.scenario import plot_relative_change
 
         curves = {f"{c.label} ({tr.method})": c.relative_change() for c in result.checks}
@@ -52,7 +57,7 @@ def invariants_figure(result) -> FigureSpec | None:
     return FigureSpec("invariants.png", draw)
 
 
-def default_figures(result) -> list[FigureSpec]:
+def default_figures(result: ScenarioResult) -> list[FigureSpec]:
     """:func:`omega_figure` and, when there are checks, :func:`invariants_figure`."""
     figs = [omega_figure(result), invariants_figure(result)]
     return [f for f in figs if f is not None]

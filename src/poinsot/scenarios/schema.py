@@ -18,12 +18,15 @@ the origin of the body axes.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .. import integrators
 from ..dynamics.torques import STANDARD_GRAVITY  # the one value (m/s^2)
+
+if TYPE_CHECKING:
+    from ..rotations.rotation import Rotation
 
 __all__ = [
     "PartSpec",
@@ -54,7 +57,7 @@ OMEGA_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0, "rpm": 2.0 * np.pi / 60.0, 
 MAX_SAMPLES = 5_000_000
 
 
-def _frozen_array(a) -> np.ndarray:
+def _frozen_array(a: Any) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
     return a
@@ -85,7 +88,7 @@ class PartSpec:
         _freeze_mesh(self)
 
 
-def _freeze_mesh(spec) -> None:
+def _freeze_mesh(spec: Any) -> None:
     if spec.vertices is not None:
         object.__setattr__(spec, "vertices", _frozen_array(spec.vertices))
     if spec.faces is not None:
@@ -128,7 +131,7 @@ class AttitudeSpec:
     resolved (``quat``, scalar-first unit quaternion, body -> space)."""
 
     representation: str
-    values: tuple
+    values: tuple[Any, ...]
     quat: np.ndarray
     sequence: str | None = None
     degrees: bool | None = None
@@ -138,7 +141,7 @@ class AttitudeSpec:
         object.__setattr__(self, "quat", _frozen_array(self.quat))
 
     @property
-    def rotation(self):
+    def rotation(self) -> Rotation:
         from ..rotations.rotation import Rotation
 
         return Rotation.from_quat(self.quat)
@@ -280,7 +283,7 @@ class Scenario:
     spec: Any = None
 
     @property
-    def adapter(self):
+    def adapter(self) -> Any:  # the ScenarioKind (its methods are typed loosely)
         """The :class:`~poinsot.scenarios.kind.ScenarioKind` that solves this scenario."""
         from .registry import get_kind
 
