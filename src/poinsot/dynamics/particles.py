@@ -82,7 +82,7 @@ PARTICLE_SOLVERS = integrators.names("lagrangian")
 # ---------------------------------------------------------------------------
 
 
-def _as_frame(frame, name: str = "frame") -> FrameMotion:
+def _as_frame(frame: object, name: str = "frame") -> FrameMotion:
     if not isinstance(frame, FrameMotion):
         raise InvalidTypeError(
             f"Expected `{name}` to be a poinsot.kinematics.FrameMotion, got {type(frame).__name__}."
@@ -90,7 +90,7 @@ def _as_frame(frame, name: str = "frame") -> FrameMotion:
     return frame
 
 
-def _as_mass(mass, name: str = "mass") -> np.ndarray:
+def _as_mass(mass: ArrayLike, name: str = "mass") -> np.ndarray:
     m = as_float_array(mass, name)
     if np.any(m < 0):
         raise InvalidInputError(
@@ -99,7 +99,7 @@ def _as_mass(mass, name: str = "mass") -> np.ndarray:
     return m
 
 
-def _as_latitude(latitude, degrees) -> np.ndarray:
+def _as_latitude(latitude: ArrayLike, degrees: object) -> np.ndarray:
     degrees = as_bool(degrees, "degrees")
     lat = as_float_array(latitude, "latitude")
     if degrees:
@@ -114,7 +114,7 @@ def _as_latitude(latitude, degrees) -> np.ndarray:
     return np.clip(lat, -np.pi / 2, np.pi / 2)
 
 
-def _real(x, name: str) -> np.ndarray:
+def _real(x: ArrayLike, name: str) -> np.ndarray:
     return as_float_array(x, name)
 
 
@@ -209,7 +209,7 @@ def inertial_forces(
     cor = 2.0 * cross(frame.omega, v)
     mm = m[..., None]
 
-    def out(a):
+    def out(a: np.ndarray) -> np.ndarray:
         return np.broadcast_to(-mm * a, shape + (3,)).copy()
 
     origin, euler, centrifugal = out(w0), out(rot), out(cen)
@@ -331,7 +331,7 @@ def body_inertial_forces(
     return BodyInertialForces(r_e, m_e, r_c, m_c)
 
 
-def _frame_at(frame, t) -> FrameMotion:
+def _frame_at(frame: Any, t: float) -> FrameMotion:
     """The frame at time ``t``: a FrameMotion as is, a callable evaluated and checked."""
     if isinstance(frame, FrameMotion):
         return frame
@@ -538,7 +538,7 @@ class _Force:
             self.const = as_vec3(force, "force")
             self.fn = None
 
-    def __call__(self, t, r, v, index):
+    def __call__(self, t: float, r: np.ndarray, v: np.ndarray, index: Any) -> np.ndarray:
         if self.fn is None:
             c = self.const
             return c if c.ndim == 1 else c[index]
@@ -546,13 +546,13 @@ class _Force:
         return _call_force(self.fn, t, r, v, nonfinite=IntegrationError)
 
 
-def _frame_matrices(fr: FrameMotion):
+def _frame_matrices(fr: FrameMotion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(W0, A, B)``, ``J_e + J_c = -m (W0 + A r + B v)``: ``A = eps^ + w^ w^``, ``B = 2 w^``."""
     wh = hat(fr.omega)
     return fr.origin_acceleration, hat(fr.eps) + wh @ wh, 2.0 * wh
 
 
-def _tolerance(x, name: str, strict: bool) -> float:
+def _tolerance(x: ArrayLike, name: str, strict: bool) -> float:
     a = as_float_array(x, name, finite=False)
     if a.ndim != 0 or np.isnan(a) or not (a > 0 if strict else a >= 0):
         word = "positive" if strict else "non-negative"
@@ -695,7 +695,7 @@ def simulate_particle(
     for i in range(nb):
         mi = M[i]
 
-        def rhs(tn, y, i=i, mi=mi):
+        def rhs(tn: float, y: np.ndarray, i: int = i, mi: Any = mi) -> np.ndarray:
             r, v = y[:3], y[3:]
             if const:
                 w0, A, B = w0c, Ac, Bc
@@ -754,7 +754,9 @@ def simulate_particle(
     )
 
 
-def _frame_path(frame, t, rtol, atol, max_step):
+def _frame_path(
+    frame: Any, t: np.ndarray, rtol: float, atol: float, max_step: float
+) -> tuple[Any, np.ndarray, np.ndarray]:
     """Attitude (frame -> inertial), origin position and velocity (inertial axes) of the frame.
 
     A constant frame with ``W0 = 0`` moves in closed form (``R = exp((t - t0) w^)``,
@@ -774,7 +776,7 @@ def _frame_path(frame, t, rtol, atol, max_step):
         vo_in = np.broadcast_to(frame.origin_velocity, (t.size, 3)).copy()
         return rot, dt[:, None] * frame.origin_velocity, vo_in
 
-    def rhs(tn, y):
+    def rhs(tn: float, y: np.ndarray) -> np.ndarray:
         fr = _frame_at(frame, tn)
         q = y[:4]
         return np.concatenate(
@@ -1013,7 +1015,7 @@ class UniformGravity:
     def __call__(self, _t: float, _r: np.ndarray, _v: np.ndarray) -> np.ndarray:
         return np.array([0.0, 0.0, -self.mass * self.g])
 
-    def potential(self, r) -> np.ndarray:
+    def potential(self, r: np.ndarray) -> np.ndarray:
         """``m g z`` (J)."""
         return self.mass * self.g * np.asarray(r, dtype=float)[..., 2]
 
@@ -1039,7 +1041,7 @@ class PendulumForce:
         k = self.mass * self.g / self.length
         return np.array([-k * r[0], -k * r[1], 0.0])
 
-    def potential(self, r) -> np.ndarray:
+    def potential(self, r: np.ndarray) -> np.ndarray:
         """``m g (x^2 + y^2) / (2 l)`` (J)."""
         r = np.asarray(r, dtype=float)
         return 0.5 * self.mass * self.g / self.length * (r[..., 0] ** 2 + r[..., 1] ** 2)
