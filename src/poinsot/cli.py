@@ -25,6 +25,7 @@ import time
 import traceback
 import warnings
 from pathlib import Path
+from typing import Any
 
 __all__ = ["main", "build_parser"]
 
@@ -40,7 +41,7 @@ class ProgressBar:
     """A progress bar on stderr, drawn only on a terminal, after ``delay`` seconds,
     and not when ``quiet``."""
 
-    def __init__(self, *, quiet: bool = False, delay: float = 1.0, stream=None):
+    def __init__(self, *, quiet: bool = False, delay: float = 1.0, stream: Any = None) -> None:
         self.stream = sys.stderr if stream is None else stream
         isatty = getattr(self.stream, "isatty", None)
         self.enabled = not quiet and bool(isatty and isatty())
@@ -81,7 +82,15 @@ def _warn(message: str) -> None:
     print(f"{PROG}: warning: {message}", file=sys.stderr)
 
 
-def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()) -> None:
+def _print_result(
+    result: Any,
+    out: Path,
+    files: Any,
+    *,
+    quiet: bool,
+    title: str,
+    extra: Any = (),
+) -> None:
     acc = result.summary["accuracy"]
     for w in acc["warnings"]:  # on stderr, also with --quiet: results may be poor
         _warn(f"accuracy: {w}")
@@ -122,7 +131,7 @@ def _print_result(result, out: Path, files, *, quiet: bool, title: str, extra=()
     print(f"outputs: {out}{'/' if not str(out).endswith('/') else ''} ({names})")
 
 
-def _run_with_progress(scenario, out: Path, args):
+def _run_with_progress(scenario: Any, out: Path, args: argparse.Namespace) -> Any:
     """Run ``scenario`` into ``out`` (already prepared) with the options of ``run``/``demo``."""
     from .scenarios import run_scenario
 
@@ -143,14 +152,14 @@ def _run_with_progress(scenario, out: Path, args):
         bar.close()
 
 
-def _refuse_large(scenario, args) -> None:
+def _refuse_large(scenario: Any, args: argparse.Namespace) -> None:
     """Refuse a run beyond the limits before anything is created (exit 2)."""
     from .scenarios.solve import check_cost
 
     check_cost(scenario, duration=args.duration, allow_large=args.allow_large)
 
 
-def _cmd_run(args) -> int:
+def _cmd_run(args: argparse.Namespace) -> int:
     from .scenarios import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -163,7 +172,7 @@ def _cmd_run(args) -> int:
     return 0
 
 
-def _cmd_demo(args) -> int:
+def _cmd_demo(args: argparse.Namespace) -> int:
     from .scenarios import demo_scenario
 
     scenario = demo_scenario()
@@ -191,7 +200,7 @@ def _cmd_demo(args) -> int:
     return 0
 
 
-def _cmd_check(args) -> int:
+def _cmd_check(args: argparse.Namespace) -> int:
     from .scenarios import describe_scenario, estimate_cost, load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -234,7 +243,7 @@ def _repr_size(name: str, role: str) -> int:
     return _REPRS[name]
 
 
-def _from(name: str, v, degrees: bool, tolerance: float):
+def _from(name: str, v: Any, degrees: bool, tolerance: float) -> Any:
     from .rotations.rotation import Rotation
 
     if name.lower().startswith("euler:"):
@@ -256,7 +265,7 @@ def _from(name: str, v, degrees: bool, tolerance: float):
     return Rotation.from_mrp(v)
 
 
-def _to(name: str, r, degrees: bool):
+def _to(name: str, r: Any, degrees: bool) -> Any:
     import numpy as np
 
     if name.lower().startswith("euler:"):
@@ -277,7 +286,7 @@ def _to(name: str, r, degrees: bool):
     return r.as_mrp()
 
 
-def _canonical(q, scalar: int):
+def _canonical(q: Any, scalar: int) -> Any:
     """The sign of ``q`` (``q`` and ``-q`` are the same rotation) with the scalar part
     ``w >= 0``; if ``w = 0`` (to round-off, as printed), the first non-zero vector
     component positive."""
@@ -296,7 +305,7 @@ def _num(x: float) -> str:
     return "0" if s in ("0", "-0") else s
 
 
-def _nums(values, scale: float | None = None) -> list[str]:
+def _nums(values: Any, scale: float | None = None) -> list[str]:
     """15 significant digits, round-off noise (below 1e-12 of the largest) as 0."""
     from .scenarios.describe import clean
 
@@ -324,7 +333,7 @@ def _user_names(message: str, names: dict[str, str]) -> str:
     return message
 
 
-def _cmd_convert(args) -> int:
+def _cmd_convert(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .errors import PoinsotError
@@ -367,7 +376,7 @@ def _cmd_convert(args) -> int:
     return 0
 
 
-def _cmd_inertia(args) -> int:
+def _cmd_inertia(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .mass import principal_axes, solids
@@ -505,7 +514,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
-    def command(name: str, **kwargs) -> argparse.ArgumentParser:
+    def command(name: str, **kwargs: Any) -> argparse.ArgumentParser:
         # every subcommand also accepts --debug after its own arguments (hidden)
         p = sub.add_parser(name, formatter_class=_Formatter, **kwargs)
         p.add_argument(
@@ -513,7 +522,7 @@ def build_parser() -> argparse.ArgumentParser:
         )
         return p
 
-    def common_run(p):
+    def common_run(p: argparse.ArgumentParser) -> None:
         p.add_argument(
             "--out", metavar="DIR", help="output directory (default ./poinsot-out/<scenario name>)"
         )
@@ -540,7 +549,7 @@ def build_parser() -> argparse.ArgumentParser:
         )
         allow_large(p)
 
-    def allow_large(p):
+    def allow_large(p: argparse.ArgumentParser) -> None:
         p.add_argument(
             "--allow-large",
             action="store_true",
@@ -673,7 +682,7 @@ unreachable scheduler, 1 a bug.
 """
 
 
-def _cmd_ensemble(args) -> int:
+def _cmd_ensemble(args: argparse.Namespace) -> int:
     from .ensemble import run_scenario_ensemble
 
     client = None
@@ -685,7 +694,7 @@ def _cmd_ensemble(args) -> int:
             raise _Usage("--workers 0 (in this process) and --scheduler exclude each other")
         client, workers = "serial", None
 
-    def progress(done, total):
+    def progress(done: int, total: int) -> None:
         if not args.quiet:
             print(f"\rchunks {done}/{total}", end="", file=sys.stderr, flush=True)
 
@@ -741,7 +750,14 @@ def main(argv: list[str] | None = None) -> int:
         seen: set[str] = set()
         original = warnings.showwarning
 
-        def show(message, category, filename, lineno, file=None, line=None):
+        def show(
+            message: Any,
+            category: type[Warning],
+            filename: str,
+            lineno: int,
+            file: Any = None,
+            line: str | None = None,
+        ) -> None:
             if issubclass(category, PoinsotWarning):
                 text = f"{PROG}: warning: {message}"
                 if text not in seen:  # the same warning once, however often it is issued
