@@ -47,8 +47,9 @@ def _vector(v: Any, name: str) -> Any:
 def generalized_forces(
     positions: Sequence[Any], forces: Sequence[Any], coordinates: Any
 ) -> list[Any]:
-    """``Q_k = sum_i F_i . dr_i/dq_k`` (theory §11): the generalized forces of applied
-    forces ``F_i`` at the points ``r_i(q, t)``.
+    """The generalized forces of applied forces ``F_i`` at points ``r_i(q, t)`` (theory §11).
+
+    ``Q_k = sum_i F_i . dr_i/dq_k``.
 
     Parameters
     ----------
@@ -137,7 +138,9 @@ def transform_generalized_forces(
 
 @dataclass(frozen=True)
 class ConstraintKind:
-    """What :func:`constraint_kind` found for ``a(q, t) . q' + b(q, t) = 0``.
+    """What :func:`constraint_kind` found for a kinematic constraint.
+
+    The constraint is ``a(q, t) . q' + b(q, t) = 0``.
 
     Attributes
     ----------
@@ -179,7 +182,9 @@ def _plain(coords: list[Any], time: Any) -> tuple[list[Any], dict[Any, Any], dic
 def constraint_kind(
     coefficients: Sequence[Any], coordinates: Sequence[Any], bias: Any = 0, *, time: Any = None
 ) -> ConstraintKind:
-    """Is the kinematic constraint ``a(q, t) . q' + b(q, t) = 0`` holonomic (theory §11)?
+    """Whether a kinematic constraint linear in the velocities is holonomic (theory §11).
+
+    The constraint is ``a(q, t) . q' + b(q, t) = 0``.
 
     Frobenius: the 1-form ``w = sum a_k dq_k + b dt`` is integrable iff
     ``w ^ dw = 0``, i.e. ``a_i (d_j a_k - d_k a_j) + a_j (d_k a_i - d_i a_k) +
@@ -310,8 +315,9 @@ class FirstIntegralCheck:
 def is_first_integral(
     quantity: Any, system: Any, states: Sequence[Any] | None = None, *, time: Any = None
 ) -> FirstIntegralCheck:
-    """The symbolic test of a first integral: ``dG/dt + grad G . F = 0`` for ``x' = F(x, t)``
-    (theory §11).
+    """The symbolic test of a first integral ``G`` of ``x' = F(x, t)`` (theory §11).
+
+    ``G`` is conserved iff ``dG/dt + grad G . F = 0``.
 
     Parameters
     ----------
