@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ..trajectory import quantity_label
 from .kind import Chart, FigureSpec
 
 __all__ = ["write_scenario_report", "unit_charts", "difference_charts", "figure_sections"]
@@ -160,7 +161,8 @@ def difference_charts(result) -> list[Chart]:
             continue
         d = np.asarray(ch.values, dtype=float) - np.asarray(cb[name].values, dtype=float)
         d = np.linalg.norm(d, axis=-1) if d.ndim == 2 else np.abs(d)
-        label = f"|{name} - {name} ({b.method})|"
+        shown = quantity_label(name)
+        label = f"|{shown} - {shown} ({b.method})|"
         groups.setdefault(ch.units, {})[label] = d
     return [
         Chart(f"difference from the reference run ({b.method}), {units}", units, d)
