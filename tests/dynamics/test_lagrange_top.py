@@ -21,6 +21,7 @@ from scipy.integrate import solve_ivp
 
 from poinsot import InvalidInputError, Rotation
 from poinsot.dynamics import (
+    MOTION_TYPES,
     FreeRigidBody,
     HeavyRigidBody,
     LagrangeTop,
@@ -440,3 +441,16 @@ def test_fourier_and_carlson_third_kind_agree(name):
     w_c, r_c = top.state(t)
     assert np.abs(w_f - w_c).max() < 1e-12
     assert _qdist(r_f.as_quat(), r_c.as_quat()) < 1e-12
+
+
+def test_no_spin_no_vertical_momentum_is_a_plane_pendulum():
+    """H = K_z = 0 (issue 20): the top is a plane pendulum, labelled "pendulum" (not
+    "cusps"): the axis stays in one vertical plane (psi constant, or turned by pi where
+    the axis swings through the downward pole, theta = pi)."""
+    top = LagrangeTop(1.0, 0.5, 2.0, theta=0.6, spin=0.0)
+    assert top.motion_type == "pendulum"
+    t = np.linspace(0.0, 5.0, 11)
+    np.testing.assert_allclose(np.sin(top.psi(t) - top.psi(0.0)), 0.0, atol=1e-12)
+    assert top.motion_type in MOTION_TYPES
+    spinning = LagrangeTop(1.0, 0.5, 2.0, theta=0.6, spin=1e-3)
+    assert spinning.motion_type == "cusps"

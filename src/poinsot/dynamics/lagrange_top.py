@@ -95,7 +95,15 @@ __all__ = [
 ]
 
 #: The values of :attr:`LagrangeTop.motion_type`.
-MOTION_TYPES = ("regular precession", "waves", "cusps", "loops", "sleeping", "asymptotic")
+MOTION_TYPES = (
+    "regular precession",
+    "waves",
+    "cusps",
+    "loops",
+    "sleeping",
+    "asymptotic",
+    "pendulum",
+)
 
 _EPS = float(np.finfo(float).eps)
 #: psi' at a band edge within this fraction of the largest psi' scale counts as zero (cusps).
@@ -937,6 +945,11 @@ class LagrangeTop:
         if x2 == x3 == s.om and s.g > 0:
             s.kind = "asymptotic"
             return
+        if big_h == 0.0 and a * s.L == 0.0:
+            # no spin and no momentum about the vertical: psi' = 0 for ever, the axis
+            # swings in a vertical plane (a spherical pendulum reduced to a plane one)
+            s.kind = "pendulum"
+            return
         n1 = a * s.L - big_h * x1  # K_z - H u at u1 (times 1)
         n2 = a * s.L - big_h * x2
         # at a pole the limit of psi' = (K_z - H u) / (A (1 - u^2)) is +-H / (2 A)
@@ -1170,7 +1183,9 @@ class LagrangeTop:
         ``"regular precession"`` (``u1 = u2``), ``"sleeping"`` (vertical axis,
         stable), ``"asymptotic"`` (on the separatrix ``u2 = u3 = 1``, including the
         unstable upright equilibrium), ``"cusps"`` (``psi' = 0`` at a bound, e.g.
-        released from rest), ``"waves"`` (same sign), ``"loops"`` (opposite signs).
+        released from rest), ``"waves"`` (same sign), ``"loops"`` (opposite signs),
+        ``"pendulum"`` (``H = K_z = 0``: no spin and no momentum about the vertical,
+        the axis swings in a vertical plane with ``psi'`` identically 0).
         """
         return self._s.kind
 
