@@ -80,6 +80,7 @@ INFO_KEYS = {
     "motion_type": "kind of motion of a closed form (e.g. a Lagrange top's nutation type)",
     "path": "which implementation ran (e.g. compiled kernel or solve_ivp fallback)",
     "failed": "why each body of a batch failed ('' if it did not; failures='mark' only)",
+    "orthonormality_drift": "largest entry of abs(C^T C - E), matrix integration (propagate)",
 }
 
 _XYZ = ("x", "y", "z")

@@ -50,3 +50,17 @@ def test_loose_tolerance_shows_the_drift_and_bad_input_is_named():
     assert run.orthonormality_drift[-1] > 1e-6  # a matrix integration is not orthogonal
     with pytest.raises(InvalidInputError, match="equations"):
         integrate_poisson_matrix(R0, W, T, equations=4)
+
+
+@pytest.mark.parametrize("representation", ["dcm", "dcm6"])
+def test_propagate_with_the_matrix_representation(representation):
+    """propagate(..., representation="dcm"/"dcm6") runs the matrix equation and agrees
+    with the quaternion propagation; the drift is in info."""
+    q = propagate(R0, lambda t: W, T, method="adaptive", rtol=1e-12, atol=1e-14)
+    m = propagate(R0, W, T, method="adaptive", rtol=1e-12, atol=1e-14,
+                  representation=representation)  # fmt: skip
+    assert np.max((q.rotation.inv() * m.rotation).magnitude()) < 1e-9
+    assert 0 <= m.info["orthonormality_drift"] < 1e-9
+    np.testing.assert_allclose(m.omega, np.broadcast_to(W, (T.size, 3)))
+    with pytest.raises(InvalidInputError, match="method='adaptive'"):
+        propagate(R0, W, T, representation=representation)

@@ -375,6 +375,7 @@ def propagate(
     vectorized: bool = False,
     rtol: float | None = None,
     atol: float | None = None,
+    representation: str = "quaternion",
 ) -> Trajectory:
     """Attitude from angular velocity: integrate Poisson's equation (theory §5, task (a)).
 
@@ -427,6 +428,14 @@ def propagate(
         Whether the callable ``omega`` accepts an array of times (faster).
     rtol, atol : float, optional
         Tolerances of ``"adaptive"`` (defaults ``1e-10`` and ``1e-12``).
+    representation : {"quaternion", "dcm", "dcm6"}, optional
+        ``"quaternion"`` (default): the methods above. ``"dcm"`` / ``"dcm6"``:
+        Poisson's matrix equation itself, 9 equations or the course's 6 (the third
+        column the cross product), integrated by SciPy's DOP853 for one body with a
+        constant or callable ``omega`` (:func:`integrate_poisson_matrix`, with
+        ``method="adaptive"``); the result's ``rotation`` is the nearest rotation and
+        ``info["orthonormality_drift"]`` the largest ``|C^T C - E|``, so that a
+        course can compare matrices with quaternions.
 
     Returns
     -------
@@ -492,6 +501,9 @@ def propagate(
         )
     method = integrators.check_method(method, METHODS, "attitude propagation")
     frame = as_choice(frame, "frame", FRAMES)
+    representation = as_choice(representation, "representation", ("quaternion", "dcm", "dcm6"))
+    if representation != "quaternion":
+        return _propagate_matrix(rotation0, omega, t, frame, method, representation, rtol, atol)
     vectorized = as_bool(vectorized, "vectorized")
     steps_per_sample = as_int(steps_per_sample, "steps_per_sample", minimum=1)
     if max_step is not None:
@@ -584,3 +596,43 @@ def propagate(
         method=method,
         info=info,
     )
+
+
+def _propagate_matrix(
+    rotation0: Any,
+    omega: Any,
+    t: ArrayLike,
+    frame: str,
+    method: str,
+    representation: str,
+    rtol: float | None,
+    atol: float | None,
+) -> Trajectory:
+    """``propagate(..., representation="dcm" | "dcm6")``: Poisson's matrix equation."""
+    from .poisson_matrix import integrate_poisson_matrix
+
+    if method != "adaptive":
+        raise InvalidInputError(
+            f"`representation={representation!r}` integrates the matrix equation with "
+            f"method='adaptive' (SciPy's DOP853), got method={method!r}."
+        )
+    run = integrate_poisson_matrix(
+        rotation0,
+        omega,
+        t,
+        frame=frame,
+        equations=9 if representation == "dcm" else 6,
+        rtol=1e-10 if rtol is None else float(rtol),
+        atol=1e-12 if atol is None else float(atol),
+    )
+    w = np.array([np.asarray(omega(tk) if callable(omega) else omega, dtype=float) for tk in run.t])
+    if frame == "space":
+        w = run.rotation.apply(w, inverse=True)
+    info = {
+        "solver": f"DOP853 on the matrix equation ({run.equations} equations)",
+        "rtol": 1e-10 if rtol is None else float(rtol),
+        "atol": 1e-12 if atol is None else float(atol),
+        "frame": frame,
+        "orthonormality_drift": float(run.orthonormality_drift.max()),
+    }
+    return Trajectory(run.t, run.rotation, w, "adaptive", info=info)
