@@ -81,3 +81,20 @@ def test_first_integrals_of_lagrangian_systems():
     assert not check.is_integral
     assert sympy.simplify(check.residual + c * x.diff() ** 2) == 0
     assert osc.degrees_of_freedom == 1
+
+
+def test_generalized_forces_run_numerically_through_to_numeric():
+    """Gravity on a pendulum bob given as an applied force (through generalized_forces)
+    moves the bob exactly as the same gravity given as a potential."""
+    import numpy as np
+
+    th = dynamicsymbols("theta")
+    m, g, ell = 1.3, 9.81, 0.7
+    kin = m * ell**2 * th.diff() ** 2 / 2
+    q = generalized_forces([[ell * sympy.sin(th), -ell * sympy.cos(th)]], [[0, -m * g]], [th])
+    by_force = LagrangeSystem([th], kin, 0, generalized_forces=q).to_numeric()
+    by_potential = LagrangeSystem([th], kin, -m * g * ell * sympy.cos(th)).to_numeric()
+    t = np.linspace(0.0, 2.0, 21)
+    a = by_force.simulate([1.0], [0.0], t, rtol=1e-12, atol=1e-14)
+    b = by_potential.simulate([1.0], [0.0], t, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(a.q, b.q, atol=1e-10)
