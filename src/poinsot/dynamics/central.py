@@ -42,7 +42,7 @@ from .._vec import cross, dot
 from ..errors import AccuracyWarning, IntegrationError, InvalidInputError, InvalidTypeError
 
 if TYPE_CHECKING:
-    from ..trajectory import Trajectory
+    from ..trajectory import PointTrajectory
 
 __all__ = [
     "Potential",
@@ -124,7 +124,7 @@ class Potential:
     def __repr__(self) -> str:
         return f"Potential({self.name})"
 
-    def _raw(self, r, f=None):
+    def _raw(self, r: ArrayLike, f: Callable[[Any], Any] | None = None) -> FloatArray:
         f = self._f if f is None else f
         with np.errstate(all="ignore"):
             try:
@@ -151,7 +151,7 @@ class Potential:
         r = as_float_array(r, "r")
         return _checked(self._deriv(r), r, "potential derivative")
 
-    def _deriv(self, r):
+    def _deriv(self, r: FloatArray) -> FloatArray:
         if self._df is not None:
             return self._raw(r, self._df)
         h = 1e-3 * np.abs(r)
@@ -192,7 +192,7 @@ def _as_potential(potential: object) -> Potential:
     return Potential(potential)
 
 
-def _checked(u, r, what):
+def _checked(u: FloatArray, r: ArrayLike, what: str) -> FloatArray:
     if not np.all(np.isfinite(u)):
         bad = np.asarray(r)[~np.isfinite(u)] if np.ndim(u) else np.asarray(r)
         raise InvalidInputError(
@@ -202,7 +202,7 @@ def _checked(u, r, what):
     return u
 
 
-def _coef(x, name) -> float:
+def _coef(x: ArrayLike, name: str) -> float:
     a = as_float_array(x, name)
     if a.ndim:
         raise InvalidInputError(f"Expected `{name}` to be a scalar, got shape {a.shape}.")
@@ -316,12 +316,8 @@ _MAX_GAUSS = 1024
 
 
 @functools.lru_cache(maxsize=16)
-def _leggauss(n):
+def _leggauss(n: int) -> tuple[FloatArray, FloatArray]:
     return np.polynomial.legendre.leggauss(n)
-
-
-def _midpoint_nodes(n):
-    return -0.5 * np.pi + (np.arange(n) + 0.5) * (np.pi / n)
 
 
 class CentralOrbit:
@@ -492,17 +488,17 @@ class CentralOrbit:
         r = as_float_array(r, "r")
         return self.potential(r) + self.angular_momentum**2 / (2.0 * self.mass * r**2)
 
-    def _ueff_raw(self, r):
+    def _ueff_raw(self, r: FloatArray) -> FloatArray:
         with np.errstate(over="ignore", under="ignore"):
             return self.potential._raw(r) + self.angular_momentum**2 / (2.0 * self.mass * r**2)
 
-    def _gap(self, r):
+    def _gap(self, r: FloatArray) -> FloatArray:
         """``E - U_eff(r)`` (checked finite)."""
         u = self._ueff_raw(r)
         _checked(u, r, "potential")
         return self.energy - u
 
-    def _gap_nodes(self, r, off1, off2):
+    def _gap_nodes(self, r: FloatArray, off1: FloatArray, off2: FloatArray) -> FloatArray:
         """``E - U_eff(r)`` at quadrature nodes, free of cancellation near the apsides.
 
         ``off1 = r - r_min`` and ``off2 = r_max - r`` are given accurately by the
@@ -525,11 +521,11 @@ class CentralOrbit:
             gap[sel] = -sign * h * (self._ueff_deriv(rho) @ w)
         return gap
 
-    def _ueff_deriv(self, r):
+    def _ueff_deriv(self, r: FloatArray) -> FloatArray:
         """``U_eff'(r) = U'(r) - L^2 / (m r^3)``."""
         return self.potential._deriv(r) - self.angular_momentum**2 / (self.mass * r**3)
 
-    def _find_apsides(self, radius):
+    def _find_apsides(self, radius: float | None) -> None:
         from scipy.optimize import brentq, minimize_scalar
 
         E = self.energy
@@ -576,7 +572,7 @@ class CentralOrbit:
             start = rs
         else:
             gap = float(self._gap(np.array(radius)))
-            scale = abs(E) + abs(float(self._ueff_raw(radius)))
+            scale = abs(E) + abs(float(self._ueff_raw(np.array(radius))))
             if gap < -1e-12 * scale:
                 raise InvalidInputError(
                     f"Expected U_eff(radius) <= energy, got U_eff({radius:g}) = "
@@ -584,7 +580,9 @@ class CentralOrbit:
                 )
             start = radius
 
-        f = lambda r: float(self._gap(np.array(r)))  # noqa: E731
+        def f(r: float) -> float:
+            return float(self._gap(np.array(r)))
+
         g0 = f(start)
         scale = abs(E) + abs(E - g0) + _EPS
         self._circular = False
@@ -652,7 +650,7 @@ class CentralOrbit:
                 x, w = _leggauss(32)
                 r1 = self._r1
 
-                def rise(r2):
+                def rise(r2: float) -> float:
                     h = 0.5 * (r2 - r1)
                     return h * float(self._ueff_deriv(r1 + h * (x + 1.0)) @ w)
 
@@ -678,7 +676,7 @@ class CentralOrbit:
 
     # -- quadratures --------------------------------------------------------
 
-    def _bound_integrals(self, n):
+    def _bound_integrals(self, n: int) -> tuple[float, float]:
         """``(half radial period, apsidal angle)`` by the midpoint rule with n nodes.
 
         ``r = r1 + 2 d sin^2(sigma/2) = r2 - 2 d cos^2(sigma/2)``, ``d = (r2 - r1)/2``,
@@ -697,7 +695,7 @@ class CentralOrbit:
         ang = w * np.sum(inv * (abs(self.angular_momentum) / (self.mass * r * r)))
         return half_t, ang
 
-    def _unbound_angle(self, n):
+    def _unbound_angle(self, n: int) -> float:
         """Angle from pericentre to infinity, ``u = 1/r = u1 cos^2 sigma`` (Gauss-Legendre
         on ``sigma`` in ``(0, pi/2)``): ``dphi = (L/m) du / sqrt(2 (E - U_eff) / m)``."""
         x, wts = _leggauss(n)
@@ -716,7 +714,9 @@ class CentralOrbit:
         )
         return 0.25 * np.pi * np.sum(wts * integrand)
 
-    def _converged(self, fn, start=16, max_nodes=_MAX_NODES):
+    def _converged(
+        self, fn: Callable[[int], Any], start: int = 16, max_nodes: int = _MAX_NODES
+    ) -> Any:
         prev = None
         n = start
         while n <= max_nodes:
@@ -742,7 +742,10 @@ class CentralOrbit:
 
         if self._circular:
             return self._r1
-        f = lambda r: float(self._ueff_deriv(np.array(r)))  # noqa: E731
+
+        def f(r: float) -> float:
+            return float(self._ueff_deriv(np.array(r)))
+
         lo, hi = self._r1, self._r2
         for _ in range(60):  # the apsides may be off by ~sqrt(eps): widen the bracket
             if f(lo) < 0 < f(hi):
@@ -838,7 +841,7 @@ class CentralOrbit:
 
     # -- pericentre of the initial state ---------------------------------------
 
-    def _partial(self, r0, n):
+    def _partial(self, r0: float, n: int) -> FloatArray:
         """Time and angle (>= 0) from the pericentre out to ``r0`` (Gauss-Legendre)."""
         r1, r2 = self._r1, self._r2
         x, wts = _leggauss(n)
@@ -866,7 +869,7 @@ class CentralOrbit:
         ang = h * np.sum(wts * inv * abs(self.angular_momentum) / (self.mass * r * r))
         return np.array([t, ang])
 
-    def _pericentre_offsets(self):
+    def _pericentre_offsets(self) -> tuple[float, float]:
         """``(t_p, phi_p)``: time of the pericentre passage and its angle from ``e1``."""
         if self._circular or self._r0 <= self._r1:
             return 0.0, 0.0
@@ -926,14 +929,14 @@ class CentralOrbit:
             period, n = math.inf, math.sqrt(mu / (m * (-a) ** 3))
         return KeplerConic(p=p, e=e, a=a, period=period, mean_motion=n)
 
-    def _kepler_true_anomaly_at(self, r, rdot):
+    def _kepler_true_anomaly_at(self, r: float, rdot: float) -> float:
         """``nu`` from ``e cos nu = p/r - 1`` and ``e sin nu = r' m p / |L|`` (atan2)."""
         c = self.conic
         if c.e == 0:
             return 0.0
         return math.atan2(rdot * self.mass * c.p / abs(self.angular_momentum), c.p / r - 1.0)
 
-    def _kepler_time_since_pericentre(self):
+    def _kepler_time_since_pericentre(self) -> float:
         c = self.conic
         r, rdot = self._r0, self._rdot0
         mu = self.potential.kepler_mu
@@ -955,7 +958,7 @@ class CentralOrbit:
         dd = math.tan(0.5 * nu)
         return (dd + dd**3 / 3.0) / (2.0 * c.mean_motion)
 
-    def _kepler_polar(self, t):
+    def _kepler_polar(self, t: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """``(r, nu)`` at times ``t`` (since ``t = 0``) from Kepler's equation."""
         c = self.conic
         tau = np.asarray(t, dtype=float) - self._peri_time
@@ -990,7 +993,7 @@ class CentralOrbit:
 
     # -- the orbit -----------------------------------------------------------
 
-    def _plane_to_space(self, r, phi):
+    def _plane_to_space(self, r: FloatArray, phi: FloatArray) -> FloatArray:
         x = r * np.cos(phi)
         y = r * np.sin(phi)
         return x[..., None] * self._basis[:, 0] + y[..., None] * self._basis[:, 1]
@@ -1005,7 +1008,9 @@ class CentralOrbit:
         r, _, phi = self._polar3(t, method, rtol)
         return r, phi
 
-    def _polar3(self, t, method, rtol):
+    def _polar3(
+        self, t: ArrayLike, method: str, rtol: float
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``(r, r', phi)`` at times ``t``."""
         t = as_float_array(t, "t")
         method = as_choice(method, "method", ("auto", "kepler", "integrate"))
@@ -1056,7 +1061,9 @@ class CentralOrbit:
         r, phi = self.polar(t, method=method, rtol=rtol)
         return self._plane_to_space(r, phi)
 
-    def trajectory(self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12) -> Trajectory:
+    def trajectory(
+        self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12
+    ) -> PointTrajectory:
         """The orbit as a :class:`poinsot.trajectory.PointTrajectory` on times ``t`` (n,).
 
         ``position`` and ``velocity`` in inertial (space) axes (m, m/s), ``mass``
@@ -1067,7 +1074,7 @@ class CentralOrbit:
         """
         return _trajectory(self, t, method, rtol)
 
-    def _integrate(self, t, rtol):
+    def _integrate(self, t: FloatArray, rtol: float) -> tuple[FloatArray, FloatArray, FloatArray]:
         rtol = _coef(rtol, "rtol")
         if not rtol > 0:
             raise InvalidInputError(f"Expected `rtol` > 0, got {rtol!r}.")
@@ -1075,7 +1082,9 @@ class CentralOrbit:
             return self._integrate_binet(t, rtol)
         return self._integrate_time(t, rtol)
 
-    def _integrate_binet(self, t, rtol):
+    def _integrate_binet(
+        self, t: FloatArray, rtol: float
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``(r, r', phi)`` of a bound orbit by integrating in the swept angle ``psi``.
 
         Binet's form ``u'' + u = (m / (L^2 u^2)) U'(1/u)`` with ``u = 1/r`` and
@@ -1090,7 +1099,7 @@ class CentralOrbit:
         m, L = self.mass, abs(self.angular_momentum)
         d = self.potential._deriv
 
-        def rhs(_psi, y):
+        def rhs(_psi: float, y: FloatArray) -> FloatArray:
             u = y[0]
             return np.array(
                 [y[1], -u + m * float(d(np.array(1.0 / u))) / (L * L * u * u), m / (L * u * u)]
@@ -1127,14 +1136,16 @@ class CentralOrbit:
         phi = sgn_l * (psi + 2.0 * angle * k)
         return r.reshape(t.shape), rdot.reshape(t.shape), phi.reshape(t.shape)
 
-    def _integrate_time(self, t, rtol):
+    def _integrate_time(
+        self, t: FloatArray, rtol: float
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``(r, r', phi)`` by DOP853 in time (unbound and nearly circular orbits)."""
         from scipy.integrate import solve_ivp
 
         m, L = self.mass, self.angular_momentum
         d = self.potential._deriv
 
-        def rhs(_t, y):
+        def rhs(_t: float, y: FloatArray) -> FloatArray:
             r = y[0]
             acc = L * L / (m * m * r**3) - float(d(np.array(r))) / m
             return np.array([y[1], acc, L / (m * r * r)])
@@ -1184,7 +1195,7 @@ class CentralOrbit:
         return r[..., None] * e_r, rdot[..., None] * e_r + (r * phidot)[..., None] * e_phi
 
 
-def _trajectory(orbit, t, method, rtol):
+def _trajectory(orbit: CentralOrbit, t: ArrayLike, method: str, rtol: float) -> PointTrajectory:
     from ..trajectory import PointTrajectory
 
     t = as_float_array(t, "t")
@@ -1205,13 +1216,13 @@ def _trajectory(orbit, t, method, rtol):
         v,
         "exact" if used == "kepler" else "adaptive",
         frame_name="inertial",
-        mass=orbit.mass,
+        mass=np.asarray(orbit.mass, dtype=np.float64),
         energy=energy,
         info=info,
     )
 
 
-def _solve_kepler(M, e):
+def _solve_kepler(M: ArrayLike, e: float) -> FloatArray:
     """Eccentric anomaly ``E - e sin E = M`` for ``M`` in [-pi, pi] (Newton, vectorised)."""
     M = np.asarray(M, dtype=float)
     ea = np.where(e < 0.8, M, np.pi * np.sign(M))
@@ -1225,7 +1236,7 @@ def _solve_kepler(M, e):
     return ea
 
 
-def _solve_hyperbolic(M, e):
+def _solve_hyperbolic(M: ArrayLike, e: float) -> FloatArray:
     """Hyperbolic anomaly ``e sinh H - H = M`` (Newton from ``asinh(M/e)``-like start)."""
     M = np.asarray(M, dtype=float)
     hh = np.sign(M) * np.log(2.0 * np.abs(M) / e + 1.8)

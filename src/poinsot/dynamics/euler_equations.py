@@ -57,13 +57,13 @@ returned is the space vector ``K_s = R J w``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .. import _quat, integrators
-from .._typing import ArrayLike, FloatArray
+from .._typing import ArrayLike, FloatArray, IntArray
 from .._validate import (
     as_choice,
     as_float_array,
@@ -278,14 +278,14 @@ def _tolerances(rtol: ArrayLike, atol: ArrayLike) -> tuple[float, float]:
 class _TorqueCall:
     """Evaluates a :class:`~poinsot.dynamics.TorqueModel` on a flattened batch."""
 
-    def __init__(self, model, batch: tuple[int, ...], method: str):
+    def __init__(self, model: Any, batch: tuple[int, ...], method: str) -> None:
         self.model = model
         self.method = method
         self.batch = batch
         self.n = math.prod(batch)
         self.calls = 0
 
-    def __call__(self, t, q, w):
+    def __call__(self, t: float, q: FloatArray, w: FloatArray) -> FloatArray:
         """``q`` (N, 4), ``w`` (N, 3) -> torque (N, 3) in body axes."""
         self.calls += 1
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(w))) or np.any(
@@ -594,7 +594,14 @@ FAILURE_REASONS = {
 }
 
 
-def _fused_info(fused, tt, rtol, atol, *, mark: bool = False):
+def _fused_info(
+    fused: tuple[FloatArray, FloatArray, Any],
+    tt: FloatArray,
+    rtol: float,
+    atol: float,
+    *,
+    mark: bool = False,
+) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     """Outputs and ``info`` of the compiled DOP853 run; raise if any body failed
     (``mark``: hold each failed body at its last finite state and name the reason)."""
     from . import _fused
@@ -648,7 +655,9 @@ def _fail_nonfinite(method: str, t_reached: float, what: str) -> IntegrationErro
     )
 
 
-def _fixed_step_info(t, nsub, comp=(1.0,)):
+def _fixed_step_info(
+    t: FloatArray, nsub: IntArray, comp: Sequence[float] = (1.0,)
+) -> dict[str, Any]:
     h = np.diff(t) / nsub if t.size > 1 else np.zeros(0)
     return {
         "steps": int(nsub.sum()),
@@ -669,7 +678,9 @@ COMPOSITIONS = {
 }
 
 
-def _stages(t, nsub, comp):
+def _stages(
+    t: FloatArray, nsub: IntArray, comp: Sequence[float]
+) -> Iterator[tuple[int, float, float, bool]]:
     """Yield ``(k, t_start, h, last)`` for every stage of every step in output interval
     ``k``; ``last`` marks the stage that ends the interval."""
     nc = len(comp)
@@ -682,7 +693,15 @@ def _stages(t, nsub, comp):
                 tn += hk * c
 
 
-def _kernel_args(q, m, inertia, torque, t, nsub, comp):
+def _kernel_args(
+    q: ArrayLike,
+    m: ArrayLike,
+    inertia: ArrayLike,
+    torque: ArrayLike,
+    t: ArrayLike,
+    nsub: ArrayLike,
+    comp: Sequence[float],
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, Any, FloatArray]:
     """Contiguous float64 (int64 for ``nsub``) arrays in the order the compiled
     steppers of :mod:`._euler_numba` take them."""
     c = np.ascontiguousarray
@@ -697,7 +716,17 @@ def _kernel_args(q, m, inertia, torque, t, nsub, comp):
     )
 
 
-def _run_midpoint(j, j_inv, q, w, t, h_max, comp, m_const, tfn):
+def _run_midpoint(
+    j: FloatArray,
+    j_inv: FloatArray,
+    q: FloatArray,
+    w: FloatArray,
+    t: FloatArray,
+    h_max: float,
+    comp: Sequence[float],
+    m_const: Any,
+    tfn: Any,
+) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     nsub = _substeps(t, h_max)
     m = np.einsum("...ij,...j->...i", j, w)
     info = _fixed_step_info(t, nsub, comp)
@@ -722,7 +751,15 @@ def _run_midpoint(j, j_inv, q, w, t, h_max, comp, m_const, tfn):
     return Q, ws, info
 
 
-def _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn):
+def _midpoint_numpy(
+    j_inv: FloatArray,
+    q: FloatArray,
+    m: FloatArray,
+    t: FloatArray,
+    nsub: IntArray,
+    comp: Sequence[float],
+    tfn: Any,
+) -> tuple[FloatArray, FloatArray, int]:
     """The midpoint step of :mod:`._euler_numba`, vectorised over the batch with NumPy,
     for a torque that is a Python function of ``(t, rotation, omega)``."""
     n = t.shape[0]
@@ -741,7 +778,15 @@ def _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn):
     return Q, MO, worst
 
 
-def _midpoint_step_numpy(j_inv, q, m, tn, h, tfn, mt=None):
+def _midpoint_step_numpy(
+    j_inv: FloatArray,
+    q: FloatArray,
+    m: FloatArray,
+    tn: float,
+    h: float,
+    tfn: Any,
+    mt: FloatArray | None = None,
+) -> tuple[FloatArray, FloatArray, FloatArray, int]:
     """One midpoint step ``(q, m) -> (q+, m+)`` of length ``h`` from ``tn`` (see simulate).
 
     ``mt`` (the previous step's midpoint torque) seeds the first guess; returns
@@ -789,7 +834,17 @@ def _midpoint_step_numpy(j_inv, q, m, tn, h, tfn, mt=None):
     return q, m, mt, it
 
 
-def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn, gravity=None):
+def _run_splitting(
+    j: FloatArray,
+    q: FloatArray,
+    w: FloatArray,
+    t: FloatArray,
+    h_max: float,
+    comp: Sequence[float],
+    m_const: Any,
+    tfn: Any,
+    gravity: Any = None,
+) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     """Strang splitting of the free-body Hamiltonian, with the torque as kicks.
 
     In principal axes (moments ``I0 <= I1 <= I2``) write
@@ -815,7 +870,7 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn, gravity=None):
     q_np = _qmul(q, s_bp)
     m = _qrot(s_pb, np.einsum("...ij,...j->...i", j, w))  # principal-axes momentum
 
-    def kick(tn, q_np, m, dt):
+    def kick(tn: float, q_np: FloatArray, m: FloatArray, dt: float) -> FloatArray:
         if m_const is None and tfn is None:
             return m
         if tfn is None:
@@ -824,7 +879,9 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn, gravity=None):
             mt = tfn(tn, _qmul(q_np, s_pb), _qrot(s_bp, m * inv_i))
         return m + dt * _qrot(s_pb, mt)
 
-    def axis_flow(q_np, m, i, dt):
+    def axis_flow(
+        q_np: FloatArray, m: FloatArray, i: int, dt: float
+    ) -> tuple[FloatArray, FloatArray]:
         theta = dt * c_axis[:, i] * m[:, i]
         a, b = (i + 1) % 3, (i + 2) % 3
         c, s = np.cos(theta), np.sin(theta)
@@ -834,14 +891,14 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn, gravity=None):
         m[:, b] = c * mb - s * ma
         return _qmul(q_np, _axis_quat(theta, i)), m
 
-    def iso_flow(q_np, m, dt):
+    def iso_flow(q_np: FloatArray, m: FloatArray, dt: float) -> FloatArray:
         return _qmul(q_np, _rotvec_quat(dt * inv_i[:, 1:2] * m))
 
     if tfn is None:
         from . import _euler_numba
 
         mt = np.zeros((1, 3)) if m_const is None else _qrot(s_pb, m_const)
-        args = _kernel_args(q_np, m, inv_i, mt, t, nsub, comp)
+        args: tuple[Any, ...] = _kernel_args(q_np, m, inv_i, mt, t, nsub, comp)
         if gravity is not None:
             args = (*args, np.ascontiguousarray(_qrot(s_pb, gravity), dtype=float))
         Q, MO, status, body, k = _euler_numba.splitting(*args)
@@ -870,13 +927,15 @@ def _run_splitting(j, q, w, t, h_max, comp, m_const, tfn, gravity=None):
     return Q, Wo, _fixed_step_info(t, nsub, comp)
 
 
-def _torque_value(m_const, tfn, tn, q, w):
+def _torque_value(m_const: Any, tfn: Any, tn: float, q: FloatArray, w: FloatArray) -> Any:
     if tfn is not None:
         return tfn(tn, q, w)
     return m_const
 
 
-def _run_rk4_compiled(j, q, w, t, h_max, model):
+def _run_rk4_compiled(
+    j: FloatArray, q: FloatArray, w: FloatArray, t: FloatArray, h_max: float, model: Any
+) -> tuple[Any, Any, Any]:
     """RK4 in one compiled loop per body (built-in torques); ``(None, None, None)``
     for a Python torque."""
     from . import _fused  # numba, loaded on first use
@@ -895,14 +954,23 @@ def _run_rk4_compiled(j, q, w, t, h_max, model):
     return qs, ws, info
 
 
-def _run_rk4(j, j_inv, q, w, t, h_max, m_const, tfn):
+def _run_rk4(
+    j: FloatArray,
+    j_inv: FloatArray,
+    q: FloatArray,
+    w: FloatArray,
+    t: FloatArray,
+    h_max: float,
+    m_const: Any,
+    tfn: Any,
+) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     nsub = _substeps(t, h_max)
     n = t.shape[0]
     Q = np.empty((n,) + q.shape)
     Wo = np.empty((n,) + w.shape)
     Q[0], Wo[0] = q, w
 
-    def f(tn, q, w):
+    def f(tn: float, q: FloatArray, w: FloatArray) -> tuple[FloatArray, FloatArray]:
         mt = _torque_value(m_const, tfn, tn, q, w)
         return 0.5 * _qmul(q, _pure(w)), _rhs(j, j_inv, w, mt)
 
@@ -922,12 +990,24 @@ def _run_rk4(j, j_inv, q, w, t, h_max, m_const, tfn):
     return Q, Wo, _fixed_step_info(t, nsub)
 
 
-def _run_adaptive(j, j_inv, q, w, t, h_max, m_const, tfn, rtol, atol, solver):
+def _run_adaptive(
+    j: FloatArray,
+    j_inv: FloatArray,
+    q: FloatArray,
+    w: FloatArray,
+    t: FloatArray,
+    h_max: float,
+    m_const: Any,
+    tfn: Any,
+    rtol: float,
+    atol: float,
+    solver: str,
+) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     from scipy.integrate import solve_ivp
 
     nb = q.shape[0]
 
-    def fun(tn, y):
+    def fun(tn: float, y: FloatArray) -> FloatArray:
         y = y.reshape(nb, 7)
         qq, ww = y[:, :4], y[:, 4:]
         mt = _torque_value(m_const, tfn, tn, qq, ww)

@@ -202,7 +202,7 @@ def _physical(inputs: dict[str, np.ndarray]) -> np.ndarray:
     return reason
 
 
-def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dict:
+def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dict[str, Any]:
     """Draw and integrate chunk ``index`` (``size`` samples); return its columns.
 
     The ``sample`` column counts from 0 within the chunk (:func:`run` adds the
@@ -303,7 +303,9 @@ class EnsembleResult:
         return self.table.column(name).to_numpy(zero_copy_only=False)
 
 
-def _summary(problem: EnsembleProblem, table, samples: int, seed: int, chunk_size: int) -> dict:
+def _summary(
+    problem: EnsembleProblem, table: Any, samples: int, seed: int, chunk_size: int
+) -> dict[str, Any]:
     failed = table.column("failed").to_numpy(zero_copy_only=False)
     reasons = table.column("reason").to_pylist()
     out: dict[str, Any] = {
@@ -336,7 +338,7 @@ def _summary(problem: EnsembleProblem, table, samples: int, seed: int, chunk_siz
     return out
 
 
-def _table(cols: dict, first: int, digest: str, index: int):
+def _table(cols: dict[str, Any], first: int, digest: str, index: int) -> Any:
     import pyarrow as pa
 
     cols = dict(cols)
@@ -345,7 +347,7 @@ def _table(cols: dict, first: int, digest: str, index: int):
     return t.replace_schema_metadata({"poinsot.digest": digest, "poinsot.chunk": str(index)})
 
 
-def _write_atomic_parquet(table, path: Path) -> None:
+def _write_atomic_parquet(table: Any, path: Path) -> None:
     import pyarrow.parquet as pq
 
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
@@ -357,7 +359,7 @@ def _chunk_path(out: Path, index: int) -> Path:
     return out / CHUNK_DIR / f"chunk-{index:06d}.parquet"
 
 
-def _prepare(out: Path, digest: str, manifest: dict, resume: bool) -> set[int]:
+def _prepare(out: Path, digest: str, manifest: dict[str, Any], resume: bool) -> set[int]:
     """Create or check the output directory; the chunks already done."""
     mpath = out / MANIFEST
     if mpath.exists():
@@ -392,7 +394,15 @@ def _prepare(out: Path, digest: str, manifest: dict, resume: bool) -> set[int]:
     return done
 
 
-def _chunk_task(problem, index, size, seed, first, digest, threads):
+def _chunk_task(
+    problem: EnsembleProblem,
+    index: int,
+    size: int,
+    seed: int,
+    first: int,
+    digest: str,
+    threads: int,
+) -> Any:
     if threads:
         import numba
 
@@ -400,7 +410,7 @@ def _chunk_task(problem, index, size, seed, first, digest, threads):
     return _table(run_chunk(problem, index, size, seed), first, digest, index)
 
 
-def _client(scheduler, workers, timeout):
+def _client(scheduler: str | None, workers: int | None, timeout: float) -> tuple[Any, Any]:
     """``(client, cluster)``: a connection to ``scheduler``, or a local cluster we own."""
     try:
         from dask.distributed import Client, LocalCluster
@@ -506,7 +516,7 @@ def run(
     todo = [i for i in range(n_chunks) if i not in done]
     tables: dict[int, Any] = {}
 
-    def arrived(i, table):
+    def arrived(i: int, table: Any) -> None:
         if outp is not None:
             _write_atomic_parquet(table, _chunk_path(outp, i))
         else:
