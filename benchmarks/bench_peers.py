@@ -1,0 +1,629 @@
+"""poinsot against the fastest peers, every table of issue 24 in one run.
+
+Peers (each optional: a peer that is not installed is skipped with a message;
+this script installs nothing; ``pip install poinsot[bench]`` brings them all):
+SciPy, diffrax/JAX, jaxlie, numpy-quaternion, quaternionic, MuJoCo, Pinocchio,
+SymPy.
+
+Rules followed by every table:
+
+* same process, same run; each time is the **minimum** of ``--repeat`` runs
+  (after a warm-up that also compiles);
+* SciPy's OpenBLAS is pinned to one thread (threadpoolctl) for SciPy's runs:
+  ``solve_ivp`` takes norms of the long state through BLAS, and on a shared
+  machine a BLAS call waits for its second thread (about 10x slower for the same
+  evaluations). Without threadpoolctl the tables say so;
+* integrators are compared at **equal final accuracy**: for each method the
+  tolerance is searched (``rtol`` on a half-decade grid, then refined by log-log
+  interpolation and checked) until the largest final attitude error over the
+  batch, against the exact solution, is at most the target (1e-6, 1e-9 rad);
+  the time printed is that run's (``atol = rtol / 100`` for every method);
+* the machine load (``os.getloadavg``) is printed at the start and the end.
+
+Run: ``python benchmarks/bench_peers.py [--repeat 5] [--only rot,free,heavy,pend,derive]``.
+"""
+
+# ruff: noqa: B023  (the closures timed in each loop iteration run within it)
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import os
+import platform
+import sys
+import time
+from collections.abc import Callable, Iterator
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(__file__))
+from _timing import table  # noqa: E402
+
+DURATION = 10.0
+TARGETS = (1e-6, 1e-9)
+REPEAT = 5
+
+
+def best(fn: Callable[[], object], repeat: int | None = None) -> float:
+    """Minimum wall time of ``fn()`` over ``repeat`` runs (after one warm-up run)."""
+    fn()
+    times = []
+    for _ in range(repeat or REPEAT):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def best_calls(fn: Callable[[], object], number: int, repeat: int | None = None) -> float:
+    """Minimum over ``repeat`` rounds of the mean time of ``number`` calls of ``fn()``."""
+    fn()
+    times = []
+    for _ in range(repeat or REPEAT):
+        t0 = time.perf_counter()
+        for _ in range(number):
+            fn()
+        times.append((time.perf_counter() - t0) / number)
+    return min(times)
+
+
+def missing(name: str, exc: Exception) -> None:
+    print(f"  [{name} not installed: skipped ({type(exc).__name__}: {exc})]")
+
+
+@contextlib.contextmanager
+def blas_one_thread() -> Iterator[str]:
+    """SciPy's BLAS on one thread (threadpoolctl), or a note that it could not be pinned."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        yield "BLAS threads NOT pinned (threadpoolctl not installed)"
+        return
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield "BLAS pinned to 1 thread"
+
+
+def load() -> str:
+    a, b, c = os.getloadavg()
+    return f"load average {a:.2f} / {b:.2f} / {c:.2f} (1/5/15 min) on {os.cpu_count()} cores"
+
+
+def set_threads(n: int | None) -> None:
+    from poinsot.rotations import set_num_threads
+
+    set_num_threads(n)
+
+
+# ----------------------------------------------------------------- rotations
+def rotations(n: int) -> None:
+    from scipy.spatial.transform import Rotation as SciPyRotation
+
+    from poinsot import Rotation
+
+    rng = np.random.default_rng(0)
+    q = rng.standard_normal((n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    r = Rotation.from_quat(q)
+    s = SciPyRotation.from_quat(q, scalar_first=True)
+    m = r.as_matrix()
+    # The memory floor: the time per byte of copying an array as large as a matrix batch
+    # (a fresh result array, its pages faulted in as any new NumPy result's are), times
+    # the bytes each operation must read and write.
+    per_byte = best(lambda: m.copy(), 2 * REPEAT) / (2 * m.nbytes)
+    f8 = 8 * n
+    ops: list[tuple[str, int, Callable[[], object], Callable[[], object]]] = [
+        ("matrix -> quaternion", f8 * 13, lambda: Rotation.from_matrix(m), lambda: None),
+        ("inverse", f8 * 8, lambda: r.inv(), lambda: None),
+        ("quaternion -> matrix", f8 * 13, lambda: r.as_matrix(), lambda: None),
+    ]
+    peers: dict[str, list[Callable[[], object] | None]] = {
+        "SciPy": [
+            lambda: SciPyRotation.from_matrix(m),
+            lambda: s.inv(),
+            lambda: s.as_matrix(),
+        ]
+    }
+    try:
+        import jax
+
+        jax.config.update("jax_enable_x64", True)
+        import jax.numpy as jnp
+        import jaxlie
+
+        jm, jq = jnp.asarray(m), jnp.asarray(q)
+        f_m2q = jax.jit(lambda a: jaxlie.SO3.from_matrix(a).wxyz)
+        f_inv = jax.jit(lambda a: jaxlie.SO3(a).inverse().wxyz)
+        f_q2m = jax.jit(lambda a: jaxlie.SO3(a).as_matrix())
+        assert np.allclose(np.abs(np.sum(np.asarray(f_m2q(jm)) * q, axis=1)), 1.0, atol=1e-12)
+        peers["jaxlie (XLA)"] = [
+            lambda: f_m2q(jm).block_until_ready(),
+            lambda: f_inv(jq).block_until_ready(),
+            lambda: f_q2m(jq).block_until_ready(),
+        ]
+    except ImportError as e:
+        missing("jaxlie", e)
+    try:
+        import quaternion as npq
+
+        qq = npq.as_quat_array(q)
+        peers["numpy-quaternion"] = [
+            lambda: npq.from_rotation_matrix(m),
+            lambda: np.reciprocal(qq),
+            lambda: npq.as_rotation_matrix(qq),
+        ]
+    except ImportError as e:
+        missing("numpy-quaternion", e)
+    try:
+        import quaternionic
+
+        qa = quaternionic.array(q)
+        peers["quaternionic"] = [
+            lambda: quaternionic.array.from_rotation_matrix(m),
+            lambda: qa.inverse,
+            lambda: qa.to_rotation_matrix,
+        ]
+    except ImportError as e:
+        missing("quaternionic", e)
+
+    rows = []
+    for k, (name, nbytes, ours, _) in enumerate(ops):
+        set_threads(None)
+        t_auto = best(ours)
+        set_threads(1)
+        t_one = best(ours)
+        set_threads(None)
+        floor = per_byte * nbytes
+        row = [name, f"{1e9 * t_auto / n:.1f}", f"{1e9 * t_one / n:.1f}", f"{1e9 * floor / n:.1f}"]
+        best_peer, best_name = math.inf, "-"
+        for pname, fns in peers.items():
+            fn = fns[k]
+            if fn is None:
+                row.append("-")
+                continue
+            t = best(fn)
+            row.append(f"{1e9 * t / n:.1f}")
+            if pname != "SciPy" and t < best_peer:
+                best_peer, best_name = t, pname
+        row += [f"{best_peer / t_auto:.2f}x ({best_name})", f"{t_auto / floor:.2f}x"]
+        rows.append(row)
+    head = [f"N = {n:.0e}, ns per rotation", "poinsot", "poinsot 1 thr", "copy floor"]
+    head += list(peers) + ["best non-SciPy peer / poinsot", "poinsot / floor"]
+    print(table(rows, head))
+    print(
+        f"  (poinsot default threads = the idle cores, now {_threads()}; copy floor = "
+        f"{1e-9 / per_byte:.1f} GB/s from copying the (N, 3, 3) batch; copying the (N, 4) "
+        f"quaternions, small enough for malloc to reuse its pages: "
+        f"{1e9 * best(lambda: q.copy()) / n:.1f} ns per rotation)"
+    )
+
+
+def _threads() -> int:
+    from poinsot.rotations._lazy import thread_count
+
+    return thread_count()
+
+
+# ----------------------------------------------------------- batch integration
+def attitude_error(q: np.ndarray, ref: np.ndarray) -> float:
+    """Largest angle (rad) between the final attitudes and the exact ones."""
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    d = np.minimum(np.linalg.norm(q - ref, axis=-1), np.linalg.norm(q + ref, axis=-1))
+    return float(np.max(4.0 * np.arcsin(np.minimum(d / 2.0, 1.0))))
+
+
+def tolerance_for(
+    run: Callable[[float], np.ndarray], ref: np.ndarray, target: float, start: float
+) -> tuple[float, float, float]:
+    """The loosest ``rtol`` (searched, see the module notes) whose final attitude error is at
+    most ``target``: ``(rtol, error, seconds of that run)``."""
+    tol, prev = start, None
+    for _ in range(40):
+        t0 = time.perf_counter()
+        err = attitude_error(run(tol), ref)
+        dt = time.perf_counter() - t0
+        if err <= target:
+            break
+        prev = (tol, err)
+        tol /= math.sqrt(10.0)
+    else:  # pragma: no cover - a method that cannot reach the target
+        return math.nan, math.nan, math.nan
+    if prev is not None and err > 0:
+        # refine between the bracketing grid points (error ~ tol^p, log-log)
+        (t1, e1), (t2, e2) = prev, (tol, err)
+        p = math.log(e1 / e2) / math.log(t1 / t2) if e1 > e2 else 1.0
+        cand = t2 * (target / e2) ** (1.0 / p) * 0.9
+        for _ in range(6):
+            if cand <= t2:
+                break
+            e = attitude_error(run(cand), ref)
+            if e <= target:
+                tol, err = cand, e
+                break
+            cand = math.sqrt(cand * t2)
+    return tol, err, dt
+
+
+def free_rhs_numpy(moments: np.ndarray, torque: Callable | None = None) -> Callable:
+    n = len(moments)
+    inv = 1.0 / moments.T
+
+    def rhs(_t: float, y: np.ndarray) -> np.ndarray:
+        y = y.reshape(7, n)
+        q, w = y[:4], y[4:]
+        f = np.empty_like(y)
+        f[0] = -0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2])
+        f[1] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1])
+        f[2] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2])
+        f[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0])
+        mm = np.cross(moments.T * w, w, axis=0)
+        if torque is not None:
+            mm = mm + torque(q)
+        f[4:] = mm * inv
+        return f.ravel()
+
+    return rhs
+
+
+def gravity_numpy(mgc: np.ndarray) -> Callable:
+    """Body torque ``gamma x (m g c)`` with ``gamma = R^T e_z`` (mgc: (N, 3))."""
+
+    def torque(q: np.ndarray) -> np.ndarray:
+        w, x, y, z = q
+        n2 = w * w + x * x + y * y + z * z
+        gamma = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z])
+        return np.cross(gamma / n2, mgc.T, axis=0)
+
+    return torque
+
+
+def scipy_run(moments, quat, omega, torque=None):
+    from scipy.integrate import solve_ivp
+
+    n = len(moments)
+    rhs = free_rhs_numpy(moments, torque)
+    y0 = np.concatenate([quat.T, omega.T]).ravel()
+
+    def run(rtol: float) -> np.ndarray:
+        sol = solve_ivp(rhs, (0.0, DURATION), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-2)
+        return sol.y[:, -1].reshape(7, n)[:4].T
+
+    return run
+
+
+def diffrax_run(moments, quat, omega, mgc=None):
+    import diffrax
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    import jax.numpy as jnp
+
+    n = len(moments)
+    inv = jnp.asarray(1.0 / moments.T)
+    mom = jnp.asarray(moments.T)
+    mg = None if mgc is None else jnp.asarray(mgc.T)
+
+    def rhs(_t, y, _args):
+        y = y.reshape(7, n)
+        q, w = y[:4], y[4:]
+        dq = 0.5 * jnp.stack(
+            [
+                -(q[1] * w[0] + q[2] * w[1] + q[3] * w[2]),
+                q[0] * w[0] + q[2] * w[2] - q[3] * w[1],
+                q[0] * w[1] + q[3] * w[0] - q[1] * w[2],
+                q[0] * w[2] + q[1] * w[1] - q[2] * w[0],
+            ]
+        )
+        mm = jnp.cross(mom * w, w, axis=0)
+        if mg is not None:
+            a, b, c, d = q
+            n2 = a * a + b * b + c * c + d * d
+            gamma = jnp.stack(
+                [2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]
+            )
+            mm = mm + jnp.cross(gamma / n2, mg, axis=0)
+        return jnp.concatenate([dq, mm * inv]).ravel()
+
+    term = diffrax.ODETerm(rhs)
+    solver = diffrax.Dopri8()
+
+    @jax.jit
+    def solve(y0, rtol):
+        ctrl = diffrax.PIDController(rtol=rtol, atol=rtol * 1e-2)
+        sol = diffrax.diffeqsolve(
+            term,
+            solver,
+            0.0,
+            DURATION,
+            None,
+            y0,
+            stepsize_controller=ctrl,
+            max_steps=1_000_000,
+            saveat=diffrax.SaveAt(t1=True),
+        )
+        return sol.ys[-1]
+
+    y0 = jnp.asarray(np.concatenate([quat.T, omega.T]).ravel())
+
+    def run(rtol: float) -> np.ndarray:
+        y = np.asarray(solve(y0, jnp.float64(rtol)).block_until_ready())
+        return y.reshape(7, n)[:4].T
+
+    return run
+
+
+def poinsot_run(moments, quat, omega, torque=None):
+    from poinsot.dynamics import simulate
+
+    t = np.array([0.0, DURATION])
+
+    def run(rtol: float) -> np.ndarray:
+        tr = simulate(moments, quat, omega, t, torque=torque, method="dop853", rtol=rtol,
+                      atol=rtol * 1e-2)  # fmt: skip
+        return tr.quat[-1]
+
+    return run
+
+
+def integrate_table(title: str, ref: np.ndarray, runs: dict[str, Callable[[float], np.ndarray]]):
+    rows = []
+    found: dict[str, list[float]] = {}
+    for name, run in runs.items():
+        start, times = 1e-3, []
+        row = [name]
+        for target in TARGETS:
+            tol, err, _ = tolerance_for(run, ref, target, start)
+            if math.isnan(tol):
+                row.append("not reached")
+                times.append(math.nan)
+                continue
+            start = tol
+            t = best(lambda tol=tol: run(tol))
+            times.append(t)
+            row.append(f"{t:.3f} s (rtol {tol:.1e}, err {err:.1e})")
+        found[name] = times
+        rows.append(row)
+    ours = found[next(iter(runs))]
+    for row, (_name, times) in zip(rows, found.items(), strict=True):
+        row.append(" / ".join(f"{t / o:.2f}x" for t, o in zip(times, ours, strict=True)))
+    head = [title] + [f"final attitude error <= {t:.0e}" for t in TARGETS]
+    head.append("time / poinsot")
+    print(table(rows, head))
+
+
+def free_bodies(n: int) -> None:
+    from poinsot.dynamics import FreeRigidBody
+
+    rng = np.random.default_rng(0)
+    moments = rng.uniform(1.0, 2.0, (n, 3))
+    omega = rng.normal(size=(n, 3))
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    t = np.array([0.0, DURATION])
+    exact = FreeRigidBody(moments, rotation0=quat, omega0=omega)
+    ref = exact.rotation(t).as_quat()[:, -1]
+    t_exact = best(lambda: exact.rotation(t).as_quat())
+    runs = _integrators(moments, quat, omega, None, None)
+    integrate_table(f"{n} free bodies, {DURATION:g} s", ref, runs)
+    print(f"  (exact FreeRigidBody, the same final states: {t_exact:.3f} s)")
+
+
+def _integrators(moments, quat, omega, torque, mgc):
+    runs: dict[str, Callable[[float], np.ndarray]] = {}
+    base = poinsot_run(moments, quat, omega, torque)
+    runs[f"poinsot dop853 (default: {_threads()} threads)"] = base
+
+    def one_thread(rtol: float, base=base) -> np.ndarray:
+        set_threads(1)
+        try:
+            return base(rtol)
+        finally:
+            set_threads(None)
+
+    runs["poinsot dop853 (1 thread)"] = one_thread
+    try:
+        runs["diffrax Dopri8 (7N system, jit)"] = diffrax_run(moments, quat, omega, mgc)
+    except ImportError as e:
+        missing("diffrax", e)
+    sc = scipy_run(moments, quat, omega, None if mgc is None else gravity_numpy(mgc))
+
+    def scipy_pinned(rtol: float) -> np.ndarray:
+        with blas_one_thread():
+            return sc(rtol)
+
+    with blas_one_thread() as note:
+        pass
+    runs[f"SciPy DOP853 (7N system, {note})"] = scipy_pinned
+    return runs
+
+
+def heavy_tops(n: int) -> None:
+    from poinsot.dynamics import GravityTorque, LagrangeTop
+
+    rng = np.random.default_rng(1)
+    a = rng.uniform(1.0, 2.0, n)
+    c = a * rng.uniform(0.4, 1.6, n)
+    moments = np.stack([a, a, c], axis=1)
+    mass, g = 1.0, 9.81
+    com = np.zeros((n, 3))
+    com[:, 2] = rng.uniform(0.05, 0.3, n)
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    omega = rng.normal(size=(n, 3))
+    omega[:, 2] += rng.uniform(2.0, 10.0, n)
+    t0 = time.perf_counter()
+    ref = np.array(
+        [
+            LagrangeTop.from_state(moments[i], mass * g * com[i, 2], quat[i], omega[i])
+            .rotation(DURATION)
+            .as_quat()
+            for i in range(n)
+        ]
+    )
+    t_ref = time.perf_counter() - t0
+    torque = GravityTorque(mass, com, g=g)
+    runs = _integrators(moments, quat, omega, torque, mass * g * com)
+    integrate_table(f"{n} heavy (Lagrange) tops, {DURATION:g} s", ref, runs)
+    print(f"  (reference: the exact LagrangeTop, one object per top, {t_ref:.1f} s in all)")
+
+
+# ------------------------------------------------------- n-link pendulum RHS
+def _pendulum_system(n: int):
+    from bench_symbolic import pendulum
+    from sympy.physics import mechanics as me
+
+    from poinsot.symbolic import LagrangeSystem
+
+    q, u, _mlg, N, *_rest, parts = pendulum(n)
+    T = me.kinetic_energy(N, *parts)
+    P = sum(p.potential_energy for p in parts)
+    return LagrangeSystem(q, T, P)
+
+
+def _pinocchio_pendulum(n: int):
+    import pinocchio as pin
+
+    model = pin.Model()
+    model.gravity.linear = np.array([0.0, -9.81, 0.0])
+    parent = 0
+    for i in range(n):
+        place = pin.SE3(np.eye(3), np.array([0.0, 0.0 if i == 0 else -1.0, 0.0]))
+        j = model.addJoint(parent, pin.JointModelRZ(), place, f"j{i}")
+        inertia = pin.Inertia(1.0, np.array([0.0, -1.0, 0.0]), np.zeros((3, 3)))
+        model.appendBodyToJoint(j, inertia, pin.SE3.Identity())
+        parent = j
+    data = model.createData()
+    return pin, model, data
+
+
+def _mujoco_pendulum(n: int):
+    import mujoco
+
+    body = ""
+    for i in range(n):
+        pos = "0 0 0" if i == 0 else "0 -1 0"
+        body += (
+            f'<body pos="{pos}"><joint type="hinge" axis="0 0 1"/>'
+            '<inertial pos="0 -1 0" mass="1" diaginertia="1e-12 1e-12 1e-12"/>'
+        )
+    body += "</body>" * n
+    xml = (
+        '<mujoco><option gravity="0 -9.81 0" integrator="Euler">'
+        '<flag contact="disable" constraint="disable"/></option>'
+        f"<worldbody>{body}</worldbody></mujoco>"
+    )
+    model = mujoco.MjModel.from_xml_string(xml)
+    return mujoco, model, mujoco.MjData(model)
+
+
+def pendulum_rhs(ns: tuple[int, ...]) -> None:
+    rows = []
+    for n in ns:
+        f = _pendulum_system(n).to_numeric({"m": 1.0, "l": 1.0, "g": 9.81}).compile()
+        rng = np.random.default_rng(n)
+        y = rng.normal(size=2 * n)
+        acc = f(0.0, y)[n:]
+        # poinsot's pendulum uses absolute link angles; Pinocchio and MuJoCo joint angles
+        # are relative to the previous link (the same system in other coordinates)
+        qv, vv = np.diff(y[:n], prepend=0.0), np.diff(y[n:], prepend=0.0)
+        number = 20_000
+        t_ours = best_calls(lambda f=f, y=y: f(0.0, y), number)
+        row = [str(n), f"{1e6 * t_ours:.2f}"]
+        try:
+            pin, model, data = _pinocchio_pendulum(n)
+            tau = np.zeros(n)
+            a_pin = pin.aba(model, data, qv, vv, tau)
+            assert np.allclose(np.cumsum(a_pin), acc, rtol=1e-9, atol=1e-9), (a_pin, acc)
+            t_pin = best_calls(lambda: pin.aba(model, data, qv, vv, tau), number)
+            row += [f"{1e6 * t_pin:.2f}", f"{t_pin / t_ours:.2f}x"]
+        except ImportError as e:
+            missing("pinocchio", e)
+            row += ["-", "-"]
+        try:
+            mj, model, data = _mujoco_pendulum(n)
+
+            def mj_acc():
+                data.qpos[:] = qv
+                data.qvel[:] = vv
+                mj.mj_forward(model, data)
+                return data.qacc
+
+            a_mj = mj_acc().copy()
+            assert np.allclose(np.cumsum(a_mj), acc, rtol=1e-6, atol=1e-6), (a_mj, acc)
+            t_mj = best_calls(mj_acc, number)
+            row += [f"{1e6 * t_mj:.2f}", f"{t_mj / t_ours:.2f}x"]
+        except ImportError as e:
+            missing("mujoco", e)
+            row += ["-", "-"]
+        rows.append(row)
+    head = ["n-link pendulum, one state (us/call)", "poinsot f(t, y)", "Pinocchio aba"]
+    head += ["aba / poinsot", "MuJoCo mj_forward", "mj_forward / poinsot"]
+    print(table(rows, head))
+    print(
+        "  (each checked against poinsot's accelerations; MuJoCo's point masses carry an "
+        "inertia of 1e-12, its mj_forward computes more than the accelerations; their joint "
+        "angles are relative, poinsot's absolute: the same system in other coordinates)"
+    )
+
+
+def derivation(n: int) -> None:
+    try:
+        from bench_symbolic import kane_setup
+    except ImportError as e:
+        missing("sympy", e)
+        return
+
+    def ours():
+        s = _pendulum_system(n)
+        s._MF  # noqa: B018  (the mass matrix and forcing, what KanesMethod builds)
+        return s
+
+    def kane():
+        k, parts, loads = kane_setup(n)
+        k.kanes_equations(parts, loads)
+        return k
+
+    t_ours = best(ours, max(1, REPEAT // 2))
+    t_kane = best(kane, max(1, REPEAT // 2))
+    rows = [[str(n), f"{t_ours:.2f}", f"{t_kane:.2f}", f"{t_kane / t_ours:.2f}x"]]
+    head = ["n-link pendulum derivation (s)", "poinsot LagrangeSystem", "SymPy KanesMethod"]
+    head.append("Kane / poinsot")
+    print(table(rows, head))
+
+
+# ---------------------------------------------------------------------- main
+def main() -> None:
+    global REPEAT
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--only", default="rot,free,heavy,pend,derive")
+    ap.add_argument("--n-rot", type=int, default=1_000_000)
+    ap.add_argument("--n-bodies", type=int, default=10_000)
+    a = ap.parse_args()
+    REPEAT = a.repeat
+    only = set(a.only.split(","))
+    import numba
+    import scipy
+
+    print(
+        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python "
+        f"{platform.python_version()}, NumPy {np.__version__}, SciPy {scipy.__version__}, "
+        f"numba {numba.__version__}; min of {REPEAT} runs"
+    )
+    print(f"start: {load()}")
+    sections = [
+        ("rot", "rotations", lambda: rotations(a.n_rot)),
+        ("free", "free bodies", lambda: free_bodies(a.n_bodies)),
+        ("heavy", "heavy tops", lambda: heavy_tops(a.n_bodies)),
+        ("pend", "pendulum RHS", lambda: pendulum_rhs((2, 5, 10))),
+        ("derive", "derivation", lambda: derivation(10)),
+    ]
+    for key, title, fn in sections:
+        if key in only:
+            print(f"\n## {title} ({load()})")
+            fn()
+    print(f"\nend: {load()}")
+
+
+if __name__ == "__main__":
+    main()
