@@ -379,3 +379,133 @@ def test_charts_only_pages_in_chromium(browser, tmp_path):
             assert re.search(r"flip: \([0-9.e-]+ rad/s, [0-9.e-]+ s\)", text), text
         page.close()
         assert errors == [], errors
+
+
+def _open(browser, path):
+    page = browser.new_page(viewport={"width": 1400, "height": 1000})
+    errors: list[str] = []
+    page.on("console", lambda m, e=errors: e.append(m.text) if m.type == "error" else 0)
+    page.on("pageerror", lambda x, e=errors: e.append(str(x)))
+    page.goto(path.resolve().as_uri(), wait_until="load", timeout=120_000)
+    page.wait_for_function(f"() => {FIG} && {FIG}.dataset.ready === '1'", timeout=120_000)
+    return page, errors
+
+
+def _frame_points(page, layer_type, frame):
+    """The points of the first scene layer of ``layer_type`` at ``frame`` and where they
+    are drawn (CSS pixels in the canvas)."""
+    return page.evaluate(
+        """([type, f]) => {
+            const S = window.poinsotViewer.scene, L = S.layers.find(l => l.type === type);
+            const out = [];
+            for (let k = 0; k < L.m; k++) {
+                const o = 3 * (L.m * f + k), p = [L.v[o], L.v[o + 1], L.v[o + 2]];
+                out.push({p, xy: S.project(p[0], p[1], p[2])});
+            }
+            return out; }""",
+        [layer_type, frame],
+    )
+
+
+def _near(img, xy, hex_colour, r=4, tol=60):
+    """Pixels of ``hex_colour`` within ``r`` pixels of ``xy`` (device pixels = CSS here)."""
+    x, y = int(round(xy[0])), int(round(xy[1]))
+    win = img[max(0, y - r) : y + r + 1, max(0, x - r) : x + r + 1].astype(int)
+    rgb = np.array([int(hex_colour[i : i + 2], 16) for i in (1, 3, 5)])
+    return int(np.all(np.abs(win - rgb) <= tol, axis=-1).sum())
+
+
+def _legend_click(page, text):
+    page.locator("#poinsot-legend .pv-item", has_text=text).first.click()
+
+
+def test_drawn_systems_in_chromium(browser, tmp_path):
+    """The new scenes, judged by their pixels: a Lagrangian example's links (the double
+    pendulum's rods, dark pixels along each rod, gone when hidden), the Foucault swing
+    plane (the dashed green guide lies along the direction turned by -Omega sin(lat) t:
+    at the last frame, green where the turned guide runs and not where the first one
+    ran), and a heavy top's stem (with the body hidden) and its axis-tip trail (more
+    trail pixels late than early)."""
+    from poinsot.scenarios import load_scenario, simulate_scenario, write_scenario_report
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    runs = {
+        "double_pendulum": 3.0,
+        "foucault": 300.0,
+        "top_loops": None,
+    }
+    pages = {}
+    for name, duration in runs.items():
+        res = simulate_scenario(load_scenario(examples / f"{name}.toml"), duration=duration)
+        pages[name] = write_scenario_report(tmp_path / f"{name}.html", res)
+
+    # --- the double pendulum: dark pixels along both rods at a late frame
+    page, errors = _open(browser, pages["double_pendulum"])
+    scene_box = _box(page, "#poinsot-scene")
+    f = page.evaluate("() => window.poinsotFrames") - 1
+    page.evaluate(f"() => window.poinsotDraw({f})")
+    pts = _frame_points(page, "rig", f)
+    img = _png(page.screenshot(clip=scene_box))
+    for i, j in ((0, 1), (1, 2)):
+        a, b = np.array(pts[i]["xy"]), np.array(pts[j]["xy"])
+        for u in (0.3, 0.5, 0.7):
+            assert _near(img, a + u * (b - a), "#3a3a3a") >= 3, ("rod", i, j, u)
+    np.testing.assert_allclose(np.linalg.norm(np.array(pts[1]["p"]) - pts[0]["p"]), 1.0, rtol=1e-5)
+    _legend_click(page, "links and points")
+    hidden = _png(page.screenshot(clip=scene_box))
+    a, b = np.array(pts[0]["xy"]), np.array(pts[1]["xy"])
+    assert _near(hidden, a + 0.5 * (b - a), "#3a3a3a") == 0, "hiding the links left them"
+    page.close()
+    assert errors == [], errors
+
+    # --- Foucault: the guide turns with the swing plane
+    page, errors = _open(browser, pages["foucault"])
+    scene_box = _box(page, "#poinsot-scene")
+    n = page.evaluate("() => window.poinsotFrames")
+    ends = []
+    for f in (0, n - 1):
+        page.evaluate(f"() => window.poinsotDraw({f})")
+        ends.append(_frame_points(page, "rig", f))
+    img = _png(page.screenshot(clip=scene_box))  # at the last frame
+    (a0, b0), (a1, b1) = ([np.array(e["xy"]) for e in g] for g in ends)
+    turned = np.degrees(
+        np.arctan2(ends[1][1]["p"][1], ends[1][1]["p"][0])
+        - np.arctan2(ends[0][1]["p"][1], ends[0][1]["p"][0])
+    )
+    assert turned == pytest.approx(np.degrees(-2.745e-3 * 300.0), abs=0.5)  # -Omega sin(lat) t
+    green_now = sum(_near(img, a1 + u * (b1 - a1), "#2ca02c", r=6) for u in (0.1, 0.2, 0.8, 0.9))
+    green_then = sum(_near(img, a0 + u * (b0 - a0), "#2ca02c", r=6) for u in (0.1, 0.2, 0.8, 0.9))
+    assert green_now >= 10 and green_then <= green_now / 5, (green_now, green_then)
+    notes = page.locator(".note").first.inner_text()
+    assert re.search(r"at least (\d+(\.\d+)?) per period", notes), notes
+    assert float(re.search(r"at least (\d+(\.\d+)?) per period", notes).group(1)) >= 24
+    page.close()
+    assert errors == [], errors
+
+    # --- the heavy top: the stem (body hidden) and the trail of the axis tip
+    page, errors = _open(browser, pages["top_loops"])
+    scene_box = _box(page, "#poinsot-scene")
+    n = page.evaluate("() => window.poinsotFrames")
+    counts = []  # trail-coloured pixels that hiding the trail removes, early and late
+    for f in (1, n - 1):
+        page.evaluate(f"() => window.poinsotDraw({f})")
+        shown = _has_colour_count(_png(page.screenshot(clip=scene_box)), "#8c564b")
+        _legend_click(page, "trail of axis tip")
+        gone = _has_colour_count(_png(page.screenshot(clip=scene_box)), "#8c564b")
+        _legend_click(page, "trail of axis tip")
+        counts.append(shown - gone)
+    assert counts[1] > max(5 * counts[0], 150), counts  # the trail grows with the loops
+    _legend_click(page, "body: ")
+    pts = _frame_points(page, "rig", n - 1)
+    img = _png(page.screenshot(clip=scene_box))
+    a, b = np.array(pts[0]["xy"]), np.array(pts[1]["xy"])  # fixed point -> centre of mass
+    assert sum(_near(img, a + u * (b - a), "#3a3a3a", r=3) for u in (0.3, 0.5, 0.7)) >= 6
+    shot = tmp_path / "top.png"
+    page.screenshot(path=str(shot))
+    page.close()
+    assert errors == [], errors
+
+
+def _has_colour_count(img: np.ndarray, hex_colour: str, tol: int = 40) -> int:
+    rgb = np.array([int(hex_colour[i : i + 2], 16) for i in (1, 3, 5)])
+    return int(np.all(np.abs(img.astype(int) - rgb) <= tol, axis=-1).sum())

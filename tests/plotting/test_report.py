@@ -362,8 +362,97 @@ def test_particle_path(tmp_path):
     P, _ = _write(tmp_path, tr)
     a = _named(P, "position")
     np.testing.assert_allclose(np.linalg.norm(_f32(a["v"]).reshape(-1, 3), axis=-1), 1.0, rtol=1e-6)
-    assert "path" in _layers(P) and not any(n.startswith("w1") for n in _series(P))  # no empty
+    assert "whole path" in _layers(P) and not any(n.startswith("w1") for n in _series(P))
     assert not any(k.startswith("body") for k in _layers(P))
+    # the path is drawn up to the frame's time: its last point at each frame is the
+    # frame's own position (the trail holds every frame sample)
+    trail = _named(P, "path up to the frame's time")
+    v, tt = _f32(trail["v"]).reshape(-1, 3), _f32(trail["tt"])
+    upto = np.asarray(trail["upto"])
+    frames_t = _f32(P["t"])
+    np.testing.assert_allclose(tt[upto - 1], frames_t - frames_t[0], atol=1e-6)
+    np.testing.assert_allclose(v[upto - 1], _f32(a["v"]).reshape(-1, 3), atol=1e-6)
+    assert np.all(np.diff(upto) > 0) and upto[-1] == len(tt)
+
+
+def test_particle_frames_follow_the_motion_period(tmp_path):
+    """A swing of period 2 s over 40 s sampled every 0.01 s: frames at most P/24 apart
+    (the period is estimated from the velocity's sign changes), not 121 even frames."""
+    from poinsot.plotting.report import _time_scale
+
+    period = 2.0
+    t = np.linspace(0.0, 40.0, 4001)
+    pos = np.column_stack([np.cos(2 * np.pi * t / period), 0 * t, 0.01 * np.sin(np.pi * t)])
+    assert _time_scale(t, [pos]) == pytest.approx(period, rel=0.01)
+    tr = poinsot.Trajectory(
+        t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "x", position=pos
+    )
+    P, text = _write(tmp_path, tr)
+    frames_t = _f32(P["t"])
+    assert np.max(np.diff(frames_t)) <= period / 24 + 1e-6
+    assert frames_t.size >= 40.0 / period * 24
+    assert "per period of the motion (2 s" in text
+    # a motion that never turns back: frames even in time (the rigid body's 121 minimum)
+    line = np.column_stack([t, 0 * t, 0 * t])
+    tr = poinsot.Trajectory(
+        t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "x", position=line
+    )
+    assert _time_scale(t, [line]) is None
+    P, text = _write(tmp_path, tr, name="s.html")
+    gaps = np.diff(_f32(P["t"]))[:-1]
+    assert 120 <= gaps.size + 2 <= 125 and np.ptp(gaps) < 0.011 and "even in time" in text
+
+
+def test_drawing_points_links_trails_and_guides(tmp_path):
+    """A pendulum drawn by points: one rig layer with the points at each frame, the
+    links by index, the trail of the bob; a guide turning with time."""
+    t = np.linspace(0.0, 10.0, 1001)
+    th = 0.5 * np.cos(2 * np.pi * t)
+    bob = np.column_stack([np.sin(th), 0 * t, -np.cos(th)])
+    ang = 0.1 * t
+    g = np.column_stack([np.cos(ang), np.sin(ang), 0 * t])
+    tr = poinsot.Trajectory(t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "x")
+    drawing = {
+        "points": {"pivot": np.zeros((t.size, 3)), "bob": bob},
+        "links": [("pivot", "bob")],
+        "trails": ["bob"],
+        "guides": {"plane": np.stack([-g, g], axis=1)},
+        "face_on": True,
+    }
+    P, _ = _write(tmp_path, tr, drawing=drawing)
+    rig = _named(P, "links and points: pivot, bob")
+    frames = _f32(P["t"])
+    pts = _f32(rig["v"]).reshape(frames.size, 2, 3)
+    k = np.searchsorted(t, frames - 1e-6)
+    np.testing.assert_allclose(pts[:, 1], bob[k], atol=1e-6)
+    assert rig["pairs"] == [[0, 1]] and rig["big"] == [1]
+    assert np.max(np.diff(frames)) <= 1.0 / 24 + 1e-6  # the swing's own period, 1 s
+    guide = _f32(_named(P, "plane")["v"]).reshape(frames.size, 2, 3)
+    np.testing.assert_allclose(np.arctan2(guide[:, 1, 1], guide[:, 1, 0]), 0.1 * frames,
+                               atol=1e-5)  # fmt: skip
+    assert _named(P, "trail of bob")["type"] == "trail"
+    assert P["scene"]["view"]["el"] < 0.2  # a plane drawing starts face on
+    lo, hi = np.array(P["scene"]["lo"]), np.array(P["scene"]["hi"])
+    assert np.all(lo <= bob.min(0)) and np.all(hi >= bob.max(0))
+
+
+@pytest.mark.parametrize(
+    ("drawing", "words"),
+    [
+        ({"points": {"a": np.zeros((3, 3))}}, "shape (11, 3)"),
+        ({"points": {"a": np.zeros((11, 3))}, "links": [("a", "b")]}, "'b'"),
+        ({"points": {"a": np.zeros((11, 3))}, "trails": ["c"]}, "'c'"),
+        ({"points": {}, "guides": {"g": np.zeros((11, 3))}}, "shape (11, 2, 3)"),
+        ({"pts": {}}, "keys"),
+    ],
+)
+def test_drawing_is_validated(tmp_path, drawing, words):
+    from poinsot.errors import InvalidInputError
+
+    t = np.linspace(0.0, 1.0, 11)
+    tr = poinsot.Trajectory(t, poinsot.Rotation.identity((t.size,)), np.zeros((t.size, 3)), "x")
+    with pytest.raises(InvalidInputError, match=re.escape(words)):
+        write_report(tmp_path / "r.html", trajectory=tr, drawing=drawing)
 
 
 def test_summary_sections_in_words(tmp_path, prec):
@@ -622,7 +711,8 @@ def test_plotting_never_imports_scenarios():
 
 def test_lagrangian_scenario_report_plots_coordinates(tmp_path):
     """The lagrangian kind: charts of q(t) and q'(t) (rad, rad/s for angles) equal to the
-    solved coordinates, and the conserved Jacobi integral; no 3-D scene (no body)."""
+    solved coordinates, and the conserved Jacobi integral; the scene draws the example's
+    [draw] table: the rods keep their lengths (1 m) in every frame."""
     pytest.importorskip("sympy")
     from poinsot.scenarios import load_scenario, simulate_scenario
 
@@ -631,7 +721,11 @@ def test_lagrangian_scenario_report_plots_coordinates(tmp_path):
     lt = res.trajectory  # the kind's own result: q, q' in the units of each coordinate
     assert tuple(lt.units) == ("rad", "rad")
     P, _ = _page(write_scenario_report(tmp_path / "r.html", res))
-    assert P["scene"] is None
+    rig = _named(P, "links and points: pivot, bob1, bob2")
+    pts = _f32(rig["v"]).reshape(-1, 3, 3)
+    assert rig["pairs"] == [[0, 1], [1, 2]] and len(pts) == _f32(P["t"]).size
+    for i, j in rig["pairs"]:
+        np.testing.assert_allclose(np.linalg.norm(pts[:, j] - pts[:, i], axis=-1), 1.0, rtol=1e-6)
     titles = _titles(P)
     assert titles[:2] == [
         "generalised coordinates q(t): angles",
@@ -658,7 +752,7 @@ def test_particle_scenario_report_plots_position_and_velocity(tmp_path):
     x, y = _named_series(P, "vx")
     tr = res.trajectory
     np.testing.assert_allclose(y, np.interp(x, tr.t, tr.velocity[:, 0]), atol=1e-5)
-    assert "path" in _layers(P)
+    assert "whole path" in _layers(P)
 
 
 def test_ensemble_report_uses_the_viewer(tmp_path):
@@ -747,11 +841,12 @@ def test_rotating_frame_particle_drawn_in_the_frame(tmp_path):
     res = simulate_scenario(load_scenario(examples / "free_fall.toml"))
     P, text = _page(write_scenario_report(tmp_path / "r.html", res))
     layers = sorted(_layers(P))
-    assert len(layers) == 3 and layers[1:] == ["path", "position r(t)"], layers
+    assert len(layers) == 4 and layers[2:] == ["position r(t)", "whole path"], layers
+    assert layers[1].startswith("path up to the frame's time")
     assert layers[0].startswith("origin of ") and layers[0] != "origin of space axes"
     assert P["scene"]["unit"] == "m" and P["q"] is None  # no attitude of the frame drawn
     r = res.trajectory.position  # relative to the Earth: east, north, up (m)
-    path = _f32(_layers(P)["path"]["v"]).reshape(-1, 3)
+    path = _f32(_layers(P)["whole path"]["v"]).reshape(-1, 3)
     assert path[0] == pytest.approx(r[0], abs=1e-4) and path[-1] == pytest.approx(r[-1], abs=1e-4)
     assert r[-1, 0] > 0  # it lands east of the point below its start
     titles = _titles(P)
@@ -811,8 +906,13 @@ def test_point_and_coordinate_results_need_no_attitude(tmp_path):
         write_report(tmp_path / "p.html", trajectory=p, series=[("x", "m", {"x": r[:, 0]})])
     )
     assert P["q"] is None and P["qref"] is None
-    assert sorted(_layers(P)) == ["origin of inertial axes", "path", "position r(t)"]
-    path = _f32(_layers(P)["path"]["v"]).reshape(-1, 3)
+    assert sorted(_layers(P)) == [
+        "origin of inertial axes",
+        "path up to the frame's time (fading with age)",
+        "position r(t)",
+        "whole path",
+    ]
+    path = _f32(_layers(P)["whole path"]["v"]).reshape(-1, 3)
     np.testing.assert_allclose(np.linalg.norm(path[:, :2], axis=1), 1.0, atol=1e-6)
     assert not any(s.startswith(("angular velocity", "attitude")) for s in _titles(P))
     x, y = _named_series(P, "x")

@@ -74,7 +74,8 @@
     const ctx = canvas.getContext("2d");
     const lo = S.lo, hi = S.hi, c = [0, 1, 2].map(i => (lo[i] + hi[i]) / 2);
     const R = 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-    const home = {az: Math.atan2(1.3, 1.5), el: Math.atan2(0.9, Math.hypot(1.5, 1.3)), zoom: 1};
+    const home = S.view ? {az: S.view.az, el: S.view.el, zoom: 1} :
+      {az: Math.atan2(1.3, 1.5), el: Math.atan2(0.9, Math.hypot(1.5, 1.3)), zoom: 1};
     const cam = Object.assign({}, home);
     const tk = [0, 1, 2].map(i => ticks(lo[i], hi[i], 4));
     const layers = S.layers.map(L => {
@@ -87,7 +88,8 @@
         for (const x of o.v) big = Math.max(big, Math.abs(x));
         o.tiny = 1e-9 * big * big;  // |n| of a degenerate (zero-area) triangle: skipped
       }
-      if (L.type === "line" || L.type === "vec" || L.type === "point") o.v = f32(L.v);
+      if (L.type === "line" || L.type === "vec" || L.type === "point" || L.type === "rig") o.v = f32(L.v);
+      if (L.type === "trail") { o.v = f32(L.v); o.tt = f32(L.tt); }
       return o;
     });
     // legend: one item per group, click toggles every layer of the group
@@ -196,6 +198,34 @@
             const p1 = P(x, y, z);
             if (p0) prims.push({z: (p0[2] + p1[2]) / 2, t: 1, p: [p0, p1], c: L.colour, w: L.width || 2});
             p0 = p1;
+          }
+        } else if (L.type === "trail") {  // the path up to the frame, fading with age
+          const v = L.v, m = L.upto[f], now = L.tt[Math.max(0, m - 1)];
+          let p0 = null;
+          for (let k = 0; k < m; k++) {
+            const p1 = P(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+            if (p0) {
+              const a = L.floor + (1 - L.floor) * Math.exp(-(now - L.tt[k]) / L.tau);
+              prims.push({z: (p0[2] + p1[2]) / 2, t: 1, p: [p0, p1], w: L.width || 2,
+                          c: "rgba(" + col[0] + "," + col[1] + "," + col[2] + "," + a.toFixed(3) + ")"});
+            }
+            p0 = p1;
+          }
+        } else if (L.type === "rig") {  // m points at this frame, links between them
+          const v = L.v, m = L.m, b = 3 * m * f;
+          const pts = [];
+          for (let k = 0; k < m; k++) pts.push(P(v[b + 3 * k], v[b + 3 * k + 1], v[b + 3 * k + 2]));
+          for (const [i, j] of L.pairs) {
+            if (!isFinite(pts[i][0] + pts[j][0] + pts[i][1] + pts[j][1])) continue;
+            prims.push({z: (pts[i][2] + pts[j][2]) / 2, t: 1, p: [pts[i], pts[j]], c: L.colour,
+                        w: L.width || 3, dash: L.dash});
+          }
+          if (L.dots) {
+            pts.forEach((p, k) => {
+              const big = (L.big || []).includes(k);
+              if (isFinite(p[0] + p[1])) prims.push({z: p[2] + 1e-6, t: 2, p: [p], sym: "dot",
+                                                     c: big ? L.dot : L.colour, w: big ? 6.5 : 3.5});
+            });
           }
         } else if (L.type === "marker" || L.type === "point") {
           const p = L.type === "point" ? [L.v[3 * f], L.v[3 * f + 1], L.v[3 * f + 2]] : L.p;

@@ -64,6 +64,11 @@ _MAX_TRACK = 400  # points kept for the polhode / herpolhode / particle path
 _MAX_SERIES = 1200  # points kept per time series (min/max envelope beyond that)
 _MIN_FRAMES = 120  # frames even in time, at least (fewer if fewer samples)
 _MAX_MESH_FACES = 3000  # a mesh body is decimated to at most this many triangles
+_FRAMES_PER_PERIOD = 24  # frames per period of a motion without attitude, at least
+_TRAIL_FLOOR = 0.12  # opacity of the oldest part of a trail (the whole path stays legible)
+_LINK_COLOUR = "#3a3a3a"
+_DOT_COLOUR = "#d62728"
+_GUIDE_COLOURS = ("#2ca02c", "#9467bd", "#ff7f0e")
 
 
 def write_report(
@@ -85,7 +90,8 @@ def write_report(
     max_frames: int = 1500,
     max_frame_angle: float = 20.0,
     sections: Sequence[tuple[str, str]] = (),
-    series: Sequence[tuple[str, str, Mapping[str, Any]]] = (),
+    series: Sequence[tuple[Any, ...]] = (),
+    drawing: Mapping[str, Any] | None = None,
 ) -> Path:
     """Write a self-contained interactive HTML report of a trajectory.
 
@@ -158,10 +164,23 @@ def write_report(
     sections : sequence of (str, str), optional
         Extra sections ``(heading, html)`` shown above the summary, e.g. a kind's
         typeset equations as inline SVG (trusted HTML made by poinsot, not user text).
-    series : sequence of (str, str, mapping), optional
+    series : sequence of (str, str, mapping[, collection]), optional
         Extra time-series charts ``(title, units, {label: values of shape (n,)})``
         on the trajectory's times, e.g. the generalised coordinates ``q_i(t)`` of
-        a Lagrangian system (theory §11).
+        a Lagrangian system (theory §11); an optional fourth item names the labels
+        drawn dashed in the colour of the series before them (a reference run).
+    drawing : mapping, optional
+        Points that move with the motion, drawn in the scene (space axes, m):
+        ``{"points": {name: (n, 3) positions}, "links": [(name, name), ...]``
+        (segments drawn between two points at every frame), ``"trails": [name,
+        ...]`` (the path of a point up to the frame's time, older parts fading),
+        ``"guides": {label: (n, 2, 3)}`` (a dashed segment per sample, e.g. the
+        direction of a pendulum's swing plane), ``"face_on": bool`` (a plane
+        drawing in the x-z plane: the view starts facing it)}. With a rigid body
+        the points are drawn with it (e.g. a top's stem and the trail of its
+        axis); without one, frames are chosen from the motion's own time scale
+        (at least 24 per period of the fastest back-and-forth of a point, see
+        Notes).
 
     Returns
     -------
@@ -191,6 +210,14 @@ def write_report(
     cyclically). Arrows: ``w`` and ``K`` are drawn from the origin of the body
     axes, each with one scale for the whole animation, written in the legend
     (e.g. "1 rad/s = 0.05 m").
+
+    The time scale of a motion without attitude (a particle, a drawn Lagrangian
+    system) is ``P = 2 (t_end - t_0) / c``, with ``c`` the largest number of sign
+    changes of one velocity component of one drawn point (components smaller than
+    1e-3 of their largest value ignored): a swing, an orbit or a gyration has two
+    per period. Frames are then at most ``P/24`` apart (fewer if ``max_frames``
+    or the samples do not allow it: the page says so); trails fade with the age
+    ``a`` of a point as ``0.12 + 0.88 exp(-a / (1.5 P))``.
 
     **Convention:** the scene is in space axes, ``v_space = R v_body``
     (theory §2), quaternions scalar first; ``w`` is read in body axes and drawn
@@ -265,6 +292,7 @@ def write_report(
         raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
 
     extra = _check_series(series, tr.t.size)
+    draw = _check_drawing(drawing, tr.t.size)
     with warnings.catch_warnings():  # gimbal lock of the plotted angles is not the user's
         warnings.simplefilter("ignore")
         payload, notes, meta = _build(
@@ -282,6 +310,7 @@ def write_report(
             max_frames,
             max_frame_angle,
             extra,
+            draw,
         )
     page = page_html(
         title=title, meta=meta, notes=notes, payload=payload, summary=summary, sections=sections
@@ -422,7 +451,7 @@ def _check_series(series, n: int) -> list:
     for item in series:
         if (
             not isinstance(item, Sequence)
-            or len(item) != 3
+            or len(item) not in (3, 4)
             or not isinstance(item[0], str)
             or not isinstance(item[1], str)
             or not isinstance(item[2], Mapping)
@@ -431,18 +460,100 @@ def _check_series(series, n: int) -> list:
                 "Expected each of `series` to be (title: str, units: str, {label: values}), "
                 f"got {item!r:.80}."
             )
-        lines = []
-        for k, (label, y) in enumerate(item[2].items()):
+        dashed = set(item[3]) if len(item) == 4 else set()
+        lines: list[tuple[str, np.ndarray, str, str | None]] = []
+        for label, y in item[2].items():
             y = as_float_array(y, f"series[{item[0]!r}][{label!r}]")
             if y.shape != (n,):
                 raise InvalidInputError(
                     f"Expected `series` {item[0]!r} / {label!r} to have shape ({n},) (one value "
                     f"per sample), got {y.shape}."
                 )
-            lines.append((str(label), y, _SERIES_COLOURS[k % len(_SERIES_COLOURS)], None))
+            if label in dashed and lines:  # drawn over the series before it, in its colour
+                lines.append((str(label), y, lines[-1][2], "dash"))
+                continue
+            colour = _SERIES_COLOURS[len({c for _, _, c, _ in lines}) % len(_SERIES_COLOURS)]
+            lines.append((str(label), y, colour, None))
         if lines:
             out.append((item[0], item[1], lines))
     return out
+
+
+def _check_drawing(drawing, n: int) -> dict | None:
+    """``drawing`` validated: points as float arrays (n, 3), links as index pairs."""
+    if drawing is None:
+        return None
+    if not isinstance(drawing, Mapping):
+        raise InvalidTypeError(
+            f"Expected `drawing` to be a mapping or None, got {type(drawing).__name__}."
+        )
+    unknown = set(drawing) - {"points", "links", "trails", "guides", "face_on"}
+    if unknown:
+        raise InvalidInputError(
+            "Expected `drawing` to have the keys 'points', 'links', 'trails', 'guides', "
+            f"'face_on', got {sorted(drawing)}."
+        )
+    raw = drawing.get("points") or {}
+    if not isinstance(raw, Mapping):
+        raise InvalidTypeError(
+            f"Expected `drawing['points']` to be a mapping, got {type(raw).__name__}."
+        )
+    points: dict[str, np.ndarray] = {}
+    for name, v in raw.items():
+        a = as_float_array(v, f"drawing['points'][{name!r}]")
+        if a.shape != (n, 3):
+            raise InvalidInputError(
+                f"Expected `drawing['points'][{name!r}]` to have shape ({n}, 3) (one position "
+                f"per sample, m), got {a.shape}."
+            )
+        points[str(name)] = a
+    names = list(points)
+
+    def index(name, what):
+        if name not in points:
+            raise InvalidInputError(
+                f"Expected each name in `drawing[{what!r}]` to be one of the points {names}, "
+                f"got {name!r}."
+            )
+        return names.index(name)
+
+    links = []
+    for pair in drawing.get("links") or ():
+        if isinstance(pair, str) or not isinstance(pair, Sequence) or len(pair) != 2:
+            raise InvalidInputError(
+                f"Expected each of `drawing['links']` to be a pair of point names, got {pair!r}."
+            )
+        links.append((index(pair[0], "links"), index(pair[1], "links")))
+    trails = [index(name, "trails") for name in drawing.get("trails") or ()]
+    guides: dict[str, np.ndarray] = {}
+    for label, v in (drawing.get("guides") or {}).items():
+        a = as_float_array(v, f"drawing['guides'][{label!r}]")
+        if a.shape != (n, 2, 3):
+            raise InvalidInputError(
+                f"Expected `drawing['guides'][{label!r}]` to have shape ({n}, 2, 3) (two ends "
+                f"per sample, m), got {a.shape}."
+            )
+        guides[str(label)] = a
+    return {"points": points, "links": links, "trails": trails, "guides": guides,
+            "face_on": bool(drawing.get("face_on", False))}  # fmt: skip
+
+
+def _time_scale(t: np.ndarray, tracks) -> float | None:
+    """Shortest period (s) of the back-and-forth of the tracked points: twice the
+    duration over the most sign changes of one velocity component (the sign of the
+    difference of consecutive positions; values under 1e-3 of the component's largest
+    ignored, so that round-off about zero does not count). None if nothing turns back."""
+    most = 0
+    for p in tracks:
+        for c in np.diff(np.asarray(p, dtype=float), axis=0).T:
+            big = float(np.max(np.abs(c), initial=0.0))
+            if not big > 0:
+                continue
+            s = np.sign(c[np.abs(c) > 1e-3 * big])
+            most = max(most, int(np.count_nonzero(s[1:] != s[:-1])))
+    if most == 0 or t.size < 2:
+        return None
+    return 2.0 * float(t[-1] - t[0]) / most
 
 
 def _check_inertia(inertia) -> np.ndarray | None:
@@ -714,7 +825,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
 
 def _build(
     tr, ref, parts, J, mass, com, fixed, free_body, checks, tq, euler_seq, max_frames,
-    max_angle_deg, extra_panels=(),
+    max_angle_deg, extra_panels=(), draw=None,
 ):  # fmt: skip
     """The viewer's data (``payload``), the notes under the figure and the meta line."""
     t = tr.t
@@ -726,9 +837,18 @@ def _build(
     pos = getattr(tr, "position", None)
     pos = None if pos is None else np.asarray(pos, dtype=float)
     has_body = rigid and (parts is not None or J is not None or moving)
-    show_scene = has_body or pos is not None
+    drawn = draw is not None and bool(draw["points"] or draw["guides"])
+    show_scene = has_body or pos is not None or drawn
     panels = list(extra_panels) + _panels(tr, ref, checks, tq, euler_seq, free_body)
-    frames_k, worst = _frame_indices(t, turns, max_frames, math.radians(max_angle_deg))
+    tracks = ([] if pos is None else [pos]) + (
+        [] if draw is None else list(draw["points"].values())
+    )
+    period = _time_scale(t, tracks)
+    max_angle = math.radians(max_angle_deg)
+    if not moving and period is not None:  # a phase advancing 2 pi per period: the frame rule
+        turns, max_angle = 2.0 * np.pi * np.diff(t) / period, 2.0 * np.pi / _FRAMES_PER_PERIOD
+    frames_k, worst = _frame_indices(t, turns, max_frames, max_angle)
+    fade = 1.5 * period if period is not None else float(t[-1] - t[0]) / 4.0 if n > 1 else 1.0
     sample_turn = float(np.max(turns, initial=0.0))
     qf = tr.quat[frames_k] if rigid else None
     layers: list[dict] = []
@@ -803,9 +923,19 @@ def _build(
                   width=2)  # fmt: skip
             extent = max(extent, float(np.max(np.abs(her))))
         lo, hi = np.full(3, -1.08 * extent), np.full(3, 1.08 * extent)
+
+    def trail(p, name, colour):
+        """The path of ``p`` (n, 3) up to each frame's time, fading with age."""
+        keep = np.union1d(_track_indices(t, p, m=_MAX_TRACK * 3), frames_k)
+        upto = np.searchsorted(keep, frames_k, side="right")
+        layer("trail", name, colour, v=b64(p[keep]), tt=b64(t[keep] - t[0]), upto=upto.tolist(),
+              tau=fade, floor=_TRAIL_FLOOR, width=2.2)  # fmt: skip
+
     if show_scene and pos is not None:
         track = _track_indices(t, pos, m=_MAX_TRACK * 3)
-        layer("line", "path", "#1f77b4", v=b64(pos[track]), frame="space", width=2)
+        layer("line", "whole path", "#9bbbd9", v=b64(pos[track]), frame="space", width=1.2,
+              visible=False)  # fmt: skip
+        trail(pos, "path up to the frame's time (fading with age)", "#1f77b4")
         layer("point", "position r(t)", "#d62728", v=b64(pos[frames_k]), size=6)
         axes = getattr(tr, "frame_name", None) if not rigid else None
         axes = axes if isinstance(axes, str) and axes else "space"
@@ -816,9 +946,38 @@ def _build(
             lo, hi = np.minimum(lo, c - r), np.maximum(hi, c + r)
         else:
             lo, hi, unit = c - r, c + r, "m"
+    if show_scene and drawn:
+        pts = draw["points"]
+        names = list(pts)
+        for k in draw["trails"]:
+            trail(pts[names[k]], f"trail of {names[k]} (fading with age)",
+                  _PALETTE[(k + 5) % len(_PALETTE)])  # fmt: skip
+        if names:
+            P = np.stack([pts[nm][frames_k] for nm in names], axis=1)  # (frames, m, 3)
+            what = "links and points" if draw["links"] else "points"
+            # the points with a trail (the ones to follow) large and red, the others small
+            layer("rig", f"{what}: {', '.join(names)}", _LINK_COLOUR, v=b64(P), m=len(names),
+                  pairs=[list(pr) for pr in draw["links"]], dots=True, dot=_DOT_COLOUR,
+                  big=sorted(set(draw["trails"])), width=3.5)  # fmt: skip
+        for k, (label, G) in enumerate(draw["guides"].items()):
+            layer("rig", label, _GUIDE_COLOURS[k % len(_GUIDE_COLOURS)], v=b64(G[frames_k]), m=2,
+                  pairs=[[0, 1]], dots=False, dash=True, width=2.5)  # fmt: skip
+        every = np.concatenate(
+            [a.reshape(-1, 3) for a in (*pts.values(), *draw["guides"].values())]
+        )
+        every = every[np.all(np.isfinite(every), axis=-1)]
+        if every.size:
+            dlo, dhi = every.min(0), every.max(0)
+            if lo is None:
+                c, r = (dlo + dhi) / 2, max(float(np.max(dhi - dlo)) / 2 * 1.1, 1e-9)
+                lo, hi, unit = c - r, c + r, "m"
+            else:
+                lo, hi = np.minimum(lo, dlo), np.maximum(hi, dhi)
     scene = None
-    if show_scene:
+    if show_scene and lo is not None:
         scene = {"unit": unit, "lo": lo.tolist(), "hi": hi.tolist(), "layers": layers}
+        if draw is not None and draw["face_on"]:  # a plane drawing in x-z: seen face on
+            scene["view"] = {"az": -0.5 * math.pi + 0.12, "el": 0.1}
 
     if show_scene and has_body and moving:
         deg = math.degrees(worst)
@@ -838,12 +997,30 @@ def _build(
                 f"Animation: {frames_k.size} frames; the body turns up to {deg:.3g} deg between "
                 f"two frames because {why}: a fast spin may appear to strobe."
             )
+    if show_scene and not moving and n > 2:
+        if period is None:
+            notes.append(f"Animation: {frames_k.size} frames even in time.")
+        else:
+            per = period / (float(np.max(np.diff(t[frames_k]))) or period)
+            notes.append(
+                f"Animation: {frames_k.size} frames, at least {per:.3g} per period of the "
+                f"motion ({fmt_number(period)} s, from the turning points of the drawn points)"
+                + (
+                    "."
+                    if per >= _FRAMES_PER_PERIOD * 0.99
+                    else f": fewer than {_FRAMES_PER_PERIOD} because of the output samples "
+                    f"or the frame limit ({max_frames}); fast motion may look jumpy."
+                )
+            )
     notes.append(
         "Speed: 1x shows every frame (about 25 per second); faster speeds skip frames. "
         + (
             "Scene in space axes (v_space = R v_body); body axes x, y, z in red, green, blue. "
             if show_scene and has_body
-            else "Scene: the path in metres, the red dot the position at the frame's time. "
+            else "Scene: the path in metres up to the frame's time (older parts fade), the "
+            "red dot the position at the frame's time. "
+            if show_scene and pos is not None
+            else "Scene in metres: the system drawn at the frame's time, trails fading with age. "
             if show_scene
             else ""
         )

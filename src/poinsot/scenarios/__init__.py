@@ -22,7 +22,17 @@ from __future__ import annotations
 from ._toml import ScenarioError
 from .describe import describe, describe_scenario
 from .io import SHAPES, demo_scenario_text, load_scenario, parse_scenario
-from .kind import BodyLayer, Chart, Check, Entry, Facts, FigureSpec, ReportSpec, ScenarioKind
+from .kind import (
+    BodyLayer,
+    Chart,
+    Check,
+    Drawing,
+    Entry,
+    Facts,
+    FigureSpec,
+    ReportSpec,
+    ScenarioKind,
+)
 from .output import OutputFiles, prepare_output_dir, run_scenario, write_outputs
 from .registry import KINDS
 from .report import write_scenario_report
@@ -49,6 +59,7 @@ __all__ = [
     "AGREEMENT_THRESHOLD",
     "ATTITUDE_THRESHOLD",
     "BodyLayer",
+    "Drawing",
     "Chart",
     "ReportSpec",
     "write_scenario_report",

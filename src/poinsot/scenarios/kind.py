@@ -56,6 +56,7 @@ __all__ = [
     "Progress",
     "Chart",
     "BodyLayer",
+    "Drawing",
     "ReportSpec",
 ]
 
@@ -268,6 +269,9 @@ class Chart:
         Units of every series of the chart (``"rad"``; ``"relative"`` for ratios).
     series : Mapping[str, ndarray]
         Label -> values of shape (n,), one per output time.
+    dashed : tuple of str
+        Labels drawn dashed, in the colour of the series before them (e.g. a
+        reference run over the run).
 
     Examples
     --------
@@ -278,6 +282,7 @@ class Chart:
     title: str
     units: str
     series: Mapping[str, np.ndarray]
+    dashed: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -312,6 +317,46 @@ class BodyLayer:
 
 
 @dataclass(frozen=True)
+class Drawing:
+    """Points that move with the motion, drawn in the scene of ``report.html``
+    (space axes, m): a Lagrangian system's ``[draw]`` table, a top's stem and axis
+    tip, a pendulum's swing plane.
+
+    Attributes
+    ----------
+    points : Mapping[str, ndarray]
+        Name -> positions of shape (n, 3), one per output time.
+    links : tuple of (str, str)
+        Segments drawn between two points at every frame.
+    trails : tuple of str
+        Points whose path up to the frame's time is drawn, older parts fading.
+    guides : Mapping[str, ndarray]
+        Label -> the two ends of a dashed segment at each output time, shape
+        (n, 2, 3) (e.g. the direction of a pendulum's swing plane).
+    face_on : bool
+        A plane drawing in the x-z plane: the view starts facing it.
+
+    Examples
+    --------
+    >>> d = Drawing({"pivot": np.zeros((2, 3)), "bob": np.ones((2, 3))}, (("pivot", "bob"),))
+    >>> d.mapping()["links"]
+    [('pivot', 'bob')]
+    """
+
+    points: Mapping[str, np.ndarray] = field(default_factory=dict)
+    links: tuple[tuple[str, str], ...] = ()
+    trails: tuple[str, ...] = ()
+    guides: Mapping[str, np.ndarray] = field(default_factory=dict)
+    face_on: bool = False
+
+    def mapping(self) -> dict[str, Any]:
+        """As :func:`poinsot.plotting.write_report` takes it (``drawing=``)."""
+        return {"points": dict(self.points), "links": list(self.links),
+                "trails": list(self.trails), "guides": dict(self.guides),
+                "face_on": self.face_on}  # fmt: skip
+
+
+@dataclass(frozen=True)
 class ReportSpec:
     """What ``report.html`` shows for a run: made by :meth:`ScenarioKind.report`,
     rendered by :func:`poinsot.scenarios.write_scenario_report` through the
@@ -340,6 +385,8 @@ class ReportSpec:
     sections : tuple of (str, str)
         Extra ``(heading, html)`` sections (trusted HTML made by poinsot, e.g. a
         kind's figures as inline SVG).
+    drawing : Drawing or None
+        Points, links, trails and guides drawn in the scene with the motion.
     """
 
     motion: Any
@@ -350,6 +397,7 @@ class ReportSpec:
     charts: tuple[Chart, ...] = ()
     checks: tuple[Check, ...] = ()
     sections: tuple[tuple[str, str], ...] = ()
+    drawing: Drawing | None = None
 
 
 class ScenarioKind:

@@ -104,7 +104,8 @@ def write_scenario_report(
         euler_seq=spec.euler_seq,
         reference=spec.reference,
         sections=sections,
-        series=[(c.title, c.units, dict(c.series)) for c in charts],
+        series=[(c.title, c.units, dict(c.series), c.dashed) for c in charts],
+        drawing=None if spec.drawing is None else spec.drawing.mapping(),
     )
 
 

@@ -133,6 +133,30 @@ def body_torque(scenario, tr) -> np.ndarray | None:
         return None
 
 
+def top_drawing(rotation, center_of_mass, reach: float = 1.5):
+    """A top on its pin, for ``report.html``: the stem from the fixed point (the
+    origin) to the centre of mass, and the tip of the axis through them at ``reach``
+    times the centre's distance, with its trail (the loops and cusps of the
+    nutation, docs/theory.md §10), as a :class:`~poinsot.scenarios.Drawing`.
+
+    Examples
+    --------
+    >>> import poinsot
+    >>> d = top_drawing(poinsot.Rotation.identity((2,)), np.array([0.0, 0.0, 0.1]))
+    >>> d.points["axis tip"][0].round(3).tolist(), d.links, d.trails
+    ([0.0, 0.0, 0.15], (('fixed point', 'centre of mass'),), ('axis tip',))
+    """
+    from ..kind import Drawing
+
+    com = np.asarray(center_of_mass, dtype=float)
+    c = rotation.apply(com)
+    return Drawing(
+        {"fixed point": np.zeros_like(c), "centre of mass": c, "axis tip": reach * c},
+        links=(("fixed point", "centre of mass"),),
+        trails=("axis tip",),
+    )
+
+
 def rigid_report(result, *, polhode: bool = False, sections=()):
     """The :class:`~poinsot.scenarios.kind.ReportSpec` of a rigid body's run: the
     body's shape at its centre of mass, the fixed point under gravity, the polhode
@@ -156,8 +180,18 @@ def rigid_report(result, *, polhode: bool = False, sections=()):
             polhode=polhode,
         )
         torque = body_torque(s, tr)
+    drawing = None
+    if s.body is not None and body is not None and body.fixed_point:
+        from ...plotting._report_shapes import equivalent_ellipsoid
+
+        # the tip beyond the body (its equivalent ellipsoid), so that its trail shows
+        com = np.asarray(s.body.center_of_mass, dtype=float)
+        semi, _ = equivalent_ellipsoid(float(s.body.mass), np.asarray(s.body.inertia))
+        reach = 1.0 + 1.25 * float(semi.max()) / float(np.linalg.norm(com))
+        drawing = top_drawing(tr.rotation, com, reach)
     seq = s.attitude.sequence if s.attitude.sequence else ("ZXZ" if torque is not None else "ZYX")
     return ReportSpec(
+        drawing=drawing,
         motion=tr,
         body=body,
         reference=result.reference,

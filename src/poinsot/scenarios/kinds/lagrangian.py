@@ -105,6 +105,7 @@ class LagrangianSpec:
     atol: float
     system: Any = field(default=None, repr=False, compare=False)  # LagrangeSystem
     units: tuple[str, ...] = ()  # of each kept coordinate (SI; "" unknown)
+    draw: Any = None  # the [draw] table (poinsot.scenarios.draw.DrawSpec) or None
 
 
 def _strings(t, key, n=None):
@@ -172,7 +173,7 @@ def _build(t, coords, params, formulas):
 class Lagrangian(ScenarioKind):
     name = "lagrangian"
     title = "a system given by its Lagrangian (Lagrange's equations of the second kind)"
-    tables = ("lagrangian",)
+    tables = ("lagrangian", "draw")
     methods = _METHODS
     orders: dict = {}
     theory = "docs/theory.md §11"
@@ -235,8 +236,11 @@ class Lagrangian(ScenarioKind):
         atol = t.number("atol", 1e-12, positive=True)
         units = self._units(t, kept)
         t.finish(_KEYS)
+        from ..draw import read_draw
+
+        draw = read_draw(top, tuple(kept), tuple(p for p, _ in params))
         spec = LagrangianSpec(coords, tuple(params), tuple(formulas), q0, qdot0, rtol, atol,
-                              system, units)  # fmt: skip
+                              system, units, draw)  # fmt: skip
         return {"spec": spec}
 
     @staticmethod
@@ -353,25 +357,48 @@ class Lagrangian(ScenarioKind):
         return [f for f in figs if f is not None]
 
     def report(self, result):
-        """``report.html``: no scene (no body); charts of ``q(t)`` and ``q'(t)``
-        grouped by unit, the checks, and the equations typeset as inline SVG
+        """``report.html``: the system drawn by its ``[draw]`` table (points, links,
+        trails) when it has one; charts of ``q(t)`` and ``q'(t)`` grouped by unit
+        (the reference run's dashed beside them), the constraint multipliers, the
+        checks, and the equations, coordinates and phase portraits as inline SVG
         (offline)."""
         from ..kind import Chart, ReportSpec
         from ..report import figure_sections
 
         lt = result.trajectory
+        ref = result.reference
+        same = ref is not None and ref.t.shape == lt.t.shape and ref.q.shape == lt.q.shape
         groups: dict[tuple[str, str], dict] = {}
         what = {"rad": "angles", "m": "lengths"}
-        for k, (name, unit) in enumerate(zip(lt.coordinates, lt.units, strict=True)):
-            head = f": {what[unit]}" if unit in what else ""
-            key = (f"generalised coordinates q(t){head}", unit or "unit of q")
-            groups.setdefault(key, {})[name] = lt.q[:, k]
-        for k, (name, unit) in enumerate(zip(lt.coordinates, lt.units, strict=True)):
-            head = f": {what[unit]}" if unit in what else ""
-            key = (f"generalised velocities q'(t){head}", rate_unit(unit) if unit else "1/s")
-            groups.setdefault(key, {})[f"{name}'"] = lt.qdot[:, k]
-        charts = [Chart(title, units, d) for (title, units), d in groups.items()]
-        system = result.scenario.spec.system
+        for rate in (False, True):
+            for k, (name, unit) in enumerate(zip(lt.coordinates, lt.units, strict=True)):
+                head = f": {what[unit]}" if unit in what else ""
+                if rate:
+                    key = (f"generalised velocities q'(t){head}", rate_unit(unit))
+                else:
+                    key = (f"generalised coordinates q(t){head}", unit or "unit of q")
+                label, values = (f"{name}'", lt.qdot) if rate else (name, lt.q)
+                groups.setdefault(key, {})[label] = values[:, k]
+                if same:
+                    other = ref.qdot if rate else ref.q
+                    groups[key][f"{label} ({ref.method}, reference)"] = other[:, k]
+        charts = [
+            Chart(title, units, d, tuple(k for k in d if k.endswith("reference)")))
+            for (title, units), d in groups.items()
+        ]
+        if lt.multipliers is not None and lt.multipliers.size:
+            lam = np.asarray(lt.multipliers).reshape(lt.t.size, -1)
+            names = lt.multiplier_names or tuple(f"lambda{k + 1}" for k in range(lam.shape[1]))
+            charts.append(
+                Chart(
+                    "constraint multipliers lambda: the constraint forces (N for a constraint "
+                    "on velocities in m/s; docs/theory.md §11)",
+                    "SI",
+                    {n: lam[:, k] for k, n in enumerate(names)},
+                )
+            )
+        spec = result.scenario.spec
+        system = spec.system
         n = len(system.coordinates)
 
         def eqs(ax):
@@ -379,12 +406,24 @@ class Lagrangian(ScenarioKind):
 
             return plot_equations(system, ax=ax)
 
+        titles = {
+            "coordinates.png": "Coordinates q(t) (coordinates.png)",
+            "phase.png": "Phase portraits q' against q (phase.png)",
+        }
+        figs = [f for f in self.figures(result) if f.name in titles]
         sections = figure_sections(
-            [FigureSpec("equations.svg", eqs, size=(9.0, 0.9 + 0.7 * n))],
-            ["Lagrange's equations (docs/theory.md §11)"],
+            [FigureSpec("equations.svg", eqs, size=(9.0, 0.9 + 0.7 * n)), *figs],
+            ["Lagrange's equations (docs/theory.md §11)", *(titles[f.name] for f in figs)],
         )
+        drawing = None
+        if spec.draw is not None:
+            drawing = spec.draw.evaluate(lt.t, lt.q, dict(spec.parameters))
         return ReportSpec(
-            motion=lt, charts=tuple(charts), checks=tuple(result.checks), sections=tuple(sections)
+            motion=lt,
+            charts=tuple(charts),
+            checks=tuple(result.checks),
+            sections=tuple(sections),
+            drawing=drawing,
         )
 
     def describe_scenario(self, scenario):

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..describe import fmt
 from ..figures import invariants_figure
-from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from ..kind import Check, Drawing, Entry, Facts, FigureSpec, ScenarioKind
 
 RTOL, ATOL = 1e-11, 1e-12
 
@@ -330,6 +330,22 @@ class Foucault(_EarthKind):
         figs.append(FigureSpec("swing_plane.png", plane))
         inv = invariants_figure(result)
         return figs + ([inv] if inv is not None else [])
+
+    def report(self, result):
+        """The Earth kinds' report, with the swing plane drawn turning at
+        ``-Omega sin(lat)`` from the release direction (docs/theory.md §9)."""
+        from ...dynamics import foucault_precession_rate
+
+        spec = super().report(result)
+        tr = result.trajectory
+        sp = result.scenario.spec
+        r0 = np.asarray(tr.position[0], dtype=float)
+        a = np.arctan2(r0[1], r0[0]) + foucault_precession_rate(sp.latitude, sp.omega) * (
+            tr.t - tr.t[0]
+        )
+        e = 1.15 * sp.amplitude * np.column_stack([np.cos(a), np.sin(a), np.zeros_like(a)])
+        label = "swing plane, turning at -Omega sin(lat) (dashed)"
+        return dataclasses.replace(spec, drawing=Drawing(guides={label: np.stack([-e, e], axis=1)}))
 
     def describe_scenario(self, scenario):
         sp = scenario.spec
