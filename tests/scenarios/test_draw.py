@@ -128,3 +128,35 @@ def test_every_shipped_lagrangian_example_draws_itself(name, tmp_path):
     types = [layer["type"] for layer in data["scene"]["layers"]]
     assert "rig" in types and "trail" in types, types
     assert "Phase portraits" in page and "Coordinates q(t)" in page
+
+
+def test_lagrangian_printed_as_math_with_parameter_values():
+    """summary.json's Lagrangian reads as math (q, q' without (t) or Derivative) and
+    round-trips: the text, with ' read as _dot, parses back to the system's L; the
+    LaTeX writes rates with dots; the parameters' values are given."""
+    import sympy
+
+    from poinsot.symbolic import parse_expression
+
+    sc = parse_scenario(PENDULUM.format(draw=DRAW_OK), source="p.toml")
+    res = simulate_scenario(sc, duration=0.1)
+    r = res.summary["results"]
+    text = r["lagrangian"]
+    assert "(t)" not in text and "Derivative" not in text and "theta1'" in text
+    system = sc.spec.system
+    names = {}
+    for f in system.coordinates:
+        s = f.func.__name__
+        names[s], names[f"{s}_dot"] = sympy.Symbol(s), sympy.Symbol(f"{s}_d")
+    names.update({p.name: p for p in system.parameters})
+    back = parse_expression(text.replace("'", "_dot"), names)
+    plain = system.lagrangian
+    for f in system.coordinates:
+        s = f.func.__name__
+        plain = plain.subs(f.diff(system.time), names[f"{s}_dot"]).subs(f, names[s])
+    assert sympy.simplify(back - plain) == 0
+    assert r"\dot{\theta_{1}}" in r["lagrangian_latex"]
+    assert r["parameter_values"] == {"m1": 1.0, "m2": 2.0, "l1": 0.7, "l2": 1.3, "g": 9.81}
+    assert len(r["equations"]) == 2 and all("''" in e for e in r["equations"])
+    line = next(x for x in res.facts.describe() if x.startswith("Lagrange's equations"))
+    assert "with m1 = 1, m2 = 2, l1 = 0.7, l2 = 1.3, g = 9.81" in line

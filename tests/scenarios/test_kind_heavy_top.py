@@ -111,3 +111,21 @@ def test_exact_is_refused_for_a_body_that_is_not_a_lagrange_top():
     )
     with pytest.raises(InvalidInputError, match="A = B"):
         parse_scenario(text)
+
+
+def test_top_summary_says_its_energies_counts_its_steps_and_has_no_empty_rows():
+    """The top of examples/top_loops.toml (given by its inertia, no shape): no shape,
+    dims or parts rows; both energies explained, E = T + V - H^2/(2C); the step count
+    is the whole run's (duration / max_step), not one chunk's."""
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "top_loops.toml"))
+    s = res.summary
+    assert not {"shape", "dims", "parts"} & set(s["body"])
+    r = s["results"]
+    C = s["body"]["inertia_about_fixed_point"][2][2]
+    assert r["E"] == pytest.approx(r["energy"] - r["H"] ** 2 / (2 * C), rel=1e-12)
+    line = next(x for x in res.facts.describe() if x.startswith("energies:"))
+    assert "total T + V" in line and "H^2/(2C)" in line
+    sim = res.scenario.simulation
+    assert s["run"]["info"]["chunks"] > 1
+    assert s["run"]["info"]["steps"] == round(sim.duration / sim.max_step)

@@ -110,7 +110,8 @@ details pre { font-size: 0.8em; background: #f7f7f7; padding: 0.6em; overflow-x:
        #poinsot-scene-col { position: static; } }
 #poinsot-scene { display: block; cursor: grab; touch-action: none; }
 .pv-legend { font-size: 0.82em; line-height: 1.7; margin: 0.2em 0; }
-.pv-item { cursor: pointer; margin-right: 1.1em; white-space: nowrap; user-select: none; }
+.pv-item { cursor: pointer; margin-right: 1.1em; user-select: none; display: inline-block;
+           max-width: 100%; overflow-wrap: anywhere; vertical-align: top; }
 .pv-item i { display: inline-block; width: 1.5em; height: 0.35em; margin: 0 0.35em 0.2em 0;
        vertical-align: middle; }
 .pv-item.off { color: #aaa; text-decoration: line-through; }

@@ -120,19 +120,10 @@ def equation_latex(system: LagrangeSystem) -> list[str]:
     """
     import sympy
 
-    t = system.time
-    sub = {}
-    for f in system.coordinates:
-        base = sympy.latex(sympy.Symbol(f.func.__name__))
-        sub[f.diff(t, 2)] = sympy.Symbol(rf"\ddot{{{base}}}")
-        sub[f.diff(t)] = sympy.Symbol(rf"\dot{{{base}}}")
-    for lam in system.multipliers:
-        sub[lam] = sympy.Symbol(rf"\lambda_{{{lam.func.__name__[3:]}}}")
-    fsub = {f: sympy.Symbol(f.func.__name__) for f in system.coordinates}
     out = []
     for eq in system.equations():
-        lhs = eq.lhs.xreplace(sub).xreplace(fsub)
-        rhs = eq.rhs.xreplace(sub).xreplace(fsub)
+        lhs = system.printable(eq.lhs, latex=True)
+        rhs = system.printable(eq.rhs, latex=True)
         out.append(f"{sympy.latex(lhs)} = {sympy.latex(rhs)}")
     return out
 

@@ -685,6 +685,14 @@ _ANGLE_NAMES = {
 }
 
 
+def _law_label(check) -> str:
+    """``"label vs law"``, or the label alone when it already names what it is
+    compared with (no "a vs b vs c" legends)."""
+    if not check.law or " vs " in check.label or check.law in check.label:
+        return str(check.label)
+    return f"{check.label} vs {check.law}"
+
+
 def _panels(tr, ref, checks, tq, euler_seq, free_body):
     """Time-series panels: (title, y title, [(name, y, colour, dash)])."""
     from ..errors import InvalidInputError as _Bad
@@ -706,7 +714,8 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
     if q is not None and t.size > 1 and float(np.max(_angles_between(q), initial=0.0)) > 0:
         try:
             ang = np.unwrap(np.asarray(q.as_euler(euler_seq)), axis=0)
-            wrapped = np.ptp(ang, axis=0) > 4.0 * np.pi  # a spin: shown in (-180, 180] deg
+            # a spin: all three shown in (-180, 180] deg, so that they read alike
+            wrapped = np.full(3, bool(np.any(np.ptp(ang, axis=0) > 4.0 * np.pi)))
             ang = np.where(wrapped, np.angle(np.exp(1j * ang)), ang)
         except _Bad:
             ang = None
@@ -714,21 +723,22 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             names = _ANGLE_NAMES.get(euler_seq, tuple(f"angle {k + 1}" for k in range(3)))
             series = [
                 (
-                    f"{names[k]} ({euler_seq[k]}){', wrapped' if wrapped[k] else ''}",
+                    f"{names[k]} ({euler_seq[k]})",
                     np.degrees(ang[:, k]),
                     _AXIS_COLOURS[k],
                     None,
                 )
                 for k in range(3)
             ]
-            out.append((f"attitude: Euler angles {euler_seq}", "deg", series))
+            how = " (each wrapped to (-180, 180])" if wrapped[0] else " (unwrapped)"
+            out.append((f"attitude: Euler angles {euler_seq}{how}", "deg", series))
     laws = [c for c in checks if not c.conserved and c.expected is not None]
     if laws:  # compared with a known law (a closed form): the relative deviation
         series = []
         for k, c in enumerate(laws):
             d = np.asarray(c.relative_change(), dtype=float)
             m = float(np.max(np.abs(d), initial=0.0))
-            what = f"{c.label} vs {c.law}" if c.law else c.label
+            what = _law_label(c)
             series.append((f"{what}: max {fmt_number(m)}", d, _PALETTE[k % len(_PALETTE)], None))
         out.append(("deviation from the known law (relative)", "relative", series))
     conserved = [c for c in checks if c.conserved]
@@ -738,7 +748,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
             d = np.asarray(c.relative_change(), dtype=float)
             m = float(np.max(np.abs(d), initial=0.0))
             worst = max(worst, m)
-            what = f"{c.label} vs {c.law}" if c.law else c.label
+            what = _law_label(c)
             series.append((f"{what}: max {fmt_number(m)}", d, _PALETTE[k % len(_PALETTE)], None))
         # round-off: a few thousand ulp at most; beyond, the method's error (a drift)
         kindof = "round-off only" if worst < 1e-12 else "drift"

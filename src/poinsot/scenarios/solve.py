@@ -222,7 +222,8 @@ def _concatenate(parts: list):
     """One result from consecutive chunks that share their boundary samples: every
     per-sample field (an array or a Rotation whose first axis runs over the times)
     joined without the repeated samples, the others from the first chunk;
-    ``info`` from the last, with ``chunks``."""
+    ``info`` from the last, with ``chunks``, its counts (steps, evaluations...)
+    summed over the chunks and its step sizes the extremes of all chunks."""
     from ..rotations.rotation import Rotation
 
     first = parts[0]
@@ -240,9 +241,21 @@ def _concatenate(parts: list):
         else:
             kwargs[f.name] = v0
     info = dict(parts[-1].info)
+    for key in _COUNTS:  # one count for the whole run, not the last chunk's
+        values = [p.info.get(key) for p in parts]
+        if all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in values):
+            info[key] = int(sum(values))
+    for key, pick in (("step_size", max), ("min_step_size", min)):
+        values = [p.info[key] for p in parts if isinstance(p.info.get(key), float | int)]
+        if values:
+            info[key] = float(pick(values))
     info["chunks"] = len(parts)
     kwargs["info"] = info
     return type(first)(**kwargs)
+
+
+#: ``info`` counts that add up over the chunks of a run (poinsot.trajectory.INFO_KEYS).
+_COUNTS = ("steps", "evaluations", "rejected", "torque_calls")
 
 
 def _override(scenario: Scenario, duration: float | None) -> Scenario:

@@ -181,6 +181,20 @@ def _round_step(h: float) -> float:
     return math.floor(h / 10**e) * 10**e
 
 
+def _tidy(a: Any, scale: float) -> np.ndarray:
+    """``a`` with round-off (``|x| <= 1e-12 scale``, e.g. an off-diagonal -1.7e-18 kg m^2
+    of an inertia summed from parts) and ``-0.0`` written as 0.
+
+    Examples
+    --------
+    >>> _tidy([[2.0, -1.7e-18], [-0.0, 1.0]], 2.0).tolist()
+    [[2.0, 0.0], [0.0, 1.0]]
+    """
+    out = np.array(a, dtype=float)
+    out[np.abs(out) <= 1e-12 * scale] = 0.0
+    return out
+
+
 @dataclass(frozen=True)
 class Accuracy:
     """The accuracy assessment of a run: thresholds, warnings and a suggested step."""
@@ -410,17 +424,24 @@ class ScenarioResult:
         from ..mass import principal_axes
 
         b = s.body
-        moments, axes = principal_axes(np.asarray(b.inertia))
+        J = np.asarray(b.inertia, dtype=float)
+        moments, axes = principal_axes(J)
+        big = float(np.max(np.abs(J)))
+        com = np.asarray(b.center_of_mass, dtype=float)
         entries: dict[str, Any] = {
             "mass": Entry(b.mass, "kg"),
-            "inertia": Entry(b.inertia, "kg m^2"),
-            "center_of_mass": Entry(b.center_of_mass, "m"),
-            "principal_moments": Entry(moments, "kg m^2"),
-            "principal_axes_columns": Entry(axes.as_matrix(), "1"),
-            "shape": b.shape,
-            "dims": Entry(b.dims, "m") if b.dims else None,
-            "parts": [p.name for p in b.parts] or None,
+            "inertia": Entry(_tidy(J, big), "kg m^2"),
+            "center_of_mass": Entry(_tidy(com, float(np.max(np.abs(com)))), "m"),
+            "principal_moments": Entry(_tidy(moments, big), "kg m^2"),
+            "principal_axes_columns": Entry(_tidy(axes.as_matrix(), 1.0), "1"),
         }
+        # a body given by its inertia has no shape: no empty rows
+        if b.shape not in (None, "none"):
+            entries["shape"] = b.shape
+        if b.dims:
+            entries["dims"] = Entry(b.dims, "m")
+        if b.parts:
+            entries["parts"] = [p.name for p in b.parts]
         faces = [f for f in (b.faces, *(p.faces for p in b.parts)) if f is not None]
         if faces:  # a mesh has no dims: its size is its triangle count
             entries["mesh_triangles"] = sum(int(f.shape[0]) for f in faces)

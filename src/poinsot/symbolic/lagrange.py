@@ -284,6 +284,37 @@ class LagrangeSystem:
         """``L = T - P - V`` in ``q(t)``, ``q'(t)``."""
         return self._c.to_funcs(self._L)
 
+    def printable(self, expr: Any, *, latex: bool = False) -> Any:
+        """``expr`` with each coordinate ``q(t)``, its rates and the multipliers as
+        plain symbols, for text (``theta1``, ``theta1'``, ``theta1''``, ``lambda1``)
+        or, with ``latex``, for LaTeX (``\\theta_{1}``, ``\\dot{\\theta_{1}}``...).
+
+        Examples
+        --------
+        >>> import sympy
+        >>> from sympy.physics.mechanics import dynamicsymbols
+        >>> x = dynamicsymbols("x")
+        >>> s = LagrangeSystem([x], x.diff() ** 2 / 2, x**2 / 2)
+        >>> str(s.printable(s.lagrangian))
+        "-x**2/2 + x'**2/2"
+        >>> sympy.latex(s.printable(s.lagrangian, latex=True))
+        '\\\\frac{\\\\dot{x}^{2}}{2} - \\\\frac{x^{2}}{2}'
+        """
+        import sympy
+
+        t = self.time
+        rates, plain = {}, {}
+        for f in self.coordinates:
+            name = f.func.__name__
+            base = sympy.latex(sympy.Symbol(name)) if latex else name
+            rates[f.diff(t, 2)] = sympy.Symbol(rf"\ddot{{{base}}}" if latex else f"{name}''")
+            rates[f.diff(t)] = sympy.Symbol(rf"\dot{{{base}}}" if latex else f"{name}'")
+            plain[f] = sympy.Symbol(base)
+        for lam in self.multipliers:
+            k = lam.func.__name__[3:]
+            rates[lam] = sympy.Symbol(rf"\lambda_{{{k}}}" if latex else f"lambda{k}")
+        return sympy.sympify(expr).xreplace(rates).xreplace(plain)
+
     @property
     def kinetic(self) -> Any:
         """The kinetic energy ``T``."""

@@ -76,8 +76,8 @@ def _lagrange_facts(top, scenario) -> Facts:
         "mgl": Entry(top.mgl, "N m"),
         "H": Entry(top.H, "kg m^2/s", "H = C r"),
         "K_z": Entry(top.K_z, "kg m^2/s", "area integral"),
-        "E": Entry(top.E, "J", "reduced energy (without C r^2 / 2)"),
-        "energy": Entry(top.energy, "J", "total energy T + V"),
+        "E": Entry(top.E, "J", "E = T + V - H^2/(2C): the energy without the spin term"),
+        "energy": Entry(top.energy, "J", "total energy T + V (conserved)"),
         "motion": Entry(top.motion_type),
         "maievskii_ratio": Entry(top.maievskii_ratio, "1", "C^2 r^2 / (4 A m g l)"),
         "critical_spin": Entry(float(critical_spin(top.A, top.C, top.mgl)), "rad/s"),
@@ -114,6 +114,9 @@ def _lagrange_facts(top, scenario) -> Facts:
         f"roots of P(u): {fmt(u1)}, {fmt(u2)}, {fmt(u3)}",
         f"Maievskii ratio C^2 r^2/(4 A m g l) = {fmt(top.maievskii_ratio)} "
         f"(the upright top is stable above 1)",
+        f"energies: total T + V = {fmt(top.energy)} J (conserved, checked below); "
+        f"E = T + V - H^2/(2C) = {fmt(top.E)} J leaves out the constant spin term and is "
+        "the energy of the nutation in P(u) (docs/theory.md §10)",
     )
     return Facts(e, lines)
 

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ... import integrators
+from ..describe import fmt
 from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
 
 #: ``[simulation] method`` -> ``solve_ivp`` method.
@@ -283,16 +284,37 @@ class Lagrangian(ScenarioKind):
         return None
 
     def facts(self, scenario):
-        system = scenario.spec.system
+        """The Lagrangian and Lagrange's equations in readable text (``theta1'`` for a
+        rate) and as LaTeX, with the parameter values; the cyclic coordinates and
+        whether the Jacobi integral is conserved."""
+        import sympy
+
+        spec = scenario.spec
+        system = spec.system
+        pr = system.printable
+        eqs = system.equations()
+        values = ", ".join(f"{name} = {fmt(v)}" for name, v in spec.parameters)
         entries = {
             "coordinates": Entry(", ".join(str(f.func) for f in system.coordinates)),
             "parameters": Entry(", ".join(str(p) for p in system.parameters)),
-            "equations": Entry([str(e) for e in system.equations()]),
+            "parameter_values": Entry(dict(spec.parameters)),
+            "lagrangian": Entry(str(pr(system.lagrangian))),
+            "lagrangian_latex": Entry(sympy.latex(pr(system.lagrangian, latex=True))),
+            "equations": Entry([f"{pr(e.lhs)} = {pr(e.rhs)}" for e in eqs]),
+            "equations_latex": Entry(
+                [
+                    f"{sympy.latex(pr(e.lhs, latex=True))} = {sympy.latex(pr(e.rhs, latex=True))}"
+                    for e in eqs
+                ]
+            ),  # fmt: skip
             "cyclic_coordinates": Entry([str(c.func) for c in system.cyclic_coordinates]),
             "jacobi_integral_conserved": Entry(bool(system.jacobi_conserved)),
         }
-        lines = [f"Lagrange's equations E_k L = Q*_k (docs/theory.md §11), L = {system.lagrangian}"]
-        lines += [f"  {e.lhs} = {e.rhs}" for e in system.equations()]
+        lines = [
+            f"Lagrange's equations E_k L = Q*_k (docs/theory.md §11), "
+            f"L = {pr(system.lagrangian)}" + (f", with {values}" if values else "")
+        ]
+        lines += [f"  {pr(e.lhs)} = {pr(e.rhs)}" for e in eqs]
         if system.cyclic_coordinates:
             names = ", ".join(str(c.func) for c in system.cyclic_coordinates)
             lines.append(f"cyclic coordinates: {names} (their momenta are conserved)")
