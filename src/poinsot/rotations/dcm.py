@@ -13,10 +13,12 @@ rotation in the Frobenius norm (``U diag(1, 1, det(U V^T)) V^T`` from the SVD).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._typing import ArrayLike
-from .._validate import as_matrix3
+from .._validate import as_trailing
 from ..errors import InvalidInputError
 from ._lazy import big, flat, kernels, threaded
 
@@ -72,21 +74,28 @@ def quat_from_user_matrix(
     m: ArrayLike, name: str = "matrix", *, atol: float = ORTHOGONALITY_ATOL
 ) -> np.ndarray:
     """Check, project if needed, and convert user matrices (see module notes)."""
-    m = as_matrix3(m, name)
-    q, err, det = _to_quat(m)
-    if np.any(det <= 0):
+    # finiteness is checked on the kernel's output (its err is NaN exactly for a
+    # non-finite matrix): one pass over the matrices instead of two
+    m = as_trailing(m, name, (3, 3), finite=False)
+    with np.errstate(invalid="ignore", over="ignore"):  # NaN/inf in: NaN err out, no warning
+        q, err, det = _to_quat(m)
+    if err.size == 0:
+        return q
+    worst = float(np.max(err))  # NaN if any is NaN
+    if math.isnan(worst):
+        raise InvalidInputError(f"Expected `{name}` to contain only finite values (no NaN/inf).")
+    if float(np.min(det)) <= 0.0:
         bad = np.asarray(det)[det <= 0].ravel()[0]
         raise InvalidInputError(
             f"Expected `{name}` to be a proper rotation (determinant > 0), got det = {bad:.6g}."
         )
-    if np.any(err > atol):
-        worst = float(np.max(err))
+    if worst > atol:
         raise InvalidInputError(
             f"Expected `{name}` to be orthogonal within {atol:g} (max |A^T A - E|), "
             f"got {worst:.3g}."
         )
-    fix = err > EXACT_ATOL
-    if np.any(fix):
+    if worst > EXACT_ATOL:
+        fix = err > EXACT_ATOL
         q = np.array(q)
         q[fix] = quat_from_matrix(_nearest_rotation(m[fix]))
     return q
