@@ -99,7 +99,8 @@ def test_same_seed_same_table_other_seed_other_draws(tmp_path):
     assert serial.column("flip").min() > 0  # every racket flips within 15 s here
 
 
-def test_failed_samples_are_recorded_not_dropped():
+def _plate_with_bad_inertia():
+    """A plate whose C is drawn up to 3: A + B >= C fails for C > 2 (40 samples)."""
     p = EnsembleProblem(
         "plate",
         np.diag([1.0, 2.0, 3.0]),
@@ -109,7 +110,11 @@ def test_failed_samples_are_recorded_not_dropped():
         dispersions=(("inertia", Uniform(low=[1.0, 1.0, 1.0], high=[1.0, 1.0, 3.0])),),
         metrics=(Metric("wmax", "max", component="omega_y"),),
     )
-    res = run(p, 40, chunk_size=40, client="serial", seed=1)
+    return p, run(p, 40, chunk_size=40, client="serial", seed=1)
+
+
+def test_failed_samples_are_recorded_not_dropped():
+    p, res = _plate_with_bad_inertia()
     c = res.column("inertia_z")
     failed = res.column("failed")
     assert np.array_equal(failed, c > 2.0)  # A + B >= C fails exactly there
@@ -332,3 +337,52 @@ def test_heavy_top_nutation_band_matches_the_lagrange_top(tmp_path):
         # sampled every 0.5 ms: extremes missed by <= 2e-5 deg (observed), 100x headroom
         assert abs(res.column("nmin")[i] - lo) < 2e-3
         assert abs(res.column("nmax")[i] - hi) < 2e-3
+
+
+def _ranks(a):
+    return np.argsort(np.argsort(a)).astype(float)
+
+
+def test_sensitivity_ranks_the_input_that_drives_the_metric():
+    """A spin about the major axis z (stable): max omega_z is omega0_z, so omega0_z
+    comes first with rho = 1, and rho equals Spearman's formula computed here from
+    the ranks (Pearson correlation of ranks, no ties); the attitude, which the metric
+    ignores, is given as an angle in degrees within 5 sigma."""
+    from poinsot.ensemble.scenario import physical_inputs, sensitivity
+
+    p = EnsembleProblem(
+        "spinner",
+        np.diag([1.0, 2.0, 3.0]),
+        np.array([1.0, 0, 0, 0]),
+        np.array([0.01, 0.01, 2.0]),
+        np.linspace(0.0, 1.0, 11),
+        dispersions=(
+            ("omega0", Normal(sigma=[0.001, 0.001, 0.3])),
+            ("attitude", SmallRotation(sigma=2.0)),
+        ),
+        metrics=(Metric("wmax", "max", component="omega_z"),),
+    )
+    res = run(p, 60, chunk_size=60, client="serial", seed=3)
+    inputs = physical_inputs(p, res)
+    assert set(inputs) == {"omega0_x", "omega0_y", "omega0_z", "attitude_offset"}
+    angle, unit, _ = inputs["attitude_offset"]
+    assert unit == "deg" and np.all(angle >= 0) and np.all(angle < 5 * 2.0 * np.sqrt(3))
+    ranked = sensitivity(p, res, inputs)["wmax"]
+    assert ranked[0][0] == "omega0_z" and ranked[0][1] == pytest.approx(1.0)
+    v = res.column("wmax")
+    for name, rho in ranked:
+        by_hand = np.corrcoef(_ranks(inputs[name][0]), _ranks(v))[0, 1]
+        assert rho == pytest.approx(by_hand, abs=1e-12), name
+
+
+def test_report_lists_failed_samples_and_reasons(tmp_path):
+    from poinsot.ensemble.scenario import _report
+
+    p, res = _plate_with_bad_inertia()
+    n = int(res.column("failed").sum())
+    assert 0 < n < 40
+    _report(p, res, tmp_path / "report.html")
+    text = (tmp_path / "report.html").read_text()
+    assert f"Failed samples: {n} of 40" in text
+    assert f"<li>{n} x inertia violates the triangle inequality A + B &gt;= C</li>" in text
+    assert "<td>inertia_z</td><td>kg m^2</td>" in text  # the dispersed input's row

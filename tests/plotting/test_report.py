@@ -791,13 +791,20 @@ def test_ensemble_report_uses_the_viewer(tmp_path):
                 assert s["mode"] == "markers"
                 x, y = _f32(s["x"]), _f32(s["y"])
                 ok = ~failed & np.isfinite(v)
-                np.testing.assert_allclose(x, res.column(param)[ok], rtol=1e-6, atol=1e-30)
-                # units of the inputs: rad/s for omega0, none for quaternion components
+                # physical inputs: omega0 components in rad/s; the attitude as the angle
+                # (deg) from the nominal one, 2 acos |q_nominal . q|, not quaternion parts
                 if param.startswith("omega0_"):
                     assert p["xtitle"] == f"{param} (rad/s)"
-                if param.startswith("attitude_"):
-                    assert p["xtitle"] == param
+                    np.testing.assert_allclose(x, res.column(param)[ok], rtol=1e-6, atol=1e-30)
+                else:
+                    assert param == "attitude_offset" and p["xtitle"] == f"{param} (deg)"
+                    q = np.column_stack([res.column(f"attitude_{c}") for c in "wxyz"])[ok]
+                    dot = np.clip(np.abs(q @ problem.rotation0), 0.0, 1.0)
+                    np.testing.assert_allclose(x, np.degrees(2 * np.arccos(dot)), atol=1e-4)
                 np.testing.assert_allclose(y, v[ok], rtol=1e-6)
+    assert not any(p["title"].endswith("attitude_w") for p in P["panels"])
+    assert "Dispersed inputs" in text and "Which input matters most" in text
+    assert "Failed samples: 0 of 12" in text
 
 
 def test_heavy_top_scenario_report_panels(tmp_path):

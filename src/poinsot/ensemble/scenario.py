@@ -43,7 +43,13 @@ from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, 
 if TYPE_CHECKING:
     from ..scenarios.schema import Scenario
 
-__all__ = ["load_ensemble", "problem_from_scenario", "run_scenario_ensemble"]
+__all__ = [
+    "load_ensemble",
+    "problem_from_scenario",
+    "run_scenario_ensemble",
+    "physical_inputs",
+    "sensitivity",
+]
 
 _KINDS = ("free-body", "torqued-body", "heavy-top")
 
@@ -126,17 +132,97 @@ def load_ensemble(path: str | os.PathLike[str]) -> tuple[Scenario, EnsembleProbl
 _MAX_POINTS = 4000  # points kept per scatter chart (an even subset beyond that)
 
 
-def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict[str, Any]]:
+def physical_inputs(problem: EnsembleProblem, result: EnsembleResult) -> dict[str, Any]:
+    """The dispersed inputs of every sample as physical quantities:
+    ``{name: (values (n,), unit, what)}``. Vectors by component (``omega0_x``, rad/s);
+    the attitude as ``attitude_offset``, the rotation angle (deg) from the nominal
+    attitude, ``|log(R_nominal^-1 R)|``, not as quaternion components. Only inputs
+    that vary are listed."""
+    from ..rotations.rotation import Rotation
+
+    out: dict[str, Any] = {}
+    for name, _d in problem.dispersions:
+        unit, _shape, what = QUANTITIES[name]
+        if name == "attitude":
+            q = np.column_stack([result.column(f"attitude_{c}") for c in "wxyz"])
+            nominal = Rotation.from_quat(np.asarray(problem.rotation0, dtype=float))
+            angle = (nominal.inv() * Rotation.from_quat(q)).magnitude()
+            out["attitude_offset"] = (np.degrees(np.asarray(angle)), "deg",
+                                      "rotation angle from the nominal attitude")  # fmt: skip
+            continue
+        cols = [c for c in result.table.column_names if c == name or c.startswith(name + "_")]
+        for c in cols:
+            v = np.asarray(result.column(c), dtype=float)
+            if np.ptp(v) > 0:
+                out[c] = (v, unit, what)
+    return out
+
+
+def sensitivity(
+    problem: EnsembleProblem, result: EnsembleResult, inputs: dict[str, Any]
+) -> dict[str, list[tuple[str, float]]]:
+    """For each metric, the inputs ranked by ``|rho|``, Spearman's rank correlation of
+    the metric with the input over the samples that did not fail and have a finite
+    metric: ``rho = 1 - 6 sum d_i^2 / (n (n^2 - 1))`` for ranks without ties
+    (``scipy.stats.spearmanr``, ties averaged). It measures a monotonic influence:
+    ``|rho|`` near 1, the metric follows the input; near 0, no monotonic link."""
+    from scipy.stats import spearmanr
+
+    failed = result.column("failed")
+    out: dict[str, list[tuple[str, float]]] = {}
+    for m in problem.metrics:
+        v = np.asarray(result.column(m.name), dtype=float)
+        good = ~failed & np.isfinite(v)
+        ranked = []
+        for name, (x, _unit, _what) in inputs.items():
+            if good.sum() < 3 or np.ptp(x[good]) == 0 or np.ptp(v[good]) == 0:
+                continue
+            rho = float(spearmanr(x[good], v[good]).statistic)
+            if np.isfinite(rho):
+                ranked.append((name, rho))
+        out[m.name] = sorted(ranked, key=lambda p: -abs(p[1]))
+    return out
+
+
+def _dispersion_rows(problem: EnsembleProblem, inputs: dict[str, Any]) -> str:
+    """HTML rows: each input's distribution as given and its spread over the samples."""
+    from .engine import _nominal
+
+    given = {}
+    for name, d in problem.dispersions:
+        params = ", ".join(
+            f"{key} = {np.asarray(value).tolist()}"
+            for key, value in vars(d).items()
+            if value is not None
+        )
+        given[name] = f"{type(d).__name__}({params})"
+    rows = []
+    for col, (v, unit, _what) in inputs.items():
+        base = "attitude" if col == "attitude_offset" else col.rsplit("_", 1)[0]
+        base = col if col in given else base
+        nominal = np.asarray(_nominal(problem, base), dtype=float)
+        k = "xyz".find(col[-1]) if nominal.ndim == 1 and col != base else -1
+        nom = "0" if col == "attitude_offset" else f"{float(nominal[k] if k >= 0 else nominal):.6g}"
+        rows.append(
+            f"<tr><td>{html.escape(col)}</td><td>{html.escape(unit)}</td>"
+            f"<td>{html.escape(given.get(base, ''))}</td><td>{nom}</td>"
+            f"<td>{np.mean(v):.6g}</td><td>{np.std(v):.3g}</td>"
+            f"<td>{np.min(v):.6g}</td><td>{np.max(v):.6g}</td></tr>"
+        )
+    return ('<table class="summary"><tr><th>input</th><th>unit</th><th>dispersion</th>'
+            "<th>nominal</th><th>mean</th><th>std</th><th>min</th><th>max</th></tr>"
+            + "".join(rows) + "</table>")  # fmt: skip
+
+
+def _charts(
+    problem: EnsembleProblem, result: EnsembleResult, inputs: dict[str, Any] | None = None
+) -> list[dict[str, Any]]:
     """Charts of the report viewer: a histogram of every metric and every metric
-    against every dispersed parameter (component)."""
+    against every dispersed physical input (:func:`physical_inputs`)."""
     from ..plotting._report_page import chart
 
     failed = result.column("failed")
-    params = [
-        c
-        for c in result.table.column_names
-        if any(c == q or c.startswith(q + "_") for q, _d in problem.dispersions)
-    ]
+    inputs = physical_inputs(problem, result) if inputs is None else inputs
     out = []
     for m in problem.metrics:
         v = result.column(m.name)
@@ -156,10 +242,7 @@ def _charts(problem: EnsembleProblem, result: EnsembleResult) -> list[dict[str, 
         idx = np.flatnonzero(good)
         if idx.size > _MAX_POINTS:
             idx = idx[np.linspace(0, idx.size - 1, _MAX_POINTS).astype(int)]
-        for p in params:
-            x = result.column(p)
-            q = p.split("_")[0] if p.split("_")[0] in QUANTITIES else p.rsplit("_", 1)[0]
-            unit = QUANTITIES.get(q, QUANTITIES.get(p, ("",)))[0]
+        for p, (x, unit, _what) in inputs.items():
             if idx.size == 0:
                 continue
             out.append(chart(f"{m.name} against {p}", m.unit,
@@ -184,15 +267,39 @@ def _report(problem: EnsembleProblem, result: EnsembleResult, path: Path) -> Non
             + "</tr>"
         )
     s = result.summary
+    inputs = physical_inputs(problem, result)
+    ranking = sensitivity(problem, result, inputs)
     table = ('<table class="summary"><tr><th>metric</th><th>unit</th><th>samples</th>'
              "<th>never</th><th>mean</th><th>std</th><th>5%</th><th>median</th><th>95%</th>"
              f"</tr>{''.join(rows)}</table>")  # fmt: skip
+    table += "<h2>Dispersed inputs</h2>" + _dispersion_rows(problem, inputs)
+    rank_rows = "".join(
+        f"<tr><td>{html.escape(metric)}</td><td>"
+        + ", ".join(f"{html.escape(name)} ({rho:+.2f})" for name, rho in ranked)
+        + "</td></tr>"
+        for metric, ranked in ranking.items()
+    )
+    table += (
+        "<h2>Which input matters most</h2><p>Inputs ranked by |rho|, Spearman's rank "
+        "correlation of the metric with the input over the samples that did not fail "
+        "(+1: the metric rises with the input, -1: falls, 0: no monotonic link; an "
+        "influence that is symmetric about the nominal value, such as a tilt either way, "
+        "shows as rho near 0: read it in the scatter charts below).</p>"
+        '<table class="summary"><tr><th>metric</th><th>inputs, most influential first '
+        f"(rho)</th></tr>{rank_rows}</table>"
+    )
+    reasons = s.get("failure_reasons") or {}
+    table += f"<h2>Failed samples: {s['failures']} of {s['samples']}</h2>" + (
+        "<ul>" + "".join(f"<li>{n} x {html.escape(r)}</li>" for r, n in reasons.items()) + "</ul>"
+        if reasons
+        else "<p>None: every sample ran to the end with finite metrics or a stated 'never'.</p>"
+    )
     meta = (f"{s['samples']} samples in chunks of {s['chunk_size']}, seed {s['seed']}; "
             f"{s['failures']} failed; integrator: {html.escape(s['integrator'])}. Metrics "
             "are defined in the poinsot documentation (ensembles page); attitude angles in "
             "degrees, times in seconds, theory in docs/theory.md §10.")  # fmt: skip
     payload = {"t": "", "q": "", "qref": None, "t0": 0.0, "t1": 1.0, "scene": None,
-               "panels": _charts(problem, result), "interval": 40}  # fmt: skip
+               "panels": _charts(problem, result, inputs), "interval": 40}  # fmt: skip
     page = page_html(
         title=f"poinsot ensemble: {problem.name}",
         meta=meta,
