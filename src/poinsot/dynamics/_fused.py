@@ -31,6 +31,8 @@ This module holds only the kernels; :func:`poinsot.dynamics.simulate`
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, prange
 
@@ -60,19 +62,9 @@ OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE = 0, 1, 2, 3
 
 
 @njit(cache=True, inline="always")
-def _rhs(t, y, J, Ji, kind, par, f):
-    """``f = (q', w')`` with ``q' = q o (0, w) / 2`` and ``J w' = M - w x J w``
-    (theory §5, §10); every formula from :mod:`poinsot._numba_helpers`."""
-    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
-    w0, w1, w2 = y[4], y[5], y[6]
-    d0, d1, d2, d3 = nh.qmul(q0, q1, q2, q3, 0.0, w0, w1, w2)
-    f[0] = 0.5 * d0
-    f[1] = 0.5 * d1
-    f[2] = 0.5 * d2
-    f[3] = 0.5 * d3
-    k0, k1, k2 = nh.matvec(
-        J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0], J[2, 1], J[2, 2], w0, w1, w2
-    )
+def _torque(q0, q1, q2, q3, J, kind, par):
+    """The body torque of a built-in model (``kind``, ``par``: see the module notes) at
+    attitude ``q``; shared by the DOP853 right-hand side and the midpoint rule."""
     t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
         t0, t1, t2 = par[0], par[1], par[2]
@@ -107,6 +99,24 @@ def _rhs(t, y, J, Ji, kind, par, f):
             )
             t0, t1, t2 = nh.cross(b0, b1, b2, j0, j1, j2)
             t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
+    return t0, t1, t2
+
+
+@njit(cache=True, inline="always")
+def _rhs(t, y, J, Ji, kind, par, f):
+    """``f = (q', w')`` with ``q' = q o (0, w) / 2`` and ``J w' = M - w x J w``
+    (theory §5, §10); every formula from :mod:`poinsot._numba_helpers`."""
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    w0, w1, w2 = y[4], y[5], y[6]
+    d0, d1, d2, d3 = nh.qmul(q0, q1, q2, q3, 0.0, w0, w1, w2)
+    f[0] = 0.5 * d0
+    f[1] = 0.5 * d1
+    f[2] = 0.5 * d2
+    f[3] = 0.5 * d3
+    k0, k1, k2 = nh.matvec(
+        J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0], J[2, 1], J[2, 2], w0, w1, w2
+    )
+    t0, t1, t2 = _torque(q0, q1, q2, q3, J, kind, par)
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
     f[4], f[5], f[6] = nh.matvec(
         Ji[0, 0],
@@ -413,6 +423,122 @@ def rk4_batch(y0, J, Ji, kind, par, t_out, nsub, oq, ow, failed):  # pragma: no 
         )
 
 
+_EPS = np.finfo(np.float64).eps
+_MP_MAXIT = 100
+
+
+@njit(cache=True)
+def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma: no cover
+    """The implicit Lie-Poisson midpoint rule of ``simulate(method="midpoint")`` for one
+    body under a built-in torque that depends on the attitude (kinds 2-4): the NumPy
+    path's step (``euler_equations._midpoint_step_numpy``), the same operations per
+    body, compiled. ``q`` (4,) unit, ``m = J w`` (3,); ``coef`` the composition
+    coefficients. Newton on the midpoint momentum ``x``, the torque taken at the midpoint
+    attitude ``L o cay(b)``, ``b`` the Gibbs vector of half the step's rotation, its
+    dependence on ``x`` left out of the Jacobian (so the convergence may be linear: the
+    stopping rule predicts the next update from the last two). Returns ``(status, k,
+    iterations)``: status 0 ok (iterations = the most any step took), 1 not converged,
+    2 non-finite, ``k`` the last output index reached."""
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    m0, m1, m2 = m[0], m[1], m[2]
+    w00, w01, w02 = Ji[0, 0], Ji[0, 1], Ji[0, 2]
+    w10, w11, w12 = Ji[1, 0], Ji[1, 1], Ji[1, 2]
+    w20, w21, w22 = Ji[2, 0], Ji[2, 1], Ji[2, 2]
+    oq[0, 0], oq[0, 1], oq[0, 2], oq[0, 3] = q0, q1, q2, q3
+    om[0, 0], om[0, 1], om[0, 2] = m0, m1, m2
+    nc = coef.shape[0]
+    worst = 0
+    # the first step's predictor uses the torque at the start, later ones the previous
+    # step's midpoint torque (as the NumPy path)
+    t0, t1, t2 = _torque(q0, q1, q2, q3, J, kind, par)
+    for k in range(t_out.shape[0] - 1):
+        hk = (t_out[k + 1] - t_out[k]) / nsub[k]
+        for s_ in range(nsub[k] * nc):
+            h = hk * coef[s_ % nc]
+            h2 = 0.5 * h
+            o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, m0, m1, m2)
+            f0, f1, f2 = nh.euler_momentum_rate(m0, m1, m2, o0, o1, o2, t0, t1, t2)
+            x0, x1, x2 = m0 + h2 * f0, m1 + h2 * f1, m2 + h2 * f2
+            prev = np.inf
+            it = 0
+            while True:
+                it += 1
+                o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
+                a0, a1, a2 = h2 * o0, h2 * o1, h2 * o2
+                d = 1.0 + math.sqrt(1.0 + a0 * a0 + a1 * a1 + a2 * a2)
+                p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0 / d, a1 / d, a2 / d)
+                p0, p1, p2, p3 = nh.qnormalize(p0, p1, p2, p3)
+                t0, t1, t2 = _torque(p0, p1, p2, p3, J, kind, par)
+                f0, f1, f2 = nh.euler_momentum_rate(x0, x1, x2, o0, o1, o2, t0, t1, t2)
+                r0 = x0 - m0 - h2 * f0
+                r1 = x1 - m1 - h2 * f1
+                r2 = x2 - m2 - h2 * f2
+                # Jacobian I - h/2 (x^ W - (W x)^), the torque held
+                a00 = 1.0 - h2 * (-x2 * w10 + x1 * w20)
+                a01 = -h2 * (-x2 * w11 + x1 * w21) - h2 * o2
+                a02 = -h2 * (-x2 * w12 + x1 * w22) + h2 * o1
+                a10 = -h2 * (x2 * w00 - x0 * w20) + h2 * o2
+                a11 = 1.0 - h2 * (x2 * w01 - x0 * w21)
+                a12 = -h2 * (x2 * w02 - x0 * w22) - h2 * o0
+                a20 = -h2 * (-x1 * w00 + x0 * w10) - h2 * o1
+                a21 = -h2 * (-x1 * w01 + x0 * w11) + h2 * o0
+                a22 = 1.0 - h2 * (-x1 * w02 + x0 * w12)
+                c00 = a11 * a22 - a12 * a21
+                c01 = a12 * a20 - a10 * a22
+                c02 = a10 * a21 - a11 * a20
+                det = a00 * c00 + a01 * c01 + a02 * c02
+                d0 = (c00 * r0 + (a02 * a21 - a01 * a22) * r1 + (a01 * a12 - a02 * a11) * r2) / det
+                d1 = (c01 * r0 + (a00 * a22 - a02 * a20) * r1 + (a02 * a10 - a00 * a12) * r2) / det
+                d2 = (c02 * r0 + (a01 * a20 - a00 * a21) * r1 + (a00 * a11 - a01 * a10) * r2) / det
+                x0 -= d0
+                x1 -= d1
+                x2 -= d2
+                num = max(abs(d0), abs(d1), abs(d2))
+                den = max(abs(x0), abs(x1), abs(x2))
+                if not (num == num and den == den and den < np.inf):
+                    return 2, k, it
+                rel = 0.0 if num == 0.0 else num / (den if den != 0.0 else 1.0)
+                # at round-off, the next update predicted below round-off (rel^2 / prev,
+                # for linear and quadratic convergence), or stagnating
+                if rel <= 2 * _EPS or (
+                    it >= 2 and (rel * rel <= _EPS * prev or 1e-12 >= rel >= prev / 2)
+                ):
+                    break
+                if it >= _MP_MAXIT or not rel < 1.0:
+                    return 1, k, it
+                prev = rel
+            if it > worst:
+                worst = it
+            o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
+            a0, a1, a2 = h2 * o0, h2 * o1, h2 * o2
+            # m+ = (I + a^)^-1 [(I - a^) m + h M*], q+ = L o cay(a)
+            c0, c1, c2 = nh.cross(a0, a1, a2, m0, m1, m2)
+            u0, u1, u2 = m0 - c0 + h * t0, m1 - c1 + h * t1, m2 - c2 + h * t2
+            au = a0 * u0 + a1 * u1 + a2 * u2
+            aa = 1.0 + a0 * a0 + a1 * a1 + a2 * a2
+            c0, c1, c2 = nh.cross(a0, a1, a2, u0, u1, u2)
+            m0 = (u0 - c0 + au * a0) / aa
+            m1 = (u1 - c1 + au * a1) / aa
+            m2 = (u2 - c2 + au * a2) / aa
+            p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0, a1, a2)
+            q0, q1, q2, q3 = nh.qnormalize(p0, p1, p2, p3)
+        if not (np.isfinite(q0 + q1 + q2 + q3) and np.isfinite(m0 + m1 + m2)):
+            return 2, k, worst
+        oq[k + 1, 0], oq[k + 1, 1], oq[k + 1, 2], oq[k + 1, 3] = q0, q1, q2, q3
+        om[k + 1, 0], om[k + 1, 1], om[k + 1, 2] = m0, m1, m2
+    return 0, t_out.shape[0] - 1, worst
+
+
+@njit(cache=True, parallel=True)
+def midpoint_batch(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, res):  # pragma: no cover
+    """:func:`midpoint_body` for ``N`` bodies in parallel; ``res`` (N, 3) int64 receives
+    each body's ``(status, k, iterations)``."""
+    for b in prange(q.shape[0]):
+        res[b, 0], res[b, 1], res[b, 2] = midpoint_body(
+            q[b], m[b], J[b], Ji[b], kind, par[b], t_out, nsub, coef, oq[:, b, :], om[:, b, :]
+        )
+
+
 # ---------------------------------------------------------------------------
 # Python driver (inputs already validated by the caller)
 # ---------------------------------------------------------------------------
@@ -525,3 +651,37 @@ def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
         ow.reshape((t.size,) + batch + (3,)),
         stats.reshape(batch + (4,)),
     )
+
+
+def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch):
+    """Run the compiled midpoint rule on validated, flattened arrays (``j``, ``j_inv``
+    (N, 3, 3), ``q`` (N, 4), ``m`` (N, 3) body momenta) under a built-in torque model
+    given for the batch shape ``batch``. Returns ``(quat (n, N, 4), momentum (n, N, 3),
+    res (N, 3))`` (see :func:`midpoint_batch`), or ``None`` when the torque is not built
+    in."""
+    kp = torque_kernel(torque, batch)
+    if kp is None:
+        return None
+    kind, par = kp
+    n_body = q.shape[0]
+    par = np.ascontiguousarray(np.broadcast_to(par, batch + (4,)).reshape(n_body, 4))
+    t = np.ascontiguousarray(t, dtype=float)
+    oq = np.empty((t.size, n_body, 4))
+    om = np.empty((t.size, n_body, 3))
+    res = np.empty((n_body, 3), dtype=np.int64)
+    c = np.ascontiguousarray
+    midpoint_batch(
+        c(q, dtype=float),
+        c(m, dtype=float),
+        c(np.broadcast_to(j, (n_body, 3, 3)), dtype=float),
+        c(np.broadcast_to(j_inv, (n_body, 3, 3)), dtype=float),
+        kind,
+        par,
+        t,
+        c(nsub, dtype=np.int64),
+        c(comp, dtype=float),
+        oq,
+        om,
+        res,
+    )
+    return oq, om, res

@@ -435,6 +435,16 @@ def simulate(
     contracting: ``h |dM/dw| / 2 < |J|`` roughly), otherwise an
     :class:`~poinsot.IntegrationError` asks for a smaller ``max_step``.
 
+    What runs: ``"midpoint"``, ``"rk4"`` and ``"dop853"`` run compiled (one loop per
+    body, no Python per step) with no torque or a built-in torque model
+    (:mod:`poinsot.dynamics.torques`); a torque given as a Python function must be
+    called from Python at every step (or Newton iteration), so these methods then
+    take NumPy steps vectorised over the batch (``info["path"]`` says so).
+    ``"splitting"`` runs compiled with no torque, a constant body torque or
+    gravity about a fixed point (its exact kicks); its kicks for other torques are
+    NumPy steps over the batch (the kick of a general torque has no compiled flow
+    yet). ``"adaptive"`` is SciPy's ``solve_ivp``.
+
     Orders: midpoint 2 (4 or 6 with ``order``), splitting 2 (4 or 6 with
     ``order``; with a torque that depends on ``omega`` the half kicks are
     explicit and the order drops to 1), rk4 4, adaptive as set by
@@ -745,7 +755,26 @@ def _run_midpoint(
             )
         info["max_newton_iterations"] = int(it)
     else:
-        Q, MO, it = _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn)
+        from . import _fused  # numba, loaded on first use
+
+        out = _fused.midpoint(j, j_inv, q, m, t, nsub, comp, tfn.model, tfn.batch)
+        if out is None:  # a Python torque: the NumPy step, vectorised over the batch
+            Q, MO, it = _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn)
+            info["path"] = "NumPy (torque is a Python callable)"
+        else:
+            Q, MO, res = out
+            failed = np.flatnonzero(res[:, 0] != 0)
+            if failed.size:
+                b = int(failed[0])
+                status, k = int(res[b, 0]), int(res[b, 1])
+                if status == 2:
+                    raise _fail_nonfinite("midpoint", float(t[k]), f"the state of body {b}")
+                raise IntegrationError(
+                    f"midpoint integration failed: the implicit step did not converge after "
+                    f"t = {float(t[k]):.6g} (body {b}; the torque's dependence on the state "
+                    f"is too strong for the step): reduce `max_step`."
+                )
+            it = int(res[:, 2].max()) if res.shape[0] else 0
         info["max_newton_iterations"] = int(it)
     ws = np.einsum("...ij,...j->...i", j_inv, MO)
     return Q, ws, info
