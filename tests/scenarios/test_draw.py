@@ -160,3 +160,26 @@ def test_lagrangian_printed_as_math_with_parameter_values():
     assert len(r["equations"]) == 2 and all("''" in e for e in r["equations"])
     line = next(x for x in res.facts.describe() if x.startswith("Lagrange's equations"))
     assert "with m1 = 1, m2 = 2, l1 = 0.7, l2 = 1.3, g = 9.81" in line
+
+
+@pytest.mark.parametrize(
+    ("name", "says", "never"),
+    [
+        ("double_pendulum", "generalized coordinate", ("quaternion", "particle", "omega")),
+        ("kepler_orbit", "position (m) and velocity", ("quaternion", "generalized", "omega")),
+    ],
+)
+def test_non_rigid_runs_print_no_rigid_body_boilerplate(name, says, never, tmp_path):
+    """Console, summary.json and the CSV header of a Lagrangian or particle run speak
+    of their own state only: no quaternion/omega conventions, no qw..wz columns."""
+    from poinsot.scenarios.output import run_scenario
+
+    sc = load_scenario(EXAMPLES / f"{name}.toml")
+    res, _ = run_scenario(sc, tmp_path / "out", duration=1.0)
+    conv = res.summary["conventions"]
+    assert says in conv and not any(w in conv for w in never), conv
+    head = [x for x in (tmp_path / "out" / "trajectory.csv").read_text().splitlines()][:12]
+    text = "\n".join(head)
+    assert says in text and "qw" not in text and "wx" not in text, text
+    start = next(x for x in res.describe().splitlines() if x.startswith("start: "))
+    assert "quat" not in start and "omega" not in start, start

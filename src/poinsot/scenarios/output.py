@@ -24,7 +24,7 @@ from ..trajectory import Trajectory
 from .kind import Progress
 from .schema import Scenario
 from .solve import _expect, check_cost, quiet_progress, simulate_scenario, span
-from .summary import CONVENTIONS, MOTION_CONVENTIONS, ScenarioResult, versions
+from .summary import CONVENTIONS, ScenarioResult, conventions_of, versions
 
 __all__ = ["write_outputs", "run_scenario", "prepare_output_dir", "OutputFiles", "OUTPUT_FILES"]
 
@@ -161,7 +161,7 @@ def _header(result: ScenarioResult, tr, names, units, described) -> list[str]:
         if "V" in names:
             lines.append("V: potential energy of gravity m g z_c, g along -z of space (J)")
     else:
-        lines.append("conventions: " + MOTION_CONVENTIONS)
+        lines.append("conventions: " + conventions_of(tr))
         lines += described
     lines.append("units: " + ",".join(units))
     lines.append(",".join(names))

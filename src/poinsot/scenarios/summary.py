@@ -53,7 +53,13 @@ from typing import Any
 
 import numpy as np
 
-from ..trajectory import Trajectory, compare, quantity_label
+from ..trajectory import (
+    CoordinateTrajectory,
+    PointTrajectory,
+    Trajectory,
+    compare,
+    quantity_label,
+)
 from .kind import Check, Entry, Facts, jsonable, section
 from .schema import Scenario
 
@@ -61,6 +67,9 @@ __all__ = [
     "ScenarioResult",
     "CONVENTIONS",
     "MOTION_CONVENTIONS",
+    "POINT_CONVENTIONS",
+    "COORDINATE_CONVENTIONS",
+    "conventions_of",
     "DRIFT_THRESHOLD",
     "ATTITUDE_THRESHOLD",
     "AGREEMENT_THRESHOLD",
@@ -80,6 +89,38 @@ MOTION_CONVENTIONS = (
     "frame its result names (inertial axes, or a moving frame's); generalized coordinates "
     "in the unit of each coordinate, their rates per second."
 )
+
+#: The conventions of a particle's outputs.
+POINT_CONVENTIONS = (
+    "SI units; position (m) and velocity (m/s) in the axes of the frame the result "
+    "names (inertial axes, or a moving frame's)."
+)
+#: The conventions of a motion in generalized coordinates.
+COORDINATE_CONVENTIONS = (
+    "SI units; generalized coordinates each in its own unit (m for a length, rad for an "
+    "angle), their rates per second (m/s, rad/s)."
+)
+
+
+def conventions_of(tr: Any) -> str:
+    """The conventions line of a result: a rigid body's (quaternions, omega in body
+    axes...), a particle's or generalized coordinates'; none speaks of another's.
+
+    Examples
+    --------
+    >>> from poinsot.trajectory import CoordinateTrajectory
+    >>> t = np.zeros(1)
+    >>> conventions_of(CoordinateTrajectory(t, t[:, None], t[:, None], ("x",)))[:40]
+    'SI units; generalized coordinates each i'
+    """
+    if isinstance(tr, Trajectory):
+        return CONVENTIONS
+    if isinstance(tr, PointTrajectory):
+        return POINT_CONVENTIONS
+    if isinstance(tr, CoordinateTrajectory):
+        return COORDINATE_CONVENTIONS
+    return MOTION_CONVENTIONS
+
 
 #: Largest maximum relative drift of a conserved quantity accepted without a warning.
 DRIFT_THRESHOLD = 1e-6
@@ -347,7 +388,7 @@ class ScenarioResult:
                 "kind_title": kind.title,
                 "file": jsonable(s.data),
             },
-            "conventions": CONVENTIONS if isinstance(tr, Trajectory) else MOTION_CONVENTIONS,
+            "conventions": conventions_of(tr),
             "body": self._body(),
             "initial_state": self._initial_state(),
             "results": self.facts.section(),
