@@ -97,3 +97,31 @@ def test_unknown_functions_are_refused_and_names_stay_out_of_the_source():
     odd = sympy.Symbol("os.system('rm')")
     src = LagrangeSystem([x], x.diff() ** 2 / 2, odd * x**2).to_numeric().source
     assert "os.system" not in src and "rm" not in src
+
+
+def test_one_state_entry_point_equals_the_batch_kernel(f):
+    # one state takes numba's entry point compiled for exact types (issue 24); every
+    # other input the validating path: both run the same formula, so the same bits
+    rng = np.random.default_rng(4)
+    ys = rng.normal(size=(6, 4))
+    batch = f(0.0, ys)
+    f.compile()
+    assert f._one is not None
+    for i, y in enumerate(ys):
+        np.testing.assert_array_equal(f(0.0, y), batch[i])
+        np.testing.assert_allclose(f(0.0, y), _exact_rhs(y), rtol=1e-13, atol=1e-14)
+    strided = np.empty((4, 2))
+    strided[:, 0] = ys[2]
+    readonly = ys[3].copy()
+    readonly.flags.writeable = False
+    for y, i, t in ((strided[:, 0], 2, 0.0), (readonly, 3, np.float64(1.0)), (ys[4], 4, 1)):
+        np.testing.assert_array_equal(f(t, y), batch[i])  # t = 1: an int, the general path
+    assert f(0.0, ys[5]) is not f(0.0, ys[5])  # a fresh result array each call
+
+
+def test_singular_mass_matrix_is_reported_by_the_one_state_path():
+    x = dynamicsymbols("x")
+    s = LagrangeSystem([x], m * x.diff() ** 2 / 2, k * x**2 / 2)
+    g = s.to_numeric({"m": 0.0, "k": 1.0}).compile()
+    with pytest.raises(InvalidInputError, match="singular"):
+        g(0.0, np.array([1.0, 0.5]))

@@ -52,6 +52,9 @@ _ALLOWED_FUNCS = {
 
 _COMPILE_LOCK = threading.Lock()
 
+_F64 = np.dtype(np.float64)
+_NP_F64 = np.float64
+
 _SOLVER = None
 
 
@@ -118,6 +121,22 @@ def _batch(t, y, p, out, lam):
         for j in range(m):
             lam[i, j] = b[n + j]
     return bad
+
+
+@njit(cache=CACHE, nogil=True)
+def _one(t, y, p, out, S):
+    # one state, every array given (S: scratch, K above its last row b): no allocation
+    n = NQ
+    m = NC
+    K = S[: n + m]
+    b = S[n + m]
+    _system(t, y, p, K, b)
+    if not _solve(K, b, n + m):
+        return False
+    for k in range(n):
+        out[k] = y[n + k]
+        out[n + k] = b[k]
+    return True
 
 
 @njit(cache=CACHE, nogil=True)
@@ -327,6 +346,9 @@ class NumericLagrangian:
         self._defaults_ok = not np.isnan(defaults).any()
         self._src, self._names = _generate(system, self._params_sym)
         self._ns: dict[str, Any] | None = None
+        self._one: Any = None  # see _one_entry
+        self._scratch = np.empty((0, 0))
+        self._shape1 = (2 * self.n,)
         self._aux: dict[str, Any] = {}
         self._sympy = sympy
 
@@ -383,6 +405,22 @@ class NumericLagrangian:
             self._ns = _compile(self._src)
         return self._ns
 
+    def _one_entry(self) -> Any:
+        """The one-state kernel compiled for ``(float64, float64 arrays)``: its entry
+        point trusts its arguments, so :meth:`__call__` checks them first (``y`` a
+        float64 ``(2n,)`` array, ``t`` a float; the other arrays are its own)."""
+        from numba import types
+
+        ns = self._kernels()
+        size = self.n + self.n_constraints
+        self._scratch = np.empty((size + 1, size))
+        a1 = types.Array(types.float64, 1, "C")
+        # y: any layout (a strided or read-only y is only read through its strides)
+        y1 = types.Array(types.float64, 1, "A")
+        sig = (types.float64, y1, a1, a1, types.Array(types.float64, 2, "C"))
+        self._one = ns["_one"].compile(sig)
+        return self._one
+
     def compile(self) -> NumericLagrangian:
         """Compile now (otherwise done on the first call); returns ``self``."""
         ns = self._kernels()
@@ -390,6 +428,8 @@ class NumericLagrangian:
         p = np.zeros(len(self.parameters))
         lam = np.empty((1, self.n_constraints))
         ns["_batch"](np.zeros(1), y, p, np.empty((1, 2 * self.n)), lam)
+        if self._defaults_ok:
+            self._one_entry()
         return self
 
     def _state(self, y: ArrayLike) -> np.ndarray:
@@ -429,6 +469,21 @@ class NumericLagrangian:
         self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
     ) -> FloatArray:
         """``y' = [q', q'']`` at time ``t`` (shape of ``y``)."""
+        one = self._one
+        if (
+            one is not None
+            and params is None
+            and type(y) is np.ndarray
+            and y.shape == self._shape1
+            and y.dtype is _F64
+            and (type(t) is float or type(t) is _NP_F64)
+        ):
+            # one state as solve_ivp passes it: numba's entry point compiled for exactly
+            # these types (no dispatcher type matching), the scratch kept (no allocation
+            # but the result's). Set up by the first such call (below).
+            out = np.empty(self._shape1)
+            if one(t, y, self._defaults, out, self._scratch):
+                return out
         if (
             params is None
             and type(y) is np.ndarray
@@ -437,6 +492,8 @@ class NumericLagrangian:
             and self._defaults_ok
         ):
             # fast path for one state (what solve_ivp passes): no validation copies
+            if one is None:
+                self._one_entry()
             ns = self._ns or self._kernels()
             aux = self._aux
             if "t1" not in aux:
