@@ -133,3 +133,28 @@ def test_report_embeds_the_orbit_figures(tmp_path):
     assert {"orbit.png", "effective_potential.png", "report.html"} <= names
     html = (tmp_path / "o" / "report.html").read_text()
     assert "The orbit, apsides marked" in html and html.count("<svg") >= 2
+
+
+def test_precessing_orbit_report_draws_the_line_of_apsides_turning():
+    """The report's guide runs through the latest pericentre: on the precessing orbit
+    it turns by 2 Phi - 2 pi at each passage (apsidal angle Phi from the closed form,
+    docs/theory.md §9), within the angle swept between two samples at pericentre."""
+    from pathlib import Path
+
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "precessing_orbit.toml"))
+    guide = res.scenario.adapter.report(res).drawing.guides
+    (ends,) = guide.values()
+    peri = ends[:, 1]
+    angle = np.unwrap(np.arctan2(peri[:, 1], peri[:, 0]))
+    steps = np.diff(angle)
+    jumps = steps[np.abs(steps) > 1e-9]
+    r = res.summary["results"]
+    assert jumps.size == 2  # pericentres at 20, 40, 60 s (radial period 20.1 s)
+    want = 2 * r["apsidal_angle"] - 2 * np.pi
+    tr = res.trajectory
+    sweep = np.max(np.linalg.norm(np.diff(tr.position, axis=0), axis=1)) / r["pericentre"]
+    np.testing.assert_allclose(jumps, want, atol=sweep)
+    np.testing.assert_allclose(np.linalg.norm(peri, axis=1), r["pericentre"], rtol=1e-3)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..describe import fmt
 from ..figures import invariants_figure
-from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from ..kind import Check, Drawing, Entry, Facts, FigureSpec, ScenarioKind
 
 _TERMS = ("mu", "beta", "k")
 
@@ -36,6 +36,33 @@ class OrbitSpec:
     velocity: tuple | None = None
     energy: float | None = None
     angular_momentum: float | None = None
+
+
+def apsides_line(t: np.ndarray, position: np.ndarray) -> np.ndarray | None:
+    """The line of apsides as the run traces it, for ``report.html``: at each sample
+    the segment from the origin through the latest pericentre passage (a local
+    minimum of ``r = |position|``; the first one before it is reached), from the
+    apocentre side (the largest ``r``) to the pericentre, shape (n, 2, 3). A
+    precessing orbit's line turns by ``2 Phi - 2 pi`` per radial period (apsidal
+    angle ``Phi``, docs/theory.md §9); a Kepler ellipse's stays. None without a
+    pericentre passage (a circle, or too short a run).
+
+    Examples
+    --------
+    >>> t = np.linspace(0.1, 4 * np.pi, 400)  # an ellipse about its focus, r 0.5 .. 1.5 m
+    >>> pos = np.column_stack([np.cos(t) - 0.5, np.sqrt(0.75) * np.sin(t), 0 * t])
+    >>> apsides_line(t, pos)[-1].round(2).tolist()
+    [[-1.5, 0.0, 0.0], [0.5, 0.0, 0.0]]
+    """
+    r = np.linalg.norm(position, axis=-1)
+    if r.size < 3 or np.ptp(r) <= 1e-9 * float(np.max(r)):
+        return None
+    minima = np.flatnonzero((r[1:-1] <= r[:-2]) & (r[1:-1] < r[2:])) + 1
+    if minima.size == 0:
+        return None
+    latest = minima[np.clip(np.searchsorted(minima, np.arange(r.size), side="right") - 1, 0, None)]
+    e = position[latest] / r[latest, None]
+    return np.stack([-float(np.max(r)) * e, r[latest, None] * e], axis=1)
 
 
 def _orbit(spec):
@@ -239,11 +266,14 @@ class CentralOrbitKind(ScenarioKind):
             "orbit.png": "The orbit, apsides marked (docs/theory.md §9)",
             "effective_potential.png": "Effective potential U + L^2/(2 m r^2)",
         }
+        guide = apsides_line(tr.t, tr.position)
+        label = "line of apsides through the latest pericentre (dashed)"
         return ReportSpec(
             motion=tr,
             charts=tuple(unit_charts(columns)),
             checks=tuple(result.checks),
             sections=tuple(figure_sections(specs, [titles.get(f.name, f.name) for f in specs])),
+            drawing=None if guide is None else Drawing(guides={label: guide}),
         )
 
     def describe_scenario(self, scenario):
