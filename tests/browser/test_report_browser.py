@@ -509,3 +509,35 @@ def test_drawn_systems_in_chromium(browser, tmp_path):
 def _has_colour_count(img: np.ndarray, hex_colour: str, tol: int = 40) -> int:
     rgb = np.array([int(hex_colour[i : i + 2], 16) for i in (1, 3, 5)])
     return int(np.all(np.abs(img.astype(int) - rgb) <= tol, axis=-1).sum())
+
+
+def test_legends_stay_inside_their_charts_in_chromium(browser, tmp_path):
+    """Every legend item of every chart (and of the scene) lies within its box, even a
+    long label on a narrow window: the Kepler run's law legend wraps, it is not cut."""
+    from poinsot.scenarios import load_scenario, simulate_scenario, write_scenario_report
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    res = simulate_scenario(load_scenario(examples / "kepler_orbit.toml"), duration=3.0)
+    kepler = write_scenario_report(tmp_path / "kepler.html", res)
+    t = res.trajectory.t
+    long = "a deliberately long legend label " * 6  # ~200 characters
+    other = write_report(
+        tmp_path / "long.html", trajectory=res.trajectory, series=[("c", "m", {long: t})]
+    )
+    for path, width in ((kepler, 1400), (kepler, 700), (other, 700)):
+        page = browser.new_page(viewport={"width": width, "height": 900})
+        page.goto(path.resolve().as_uri(), wait_until="load", timeout=120_000)
+        page.wait_for_function(f"() => {FIG}.dataset.ready === '1'", timeout=120_000)
+        out = page.evaluate(
+            """() => Array.from(document.querySelectorAll('.pv-panel, .pv-legend#poinsot-legend'))
+                .flatMap(box => { const b = box.getBoundingClientRect();
+                    return Array.from(box.querySelectorAll('.pv-item')).map(it => {
+                        const r = it.getBoundingClientRect();
+                        return {text: it.textContent, over: r.right - b.right,
+                                left: r.left - b.left}; }); })"""
+        )
+        want = "Kepler's equation" if path.name == "kepler.html" else long.strip()
+        assert any(want in o["text"] for o in out), [o["text"] for o in out]
+        bad = [o for o in out if o["over"] > 1 or o["left"] < -1]
+        assert bad == [], (width, bad)
+        page.close()
