@@ -48,18 +48,21 @@ depends_on(__file__, el)
     P_A,
     P_H,
     P_R,  # spin r = H / C
-) = range(26)
-N_PAR = 26
+    P_NP1,  # 1 - n+ = (1 - u2) / (1 - u1), exact near the upright
+    P_Y2,  # 1 - u2
+) = range(28)
+N_PAR = 28
 
 
 @njit(cache=True, inline="always")
-def _pi_reduced(f, n, r, theta, s, s2, c2, d2):  # pragma: no cover - compiled
+def _pi_reduced(f, n, p, r, theta, s, s2, c2, d2):  # pragma: no cover - compiled
     """``Pi(n; am r)`` on the reduced argument ``r``: the precomputed Fourier series
-    ``f`` when there is one, else ``r + n s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3``."""
+    ``f`` when there is one, else ``r + n s^3 R_J(c^2, d^2, 1, p) / 3`` with
+    ``p = 1 - n s^2`` given by the caller (without cancellation)."""
     if f.shape[0] > 0:
         return f[0] * r + _sine_series(f, theta)
     if s2 > 0.0:
-        return r + n * s * s2 * el.carlson_rj(c2, d2, 1.0, 1.0 - n * s2) / 3.0
+        return r + n * s * s2 * el.carlson_rj(c2, d2, 1.0, p) / 3.0
     return r
 
 
@@ -109,9 +112,12 @@ def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi):  # pragma: no cover
         d2 = d * d
         theta = math.pi * r / kq
         if par[P_CP] != 0.0:
-            pip = _pi_reduced(fp, np_, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIP]
+            # 1 - n+ s^2 = (1 - n+) + n+ c^2: exact as n+ -> 1 (released near the upright)
+            p = par[P_NP1] + np_ * c2
+            pip = _pi_reduced(fp, np_, p, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIP]
         if par[P_CM] != 0.0:
-            pim = _pi_reduced(fm, nm, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIM]
+            p = 1.0 - nm * s2
+            pim = _pi_reduced(fm, nm, p, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIM]
     if j - 2.0 * math.floor(0.5 * j) != 0.0:
         s, c = -s, -c
     return s, c, d, pip, pim
@@ -132,6 +138,7 @@ def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no c
     rate, tau0, dx = par[P_RATE], par[P_TAU0], par[P_DX]
     om1, op1 = par[P_OM1], par[P_OP1]
     cp, cm, ws = par[P_CP], par[P_CM], par[P_WS]
+    y2 = par[P_Y2]
     sps = par[P_SPS] > 0.5
     spc = par[P_SPC] > 0.5
     a_s = math.sqrt(0.5 * om1)
@@ -145,8 +152,8 @@ def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no c
         sn2 = sn * sn
         if sps:
             s = a_s * cn
-        else:
-            s = math.sqrt(max(0.5 * (om1 - dx * sn2), 0.0))
+        else:  # 1 - u = (1 - u2) + (u2 - u1) cn^2: no cancellation near the upright
+            s = math.sqrt(0.5 * (y2 + dx * cn * cn))
         if spc:
             c = a_c * sn
         else:
