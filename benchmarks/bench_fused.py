@@ -13,7 +13,8 @@ angular velocity (rad/s) over the batch, against
 The time to reach a given error is interpolated (log-log) between the sweep
 points, and the ratio ``SciPy time / poinsot time`` at the same error is printed
 for 1e-6, 1e-9 and 1e-12. SciPy integrates the whole batch as one vectorised
-``7 N`` system (its fastest use). A work-precision figure (error against time,
+``7 N`` system (its fastest use), its BLAS pinned to one thread (threadpoolctl,
+when installed: see ``blas_one_thread``). A work-precision figure (error against time,
 every method) is written to ``docs/_static/work_precision.png`` with ``--figure``.
 
 Run: ``.venv/bin/python benchmarks/bench_fused.py [--n 100000] [--figure]``.
@@ -23,6 +24,8 @@ Single body over many periods: ``--one``.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import importlib.util
 import time
 
 import numpy as np
@@ -42,6 +45,17 @@ def bodies(n, seed=0):
     quat = rng.normal(size=(n, 4))
     quat /= np.linalg.norm(quat, axis=1, keepdims=True)
     return moments, quat, omega
+
+
+def blas_one_thread():
+    """SciPy's BLAS on one thread: solve_ivp takes norms of the long state through BLAS,
+    and on a shared machine each call waits for its second thread (about 10x slower for
+    the same evaluations; issue 24). Without threadpoolctl: not pinned (printed)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def scipy_batch(moments, quat, omega, t_end, rtol, torque=None):
@@ -64,7 +78,8 @@ def scipy_batch(moments, quat, omega, t_end, rtol, torque=None):
         return f.ravel()
 
     y0 = np.concatenate([quat.T, omega.T]).ravel()
-    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-2)
+    with blas_one_thread():
+        sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-2)
     y = sol.y[:, -1].reshape(7, n).T
     return y[:, :4] / np.linalg.norm(y[:, :4], axis=1, keepdims=True), y[:, 4:]
 
@@ -158,6 +173,8 @@ def main():
     ap.add_argument("--figure", action="store_true")
     ap.add_argument("--one", action="store_true", help="one body over 1e4 periods")
     args = ap.parse_args()
+    pinned = importlib.util.find_spec("threadpoolctl") is not None
+    print(f"SciPy's BLAS {'pinned to 1 thread' if pinned else 'NOT pinned (no threadpoolctl)'}")
     if args.one:
         one_body()
         return
