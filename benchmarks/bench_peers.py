@@ -258,49 +258,13 @@ def tolerance_for(
     return tol, err, dt
 
 
-def free_rhs_numpy(moments: np.ndarray, torque: Callable | None = None) -> Callable:
-    n = len(moments)
-    inv = 1.0 / moments.T
-
-    def rhs(_t: float, y: np.ndarray) -> np.ndarray:
-        y = y.reshape(7, n)
-        q, w = y[:4], y[4:]
-        f = np.empty_like(y)
-        f[0] = -0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2])
-        f[1] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1])
-        f[2] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2])
-        f[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0])
-        mm = np.cross(moments.T * w, w, axis=0)
-        if torque is not None:
-            mm = mm + torque(q)
-        f[4:] = mm * inv
-        return f.ravel()
-
-    return rhs
-
-
-def gravity_numpy(mgc: np.ndarray) -> Callable:
-    """Body torque ``gamma x (m g c)`` with ``gamma = R^T e_z`` (mgc: (N, 3))."""
-
-    def torque(q: np.ndarray) -> np.ndarray:
-        w, x, y, z = q
-        n2 = w * w + x * x + y * y + z * z
-        gamma = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z])
-        return np.cross(gamma / n2, mgc.T, axis=0)
-
-    return torque
-
-
 def scipy_run(moments, quat, omega, torque=None):
-    from scipy.integrate import solve_ivp
-
-    n = len(moments)
-    rhs = free_rhs_numpy(moments, torque)
-    y0 = np.concatenate([quat.T, omega.T]).ravel()
+    """SciPy's DOP853 on the batch as one vectorised 7N system (bench_fused's, which pins
+    SciPy's BLAS to one thread when threadpoolctl is installed)."""
+    from bench_fused import scipy_batch
 
     def run(rtol: float) -> np.ndarray:
-        sol = solve_ivp(rhs, (0.0, DURATION), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-2)
-        return sol.y[:, -1].reshape(7, n)[:4].T
+        return scipy_batch(moments, quat, omega, DURATION, rtol, torque)[0]
 
     return run
 
@@ -439,6 +403,8 @@ def _integrators(moments, quat, omega, torque, mgc):
         runs["diffrax Dopri8 (7N system, jit)"] = diffrax_run(moments, quat, omega, mgc)
     except ImportError as e:
         missing("diffrax", e)
+    from bench_fused import gravity_numpy
+
     sc = scipy_run(moments, quat, omega, None if mgc is None else gravity_numpy(mgc))
 
     def scipy_pinned(rtol: float) -> np.ndarray:

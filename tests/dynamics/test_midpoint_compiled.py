@@ -21,6 +21,7 @@ from poinsot.dynamics import (
     LagrangeTop,
     simulate,
 )
+from poinsot.rotations import set_num_threads
 
 J = np.array([[1.2, 0.1, -0.05], [0.1, 1.6, 0.02], [-0.05, 0.02, 2.1]])
 Q0 = Rotation.from_euler("ZXZ", [0.3, 0.8, -0.2]).as_quat()
@@ -82,13 +83,14 @@ def test_compiled_midpoint_is_bit_identical_for_any_thread_count():
     body = HeavyRigidBody(J, 2.0, [0.05, -0.02, 0.3], g=9.81)
     t = np.linspace(0.0, 1.0, 11)
     before = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
+    try:  # poinsot's setting: exactly n threads (the default would take the idle cores)
+        set_num_threads(1)
         one = body.simulate(q0, w0, t, method="midpoint", max_step=1e-2)
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        set_num_threads(numba.config.NUMBA_NUM_THREADS)
         many = body.simulate(q0, w0, t, method="midpoint", max_step=1e-2)
     finally:
-        numba.set_num_threads(before)
+        set_num_threads(before)
+        set_num_threads(None)
     np.testing.assert_array_equal(one.omega, many.omega)
     np.testing.assert_array_equal(one.rotation.as_quat(), many.rotation.as_quat())
     # each body of the batch as if alone

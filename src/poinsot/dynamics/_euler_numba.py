@@ -104,29 +104,10 @@ def midpoint(q, m, W, M, t, nsub, coef):
                     r0 = x0 - m0 - h2 * f0
                     r1 = x1 - m1 - h2 * f1
                     r2 = x2 - m2 - h2 * f2
-                    # Jacobian I - h/2 (x^ W - (W x)^)
-                    a00 = 1.0 - h2 * (-x2 * w10 + x1 * w20)
-                    a01 = -h2 * (-x2 * w11 + x1 * w21) - h2 * o2
-                    a02 = -h2 * (-x2 * w12 + x1 * w22) + h2 * o1
-                    a10 = -h2 * (x2 * w00 - x0 * w20) + h2 * o2
-                    a11 = 1.0 - h2 * (x2 * w01 - x0 * w21)
-                    a12 = -h2 * (x2 * w02 - x0 * w22) - h2 * o0
-                    a20 = -h2 * (-x1 * w00 + x0 * w10) - h2 * o1
-                    a21 = -h2 * (-x1 * w01 + x0 * w11) + h2 * o0
-                    a22 = 1.0 - h2 * (-x1 * w02 + x0 * w12)
-                    c00 = a11 * a22 - a12 * a21
-                    c01 = a12 * a20 - a10 * a22
-                    c02 = a10 * a21 - a11 * a20
-                    det = a00 * c00 + a01 * c01 + a02 * c02
-                    c10 = a02 * a21 - a01 * a22
-                    c20 = a01 * a12 - a02 * a11
-                    d0 = (c00 * r0 + c10 * r1 + c20 * r2) / det
-                    c11 = a00 * a22 - a02 * a20
-                    c21 = a02 * a10 - a00 * a12
-                    d1 = (c01 * r0 + c11 * r1 + c21 * r2) / det
-                    c12 = a01 * a20 - a00 * a21
-                    c22 = a00 * a11 - a01 * a10
-                    d2 = (c02 * r0 + c12 * r1 + c22 * r2) / det
+                    d0, d1, d2 = nh.midpoint_newton_step(
+                        x0, x1, x2, o0, o1, o2, w00, w01, w02, w10, w11, w12, w20, w21, w22,
+                        h2, r0, r1, r2,
+                    )  # fmt: skip
                     x0 -= d0
                     x1 -= d1
                     x2 -= d2
@@ -148,17 +129,8 @@ def midpoint(q, m, W, M, t, nsub, coef):
                 a0 = h2 * o0
                 a1 = h2 * o1
                 a2 = h2 * o2
-                aa = 1.0 + a0 * a0 + a1 * a1 + a2 * a2
                 # m+ = (I + a^)^-1 [(I - a^) m + h M]: an exact rotation of m when M = 0
-                c0, c1, c2 = nh.cross(a0, a1, a2, m0, m1, m2)
-                u0 = m0 - c0 + h * M0
-                u1 = m1 - c1 + h * M1
-                u2 = m2 - c2 + h * M2
-                au = a0 * u0 + a1 * u1 + a2 * u2
-                c0, c1, c2 = nh.cross(a0, a1, a2, u0, u1, u2)
-                m0 = (u0 - c0 + au * a0) / aa
-                m1 = (u1 - c1 + au * a1) / aa
-                m2 = (u2 - c2 + au * a2) / aa
+                m0, m1, m2 = nh.midpoint_momentum(m0, m1, m2, a0, a1, a2, h, M0, M1, M2)
                 # q+ = q o (1, a) / sqrt(1 + |a|^2)  (Cayley map of h w^)
                 p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0, a1, a2)
                 q0, q1, q2, q3 = nh.qnormalize(p0, p1, p2, p3)

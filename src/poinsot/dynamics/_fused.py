@@ -5,8 +5,9 @@ quaternion equation (docs/theory.md §5, §10) for each body of a batch, every
 body with its own step size and error control (Hairer's DOP853: order 8,
 embedded 5th/3rd-order error estimate, 7th-order dense output). Nothing is
 allocated per stage and no Python runs per step; bodies are independent, so a
-batch is spread over threads with ``prange`` and the result is bit-identical
-for any number of threads.
+batch is spread over threads with ``prange`` (the idle cores, by the rule of
+:func:`poinsot.rotations._lazy.threaded`) and the result is bit-identical for any
+number of threads.
 
 The quaternion is integrated as a vector of R^4 (its exact flow keeps ``|q|``)
 and projected back onto the unit sphere after every accepted step and at every
@@ -38,6 +39,7 @@ from numba import njit, prange
 
 from .. import _numba_helpers as nh
 from .._numba_cache import depends_on
+from ..rotations._lazy import threaded
 from . import _dop853_tableau as _tab
 
 depends_on(__file__, nh)  # the cache sees edits of the inlined helpers
@@ -473,23 +475,11 @@ def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma:
                 r0 = x0 - m0 - h2 * f0
                 r1 = x1 - m1 - h2 * f1
                 r2 = x2 - m2 - h2 * f2
-                # Jacobian I - h/2 (x^ W - (W x)^), the torque held
-                a00 = 1.0 - h2 * (-x2 * w10 + x1 * w20)
-                a01 = -h2 * (-x2 * w11 + x1 * w21) - h2 * o2
-                a02 = -h2 * (-x2 * w12 + x1 * w22) + h2 * o1
-                a10 = -h2 * (x2 * w00 - x0 * w20) + h2 * o2
-                a11 = 1.0 - h2 * (x2 * w01 - x0 * w21)
-                a12 = -h2 * (x2 * w02 - x0 * w22) - h2 * o0
-                a20 = -h2 * (-x1 * w00 + x0 * w10) - h2 * o1
-                a21 = -h2 * (-x1 * w01 + x0 * w11) + h2 * o0
-                a22 = 1.0 - h2 * (-x1 * w02 + x0 * w12)
-                c00 = a11 * a22 - a12 * a21
-                c01 = a12 * a20 - a10 * a22
-                c02 = a10 * a21 - a11 * a20
-                det = a00 * c00 + a01 * c01 + a02 * c02
-                d0 = (c00 * r0 + (a02 * a21 - a01 * a22) * r1 + (a01 * a12 - a02 * a11) * r2) / det
-                d1 = (c01 * r0 + (a00 * a22 - a02 * a20) * r1 + (a02 * a10 - a00 * a12) * r2) / det
-                d2 = (c02 * r0 + (a01 * a20 - a00 * a21) * r1 + (a00 * a11 - a01 * a10) * r2) / det
+                # Newton's Jacobian holds the torque (see the docstring)
+                d0, d1, d2 = nh.midpoint_newton_step(
+                    x0, x1, x2, o0, o1, o2, w00, w01, w02, w10, w11, w12, w20, w21, w22,
+                    h2, r0, r1, r2,
+                )  # fmt: skip
                 x0 -= d0
                 x1 -= d1
                 x2 -= d2
@@ -512,14 +502,7 @@ def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma:
             o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
             a0, a1, a2 = h2 * o0, h2 * o1, h2 * o2
             # m+ = (I + a^)^-1 [(I - a^) m + h M*], q+ = L o cay(a)
-            c0, c1, c2 = nh.cross(a0, a1, a2, m0, m1, m2)
-            u0, u1, u2 = m0 - c0 + h * t0, m1 - c1 + h * t1, m2 - c2 + h * t2
-            au = a0 * u0 + a1 * u1 + a2 * u2
-            aa = 1.0 + a0 * a0 + a1 * a1 + a2 * a2
-            c0, c1, c2 = nh.cross(a0, a1, a2, u0, u1, u2)
-            m0 = (u0 - c0 + au * a0) / aa
-            m1 = (u1 - c1 + au * a1) / aa
-            m2 = (u2 - c2 + au * a2) / aa
+            m0, m1, m2 = nh.midpoint_momentum(m0, m1, m2, a0, a1, a2, h, t0, t1, t2)
             p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0, a1, a2)
             q0, q1, q2, q3 = nh.qnormalize(p0, p1, p2, p3)
         if not (np.isfinite(q0 + q1 + q2 + q3) and np.isfinite(m0 + m1 + m2)):
@@ -605,7 +588,7 @@ def rk4(j, q0, w0, t, nsub, torque):
     ow = np.empty((t.size, y0.shape[0], 3))
     failed = np.empty(y0.shape[0], dtype=np.int64)
     nsub = np.ascontiguousarray(nsub, dtype=np.int64)
-    rk4_batch(y0, jj, ji, kind, par, t, nsub, oq, ow, failed)
+    threaded(rk4_batch, y0, jj, ji, kind, par, t, nsub, oq, ow, failed)
     return (
         oq.reshape((t.size,) + batch + (4,)),
         ow.reshape((t.size,) + batch + (3,)),
@@ -631,7 +614,8 @@ def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
     oq = np.empty((t.size, n_body, 4))
     ow = np.empty((t.size, n_body, 3))
     stats = np.zeros((n_body, 4), dtype=np.int64)
-    integrate_batch(
+    threaded(
+        integrate_batch,
         y0,
         jj,
         ji,
@@ -670,7 +654,8 @@ def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch):
     om = np.empty((t.size, n_body, 3))
     res = np.empty((n_body, 3), dtype=np.int64)
     c = np.ascontiguousarray
-    midpoint_batch(
+    threaded(
+        midpoint_batch,
         c(q, dtype=float),
         c(m, dtype=float),
         c(np.broadcast_to(j, (n_body, 3, 3)), dtype=float),

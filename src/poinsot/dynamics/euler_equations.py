@@ -38,8 +38,10 @@ one body or a batch of bodies, with a choice of methods:
     point, gravity gradient) evaluated inside the loop, 7th-order dense output
     at the output times (no step is shortened to hit them), the quaternion
     projected onto ``|q| = 1`` after every step (a projection onto an invariant
-    of the exact flow, which keeps order 8). Batches run on every core
-    (``numba.set_num_threads``; results bit-identical for any thread count).
+    of the exact flow, which keeps order 8). Batches run on the idle cores, as
+    large rotation batches do (:func:`poinsot.rotations.set_num_threads`: on a busy
+    machine a thread that waits for a core costs more than it saves); results are
+    bit-identical for any thread count.
     The fastest route to a given accuracy; chosen by default when ``rtol`` or
     ``atol`` is given. A torque given as a Python callable takes the slower
     vectorised ``solve_ivp`` path (``info["path"]`` says so).
