@@ -13,7 +13,16 @@ SRC = Path(__file__).parents[1] / "src" / "poinsot"
 
 #: lowest first; a module may import its own layer and those below it
 LAYERS: list[tuple[str, ...]] = [
-    ("errors", "_typing", "_vec", "_validate", "_numba_cache", "__version__", "integrators"),
+    (
+        "errors",
+        "_typing",
+        "_vec",
+        "_validate",
+        "_numba_cache",
+        "_progress",
+        "__version__",
+        "integrators",
+    ),
     ("rotations", "_quat", "_numba_helpers", "mass"),  # mass stands beside rotations
     ("kinematics", "trajectory"),
     ("dynamics",),

@@ -35,8 +35,8 @@ _NEAR = 1e-9
 _MAXIT = 60
 
 
-@njit(cache=True)
-def midpoint(q, m, W, M, t, nsub, coef):
+@njit(cache=True, nogil=True)
+def midpoint(q, m, W, M, t, nsub, coef, cancel, progress):
     """Implicit midpoint (Lie-Poisson) + Cayley attitude for N bodies.
 
     q (N, 4), m (N, 3), W (NW, 3, 3), M (NM, 3) with NW, NM in {1, N};
@@ -45,7 +45,9 @@ def midpoint(q, m, W, M, t, nsub, coef):
     k, iters): outputs (n, N, 4), (n, N, 3), the status code, and where it
     failed (body index, last output index reached) or the most Newton
     iterations taken by any step. The helpers it calls are inlined and its
-    cache stamp covers their file (see the module notes).
+    cache stamp covers their file (see the module notes). ``cancel[0] != 0`` (Ctrl-C,
+    from another thread) stops it with status 3; ``progress[0]`` counts the output
+    intervals done (progress). Without the GIL (``poinsot._progress.run_compiled``).
     """
     n = t.shape[0]
     N = q.shape[0]
@@ -70,9 +72,12 @@ def midpoint(q, m, W, M, t, nsub, coef):
         MO[0, i, 1] = m1
         MO[0, i, 2] = m2
         for k in range(t.shape[0] - 1):
+            progress[0] = i * (n - 1) + k
             ns = nsub[k]
             hk = (t[k + 1] - t[k]) / ns
             for s_ in range(ns * nc):
+                if cancel[0] != 0:
+                    return Q, MO, 3, i, k, worst
                 # a composition stage of length coef[j] * hk (one stage for order 2)
                 h = hk * coef[s_ % nc]
                 h2 = 0.5 * h
@@ -144,15 +149,16 @@ def midpoint(q, m, W, M, t, nsub, coef):
     return Q, MO, 0, -1, n - 1, worst
 
 
-@njit(cache=True)
-def splitting(q, m, inv_i, M, t, nsub, coef, G=None):
+@njit(cache=True, nogil=True)
+def splitting(q, m, inv_i, M, t, nsub, coef, cancel, progress, G=None):
     """Lie-Poisson splitting in principal axes for N bodies (see ``_run_splitting``).
 
     q (N, 4) attitudes of the principal frame, m (N, 3) principal-axes momenta,
     inv_i (NI, 3) inverse principal moments (ascending moments), M (NM, 3)
     constant principal-axes torques, NI, NM in {1, N}; t, nsub, coef as in
     :func:`midpoint`. Step: kick h/2, F0 h/2, F2 h/2, F_iso h, F2 h/2, F0 h/2,
-    kick h/2. Returns (Q, MO, status, body, k): status 2 if non-finite.
+    kick h/2. Returns (Q, MO, status, body, k): status 2 if non-finite, 3 if
+    cancelled (``cancel``, ``progress`` as in :func:`midpoint`).
 
     ``G`` (NG, 3), optional: a gravity moment ``m g c`` (principal axes) about the
     fixed point; the kicks then add ``gamma x G`` with ``gamma = R^T e_z`` the upward
@@ -185,8 +191,11 @@ def splitting(q, m, inv_i, M, t, nsub, coef, G=None):
         MO[0, i, 1] = m1
         MO[0, i, 2] = m2
         for k in range(n - 1):
+            progress[0] = i * (n - 1) + k
             hk = (t[k + 1] - t[k]) / nsub[k]
             for s_ in range(nsub[k] * nc):
+                if cancel[0] != 0:
+                    return Q, MO, 3, i, k
                 h = hk * coef[s_ % nc]
                 hh = 0.5 * h
                 # kick h/2

@@ -32,6 +32,7 @@ This module holds only the kernels; :func:`poinsot.dynamics.simulate`
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -40,6 +41,7 @@ from numba import njit, prange
 from .. import _numba_helpers as nh
 from .._numba_cache import depends_on
 from ..rotations._lazy import threaded
+from .._progress import run_compiled
 from . import _dop853_tableau as _tab
 
 depends_on(__file__, nh)  # the cache sees edits of the inlined helpers
@@ -60,7 +62,7 @@ MAX_FACTOR = 10.0
 EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 
 #: ``stats`` columns: accepted steps, rejected steps, evaluations, status.
-OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE = 0, 1, 2, 3
+OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE, CANCELLED = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, inline="always")
@@ -156,8 +158,13 @@ def _put(y, oq, ow, i):
 
 
 @njit(cache=True)
-def one_body(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats):
-    """Integrate one body from ``t_out[0]``; write ``oq`` (n, 4), ``ow`` (n, 3)."""
+def one_body(
+    y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
+):
+    """Integrate one body from ``t_out[0]``; write ``oq`` (n, 4), ``ow`` (n, 3).
+
+    ``cancel[0] != 0`` (set by another thread on Ctrl-C) stops it before the next step
+    (status CANCELLED); ``done[0]`` counts the output times written (progress)."""
     n_out = t_out.shape[0]
     K = np.empty((16, 7))
     y = y0.copy()
@@ -206,6 +213,10 @@ def one_body(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, o
     steps = 0
     rejected = 0
     while i_out < n_out:
+        if cancel[0] != 0:
+            stats[3] = CANCELLED
+            break
+        done[0] = i_out
         if steps >= max_steps:
             stats[3] = TOO_MANY_STEPS
             break
@@ -343,12 +354,16 @@ def one_body(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, o
     stats[2] = nfev
 
 
-@njit(cache=True, parallel=True)
-def integrate_batch(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats):
+@njit(cache=True, parallel=True, nogil=True)
+def integrate_batch(
+    y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
+):
     """Integrate ``N`` independent bodies in parallel.
 
     ``y0`` (N, 7) = (q, w); ``J``, ``Ji`` (N, 3, 3); ``par`` (N, 4); outputs
-    ``oq`` (n, N, 4), ``ow`` (n, N, 3), ``stats`` (N, 4) int64.
+    ``oq`` (n, N, 4), ``ow`` (n, N, 3), ``stats`` (N, 4) int64; ``cancel`` (1,) and
+    ``done`` (N,) int64 (see :func:`one_body`). Without the GIL, so that the calling
+    thread can take Ctrl-C (``poinsot._progress.run_compiled``).
     """
     for b in prange(y0.shape[0]):
         one_body(
@@ -365,15 +380,18 @@ def integrate_batch(y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps
             oq[:, b, :],
             ow[:, b, :],
             stats[b],
+            cancel,
+            done[b : b + 1],
         )
 
 
 @njit(cache=True)
-def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow):  # pragma: no cover - compiled
+def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow, cancel, done):  # pragma: no cover
     """Classical RK4 for one body with ``nsub[k]`` equal steps in output interval ``k``
     (``method="rk4"``: the same stages as the NumPy path of ``simulate``, the
     quaternion renormalised after every step). Returns the index of the first output
-    interval whose end state is non-finite, or -1."""
+    interval whose end state is non-finite, or -1; -2 when ``cancel[0]`` was set
+    (checked once per output interval; ``done[0]`` counts the intervals done)."""
     y = y0.copy()
     k1 = np.empty(7)
     k2 = np.empty(7)
@@ -382,6 +400,9 @@ def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow):  # pragma: no cover - c
     ys = np.empty(7)
     _put(y, oq, ow, 0)
     for k in range(t_out.shape[0] - 1):
+        if cancel[0] != 0:
+            return -2
+        done[0] = k
         h = (t_out[k + 1] - t_out[k]) / nsub[k]
         for s in range(nsub[k]):
             tn = t_out[k] + s * h
@@ -416,12 +437,22 @@ def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow):  # pragma: no cover - c
     return -1
 
 
-@njit(cache=True, parallel=True)
-def rk4_batch(y0, J, Ji, kind, par, t_out, nsub, oq, ow, failed):  # pragma: no cover - compiled
+@njit(cache=True, parallel=True, nogil=True)
+def rk4_batch(y0, J, Ji, kind, par, t_out, nsub, oq, ow, failed, cancel, done):  # pragma: no cover
     """:func:`rk4_body` for ``N`` bodies in parallel (``failed`` (N,) int64)."""
     for b in prange(y0.shape[0]):
         failed[b] = rk4_body(
-            y0[b], J[b], Ji[b], kind, par[b], t_out, nsub, oq[:, b, :], ow[:, b, :]
+            y0[b],
+            J[b],
+            Ji[b],
+            kind,
+            par[b],
+            t_out,
+            nsub,
+            oq[:, b, :],
+            ow[:, b, :],
+            cancel,
+            done[b : b + 1],
         )
 
 
@@ -574,7 +605,15 @@ def _flat_problem(j, q0, w0, torque):
     return batch, kind, par, jj, ji, y0
 
 
-def rk4(j, q0, w0, t, nsub, torque):
+def _long(y0, t, steps=0):
+    """Whether a run may last long enough (~> 10 ms) to be worth a worker thread that
+    can take Ctrl-C: many bodies times outputs, many fixed steps, or many turns (an
+    adaptive step takes a fraction of a turn)."""
+    turns = float(np.abs(y0[:, 4:]).max(initial=0.0)) * float(t[-1] - t[0]) / (2.0 * np.pi)
+    return y0.shape[0] * max(t.size, steps, 50.0 * turns) > 20_000
+
+
+def rk4(j, q0, w0, t, nsub, torque, progress=None):
     """Run the compiled RK4 on validated arrays (``nsub`` (n - 1,) steps per output
     interval). Returns ``(quat (n, ..., 4), omega (n, ..., 3), failed (...))`` with
     ``failed`` the first output interval whose end is non-finite (-1: none), or
@@ -588,7 +627,17 @@ def rk4(j, q0, w0, t, nsub, torque):
     ow = np.empty((t.size, y0.shape[0], 3))
     failed = np.empty(y0.shape[0], dtype=np.int64)
     nsub = np.ascontiguousarray(nsub, dtype=np.int64)
-    threaded(rk4_batch, y0, jj, ji, kind, par, t, nsub, oq, ow, failed)
+    cancel = np.zeros(1, dtype=np.int64)
+    done = np.zeros(y0.shape[0], dtype=np.int64)
+    run_compiled(
+        functools.partial(threaded, rk4_batch),
+        (y0, jj, ji, kind, par, t, nsub, oq, ow, failed, cancel, done),
+        cancel=cancel,
+        done=done,
+        total=max(y0.shape[0] * (t.size - 1), 1),
+        progress=progress,
+        background=_long(y0, t, int(nsub.sum())),
+    )
     return (
         oq.reshape((t.size,) + batch + (4,)),
         ow.reshape((t.size,) + batch + (3,)),
@@ -596,7 +645,7 @@ def rk4(j, q0, w0, t, nsub, torque):
     )
 
 
-def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
+def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6, progress=None):
     """Run the fused kernel on validated arrays.
 
     ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
@@ -614,21 +663,32 @@ def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6):
     oq = np.empty((t.size, n_body, 4))
     ow = np.empty((t.size, n_body, 3))
     stats = np.zeros((n_body, 4), dtype=np.int64)
-    threaded(
-        integrate_batch,
-        y0,
-        jj,
-        ji,
-        kind,
-        par,
-        t,
-        float(rtol),
-        float(atol),
-        float(np.inf if max_step is None else max_step),
-        int(max_steps),
-        oq,
-        ow,
-        stats,
+    cancel = np.zeros(1, dtype=np.int64)
+    done = np.zeros(n_body, dtype=np.int64)
+    run_compiled(
+        functools.partial(threaded, integrate_batch),
+        (
+            y0,
+            jj,
+            ji,
+            kind,
+            par,
+            t,
+            float(rtol),
+            float(atol),
+            float(np.inf if max_step is None else max_step),
+            int(max_steps),
+            oq,
+            ow,
+            stats,
+            cancel,
+            done,
+        ),
+        cancel=cancel,
+        done=done,
+        total=max(n_body * (t.size - 1), 1),
+        progress=progress,
+        background=_long(y0, t),
     )
     return (
         oq.reshape((t.size,) + batch + (4,)),

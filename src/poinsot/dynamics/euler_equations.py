@@ -65,6 +65,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _quat, integrators
+from .._progress import _Report, as_progress
 from .._typing import ArrayLike, FloatArray, IntArray
 from .._validate import (
     as_choice,
@@ -336,6 +337,7 @@ def simulate(
     atol: float | None = None,
     solver: str | None = None,
     failures: str = "raise",
+    progress: bool | Callable[[float], object] | None = None,
 ) -> Trajectory:
     """Integrate Euler's dynamic equations with the attitude (theory §10, §5).
 
@@ -394,6 +396,13 @@ def simulate(
         others, holds the failed body at its last finite state from the time it
         failed on, and names the reason in ``info["failed"]`` (an array of
         strings, one per body, ``""`` for a body that succeeded).
+    progress : bool or callable, optional
+        ``True``: a progress bar (tqdm in terminals and notebooks when installed,
+        else a line on stderr every 10 %); a callable: called with the fraction
+        done in ``[0, 1]`` (about every 0.1 s); default None: nothing. The
+        compiled ``"dop853"`` and ``"rk4"`` runs report as they go and stop within
+        one step of Ctrl-C (``KeyboardInterrupt``, nothing partial returned, no
+        thread left running); the other methods report when done.
 
     Returns
     -------
@@ -525,6 +534,7 @@ def simulate(
     if order is None:
         order = 2
     comp = COMPOSITIONS[as_int(order, "order", choices=tuple(COMPOSITIONS))]
+    report = as_progress(progress, "simulate")
 
     # flatten the batch to N bodies
     q = np.ascontiguousarray(np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4))
@@ -540,36 +550,47 @@ def simulate(
     if m_const is not None:
         mc = np.ascontiguousarray(np.broadcast_to(m_const, batch + (3,)).reshape(n_body, 3))
 
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        if method == "midpoint":
-            qs, ws, info = _run_midpoint(jb, j_inv, q, w, tt, h_max, comp, mc, tfn)
-        elif method == "splitting":
-            grav = None
-            if isinstance(model, GravityTorque) and model.moment.shape[:-1] in ((), batch):
-                # gravity about a fixed point: exact kicks inside the compiled stepper
-                grav = np.broadcast_to(model.moment, batch + (3,)).reshape(n_body, 3)
-            if grav is not None:
-                qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, None, grav)
-            else:
-                qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn)
-        elif method == "rk4":
-            qs, ws, info = _run_rk4_compiled(jb, q, w, tt, h_max, model)
-            if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
-                qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
-                info["path"] = "NumPy (torque is a Python callable)"
-        elif method == "dop853":
-            from . import _fused  # numba, loaded on first use
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            if method == "midpoint":
+                qs, ws, info = _run_midpoint(jb, j_inv, q, w, tt, h_max, comp, mc, tfn, report)
+            elif method == "splitting":
+                grav = None
+                if isinstance(model, GravityTorque) and model.moment.shape[:-1] in ((), batch):
+                    # gravity about a fixed point: exact kicks inside the compiled stepper
+                    grav = np.broadcast_to(model.moment, batch + (3,)).reshape(n_body, 3)
+                if grav is not None:
+                    qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, None, grav, report)
+                else:
+                    qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn, None, report)
+            elif method == "rk4":
+                qs, ws, info = _run_rk4_compiled(jb, q, w, tt, h_max, model, report)
+                if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
+                    qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
+                    info["path"] = "NumPy (torque is a Python callable)"
+            elif method == "dop853":
+                from . import _fused  # numba, loaded on first use
 
-            fused = _fused.integrate(jb, q, w, tt, model, rtol=rtol, atol=atol, max_step=h_max)
-            if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
-                qs, ws, info = _run_adaptive(
-                    jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, "DOP853"
+                fused = _fused.integrate(
+                    jb, q, w, tt, model, rtol=rtol, atol=atol, max_step=h_max, progress=report
                 )
-                info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
+                if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
+                    qs, ws, info = _run_adaptive(
+                        jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, "DOP853"
+                    )
+                    info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
+                else:
+                    qs, ws, info = _fused_info(fused, tt, rtol, atol, mark=failures == "mark")
             else:
-                qs, ws, info = _fused_info(fused, tt, rtol, atol, mark=failures == "mark")
-        else:
-            qs, ws, info = _run_adaptive(jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, solver)
+                qs, ws, info = _run_adaptive(
+                    jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, solver
+                )
+    except BaseException:
+        if report is not None:
+            report.close()
+        raise
+    if report is not None:
+        report.finish()  # the compiled runs reported as they went; the others now
     if method not in ("adaptive", "dop853"):
         info["order"] = 4 if method == "rk4" else int(order)
     if tfn is not None:
@@ -667,6 +688,33 @@ def _fail_nonfinite(method: str, t_reached: float, what: str) -> IntegrationErro
     )
 
 
+def _run_kernel(
+    kernel: Callable[..., Any],
+    args: tuple[Any, ...],
+    q: FloatArray,
+    t: FloatArray,
+    nsub: IntArray,
+    report: _Report | None,
+    *extra: Any,
+) -> Any:
+    """A compiled fixed-step kernel of :mod:`._euler_numba` through
+    :func:`poinsot._progress.run_compiled`: progress, and Ctrl-C within one step."""
+    from .._progress import run_compiled
+
+    cancel = np.zeros(1, dtype=np.int64)
+    done = np.zeros(1, dtype=np.int64)
+    n_body, n_int = q.shape[0], t.shape[0] - 1
+    return run_compiled(
+        kernel,
+        (*args, cancel, done, *extra),
+        cancel=cancel,
+        done=done,
+        total=max(n_body * n_int, 1),
+        progress=report,
+        background=n_body * int(np.sum(nsub)) > 20_000,
+    )
+
+
 def _fixed_step_info(
     t: FloatArray, nsub: IntArray, comp: Sequence[float] = (1.0,)
 ) -> dict[str, Any]:
@@ -738,6 +786,7 @@ def _run_midpoint(
     comp: Sequence[float],
     m_const: Any,
     tfn: Any,
+    report: _Report | None = None,
 ) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     nsub = _substeps(t, h_max)
     m = np.einsum("...ij,...j->...i", j, w)
@@ -747,7 +796,7 @@ def _run_midpoint(
 
         torque = np.zeros((1, 3)) if m_const is None else m_const
         args = _kernel_args(q, m, j_inv, torque, t, nsub, comp)
-        Q, MO, status, body, k, it = _euler_numba.midpoint(*args)
+        Q, MO, status, body, k, it = _run_kernel(_euler_numba.midpoint, args, q, t, nsub, report)
         if status == 2:
             raise _fail_nonfinite("midpoint", float(t[k]), f"the state of body {body}")
         if status == 1:
@@ -875,6 +924,7 @@ def _run_splitting(
     m_const: Any,
     tfn: Any,
     gravity: Any = None,
+    report: _Report | None = None,
 ) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     """Strang splitting of the free-body Hamiltonian, with the torque as kicks.
 
@@ -930,9 +980,10 @@ def _run_splitting(
 
         mt = np.zeros((1, 3)) if m_const is None else _qrot(s_pb, m_const)
         args: tuple[Any, ...] = _kernel_args(q_np, m, inv_i, mt, t, nsub, comp)
-        if gravity is not None:
-            args = (*args, np.ascontiguousarray(_qrot(s_pb, gravity), dtype=float))
-        Q, MO, status, body, k = _euler_numba.splitting(*args)
+        grav = None if gravity is None else np.ascontiguousarray(_qrot(s_pb, gravity), dtype=float)
+        Q, MO, status, body, k = _run_kernel(
+            _euler_numba.splitting, args, q_np, t, nsub, report, grav
+        )
         if status == 2:
             raise _fail_nonfinite("splitting", float(t[k]), f"the state of body {body}")
         return _qmul(Q, s_pb), _qrot(s_bp, MO * inv_i), _fixed_step_info(t, nsub, comp)
@@ -965,14 +1016,20 @@ def _torque_value(m_const: Any, tfn: Any, tn: float, q: FloatArray, w: FloatArra
 
 
 def _run_rk4_compiled(
-    j: FloatArray, q: FloatArray, w: FloatArray, t: FloatArray, h_max: float, model: Any
+    j: FloatArray,
+    q: FloatArray,
+    w: FloatArray,
+    t: FloatArray,
+    h_max: float,
+    model: Any,
+    report: _Report | None = None,
 ) -> tuple[Any, Any, Any]:
     """RK4 in one compiled loop per body (built-in torques); ``(None, None, None)``
     for a Python torque."""
     from . import _fused  # numba, loaded on first use
 
     nsub = _substeps(t, h_max)
-    out = _fused.rk4(j, q, w, t, nsub, model)
+    out = _fused.rk4(j, q, w, t, nsub, model, progress=report)
     if out is None:
         return None, None, None
     qs, ws, failed = out

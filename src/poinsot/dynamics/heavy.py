@@ -33,6 +33,7 @@ body axes (rad/s), ``gamma`` the upward vertical in body axes, SI units.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -263,6 +264,7 @@ class HeavyRigidBody:
         rtol: float | None = None,
         atol: float | None = None,
         solver: str | None = None,
+        progress: bool | Callable[[float], object] | None = None,
     ) -> Trajectory:
         """Integrate the heavy body from ``(rotation0, omega0)`` at ``t[0]``.
 
@@ -284,7 +286,7 @@ class HeavyRigidBody:
             (compiled DOP853), ``"adaptive"`` (``scipy.integrate.solve_ivp``).
         order : {2, 4, 6}, optional
             Composition order of ``"splitting"``/``"midpoint"`` (default 2).
-        max_step, rtol, atol, solver : optional
+        max_step, rtol, atol, solver, progress : optional
             As :func:`poinsot.dynamics.simulate`.
 
         Returns
@@ -321,6 +323,7 @@ class HeavyRigidBody:
             rtol=rtol,
             atol=atol,
             solver=solver,
+            progress=progress,
         )
 
     def __repr__(self) -> str:
