@@ -40,8 +40,8 @@ from numba import njit, prange
 
 from .. import _numba_helpers as nh
 from .._numba_cache import depends_on
-from ..rotations._lazy import threaded
 from .._progress import run_compiled
+from ..rotations._lazy import threaded
 from . import _dop853_tableau as _tab
 
 depends_on(__file__, nh)  # the cache sees edits of the inlined helpers
