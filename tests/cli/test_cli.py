@@ -282,7 +282,7 @@ def test_demo(capsys, tmp_path, monkeypatch):
     assert summary["run"]["method"] == "midpoint" and summary["run"]["reference_method"] == "exact"
     # the written files against hand values: box 0.3 x 0.1 x 0.02 m of 0.35 kg, moments
     # m (b^2 + c^2) / 12 etc.; T = w.Jw/2 and K = R J w conserved; printed difference
-    tr, ref = (np.loadtxt(first / f, delimiter=",", comments="#") for f in CSVS)
+    tr, ref = (np.loadtxt(first / f, delimiter=",", skiprows=1) for f in CSVS)
     moments = 0.35 / 12 * np.array([0.1**2 + 0.02**2, 0.3**2 + 0.02**2, 0.3**2 + 0.1**2])
     for data in (tr, ref):
         q, w, k, energy = data[:, 1:5], data[:, 5:8], data[:, 8:11], data[:, 11]

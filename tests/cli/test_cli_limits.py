@@ -135,7 +135,7 @@ def test_poor_accuracy_warns_records_and_suggests_a_step_that_works(capsys, tmp_
     summary = json.loads((out / "summary.json").read_text())
     acc = summary["accuracy"]
     # the drift, recomputed here from the written trajectory (T = w.Jw/2, K = R J w)
-    data = np.loadtxt(out / "trajectory.csv", delimiter=",", comments="#")
+    data = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
     j = np.asarray(summary["body"]["inertia"])
     w = data[:, 5:8]
     energy = 0.5 * np.einsum("ni,ij,nj->n", w, j, w)

@@ -200,18 +200,19 @@ def test_trajectory_files_carry_the_kind_s_own_channels(tmp_path):
 
     r, _ = run_scenario(load_scenario(EXAMPLES / "double_pendulum.toml"), tmp_path / "o",
                         duration=0.5, report=False, figures=False)  # fmt: skip
-    lines = (tmp_path / "o" / "trajectory.csv").read_text().splitlines()
-    names = lines[[k for k, ln in enumerate(lines) if not ln.startswith("#")][0] - 1][2:]
-    names = names.split(",")
-    units = next(ln for ln in lines if ln.startswith("# units: "))[9:].split(",")
+    import json
+
+    names = (tmp_path / "o" / "trajectory.csv").read_text().splitlines()[0].split(",")
+    meta = json.loads((tmp_path / "o" / "trajectory.columns.json").read_text())
+    assert list(meta["columns"]) == names
     assert not {"qw", "qx", "qy", "qz", "wx", "wy", "wz"} & set(names)
     # no rigid-body conventions (quaternions, body axes) for a system without a body
-    conventions = next(ln for ln in lines if ln.startswith("# conventions: "))
+    conventions = next(ln for ln in meta["header"] if ln.startswith("conventions: "))
     assert "quaternion" not in conventions.lower() and "generalized coordinates" in conventions
-    assert r.summary["conventions"] == conventions.removeprefix("# conventions: ")
-    cols = dict(zip(names, units, strict=True))
+    assert r.summary["conventions"] == conventions.removeprefix("conventions: ")
+    cols = meta["columns"]
     assert cols["t"] == "s" and cols["theta1"] == "rad" and cols["theta2_dot"] == "rad/s"
-    data = np.loadtxt(tmp_path / "o" / "trajectory.csv", delimiter=",", comments="#")
+    data = np.loadtxt(tmp_path / "o" / "trajectory.csv", delimiter=",", skiprows=1)
     np.testing.assert_array_equal(data[:, names.index("theta2")], r.trajectory.q[:, 1])
     np.testing.assert_array_equal(data[:, names.index("theta1_dot")], r.trajectory.qdot[:, 0])
 

@@ -174,7 +174,7 @@ def test_a_new_kind_needs_one_adapter_and_one_registry_line(capsys, tmp_path, mo
     assert summary["results"]["period"] == pytest.approx(2 * np.pi / 3)
     # rk4 (h = 0.01 s, w = 3 rad/s: error ~ t (w h)^5 / 120 ~ 4e-10 rad) against
     # SciPy's rotation about z by 3 t
-    data = np.loadtxt(tmp_path / "o" / "trajectory.csv", delimiter=",", comments="#")
+    data = np.loadtxt(tmp_path / "o" / "trajectory.csv", delimiter=",", skiprows=1)
     truth = SciRotation.from_rotvec(np.outer(data[:, 0], [0, 0, 3.0]))
     got = SciRotation.from_quat(data[:, 1:5], scalar_first=True)
     err = (truth.inv() * got).magnitude().max()

@@ -35,11 +35,20 @@ SHORT = {
 
 
 def read_csv(path: Path):
-    lines = path.read_text().splitlines()
-    header = [ln for ln in lines if ln.startswith("#")]
-    names = header[-1][2:].split(",")
-    data = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
-    return header, {n: data[:, k] for k, n in enumerate(names)}
+    """``(header lines, units, columns)``: the CSV read by pandas and by NumPy's
+    genfromtxt (both must see the same names and values), its sidecar JSON."""
+    import json
+
+    pd = pytest.importorskip("pandas")
+    frame = pd.read_csv(path)
+    arr = np.genfromtxt(path, delimiter=",", names=True, deletechars="")
+    assert list(frame.columns) == list(arr.dtype.names)
+    cols = {n: frame[n].to_numpy() for n in frame.columns}
+    for n in cols:
+        np.testing.assert_array_equal(np.atleast_1d(arr[n]), cols[n])
+    meta = json.loads(path.with_name(f"{path.stem}.columns.json").read_text())
+    assert list(meta["columns"]) == list(cols)
+    return meta["header"], meta["columns"], cols
 
 
 def test_examples_shipped():
@@ -73,10 +82,9 @@ def test_every_example_runs(path, tmp_path):
         assert {spec.name for spec in result.figures()} <= names, files.notes
         assert not any("skipped" in n for n in files.notes), files.notes
     assert sorted(p.name for p in out.iterdir()) == sorted(names)  # no temporary left
-    header, cols = read_csv(out / "trajectory.csv")
+    header, units, cols = read_csv(out / "trajectory.csv")
     tr = result.trajectory
     np.testing.assert_allclose(cols["t"], tr.t, rtol=0, atol=0)  # exact repr
-    units = dict(zip(cols, header[-2].removeprefix("# units: ").split(","), strict=True))
     if isinstance(tr, Trajectory):  # a rigid body: attitude and omega
         assert any("scalar first" in h for h in header) and any("rad/s" in h for h in header)
         q = np.stack([cols[k] for k in ("qw", "qx", "qy", "qz")], axis=-1)
@@ -476,7 +484,13 @@ def test_missing_matplotlib_skips_figures_with_note(tmp_path, monkeypatch):
 
     monkeypatch.setitem(sys.modules, "matplotlib", None)  # import fails
     result, files = run_scenario(demo_scenario(), tmp_path / "o", report=False, duration=0.1)
-    assert {p.name for p in files} == {"trajectory.csv", "reference.csv", "summary.json"}
+    assert {p.name for p in files} == {
+        "trajectory.csv",
+        "trajectory.columns.json",
+        "reference.csv",
+        "reference.columns.json",
+        "summary.json",
+    }
     assert any("figures skipped: matplotlib is not installed" in n for n in files.notes)
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert summary["run"]["notes"] == files.notes

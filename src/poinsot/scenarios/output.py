@@ -32,8 +32,10 @@ __all__ = ["write_outputs", "run_scenario", "prepare_output_dir", "OutputFiles",
 OUTPUT_FILES = (
     "trajectory.csv",
     "trajectory.npz",
+    "trajectory.columns.json",
     "reference.csv",
     "reference.npz",
+    "reference.columns.json",
     "omega.png",
     "invariants.png",
     "maccullagh.png",
@@ -168,18 +170,34 @@ def _header(result: ScenarioResult, tr, names, units, described) -> list[str]:
     return lines
 
 
-def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> Path:
+def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> list[Path]:
+    """The trajectory file; for CSV also ``<stem>.columns.json`` (units and meaning).
+
+    The CSV's first line names the columns and nothing precedes it, so that
+    ``pandas.read_csv(path)`` and ``numpy.genfromtxt(path, delimiter=",", names=True)``
+    read it as it is; the units, the conventions and each column's meaning go to the
+    JSON file beside it (``columns``: name -> units; ``header``: the description).
+    """
     names, units, described, data = _columns(result, tr)
     header = _header(result, tr, names, units, described)
     if fmt == "csv":
 
         def write(fh):
-            fh.write("".join(f"# {line}\n" for line in header))
+            fh.write(",".join(names) + "\n")
             for k in range(0, len(data), _ROWS_PER_WRITE):  # repr: shortest round-trip
                 rows = data[k : k + _ROWS_PER_WRITE].tolist()
                 fh.write("".join(",".join(map(repr, r)) + "\n" for r in rows))
 
-        return _atomic(path, write)
+        meta = {
+            "file": path.name,
+            "columns": dict(zip(names, units, strict=True)),
+            "header": header[:-2],  # the description (the units and names are above)
+        }
+        side = path.with_name(f"{path.stem}.columns.json")
+        return [
+            _atomic(path, write),
+            _atomic(side, lambda fh: fh.write(json.dumps(meta, indent=2) + "\n")),
+        ]
 
     if isinstance(tr, Trajectory):
         arrays = {"t": tr.t, "quat": tr.quat, "omega_body": np.asarray(tr.omega)}
@@ -194,7 +212,7 @@ def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> Path:
         arrays.setdefault(key, np.asarray(values))
     arrays["header"] = np.array("\n".join(header))
     # numpy's stub lets **kwds fill savez's allow_pickle: bool (a false positive)
-    return _atomic(path, lambda fh: np.savez(fh, **arrays), mode="b")  # type: ignore[arg-type]
+    return [_atomic(path, lambda fh: np.savez(fh, **arrays), mode="b")]  # type: ignore[arg-type]
 
 
 # ----------------------------------------------------------------------------- figures
@@ -284,9 +302,9 @@ def write_outputs(
     (out / "summary.json").unlink(missing_ok=True)
     summary = result.sections()  # a fresh dict: the result itself is never changed
     notes: list[str] = summary["run"]["notes"]
-    files = [_write_trajectory(result, result.trajectory, out / f"trajectory.{fmt}", fmt)]
+    files = _write_trajectory(result, result.trajectory, out / f"trajectory.{fmt}", fmt)
     if result.reference is not None:
-        files.append(_write_trajectory(result, result.reference, out / f"reference.{fmt}", fmt))
+        files += _write_trajectory(result, result.reference, out / f"reference.{fmt}", fmt)
     progress(0.0, "writing the trajectory")
     if figures:
         progress(0.2, "figures")
@@ -333,8 +351,9 @@ def run_scenario(
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "demo"
     >>> result, files = run_scenario(demo_scenario(), out, report=False, figures=False,
     ...                              duration=1.0)
-    >>> sorted(p.name for p in files)
-    ['reference.csv', 'summary.json', 'trajectory.csv']
+    >>> sorted(p.name for p in files)  # doctest: +NORMALIZE_WHITESPACE
+    ['reference.columns.json', 'reference.csv', 'summary.json', 'trajectory.columns.json',
+     'trajectory.csv']
     """
     _expect(scenario, Scenario, "scenario", "a Scenario (from load_scenario/parse_scenario)")
     _check_fmt(fmt)
