@@ -244,6 +244,10 @@ def harmonic(k: float) -> Potential:
     (0.5, 2.0)
     """
     k = _coef(k, "k")
+    if k == 0:
+        raise InvalidInputError(
+            "Expected `k` to be non-zero (k = 0 is no force: a straight line), got 0."
+        )
     return Potential(lambda r: 0.5 * k * r**2, lambda r: k * r, name=f"{k:g} r^2/2")
 
 
@@ -482,6 +486,14 @@ class CentralOrbit:
         )
 
     # -- effective potential and apsides -------------------------------------
+
+    def __repr__(self) -> str:
+        kind = "unbound" if self.unbound else ("circular" if self._circular else "bound")
+        return (
+            f"CentralOrbit(potential={self.potential.name}, energy={self.energy!r}, "
+            f"angular_momentum={self.angular_momentum!r}, mass={self.mass!r}, {kind}, "
+            f"apsides={tuple(round(float(x), 12) for x in self.apsides)})"
+        )
 
     def effective_potential(self, r: ArrayLike) -> FloatArray:
         """``U_eff(r) = U(r) + L^2 / (2 m r^2)`` (J)."""

@@ -634,8 +634,10 @@ class NumericLagrangian:
         tt = as_times(t, "t")
         p = self._params(params)
         pmap = dict(zip(self.parameters, p.tolist(), strict=True))
-        q0a = np.asarray(q0, dtype=float)
-        u0a = np.asarray(qdot0, dtype=float)
+        from .._validate import as_float_array
+
+        q0a = as_float_array(q0, "q0", finite=False)
+        u0a = as_float_array(qdot0, "qdot0", finite=False)
         for name, a in (("q0", q0a), ("qdot0", u0a)):
             if a.ndim == 0 or a.shape[-1] != self.n:
                 raise InvalidInputError(
