@@ -162,7 +162,7 @@ def _refuse_large(scenario: Any, args: argparse.Namespace) -> None:
 def _cmd_run(args: argparse.Namespace) -> int:
     from .scenarios import load_scenario
 
-    scenario = load_scenario(args.scenario)
+    scenario = load_scenario(args.scenario, allow_paths=args.allow_paths)
     _refuse_large(scenario, args)
     out = Path(args.out) if args.out else _default_out(scenario.name)
     # run_scenario checks the directory before any work and removes it again if it
@@ -203,7 +203,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 def _cmd_check(args: argparse.Namespace) -> int:
     from .scenarios import describe_scenario, estimate_cost, load_scenario
 
-    scenario = load_scenario(args.scenario)
+    scenario = load_scenario(args.scenario, allow_paths=args.allow_paths)
     cost = estimate_cost(scenario, duration=args.duration)
     problems = cost.problems(allow_large=args.allow_large)
     if problems:
@@ -549,6 +549,13 @@ def build_parser() -> argparse.ArgumentParser:
         )
         allow_large(p)
 
+    def allow_paths(p: argparse.ArgumentParser) -> None:
+        p.add_argument(
+            "--allow-paths",
+            action="store_true",
+            help="let the scenario read a mesh file outside its own directory",
+        )
+
     def allow_large(p: argparse.ArgumentParser) -> None:
         p.add_argument(
             "--allow-large",
@@ -565,6 +572,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("scenario", metavar="SCENARIO.toml")
     common_run(p)
+    allow_paths(p)
     p.set_defaults(func=_cmd_run)
 
     p = command(
@@ -586,6 +594,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="print nothing when valid")
     p.add_argument("--duration", type=float, metavar="SECONDS", help="check with this duration (s)")
     allow_large(p)
+    allow_paths(p)
     p.set_defaults(func=_cmd_check)
 
     p = command(
@@ -667,6 +676,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="how long to wait for --scheduler to answer (default 10)",
     )
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    allow_paths(p)
     p.set_defaults(func=_cmd_ensemble)
     return parser
 
@@ -710,6 +720,7 @@ def _cmd_ensemble(args: argparse.Namespace) -> int:
         client=client,
         timeout=args.timeout,
         progress=progress,
+        allow_paths=args.allow_paths,
     )
     if not args.quiet:
         print(file=sys.stderr)

@@ -144,8 +144,12 @@ def test_bad_stl_and_paths(tmp_path):
         read_mesh(tmp_path / "junk.stl")
     with pytest.raises(InvalidInputError, match="no such mesh file"):
         read_mesh(tmp_path / "missing.obj")
+    (tmp_path / "dir.obj").mkdir()
     with pytest.raises(InvalidInputError, match="is a directory"):
-        read_mesh(tmp_path)
+        read_mesh(tmp_path / "dir.obj")
+    (tmp_path / "mesh.ply").write_text("ply\nformat ascii 1.0\n")  # not read as an STL
+    with pytest.raises(InvalidInputError, match=r"\.obj or \.stl, got the suffix '\.ply'"):
+        read_mesh(tmp_path / "mesh.ply")
     with pytest.raises(InvalidTypeError, match="`path`"):
         read_mesh(3)
 

@@ -121,11 +121,13 @@ def problem_from_scenario(
     return problem
 
 
-def load_ensemble(path: str | os.PathLike[str]) -> tuple[Scenario, EnsembleProblem]:
+def load_ensemble(
+    path: str | os.PathLike[str], *, allow_paths: bool = False
+) -> tuple[Scenario, EnsembleProblem]:
     """``(scenario, problem)`` of a scenario file with ``[dispersion]`` and ``[[metric]]``."""
     from ..scenarios import load_scenario
 
-    scenario = load_scenario(path)
+    scenario = load_scenario(path, allow_paths=allow_paths)
     return scenario, problem_from_scenario(scenario)
 
 
@@ -327,9 +329,11 @@ def run_scenario_ensemble(
     client: Any = None,
     timeout: float = 10.0,
     progress: Callable[..., object] | None = None,
+    allow_paths: bool = False,
 ) -> EnsembleResult:
-    """Run the ensemble of a scenario file and write its outputs into ``out``."""
-    _scenario, problem = load_ensemble(path)
+    """Run the ensemble of a scenario file and write its outputs into ``out``
+    (``allow_paths`` as in :func:`poinsot.scenarios.load_scenario`)."""
+    _scenario, problem = load_ensemble(path, allow_paths=allow_paths)
     result = run(
         problem,
         samples,

@@ -231,7 +231,7 @@ def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
     faces (1-based indices, ``i/t/n``, ``i//n`` and negative, i.e. relative, forms
     accepted); a polygon ``f a b c d ...`` is split into the fan ``(a, b, c)``,
     ``(a, c, d)``, ... Other lines (``vt``, ``vn``, ``o``, ``g``, ``usemtl``, ...)
-    are passed over. STL (any other suffix, or ``.stl``): binary when the file
+    are passed over. STL (``.stl``): binary when the file
     size is ``84 + 50 n`` for the ``n`` triangles its header announces, else ASCII
     (``solid ... facet ... vertex x y z ... endsolid``); the facet normals are
     not used and equal vertices are merged so that triangles share edges.
@@ -240,7 +240,8 @@ def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
     Parameters
     ----------
     path : str or path-like
-        The file (``.obj`` is read as OBJ, everything else as STL).
+        The file: ``.obj`` (OBJ) or ``.stl`` (STL), any case; another suffix is
+        refused before the file is opened (a ``.ply`` is not an STL).
 
     Returns
     -------
@@ -280,6 +281,11 @@ def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
             f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
         )
     p = Path(path)
+    if p.suffix.lower() not in (".obj", ".stl"):
+        raise InvalidInputError(
+            f"{path}: expected a mesh file ending in .obj or .stl, got the suffix "
+            f"{p.suffix or '(none)'!r}."
+        )
     try:
         raw = p.read_bytes()
     except FileNotFoundError:

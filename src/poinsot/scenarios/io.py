@@ -8,6 +8,7 @@ the closest valid key suggested. The format is documented in ``docs/cli.md``.
 
 from __future__ import annotations
 
+import contextvars
 import copy
 import os
 import re
@@ -85,13 +86,18 @@ def demo_scenario_text() -> str:
     return resources.files("poinsot.scenarios").joinpath("tennis_racket.toml").read_text("utf-8")
 
 
-def load_scenario(path) -> Scenario:
+def load_scenario(path, *, allow_paths: bool = False) -> Scenario:
     """Read and validate a scenario file.
 
     Parameters
     ----------
     path : str or path-like
         A TOML scenario file (format: ``docs/cli.md``).
+    allow_paths : bool, optional
+        Let the file read a mesh (``[body] file``) outside its own directory (an
+        absolute path or one through ``..``). Default False: scenario files may come
+        from elsewhere, and a file outside the scenario's directory is refused
+        before it is opened (the CLI's ``--allow-paths``).
 
     Returns
     -------
@@ -144,14 +150,19 @@ def load_scenario(path) -> Scenario:
         raise ScenarioError(f"not UTF-8 text ({exc.reason}).", file=str(path)) from None
     except OSError as exc:
         raise ScenarioError(f"cannot be read ({exc.strerror}).", file=str(path)) from None
-    return parse_scenario(text, source=str(path), name=p.stem)
+    return parse_scenario(text, source=str(path), name=p.stem, allow_paths=allow_paths)
 
 
 _TOML_LINE = re.compile(r"\(at line (\d+), column (\d+)\)")
 
 
-def parse_scenario(text: str, *, source: str = "<string>", name: str | None = None) -> Scenario:
+def parse_scenario(
+    text: str, *, source: str = "<string>", name: str | None = None, allow_paths: bool = False
+) -> Scenario:
     """Parse and validate scenario TOML ``text`` (``source`` names it in errors).
+
+    Mesh files are read relative to the directory of ``source`` (the current
+    directory for a string), and only inside it unless ``allow_paths``.
 
     Examples
     --------
@@ -194,8 +205,15 @@ Did you mean `simulation`? ...
         ) from None
     lines = locate_keys(text)
     top = Table(data, "", source, lines)
-    return _scenario(top, data, source, name or "scenario")
+    token = _ALLOW_PATHS.set(bool(allow_paths))
+    try:
+        return _scenario(top, data, source, name or "scenario")
+    finally:
+        _ALLOW_PATHS.reset(token)
 
+
+#: Whether the scenario being parsed may read files outside its directory.
+_ALLOW_PATHS: contextvars.ContextVar[bool] = contextvars.ContextVar("allow_paths", default=False)
 
 # ------------------------------------------------------------------------------------------
 #: Longest scenario name: it names the output directory (file names have 255 bytes).
@@ -336,8 +354,17 @@ def _mesh(t: Table):
         t.forbid(["faces"], "the faces of a mesh given by `file` are read from the file")
         name = t.string("file", required=True)  # present: `how` is "file"
         path = Path(name)
-        if not path.is_absolute() and not t.file.startswith("<"):
-            path = Path(t.file).parent / path
+        base = Path.cwd() if t.file.startswith("<") else Path(t.file).parent
+        if not path.is_absolute():
+            path = base / path
+        if not _ALLOW_PATHS.get() and not path.resolve().is_relative_to(base.resolve()):
+            # refused before it is opened: a scenario from elsewhere reads nothing else
+            raise t.error(
+                "file",
+                f"expected a mesh file inside the scenario's directory ({base}), got "
+                f"{name!r}, which is outside it; pass --allow-paths (allow_paths=True) to "
+                "read it.",
+            )
         from ..mass import read_mesh
 
         try:
