@@ -390,3 +390,25 @@ def test_bad_input_names_the_argument():
     with pytest.raises(InvalidInputError, match="depends on time"):
         tdep.jacobi_integral()
     assert not tdep.jacobi_conserved
+
+
+@pytest.mark.parametrize("quadratic", [True, False])
+def test_forcing_of_quadratic_and_general_lagrangians_matches_lagranges_method(quadratic):
+    # A quadratic Lagrangian takes the Christoffel form (forcing from the mass matrix's
+    # derivatives, issue 24), with a velocity-linear (rotating frame) and an explicitly
+    # time-dependent term; a non-quadratic one (M depends on x') the term-by-term form.
+    # Oracle: SymPy's LagrangesMethod, compared symbolically (simplify to 0).
+    x, y = me.dynamicsymbols("x y")
+    m, w, k = sympy.symbols("m w k", positive=True)
+    xd, yd = x.diff(t), y.diff(t)
+    if quadratic:
+        T = m / 2 * ((xd - w * y) ** 2 + (yd + w * x) ** 2 + sympy.cos(x) * xd * yd)
+        P = k * (1 + sympy.sin(t)) * (x**2 + y**2) / 2
+    else:
+        T = m * (xd**4 / 12 + xd**2 / 2 + yd**2 / 2) + w * x * yd
+        P = k * x * y
+    ours = LagrangeSystem([x, y], T, P)
+    lm = me.LagrangesMethod(T - P, [x, y])
+    lm.form_lagranges_equations()
+    assert sympy.simplify(ours.mass_matrix - lm.mass_matrix) == sympy.zeros(2, 2)
+    assert sympy.simplify(ours.forcing - lm.forcing) == sympy.zeros(2, 1)
