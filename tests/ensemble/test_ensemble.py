@@ -386,3 +386,80 @@ def test_report_lists_failed_samples_and_reasons(tmp_path):
     assert f"Failed samples: {n} of 40" in text
     assert f"<li>{n} x inertia violates the triangle inequality A + B &gt;= C</li>" in text
     assert "<td>inertia_z</td><td>kg m^2</td>" in text  # the dispersed input's row
+
+
+class _Peer:
+    """A TCP server on 127.0.0.1 that is not a Dask scheduler: an HTTP server, or one
+    that sends garbage (a huge frame length) and then stays silent. Stopped by the test."""
+
+    def __init__(self, kind: str) -> None:
+        import socket
+        import threading
+
+        self.sock = socket.socket()
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.listen(8)
+        self.port = self.sock.getsockname()[1]
+        self.kind = kind
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._serve, daemon=True)
+        self.thread.start()
+
+    def _serve(self) -> None:
+
+        self.sock.settimeout(0.1)
+        conns = []
+        while not self.stop.is_set():
+            try:
+                conn, _ = self.sock.accept()
+            except (TimeoutError, OSError):
+                continue
+            conns.append(conn)
+            try:
+                if self.kind == "http":
+                    conn.recv(65536)
+                    conn.sendall(b"HTTP/1.0 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+                else:
+                    conn.sendall(b"\xff" * 64)
+            except OSError:
+                pass
+        for c in conns:
+            c.close()
+
+    def close(self) -> None:
+        self.stop.set()
+        self.thread.join(5)
+        self.sock.close()
+
+
+@pytest.mark.parametrize("kind", ["http", "garbage"])
+def test_a_peer_that_is_not_dask_exits_2_within_the_timeout(tmp_path, capsys, kind):
+    """It used to hang for minutes (HTTP) or fail with MemoryError (exit 1)."""
+    import time
+
+    peer = _Peer(kind)
+    try:
+        out = tmp_path / "out"
+        t0 = time.perf_counter()
+        code = main(
+            ["ensemble", str(EXAMPLES / "tennis_racket_ensemble.toml"), "--samples", "10",
+             "--out", str(out), "--scheduler", f"tcp://127.0.0.1:{peer.port}",
+             "--timeout", "2", "--quiet"]
+        )  # fmt: skip
+        elapsed = time.perf_counter() - t0
+    finally:
+        peer.close()
+    assert code == 2
+    assert elapsed < 2 + 3.0, elapsed
+    assert "Dask scheduler" in capsys.readouterr().err
+    assert not out.exists()  # nothing that would block a retry into the same --out
+
+
+@pytest.mark.parametrize("address", ["not an address", "tcp://127.0.0.1", "tcp://:x"])
+def test_a_malformed_scheduler_address_exits_2(tmp_path, capsys, address):
+    code = main(
+        ["ensemble", str(EXAMPLES / "tennis_racket_ensemble.toml"), "--samples", "10",
+         "--out", str(tmp_path / "o"), "--scheduler", address, "--timeout", "2"]
+    )  # fmt: skip
+    assert code == 2
+    assert "scheduler" in capsys.readouterr().err

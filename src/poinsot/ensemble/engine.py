@@ -410,6 +410,59 @@ def _chunk_task(
     return _table(run_chunk(problem, index, size, seed), first, digest, index)
 
 
+def _connect(client_type: Any, scheduler: str, timeout: float) -> Any:
+    """A Client of the Dask scheduler at ``scheduler``, or :class:`EnsembleError` within
+    ``timeout`` s.
+
+    The address is checked first (a malformed one is a usage error, not a crash). The
+    connection runs in a daemon thread that the caller stops waiting for at the
+    deadline: a peer that is not a Dask scheduler (an HTTP server, say) may answer with
+    bytes that Dask reads as the length of a huge frame and then wait for ever, or try
+    to allocate exabytes; neither may hold the run past ``--timeout``.
+    """
+    import threading
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, loc = parse_address(scheduler, strict=False)
+        parse_host_port(loc)
+    except (ValueError, TypeError) as exc:
+        raise EnsembleError(
+            f"Expected `scheduler` to be a Dask scheduler address such as "
+            f"'tcp://127.0.0.1:8786', got {scheduler!r} ({exc})."
+        ) from None
+    out: dict[str, Any] = {}
+    done = threading.Event()
+
+    def connect() -> None:
+        try:
+            out["client"] = client_type(scheduler, timeout=f"{timeout}s")
+        except BaseException as exc:  # kept for the caller (MemoryError included)
+            out["error"] = exc
+        finally:
+            done.set()
+
+    threading.Thread(target=connect, name="poinsot-dask-connect", daemon=True).start()
+    if not done.wait(timeout + 1.0):
+        raise EnsembleError(
+            f"The Dask scheduler at {scheduler!r} did not answer within {timeout} s (is it a "
+            "Dask scheduler? its address and port are those `dask scheduler` prints)."
+        )
+    if "error" in out:
+        err = out["error"]
+        if isinstance(err, OSError | TimeoutError):
+            raise EnsembleError(
+                f"The Dask scheduler at {scheduler!r} did not answer within {timeout} s "
+                f"({str(err)[:200]})."
+            ) from None
+        raise EnsembleError(
+            f"The peer at {scheduler!r} is not a usable Dask scheduler "
+            f"({type(err).__name__}: {str(err)[:200]})."
+        ) from None
+    return out["client"]
+
+
 def _client(scheduler: str | None, workers: int | None, timeout: float) -> tuple[Any, Any]:
     """``(client, cluster)``: a connection to ``scheduler``, or a local cluster we own."""
     try:
@@ -417,12 +470,7 @@ def _client(scheduler: str | None, workers: int | None, timeout: float) -> tuple
     except ImportError as exc:  # pragma: no cover - the extra is part of make test
         raise EnsembleError("Ensembles need Dask: pip install 'poinsot[ensemble]'.") from exc
     if scheduler is not None:
-        try:
-            return Client(scheduler, timeout=f"{timeout}s"), None
-        except (OSError, TimeoutError) as exc:
-            raise EnsembleError(
-                f"The Dask scheduler at {scheduler!r} did not answer within {timeout} s ({exc})."
-            ) from None
+        return _connect(Client, scheduler, timeout), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(
         n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, host="127.0.0.1"
@@ -493,7 +541,6 @@ def run(
         raise EnsembleError(f"Expected `chunk_size` > 0, got {chunk_size}.")
     if workers is not None and (not isinstance(workers, int) or workers <= 0):
         raise EnsembleError(f"Expected `workers` to be a positive integer, got {workers!r}.")
-    import pyarrow as pa
 
     samples, chunk_size = int(samples), int(chunk_size)
     n_chunks = -(-samples // chunk_size)
@@ -502,6 +549,43 @@ def run(
     ).hexdigest()
     sizes = [min(chunk_size, samples - i * chunk_size) for i in range(n_chunks)]
     done: set[int] = set()
+    own: Any = None
+    made = False  # a client this call made (and closes)
+    if client is None and scheduler is not None:
+        # before the output directory is touched: a scheduler that does not answer
+        # leaves nothing behind that would block a retry into the same `out`
+        client, own = _client(scheduler, workers, timeout)
+        made = True
+    try:
+        return _run(problem, samples, chunk_size, client, own, made, scheduler,
+                    workers, seed, out, resume, timeout, progress, digest, n_chunks,
+                    sizes, done)  # fmt: skip
+    finally:
+        if made:
+            client.close()
+
+
+def _run(
+    problem: EnsembleProblem,
+    samples: int,
+    chunk_size: int,
+    client: Any,
+    own: Any,
+    made: bool,
+    scheduler: str | None,
+    workers: int | None,
+    seed: int,
+    out: Any,
+    resume: bool,
+    timeout: float,
+    progress: Any,
+    digest: str,
+    n_chunks: int,
+    sizes: list[int],
+    done: set[int],
+) -> EnsembleResult:
+    import pyarrow as pa
+
     outp = None if out is None else Path(out)
     if outp is not None:
         manifest = {
@@ -530,7 +614,6 @@ def run(
             done_now.append(i)
             arrived(i, _chunk_task(problem, i, sizes[i], seed, i * chunk_size, digest, 0))
     elif todo:
-        own = None
         if client is None:
             client, own = _client(scheduler, workers, timeout)
         try:
@@ -559,7 +642,7 @@ def run(
                 done_now.append(i)
                 arrived(i, fut.result())
         finally:
-            if own is not None:
+            if own is not None:  # a local cluster of ours (a remote client: closed by run)
                 client.close()
                 own.close()
     if outp is not None:
