@@ -677,6 +677,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     allow_paths(p)
+    p.add_argument(
+        "--allow-large",
+        action="store_true",
+        help="run even if the estimated memory or disk (> 2 GiB) or time (> 1 h) exceed "
+        "the limits (at most 1e8 samples, and the disk that is free, always hold)",
+    )
     p.set_defaults(func=_cmd_ensemble)
     return parser
 
@@ -721,6 +727,7 @@ def _cmd_ensemble(args: argparse.Namespace) -> int:
         timeout=args.timeout,
         progress=progress,
         allow_paths=args.allow_paths,
+        allow_large=args.allow_large,
     )
     if not args.quiet:
         print(file=sys.stderr)

@@ -266,7 +266,8 @@ def test_cli_ensemble_writes_outputs_and_refuses_bad_files(tmp_path, capsys):
         )
         == 2
     )
-    assert "unknown quantity `dispersion.torque_x`" in capsys.readouterr().err
+    line = len(bad.read_text().splitlines()) - 1  # the [dispersion.torque_x] header
+    assert f"s.toml:{line}: `dispersion.torque_x` unknown quantity" in capsys.readouterr().err
     shutil.rmtree(tmp_path / "b", ignore_errors=True)
     text = src.read_text().replace('distribution = "normal"', 'distribution = "gaussian"')
     (tmp_path / "g.toml").write_text(text)
@@ -463,3 +464,33 @@ def test_a_malformed_scheduler_address_exits_2(tmp_path, capsys, address):
     )  # fmt: skip
     assert code == 2
     assert "scheduler" in capsys.readouterr().err
+
+
+def test_dispersion_of_the_wrong_length_names_file_line_and_key(tmp_path, capsys):
+    """It used to exit 1 with a NumPy broadcast error and no file, line or key."""
+    text = (EXAMPLES / "tennis_racket_ensemble.toml").read_text()
+    assert "sigma = [0.05, 0.2, 0.05]" in text
+    path = tmp_path / "s.toml"
+    path.write_text(text.replace("sigma = [0.05, 0.2, 0.05]", "sigma = [0.05, 0.2]"))
+    line = 1 + text.split("sigma = [0.05, 0.2, 0.05]")[0].count("\n")
+    code = main(["ensemble", str(path), "--samples", "10", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert f"s.toml:{line}: `dispersion.omega0.sigma`" in err and "(3,)" in err, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_ensemble_size_limits_as_run(tmp_path, capsys):
+    """1e11 samples used to be accepted (5 GB RSS and 1702 chunk files before it was
+    killed): the limits hold before anything is written; --allow-large lifts the soft
+    ones, never the hard one."""
+    src = str(EXAMPLES / "tennis_racket_ensemble.toml")
+    out = tmp_path / "o"
+    assert main(["ensemble", src, "--samples", str(10**11), "--out", str(out)]) == 2
+    assert "exceed the limit" in capsys.readouterr().err
+    assert main(["ensemble", src, "--samples", str(10**11), "--out", str(out),
+                 "--allow-large"]) == 2  # fmt: skip
+    assert main(["ensemble", src, "--samples", str(3 * 10**7), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "memory" in err and "--allow-large" in err, err
+    assert not out.exists()

@@ -174,7 +174,15 @@ def _draw(problem: EnsembleProblem, rng: np.random.Generator, n: int) -> dict[st
         for name in QUANTITIES
     }
     for name, d in sorted(problem.dispersions, key=lambda p: p[0]):
-        v = np.asarray(d.sample(_nominal(problem, name), rng, n), dtype=float)
+        try:
+            v = np.asarray(d.sample(_nominal(problem, name), rng, n), dtype=float)
+        except ValueError as exc:  # parameters that do not broadcast with the quantity
+            if isinstance(exc, InvalidInputError):
+                raise
+            raise InvalidInputError(
+                f"`dispersion.{name}`: its parameters do not fit the quantity's shape "
+                f"{np.shape(_nominal(problem, name))} ({QUANTITIES[name][2]}): {exc}"
+            ) from None
         if v.ndim == 1 and inputs[name].ndim == 2:  # one scalar per sample, every component
             v = v[:, None]
         try:

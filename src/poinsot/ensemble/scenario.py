@@ -29,7 +29,9 @@ from __future__ import annotations
 import html
 import json
 import os
+import re
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -59,6 +61,30 @@ def problem_from_scenario(
 ) -> EnsembleProblem:
     """The :class:`EnsembleProblem` of a loaded scenario (its ``data`` holds the tables)."""
     where = scenario.source
+    lines = _key_lines(where)
+
+    def at(key: str, msg: str, table: Any = None) -> EnsembleError:
+        """``file:line: `key` msg`` (as the scenario errors of ``run``), at the line of
+        the most specific key the message names (or, for a shape that does not fit, the
+        first array-valued key of ``table``)."""
+        msg = msg.removeprefix(f"`{key}`: ")
+        found = None
+        for token in re.findall(r"`([A-Za-z_.\[\]0-9]+)`", msg):
+            for cand in (token, f"{key}.{token}"):
+                if cand in lines and cand.startswith(key):
+                    found = cand
+                    break
+            if found:
+                break
+        if found is None and isinstance(table, dict) and "shape" in msg:
+            arrays = [k for k, v in table.items() if isinstance(v, list)]
+            if arrays and f"{key}.{arrays[0]}" in lines:
+                found = f"{key}.{arrays[0]}"
+        key = found or key
+        line = lines.get(key)
+        loc = f"{where}:{line}" if line else where
+        return EnsembleError(f"{loc}: `{key}` {msg}")
+
     if scenario.kind not in _KINDS:
         raise EnsembleError(
             f"{where}: ensembles run rigid-body scenarios ({', '.join(_KINDS)}), "
@@ -71,25 +97,27 @@ def problem_from_scenario(
     disps = []
     for name, sub in sorted(table.items()):
         if name not in QUANTITIES:
-            raise EnsembleError(
-                f"{where}: unknown quantity `dispersion.{name}`; expected one of "
-                + ", ".join(QUANTITIES)
-                + "."
+            raise at(
+                f"dispersion.{name}",
+                "unknown quantity; expected one of " + ", ".join(QUANTITIES) + ".",
             )
         try:
             disps.append((name, _disp.from_table(sub, name)))
         except InvalidInputError as exc:
-            raise EnsembleError(f"{where}: {exc}") from None
+            raise at(f"dispersion.{name}", str(exc)) from None
     mtables = data.get("metric", [])
     if not isinstance(mtables, list) or not mtables:
         raise EnsembleError(
             f"{where}: an ensemble needs at least one [[metric]] table "
             f"(kinds: {', '.join(_metrics.METRICS)})."
         )
-    try:
-        metrics = tuple(_metrics.from_table(m, i) for i, m in enumerate(mtables))
-    except InvalidInputError as exc:
-        raise EnsembleError(f"{where}: {exc}") from None
+    metric_list = []
+    for i, m in enumerate(mtables):
+        try:
+            metric_list.append(_metrics.from_table(m, i))
+        except InvalidInputError as exc:
+            raise at(f"metric[{i}]", str(exc)) from None
+    metrics = tuple(metric_list)
     tq = scenario.torque
     model = "none" if tq is None else tq.model
     body, spin = scenario.body, scenario.angular_velocity
@@ -112,13 +140,102 @@ def problem_from_scenario(
             dispersions=tuple(disps),
             metrics=metrics,
         )
-        # every dispersion is drawn once here, so bad parameters fail before any work
-        from .engine import _draw
-
-        _draw(problem, np.random.default_rng(0), 2)
     except InvalidInputError as exc:
         raise EnsembleError(f"{where}: {exc}") from None
+    # every dispersion is drawn once here, so bad parameters fail before any work
+    from .engine import _draw
+
+    for name, d in disps:
+        try:
+            _draw(replace(problem, dispersions=((name, d),)), np.random.default_rng(0), 2)
+        except InvalidInputError as exc:
+            raise at(f"dispersion.{name}", str(exc), table.get(name)) from None
     return problem
+
+
+#: Most samples of one ensemble (a hard limit, as ``run``'s output samples).
+MAX_ENSEMBLE_SAMPLES = 100_000_000
+#: Longest estimated wall time without ``--allow-large`` (s).
+MAX_ENSEMBLE_SECONDS = 3600.0
+
+
+def ensemble_problems(
+    scenario: Scenario,
+    problem: EnsembleProblem,
+    samples: int,
+    chunk_size: int,
+    out: str | os.PathLike[str] | None,
+    allow_large: bool = False,
+) -> list[str]:
+    """What makes an ensemble too large to start (empty: it may go ahead).
+
+    The same limits as ``poinsot run`` (docs/cli.md, "Limits"), per ensemble:
+    ``samples`` <= :data:`MAX_ENSEMBLE_SAMPLES` always; unless ``allow_large``, the
+    memory (the per-sample table held at the end, twice, and one chunk's states)
+    <= 2 GiB, the Parquet files <= 2 GiB, and the estimated time (the scenario's cost
+    estimate per sample, on the cores there are) <= one hour. Never more disk than
+    is free where ``out`` goes.
+    """
+    import shutil
+
+    from ..scenarios.solve import MAX_MEMORY_BYTES, _bytes, _seconds, estimate_cost
+
+    if samples > MAX_ENSEMBLE_SAMPLES:
+        return [f"{samples:.3g} samples exceed the limit of {MAX_ENSEMBLE_SAMPLES:.3g}"]
+    columns = (
+        4
+        + len(problem.metrics)
+        + sum(
+            int(np.size(np.asarray(_nominal_of(problem, name)))) for name, _ in problem.dispersions
+        )
+    )
+    n_t = int(problem.t.size)
+    table_bytes = samples * columns * 8
+    memory = 2 * table_bytes + 2 * min(chunk_size, samples) * n_t * 7 * 8
+    per_sample = estimate_cost(scenario).seconds
+    seconds = samples * per_sample / max(os.cpu_count() or 1, 1)
+    out_dir = Path(out) if out is not None else Path.cwd()
+    probe = next((p for p in (out_dir, *out_dir.parents) if p.exists()), Path.cwd())
+    problems = []
+    free = shutil.disk_usage(probe).free
+    if table_bytes > free:
+        problems.append(
+            f"its files need ~{_bytes(table_bytes)}, more than the {_bytes(free)} free there"
+        )
+    if allow_large:
+        return problems
+    if memory > MAX_MEMORY_BYTES:
+        problems.append(
+            f"it needs ~{_bytes(memory)} of memory, more than the limit of "
+            f"{_bytes(MAX_MEMORY_BYTES)} (--allow-large to run it anyway)"
+        )
+    if table_bytes > MAX_MEMORY_BYTES:
+        problems.append(
+            f"its files need ~{_bytes(table_bytes)} of disk, more than the limit of "
+            f"{_bytes(MAX_MEMORY_BYTES)} (--allow-large to run it anyway)"
+        )
+    if seconds > MAX_ENSEMBLE_SECONDS:
+        problems.append(
+            f"it would take ~{_seconds(seconds)} (estimated), more than the limit of "
+            f"{_seconds(MAX_ENSEMBLE_SECONDS)} (fewer --samples, or --allow-large)"
+        )
+    return problems
+
+
+def _nominal_of(problem: EnsembleProblem, name: str) -> Any:
+    from .engine import _nominal
+
+    return _nominal(problem, name)
+
+
+def _key_lines(source: str) -> dict[str, int]:
+    """Lines of the keys of the scenario file ``source`` (empty if it is not a file)."""
+    from ..scenarios._toml import locate_keys
+
+    try:
+        return locate_keys(Path(source).read_text(encoding="utf-8-sig"))
+    except (OSError, UnicodeDecodeError):
+        return {}
 
 
 def load_ensemble(
@@ -330,10 +447,18 @@ def run_scenario_ensemble(
     timeout: float = 10.0,
     progress: Callable[..., object] | None = None,
     allow_paths: bool = False,
+    allow_large: bool = False,
 ) -> EnsembleResult:
     """Run the ensemble of a scenario file and write its outputs into ``out``
-    (``allow_paths`` as in :func:`poinsot.scenarios.load_scenario`)."""
-    _scenario, problem = load_ensemble(path, allow_paths=allow_paths)
+    (``allow_paths`` as in :func:`poinsot.scenarios.load_scenario`).
+
+    Refused up front (:class:`EnsembleError`, before anything is written) when it
+    exceeds the limits of :func:`ensemble_problems`, unless ``allow_large``.
+    """
+    scenario, problem = load_ensemble(path, allow_paths=allow_paths)
+    problems = ensemble_problems(scenario, problem, samples, chunk_size, out, allow_large)
+    if problems:
+        raise EnsembleError(f"{scenario.source}: the ensemble is too large: " + "; ".join(problems))
     result = run(
         problem,
         samples,
