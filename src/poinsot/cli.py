@@ -678,6 +678,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     allow_paths(p)
     p.add_argument(
+        "--max-failed",
+        type=float,
+        default=0.5,
+        metavar="FRACTION",
+        help="exit 1 when more than this fraction of the samples fail (default 0.5)",
+    )
+    p.add_argument(
         "--allow-large",
         action="store_true",
         help="run even if the estimated memory or disk (> 2 GiB) or time (> 1 h) exceed "
@@ -710,9 +717,17 @@ def _cmd_ensemble(args: argparse.Namespace) -> int:
             raise _Usage("--workers 0 (in this process) and --scheduler exclude each other")
         client, workers = "serial", None
 
+    if not 0.0 <= args.max_failed <= 1.0:
+        raise _Usage(f"--max-failed must be a fraction in [0, 1], got {args.max_failed}")
+    tty = sys.stderr.isatty()
+
     def progress(done: int, total: int) -> None:
-        if not args.quiet:
+        if args.quiet:
+            return
+        if tty:  # one line redrawn in place
             print(f"\rchunks {done}/{total}", end="", file=sys.stderr, flush=True)
+        else:  # a log: whole lines
+            print(f"chunks {done}/{total}", file=sys.stderr, flush=True)
 
     res = run_scenario_ensemble(
         args.scenario,
@@ -729,9 +744,23 @@ def _cmd_ensemble(args: argparse.Namespace) -> int:
         allow_paths=args.allow_paths,
         allow_large=args.allow_large,
     )
+    s = res.summary
+    failed = int(s["failures"]) / max(int(s["samples"]), 1)
+    if failed > args.max_failed:
+        # the outputs are written (the failures and their reasons are data), but a run in
+        # which most samples fail is not a success
+        if not args.quiet and tty:
+            print(file=sys.stderr)
+        reasons = "; ".join(f"{k}: {v}" for k, v in (s.get("failure_reasons") or {}).items())
+        _error(
+            f"{s['failures']} of {s['samples']} samples failed ({100 * failed:.3g} %, more "
+            f"than --max-failed {args.max_failed:g}); outputs in {res.out}"
+            + (f"; reasons: {reasons}" if reasons else "")
+        )
+        return 1
     if not args.quiet:
-        print(file=sys.stderr)
-        s = res.summary
+        if tty:
+            print(file=sys.stderr)
         print(f"{s['samples']} samples, {s['failures']} failed; outputs in {res.out}")
         for name, m in s["metrics"].items():
             q = m["quantiles"]

@@ -494,3 +494,24 @@ def test_ensemble_size_limits_as_run(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "memory" in err and "--allow-large" in err, err
     assert not out.exists()
+
+
+def test_progress_in_a_log_is_whole_lines_and_most_failed_exits_1(tmp_path, capsys):
+    """Not a terminal: 'chunks 1/2' lines, not 'chunks 1/2chunks 2/2'. A run whose
+    samples mostly fail (inertia dispersed far past the triangle inequality) says so
+    with the reasons and exits 1; --max-failed 1 accepts it."""
+    src = EXAMPLES / "tennis_racket_ensemble.toml"
+    args = ["ensemble", str(src), "--samples", "8", "--chunk-size", "4", "--workers", "0"]
+    assert main([*args, "--out", str(tmp_path / "a")]) == 0
+    err = capsys.readouterr().err
+    assert "chunks 1/2\n" in err and "chunks 2/2\n" in err and "\r" not in err, err
+    bad = _scenario_file(
+        tmp_path, '\n[dispersion.inertia]\ndistribution = "normal"\nsigma = [0.0, 0.0, 1e3]\n'
+    )
+    base = ["ensemble", str(bad), "--samples", "8", "--chunk-size", "4", "--workers", "0"]
+    assert main([*base, "--out", str(tmp_path / "b"), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "samples failed" in err and "triangle inequality" in err, err
+    assert (tmp_path / "b" / "summary.json").exists()  # the outputs are written
+    assert main([*base, "--out", str(tmp_path / "c"), "--quiet", "--max-failed", "1"]) == 0
+    assert main([*base, "--out", str(tmp_path / "d"), "--max-failed", "2"]) == 2
