@@ -160,6 +160,7 @@ def _refuse_large(scenario: Any, args: argparse.Namespace) -> None:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    from .errors import IntegrationError
     from .scenarios import load_scenario
 
     scenario = load_scenario(args.scenario, allow_paths=args.allow_paths)
@@ -167,9 +168,34 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else _default_out(scenario.name)
     # run_scenario checks the directory before any work and removes it again if it
     # made it and the run fails
-    result, files = _run_with_progress(scenario, out, args)
+    try:
+        result, files = _run_with_progress(scenario, out, args)
+    except IntegrationError as exc:
+        exc.advice = _advice(scenario)  # type: ignore[attr-defined]
+        raise
     _print_result(result, out, files, quiet=args.quiet, title=f"{PROG} run")
     return 0
+
+
+def _advice(scenario: Any) -> str:
+    """What to try after a failed integration, among the methods this kind has."""
+    methods = list(getattr(scenario.adapter, "methods", ()))
+    used = scenario.simulation.method
+    if "adaptive" in methods:
+        return (
+            'set a shorter [simulation] max_step, or method = "adaptive" '
+            "(docs/cli.md, 'Accuracy')."
+        )
+    others = ", ".join(f'"{m}"' for m in methods if m != used)
+    if scenario.kind == "lagrangian":
+        return (
+            f"a smaller [lagrangian] rtol, or another method of this kind ({others}; a "
+            'stiff problem wants "Radau" or "BDF") (docs/cli.md, \'Accuracy\').'
+        )
+    return (
+        f"set a shorter [simulation] max_step, or another method ({others}) "
+        "(docs/cli.md, 'Accuracy')."
+    )
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -825,10 +851,11 @@ def main(argv: list[str] | None = None) -> int:
     except IntegrationError as exc:  # a valid input the chosen method cannot handle
         if debug:
             traceback.print_exc()
-        _error(
-            f"the integration failed: {exc} Advice: set a shorter [simulation] max_step, "
-            "or method = \"adaptive\" (docs/cli.md, 'Accuracy')."
+        advice = getattr(exc, "advice", None) or (
+            'set a shorter [simulation] max_step, or method = "adaptive" '
+            "(docs/cli.md, 'Accuracy')."
         )
+        _error(f"the integration failed: {exc} Advice: {advice}")
         return 2
     except KeyboardInterrupt:
         print(f"\n{PROG}: interrupted", file=sys.stderr)

@@ -171,6 +171,46 @@ def _build(t, coords, params, formulas):
         raise t.error(None, str(exc)) from None
 
 
+def _check_system(t, system, params, q0, *, constrained: bool) -> None:
+    """What ``run`` would refuse, refused when the file is read (``check`` and ``run``
+    agree): a parameter that no equation uses (a typo, most likely), and a kinetic
+    energy that is not positive definite in the velocities at ``q0`` (its mass matrix
+    ``d^2 T / dq' dq'``: a negative ``m x'^2 / 2``, or a coordinate without velocity)."""
+    import numpy as np
+    import sympy
+
+    used = {str(s) for s in system.parameters}
+    unused = [name for name, _ in params if name not in used]
+    if unused:
+        raise t.error(
+            "parameters",
+            f"{', '.join(repr(u) for u in unused)} "
+            + ("appears" if len(unused) == 1 else "appear")
+            + " in no equation of motion; "
+            "remove them (or use them in `kinetic`, `potential`, ...).",
+        )
+    if constrained:  # the mass matrix of a constrained system includes the multipliers
+        return
+    values = {s: dict(params)[str(s)] for s in system.parameters}
+    values.update(dict(zip(system.coordinates, (float(x) for x in q0), strict=True)))
+    try:
+        m = np.array(sympy.Matrix(system.mass_matrix).subs(values).evalf(), dtype=float)
+    except (TypeError, ValueError):  # not numeric at q0 (e.g. depends on t): run decides
+        return
+    eig = np.linalg.eigvalsh(0.5 * (m + m.T)) if m.size else np.zeros(0)
+    scale = float(np.max(np.abs(eig), initial=0.0))
+    if m.size == 0 or not np.all(eig > 1e-12 * max(scale, 1e-300)):
+        kept = [str(f.func) for f in system.coordinates]
+        raise t.error(
+            "kinetic",
+            "expected a kinetic energy that is positive definite in the velocities "
+            f"({', '.join(k + '_dot' for k in kept)}) at q0, got the mass matrix "
+            f"d^2T/dq'dq' = {np.round(m, 12).tolist()} (eigenvalues "
+            f"{np.round(eig, 12).tolist()}): a negative or missing velocity term has no "
+            "motion to integrate.",
+        )
+
+
 class Lagrangian(ScenarioKind):
     name = "lagrangian"
     title = "a system given by its Lagrangian (Lagrange's equations of the second kind)"
@@ -235,6 +275,9 @@ class Lagrangian(ScenarioKind):
         qdot0 = t.vector("qdot0", m, what=f"an array of {m} numbers (initial rates)")
         rtol = t.number("rtol", 1e-10, positive=True)
         atol = t.number("atol", 1e-12, positive=True)
+        _check_system(
+            t, system, params, q0, constrained=t.has("holonomic") or t.has("nonholonomic")
+        )
         units = self._units(t, kept)
         t.finish(_KEYS)
         from ..draw import read_draw
