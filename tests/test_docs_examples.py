@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
-PAGES = [
+PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "mass.md",
     "dynamics.md",
     "conventions.md",
@@ -21,6 +21,11 @@ PAGES = [
     "guide-rotations.md",
     "integrators.md",
     "lagrange.md",
+    "free-body.md",
+    "heavy-top.md",
+    "kinematics-fields.md",
+    "kinematics-rates.md",
+    "particles.md",
 ]
 
 
