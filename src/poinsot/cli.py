@@ -137,19 +137,57 @@ def _run_with_progress(scenario: Any, out: Path, args: argparse.Namespace) -> An
 
     bar = ProgressBar(quiet=args.quiet)
     try:
-        return run_scenario(
-            scenario,
-            out,
-            fmt=args.format,
-            report=not args.no_report,
-            figures=not args.no_figures,
-            force=args.force,
-            duration=args.duration,
-            progress=bar,
-            allow_large=args.allow_large,
-        )
+        with _compile_note(quiet=args.quiet):
+            return run_scenario(
+                scenario,
+                out,
+                fmt=args.format,
+                report=not args.no_report,
+                figures=not args.no_figures,
+                force=args.force,
+                duration=args.duration,
+                progress=bar,
+                allow_large=args.allow_large,
+            )
     finally:
         bar.close()
+
+
+class _compile_note:
+    """Say "compiling (first run only)" once when numba starts compiling a kernel (a cold
+    cache: the first run after an install or an upgrade sits ~10-15 s in compilation);
+    a cached kernel is loaded without a word. Listens to numba's ``numba:compile``
+    event, which fires for a compilation and not for a load from the cache."""
+
+    said = False
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self._stack: Any = None
+
+    def __enter__(self) -> _compile_note:
+        if self.quiet or _compile_note.said:
+            return self
+        import contextlib
+
+        from numba.core import event
+
+        class Listener(event.Listener):
+            def on_start(self, ev: Any) -> None:
+                if not _compile_note.said:
+                    _compile_note.said = True
+                    print(f"\r{PROG}: compiling (first run only) ...", file=sys.stderr, flush=True)
+
+            def on_end(self, ev: Any) -> None:
+                pass
+
+        self._stack = contextlib.ExitStack()
+        self._stack.enter_context(event.install_listener("numba:compile", Listener()))
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._stack is not None:
+            self._stack.close()
 
 
 def _refuse_large(scenario: Any, args: argparse.Namespace) -> None:
