@@ -425,6 +425,10 @@ class ScenarioKind:
     #: Rough seconds per integration step (or closed-form sample) of each method,
     #: for the cost estimate of ``poinsot check`` (measure them on your kind).
     seconds_per_step: Mapping[str, float] = {}
+    #: Fixed seconds of each method's solve (set-up, invariants, summary), added once
+    #: per method to ``seconds_per_step`` times its steps (``benchmarks/bench_estimates.py``
+    #: measures both; default 2 ms).
+    seconds_per_run: Mapping[str, float] = {}
 
     # ------------------------------------------------------------------ reading
     def claims(self, data: Mapping[str, Any]) -> bool:

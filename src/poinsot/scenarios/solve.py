@@ -52,6 +52,7 @@ _BYTES_PER_SAMPLE = 600
 #: Rough cost of one integration step or closed-form sample (seconds) when a kind
 #: gives none for a method (:attr:`ScenarioKind.seconds_per_step`).
 _DEFAULT_SECONDS_PER_STEP = 1e-4
+_DEFAULT_SECONDS_PER_RUN = 2e-3
 #: Above this many output samples a run is done in chunks (progress reports).
 _CHUNK_SAMPLES = 1000
 _N_CHUNKS = 40
@@ -172,8 +173,11 @@ def estimate_cost(scenario: Scenario, *, duration: float | None = None) -> Cost:
     methods = [sim.method] + ([sim.reference] if sim.reference else [])
     steps = sum(_steps(scenario, m, n) for m in methods)
     per_step = scenario.adapter.seconds_per_step
+    per_run = scenario.adapter.seconds_per_run
     seconds = sum(
-        per_step.get(m, _DEFAULT_SECONDS_PER_STEP) * _steps(scenario, m, n) for m in methods
+        per_run.get(m, _DEFAULT_SECONDS_PER_RUN)
+        + per_step.get(m, _DEFAULT_SECONDS_PER_STEP) * _steps(scenario, m, n)
+        for m in methods
     )
     memory = _BYTES_PER_SAMPLE * n * len(methods)
     return Cost(samples=n, steps=steps, memory_bytes=memory, seconds=seconds)

@@ -12,15 +12,18 @@ from ..io import read_angular_velocity, read_body, read_torque
 
 TABLES = ("body", "angular_velocity", "torque")
 
-#: Rough seconds per step of poinsot.dynamics.simulate / FreeRigidBody (cost estimate),
-#: measured on the tennis racket (10001 samples) on a loaded 2-core machine.
+#: Seconds per step (and per run) of poinsot.dynamics.simulate / FreeRigidBody for the
+#: cost estimate, one core, measured by benchmarks/bench_estimates.py on the shipped
+#: examples (the tennis racket, the tumbling rock; the others scaled from the heavy top).
 SECONDS_PER_STEP = {
-    "exact": 2e-6,
-    "midpoint": 4e-6,
-    "splitting": 8e-6,
-    "rk4": 4e-4,
+    "exact": 6e-7,
+    "midpoint": 2.5e-6,
+    "splitting": 1e-6,
+    "rk4": 1e-6,
+    "dop853": 5e-7,
     "adaptive": 1.5e-4,
 }
+SECONDS_PER_RUN = {"exact": 5e-4}
 
 
 def parse_rigid(top, attitude) -> dict:

@@ -42,7 +42,8 @@ class Attitude(ScenarioKind):
     orders = integrators.orders(KINEMATICS_METHODS)
     theory = "docs/theory.md §5"
     # measured on the shipped examples: a Python omega(t) per step dominates
-    seconds_per_step = {"exact": 1e-6, "magnus4": 2e-4, "rk4": 1e-4, "adaptive": 1.5e-4}
+    # measured by benchmarks/bench_estimates.py (one core)
+    seconds_per_step = {"exact": 2e-7, "magnus4": 1.5e-5, "rk4": 1.5e-5, "adaptive": 1.5e-5}
     profiles: tuple[str, ...] = ("constant", "samples")
 
     def claims(self, data):

@@ -92,6 +92,9 @@ class CentralOrbitKind(ScenarioKind):
     methods = ("exact", "adaptive")  # of integrators.names("particle", exact=True)
     orders: dict[str, int] = {}
     theory = "docs/theory.md §9"
+    # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
+    seconds_per_step = {"exact": 1.5e-6, "adaptive": 8e-6}
+    seconds_per_run = {"exact": 1e-3, "adaptive": 3e-3}
 
     def claims(self, data):
         return "orbit" in data

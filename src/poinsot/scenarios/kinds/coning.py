@@ -18,6 +18,9 @@ class Coning(Attitude):
     name = "coning"
     title = "classical coning motion (closed form of Poisson's equation)"
     profiles = ("coning",)
+    # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
+    seconds_per_step = {"exact": 2e-7, "magnus4": 4.5e-5, "rk4": 4.5e-5, "adaptive": 4.5e-5}
+    seconds_per_run = {"exact": 3e-4}
 
     def claims(self, data):
         profile = data.get("omega_profile")

@@ -110,6 +110,7 @@ class FreeBody(ScenarioKind):
     orders = integrators.orders(DYNAMICS_METHODS)
     theory = "docs/theory.md §10"
     seconds_per_step = _rigid.SECONDS_PER_STEP
+    seconds_per_run = _rigid.SECONDS_PER_RUN
 
     def claims(self, data):
         return "body" in data or "angular_velocity" in data

@@ -128,6 +128,16 @@ class HeavyTop(ScenarioKind):
     methods = DYNAMICS_METHODS
     orders = integrators.orders(DYNAMICS_METHODS)
     theory = "docs/theory.md §10"
+    # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
+    seconds_per_step = {
+        "exact": 4e-7,
+        "splitting": 7.5e-8,
+        "midpoint": 3e-7,
+        "rk4": 1e-6,
+        "dop853": 5e-7,
+        "adaptive": 1.5e-4,
+    }
+    seconds_per_run = {"exact": 1.5e-3, "splitting": 1.7e-2}
 
     def claims(self, data):
         torque = data.get("torque")

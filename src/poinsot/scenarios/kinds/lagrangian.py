@@ -218,6 +218,15 @@ class Lagrangian(ScenarioKind):
     methods = _METHODS
     orders: dict = {}
     theory = "docs/theory.md §11"
+    # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
+    seconds_per_step = {
+        "DOP853": 5.5e-5,
+        "RK45": 5e-5,
+        "RK23": 5e-5,
+        "Radau": 1.3e-3,
+        "BDF": 1e-3,
+        "LSODA": 2e-4,
+    }
 
     def claims(self, data):
         return "lagrangian" in data

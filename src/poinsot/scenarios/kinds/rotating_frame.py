@@ -72,6 +72,9 @@ class _EarthKind(ScenarioKind):
     methods = ("adaptive",)
     orders = {}
     theory = "docs/theory.md §9"
+    # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
+    seconds_per_step = {"adaptive": 2.5e-5}
+    seconds_per_run = {"adaptive": 5e-4}
 
     def motion_inertia(self, scenario):
         return None

@@ -26,6 +26,8 @@ class TorquedBody(ScenarioKind):
     methods = DYNAMICS_METHODS
     orders = integrators.orders(DYNAMICS_METHODS)
     theory = "docs/theory.md §10"
+    # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
+    seconds_per_step = {**_rigid.SECONDS_PER_STEP, "midpoint": 6e-7, "rk4": 6e-7}
 
     def claims(self, data):
         torque = data.get("torque")
