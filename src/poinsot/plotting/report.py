@@ -72,19 +72,19 @@ _GUIDE_COLOURS = ("#2ca02c", "#9467bd", "#ff7f0e")
 
 
 def write_report(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     *,
     trajectory: Result,
     summary: Mapping[str, Any] | None = None,
     title: str = "poinsot report",
     shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
-    inertia=None,
+    inertia: Any = None,
     mass: float | None = None,
-    center_of_mass=None,
+    center_of_mass: Any = None,
     fixed_point: bool = False,
     free_body: bool = True,
     checks: Sequence[Any] = (),
-    torque=None,
+    torque: Any = None,
     euler_seq: str = "ZYX",
     reference: Trajectory | None = None,
     max_frames: int = 1500,
@@ -322,7 +322,7 @@ def write_report(
 # --------------------------------------------------------------------------- checks
 
 
-def _check_trajectory(tr, name: str, *, rigid: bool = False):
+def _check_trajectory(tr: Any, name: str, *, rigid: bool = False) -> Any:
     """A Trajectory of one body, or (``rigid`` False) another result with times ``t``
     and an optional ``position`` of shape (n, 3)."""
     if not isinstance(tr, Trajectory):
@@ -346,7 +346,7 @@ def _check_trajectory(tr, name: str, *, rigid: bool = False):
     return tr
 
 
-def _check_shape(shape) -> list[dict] | None:
+def _check_shape(shape: Any) -> list[dict[str, Any]] | None:
     if shape is None:
         return None
     items = [shape] if isinstance(shape, Mapping) else shape
@@ -404,7 +404,7 @@ def _check_shape(shape) -> list[dict] | None:
     return out
 
 
-def _check_mesh(s) -> dict:
+def _check_mesh(s: Any) -> dict[str, Any]:
     unknown = set(s) - {"kind", "vertices", "faces", "center", "axes"}
     if unknown or "vertices" not in s or "faces" not in s:
         raise InvalidInputError(
@@ -440,7 +440,7 @@ def _check_mesh(s) -> dict:
             "vertices": v, "faces": f}  # fmt: skip
 
 
-def _check_series(series, n: int) -> list:
+def _check_series(series: Any, n: int) -> list[Any]:
     """Extra panels as ``(title, units, [(label, y, colour, dash)])``."""
     if isinstance(series, str | Mapping) or not isinstance(series, Sequence):
         raise InvalidTypeError(
@@ -479,7 +479,7 @@ def _check_series(series, n: int) -> list:
     return out
 
 
-def _check_drawing(drawing, n: int) -> dict | None:
+def _check_drawing(drawing: Any, n: int) -> dict[str, Any] | None:
     """``drawing`` validated: points as float arrays (n, 3), links as index pairs."""
     if drawing is None:
         return None
@@ -509,7 +509,7 @@ def _check_drawing(drawing, n: int) -> dict | None:
         points[str(name)] = a
     names = list(points)
 
-    def index(name, what):
+    def index(name: Any, what: Any) -> Any:
         if name not in points:
             raise InvalidInputError(
                 f"Expected each name in `drawing[{what!r}]` to be one of the points {names}, "
@@ -538,7 +538,7 @@ def _check_drawing(drawing, n: int) -> dict | None:
             "face_on": bool(drawing.get("face_on", False))}  # fmt: skip
 
 
-def _time_scale(t: np.ndarray, tracks) -> float | None:
+def _time_scale(t: np.ndarray, tracks: Any) -> float | None:
     """Shortest period (s) of the back-and-forth of the tracked points: twice the
     duration over the most sign changes of one velocity component (the sign of the
     difference of consecutive positions; values under 1e-3 of the component's largest
@@ -556,7 +556,7 @@ def _time_scale(t: np.ndarray, tracks) -> float | None:
     return 2.0 * float(t[-1] - t[0]) / most
 
 
-def _check_inertia(inertia) -> np.ndarray | None:
+def _check_inertia(inertia: Any) -> np.ndarray | None:
     if inertia is None:
         return None
     J = as_float_array(inertia, "inertia")
@@ -574,7 +574,7 @@ def _check_inertia(inertia) -> np.ndarray | None:
 # --------------------------------------------------------------------------- building
 
 
-def _body_mesh(parts, J, mass, com):
+def _body_mesh(parts: Any, J: Any, mass: Any, com: Any) -> Any:
     """Vertices (body axes, from the origin), triangles, label, and whether in metres."""
     if parts:
         vs, ts, n0 = [], [], 0
@@ -610,14 +610,14 @@ def _body_mesh(parts, J, mass, com):
     return (v * np.sqrt(lam[0] / lam)) @ S.T + com, tri, "inertia ellipsoid (scaled)", False
 
 
-def _angles_between(rot) -> np.ndarray:
+def _angles_between(rot: Any) -> np.ndarray:
     """Turn (rad) between consecutive attitudes."""
     if len(rot) < 2:
         return np.zeros(0)
     return np.asarray((rot[:-1].inv() * rot[1:]).magnitude(), dtype=float)
 
 
-def _frame_indices(t, turns, max_frames: int, max_angle: float):
+def _frame_indices(t: Any, turns: Any, max_frames: int, max_angle: float) -> Any:
     """Frames: each the latest sample within ``max_angle`` of turn and ``1/_MIN_FRAMES``
     of the duration from the previous one (greedy; ``turns`` the turn between
     consecutive samples, zeros for a motion without attitude); if that needs more than
@@ -685,7 +685,7 @@ _ANGLE_NAMES = {
 }
 
 
-def _law_label(check) -> str:
+def _law_label(check: Any) -> str:
     """``"label vs law"``, or the label alone when it already names what it is
     compared with (no "a vs b vs c" legends)."""
     if not check.law or " vs " in check.label or check.law in check.label:
@@ -693,12 +693,12 @@ def _law_label(check) -> str:
     return f"{check.label} vs {check.law}"
 
 
-def _panels(tr, ref, checks, tq, euler_seq, free_body):
+def _panels(tr: Any, ref: Any, checks: Any, tq: Any, euler_seq: Any, free_body: Any) -> Any:
     """Time-series panels: (title, y title, [(name, y, colour, dash)])."""
     from ..errors import InvalidInputError as _Bad
 
     t = tr.t
-    out: list = []
+    out: list[Any] = []
     rigid = isinstance(tr, Trajectory)
     w = np.asarray(tr.omega) if rigid else np.zeros((t.size, 3))
     if np.any(w != 0):
@@ -759,7 +759,7 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
                 series,
             )
         )
-    others: dict[str, list] = {}
+    others: dict[str, list[Any]] = {}
     steady: dict[str, bool] = {}  # every quantity of these units constant in this motion
     for c in checks:
         if c.conserved or c.expected is not None:
@@ -834,9 +834,10 @@ def _panels(tr, ref, checks, tq, euler_seq, free_body):
 
 
 def _build(
-    tr, ref, parts, J, mass, com, fixed, free_body, checks, tq, euler_seq, max_frames,
-    max_angle_deg, extra_panels=(), draw=None,
-):  # fmt: skip
+    tr: Any, ref: Any, parts: Any, J: Any, mass: Any, com: Any, fixed: Any,
+    free_body: Any, checks: Any, tq: Any, euler_seq: Any, max_frames: Any,
+    max_angle_deg: Any, extra_panels: Any = (), draw: Any = None,
+) -> Any:  # fmt: skip
     """The viewer's data (``payload``), the notes under the figure and the meta line."""
     t = tr.t
     n = t.size
@@ -861,11 +862,11 @@ def _build(
     fade = 1.5 * period if period is not None else float(t[-1] - t[0]) / 4.0 if n > 1 else 1.0
     sample_turn = float(np.max(turns, initial=0.0))
     qf = tr.quat[frames_k] if rigid else None
-    layers: list[dict] = []
+    layers: list[dict[str, Any]] = []
     notes: list[str] = []
     has_ref = ref is not None and ref.t.shape == t.shape
 
-    def layer(type_, name, colour, *, legend=True, **kw):
+    def layer(type_: Any, name: Any, colour: Any, *, legend: Any = True, **kw: Any) -> None:
         layers.append({"type": type_, "name": name, "colour": colour, "legend": legend, **kw})
 
     unit = "m"
@@ -934,7 +935,7 @@ def _build(
             extent = max(extent, float(np.max(np.abs(her))))
         lo, hi = np.full(3, -1.08 * extent), np.full(3, 1.08 * extent)
 
-    def trail(p, name, colour):
+    def trail(p: Any, name: Any, colour: Any) -> None:
         """The path of ``p`` (n, 3) up to each frame's time, fading with age."""
         keep = np.union1d(_track_indices(t, p, m=_MAX_TRACK * 3), frames_k)
         upto = np.searchsorted(keep, frames_k, side="right")

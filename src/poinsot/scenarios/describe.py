@@ -15,7 +15,7 @@ from ..trajectory import quantity_label
 from .schema import Scenario
 
 if TYPE_CHECKING:
-    pass
+    from .summary import ScenarioResult
 
 __all__ = [
     "describe",
@@ -139,7 +139,7 @@ def describe_comparison(comparison: dict[str, Any]) -> str:
     return f"vs {comparison['reference']}: " + (", ".join(parts) if parts else "no difference")
 
 
-def describe(result: Any, *, title: str = "poinsot", notes: Iterable[str] = ()) -> str:
+def describe(result: ScenarioResult, *, title: str = "poinsot", notes: Iterable[str] = ()) -> str:
     """A short human summary of a run (printed by ``poinsot run`` and ``poinsot demo``).
 
     Examples
@@ -155,10 +155,11 @@ def describe(result: Any, *, title: str = "poinsot", notes: Iterable[str] = ()) 
     lines.append("conventions: " + summ["conventions"])
     if s.body is not None:
         b = summ["body"]
+        body: Any = s.body  # a mesh has faces, a shape its dims (set by the parser)
         shape = (
-            f"mesh of {len(s.body.faces)} triangles, "
-            if s.body.shape == "mesh"
-            else f"{s.body.shape} {' x '.join(fmt(d) for d in s.body.dims)} m, "
+            f"mesh of {len(body.faces)} triangles, "
+            if body.shape == "mesh"
+            else f"{body.shape} {' x '.join(fmt(d) for d in body.dims)} m, "
             if s.body.shape
             else f"{len(s.body.parts)} parts, "
             if s.body.parts

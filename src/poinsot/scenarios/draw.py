@@ -76,7 +76,7 @@ class DrawSpec:
         return Drawing(out, self.links, self.trails, face_on=d == 2)
 
 
-def read_draw(top: Table, coordinates: tuple[str, ...], parameters: tuple[str, ...]):
+def read_draw(top: Table, coordinates: tuple[str, ...], parameters: tuple[str, ...]) -> Any:
     """Read the ``[draw]`` table of ``top`` (None if absent). Formulas may use the
     ``coordinates``, the ``parameters`` and ``t``; errors name the file, line and key."""
     import sympy
@@ -123,7 +123,7 @@ def read_draw(top: Table, coordinates: tuple[str, ...], parameters: tuple[str, .
         points.append((name, tuple(xs)))
     names = [n for n, _ in points]
 
-    def name_list(key, pairs):
+    def name_list(key: Any, pairs: Any) -> Any:
         v = t.raw(key, [])
         flat = None
         if isinstance(v, list) and not pairs:

@@ -86,7 +86,7 @@ def demo_scenario_text() -> str:
     return resources.files("poinsot.scenarios").joinpath("tennis_racket.toml").read_text("utf-8")
 
 
-def load_scenario(path, *, allow_paths: bool = False) -> Scenario:
+def load_scenario(path: str | os.PathLike[str], *, allow_paths: bool = False) -> Scenario:
     """Read and validate a scenario file.
 
     Parameters
@@ -220,7 +220,7 @@ _ALLOW_PATHS: contextvars.ContextVar[bool] = contextvars.ContextVar("allow_paths
 MAX_NAME_LENGTH = 100
 
 
-def _scenario(top: Table, data: dict, source: str, default_name: str) -> Scenario:
+def _scenario(top: Table, data: dict[str, Any], source: str, default_name: str) -> Scenario:
     from .registry import KINDS, get_kind, kind_for
 
     kind_tables = tuple(dict.fromkeys(t for k in KINDS.values() for t in k.tables))
@@ -340,7 +340,7 @@ def _mesh_faces(t: Table) -> np.ndarray:
     return np.array(v, dtype=np.int64)
 
 
-def _mesh(t: Table):
+def _mesh(t: Table) -> Any:
     """A ``shape = "mesh"`` table: mass (kg), inertia about the mesh's centre of mass
     in the mesh's axes (kg m^2), that centre in the mesh's coordinates (m), and the
     mesh (vertices in m, faces)."""
@@ -437,7 +437,7 @@ def _part_axes(t: Table) -> np.ndarray | None:
     return Rotation.from_quat(read_attitude(orientation, t).quat).as_matrix()
 
 
-def _mesh_part(t: Table, name: str, origin: np.ndarray, keys) -> PartSpec:
+def _mesh_part(t: Table, name: str, origin: np.ndarray, keys: Any) -> PartSpec:
     """A mesh part: its vertices ``r_p`` go to ``r_b = position + C_bp r_p`` in body axes."""
     t.forbid(["inertia"], "the inertia of a mesh part follows from its vertices")
     mass, j, com, v, f = _mesh(t)
@@ -588,12 +588,12 @@ PROJECTION_WARN = 1e-12
 
 
 def rotation_from_matrix(
-    values,
+    values: Any,
     tolerance: float = MATRIX_TOLERANCE,
     *,
     where: str = "matrix",
     knob: str = "`tolerance`",
-):
+) -> Any:
     """A rotation from a nearly orthogonal matrix, projected onto the nearest rotation
     (SVD) when it is not orthogonal to round-off, with an
     :class:`~poinsot.errors.AccuracyWarning` saying by how much it moved.
@@ -634,7 +634,7 @@ def rotation_from_matrix(
     return r
 
 
-def _finish_rep(t: Table, rep: str, allowed) -> None:
+def _finish_rep(t: Table, rep: str, allowed: Any) -> None:
     every = _EVERY_ATTITUDE_KEY
     for key in t.data:
         if key in every and key not in allowed:
@@ -724,7 +724,7 @@ def read_omega_profile(t: Table) -> OmegaProfileSpec:
     return OmegaProfileSpec(kind, frame, t=times, omega=omega)
 
 
-def _simulation(t: Table, kind, fields) -> SimulationSpec:
+def _simulation(t: Table, kind: Any, fields: Any) -> SimulationSpec:
     keys = (
         "duration",
         "step",

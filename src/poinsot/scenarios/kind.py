@@ -36,9 +36,18 @@ whose numeric entries have their units in the section's ``"units"`` object.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..trajectory import Comparison
+    from ._toml import Table
+    from .schema import AttitudeSpec, Scenario, SimulationSpec
+    from .summary import ScenarioResult
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -79,7 +88,7 @@ class Entry:
     label: str = ""
 
 
-def section(entries: Mapping[str, Entry | Any]) -> dict:
+def section(entries: Mapping[str, Entry | Any]) -> dict[str, Any]:
     """A summary section as written to ``summary.json``: ``{key: value, ...,
     "units": {key: units}}`` (arrays become lists; non-finite floats strings).
 
@@ -102,7 +111,7 @@ def section(entries: Mapping[str, Entry | Any]) -> dict:
     return out
 
 
-def jsonable(obj):
+def jsonable(obj: Any) -> Any:
     """Convert NumPy values, tuples and non-finite floats to JSON-safe Python values
     (``nan`` -> ``None``, ``inf`` -> ``"inf"``).
 
@@ -156,7 +165,7 @@ class Facts:
         """The entries of the ``results`` section."""
         return self.entries
 
-    def section(self) -> dict:
+    def section(self) -> dict[str, Any]:
         """The ``results`` section (JSON-ready, with units)."""
         return section(self.entries_())
 
@@ -226,7 +235,7 @@ class Check:
         """``max_t |values - expected| / scale`` (vector norms for vectors)."""
         return float(np.max(np.abs(self.relative_change()), initial=0.0))
 
-    def entry(self) -> dict:
+    def entry(self) -> dict[str, Any]:
         """The JSON entry: initial and final values, units, the maximum relative
         drift (or deviation from the law) and whether it must be conserved."""
         v = np.asarray(self.values, dtype=float)
@@ -446,14 +455,16 @@ class ScenarioKind:
         """A reason why ``method`` cannot solve this scenario (``None``: it can)."""
         return None
 
-    def check_simulation(self, simulation, fields: Mapping[str, Any]) -> tuple[str, str] | None:
+    def check_simulation(
+        self, simulation: SimulationSpec, fields: Mapping[str, Any]
+    ) -> tuple[str, str] | None:
         """``(key, reason)`` if ``simulation`` (a SimulationSpec) does not suit this
         scenario, e.g. a duration past the end of a table; ``None`` if it does.
         Called when the file is read and again after ``--duration``."""
         return None
 
     # ------------------------------------------------------------------ solving
-    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         """The motion on the output times ``t`` by ``method``: the result the library
         call returns (a Trajectory, PointTrajectory, CoordinateTrajectory...)."""
         raise NotImplementedError
@@ -471,17 +482,17 @@ class ScenarioKind:
         """Extra entries of the ``body`` section (e.g. the inertia about a pin)."""
         return {}
 
-    def series(self, scenario: Scenario, tr) -> dict[str, tuple[np.ndarray, str]]:
+    def series(self, scenario: Scenario, tr: Any) -> dict[str, tuple[np.ndarray, str]]:
         """Extra columns of the trajectory files, ``name -> (values (n,), units)``
         (e.g. ``"V"`` the potential energy), read from the kind's own result ``tr``."""
         return {}
 
-    def checks(self, scenario: Scenario, tr) -> Sequence[Check]:
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         """The quantities with a known behaviour along ``tr`` (the kind's own
         result; accuracy)."""
         return ()
 
-    def tolerances(self, scenario: Scenario, comparison) -> dict[str, float]:
+    def tolerances(self, scenario: Scenario, comparison: Comparison) -> dict[str, float]:
         """The largest accepted difference from the reference run of each quantity
         of ``comparison`` (a :class:`poinsot.trajectory.Comparison`), in its units.
 
@@ -500,13 +511,13 @@ class ScenarioKind:
             for d in comparison.differences
         }
 
-    def figures(self, result) -> list[FigureSpec]:
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         """The figures that apply to ``result`` (a ScenarioResult)."""
         from . import figures as common
 
         return common.default_figures(result)
 
-    def report(self, result) -> ReportSpec:
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """What ``report.html`` shows for ``result`` (a ScenarioResult).
 
         The default draws a rigid body (``result.trajectory`` a Trajectory): its

@@ -47,16 +47,16 @@ OUTPUT_FILES = (
 _ROWS_PER_WRITE = 10000
 
 
-class OutputFiles(list):
+class OutputFiles(list[Any]):
     """The paths written (a list), with the ``notes`` of the writing (skipped figures,
     a missing optional dependency...), also recorded in ``summary.json``."""
 
-    def __init__(self, paths=(), notes=()):
+    def __init__(self, paths: Any = (), notes: Any = ()) -> None:
         super().__init__(paths)
         self.notes = list(notes)
 
 
-def prepare_output_dir(out, *, force: bool = False) -> Path:
+def prepare_output_dir(out: str | os.PathLike[str], *, force: bool = False) -> Path:
     """Create the output directory; refuse to overwrite a non-empty one unless ``force``.
 
     Raises
@@ -100,7 +100,7 @@ def _atomic(path: Path, write: Callable[[Any], None], mode: str = "w") -> Path:
 
 
 # ----------------------------------------------------------------------------- trajectory
-def _columns(result: ScenarioResult, tr):
+def _columns(result: ScenarioResult, tr: Any) -> Any:
     """Column names, units, descriptions and data of a trajectory file: a rigid
     body's attitude, omega, K and T; any other result's own channels
     (:meth:`~poinsot.trajectory.Result.channels`); then the kind's extra series."""
@@ -140,7 +140,7 @@ def _columns(result: ScenarioResult, tr):
     return names, units, described, np.hstack(cols)
 
 
-def _header(result: ScenarioResult, tr, names, units, described) -> list[str]:
+def _header(result: ScenarioResult, tr: Any, names: Any, units: Any, described: Any) -> list[str]:
     s = result.scenario
     lines = [
         f"poinsot {versions()['poinsot']} trajectory of scenario {s.name!r} "
@@ -170,7 +170,7 @@ def _header(result: ScenarioResult, tr, names, units, described) -> list[str]:
     return lines
 
 
-def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> list[Path]:
+def _write_trajectory(result: ScenarioResult, tr: Any, path: Path, fmt: str) -> list[Path]:
     """The trajectory file; for CSV also ``<stem>.columns.json`` (units and meaning).
 
     The CSV's first line names the columns and nothing precedes it, so that
@@ -182,7 +182,7 @@ def _write_trajectory(result: ScenarioResult, tr, path: Path, fmt: str) -> list[
     header = _header(result, tr, names, units, described)
     if fmt == "csv":
 
-        def write(fh):
+        def write(fh: Any) -> None:
             fh.write(",".join(names) + "\n")
             for k in range(0, len(data), _ROWS_PER_WRITE):  # repr: shortest round-trip
                 rows = data[k : k + _ROWS_PER_WRITE].tolist()
@@ -241,7 +241,9 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
     return files
 
 
-def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) -> list[Path]:
+def _report(
+    result: ScenarioResult, summary: dict[str, Any], out: Path, notes: list[str]
+) -> list[Path]:
     from .report import write_scenario_report
 
     try:  # the kind says what to show (ScenarioKind.report); plotting draws it
@@ -253,14 +255,14 @@ def _report(result: ScenarioResult, summary: dict, out: Path, notes: list[str]) 
 
 
 # ----------------------------------------------------------------------------- public
-def _check_fmt(fmt) -> None:
+def _check_fmt(fmt: Any) -> None:
     if fmt not in ("csv", "npz"):
         raise InvalidInputError(f"Expected `format` (--format) to be 'csv' or 'npz', got {fmt!r}.")
 
 
 def write_outputs(
     result: ScenarioResult,
-    out,
+    out: str | os.PathLike[str],
     *,
     fmt: str = "csv",
     report: bool = True,
@@ -328,7 +330,7 @@ def write_outputs(
 
 def run_scenario(
     scenario: Scenario,
-    out,
+    out: str | os.PathLike[str],
     *,
     fmt: str = "csv",
     report: bool = True,

@@ -17,12 +17,15 @@ import io
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..trajectory import quantity_label
 from .kind import Chart, FigureSpec
+
+if TYPE_CHECKING:
+    from .summary import ScenarioResult
 
 __all__ = ["write_scenario_report", "unit_charts", "difference_charts", "figure_sections"]
 
@@ -31,8 +34,8 @@ _WHAT = {"m": "position", "m/s": "velocity", "J": "energy"}
 
 
 def write_scenario_report(
-    path: str | os.PathLike,
-    result,
+    path: str | os.PathLike[str],
+    result: ScenarioResult,
     summary: Mapping[str, Any] | None = None,
     *,
     title: str | None = None,
@@ -129,7 +132,7 @@ def unit_charts(columns: Mapping[str, tuple[np.ndarray, str]]) -> list[Chart]:
     return out
 
 
-def difference_charts(result) -> list[Chart]:
+def difference_charts(result: Any) -> list[Chart]:
     """The difference of each state quantity of ``result.trajectory`` from
     ``result.reference`` at every output time, in its own units (one chart per unit;
     vectors by the norm of the difference), or none without a reference.

@@ -19,7 +19,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Trajectory
 from .kind import Progress
 from .schema import MAX_SAMPLES, Scenario
+
+if TYPE_CHECKING:
+    from .summary import ScenarioResult
 
 __all__ = [
     "simulate_scenario",
@@ -184,7 +187,16 @@ def estimate_cost(scenario: Scenario, *, duration: float | None = None) -> Cost:
 
 
 # ----------------------------------------------------------------------------- solving
-def chunked(solve, r0, w0, t: np.ndarray, progress: Progress, stage: str, *, resume=None):
+def chunked(
+    solve: Any,
+    r0: Any,
+    w0: Any,
+    t: np.ndarray,
+    progress: Progress,
+    stage: str,
+    *,
+    resume: Any = None,
+) -> Any:
     """Run ``solve(r0, w0, t)`` in consecutive chunks of ``t`` to report progress.
 
     Each chunk starts from the last state of the previous one, so a fixed-step method
@@ -202,7 +214,7 @@ def chunked(solve, r0, w0, t: np.ndarray, progress: Progress, stage: str, *, res
         progress(1.0, stage)
         return tr
     edges = np.unique(np.linspace(0, n - 1, _N_CHUNKS + 1).round().astype(int))
-    parts: list = []
+    parts: list[Any] = []
     state = (r0, w0)
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
         progress(k / (len(edges) - 1), stage)
@@ -213,7 +225,7 @@ def chunked(solve, r0, w0, t: np.ndarray, progress: Progress, stage: str, *, res
     return _concatenate(parts)
 
 
-def _last_state(tr) -> tuple:
+def _last_state(tr: Any) -> tuple[Any, ...]:
     if not isinstance(tr, Trajectory):
         raise InvalidTypeError(
             f"Expected `resume` for a chunked run returning {type(tr).__name__} (only a "
@@ -222,7 +234,7 @@ def _last_state(tr) -> tuple:
     return tr.rotation[-1], np.asarray(tr.omega[-1])
 
 
-def _concatenate(parts: list):
+def _concatenate(parts: list[Any]) -> Any:
     """One result from consecutive chunks that share their boundary samples: every
     per-sample field (an array or a Rotation whose first axis runs over the times)
     joined without the repeated samples, the others from the first chunk;
@@ -284,12 +296,12 @@ def _override(scenario: Scenario, duration: float | None) -> Scenario:
     return dataclasses.replace(scenario, simulation=new)
 
 
-def _expect(value, kind, name: str, what: str) -> None:
+def _expect(value: Any, kind: Any, name: str, what: str) -> None:
     if not isinstance(value, kind):
         raise InvalidTypeError(f"Expected `{name}` to be {what}, got {type(value).__name__}.")
 
 
-def check_cost(scenario: Scenario, *, duration=None, allow_large: bool = False) -> Cost:
+def check_cost(scenario: Scenario, *, duration: Any = None, allow_large: bool = False) -> Cost:
     """The cost of a run, or an :class:`~poinsot.InvalidInputError` listing what
     exceeds the limits (raised before any work)."""
     cost = estimate_cost(scenario, duration=duration)
@@ -307,7 +319,7 @@ def simulate_scenario(
     duration: float | None = None,
     progress: Progress | None = None,
     allow_large: bool = False,
-):
+) -> ScenarioResult:
     """Solve a scenario with the library (no files written).
 
     Parameters

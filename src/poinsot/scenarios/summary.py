@@ -149,7 +149,7 @@ def agreement_thresholds(scenario: Scenario) -> tuple[float, float]:
     return float(att), float(rel)
 
 
-def versions() -> dict:
+def versions() -> dict[str, Any]:
     """Versions of poinsot, Python, NumPy and SciPy (for ``summary.json``).
 
     Examples
@@ -169,7 +169,7 @@ def versions() -> dict:
     }
 
 
-def _comparison(scenario: Scenario, tr, ref) -> tuple[dict | None, list]:
+def _comparison(scenario: Scenario, tr: Any, ref: Any) -> tuple[dict[str, Any] | None, list[Any]]:
     """The ``accuracy.comparison`` entry, from :func:`poinsot.trajectory.compare` on
     the kind's own state, and the differences beyond their tolerance as
     ``(Difference, tolerance)`` pairs."""
@@ -248,7 +248,7 @@ class Accuracy:
     agreement_threshold: float = AGREEMENT_THRESHOLD
 
 
-def _assess(scenario: Scenario, checks, ref_checks, exceeded) -> Accuracy:
+def _assess(scenario: Scenario, checks: Any, ref_checks: Any, exceeded: Any) -> Accuracy:
     kind = scenario.adapter
     sim = scenario.simulation
     drift_tol = getattr(sim, "drift_threshold", None) or DRIFT_THRESHOLD
@@ -334,10 +334,12 @@ class ScenarioResult:
     accuracy: Accuracy | None = None
     wall_time: float = 0.0
     cost: Any = None
-    comparison: dict | None = None
+    comparison: dict[str, Any] | None = None
 
     @classmethod
-    def build(cls, scenario: Scenario, tr, ref, *, wall_time=0.0, cost=None) -> ScenarioResult:
+    def build(
+        cls, scenario: Scenario, tr: Any, ref: Any, *, wall_time: Any = 0.0, cost: Any = None
+    ) -> ScenarioResult:
         """Ask the scenario's kind for its facts and checks, compare the result with
         the reference on its own state and assess the accuracy."""
         kind = scenario.adapter
@@ -441,7 +443,7 @@ class ScenarioResult:
         }
         return out
 
-    def _initial_state(self) -> dict:
+    def _initial_state(self) -> dict[str, Any]:
         tr = self.trajectory
         if isinstance(tr, Trajectory):
             return section(
@@ -458,7 +460,7 @@ class ScenarioResult:
             }
         )
 
-    def _body(self) -> dict | None:
+    def _body(self) -> dict[str, Any] | None:
         s = self.scenario
         if s.body is None:
             return None
@@ -490,7 +492,7 @@ class ScenarioResult:
         return section(entries)
 
     @property
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """The JSON-ready summary: :meth:`sections` (a new dict at every access, so
         that writing the outputs never changes the result)."""
         return self.sections()
@@ -502,6 +504,6 @@ class ScenarioResult:
 
         return describe(self, title=title)
 
-    def figures(self):
+    def figures(self) -> Any:
         """The :class:`~poinsot.scenarios.kind.FigureSpec` figures of this run."""
         return self.scenario.adapter.figures(self)

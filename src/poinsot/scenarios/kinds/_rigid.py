@@ -5,6 +5,7 @@ what ``report.html`` shows of a rigid body (:func:`rigid_report`)."""
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -26,7 +27,7 @@ SECONDS_PER_STEP = {
 SECONDS_PER_RUN = {"exact": 5e-4}
 
 
-def parse_rigid(top, attitude) -> dict:
+def parse_rigid(top: Any, attitude: Any) -> dict[str, Any]:
     """The fields of a rigid-body scenario: ``body``, ``angular_velocity``, ``torque``."""
     body = read_body(top.table("body", required=True))
     angular_velocity = read_angular_velocity(top.table("angular_velocity", required=True), attitude)
@@ -41,7 +42,9 @@ def parse_rigid(top, attitude) -> dict:
     return {"body": body, "angular_velocity": angular_velocity, "torque": torque}
 
 
-def simulate_rigid(scenario, inertia, torque, method, t, progress):
+def simulate_rigid(
+    scenario: Any, inertia: Any, torque: Any, method: Any, t: Any, progress: Any
+) -> Any:
     """Euler's equations with the attitude (docs/theory.md §10), in chunks."""
     from ...dynamics import simulate
     from ..solve import chunked
@@ -64,7 +67,7 @@ def simulate_rigid(scenario, inertia, torque, method, t, progress):
     )
 
 
-def torque_model(scenario):
+def torque_model(scenario: Any) -> Any:
     """The scenario's ``[torque]`` as a :class:`poinsot.dynamics.TorqueModel` (or None)."""
     from ...dynamics import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
 
@@ -78,14 +81,14 @@ def torque_model(scenario):
     return GravityTorque(scenario.body.mass, scenario.body.center_of_mass, g=tq.g)
 
 
-def invariants_of(inertia, tr, torque=None):
+def invariants_of(inertia: Any, tr: Any, torque: Any = None) -> Any:
     """:func:`poinsot.dynamics.invariants` along a trajectory (docs/theory.md §8, §10)."""
     from ...dynamics import invariants
 
     return invariants(inertia, tr.rotation, tr.omega, torque=torque)
 
 
-def with_invariants(inertia, tr):
+def with_invariants(inertia: Any, tr: Any) -> Any:
     """``tr`` with the kinetic energy and the space angular momentum filled in
     (docs/theory.md §8) when they are missing."""
     if tr.energy is not None and tr.momentum is not None:
@@ -94,7 +97,7 @@ def with_invariants(inertia, tr):
     return dataclasses.replace(tr, energy=inv.kinetic, momentum=inv.momentum_space)
 
 
-def body_shapes(body) -> list[dict] | None:
+def body_shapes(body: Any) -> list[dict[str, Any]] | None:
     """The solids of a scenario body (its shape, or its parts) in body axes, as
     :func:`poinsot.plotting.write_report` takes them (None: draw the equivalent
     ellipsoid)."""
@@ -121,7 +124,7 @@ def body_shapes(body) -> list[dict] | None:
     return out
 
 
-def body_torque(scenario, tr) -> np.ndarray | None:
+def body_torque(scenario: Any, tr: Any) -> np.ndarray | None:
     """The torque of the scenario's model on the body along ``tr`` (body axes, N m,
     shape (n, 3)), or None without a torque (or if the model cannot say)."""
     if scenario.torque is None or scenario.torque.model == "none":
@@ -136,7 +139,7 @@ def body_torque(scenario, tr) -> np.ndarray | None:
         return None
 
 
-def top_drawing(rotation, center_of_mass, reach: float = 1.5):
+def top_drawing(rotation: Any, center_of_mass: Any, reach: float = 1.5) -> Any:
     """A top on its pin, for ``report.html``: the stem from the fixed point (the
     origin) to the centre of mass, and the tip of the axis through them at ``reach``
     times the centre's distance, with its trail (the loops and cusps of the
@@ -160,7 +163,7 @@ def top_drawing(rotation, center_of_mass, reach: float = 1.5):
     )
 
 
-def rigid_report(result, *, polhode: bool = False, sections=()):
+def rigid_report(result: Any, *, polhode: bool = False, sections: Any = ()) -> Any:
     """The :class:`~poinsot.scenarios.kind.ReportSpec` of a rigid body's run: the
     body's shape at its centre of mass, the fixed point under gravity, the polhode
     and herpolhode when ``polhode`` (the torque-free body, docs/theory.md §10), the

@@ -7,6 +7,14 @@ Solved by :func:`poinsot.kinematics.propagate` (Poisson's equation).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Facts, Progress
+    from ..schema import AttitudeSpec, Scenario, SimulationSpec
+
 import numpy as np
 
 from ... import integrators
@@ -16,7 +24,7 @@ from ..schema import KINEMATICS_METHODS
 from . import _rigid
 
 
-def omega_function(profile):
+def omega_function(profile: Any) -> Any:
     """``omega(t)`` of a profile, as :func:`poinsot.kinematics.propagate` takes it."""
     if profile.kind == "constant":
         w = np.asarray(profile.vector)
@@ -27,7 +35,7 @@ def omega_function(profile):
         return lambda t: coning_omega(profile.half_angle, profile.rate, t)
     ts, ws = np.asarray(profile.t), np.asarray(profile.omega)
 
-    def sampled(t):
+    def sampled(t: Any) -> Any:
         # linear interpolation of the table (the times are checked to lie inside it)
         return np.array([np.interp(t, ts, ws[:, k]) for k in range(3)])
 
@@ -46,10 +54,10 @@ class Attitude(ScenarioKind):
     seconds_per_step = {"exact": 2e-7, "magnus4": 1.5e-5, "rk4": 1.5e-5, "adaptive": 1.5e-5}
     profiles: tuple[str, ...] = ("constant", "samples")
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         return "omega_profile" in data
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         profile_t = top.table("omega_profile", required=True)
         body_t = top.table("body")
         body = read_body(body_t) if body_t is not None else None
@@ -72,7 +80,7 @@ class Attitude(ScenarioKind):
             )
         return {"body": body, "omega_profile": profile}
 
-    def refuse_method(self, method, fields):
+    def refuse_method(self, method: str, fields: Mapping[str, Any]) -> str | None:
         if method == "exact" and fields["omega_profile"].kind == "samples":
             return (
                 '"exact" needs a closed form, and a tabulated angular '
@@ -82,7 +90,9 @@ class Attitude(ScenarioKind):
             )
         return None
 
-    def check_simulation(self, simulation, fields):
+    def check_simulation(
+        self, simulation: SimulationSpec, fields: Mapping[str, Any]
+    ) -> tuple[str, str] | None:
         p = fields["omega_profile"]
         if p.kind == "samples" and simulation.duration > p.t[-1]:
             return (
@@ -92,7 +102,7 @@ class Attitude(ScenarioKind):
             )
         return None
 
-    def propagate(self, scenario, method, t, progress):
+    def propagate(self, scenario: Any, method: Any, t: Any, progress: Any) -> Any:
         from ...kinematics import propagate
         from ..solve import chunked
 
@@ -114,7 +124,7 @@ class Attitude(ScenarioKind):
             f"propagating ({method})",
         )
 
-    def exact(self, scenario, t):
+    def exact(self, scenario: Any, t: Any) -> Any:
         """Constant ``w``: ``R(t) = R0 exp(t w^)`` (body axes) or ``exp(t w^) R0``
         (space axes), docs/theory.md §5."""
         from ...rotations.rotation import Rotation
@@ -132,7 +142,7 @@ class Attitude(ScenarioKind):
             t, rot, np.array(omega_b), "exact", info={"frame": "body", "closed_form": "constant"}
         )
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         if method == "exact":
             tr = self.exact(scenario, t)
             progress(1.0, "exact solution")
@@ -142,10 +152,11 @@ class Attitude(ScenarioKind):
             tr = _rigid.with_invariants(np.asarray(scenario.body.inertia), tr)
         return tr
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         p = scenario.omega_profile
         if p.kind != "constant":
             return Facts()
+        assert p.vector is not None  # a constant profile has its vector
         rate = float(np.linalg.norm(p.vector))
         entries = {
             "rotation_rate": Entry(rate, "rad/s"),
@@ -154,7 +165,7 @@ class Attitude(ScenarioKind):
         }
         return Facts(entries)
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         if tr.energy is None:
             return ()
         k = np.asarray(tr.momentum)
@@ -165,7 +176,7 @@ class Attitude(ScenarioKind):
             Check("momentum_vector", "K (space axes)", "kg m^2/s", k, conserved=False),
         )
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         p = scenario.omega_profile
         return [f"{self.title}: {p.kind} angular velocity ({p.frame} axes)"]
 

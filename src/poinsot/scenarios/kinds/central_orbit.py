@@ -13,6 +13,15 @@ inertial axes). Checks: energy and the angular momentum vector are conserved.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
+    from ..schema import AttitudeSpec, Scenario
+    from ..summary import ScenarioResult
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,8 +41,8 @@ class OrbitSpec:
     beta: float | None
     k: float | None
     mass: float
-    position: tuple | None = None
-    velocity: tuple | None = None
+    position: tuple[Any, ...] | None = None
+    velocity: tuple[Any, ...] | None = None
     energy: float | None = None
     angular_momentum: float | None = None
 
@@ -65,7 +74,7 @@ def apsides_line(t: np.ndarray, position: np.ndarray) -> np.ndarray | None:
     return np.stack([-float(np.max(r)) * e, r[latest, None] * e], axis=1)
 
 
-def _orbit(spec):
+def _orbit(spec: Any) -> Any:
     from ...dynamics import CentralOrbit, harmonic, inverse_square, kepler
 
     terms = []
@@ -96,14 +105,14 @@ class CentralOrbitKind(ScenarioKind):
     seconds_per_step = {"exact": 1.5e-6, "adaptive": 8e-6}
     seconds_per_run = {"exact": 1e-3, "adaptive": 3e-3}
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         return "orbit" in data
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         t = top.table("orbit", required=True)
         keys = (*_TERMS, "mass", "position", "velocity", "energy", "angular_momentum")
         t.known(keys)
-        terms = {name: t.number(name) for name in _TERMS}
+        terms: dict[str, Any] = {name: t.number(name) for name in _TERMS}  # float or None
         if all(v is None for v in terms.values()):
             raise t.error(
                 None,
@@ -135,7 +144,7 @@ class CentralOrbitKind(ScenarioKind):
             raise t.error(None, f"no orbit: {exc}") from None
         return {"spec": spec}
 
-    def refuse_method(self, method, fields):
+    def refuse_method(self, method: str, fields: Mapping[str, Any]) -> str | None:
         sp = fields["spec"]
         if method == "exact" and (sp.mu is None or sp.mu <= 0 or sp.beta or sp.k):
             return (
@@ -144,17 +153,17 @@ class CentralOrbitKind(ScenarioKind):
             )
         return None
 
-    def motion_inertia(self, scenario):
+    def motion_inertia(self, scenario: Scenario) -> np.ndarray | None:
         return None
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         orb = _orbit(scenario.spec)
         progress(0.0, method)
         tr = orb.trajectory(t, method="kepler" if method == "exact" else "integrate")
         progress(1.0, method)
         return tr
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         orb = _orbit(scenario.spec)
         r1, r2 = orb.apsides
         entries = {
@@ -191,7 +200,7 @@ class CentralOrbitKind(ScenarioKind):
             )
         return Facts(entries, tuple(lines))
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         from ...dynamics import ParticleSystem
 
         orb = _orbit(scenario.spec)
@@ -232,16 +241,16 @@ class CentralOrbitKind(ScenarioKind):
             ),
         )
 
-    def figures(self, result):
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         tr = result.trajectory
         orb = _orbit(result.scenario.spec)
 
-        def orbit(ax):
+        def orbit(ax: Any) -> Any:
             from ...plotting.particles import plot_orbit
 
             return plot_orbit(orb, tr.t, ax=ax)
 
-        def ueff(ax):
+        def ueff(ax: Any) -> Any:
             from ...plotting.particles import plot_effective_potential
 
             return plot_effective_potential(orb, ax=ax)
@@ -253,7 +262,7 @@ class CentralOrbitKind(ScenarioKind):
         inv = invariants_figure(result)
         return figs + ([inv] if inv is not None else [])
 
-    def report(self, result):
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """``report.html``: the point and its orbit in space, charts of the position
         and velocity components, the checks, and the orbit (apsides marked) and the
         effective potential as inline SVG."""
@@ -279,7 +288,7 @@ class CentralOrbitKind(ScenarioKind):
             drawing=None if guide is None else Drawing(guides={label: guide}),
         )
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         sp = scenario.spec
         terms = [f"{n} = {fmt(getattr(sp, n))}" for n in _TERMS if getattr(sp, n) is not None]
         return [f"{self.title}: {', '.join(terms)}"]

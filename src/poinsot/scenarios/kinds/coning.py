@@ -8,6 +8,13 @@ integrators propagate :func:`poinsot.kinematics.coning_omega`.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..kind import Facts
+    from ..schema import Scenario
+
 import numpy as np
 
 from ..kind import Entry, Facts
@@ -22,11 +29,11 @@ class Coning(Attitude):
     seconds_per_step = {"exact": 2e-7, "magnus4": 4.5e-5, "rk4": 4.5e-5, "adaptive": 4.5e-5}
     seconds_per_run = {"exact": 3e-4}
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         profile = data.get("omega_profile")
         return isinstance(profile, dict) and profile.get("kind") == "coning"
 
-    def exact(self, scenario, t):
+    def exact(self, scenario: Any, t: Any) -> Any:
         from ...kinematics import coning_omega, coning_quat
         from ...rotations import quaternion as qa
         from ...rotations.rotation import Rotation
@@ -43,8 +50,9 @@ class Coning(Attitude):
             info={"frame": "body", "closed_form": "coning"},
         )
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         p = scenario.omega_profile
+        assert p is not None and p.half_angle is not None  # set by this kind's parse
         return Facts(
             {
                 "coning_half_angle": Entry(p.half_angle, "rad"),
@@ -58,8 +66,9 @@ class Coning(Attitude):
             ),
         )
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         p = scenario.omega_profile
+        assert p is not None and p.half_angle is not None  # set by this kind's parse
         return [
             f"{self.title}: half-angle {np.degrees(p.half_angle):.4g} deg, rate {p.rate:.4g} rad/s"
         ]

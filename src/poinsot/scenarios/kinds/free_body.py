@@ -8,8 +8,16 @@ elliptic functions) or :func:`poinsot.dynamics.simulate` (integrators). Checks:
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
+    from ..schema import AttitudeSpec, Scenario
+    from ..summary import ScenarioResult
+
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -20,7 +28,7 @@ from ..schema import DYNAMICS_METHODS
 from . import _rigid
 
 
-def _free_body(scenario):
+def _free_body(scenario: Any) -> Any:
     from ...dynamics import FreeRigidBody
 
     return FreeRigidBody(
@@ -37,7 +45,7 @@ class FreeBodyFacts(Facts):
     body: Any = None  # the FreeRigidBody
     diagonal: bool = True  # body axes are principal (axes named x, y, z in text)
 
-    def entries_(self):
+    def entries_(self) -> Any:
         fb = self.body
         out = {"solution": Entry("Jacobi elliptic functions (docs/theory.md §10)")}
         for key, units in (
@@ -73,7 +81,7 @@ class FreeBodyFacts(Facts):
             return float(self.body.momentum_norm / a)
         return None
 
-    def describe(self):
+    def describe(self) -> Any:
         fb = self.body
         period = fb.period
         per = (
@@ -112,10 +120,10 @@ class FreeBody(ScenarioKind):
     seconds_per_step = _rigid.SECONDS_PER_STEP
     seconds_per_run = _rigid.SECONDS_PER_RUN
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         return "body" in data or "angular_velocity" in data
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         fields = _rigid.parse_rigid(top, attitude)
         if fields["torque"].model != "none":
             raise top.error(
@@ -125,7 +133,7 @@ class FreeBody(ScenarioKind):
             )
         return fields
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         if method == "exact":
             fb = _free_body(scenario)
             progress(0.0, "exact solution")
@@ -135,12 +143,12 @@ class FreeBody(ScenarioKind):
         inertia = np.asarray(scenario.body.inertia)
         return _rigid.simulate_rigid(scenario, inertia, None, method, t, progress)
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         j = np.asarray(scenario.body.inertia)
         diagonal = bool(np.max(np.abs(j - np.diag(np.diag(j)))) <= 1e-12 * np.max(np.abs(j)))
         return FreeBodyFacts(body=_free_body(scenario), diagonal=diagonal)
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         inv = _rigid.invariants_of(np.asarray(scenario.body.inertia), tr)
         k = inv.momentum_space
         return (
@@ -149,17 +157,17 @@ class FreeBody(ScenarioKind):
             Check("momentum_vector", "K (space axes)", "kg m^2/s", k),
         )
 
-    def figures(self, result):
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         figs = super().figures(result)
-        fb = result.facts.body
+        fb = result.facts.body  # type: ignore[attr-defined]  # this kind's FreeBodyFacts
         t = result.trajectory.t
 
-        def maccullagh(ax):
+        def maccullagh(ax: Any) -> Any:
             from ...plotting.free_body import plot_maccullagh
 
             return plot_maccullagh(fb, ax=ax)
 
-        def poinsot(ax):
+        def poinsot(ax: Any) -> Any:
             from ...plotting.free_body import plot_poinsot
 
             return plot_poinsot(fb, t[:: max(1, t.size // 800)], ax=ax)
@@ -168,7 +176,7 @@ class FreeBody(ScenarioKind):
         figs.append(FigureSpec("poinsot.png", poinsot, (6.0, 6.0), "3d"))
         return figs
 
-    def report(self, result):
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """A rigid body's report with the polhode and herpolhode (docs/theory.md §10)."""
         return _rigid.rigid_report(result, polhode=True)
 

@@ -15,6 +15,15 @@ with the centre of mass in the equatorial plane. Checks: ``T + V`` and ``K_z``
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Entry, Facts, FigureSpec, Progress, ReportSpec
+    from ..schema import AttitudeSpec, Scenario
+    from ..summary import ScenarioResult
+
 import math
 
 import numpy as np
@@ -26,13 +35,13 @@ from ..schema import DYNAMICS_METHODS
 from . import _rigid
 
 
-def _heavy(body, torque):
+def _heavy(body: Any, torque: Any) -> Any:
     from ...dynamics import HeavyRigidBody
 
     return HeavyRigidBody(body.inertia_about_origin(), body.mass, body.center_of_mass, g=torque.g)
 
 
-def _lagrange(body, torque, rotation=None, omega=None):
+def _lagrange(body: Any, torque: Any, rotation: Any = None, omega: Any = None) -> Any:
     """The scenario's LagrangeTop, or ``(None, reason)`` when the body is not one."""
     from ...dynamics import LagrangeTop
     from ...errors import InvalidInputError
@@ -45,7 +54,7 @@ def _lagrange(body, torque, rotation=None, omega=None):
         return None, str(exc)
 
 
-def _kovalevskaya(body) -> bool:
+def _kovalevskaya(body: Any) -> bool:
     """``A = B = 2 C`` about the pin and the centre of mass in the equatorial plane."""
     j = np.asarray(body.inertia_about_origin())
     c = np.asarray(body.center_of_mass)
@@ -59,7 +68,7 @@ def _kovalevskaya(body) -> bool:
     )
 
 
-def _lagrange_facts(top, scenario) -> Facts:
+def _lagrange_facts(top: Any, scenario: Any) -> Facts:
     from ...dynamics import critical_spin, gyroscope_precession_rate, regular_precession_rates
     from ...errors import InvalidInputError
 
@@ -139,11 +148,11 @@ class HeavyTop(ScenarioKind):
     }
     seconds_per_run = {"exact": 1.5e-3, "splitting": 1.7e-2}
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         torque = data.get("torque")
         return isinstance(torque, dict) and torque.get("model") == "gravity"
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         fields = _rigid.parse_rigid(top, attitude)
         if fields["torque"].model != "gravity":
             raise top.error(
@@ -153,7 +162,7 @@ class HeavyTop(ScenarioKind):
             )
         return fields
 
-    def refuse_method(self, method, fields):
+    def refuse_method(self, method: str, fields: Mapping[str, Any]) -> str | None:
         if method != "exact":
             return None
         top, reason = _lagrange(fields["body"], fields["torque"])
@@ -164,10 +173,10 @@ class HeavyTop(ScenarioKind):
             )
         return None
 
-    def motion_inertia(self, scenario):
+    def motion_inertia(self, scenario: Scenario) -> np.ndarray | None:
         return scenario.body.inertia_about_origin()
 
-    def _top(self, scenario):
+    def _top(self, scenario: Any) -> Any:
         return _lagrange(
             scenario.body,
             scenario.torque,
@@ -175,7 +184,7 @@ class HeavyTop(ScenarioKind):
             np.asarray(scenario.angular_velocity.omega_body),
         )[0]
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         if method == "exact":
             top = self._top(scenario)
             progress(0.0, "exact solution")
@@ -196,14 +205,14 @@ class HeavyTop(ScenarioKind):
             f"integrating ({method})",
         )
 
-    def body_entries(self, scenario):
+    def body_entries(self, scenario: Scenario) -> dict[str, Entry]:
         return {"inertia_about_fixed_point": Entry(scenario.body.inertia_about_origin(), "kg m^2")}
 
-    def series(self, scenario, tr):
+    def series(self, scenario: Scenario, tr: Any) -> dict[str, tuple[np.ndarray, str]]:
         v = _rigid.torque_model(scenario).potential(tr.quat)
         return {"V": (np.asarray(v), "J")}
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         top = self._top(scenario)
         if top is not None:
             return _lagrange_facts(top, scenario)
@@ -229,7 +238,7 @@ class HeavyTop(ScenarioKind):
             )
         return Facts(entries, tuple(lines))
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         model = _rigid.torque_model(scenario)
         inv = _rigid.invariants_of(self.motion_inertia(scenario), tr, model)
         k0 = float(inv.momentum_norm[0])
@@ -261,24 +270,24 @@ class HeavyTop(ScenarioKind):
             out.append(Check("kovalevskaya_integral", "Kovalevskaya integral", "rad^4/s^4", k))
         return out
 
-    def figures(self, result):
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         figs = super().figures(result)
         scenario = result.scenario
         top = self._top(scenario)
         tr = result.trajectory
         if top is not None:
 
-            def track(ax):
+            def track(ax: Any) -> Any:
                 from ...plotting.heavy_top import plot_axis_track
 
                 return plot_axis_track(top, tr.t[:: max(1, tr.t.size // 1500)], ax=ax)
 
-            def cubic(ax):
+            def cubic(ax: Any) -> Any:
                 from ...plotting.heavy_top import plot_cubic
 
                 return plot_cubic(top, ax=ax)
 
-            def nutation(ax):
+            def nutation(ax: Any) -> Any:
                 from ...plotting.heavy_top import plot_nutation
 
                 numerical = tr if tr.method != "exact" else result.reference
@@ -291,7 +300,7 @@ class HeavyTop(ScenarioKind):
         numerical = tr if tr.method != "exact" else result.reference
         if numerical is not None:
 
-            def drift(ax):
+            def drift(ax: Any) -> Any:
                 from ...plotting.heavy_top import plot_invariant_drift
 
                 return plot_invariant_drift(body, numerical, ax=ax)
@@ -299,7 +308,7 @@ class HeavyTop(ScenarioKind):
             figs.append(FigureSpec("heavy_invariants.png", drift))
         if top is None and _kovalevskaya(scenario.body):
 
-            def kova(ax):
+            def kova(ax: Any) -> Any:
                 from ...plotting.heavy_top import plot_kovalevskaya
 
                 return plot_kovalevskaya([(f"{tr.method}", body, tr)], ax=ax)
@@ -307,7 +316,7 @@ class HeavyTop(ScenarioKind):
             figs.append(FigureSpec("kovalevskaya.png", kova))
         return figs
 
-    def report(self, result):
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """A rigid body's report (the top on its pin, the gravity torque, ZXZ angles)
         with the heavy-top figures (axis track, P(u), theta(t), invariants) as
         inline SVG."""
@@ -324,7 +333,7 @@ class HeavyTop(ScenarioKind):
         sections = figure_sections(specs, [titles[f.name] for f in specs])
         return _rigid.rigid_report(result, sections=sections)
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         top, _ = _lagrange(scenario.body, scenario.torque)
         if top is not None:
             return [f"{self.title}: a Lagrange top (exact solution available)"]

@@ -22,9 +22,17 @@ comparison with a reference run and ``report.html`` read it directly.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
+    from ..schema import AttitudeSpec, Scenario
+    from ..summary import ScenarioResult
+
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -109,7 +117,7 @@ class LagrangianSpec:
     draw: Any = None  # the [draw] table (poinsot.scenarios.draw.DrawSpec) or None
 
 
-def _strings(t, key, n=None):
+def _strings(t: Any, key: Any, n: Any = None) -> Any:
     v = t.raw(key)
     if isinstance(v, str):
         v = [v]
@@ -123,7 +131,7 @@ def _strings(t, key, n=None):
     return tuple(v)
 
 
-def _parse_formula(t, key, text, symbols):
+def _parse_formula(t: Any, key: Any, text: Any, symbols: Any) -> Any:
     from ...symbolic import ExpressionError, parse_expression
 
     try:
@@ -132,7 +140,7 @@ def _parse_formula(t, key, text, symbols):
         raise t.error(key, str(exc)) from None
 
 
-def _build(t, coords, params, formulas):
+def _build(t: Any, coords: Any, params: Any, formulas: Any) -> Any:
     """Parse every formula (errors name file, key, token) and build the system."""
     import sympy
     from sympy.physics.mechanics import dynamicsymbols
@@ -171,7 +179,7 @@ def _build(t, coords, params, formulas):
         raise t.error(None, str(exc)) from None
 
 
-def _check_system(t, system, params, q0, *, constrained: bool) -> None:
+def _check_system(t: Any, system: Any, params: Any, q0: Any, *, constrained: bool) -> None:
     """What ``run`` would refuse, refused when the file is read (``check`` and ``run``
     agree): a parameter that no equation uses (a typo, most likely), and a kinetic
     energy that is not positive definite in the velocities at ``q0`` (its mass matrix
@@ -216,7 +224,7 @@ class Lagrangian(ScenarioKind):
     title = "a system given by its Lagrangian (Lagrange's equations of the second kind)"
     tables = ("lagrangian", "draw")
     methods = _METHODS
-    orders: dict = {}
+    orders: dict[str, Any] = {}
     theory = "docs/theory.md §11"
     # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
     seconds_per_step = {
@@ -228,10 +236,10 @@ class Lagrangian(ScenarioKind):
         "LSODA": 2e-4,
     }
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         return "lagrangian" in data
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         t = top.table("lagrangian", required=True)
         t.known(_KEYS)
         raw = t.require("coordinates", "a list of coordinate names")
@@ -297,7 +305,7 @@ class Lagrangian(ScenarioKind):
         return {"spec": spec}
 
     @staticmethod
-    def _units(t, kept) -> tuple[str, ...]:
+    def _units(t: Any, kept: Any) -> tuple[str, ...]:
         """``[lagrangian] units`` (name -> "rad", "m" or ""), else the guess of
         :func:`coordinate_unit`, for each kept coordinate."""
         given = t.raw("units") if t.has("units") else {}
@@ -313,7 +321,7 @@ class Lagrangian(ScenarioKind):
                 )
         return tuple(given.get(c, coordinate_unit(c)) for c in kept)
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         spec = scenario.spec
         f = spec.system.to_numeric(dict(spec.parameters))
         progress(0.0, method)
@@ -332,10 +340,10 @@ class Lagrangian(ScenarioKind):
         progress(1.0, method)
         return dataclasses.replace(lt, method=method)  # named as the scenario names it
 
-    def motion_inertia(self, scenario):
+    def motion_inertia(self, scenario: Scenario) -> np.ndarray | None:
         return None
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         """The Lagrangian and Lagrange's equations in readable text (``theta1'`` for a
         rate) and as LaTeX, with the parameter values; the cyclic coordinates and
         whether the Jacobi integral is conserved."""
@@ -377,7 +385,7 @@ class Lagrangian(ScenarioKind):
         )
         return Facts(entries, tuple(lines))
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         system = scenario.spec.system
         out = []
         # relative to the larger of |initial value| and the largest kinetic energy
@@ -400,23 +408,23 @@ class Lagrangian(ScenarioKind):
                              conserved=False))  # fmt: skip
         return tuple(out)
 
-    def figures(self, result):
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         from ..figures import invariants_figure
 
         lt = result.trajectory
         system = result.scenario.spec.system
 
-        def coords(ax, lt=lt):
+        def coords(ax: Any, lt: Any = lt) -> Any:
             from ...plotting.lagrange import plot_coordinates
 
             return plot_coordinates(lt, ax=ax, title=f"{result.scenario.name}: coordinates")
 
-        def phase(ax, lt=lt):
+        def phase(ax: Any, lt: Any = lt) -> Any:
             from ...plotting.lagrange import plot_phase
 
             return plot_phase(lt, ax=ax)
 
-        def eqs(ax, system=system):
+        def eqs(ax: Any, system: Any = system) -> Any:
             from ...plotting.lagrange import plot_equations
 
             return plot_equations(system, ax=ax)
@@ -430,7 +438,7 @@ class Lagrangian(ScenarioKind):
         ]
         return [f for f in figs if f is not None]
 
-    def report(self, result):
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """``report.html``: the system drawn by its ``[draw]`` table (points, links,
         trails) when it has one; charts of ``q(t)`` and ``q'(t)`` grouped by unit
         (the reference run's dashed beside them), the constraint multipliers, the
@@ -442,7 +450,7 @@ class Lagrangian(ScenarioKind):
         lt = result.trajectory
         ref = result.reference
         same = ref is not None and ref.t.shape == lt.t.shape and ref.q.shape == lt.q.shape
-        groups: dict[tuple[str, str], dict] = {}
+        groups: dict[tuple[str, str], dict[str, Any]] = {}
         what = {"rad": "angles", "m": "lengths"}
         for rate in (False, True):
             for k, (name, unit) in enumerate(zip(lt.coordinates, lt.units, strict=True)):
@@ -475,7 +483,7 @@ class Lagrangian(ScenarioKind):
         system = spec.system
         n = len(system.coordinates)
 
-        def eqs(ax):
+        def eqs(ax: Any) -> Any:
             from ...plotting.lagrange import plot_equations
 
             return plot_equations(system, ax=ax)
@@ -500,7 +508,7 @@ class Lagrangian(ScenarioKind):
             drawing=drawing,
         )
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         s = scenario.spec.system
         return [
             f"{self.title}: coordinates {', '.join(str(f.func) for f in s.coordinates)}, "

@@ -25,6 +25,15 @@ the comparison with a reference run and ``report.html`` read it directly.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
+    from ..schema import AttitudeSpec, Scenario, SimulationSpec
+    from ..summary import ScenarioResult
+
 import dataclasses
 from dataclasses import dataclass
 
@@ -50,7 +59,7 @@ class EarthSpec:
     amplitude: float = 0.0  # m (Foucault)
 
 
-def _read_common(t, extra):
+def _read_common(t: Any, extra: Any) -> Any:
     from ...dynamics import EARTH_ROTATION_RATE, STANDARD_GRAVITY
 
     keys = ("latitude", "degrees", "g", "omega", "mass", *extra)
@@ -76,17 +85,17 @@ class _EarthKind(ScenarioKind):
     seconds_per_step = {"adaptive": 2.5e-5}
     seconds_per_run = {"adaptive": 5e-4}
 
-    def motion_inertia(self, scenario):
+    def motion_inertia(self, scenario: Scenario) -> np.ndarray | None:
         return None
 
-    def components(self, tr) -> dict[str, tuple[np.ndarray, str]]:
+    def components(self, tr: Any) -> dict[str, tuple[np.ndarray, str]]:
         """The relative position and velocity by named component (east, north, up)."""
         names = ("x_east", "y_north", "z_up")
         out = {n: (tr.position[:, k], "m") for k, n in enumerate(names)}
         out.update({f"v{n[0]}": (tr.velocity[:, k], "m/s") for k, n in enumerate(names)})
         return out
 
-    def _jacobi(self, scenario, tr, frame, potential):
+    def _jacobi(self, scenario: Any, tr: Any, frame: Any, potential: Any) -> Any:
         from ...dynamics import jacobi_integral
 
         r, v = tr.position, tr.velocity
@@ -99,7 +108,7 @@ class _EarthKind(ScenarioKind):
             scale=float(np.max(np.abs(h))) or 1.0,
         )
 
-    def report(self, result):
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """``report.html``: the point and its path relative to the Earth (east,
         north, up), charts of its position and velocity components, the checks,
         and the kind's figures (the path in the Earth's frame and in space, the
@@ -121,10 +130,10 @@ class _EarthKind(ScenarioKind):
             sections=tuple(figure_sections(specs, [titles.get(f.name, f.name) for f in specs])),
         )
 
-    def _path_figures(self, result, components, what):
+    def _path_figures(self, result: Any, components: Any, what: Any) -> Any:
         tr = result.trajectory
 
-        def relative(ax):
+        def relative(ax: Any) -> Any:
             from ...plotting.particles import plot_path
 
             return plot_path(
@@ -135,7 +144,7 @@ class _EarthKind(ScenarioKind):
                 axis_names=("east", "north", "up"),
             )
 
-        def inertial(ax):
+        def inertial(ax: Any) -> Any:
             from ...plotting.particles import plot_path
 
             return plot_path(
@@ -157,17 +166,19 @@ class FreeFall(_EarthKind):
     title = "free fall on the rotating Earth (Coriolis deflection)"
     tables = ("free_fall",)
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         return "free_fall" in data
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         t = top.table("free_fall", required=True)
         keys, common = _read_common(t, ("height",))
         spec = EarthSpec(height=t.number("height", positive=True, required=True), **common)
         t.finish(keys)
         return {"spec": spec}
 
-    def check_simulation(self, simulation, fields):
+    def check_simulation(
+        self, simulation: SimulationSpec, fields: Mapping[str, Any]
+    ) -> tuple[str, str] | None:
         sp = fields["spec"]
         fall = float(np.sqrt(2 * sp.height / sp.g))
         if simulation.duration > 1.5 * fall:
@@ -179,7 +190,7 @@ class FreeFall(_EarthKind):
             )
         return None
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         from ...dynamics import UniformGravity, earth_frame, simulate_particle
 
         sp = scenario.spec
@@ -199,7 +210,7 @@ class FreeFall(_EarthKind):
         progress(1.0, "adaptive (DOP853)")
         return dataclasses.replace(tr, method=method, frame_name="the Earth's east, north, up")
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         from ...dynamics import eastward_deflection
 
         sp = scenario.spec
@@ -221,7 +232,7 @@ class FreeFall(_EarthKind):
             ),
         )
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         from ...dynamics import UniformGravity, earth_frame, eastward_deflection
 
         sp = scenario.spec
@@ -241,12 +252,12 @@ class FreeFall(_EarthKind):
         )
         return (jac, east)
 
-    def figures(self, result):
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         figs = self._path_figures(result, (0, 2), "east, up")
         inv = invariants_figure(result)
         return figs + ([inv] if inv is not None else [])
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         sp = scenario.spec
         return [f"{self.title}: {fmt(sp.height)} m at latitude {fmt(np.degrees(sp.latitude))} deg"]
 
@@ -256,10 +267,10 @@ class Foucault(_EarthKind):
     title = "Foucault pendulum (linearised) on the rotating Earth"
     tables = ("foucault",)
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         return "foucault" in data
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         t = top.table("foucault", required=True)
         keys, common = _read_common(t, ("length", "amplitude"))
         spec = EarthSpec(
@@ -270,7 +281,7 @@ class Foucault(_EarthKind):
         t.finish(keys)
         return {"spec": spec}
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         from ...dynamics import foucault_pendulum
 
         sp = scenario.spec
@@ -291,7 +302,7 @@ class Foucault(_EarthKind):
         progress(1.0, "adaptive (DOP853)")
         return dataclasses.replace(tr, method=method, frame_name="the Earth's east, north, up")
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         from ...dynamics import foucault_period, foucault_precession_rate
 
         sp = scenario.spec
@@ -312,19 +323,19 @@ class Foucault(_EarthKind):
             ),
         )
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         from ...dynamics import PendulumForce, foucault_frame
 
         sp = scenario.spec
         force = PendulumForce(sp.mass, sp.g, sp.length)
         return (self._jacobi(scenario, tr, foucault_frame(sp.latitude, sp.omega), force.potential),)
 
-    def figures(self, result):
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
         figs = self._path_figures(result, (0, 1), "east, north")
         tr = result.trajectory
         sp = result.scenario.spec
 
-        def plane(ax):
+        def plane(ax: Any) -> Any:
             from ...dynamics import foucault_precession_rate
             from ...plotting.particles import plot_swing_plane
 
@@ -334,7 +345,7 @@ class Foucault(_EarthKind):
         inv = invariants_figure(result)
         return figs + ([inv] if inv is not None else [])
 
-    def report(self, result):
+    def report(self, result: ScenarioResult) -> ReportSpec:
         """The Earth kinds' report, with the swing plane drawn turning at
         ``-Omega sin(lat)`` from the release direction (docs/theory.md §9)."""
         from ...dynamics import foucault_precession_rate
@@ -350,7 +361,7 @@ class Foucault(_EarthKind):
         label = "swing plane, turning at -Omega sin(lat) (dashed)"
         return dataclasses.replace(spec, drawing=Drawing(guides={label: np.stack([-e, e], axis=1)}))
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         sp = scenario.spec
         return [f"{self.title}: {fmt(sp.length)} m at latitude {fmt(np.degrees(sp.latitude))} deg"]
 

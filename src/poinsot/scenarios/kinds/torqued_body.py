@@ -11,6 +11,14 @@ when ``kind = "torqued-body"`` is named explicitly. Under a space torque
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .._toml import Table
+    from ..kind import Check, Entry, Facts, Progress
+    from ..schema import AttitudeSpec, Scenario
+
 import numpy as np
 
 from ... import integrators
@@ -29,11 +37,11 @@ class TorquedBody(ScenarioKind):
     # cost estimate, one core, measured by benchmarks/bench_estimates.py on the examples
     seconds_per_step = {**_rigid.SECONDS_PER_STEP, "midpoint": 6e-7, "rk4": 6e-7}
 
-    def claims(self, data):
+    def claims(self, data: Mapping[str, Any]) -> bool:
         torque = data.get("torque")
         return isinstance(torque, dict) and torque.get("model", "none") != "none"
 
-    def parse(self, top, attitude):
+    def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         fields = _rigid.parse_rigid(top, attitude)
         if fields["torque"].model == "none":
             raise top.error(
@@ -43,7 +51,7 @@ class TorquedBody(ScenarioKind):
             )
         return fields
 
-    def refuse_method(self, method, fields):
+    def refuse_method(self, method: str, fields: Mapping[str, Any]) -> str | None:
         if method == "exact":
             model = fields["torque"].model
             return (
@@ -54,13 +62,13 @@ class TorquedBody(ScenarioKind):
             )
         return None
 
-    def motion_inertia(self, scenario):
+    def motion_inertia(self, scenario: Scenario) -> np.ndarray | None:
         # about the fixed point under gravity (Huygens-Steiner), else the centre of mass
         if scenario.torque.model == "gravity":
             return scenario.body.inertia_about_origin()
         return np.asarray(scenario.body.inertia)
 
-    def solve(self, scenario, method, t, progress):
+    def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
         return _rigid.simulate_rigid(
             scenario,
             self.motion_inertia(scenario),
@@ -70,26 +78,26 @@ class TorquedBody(ScenarioKind):
             progress,
         )
 
-    def body_entries(self, scenario):
+    def body_entries(self, scenario: Scenario) -> dict[str, Entry]:
         if scenario.torque.model == "gravity":
             return {
                 "inertia_about_fixed_point": Entry(scenario.body.inertia_about_origin(), "kg m^2")
             }
         return {}
 
-    def series(self, scenario, tr):
+    def series(self, scenario: Scenario, tr: Any) -> dict[str, tuple[np.ndarray, str]]:
         model = _rigid.torque_model(scenario)
         v = model.potential(tr.quat)
         return {} if v is None else {"V": (np.asarray(v), "J")}
 
-    def facts(self, scenario):
+    def facts(self, scenario: Scenario) -> Facts:
         if scenario.torque.model == "gravity":  # the heavy body (kind "heavy-top") knows it
             from .heavy_top import KIND as HEAVY
 
             return HEAVY.facts(scenario)
         return Facts()
 
-    def checks(self, scenario, tr):
+    def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         if scenario.torque.model == "gravity":
             from .heavy_top import KIND as HEAVY
 
@@ -118,7 +126,7 @@ class TorquedBody(ScenarioKind):
             )
         return out
 
-    def describe_scenario(self, scenario):
+    def describe_scenario(self, scenario: Scenario) -> list[str]:
         return [f"{self.title}: torque {scenario.torque.model}"]
 
 
