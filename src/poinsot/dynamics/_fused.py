@@ -584,13 +584,13 @@ def torque_kernel(torque, batch: tuple[int, ...]):
     return None
 
 
-def _flat_problem(j, q0, w0, torque):
+def _flat_problem(j, q0, omega0, torque):
     """``(batch, kind, par, J, J^-1, y0)`` flattened to ``N`` bodies, or ``None`` when
     the torque is not built in."""
     j = np.asarray(j, dtype=float)
     if j.shape[-2:] != (3, 3):
         j = j[..., :, None] * np.eye(3)
-    batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], w0.shape[:-1])
+    batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], omega0.shape[:-1])
     kp = torque_kernel(torque, batch)
     if kp is None:
         return None
@@ -600,7 +600,7 @@ def _flat_problem(j, q0, w0, torque):
     ji = np.linalg.inv(jj)
     y0 = np.empty((n_body, 7))
     y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
-    y0[:, 4:] = np.broadcast_to(w0, batch + (3,)).reshape(n_body, 3)
+    y0[:, 4:] = np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3)
     par = np.ascontiguousarray(par.reshape(n_body, 4))
     return batch, kind, par, jj, ji, y0
 
@@ -645,16 +645,16 @@ def rk4(j, q0, w0, t, nsub, torque, progress=None):
     )
 
 
-def integrate(j, q0, w0, t, torque, *, rtol, atol, max_step, max_steps=10**6, progress=None):
+def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6, progress=None):
     """Run the fused kernel on validated arrays.
 
     ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
-    axes, ``q0`` (..., 4) unit quaternions, ``w0`` (..., 3) rad/s, ``t`` (n,)
+    axes, ``q0`` (..., 4) unit quaternions, ``omega0`` (..., 3) rad/s, ``t`` (n,)
     increasing output times; ``torque`` ``None`` or a built-in model of
     :mod:`poinsot.dynamics.torques`. Returns ``(quat (n, ..., 4), omega
     (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built in.
     """
-    flat = _flat_problem(j, q0, w0, torque)
+    flat = _flat_problem(j, q0, omega0, torque)
     if flat is None:
         return None
     batch, kind, par, jj, ji, y0 = flat

@@ -488,9 +488,9 @@ def simulate(
         )
     j = _body_inertia(body)
     q0 = as_rotation_quat(rotation0, "rotation0")
-    w0 = as_vec3(omega0, "omega0")
+    omega0 = as_vec3(omega0, "omega0")
     tt = as_times(t, "t")
-    named = {"body": (j, 2), "rotation0": (q0, 1), "omega0": (w0, 1)}
+    named = {"body": (j, 2), "rotation0": (q0, 1), "omega0": (omega0, 1)}
     model = as_torque(torque)
     torque_fn = None
     m_const = None
@@ -538,7 +538,8 @@ def simulate(
 
     # flatten the batch to N bodies
     q = np.ascontiguousarray(np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4))
-    w = np.ascontiguousarray(np.broadcast_to(w0, batch + (3,)).reshape(n_body, 3))
+    # the batch flattened to N bodies (the kernels take (N, 3))
+    omega0_n = np.ascontiguousarray(np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3))
     jb = j.reshape(-1, 3, 3) if j.shape[:-2] == batch else None
     if jb is None:
         jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
@@ -553,37 +554,51 @@ def simulate(
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             if method == "midpoint":
-                qs, ws, info = _run_midpoint(jb, j_inv, q, w, tt, h_max, comp, mc, tfn, report)
+                qs, ws, info = _run_midpoint(
+                    jb, j_inv, q, omega0_n, tt, h_max, comp, mc, tfn, report
+                )
             elif method == "splitting":
                 grav = None
                 if isinstance(model, GravityTorque) and model.moment.shape[:-1] in ((), batch):
                     # gravity about a fixed point: exact kicks inside the compiled stepper
                     grav = np.broadcast_to(model.moment, batch + (3,)).reshape(n_body, 3)
                 if grav is not None:
-                    qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, None, grav, report)
+                    qs, ws, info = _run_splitting(
+                        jb, q, omega0_n, tt, h_max, comp, mc, None, grav, report
+                    )
                 else:
-                    qs, ws, info = _run_splitting(jb, q, w, tt, h_max, comp, mc, tfn, None, report)
+                    qs, ws, info = _run_splitting(
+                        jb, q, omega0_n, tt, h_max, comp, mc, tfn, None, report
+                    )
             elif method == "rk4":
-                qs, ws, info = _run_rk4_compiled(jb, q, w, tt, h_max, model, report)
+                qs, ws, info = _run_rk4_compiled(jb, q, omega0_n, tt, h_max, model, report)
                 if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
-                    qs, ws, info = _run_rk4(jb, j_inv, q, w, tt, h_max, mc, tfn)
+                    qs, ws, info = _run_rk4(jb, j_inv, q, omega0_n, tt, h_max, mc, tfn)
                     info["path"] = "NumPy (torque is a Python callable)"
             elif method == "dop853":
                 from . import _fused  # numba, loaded on first use
 
                 fused = _fused.integrate(
-                    jb, q, w, tt, model, rtol=rtol, atol=atol, max_step=h_max, progress=report
+                    jb,
+                    q,
+                    omega0_n,
+                    tt,
+                    model,
+                    rtol=rtol,
+                    atol=atol,
+                    max_step=h_max,
+                    progress=report,
                 )
                 if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
                     qs, ws, info = _run_adaptive(
-                        jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, "DOP853"
+                        jb, j_inv, q, omega0_n, tt, h_max, mc, tfn, rtol, atol, "DOP853"
                     )
                     info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
                 else:
                     qs, ws, info = _fused_info(fused, tt, rtol, atol, mark=failures == "mark")
             else:
                 qs, ws, info = _run_adaptive(
-                    jb, j_inv, q, w, tt, h_max, mc, tfn, rtol, atol, solver
+                    jb, j_inv, q, omega0_n, tt, h_max, mc, tfn, rtol, atol, solver
                 )
     except BaseException:
         if report is not None:
