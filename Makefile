@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: venv demo test test-min test-min-core min-versions-banner bench docs browser clean
+.PHONY: venv demo test test-nonumba test-min test-min-core min-versions-banner bench docs browser clean
 
 venv: $(STAMP)
 
@@ -26,6 +26,16 @@ test: venv browser
 	$(PY) -m ruff format --check src tests benchmarks tools
 	$(PY) -m mypy src/poinsot
 	$(PY) -m pytest
+	$(MAKE) test-nonumba
+
+# The numerical core again without numba (issue 25): POINSOT_NUMBA=0 selects the NumPy
+# executor of the same formula source (poinsot._jit); tests/test_nonumba.py also runs
+# poinsot in a subprocess where `import numba` fails. Bit-identity of one rotation
+# and a batch is numba's promise only (NumPy's SIMD trig differs by an ulp).
+NONUMBA_TESTS := tests/rotations tests/kinematics tests/test_nonumba.py \
+	--ignore tests/rotations/test_single_batch_threads.py
+test-nonumba: venv
+	POINSOT_NUMBA=0 $(PY) -m pytest -p no:cacheprovider $(NONUMBA_TESTS)
 
 # The suite again with NumPy, SciPy and numba at the lowest versions pyproject.toml
 # allows (tools/min_versions.py pins them), in a second venv `.venv-min`.

@@ -18,6 +18,7 @@ LAYERS: list[tuple[str, ...]] = [
         "_typing",
         "_vec",
         "_validate",
+        "_jit",
         "_numba_cache",
         "_progress",
         "__version__",

@@ -11,7 +11,8 @@ call and overwrites the stale index). Everything else about the cache (where it
 lives, ``NUMBA_CACHE_DIR``) is numba's. A process that sets
 ``NUMBA_CACHE_LOCATOR_CLASSES`` replaces numba's locator list and so this one.
 
-Importing this module imports numba: only kernel modules (imported lazily) do.
+Importing this module imports numba (unless the NumPy executor of :mod:`poinsot._jit`
+is in use): only kernel modules (imported lazily) do.
 
 Usage, at the top of a kernel module, before its ``@njit(cache=True)`` kernels::
 
@@ -27,13 +28,20 @@ import functools
 import hashlib
 import os
 from types import ModuleType
+from typing import Any
 
-from numba.core import caching
+from ._jit import NUMBA
 
 __all__ = ["depends_on"]
 
-# numba >= 0.62 names it CacheImpl, older versions _CacheImpl
-_IMPL = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # type: ignore[attr-defined]
+if NUMBA:
+    from numba.core import caching
+
+    # numba >= 0.62 names it CacheImpl, older versions _CacheImpl
+    _IMPL = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # type: ignore[attr-defined]
+    _LocatorBase: Any = caching._CacheLocator
+else:  # the NumPy executor (poinsot._jit) compiles nothing, so caches nothing
+    _LocatorBase = object
 
 #: kernel source file (absolute) -> helper source files (absolute) it depends on
 _DEPENDS: dict[str, tuple[str, ...]] = {}
@@ -53,7 +61,7 @@ def _stamp(paths: tuple[str, ...]) -> tuple[str, ...]:
     return tuple(out)
 
 
-class _DependentLocator(caching._CacheLocator):
+class _DependentLocator(_LocatorBase):  # type: ignore[misc]  # numba's, or object
     """Wraps numba's own locator for a kernel file; adds the helpers' hashes to the stamp."""
 
     def __init__(self, inner, deps: tuple[str, ...]):
@@ -94,6 +102,8 @@ def depends_on(kernel_file: str, *helpers: ModuleType | str) -> None:
     before the kernels are decorated (numba picks the locator when
     ``@njit(cache=True)`` runs).
     """
+    if not NUMBA:
+        return
     paths: list[str] = []
     todo = list(helpers)
     while todo:  # a helper module lists the files it is built from in ``DEPENDS``

@@ -32,8 +32,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from numba import njit
-
+from ._jit import njit
 from .rotations import _scalar as _S
 
 #: Files these helpers are built from: :func:`poinsot._numba_cache.depends_on` adds

@@ -115,9 +115,12 @@ def run_compiled(
         cancel[0] = 0
         return kernel(*args)
     out: dict[str, Any] = {}
-    import numba
+    from ._jit import NUMBA
 
-    threads = int(numba.get_num_threads())
+    if NUMBA:
+        import numba
+
+        threads = int(numba.get_num_threads())
 
     # An Event, not Thread.join: a join interrupted by Ctrl-C can leave is_alive() False
     # while the thread still runs (CPython gh-90882).
@@ -125,7 +128,8 @@ def run_compiled(
 
     def work() -> None:
         try:
-            numba.set_num_threads(threads)
+            if NUMBA:
+                numba.set_num_threads(threads)
             out["value"] = kernel(*args)
         except BaseException as exc:  # re-raised in the caller's thread
             out["error"] = exc

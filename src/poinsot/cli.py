@@ -166,7 +166,9 @@ class _compile_note:
         self._stack: Any = None
 
     def __enter__(self) -> _compile_note:
-        if self.quiet or _compile_note.said:
+        from ._jit import NUMBA
+
+        if self.quiet or _compile_note.said or not NUMBA:
             return self
         import contextlib
 

@@ -72,8 +72,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from .._jit import njit
 from .._typing import ArrayLike, FloatArray
 
 __all__ = [

@@ -21,9 +21,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from .. import _numba_helpers as nh
+from .._jit import njit
 from .._numba_cache import depends_on
 
 # the kernels inline helpers of another file: let their cache see its edits

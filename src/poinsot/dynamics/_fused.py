@@ -36,9 +36,9 @@ import functools
 import math
 
 import numpy as np
-from numba import njit, prange
 
 from .. import _numba_helpers as nh
+from .._jit import njit, prange
 from .._numba_cache import depends_on
 from .._progress import run_compiled
 from ..rotations._lazy import threaded

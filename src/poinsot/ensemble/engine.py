@@ -411,7 +411,9 @@ def _chunk_task(
     digest: str,
     threads: int,
 ) -> Any:
-    if threads:
+    from .._jit import NUMBA
+
+    if threads and NUMBA:
         import numba
 
         numba.set_num_threads(threads)

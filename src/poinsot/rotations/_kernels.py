@@ -32,9 +32,8 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import guvectorize, njit, prange
-from numba.extending import overload
 
+from .._jit import guvectorize, njit, overload, prange
 from .._numba_cache import depends_on
 from . import _scalar as S
 

@@ -62,6 +62,10 @@ class _OneRotation:
     }
 
     def __getattr__(self, name: str) -> Any:
+        if not _numba():  # the NumPy executor: the kernel is the plain Python function
+            if name not in self._SIGNATURES:
+                raise AttributeError(name)
+            return getattr(kernels(), name)
         from numba import types
 
         kinds = {
@@ -81,6 +85,16 @@ class _OneRotation:
 
 
 one = _OneRotation()
+
+_FALLBACK_THREADS = [1]  # the NumPy executor runs on the calling thread
+
+
+def _numba() -> bool:
+    """Whether the kernels are compiled by numba (:mod:`poinsot._jit`; imported here,
+    not at ``import poinsot``)."""
+    from .._jit import NUMBA
+
+    return NUMBA
 
 
 def set_num_threads(n: int | None) -> None:
@@ -102,9 +116,6 @@ def set_num_threads(n: int | None) -> None:
     >>> import numba; set_num_threads(numba.config.NUMBA_NUM_THREADS)
     >>> set_num_threads(None)      # back to the default: the idle cores
     """
-    from numba import config
-    from numba import set_num_threads as _set
-
     from .._validate import as_int
 
     global _USER_THREADS
@@ -112,6 +123,13 @@ def set_num_threads(n: int | None) -> None:
         _USER_THREADS = False
         return
     k = as_int(n, "n", minimum=1)
+    if not _numba():  # the NumPy executor uses no threads of its own
+        _FALLBACK_THREADS[0] = k
+        _USER_THREADS = True
+        return
+    from numba import config
+    from numba import set_num_threads as _set
+
     # numba.config sets its NUMBA_* attributes at import: its stubs do not list them
     limit: int = config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
     if k > limit:
@@ -130,6 +148,8 @@ def get_num_threads() -> int:
     >>> get_num_threads() >= 1
     True
     """
+    if not _numba():
+        return _FALLBACK_THREADS[0]
     from numba import get_num_threads as _get
 
     return int(_get())
@@ -146,6 +166,8 @@ def _idle_threads(n: int) -> int:
 
 def thread_count() -> int:
     """Threads a large batch runs on now (the rule in the module notes)."""
+    if not _numba():
+        return 1
     from numba import get_num_threads as _get
 
     n0 = _get()
@@ -220,7 +242,10 @@ def flat(a: np.ndarray, k: int) -> np.ndarray:
 
 
 def big(shape: tuple[int, ...]) -> bool:
-    """Whether a batch of this leading shape takes the threaded flat kernels."""
+    """Whether a batch of this leading shape takes the threaded flat kernels (never
+    under the NumPy executor: its broadcasting kernels are already vectorised)."""
+    if not _numba():
+        return False
     n = 1
     for d in shape:
         n *= d

@@ -1,0 +1,277 @@
+"""The executor of the formula source: numba when it is there, NumPy otherwise (private).
+
+Every kernel module takes ``njit``, ``guvectorize``, ``prange`` and ``overload``
+from here instead of from numba, so one source per formula runs two ways:
+
+* **numba** (the default): the names are numba's own;
+* **NumPy** (``POINSOT_NUMBA=0`` in the environment, or ``import numba`` fails,
+  e.g. Pyodide or a Python release numba does not support yet): ``njit`` returns
+  the plain Python function (same source, run by the interpreter), ``prange`` is
+  ``range``, and ``guvectorize`` returns a *vectorised* executor (:func:`lanes`):
+  the kernel body runs once on whole columns of the batch, not once per element.
+
+**Branches as selects, by splitting.** The scalar formulas branch on their data
+(``if f <= pi``, the largest square of a matrix...). :func:`lanes` runs a
+function with NumPy arrays whose truth value is defined when every lane agrees;
+when the lanes disagree, the call is re-run on the two subsets of lanes (each
+then takes its own branch) and the results are merged. Every element therefore
+runs exactly the operations of its scalar path: the accuracy near singular
+points is that of the scalar formula, and the cost is a few vectorised passes
+(one per distinct path taken in the batch). ``math`` (and ``max``/``min``) are
+re-bound to NumPy in the globals of the executed functions (:func:`numpy_fn`),
+so the formulas themselves are never written twice.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+import re
+import types as _pytypes
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+__all__ = ["NUMBA", "njit", "guvectorize", "prange", "overload", "lanes", "numpy_fn"]
+
+
+def _numba_wanted() -> bool:
+    if os.environ.get("POINSOT_NUMBA", "1").strip().lower() in ("0", "false", "no", "off"):
+        return False
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+#: Whether the kernels are compiled by numba (else run by the NumPy executor).
+NUMBA: bool = _numba_wanted()
+
+
+# ------------------------------------------------------------------ NumPy executor
+class _Split(Exception):
+    """Raised when the lanes of a condition disagree (carries the boolean mask)."""
+
+    def __init__(self, mask: np.ndarray) -> None:
+        self.mask = mask
+
+
+class _Lanes(np.ndarray):
+    """A column of a batch whose truth value is that of all its lanes when they agree."""
+
+    def __bool__(self) -> bool:
+        m = np.asarray(self, dtype=bool)
+        if m.all():
+            return True
+        if not m.any():
+            return False
+        raise _Split(m)
+
+
+def _vmax(*args: Any) -> Any:
+    if len(args) == 1:
+        args = tuple(args[0])
+    return functools.reduce(np.maximum, args)
+
+
+def _vmin(*args: Any) -> Any:
+    if len(args) == 1:
+        args = tuple(args[0])
+    return functools.reduce(np.minimum, args)
+
+
+#: ``math`` for arrays: the same names, NumPy's element-wise functions.
+_NPMATH = _pytypes.SimpleNamespace(
+    **{k: getattr(math, k) for k in ("pi", "e", "inf", "nan", "tau")},
+    sqrt=np.sqrt,
+    sin=np.sin,
+    cos=np.cos,
+    tan=np.tan,
+    atan=np.arctan,
+    atan2=np.arctan2,
+    asin=np.arcsin,
+    acos=np.arccos,
+    exp=np.exp,
+    log=np.log,
+    log1p=np.log1p,
+    expm1=np.expm1,
+    sinh=np.sinh,
+    cosh=np.cosh,
+    tanh=np.tanh,
+    asinh=np.arcsinh,
+    atanh=np.arctanh,
+    fabs=np.abs,
+    hypot=np.hypot,
+    copysign=np.copysign,
+    floor=np.floor,
+    isfinite=np.isfinite,
+    isnan=np.isnan,
+)
+
+_REBOUND: dict[Any, Any] = {}
+_GLOBALS: dict[int, dict[str, Any]] = {}
+
+
+def _np_globals(g: dict[str, Any]) -> dict[str, Any]:
+    new = _GLOBALS.get(id(g))
+    if new is None:
+        new = dict(g)
+        _GLOBALS[id(g)] = new  # before filling: functions of one module call each other
+        new["math"], new["max"], new["min"] = _NPMATH, _vmax, _vmin
+        for k, v in g.items():
+            if isinstance(v, _pytypes.FunctionType) and v.__module__.startswith("poinsot"):
+                new[k] = numpy_fn(v)
+    return new
+
+
+def numpy_fn(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """``fn`` re-bound to globals where ``math``, ``max``, ``min`` act on arrays (and the
+    poinsot functions it calls are re-bound too): the same code, for NumPy columns."""
+    out = _REBOUND.get(fn)
+    if out is None:
+        f: Any = fn
+        g = _np_globals(f.__globals__)  # may re-bind fn itself (its module's functions)
+        out = _REBOUND.get(fn)
+        if out is None:
+            out = _pytypes.FunctionType(f.__code__, g, f.__name__, f.__defaults__, f.__closure__)
+            _REBOUND[fn] = out
+    return out
+
+
+def _take(a: Any, idx: np.ndarray) -> Any:
+    return a[..., idx] if isinstance(a, np.ndarray) and a.ndim else a
+
+
+def lanes(fn: Callable[..., Any], n: int, *args: Any, rebind: bool = True) -> Any:
+    """Run ``fn`` (re-bound by :func:`numpy_fn`) once on ``n`` lanes: array arguments
+    have the lanes on their last axis. Returns what ``fn`` returns (arrays with the
+    lanes last). Lanes whose conditions disagree are split (module notes).
+
+    >>> from poinsot.rotations import _scalar as S
+    >>> w, x, y, z = lanes(S.canonical, 2, np.array([-1.0, 0.5]), 0.0, 0.0, 0.0)
+    >>> w.tolist()  # each lane took its own branch of ``if w < 0``
+    [1.0, 0.5]
+    """
+    # the caller's np.errstate applies, as to a numba gufunc: a lane computes only
+    # its own branch, so there are no warnings from untaken branches to silence
+    return _run(numpy_fn(fn) if rebind else fn, n, args)
+
+
+def _run(g: Callable[..., Any], n: int, args: tuple[Any, ...]) -> Any:
+    wrapped = tuple(a.view(_Lanes) if isinstance(a, np.ndarray) else a for a in args)
+    try:
+        out = g(*wrapped)
+    except _Split as s:
+        mask = s.mask
+        if mask.shape != (n,):
+            raise
+        yes, no = np.flatnonzero(mask), np.flatnonzero(~mask)
+        a = _run(g, yes.size, tuple(_take(x, yes) for x in args))
+        b = _run(g, no.size, tuple(_take(x, no) for x in args))
+        return _merge(a, b, yes, no, n)
+    return _plain(out, n)
+
+
+def _plain(out: Any, n: int) -> Any:
+    if isinstance(out, tuple):
+        return tuple(_plain(o, n) for o in out)
+    if isinstance(out, np.ndarray):
+        return np.asarray(out)
+    return out
+
+
+def _merge(a: Any, b: Any, yes: np.ndarray, no: np.ndarray, n: int) -> Any:
+    if isinstance(a, tuple):
+        return tuple(_merge(x, y, yes, no, n) for x, y in zip(a, b, strict=True))
+    if a is None:
+        return None
+    a, b = np.asarray(a), np.asarray(b)
+    shape = np.broadcast_shapes(a.shape[:-1] if a.ndim else (), b.shape[:-1] if b.ndim else ())
+    out = np.empty(shape + (n,), dtype=np.result_type(a, b))
+    out[..., yes] = a if a.ndim else a
+    out[..., no] = b if b.ndim else b
+    return out
+
+
+_DIMS = re.compile(r"\(([^)]*)\)")
+
+
+def _gufunc(body: Callable[..., Any], layout: str) -> Callable[..., Any]:
+    """A NumPy executor for a ``guvectorize`` kernel ``body`` with ``layout``: inputs
+    broadcast over their loop dimensions like a ufunc's; the body runs once (per
+    split) with the core dimensions first and the batch last."""
+    ins_s, outs_s = layout.replace(" ", "").split("->")
+    ins = [tuple(d for d in m.split(",") if d) for m in _DIMS.findall(ins_s)]
+    outs = [tuple(d for d in m.split(",") if d) for m in _DIMS.findall(outs_s)]
+
+    def call(*args: Any) -> Any:
+        arrs = [np.asarray(a) for a in args]
+        sizes: dict[str, int] = {}
+        loops = []
+        for a, core in zip(arrs, ins, strict=True):
+            for d, s in zip(core, a.shape[a.ndim - len(core) :], strict=True):
+                sizes[d] = s
+            loops.append(a.shape[: a.ndim - len(core)])
+        batch = np.broadcast_shapes(*loops)
+        n = int(np.prod(batch, dtype=np.int64))
+        cols = []
+        for a, core in zip(arrs, ins, strict=True):
+            full = np.broadcast_to(a, batch + a.shape[a.ndim - len(core) :])
+            flat = full.reshape((n,) + full.shape[len(batch) :])
+            cols.append(np.moveaxis(flat, 0, -1))  # core dims first, lanes last
+
+        shapes = [tuple(sizes[d] for d in core) or (1,) for core in outs]  # () -> one slot
+
+        fn = numpy_fn(body)  # on first call: the module's globals are complete by then
+
+        def kernel(*cs: Any) -> tuple[np.ndarray, ...]:
+            res = [np.empty(s + (cs[0].shape[-1],)) for s in shapes]
+            fn(*cs, *res)
+            return tuple(res)
+
+        if n == 0:
+            results: Any = tuple(np.empty(s + (0,)) for s in shapes)
+        else:
+            results = lanes(kernel, n, *cols, rebind=False)
+        final = []
+        for r, core in zip(results, outs, strict=True):
+            r = np.moveaxis(np.asarray(r), -1, 0)
+            if not core:
+                r = r[:, 0]
+            final.append(r.reshape(batch + r.shape[1:]))
+        return final[0] if len(final) == 1 else tuple(final)
+
+    call.__wrapped__ = body  # type: ignore[attr-defined]
+    return call
+
+
+def _identity_decorator(*args: Any, **kwargs: Any) -> Any:
+    if len(args) == 1 and callable(args[0]) and not kwargs:
+        return args[0]
+    return lambda fn: fn
+
+
+def _np_guvectorize(sigs: Any, layout: str, **kwargs: Any) -> Callable[..., Any]:
+    return lambda body: _gufunc(body, layout)
+
+
+def _np_overload(fn: Any, **kwargs: Any) -> Callable[..., Any]:
+    return lambda impl: impl
+
+
+# Any: the two executors' decorators have nothing in common but how they are called
+njit: Any
+guvectorize: Any
+prange: Any
+overload: Any
+if NUMBA:
+    import numba as _numba
+    from numba import extending as _extending
+
+    njit, guvectorize, prange = _numba.njit, _numba.guvectorize, _numba.prange
+    overload = _extending.overload
+else:
+    njit, guvectorize, prange, overload = _identity_decorator, _np_guvectorize, range, _np_overload
