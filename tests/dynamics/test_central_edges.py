@@ -90,3 +90,24 @@ def test_integrated_eccentric_orbit_over_three_periods(e, tol):
     ref = np.array([_kepler_mp(tk, r0, v) for tk in t])
     got = orb.orbit(t, method="integrate")
     assert np.max(np.linalg.norm(got - ref, axis=-1)) / a < tol
+
+
+def test_a_nearly_parabolic_orbit_warns_with_the_size():
+    """Integrated near e = 1 the orbit cannot be good to 1e-9 (one ulp of the speed moves
+    a later pericentre by ~1.5 eps/(1-e) * periods * v_p T / a): it says so, with the
+    size; at e = 0.5 it is silent (measured 4e-13)."""
+    import warnings
+
+    from poinsot import AccuracyWarning
+
+    def orbit(e):
+        return CentralOrbit(kepler(1.0), energy=-0.5, angular_momentum=math.sqrt(1.0 - e * e))
+
+    near = orbit(0.9999)
+    t = np.linspace(0.0, 3.0 * near.radial_period, 20)
+    with pytest.warns(AccuracyWarning, match=r"e = 0\.9999.*good to ~[0-9.]+e-0[78] of a"):
+        near.orbit(t, method="integrate")
+    far = orbit(0.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        far.orbit(np.linspace(0.0, 3.0 * far.radial_period, 20), method="integrate")
