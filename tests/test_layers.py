@@ -27,7 +27,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("rotations", "_quat", "_numba_helpers", "mass"),  # mass stands beside rotations
     ("kinematics", "trajectory"),
     ("dynamics",),
-    ("symbolic", "plotting"),  # leaves: nothing below imports them
+    ("symbolic", "plotting", "jax"),  # leaves: nothing below imports them
     ("scenarios",),
     ("ensemble",),
     ("cli", ""),  # "" is the package poinsot itself (its __init__)

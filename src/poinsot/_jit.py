@@ -34,7 +34,17 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["NUMBA", "njit", "guvectorize", "prange", "overload", "lanes", "numpy_fn"]
+__all__ = [
+    "NUMBA",
+    "njit",
+    "guvectorize",
+    "prange",
+    "overload",
+    "lanes",
+    "numpy_fn",
+    "rebind",
+    "NAMESPACES",
+]
 
 
 def _numba_wanted() -> bool:
@@ -83,62 +93,84 @@ def _vmin(*args: Any) -> Any:
     return functools.reduce(np.minimum, args)
 
 
-#: ``math`` for arrays: the same names, NumPy's element-wise functions.
-_NPMATH = _pytypes.SimpleNamespace(
-    **{k: getattr(math, k) for k in ("pi", "e", "inf", "nan", "tau")},
-    sqrt=np.sqrt,
-    sin=np.sin,
-    cos=np.cos,
-    tan=np.tan,
-    atan=np.arctan,
-    atan2=np.arctan2,
-    asin=np.arcsin,
-    acos=np.arccos,
-    exp=np.exp,
-    log=np.log,
-    log1p=np.log1p,
-    expm1=np.expm1,
-    sinh=np.sinh,
-    cosh=np.cosh,
-    tanh=np.tanh,
-    asinh=np.arcsinh,
-    atanh=np.arctanh,
-    fabs=np.abs,
-    hypot=np.hypot,
-    copysign=np.copysign,
-    floor=np.floor,
-    isfinite=np.isfinite,
-    isnan=np.isnan,
-)
-
-_REBOUND: dict[Any, Any] = {}
-_GLOBALS: dict[int, dict[str, Any]] = {}
+#: ``math``'s names -> the element-wise functions of an array library (NumPy's and
+#: ``jax.numpy``'s names agree)
+_MATH_NAMES = {
+    "sqrt": "sqrt",
+    "sin": "sin",
+    "cos": "cos",
+    "tan": "tan",
+    "atan": "arctan",
+    "atan2": "arctan2",
+    "asin": "arcsin",
+    "acos": "arccos",
+    "exp": "exp",
+    "log": "log",
+    "log1p": "log1p",
+    "expm1": "expm1",
+    "sinh": "sinh",
+    "cosh": "cosh",
+    "tanh": "tanh",
+    "asinh": "arcsinh",
+    "atanh": "arctanh",
+    "fabs": "abs",
+    "hypot": "hypot",
+    "copysign": "copysign",
+    "floor": "floor",
+    "isfinite": "isfinite",
+    "isnan": "isnan",
+}
 
 
-def _np_globals(g: dict[str, Any]) -> dict[str, Any]:
-    new = _GLOBALS.get(id(g))
+def math_namespace(lib: Any) -> Any:
+    """``math`` for the arrays of ``lib`` (``numpy``, ``jax.numpy``): the same names."""
+    consts = {k: getattr(math, k) for k in ("pi", "e", "inf", "nan", "tau")}
+    funcs = {k: getattr(lib, v) for k, v in _MATH_NAMES.items() if hasattr(lib, v)}
+    return _pytypes.SimpleNamespace(**consts, **funcs)
+
+
+_NPMATH = math_namespace(np)
+
+_REBOUND: dict[tuple[Any, str], Any] = {}
+_GLOBALS: dict[tuple[int, str], dict[str, Any]] = {}
+#: name -> the globals replaced for each array library the formulas run on (``math``
+#: and ``max``/``min`` always; ``np`` too for a library other than NumPy)
+NAMESPACES: dict[str, dict[str, Any]] = {"numpy": {"math": _NPMATH, "max": _vmax, "min": _vmin}}
+
+
+def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
+    new = _GLOBALS.get((id(g), ns))
     if new is None:
         new = dict(g)
-        _GLOBALS[id(g)] = new  # before filling: functions of one module call each other
-        new["math"], new["max"], new["min"] = _NPMATH, _vmax, _vmin
+        _GLOBALS[(id(g), ns)] = new  # before filling: functions of one module call each other
+        subs = NAMESPACES[ns]
+        new.update(subs)
         for k, v in g.items():
+            if k in subs:  # the library's own primitive
+                continue
             if isinstance(v, _pytypes.FunctionType) and v.__module__.startswith("poinsot"):
-                new[k] = numpy_fn(v)
+                new[k] = rebind(v, ns)
     return new
 
 
-def numpy_fn(fn: Callable[..., Any]) -> Callable[..., Any]:
-    """``fn`` re-bound to globals where ``math``, ``max``, ``min`` act on arrays (and the
-    poinsot functions it calls are re-bound too): the same code, for NumPy columns."""
-    out = _REBOUND.get(fn)
+def rebind(fn: Callable[..., Any], ns: str) -> Callable[..., Any]:
+    """``fn`` re-bound to globals where ``math``, ``max``, ``min`` (and ``np``) are those
+    of the array library ``ns`` (a key of :data:`NAMESPACES`), and the poinsot functions it
+    calls re-bound too: the same code, run on that library's arrays."""
+    out = _REBOUND.get((fn, ns))
     if out is None:
         f: Any = fn
-        g = _np_globals(f.__globals__)  # may re-bind fn itself (its module's functions)
-        out = _REBOUND.get(fn)
+        g = _globals_for(f.__globals__, ns)  # may re-bind fn itself (its module's functions)
+        out = _REBOUND.get((fn, ns))
         if out is None:
             out = _pytypes.FunctionType(f.__code__, g, f.__name__, f.__defaults__, f.__closure__)
-            _REBOUND[fn] = out
+            _REBOUND[(fn, ns)] = out
     return out
+
+
+def numpy_fn(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """``fn`` re-bound for NumPy columns (:func:`rebind` with ``"numpy"``)."""
+    return rebind(fn, "numpy")
 
 
 def _take(a: Any, idx: np.ndarray) -> Any:
