@@ -26,6 +26,7 @@ PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "kinematics-fields.md",
     "kinematics-rates.md",
     "particles.md",
+    "jax.md",
 ]
 
 
