@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from .._jit import guvectorize, njit, overload, prange
+from .._jit import NUMBA, guvectorize, lanes, njit, overload, prange
 from .._numba_cache import depends_on
 from . import _scalar as S
 
@@ -436,3 +436,12 @@ def omega_from_dcm_rate1(c, d, space, tol, out):  # pragma: no cover - compiled
     out[1] = 0.5 * (m[0, 2] - m[2, 0])
     out[2] = 0.5 * (m[1, 0] - m[0, 1])
     return True
+
+
+if not NUMBA:  # the NumPy executor: one vectorised pass over the batch, not a Python loop
+
+    def quat_to_euler_serial(q, seq, angles, singular):  # noqa: F811
+        i, j, k, extrinsic = int(seq[0]), int(seq[1]), int(seq[2]), bool(seq[3] != 0)
+        a, b, c, s = lanes(S.to_euler, q.shape[0], *q.T, i, j, k, extrinsic, 1e-7)
+        angles[:, 0], angles[:, 1], angles[:, 2] = a, b, c
+        singular[:] = s
