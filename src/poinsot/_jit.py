@@ -280,10 +280,25 @@ def _gufunc(body: Callable[..., Any], layout: str) -> Callable[..., Any]:
     return call
 
 
-def _identity_decorator(*args: Any, **kwargs: Any) -> Any:
+def _quiet(fn: Callable[..., Any]) -> Callable[..., Any]:
+    # compiled code raises no floating-point warnings (an overflow gives inf, as the
+    # callers expect): the plain function runs under the same rule
+    @functools.wraps(fn)
+    def run(*args: Any, **kwargs: Any) -> Any:
+        with np.errstate(all="ignore"):
+            return fn(*args, **kwargs)
+
+    return run
+
+
+def _np_njit(*args: Any, **kwargs: Any) -> Any:
+    """``njit`` of the NumPy executor: the plain function (inlined helpers as they are,
+    kernels without floating-point warnings)."""
     if len(args) == 1 and callable(args[0]) and not kwargs:
-        return args[0]
-    return lambda fn: fn
+        return _quiet(args[0])
+    if kwargs.get("inline") == "always":
+        return lambda fn: fn
+    return _quiet
 
 
 def _np_guvectorize(sigs: Any, layout: str, **kwargs: Any) -> Callable[..., Any]:
@@ -306,4 +321,4 @@ if NUMBA:
     njit, guvectorize, prange = _numba.njit, _numba.guvectorize, _numba.prange
     overload = _extending.overload
 else:
-    njit, guvectorize, prange, overload = _identity_decorator, _np_guvectorize, range, _np_overload
+    njit, guvectorize, prange, overload = _np_njit, _np_guvectorize, range, _np_overload
