@@ -183,3 +183,15 @@ def test_gradient_through_the_integrator_equals_central_differences():
     # the adaptive step sequence changes with j, so the finite difference sees the
     # integrator's error (rtol 1e-10) over 2h: h = 1e-4 keeps it below 1e-6
     np.testing.assert_allclose(g, _fd_jacobian(loss, j, h=1e-4), rtol=1e-6, atol=1e-7)
+
+
+def test_a_users_traced_branch_still_raises_jaxs_error():
+    # the select executor lends tracers a truth value only while it traces a formula
+    pj.quat_from_matrix(np.eye(3))
+
+    @jax.jit
+    def f(x):
+        return x if x > 0 else -x
+
+    with pytest.raises(jax.errors.TracerBoolConversionError):
+        f(1.0)

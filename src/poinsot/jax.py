@@ -98,12 +98,16 @@ def _tracer_bool(self: Any) -> bool:
 
 
 def _run(fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool]) -> Any:
-    paths = _Paths(prefix)
+    # The truth value of a tracer is JAX's error everywhere except inside this call
+    # (restored after it, also when nested); tracing is not meant to be shared by threads.
+    paths, outer = _Paths(prefix), _Paths.active
     _Paths.active, jax.core.Tracer.__bool__ = paths, _tracer_bool  # type: ignore[method-assign]
     try:
         out = fn(*args)
     finally:
-        _Paths.active, jax.core.Tracer.__bool__ = None, _TRACER_BOOL  # type: ignore[method-assign]
+        _Paths.active = outer
+        if outer is None:
+            jax.core.Tracer.__bool__ = _TRACER_BOOL  # type: ignore[method-assign]
     return out, paths.met
 
 
