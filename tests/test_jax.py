@@ -195,3 +195,17 @@ def test_a_users_traced_branch_still_raises_jaxs_error():
 
     with pytest.raises(jax.errors.TracerBoolConversionError):
         f(1.0)
+
+
+@pytest.mark.parametrize("frame", ["body", "space"])
+def test_quaternion_rates_equal_the_numpy_path_and_have_true_gradients(frame):
+    from poinsot.kinematics import omega_from_quat_rate, quat_rate
+
+    rng = np.random.default_rng(8)
+    q = R.as_quat(canonical=False)
+    w = rng.normal(size=(len(q), 3))
+    qd = quat_rate(q, w, frame=frame)
+    _close(pj.quat_rate(q, w, frame=frame), qd)
+    _close(pj.omega_from_quat_rate(q, qd, frame=frame), omega_from_quat_rate(q, qd, frame=frame))
+    _check_grad(lambda x: pj.quat_rate(x, w[0], frame=frame), q[0])
+    _check_grad(lambda x: pj.omega_from_quat_rate(q[0], x, frame=frame), qd[0])

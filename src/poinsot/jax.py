@@ -27,6 +27,7 @@ Conventions as in ``docs/conventions.md``: Hamilton quaternions scalar first
 from __future__ import annotations
 
 import functools
+import types
 from collections.abc import Callable
 from typing import Any
 
@@ -54,6 +55,8 @@ __all__ = [
     "quat_log",
     "quat_exp",
     "slerp",
+    "quat_rate",
+    "omega_from_quat_rate",
     "euler_rhs",
     "euler_poisson",
     "integrate",
@@ -415,3 +418,34 @@ def heavy_top_omega(moments: Any, mgc: Any, omega0: Any, gamma0: Any, t: Any) ->
     """
     y0 = (jnp.asarray(omega0, jnp.float64), jnp.asarray(gamma0, jnp.float64))
     return integrate(lambda s, y: euler_poisson(moments, mgc, y[0], y[1]), y0, t)
+
+
+# The quaternion product the kinematic rates call, on JAX (rebind's globals for "jax"
+# take these in place of the NumPy-facing modules' functions).
+NAMESPACES["jax"]["_quat"] = types.SimpleNamespace(multiply=quat_multiply, conjugate=quat_inverse)
+
+
+@functools.partial(jax.jit, static_argnames="frame")
+def quat_rate(q: Any, omega: Any, *, frame: str = "body") -> Any:
+    """``q' = q o (0, w) / 2`` (``frame="body"``) or ``(0, w) o q / 2`` (``"space"``)
+    (theory §5): unit ``q`` (..., 4), ``omega`` (..., 3) rad/s.
+
+    >>> quat_rate(jnp.array([1.0, 0, 0, 0]), jnp.array([0.0, 0, 2])).tolist()
+    [0.0, 0.0, 0.0, 1.0]
+    """
+    from .kinematics.rates import _quat_rate
+
+    return rebind(_quat_rate, "jax")(q, jnp.asarray(omega, jnp.float64), frame)
+
+
+@functools.partial(jax.jit, static_argnames="frame")
+def omega_from_quat_rate(q: Any, qdot: Any, *, frame: str = "body") -> Any:
+    """``w = 2 vec(q~ o q')`` (body) or ``2 vec(q' o q~)`` (space), inverse of
+    :func:`quat_rate` (theory §5).
+
+    >>> omega_from_quat_rate(jnp.array([1.0, 0, 0, 0]), jnp.array([0.0, 0, 0, 1])).tolist()
+    [0.0, 0.0, 2.0]
+    """
+    from .kinematics.rates import _omega_from_quat_rate
+
+    return rebind(_omega_from_quat_rate, "jax")(q, jnp.asarray(qdot, jnp.float64), frame)
