@@ -75,6 +75,7 @@ _LAZY = {
     "ensemble",
     "plotting",
     "scenarios",
+    "verify",
     "cli",
 }
 

@@ -1,0 +1,481 @@
+"""The reference cases of ``poinsot verify``: classical motions with exact solutions.
+
+Each :class:`Case` gives its inputs in SI units, a time grid and the exact states on
+it, computed by poinsot's closed-form solutions (docs/theory.md §9, §10):
+
+- ``free-body``: Euler-Poinsot motion (Jacobi elliptic functions), about the minor
+  axis, about the major axis, near the separatrix (the tennis-racket flip), and a
+  free symmetric top;
+- ``heavy-top``: the Lagrange top (elliptic solution of the nutation, precession
+  and spin) with loops, with cusps (released from rest), in regular precession, and
+  the sleeping top above and below its critical spin;
+- ``orbit``: Kepler orbits with e = 0.5 and e = 0.95 (Kepler's equation);
+- ``frame``: the Foucault pendulum in its turning frame (Coriolis and centrifugal
+  forces), linear theory, with the frame turning fast enough for the rate to show.
+
+**Conventions** (docs/conventions.md): quaternions scalar first ``(w, x, y, z)``,
+attitude body -> space (``v_space = R v_body``), angular velocity in body axes
+(rad/s), inertia about the centre of mass in body axes (kg m^2), the centre of
+mass from the fixed point ``O`` in body axes (m), gravity in space axes (m/s^2),
+positions and velocities in the case's own frame (m, m/s). Times start at 0 s.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError, InvalidTypeError
+
+#: version of the set of cases: bumped whenever a case's inputs, grid or thresholds change
+CASES_VERSION = "1"
+
+#: groups of cases (``--cases`` accepts a group or a case name)
+GROUPS = ("free-body", "heavy-top", "orbit", "frame")
+
+#: default thresholds: attitude (rad, geodesic), angular velocity and velocity
+#: (relative to the case's scale), position (relative to the case's length scale),
+#: relative drift of each integral, and event times (s)
+DEFAULT_THRESHOLDS: dict[str, float] = {
+    "attitude": 1e-6,
+    "omega": 1e-6,
+    "position": 1e-6,
+    "velocity": 1e-6,
+    "energy": 1e-8,
+    "momentum": 1e-8,
+    "events": 1e-5,
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    """One reference motion: inputs (SI), a time grid and its exact states.
+
+    Attributes
+    ----------
+    name : str
+        Identifier, e.g. ``"racket-flip"``.
+    group : str
+        One of :data:`GROUPS`.
+    description : str
+        One line for people.
+    kind : {"rigid", "point"}
+        A rigid body (states ``quat`` (n, 4), ``omega`` (n, 3) in body axes) or a
+        point (states ``position``, ``velocity`` (n, 3)).
+    inputs : dict
+        SI inputs. Rigid: ``inertia`` (3, 3) about the centre of mass (kg m^2),
+        ``mass`` (kg), ``com`` (3,) centre of mass from the fixed point (m, zero for
+        a free body), ``gravity`` (3,) (m/s^2, space axes), ``fixed_point`` (bool),
+        ``q0`` (4,) and ``omega0`` (3,) (rad/s, body axes). Orbit: ``mu``
+        (m^3/s^2), ``position0``, ``velocity0``. Frame: ``frame_rate`` (3,) (rad/s,
+        the frame's angular velocity in its own axes), ``length`` (m), ``g``
+        (m/s^2), ``position0``, ``velocity0`` (relative to the frame).
+    t : ndarray, shape (n,)
+        The time grid (s), uniform, from 0.
+    thresholds : dict
+        The largest errors that pass (see :data:`DEFAULT_THRESHOLDS`).
+    event : dict or None
+        The characteristic event: ``{"name", "signal", "level"}``: the times at
+        which ``signal`` (see :func:`poinsot.verify.metrics.event_signal`) crosses
+        ``level`` (flips, nutation half-periods, the mean distance of an orbit, the
+        half amplitude of a swing).
+    facts : dict
+        Exact characteristic figures of the motion (periods, regime...), with units
+        in the key names.
+    """
+
+    name: str
+    group: str
+    description: str
+    kind: str
+    inputs: dict[str, Any]
+    t: np.ndarray
+    thresholds: dict[str, float]
+    event: dict[str, Any] | None = None
+    facts: dict[str, Any] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return f"Case({self.name!r}, group={self.group!r}, n={self.t.size}, t_end={self.t[-1]:g} s)"
+
+    @property
+    def inertia_about_origin(self) -> np.ndarray:
+        """Inertia about the fixed point ``J_O = J_C + m (|c|^2 E - c c^T)`` (kg m^2).
+
+        The parallel-axis theorem (docs/theory.md §8); equal to ``inertia`` for a
+        free body (``c = 0``).
+        """
+        from ..mass.tensor import parallel_axis
+
+        i = self.inputs
+        return np.asarray(parallel_axis(i["inertia"], i["mass"], i["com"]), dtype=float)
+
+    def exact(self) -> dict[str, np.ndarray]:
+        """The exact states on :attr:`t` (computed once, then cached; read-only arrays).
+
+        Returns
+        -------
+        dict
+            ``{"t", "quat", "omega"}`` for a rigid body (scalar-first quaternions
+            body -> space, sign-continuous; body-axes rad/s), ``{"t", "position",
+            "velocity"}`` for a point (m, m/s).
+        """
+        cache = self.__dict__.setdefault("_exact", {})
+        if not cache:
+            cache.update(_EXACT[self.group](self))
+            for v in cache.values():
+                v.setflags(write=False)
+        return dict(cache)
+
+    def model(self) -> Any:
+        """The poinsot exact-solution object of this case (FreeRigidBody, LagrangeTop,
+        CentralOrbit), or None for the frame case (closed form, :func:`_foucault_exact`)."""
+        return _MODEL[self.group](self)
+
+
+def _free_model(case: Case) -> Any:
+    from ..dynamics import FreeRigidBody
+
+    i = case.inputs
+    return FreeRigidBody(i["inertia"], rotation0=i["q0"], omega0=i["omega0"])
+
+
+def _top_model(case: Case) -> Any:
+    from ..dynamics import HeavyRigidBody, LagrangeTop
+
+    i = case.inputs
+    g = -float(i["gravity"][2])
+    body = HeavyRigidBody(case.inertia_about_origin, i["mass"], i["com"], g=g)
+    return LagrangeTop.from_state(body, rotation=i["q0"], omega=i["omega0"])
+
+
+def _orbit_model(case: Case) -> Any:
+    from ..dynamics import CentralOrbit, kepler
+
+    i = case.inputs
+    return CentralOrbit.from_state(kepler(i["mu"]), i["position0"], i["velocity0"])
+
+
+def _rigid_states(case: Case) -> dict[str, np.ndarray]:
+    from ..kinematics.attitude_history import _make_continuous
+
+    omega, rot = case.model().state(case.t)
+    q = _make_continuous(np.asarray(rot.as_quat(), dtype=float))
+    return {"t": case.t.copy(), "quat": q, "omega": np.asarray(omega, dtype=float)}
+
+
+def _orbit_states(case: Case) -> dict[str, np.ndarray]:
+    r, v = case.model().state(case.t)
+    return {"t": case.t.copy(), "position": np.asarray(r), "velocity": np.asarray(v)}
+
+
+def _foucault_exact(case: Case) -> dict[str, np.ndarray]:
+    """The linear Foucault pendulum in its frame, exactly (docs/theory.md §9).
+
+    In the inertial frame the bob is a plane isotropic oscillator,
+    ``x_in(t) = x0 cos(w0 t) + (v0_in / w0) sin(w0 t)``, ``w0 = sqrt(g / l)``, with the
+    inertial velocity ``v0_in = v0 + Omega x x0``; the frame turns at ``Omega`` about
+    the vertical, so ``x(t) = R_z(-Omega t) x_in(t)`` and
+    ``v(t) = R_z(-Omega t) (v_in(t) - Omega x x_in(t))``.
+    """
+    i = case.inputs
+    w0 = math.sqrt(i["g"] / i["length"])
+    om = np.asarray(i["frame_rate"], dtype=float)
+    x0 = np.asarray(i["position0"], dtype=float)
+    v0 = np.asarray(i["velocity0"], dtype=float) + np.cross(om, x0)
+    t = case.t[:, None]
+    x_in = x0 * np.cos(w0 * t) + v0 / w0 * np.sin(w0 * t)
+    v_in = -x0 * w0 * np.sin(w0 * t) + v0 * np.cos(w0 * t)
+    v_rel_in = v_in - np.cross(om, x_in)
+    c, s = np.cos(om[2] * case.t), np.sin(om[2] * case.t)
+
+    def back(u: np.ndarray) -> np.ndarray:  # R_z(-Omega t) u
+        return np.stack([c * u[:, 0] + s * u[:, 1], -s * u[:, 0] + c * u[:, 1], u[:, 2]], -1)
+
+    return {"t": case.t.copy(), "position": back(x_in), "velocity": back(v_rel_in)}
+
+
+_EXACT = {
+    "free-body": _rigid_states,
+    "heavy-top": _rigid_states,
+    "orbit": _orbit_states,
+    "frame": _foucault_exact,
+}
+_MODEL: dict[str, Callable[[Case], Any]] = {
+    "free-body": _free_model,
+    "heavy-top": _top_model,
+    "orbit": _orbit_model,
+    "frame": lambda case: None,  # the closed form of _foucault_exact
+}
+
+
+def _grid(duration: float, dt: float) -> np.ndarray:
+    n = int(round(duration / dt))
+    return np.arange(n + 1) * dt
+
+
+def _zxz(psi: float, theta: float, phi: float) -> np.ndarray:
+    from ..rotations.rotation import Rotation
+
+    return np.asarray(Rotation.from_euler("ZXZ", [psi, theta, phi]).as_quat(), dtype=float)
+
+
+def _free(name: str, description: str, moments: Any, omega0: Any, event: Any = None) -> Case:
+    return Case(
+        name=name,
+        group="free-body",
+        description=description,
+        kind="rigid",
+        inputs={
+            "inertia": np.diag(np.asarray(moments, dtype=float)),
+            "mass": 1.0,
+            "com": np.zeros(3),
+            "gravity": np.zeros(3),
+            "fixed_point": False,
+            "q0": np.array([1.0, 0.0, 0.0, 0.0]),
+            "omega0": np.asarray(omega0, dtype=float),
+        },
+        t=_grid(10.0, 0.01),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event=event,
+    )
+
+
+def _top(name: str, description: str, *, theta: float, spin: float, precession: float,
+         event: bool = True, duration: float = 5.0) -> Case:  # fmt: skip
+    # A = 0.05, C = 0.02 kg m^2 about the centre of mass, m = 1 kg, l = 0.1 m: about O,
+    # A_O = 0.06 kg m^2; m g l = 0.980665 N m
+    m, l_ = 1.0, 0.1
+    # at psi = phi = 0 the precession rate psi' adds psi' sin(theta) to w_2 (z-x-z);
+    # a NaN precession is filled in by _finish with the slow regular-precession rate
+    omega0 = np.array([0.0, precession * math.sin(theta), spin])
+    return Case(
+        name=name,
+        group="heavy-top",
+        description=description,
+        kind="rigid",
+        inputs={
+            "inertia": np.diag([0.05, 0.05, 0.02]),
+            "mass": m,
+            "com": np.array([0.0, 0.0, l_]),
+            "gravity": np.array([0.0, 0.0, -9.80665]),
+            "fixed_point": True,
+            "q0": _zxz(0.0, theta, 0.0),
+            "omega0": omega0,
+        },
+        t=_grid(duration, 0.005),  # 5 s: 15 nutation periods
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event={"name": "nutation", "signal": "cos_tilt", "level": None} if event else None,
+    )
+
+
+def _kepler(name: str, e: float) -> Case:
+    # mu = 1 m^3/s^2, a = 1 m: period 2 pi s; released at pericentre
+    rp = 1.0 - e
+    vp = math.sqrt((1.0 + e) / rp)
+    return Case(
+        name=name,
+        group="orbit",
+        description=f"Kepler orbit, e = {e} (mu = 1 m^3/s^2, a = 1 m, period 2 pi s)",
+        kind="point",
+        inputs={
+            "mu": 1.0,
+            "position0": np.array([rp, 0.0, 0.0]),
+            "velocity0": np.array([0.0, vp, 0.0]),
+        },
+        t=_grid(4.0 * math.pi, 2.0 * math.pi / 2000.0),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event={"name": "apsides", "signal": "radius", "level": 1.0},
+    )
+
+
+def _all_cases() -> list[Case]:
+    w = 2.0
+    cases = [
+        _free("free-minor-axis", "free asymmetric body spinning near its axis of least inertia",
+              [1.0, 2.0, 3.0], [w, 0.1, 0.1]),
+        _free("free-major-axis", "free asymmetric body spinning near its axis of greatest inertia",
+              [1.0, 2.0, 3.0], [0.1, 0.1, w]),
+        _free("racket-flip", "tennis-racket flip: spin near the intermediate axis, flipping "
+              "every half period", [1.0, 2.0, 3.0], [0.1, 4.0, 0.1],
+              event={"name": "flip", "signal": "omega_1", "level": 0.0}),
+        _free("free-symmetric", "free symmetric top: regular precession of the axis",
+              [2.0, 2.0, 1.0], [0.5, 0.0, 3.0]),
+        _top("top-loops", "Lagrange top with loops (precession rate reversing)",
+             theta=math.radians(40.0), spin=60.0, precession=-2.0),
+        _top("top-cusps", "Lagrange top released from rest: cusps", theta=math.radians(40.0),
+             spin=60.0, precession=0.0),
+        _top("top-regular", "Lagrange top in slow regular precession", theta=math.radians(40.0),
+             spin=60.0, precession=float("nan"), event=False),
+        _top("sleeping-stable", "sleeping top above the critical spin, nudged: stays up",
+             theta=1e-3, spin=60.0, precession=0.0, event=False),
+        _top("sleeping-unstable", "sleeping top below the critical spin, nudged: falls away",
+             theta=1e-3, spin=15.0, precession=0.0, event=True, duration=4.0),
+        _kepler("kepler-e0.5", 0.5),
+        _kepler("kepler-e0.95", 0.95),
+    ]  # fmt: skip
+    cases.append(_frame_case())
+    return [_finish(c) for c in cases]
+
+
+def _frame_case() -> Case:
+    # Foucault pendulum with a frame turning at 5 % of the swing frequency: the swing
+    # plane turns by 18 degrees per swing period, and the centrifugal force counts
+    length, g = 9.80665, 9.80665  # w0 = 1 rad/s
+    return Case(
+        name="foucault",
+        group="frame",
+        description="Foucault pendulum (linear theory) in a frame turning at 0.05 rad/s",
+        kind="point",
+        inputs={
+            "frame_rate": np.array([0.0, 0.0, 0.05]),
+            "length": length,
+            "g": g,
+            "position0": np.array([1.0, 0.0, 0.0]),
+            "velocity0": np.zeros(3),
+        },
+        t=_grid(40.0, 0.01),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event={"name": "swings", "signal": "radius", "level": 0.5},
+    )
+
+
+def _finish(case: Case) -> Case:
+    """Fill in what needs the model: regular precession rates, event levels, facts."""
+    i = case.inputs
+    if case.group == "heavy-top" and not np.isfinite(i["omega0"][1]):
+        from ..dynamics import regular_precession_rates
+
+        ct = 1.0 - 2.0 * float(np.sum(i["q0"][1:3] ** 2))
+        theta = math.acos(ct)
+        jo = case.inertia_about_origin
+        mgl = float(i["mass"] * -i["gravity"][2] * i["com"][2])
+        rates = regular_precession_rates(jo[0, 0], jo[2, 2], mgl, theta, i["omega0"][2])
+        slow = float(np.asarray(rates).flat[int(np.argmin(np.abs(np.asarray(rates))))])
+        i["omega0"] = np.array([0.0, slow * math.sin(theta), i["omega0"][2]])
+    facts: dict[str, Any] = {}
+    model = case.model()
+    if case.group == "free-body":
+        facts = {"regime": str(model.regime), "period_s": float(model.period)}
+        if case.event is not None:
+            facts["flip_period_s"] = float(model.period) / 2.0
+    elif case.group == "heavy-top":
+        lo, hi = model.nutation_bounds
+        facts = {
+            "motion_type": model.motion_type,
+            "nutation_period_s": float(model.nutation_period),
+            "nutation_bounds_rad": [float(lo), float(hi)],
+        }
+        if case.event is not None:
+            case.event["level"] = 0.5 * (math.cos(lo) + math.cos(hi))
+    elif case.group == "orbit":
+        facts = {"eccentricity": float(model.conic.e), "period_s": float(model.radial_period)}
+    else:
+        w0 = math.sqrt(i["g"] / i["length"])
+        facts = {"swing_frequency_rad_per_s": w0,
+                 "plane_rate_rad_per_s": -float(i["frame_rate"][2])}  # fmt: skip
+    case.facts.update(facts)
+    return case
+
+
+_CACHE: list[Case] = []
+
+
+def cases(select: str | Iterable[str] | None = None) -> list[Case]:
+    """The reference cases, in a fixed order (version :data:`CASES_VERSION`).
+
+    Parameters
+    ----------
+    select : str or iterable of str, optional
+        Case names and/or groups (:data:`GROUPS`); a string may hold several,
+        separated by commas. Default: every case.
+
+    Returns
+    -------
+    list of Case
+
+    Raises
+    ------
+    InvalidInputError
+        For a name that is neither a case nor a group (the message lists them).
+
+    Examples
+    --------
+    >>> from poinsot.verify import cases
+    >>> [c.name for c in cases("orbit")]
+    ['kepler-e0.5', 'kepler-e0.95']
+    >>> racket = cases("racket-flip")[0]
+    >>> round(racket.facts["flip_period_s"], 6), racket.exact()["quat"].shape
+    (4.093072, (1001, 4))
+    """
+    if not _CACHE:
+        _CACHE.extend(_all_cases())
+    if select is None:
+        return list(_CACHE)
+    if isinstance(select, str):
+        items = [s.strip() for s in select.split(",") if s.strip()]
+    elif isinstance(select, Iterable):
+        items = []
+        for s in select:
+            if not isinstance(s, str):
+                raise InvalidTypeError(f"Expected `cases` to hold strings, got {s!r}.")
+            items.extend(x.strip() for x in s.split(",") if x.strip())
+    else:
+        raise InvalidTypeError(f"Expected `cases` to be a string or strings, got {select!r}.")
+    names = {c.name: c for c in _CACHE}
+    chosen: list[Case] = []
+    for s in items:
+        found = (
+            [c for c in _CACHE if c.group == s] if s in GROUPS else [names[s]] if s in names else []
+        )
+        if not found:
+            raise InvalidInputError(
+                f"Expected `cases` to name cases or groups, got {s!r}; groups: "
+                f"{', '.join(GROUPS)}; cases: {', '.join(names)}."
+            )
+        chosen.extend(c for c in found if c not in chosen)
+    return chosen
+
+
+def describe(case: Case) -> Mapping[str, Any]:
+    """A JSON-ready description of a case: inputs, grid, thresholds, units, conventions."""
+
+    def plain(x: Any) -> Any:
+        return x.tolist() if isinstance(x, np.ndarray) else x
+
+    return {
+        "name": case.name,
+        "group": case.group,
+        "description": case.description,
+        "kind": case.kind,
+        "cases_version": CASES_VERSION,
+        "inputs": {k: plain(v) for k, v in case.inputs.items()},
+        "time_grid": {
+            "start_s": 0.0,
+            "step_s": float(case.t[1] - case.t[0]),
+            "samples": int(case.t.size),
+        },
+        "thresholds": dict(case.thresholds),
+        "event": None if case.event is None else dict(case.event),
+        "facts": dict(case.facts),
+        "units": UNITS[case.kind],
+        "conventions": CONVENTIONS,
+    }
+
+
+UNITS = {
+    "rigid": {"t": "s", "qw,qx,qy,qz": "1", "wx,wy,wz": "rad/s", "inertia": "kg m^2",
+              "mass": "kg", "com": "m", "gravity": "m/s^2"},
+    "point": {"t": "s", "x,y,z": "m", "vx,vy,vz": "m/s", "mu": "m^3/s^2",
+              "frame_rate": "rad/s", "length": "m", "g": "m/s^2"},
+}  # fmt: skip
+
+CONVENTIONS = (
+    "quaternions scalar first (w, x, y, z), Hamilton product, attitude body -> space "
+    "(v_space = R v_body); angular velocity in body axes; inertia about the centre of "
+    "mass in body axes; com from the fixed point in body axes; gravity in space axes; "
+    "SI units, radians (docs/conventions.md, docs/verify.md)"
+)

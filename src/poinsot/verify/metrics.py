@@ -1,0 +1,272 @@
+"""Errors, drifts, event phases and the verdict of ``poinsot verify`` (docs/verify.md).
+
+For a rigid body: the geodesic attitude error ``|log(R_exact^-1 R)|`` (rad, the
+angle of the rotation between the two attitudes, docs/theory.md §4) and the
+angular-velocity error ``|w - w_exact|`` relative to the largest ``|w_exact|``; for a
+point: ``|r - r_exact|`` and ``|v - v_exact|`` relative to the largest exact
+magnitudes. The drift of each first integral is ``max |I(t) - I(0)|`` relative to
+``|I(0)|`` (the energy ``T + V``, the angular momentum ``K`` in space axes for a free
+body, its vertical component ``K_z`` relative to ``|K|`` for a top; ``E`` and
+``L`` for an orbit; the Jacobi integral in the turning frame). Events are the
+times a signal crosses a level (flips, nutation, apsides, swings), found by
+linear interpolation on the case's grid for both runs alike; their error is the
+largest time difference of matching crossings (a missing or extra crossing is an
+infinite error).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .cases import Case
+
+#: metric name -> (units, what it measures)
+METRICS: dict[str, tuple[str, str]] = {
+    "attitude": ("rad", "largest geodesic attitude error |log(R_exact^-1 R)|"),
+    "omega": ("1", "largest |w - w_exact| / max |w_exact| (body axes)"),
+    "position": ("1", "largest |r - r_exact| / max |r_exact|"),
+    "velocity": ("1", "largest |v - v_exact| / max |v_exact|"),
+    "energy": ("1", "relative drift of the energy (Jacobi integral in a turning frame)"),
+    "momentum": ("1", "relative drift of the angular momentum (K_z for a top, relative to |K|)"),
+    "events": ("s", "largest time error of the characteristic events"),
+}
+
+
+@dataclass
+class CaseResult:
+    """The check of one case by one engine.
+
+    Attributes
+    ----------
+    case : str
+    group : str
+    status : {"pass", "fail", "skip"}
+    reason : str
+        Why a case failed (the metrics over their thresholds) or was skipped.
+    metrics : dict
+        ``name -> {"value", "threshold", "units", "passed"}`` (see :data:`METRICS`).
+    errors : dict
+        Error over time: ``"t"`` and the per-sample attitude (rad) / omega, or
+        position / velocity errors (relative), for the charts.
+    seconds : float
+        Wall time of the engine's run (s).
+    work : int or None
+        The engine's own count of work (right-hand-side evaluations or steps).
+    states : dict
+        The engine's states as scored (for the case pages).
+    """
+
+    case: str
+    group: str
+    status: str
+    reason: str = ""
+    metrics: dict[str, dict[str, Any]] = field(default_factory=dict)
+    errors: dict[str, np.ndarray] = field(default_factory=dict)
+    seconds: float = 0.0
+    work: int | None = None
+    states: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-ready dict (without the per-sample errors)."""
+        return {
+            "case": self.case,
+            "group": self.group,
+            "status": self.status,
+            "reason": self.reason,
+            "metrics": {k: {**v, "value": _finite(v["value"])} for k, v in self.metrics.items()},
+            "seconds": self.seconds,
+            "work": self.work,
+        }
+
+
+def _finite(x: float) -> float | str:
+    return float(x) if math.isfinite(x) else "inf" if x > 0 else "nan"
+
+
+def _quat_rotation(q: np.ndarray) -> Any:
+    from ..rotations.rotation import Rotation
+
+    return Rotation.from_quat(q)
+
+
+def _rotation_matrices(q: np.ndarray) -> np.ndarray:
+    return np.asarray(_quat_rotation(q).as_matrix(), dtype=float)
+
+
+def integrals(case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The first integrals of the case along ``states`` (see the module docstring).
+
+    Returns ``{"energy": (n,), "momentum": (n, 3) or (n,)}`` (J or J/kg, kg m^2/s or
+    m^2/s); ``momentum`` is absent where none is conserved (the turning frame).
+    """
+    i = case.inputs
+    if case.kind == "rigid":
+        jo = case.inertia_about_origin
+        w = states["omega"]
+        rmat = _rotation_matrices(states["quat"])
+        kb = w @ jo.T
+        energy = 0.5 * np.einsum("ni,ni->n", w, kb)
+        if np.any(i["gravity"]):
+            # V = -m g . (R c): the weight's potential with c from the fixed point
+            energy = energy - i["mass"] * np.einsum("nij,j,i->n", rmat, i["com"], i["gravity"])
+        k_space = np.einsum("nij,nj->ni", rmat, kb)
+        return {"energy": energy, "momentum": k_space}
+    r, v = states["position"], states["velocity"]
+    if case.group == "orbit":
+        from ..dynamics import kepler
+
+        rn = np.linalg.norm(r, axis=-1)
+        energy = 0.5 * np.einsum("ni,ni->n", v, v) + kepler(i["mu"])(rn)
+        return {"energy": energy, "momentum": np.cross(r, v)}
+    om = np.asarray(i["frame_rate"], dtype=float)
+    w0sq = i["g"] / i["length"]
+    horiz = r[:, :2]
+    jacobi = (
+        0.5 * np.einsum("ni,ni->n", v, v)
+        + 0.5 * w0sq * np.einsum("ni,ni->n", horiz, horiz)
+        - 0.5 * np.sum(np.cross(om, r) ** 2, axis=-1)
+    )
+    return {"energy": jacobi}
+
+
+def _drift(x: np.ndarray, scale: float) -> float:
+    if x.ndim == 1:
+        d = np.abs(x - x[0])
+    else:
+        d = np.linalg.norm(x - x[0], axis=-1)
+    return float(np.max(d) / scale) if scale > 0 else float(np.max(d))
+
+
+def event_signal(case: Case, states: dict[str, np.ndarray]) -> np.ndarray | None:
+    """The signal whose level crossings are the case's events, or None.
+
+    ``"omega_1"``: the body-axis 2 component of ``w`` (its sign flips with the body
+    in the tennis-racket flip); ``"cos_tilt"``: ``cos theta = R_33``, the vertical
+    component of the body axis 3; ``"radius"``: ``|r|``.
+    """
+    if case.event is None:
+        return None
+    name = case.event["signal"]
+    if name == "omega_1":
+        return states["omega"][:, 1]
+    if name == "cos_tilt":
+        q = states["quat"]
+        return 1.0 - 2.0 * (q[:, 1] ** 2 + q[:, 2] ** 2) / np.sum(q * q, axis=-1)
+    return np.linalg.norm(states["position"], axis=-1)
+
+
+def crossings(t: np.ndarray, s: np.ndarray, level: float) -> np.ndarray:
+    """Times at which ``s`` crosses ``level`` (linear interpolation between samples).
+
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 2.0 * np.pi, 2001)
+    >>> np.round(crossings(t, np.cos(t), 0.0), 5).tolist()
+    [1.5708, 4.71239]
+    """
+    d = s - level
+    k = np.nonzero((d[:-1] < 0.0) != (d[1:] < 0.0))[0]
+    frac = d[k] / (d[k] - d[k + 1])
+    return t[k] + frac * (t[k + 1] - t[k])
+
+
+def evaluate(
+    case: Case, states: dict[str, np.ndarray], *, seconds: float = 0.0, work: int | None = None
+) -> CaseResult:
+    """Compare an engine's states with the exact ones and give the verdict.
+
+    Parameters
+    ----------
+    case : Case
+    states : dict
+        The engine's states on ``case.t``: ``quat`` (n, 4) scalar-first body ->
+        space and ``omega`` (n, 3) body axes (rad/s) for a rigid body;
+        ``position``, ``velocity`` (n, 3) for a point.
+    seconds, work : optional
+        The engine's wall time (s) and work count, reported as given.
+
+    Returns
+    -------
+    CaseResult
+        ``status`` ``"pass"`` when every metric is within its threshold (a
+        non-finite value never passes).
+
+    Examples
+    --------
+    >>> from poinsot.verify import cases
+    >>> from poinsot.verify.metrics import evaluate
+    >>> case = cases("kepler-e0.5")[0]
+    >>> res = evaluate(case, case.exact())
+    >>> res.status, res.metrics["position"]["value"]
+    ('pass', 0.0)
+    """
+    exact = case.exact()
+    values: dict[str, float] = {}
+    errors: dict[str, np.ndarray] = {"t": case.t}
+    if case.kind == "rigid":
+        q = np.asarray(states["quat"], dtype=float)
+        qe = exact["quat"]
+        # geodesic angle 2 atan2(|vec(qe* q)|, |w(qe* q)|), on unit quaternions
+        qn = q / np.linalg.norm(q, axis=-1, keepdims=True)
+        dot = np.abs(np.einsum("ni,ni->n", qn, qe))
+        cross = np.linalg.norm(
+            qe[:, :1] * qn[:, 1:] - qn[:, :1] * qe[:, 1:] - np.cross(qe[:, 1:], qn[:, 1:]), axis=-1
+        )
+        att = 2.0 * np.arctan2(cross, dot)
+        werr = np.linalg.norm(states["omega"] - exact["omega"], axis=-1)
+        wscale = float(np.max(np.linalg.norm(exact["omega"], axis=-1)))
+        errors.update(attitude=att, omega=werr / wscale)
+        values["attitude"] = _max(att)
+        values["omega"] = _max(werr) / wscale
+    else:
+        for key in ("position", "velocity"):
+            e = np.linalg.norm(states[key] - exact[key], axis=-1)
+            scale = float(np.max(np.linalg.norm(exact[key], axis=-1)))
+            errors[key] = e / scale
+            values[key] = _max(e) / scale
+    got, ref = integrals(case, states), integrals(case, exact)
+    values["energy"] = _drift(got["energy"], abs(float(ref["energy"][0])))
+    if "momentum" in got:
+        k = got["momentum"]
+        k0 = float(np.linalg.norm(ref["momentum"][0]))
+        if case.group == "heavy-top":
+            k = k[:, 2]  # only K_z is conserved under gravity
+        values["momentum"] = _drift(k, k0)
+    if case.event is not None:
+        level = float(case.event["level"])
+        te = crossings(case.t, event_signal(case, exact), level)  # type: ignore[arg-type]
+        tg = crossings(case.t, event_signal(case, states), level)  # type: ignore[arg-type]
+        values["events"] = (
+            float(np.max(np.abs(tg - te), initial=0.0)) if tg.size == te.size else math.inf
+        )
+    metrics = {}
+    failed = []
+    for name, value in values.items():
+        thr = float(case.thresholds[name])
+        passed = bool(math.isfinite(value) and value <= thr)
+        metrics[name] = {
+            "value": value,
+            "threshold": thr,
+            "units": METRICS[name][0],
+            "passed": passed,
+        }
+        if not passed:
+            failed.append(f"{name} {value:.3g} > {thr:.3g} {METRICS[name][0]}")
+    return CaseResult(
+        case=case.name,
+        group=case.group,
+        status="fail" if failed else "pass",
+        reason="; ".join(failed),
+        metrics=metrics,
+        errors=errors,
+        seconds=seconds,
+        work=work,
+        states=dict(states),
+    )
+
+
+def _max(x: np.ndarray) -> float:
+    return float(np.max(x)) if np.all(np.isfinite(x)) else math.inf

@@ -1,0 +1,309 @@
+"""Run cases in an engine, sweep its settings, and write the verdict (docs/verify.md).
+
+Outputs of :func:`write`: ``verify.json`` (settings, per-case metrics with their
+thresholds and units, the sweep), ``verify.html`` (the table, the work-precision
+chart, links to one page per case) and ``cases/CASE.html``: the report's viewer
+(docs/cli.md) with the engine's motion, the exact one as the reference (dashed body
+axes) and the error over time.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError
+from .cases import CASES_VERSION, Case, cases
+from .engines import make, run
+from .metrics import METRICS, CaseResult
+
+
+@dataclass
+class Verdict:
+    """The results of one engine on a set of cases.
+
+    ``passed`` is True when no case failed (skipped cases do not count).
+    """
+
+    engine: str
+    label: str
+    results: list[CaseResult]
+    sweep: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return all(r.status != "fail" for r in self.results)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "engine": self.engine,
+            "settings": self.label,
+            "cases_version": CASES_VERSION,
+            "passed": self.passed,
+            "counts": {
+                s: sum(r.status == s for r in self.results) for s in ("pass", "fail", "skip")
+            },
+            "results": [r.to_json() for r in self.results],
+            "metrics": {k: {"units": u, "meaning": m} for k, (u, m) in METRICS.items()},
+            "sweep": self.sweep,
+            "docs": "docs/verify.md",
+        }
+
+    def table(self) -> str:
+        """A plain-text table: case, status, each metric as value/threshold."""
+        names = list(METRICS)
+        head = ["case", "status"] + names
+        rows = [head]
+        for r in self.results:
+            cells = [r.case, r.status.upper()]
+            for n in names:
+                m = r.metrics.get(n)
+                cells.append(
+                    "" if m is None else f"{m['value']:.1e}" + ("" if m["passed"] else "!")
+                )
+            rows.append(cells)
+        widths = [max(len(row[k]) for row in rows) for k in range(len(head))]
+        lines = [
+            "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in rows
+        ]
+        notes = [f"  {r.case}: {r.status}: {r.reason}" for r in self.results if r.reason]
+        units = ", ".join(f"{n} ({METRICS[n][0]})" for n in names)
+        return "\n".join(
+            lines + ([""] + notes if notes else []) + [f"units: {units}; ! over threshold"]
+        )
+
+
+def check(engine: Any, select: str | Iterable[str] | None = None,
+          progress: Callable[[Case, CaseResult], object] | None = None) -> Verdict:  # fmt: skip
+    """Run every selected case in ``engine`` and score it.
+
+    Parameters
+    ----------
+    engine : engine object
+        From :func:`poinsot.verify.make` (or any object with ``name``, ``label``,
+        ``skip_reason`` and ``run``: see :mod:`poinsot.verify.engines`).
+    select : str or iterable of str, optional
+        Case names or groups; default all.
+    progress : callable, optional
+        Called with ``(case, result)`` after each case.
+
+    Returns
+    -------
+    Verdict
+
+    Examples
+    --------
+    >>> from poinsot.verify import make
+    >>> from poinsot.verify.suite import check
+    >>> v = check(make("mujoco"), "orbit")   # MuJoCo cannot express an orbit: skipped
+    >>> [r.status for r in v.results], v.passed
+    (['skip', 'skip'], True)
+    """
+    out = []
+    for case in cases(select):
+        res = run(engine, case)
+        out.append(res)
+        if progress is not None:
+            progress(case, res)
+    return Verdict(engine.name, engine.label, out)
+
+
+#: the setting a sweep varies, per engine (and its default values)
+SWEEPS: dict[str, tuple[str, tuple[float, ...]]] = {
+    "scipy": ("rtol", (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)),
+    "poinsot": ("step", (0.01, 0.005, 0.002, 0.001, 0.0005)),
+    "mujoco": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
+}
+
+
+def sweep(engine: str, values: Sequence[float] | None = None,
+          select: str | Iterable[str] | None = None,
+          **options: Any) -> list[dict[str, Any]]:  # fmt: skip
+    """Work-precision: run the cases at each value of the engine's setting.
+
+    The setting is ``rtol`` (SciPy, and poinsot with an adaptive method), ``step``
+    (poinsot's fixed-step methods) or ``timestep`` (MuJoCo): :data:`SWEEPS`.
+
+    Returns
+    -------
+    list of dict
+        One per (value, case): ``{"setting", "value", "case", "error", "units",
+        "seconds", "work", "status"}``, ``error`` the attitude error (rad) of a rigid
+        body or the relative position error of a point.
+    """
+    if engine not in SWEEPS:
+        raise InvalidInputError(
+            f"Expected an engine with a sweep ({', '.join(SWEEPS)}), got {engine!r}."
+        )
+    key, default = SWEEPS[engine]
+    if engine == "poinsot" and options.get("method") in ("dop853", "adaptive"):
+        key, default = "rtol", SWEEPS["scipy"][1]
+    rows: list[dict[str, Any]] = []
+    for value in default if values is None else values:
+        eng = make(engine, **{**options, key: float(value)})
+        for case in cases(select):
+            t0 = time.perf_counter()
+            res = run(eng, case)
+            if res.status == "skip":
+                continue
+            err_key = "attitude" if "attitude" in res.metrics else "position"
+            rows.append({
+                "setting": key, "value": float(value), "case": case.name,
+                "error": res.metrics[err_key]["value"], "units": METRICS[err_key][0],
+                "seconds": res.seconds or time.perf_counter() - t0, "work": res.work,
+                "status": res.status,
+            })  # fmt: skip
+    return rows
+
+
+def write(verdict: Verdict, out: str | Path, *, pages: bool = True) -> list[Path]:
+    """Write ``verify.json``, ``verify.html`` and (``pages``) ``cases/CASE.html`` to ``out``."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    files = [out / "verify.json"]
+    files[0].write_text(
+        json.dumps(verdict.to_json(), indent=2, allow_nan=False, default=_json) + "\n"
+    )
+    links: dict[str, str] = {}
+    if pages:
+        (out / "cases").mkdir(exist_ok=True)
+        for res in verdict.results:
+            if res.status == "skip" or not res.errors:
+                continue
+            p = _case_page(verdict, res, out / "cases" / f"{res.case}.html")
+            if p is not None:
+                links[res.case] = f"cases/{p.name}"
+                files.append(p)
+    page = out / "verify.html"
+    page.write_text(_index_page(verdict, links))
+    files.append(page)
+    return files
+
+
+def _json(x: Any) -> Any:
+    if isinstance(x, np.generic):
+        return x.item()
+    raise TypeError(type(x).__name__)
+
+
+def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
+    from ..plotting.report import write_report
+    from ..rotations.rotation import Rotation
+    from ..trajectory import PointTrajectory, Trajectory
+
+    case = cases(res.case)[0]
+    states = res.states
+    if not states:
+        return None
+    ex = case.exact()
+    title = f"poinsot verify: {case.name} in {verdict.label}"
+    summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
+               "thresholds": {k: v["threshold"] for k, v in res.metrics.items()}}  # fmt: skip
+    if case.kind == "rigid":
+        tr = Trajectory(case.t, Rotation.from_quat(states["quat"]), states["omega"], verdict.label)
+        ref = Trajectory(case.t, Rotation.from_quat(ex["quat"]), ex["omega"], "exact")
+        i = case.inputs
+        return write_report(path, trajectory=tr, reference=ref, title=title, summary=summary,
+                            inertia=i["inertia"], mass=i["mass"], center_of_mass=i["com"],
+                            fixed_point=bool(i["fixed_point"]), free_body=case.group == "free-body",
+                            euler_seq="ZXZ" if case.group == "heavy-top" else "ZYX")  # fmt: skip
+    pt = PointTrajectory(case.t, states["position"], states["velocity"], verdict.label)
+    errs = {k: np.asarray(res.errors[k]) for k in ("position", "velocity")}
+    return write_report(path, trajectory=pt, title=title, summary=summary,
+                        series=[("error vs the exact solution", "1 (relative)", errs)])  # fmt: skip
+
+
+def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
+    esc = html.escape
+    names = list(METRICS)
+    head = "".join(f"<th>{esc(n)}<br><small>{esc(METRICS[n][0])}</small></th>" for n in names)
+    rows = []
+    for r in verdict.results:
+        cells = []
+        for n in names:
+            m = r.metrics.get(n)
+            if m is None:
+                cells.append("<td></td>")
+            else:
+                cls = "ok" if m["passed"] else "bad"
+                cells.append(
+                    f'<td class="{cls}" title="threshold {m["threshold"]:.1e}">'
+                    f"{m['value']:.1e}</td>"
+                )
+        name = (
+            f'<a href="{esc(links[r.case])}">{esc(r.case)}</a>' if r.case in links else esc(r.case)
+        )
+        rows.append(f'<tr><td>{name}</td><td class="{r.status}">{r.status}</td>{"".join(cells)}'
+                    f"<td>{esc(r.reason)}</td></tr>")  # fmt: skip
+    verdict_line = "PASS: every case within its thresholds" if verdict.passed else "FAIL"
+    chart = _work_precision_svg(verdict.sweep) if verdict.sweep else ""
+    title = f"poinsot verify: {esc(verdict.label)}"
+    return f"""<!doctype html><html><head><meta charset="utf-8"><title>{title}</title>
+<style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:75em}}table{{border-collapse:collapse}}
+td,th{{border:1px solid #ccc;padding:.25em .5em;text-align:right}}td:first-child{{text-align:left}}
+.ok{{background:#e8f5e9}}.bad,.fail{{background:#ffebee}}.skip{{color:#777}}</style></head><body>
+<h1>poinsot verify</h1><p><b>{esc(verdict.label)}</b>, cases version {CASES_VERSION}:
+<b>{verdict_line}</b></p>
+<table><tr><th>case</th><th>status</th>{head}<th>note</th></tr>{"".join(rows)}</table>
+<p>Metrics and thresholds: docs/verify.md (poinsot's documentation); the exact solutions:
+docs/theory.md §9-§10.
+Quaternions scalar first, body -> space; angular velocity in body axes; SI units, radians.</p>
+{chart}</body></html>
+"""
+
+
+def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
+    """A log-log chart of error against work (right-hand-side evaluations or steps)."""
+    pts = [r for r in rows if r["work"] and r["error"] > 0 and math.isfinite(r["error"])]
+    if not pts:
+        return ""
+    w, h, pad = 640, 400, 56
+    lx = np.log10([p["work"] for p in pts])
+    ly = np.log10([max(p["error"], 1e-17) for p in pts])
+    x0, x1 = math.floor(lx.min()), math.ceil(lx.max()) + (lx.min() == lx.max())
+    y0, y1 = math.floor(ly.min()), math.ceil(ly.max()) + (ly.min() == ly.max())
+
+    def sx(v: float) -> float:
+        return pad + (v - x0) / (x1 - x0) * (w - 2 * pad)
+
+    def sy(v: float) -> float:
+        return h - pad - (v - y0) / (y1 - y0) * (h - 2 * pad)
+
+    def text(x: float, y: float, s: str, anchor: str = "middle", extra: str = "") -> str:
+        return (
+            f'<text x="{x:.1f}" y="{y:.1f}" font-size="11" text-anchor="{anchor}" {extra}>'
+            f"{html.escape(s)}</text>"
+        )
+
+    colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
+               "#7f7f7f", "#bcbd22", "#17becf", "#000000", "#aec7e8"]  # fmt: skip
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" role="img">']
+    for k in range(x0, x1 + 1):
+        parts.append(text(sx(k), h - pad + 18, f"1e{k}"))
+    for k in range(y0, y1 + 1):
+        parts.append(text(pad - 6, sy(k) + 4, f"1e{k}", "end"))
+        parts.append(f'<line x1="{pad}" x2="{w - pad}" y1="{sy(k):.1f}" y2="{sy(k):.1f}" '
+                     'stroke="#eee"/>')  # fmt: skip
+    for j, name in enumerate(dict.fromkeys(p["case"] for p in pts)):
+        mine = sorted((p for p in pts if p["case"] == name), key=lambda p: p["work"])
+        xy = " ".join(
+            f"{sx(math.log10(p['work'])):.1f},{sy(math.log10(max(p['error'], 1e-17))):.1f}"
+            for p in mine
+        )
+        c = colours[j % len(colours)]
+        parts.append(f'<polyline fill="none" stroke="{c}" points="{xy}">'
+                     f"<title>{html.escape(name)}</title></polyline>")  # fmt: skip
+        parts.append(text(w - pad + 4, pad + 14 * j, name, "start", f'fill="{c}"'))
+    units = pts[0]["units"]
+    parts.append(text(w / 2, h - 8, "work (evaluations or steps)"))
+    parts.append(text(14, h / 2, f"largest error ({units})", "middle",
+                      f'transform="rotate(-90 14 {h / 2})"'))  # fmt: skip
+    return "<h2>Work-precision</h2>" + "".join(parts) + "</svg>"
