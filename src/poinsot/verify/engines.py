@@ -292,13 +292,20 @@ class MuJoCoEngine:
             return "MuJoCo models rigid bodies with joints; a point in a central field or a " \
                    "turning frame is not expressed by this adapter"  # fmt: skip
         try:
-            from . import _mujoco  # noqa: F401
+            import mujoco  # noqa: F401
         except ImportError as exc:
-            return f"mujoco adapter not available ({exc})"
+            return f"the mujoco package is not installed: pip install 'poinsot[verify]' ({exc})"
+        dt = float(case.t[1] - case.t[0])
+        k = dt / self.timestep
+        if abs(k - round(k)) > 1e-6 or round(k) < 1:
+            return (
+                f"timestep {self.timestep:g} s does not divide the case's grid step {dt:g} s "
+                "(MuJoCo's states are read at whole steps, not interpolated)"
+            )
         return None
 
     def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
-        from ._mujoco import run_mujoco  # type: ignore[import-not-found,unused-ignore]
+        from ._mujoco import run_mujoco
 
         i = case.inputs
         q, w = run_mujoco(
