@@ -51,4 +51,4 @@ def test_dir_poinsot_lists_the_public_api_only():
     assert {"Rotation", "compare", "dynamics"} <= names
     assert names <= set(poinsot.__all__) | {"__version__", "cli", "dynamics", "ensemble",
                                              "kinematics", "mass", "plotting", "scenarios",
-                                             "symbolic"}  # fmt: skip
+                                             "symbolic", "verify"}  # fmt: skip

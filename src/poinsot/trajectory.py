@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _display
 from ._typing import FloatArray
 from ._validate import as_float_array
 from .errors import InvalidInputError, InvalidTypeError
@@ -222,6 +223,40 @@ class Result:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self._span()}{self._batch()}, method={self.method!r})"
+
+    @_display.safe_html
+    def _repr_html_(self) -> str:
+        """Jupyter: duration, samples, method, the accuracy achieved and a small chart of
+        the first state quantity (the first body of a batch)."""
+        d = _display
+        t = np.asarray(self.t)
+        rows = [("samples", d.esc(f"{t.size}" + self._batch()))]
+        if t.size:
+            rows.append(("duration", d.value(float(t[-1] - t[0]), "s")))
+        rows.append(("method", d.esc(self.method)))
+        for key, units in (("steps", ""), ("step_size", "s"), ("rtol", ""), ("atol", ""),
+                           ("evaluations", ""), ("order", "")):  # fmt: skip
+            if key in self.info:
+                v = np.asarray(self.info[key])
+                rows.append((key.replace("_", " "), d.value(v if v.size < 4 else v.max(), units)))
+        for name in ("energy_drift", "momentum_drift", "jacobi_drift"):
+            drift = getattr(self, name, None)
+            if drift is not None:
+                rows.append((name.replace("_", " ") + " (relative)", d.value(drift, "", 3)))
+        chart, label = "", ""
+        for ch in self.state_channels().values():
+            if ch.name == "attitude":
+                continue
+            v = np.asarray(ch.values, dtype=float)
+            comps = ch.components or (ch.name,)
+            v = v.reshape(t.size, -1, len(comps))[:, 0, :] if v.size else v
+            chart = d.sparkline(t, {c: v[:, k] for k, c in enumerate(comps)}, ch.units)
+            label = f"{ch.name} ({ch.units})"
+            break
+        extra = (
+            f"<div style='font-size:11px;color:#666'>{d.esc(label)}</div>{chart}" if chart else ""
+        )
+        return d.table(type(self).__name__, rows, "SI units; docs/conventions.md", extra)
 
     def _freeze_info(self) -> None:
         if not isinstance(self.method, str):

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import _display
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_choice, as_float_array, as_vec3
 from .._vec import cross, dot
@@ -486,6 +487,23 @@ class CentralOrbit:
         )
 
     # -- effective potential and apsides -------------------------------------
+
+    @_display.safe_html
+    def _repr_html_(self) -> str:
+        """Jupyter: potential, integrals, apsides and periods (SI units)."""
+        d = _display
+        rows = [
+            ("potential U(r)", d.esc(self.potential.name)),
+            ("mass", d.value(self.mass, "kg")),
+            ("energy E", d.value(self.energy, "J")),
+            ("angular momentum L", d.value(self.angular_momentum, "kg m^2/s")),
+            ("apsides r_min, r_max", d.value(list(self.apsides), "m")),
+            ("radial period", d.value(self.radial_period, "s")),
+        ]
+        if self.potential.kepler_mu is not None:
+            c = self.conic
+            rows.append(("conic e, a", d.value([c.e, c.a], "1, m")))
+        return d.table("CentralOrbit", rows, "docs/theory.md §9")
 
     def __repr__(self) -> str:
         kind = "unbound" if self.unbound else ("circular" if self._circular else "bound")

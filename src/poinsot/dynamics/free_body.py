@@ -61,6 +61,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import _display
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
 from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
@@ -345,6 +346,36 @@ class FreeRigidBody:
         self._omega0 = np.broadcast_to(w0, shape + (3,)).reshape(n, 3).copy()
         self._q0 = np.broadcast_to(q0, shape + (4,)).reshape(n, 4).copy()
         self._setup()
+
+    @_display.safe_html
+    def _repr_html_(self) -> str:
+        """Jupyter: moments, initial state, integrals, regime and period (SI units)."""
+        d = _display
+        note = (
+            "omega in body axes, K in space axes; exact Euler-Poinsot motion (docs/theory.md §10)"
+        )
+        if self._shape != ():
+            k = min(5, self._n)
+            regime = np.ravel(np.asarray(self.regime))[:k]
+            period = np.ravel(np.asarray(self.period))[:k]
+            cells = [[d.esc(i), d.esc(d.num(self._moments[i])), d.esc(regime[i]),
+                      d.esc(d.num(period[i]))] for i in range(k)]  # fmt: skip
+            grid = d.grid(["#", "moments kg m^2", "regime", "period s"], cells)
+            rows = [
+                ("batch shape", d.esc(self._shape)),
+                ("bodies shown", d.esc(f"{k} of {self._n}")),
+            ]
+            return d.table("FreeRigidBody batch", rows, note, grid)
+        rows = [
+            ("principal moments", d.value(self.principal_moments, "kg m^2")),
+            ("omega0", d.value(self.omega0, "rad/s")),
+            ("energy T", d.value(self.energy, "J")),
+            ("|K|", d.value(self.momentum_norm, "kg m^2/s")),
+            ("K (space)", d.value(self.momentum, "kg m^2/s")),
+            ("regime", d.esc(self.regime)),
+            ("period of omega", d.value(self.period, "s")),
+        ]
+        return d.table("FreeRigidBody", rows, note)
 
     # -- constants of the motion (one compiled pass over the bodies) -------------
     def _setup(self) -> None:

@@ -73,6 +73,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import _display
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
 from ..errors import GimbalLockWarning, InvalidInputError
@@ -694,6 +695,25 @@ class LagrangeTop:
             ]
         )
         self._setup(a, c, g, q0, w0, ps, ph, th)
+
+    @_display.safe_html
+    def _repr_html_(self) -> str:
+        """Jupyter: parameters, integrals, motion type, nutation bounds and periods."""
+        d = _display
+        lo, hi = self.nutation_bounds
+        rows = [
+            ("A, C (about O)", d.value([self.A, self.C], "kg m^2")),
+            ("m g l", d.value(self.mgl, "N m")),
+            ("spin r", d.value(self.spin, "rad/s")),
+            ("H = C r, K_z", d.value([self.H, self.K_z], "kg m^2/s")),
+            ("energy", d.value(self.energy, "J")),
+            ("motion", d.esc(self.motion_type)),
+            ("nutation theta", d.value(np.degrees([lo, hi]), "deg")),
+            ("nutation period", d.value(self.nutation_period, "s")),
+            ("mean precession rate", d.value(self.mean_precession_rate, "rad/s")),
+        ]
+        note = "z-x-z Euler angles, gravity along -z, omega in body axes (docs/theory.md §10)"
+        return d.table("LagrangeTop", rows, note)
 
     # -- construction --------------------------------------------------------
     @classmethod

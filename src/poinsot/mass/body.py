@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import _display
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_positive, as_vec3, batch_shape
 from .._vec import cross
@@ -222,7 +223,7 @@ def _readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class RigidBody:
     """A rigid body: mass, centre of mass and inertia about the centre of mass.
 
@@ -278,6 +279,31 @@ class RigidBody:
         object.__setattr__(self, "mass", float(m) if m.ndim == 0 else m)
         object.__setattr__(self, "inertia", _readonly(j))
         object.__setattr__(self, "center_of_mass", _readonly(c))
+
+    def __repr__(self) -> str:
+        if self.shape != ():
+            return f"RigidBody(shape={self.shape})"
+        j = " ".join(np.array2string(np.asarray(self.inertia), precision=6, separator=", ").split())
+        c = np.array2string(np.asarray(self.center_of_mass), precision=6, separator=", ")
+        return f"RigidBody(mass={self.mass:.6g}, inertia={j}, center_of_mass={c})"
+
+    @_display.safe_html
+    def _repr_html_(self) -> str:
+        """Jupyter: mass, centre of mass, inertia, principal moments and axes (SI units)."""
+        d = _display
+        if self.shape != ():
+            rows = [("batch shape", d.esc(self.shape)),
+                    ("mass", d.value(np.ravel(self.mass)[:5], "kg"))]  # fmt: skip
+            return d.table("RigidBody batch", rows, "first values shown")
+        moments, axes = self.principal_axes()
+        rows = [
+            ("mass", d.value(self.mass, "kg")),
+            ("centre of mass", d.value(self.center_of_mass, "m (body axes, from O)")),
+            ("inertia about the centre of mass", d.matrix(self.inertia)),
+            ("principal moments", d.value(moments, "kg m^2")),
+            ("principal axes (columns, body axes)", d.matrix(axes.as_matrix())),
+        ]
+        return d.table("RigidBody", rows, "inertia in kg m^2, body axes (docs/theory.md §8)")
 
     # -- construction ------------------------------------------------------
 

@@ -237,6 +237,67 @@ def write_report(
     >>> p == out, "<script src=" in text, "plotly" in text  # nothing fetched, no library
     (True, False, False)
     """
+    if not isinstance(path, str | os.PathLike):
+        raise InvalidTypeError(
+            f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
+        )
+    path = Path(os.fspath(path))
+    if not path.parent.is_dir():
+        raise InvalidInputError(
+            f"Expected the directory of `path` to exist, got {str(path.parent)!r}."
+        )
+    if path.is_dir():
+        raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
+
+    page = report_html(
+        trajectory=trajectory, summary=summary, title=title, shape=shape, inertia=inertia,
+        mass=mass, center_of_mass=center_of_mass, fixed_point=fixed_point, free_body=free_body,
+        checks=checks, torque=torque, euler_seq=euler_seq, reference=reference,
+        max_frames=max_frames, max_frame_angle=max_frame_angle, sections=sections,
+        series=series, drawing=drawing,
+    )  # fmt: skip
+    _write_atomic(path, page)
+    return path
+
+
+def report_html(
+    *,
+    trajectory: Result,
+    summary: Mapping[str, Any] | None = None,
+    title: str = "poinsot report",
+    shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
+    inertia: Any = None,
+    mass: float | None = None,
+    center_of_mass: Any = None,
+    fixed_point: bool = False,
+    free_body: bool = True,
+    checks: Sequence[Any] = (),
+    torque: Any = None,
+    euler_seq: str = "ZYX",
+    reference: Trajectory | None = None,
+    max_frames: int = 1500,
+    max_frame_angle: float = 20.0,
+    sections: Sequence[tuple[str, str]] = (),
+    series: Sequence[tuple[Any, ...]] = (),
+    drawing: Mapping[str, Any] | None = None,
+) -> str:
+    """The self-contained HTML page of :func:`write_report`, as a string.
+
+    Takes the same arguments as :func:`write_report` but ``path``; the page embeds
+    the viewer's JavaScript and the data (nothing is fetched). Used by
+    :func:`poinsot.plotting.show` to draw the same viewer inside a notebook cell.
+
+    Examples
+    --------
+    >>> import numpy as np, poinsot
+    >>> from poinsot.plotting.report import report_html
+    >>> t = np.linspace(0.0, 1.0, 11)
+    >>> tr = poinsot.Trajectory(t, poinsot.Rotation.from_rotvec(np.outer(t, [0, 0, 1.0])),
+    ...                         np.tile([0.0, 0.0, 1.0], (11, 1)), "spin")
+    >>> page = report_html(trajectory=tr, title="spin")
+    >>> page.startswith("<!DOCTYPE html>"), "<script src=" in page
+    (True, False)
+    """
     tr = _check_trajectory(trajectory, "trajectory")
     ref = None  # a rigid body's reference only (attitude error, dashed axes)
     if reference is not None and isinstance(tr, Trajectory):
@@ -279,18 +340,6 @@ def write_report(
                 f"Expected `torque` to have shape {wanted} (one body-axes torque per "
                 f"sample, N m), got {tq.shape}."
             )
-    if not isinstance(path, str | os.PathLike):
-        raise InvalidTypeError(
-            f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
-        )
-    path = Path(os.fspath(path))
-    if not path.parent.is_dir():
-        raise InvalidInputError(
-            f"Expected the directory of `path` to exist, got {str(path.parent)!r}."
-        )
-    if path.is_dir():
-        raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
-
     extra = _check_series(series, tr.t.size)
     draw = _check_drawing(drawing, tr.t.size)
     with warnings.catch_warnings():  # gimbal lock of the plotted angles is not the user's
@@ -315,8 +364,7 @@ def write_report(
     page = page_html(
         title=title, meta=meta, notes=notes, payload=payload, summary=summary, sections=sections
     )
-    _write_atomic(path, page)
-    return path
+    return page
 
 
 # --------------------------------------------------------------------------- checks

@@ -51,6 +51,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
+from .. import _display
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validate import (
     as_bool,
@@ -285,7 +286,46 @@ class Rotation:
     def __repr__(self) -> str:
         if self._q.size == 0:
             return f"Rotation(quat=np.empty({self._q.shape}))"
+        if self._q.ndim > 1 and self._q.shape[0] * self._q[0].size > 16:  # a batch: one line
+            first = np.array2string(self._q.reshape(-1, 4)[0], precision=6, separator=", ")
+            return f"Rotation(shape={self.shape}, quat[0]={first}, scalar first)"
         return f"Rotation(quat={np.array2string(self._q, precision=6, separator=', ')})"
+
+    @_display.safe_html
+    def _repr_html_(self) -> str:
+        """Jupyter: quaternion, axis-angle (degrees), ZYX Euler angles and the matrix
+        (a batch: its shape and the first rows). Conventions: scalar-first quaternions,
+        body -> space; Euler angles intrinsic Z-Y'-X'' (yaw, pitch, roll), degrees."""
+        d = _display
+        note = "scalar-first quaternion; body -> space; angles in degrees (docs/conventions.md)"
+        if self._q.ndim == 1:
+            rv = np.asarray(self.as_rotvec(), dtype=float)
+            angle = float(np.linalg.norm(rv))
+            axis = d.value(rv / angle) if angle > 0 else "any (no rotation)"
+            rows = [
+                ("quaternion (w, x, y, z)", d.value(self._q)),
+                ("axis", axis),
+                ("angle", d.value(np.degrees(angle), "deg")),
+                (
+                    "Euler ZYX (yaw, pitch, roll)",
+                    d.value(self.as_euler("ZYX", degrees=True), "deg"),
+                ),
+                ("matrix", d.matrix(self.as_matrix())),
+            ]
+            return d.table("Rotation", rows, note)
+        flat = self._q.reshape(-1, 4)
+        first = Rotation.from_quat(flat[:5])
+        ang = np.degrees(np.asarray(first.magnitude(), dtype=float))
+        eul = np.asarray(first.as_euler("ZYX", degrees=True), dtype=float)
+        cells = [
+            [d.esc(k)] + [d.esc(d.num(x)) for x in flat[k]] + [d.esc(d.num(ang[k]))]
+            + [d.esc(d.num(x)) for x in eul[k]]
+            for k in range(len(ang))
+        ]  # fmt: skip
+        head = ["#", "w", "x", "y", "z", "angle deg", "yaw deg", "pitch deg", "roll deg"]
+        more = f"first {len(ang)} of {flat.shape[0]}" if flat.shape[0] > len(ang) else "all"
+        rows = [("shape", d.esc(self.shape)), ("rows", d.esc(more))]
+        return d.table("Rotation batch", rows, note, d.grid(head, cells))
 
     def __reduce__(self) -> tuple[type[Rotation], tuple[np.ndarray]]:
         return (Rotation, (np.array(self._q),))

@@ -672,6 +672,17 @@ class LagrangeSystem:
         num = self.to_numeric(parameters if isinstance(parameters, Mapping) else None)
         return num.simulate(q0, qdot0, t, params=parameters, **options)
 
+    def _repr_latex_(self) -> str:
+        """Jupyter: Lagrange's equations ``E_k L = Q*_k`` (theory §11), one per line, with
+        the coordinates and their rates as plain symbols (:meth:`printable`)."""
+        import sympy
+
+        lines = []
+        for eq in self.equations():
+            e = self.printable(eq, latex=True)
+            lines.append(f"{sympy.latex(e.lhs)} &= {sympy.latex(e.rhs)}")
+        return "$\\begin{aligned}" + " \\\\ ".join(lines) + "\\end{aligned}$"
+
     def __repr__(self) -> str:
         return (
             f"LagrangeSystem(coordinates={list(self.coordinates)}, "
