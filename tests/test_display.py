@@ -117,7 +117,9 @@ def test_exact_solutions_show_their_integrals():
     orbit = CentralOrbit.from_state(kepler(1.0), [1.0, 0, 0], [0, 1.2, 0])
     c = _parse(orbit._repr_html_())
     assert _numbers(_row(c, "radial period"))[0] == pytest.approx(orbit.radial_period, rel=1e-5)
-    assert _numbers(_row(c, "conic e, a"))[:2] == pytest.approx([orbit.conic.e, orbit.conic.a], rel=1e-5)
+    assert _numbers(_row(c, "conic e, a"))[:2] == pytest.approx(
+        [orbit.conic.e, orbit.conic.a], rel=1e-5
+    )
     batch = FreeRigidBody([[1.0, 2.0, 3.0], [2.0, 2.0, 1.0]], omega0=[0.3, 0.2, 1.0])
     c = _parse(batch._repr_html_())
     assert "symmetric" in "".join(c.text)
@@ -169,3 +171,58 @@ def test_lagrange_system_latex_is_sympys():
     assert tex.startswith("$\\begin{aligned}") and tex.endswith("\\end{aligned}$")
     assert sympy.latex(eq.lhs) in tex and sympy.latex(eq.rhs) in tex
     assert "\\ddot{\\theta}" in tex and "\\sin" in tex
+
+
+def test_show_draws_every_result_with_the_report_viewer():
+    from poinsot.plotting._report_page import viewer_js  # the report's own script
+    from test_results_contract import CASES
+
+    for name, make in CASES:
+        res = make()
+        v = res.show()
+        assert viewer_js() in v.html, name  # the same viewer
+        frame = v._repr_html_()
+        assert (
+            frame.startswith('<iframe class="poinsot-viewer" srcdoc="')
+            and 'sandbox="allow-scripts"' in frame
+        )
+        assert "<script src=" not in v.html and "https://" not in v.html, name
+        if type(res).__name__ == "CoordinateTrajectory":
+            assert "theta1" in v.html  # the coordinates charted
+
+
+def test_show_and_explore_bad_input(monkeypatch):
+    from poinsot.errors import InvalidInputError, InvalidTypeError, PoinsotError
+    from poinsot.plotting import explore, show
+
+    with pytest.raises(InvalidTypeError, match="result"):
+        show(np.zeros(3))
+    t = np.linspace(0, 1, 5)
+    batch = poinsot.Trajectory(t, poinsot.Rotation.from_rotvec(np.zeros((5, 2, 3))),
+                               np.zeros((5, 2, 3)), "x")  # fmt: skip
+    with pytest.raises(InvalidInputError, match="one body"):
+        show(batch)
+    with pytest.raises(InvalidInputError, match="preset"):
+        explore("top")
+    with pytest.raises(InvalidInputError, match="slider names"):
+        explore("kepler", spin=3.0)
+    with pytest.raises(InvalidInputError, match=r"`e` in \[0.0, 0.97\]"):
+        explore("kepler", e=1.5)
+    monkeypatch.setitem(__import__("sys").modules, "ipywidgets", None)
+    with pytest.raises(PoinsotError, match=r"poinsot\[notebook\]"):
+        explore("kepler")
+
+
+@pytest.mark.parametrize(
+    "preset", ["racket", "symmetric-top", "lagrange-top", "foucault", "kepler"]
+)
+def test_explore_recomputes_from_the_exact_solution(preset):
+    pytest.importorskip("ipywidgets", reason="explore() needs ipywidgets (poinsot[notebook])")
+    from poinsot.plotting import explore
+
+    ex = explore(preset)
+    first = ex.view.value
+    assert "<iframe" in first and "recomputed in" in ex.status.value
+    name, s = next(iter(ex.sliders.items()))
+    s.value = min(s.max, s.value + 10 * s.step)
+    assert ex.view.value != first  # redrawn

@@ -13,6 +13,7 @@ import pytest
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
+    "notebook.md",
     "verify.md",
     "mass.md",
     "dynamics.md",

@@ -224,6 +224,16 @@ class Result:
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self._span()}{self._batch()}, method={self.method!r})"
 
+    def show(self, **options: Any) -> Any:
+        """Draw this result with the report's viewer inside a notebook cell.
+
+        Shorthand for :func:`poinsot.plotting.show` (``options`` are passed on);
+        returns its :class:`~poinsot.plotting.notebook.Viewer`.
+        """
+        from .plotting.notebook import show
+
+        return show(self, **options)
+
     @_display.safe_html
     def _repr_html_(self) -> str:
         """Jupyter: duration, samples, method, the accuracy achieved and a small chart of

@@ -21,6 +21,10 @@ from .heavy_top import (
 from .motion import (
     plot_acceleration_terms,
 )
+from .notebook import (
+    explore,
+    show,
+)
 from .particles import (
     plot_effective_potential,
     plot_orbit,
@@ -42,6 +46,8 @@ __all__ = [
     "plot_poinsot",
     "plot_omega",
     "write_report",
+    "show",
+    "explore",
     "plot_angular_velocity",
     "plot_relative_change",
     "plot_particle_path",
