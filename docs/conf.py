@@ -24,7 +24,7 @@ release = poinsot.__version__
 version = ".".join(release.split(".")[:2])
 
 extensions = [
-    "myst_parser",
+    "myst_nb",  # MyST Markdown pages and the notebooks of docs/notebooks (MyST-NB)
     "numpydoc",
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
@@ -32,9 +32,14 @@ extensions = [
     "poinsot_api",
 ]
 
-source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+source_suffix = {".md": "myst-nb", ".ipynb": "myst-nb", ".rst": "restructuredtext"}
 root_doc = "index"
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "examples/*.py", "**/README.md"]
+exclude_patterns = [
+    "_build", "Thumbs.db", ".DS_Store", "examples/*.py", "**/README.md", "**/.ipynb_checkpoints",
+]  # fmt: skip
+# The notebooks are stored without outputs and executed by the test suite
+# (tests/test_notebooks.py); the site shows their source, not a second execution.
+nb_execution_mode = "off"
 templates_path: list[str] = []
 
 # ---- MyST: Markdown pages

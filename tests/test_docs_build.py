@@ -36,6 +36,13 @@ def test_every_page_is_built(site):
         assert (site / f"{src.stem}.html").is_file(), src.name
 
 
+def test_notebooks_are_in_the_site(site):
+    for nb in (DOCS / "notebooks").glob("*.ipynb"):
+        page = site / "notebooks" / f"{nb.stem}.html"
+        assert page.is_file(), nb.name
+        assert "poinsot" in page.read_text(encoding="utf-8")
+
+
 def test_conventions_page_comes_first(site):
     index = (site / "index.html").read_text(encoding="utf-8")
     first = re.search(r'<li class="toctree-l1"><a class="reference internal" href="([^"#]+)', index)

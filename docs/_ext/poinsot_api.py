@@ -90,7 +90,7 @@ def _drop_missing_pages(app, docname, source):
         entry = entry.strip()
         if not entry or entry.startswith(":") or "<" in entry or "*" in entry:
             return True
-        return any((srcdir / (entry + ext)).is_file() for ext in (".md", ".rst"))
+        return any((srcdir / (entry + ext)).is_file() for ext in (".md", ".rst", ".ipynb"))
 
     def fix(m: re.Match) -> str:
         kept = []
