@@ -21,7 +21,11 @@ import numpy as np
 
 from .errors import InvalidTypeError
 
-__all__ = ["as_progress", "run_compiled", "Progress"]
+__all__ = ["as_progress", "run_compiled", "Progress", "in_chunks", "ivp_progress", "CHUNK"]
+
+#: samples per chunk when an exact solution is evaluated on a large grid: a chunk takes
+#: tens of milliseconds, the latency of Ctrl-C (handled between chunks) and of the bar
+CHUNK = 1 << 16
 
 #: ``progress=`` as the public functions take it: None/False (nothing), True (a bar),
 #: or a callable receiving the fraction done in [0, 1].
@@ -159,3 +163,72 @@ def run_compiled(
     if "error" in out:
         raise out["error"]
     return out.get("value")
+
+
+def in_chunks(
+    fn: Callable[[np.ndarray], tuple[np.ndarray, ...]],
+    t: np.ndarray,
+    progress: object,
+    desc: str,
+    *,
+    axis: int = 0,
+    chunk: int = CHUNK,
+) -> tuple[np.ndarray, ...]:
+    """``fn(t)`` evaluated chunk by chunk of the 1-D grid ``t`` when it is large or
+    progress is asked for; the arrays ``fn`` returns are joined along ``axis`` (the
+    time axis).
+
+    Between chunks the interpreter runs, so Ctrl-C stops a long evaluation within one
+    chunk (``KeyboardInterrupt``, nothing partial returned) and ``progress`` reports
+    the fraction of samples done. Where ``fn`` computes each sample on its own (the
+    elliptic solutions) the result is bit-identical to one call on the whole grid; an
+    iteration run to round-off over the whole array (Kepler's equation) may differ in
+    the last bit.
+
+    >>> import numpy as np
+    >>> seen = []
+    >>> (s,) = in_chunks(lambda t: (np.sin(t),), np.linspace(0, 1, 10), seen.append, "x", chunk=4)
+    >>> bool(np.array_equal(s, np.sin(np.linspace(0, 1, 10)))), seen
+    (True, [0.4, 0.8, 1.0])
+    """
+    report = as_progress(progress, desc)
+    if report is None and t.size <= chunk:
+        return fn(t)
+    parts = []
+    try:
+        for k in range(0, max(t.size, 1), chunk):
+            parts.append(fn(t[k : k + chunk]))
+            if report is not None:
+                report(min(k + chunk, t.size) / max(t.size, 1))
+    except BaseException:
+        if report is not None:
+            report.close()
+        raise
+    if report is not None:
+        report.finish()
+    return tuple(np.concatenate([p[i] for p in parts], axis=axis) for i in range(len(parts[0])))
+
+
+def ivp_progress(
+    fun: Callable[..., Any],
+    t0: float,
+    t1: float,
+    report: Callable[[float], object] | None,
+    poll: float = 0.1,
+) -> Callable[..., Any]:
+    """``fun(t, y, ...)`` for ``solve_ivp`` that reports ``(t - t0) / (t1 - t0)`` at most
+    every ``poll`` seconds (``fun`` itself when nothing is reported). The solver's loop
+    is Python, so Ctrl-C already stops it between steps."""
+    if report is None:
+        return fun
+    span = (t1 - t0) or 1.0
+    last = [time.monotonic()]
+
+    def wrapped(t: float, y: Any, *args: Any) -> Any:
+        now = time.monotonic()
+        if now - last[0] >= poll:
+            last[0] = now
+            report((t - t0) / span)
+        return fun(t, y, *args)
+
+    return wrapped

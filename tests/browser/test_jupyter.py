@@ -246,11 +246,14 @@ def test_show_and_explore_in_jupyterlab(server, browser, record_property):
         # wait for the kernel, then run every cell (Run > Run All Cells)
         page.wait_for_selector(".jp-Notebook-ExecutionIndicator[data-status='idle']",
                                timeout=90_000)  # fmt: skip
-        page.locator(".jp-Notebook .jp-Cell").first.click()
-        page.keyboard.press("Escape")
-        for _ in CELLS:
-            page.keyboard.press("Shift+Enter")
-            page.wait_for_timeout(300)
+        page.locator(".lm-MenuBar-itemLabel", has_text="Run").first.click()
+        page.locator(".lm-Menu-itemLabel", has_text="Run All Cells").first.click()
+        # every cell ran (an execution count in each prompt), then the kernel is idle
+        page.wait_for_function(
+            "n => Array.from(document.querySelectorAll('.jp-InputArea-prompt'))"
+            ".filter(p => /\\[\\d+\\]/.test(p.textContent)).length >= n",
+            arg=len(CELLS), timeout=180_000,
+        )  # fmt: skip
         # show(): the body drawn, the charts there
         el, frame = _viewer_frame(page, 0, timeout=120)
         assert frame.evaluate("() => document.querySelectorAll('svg').length") >= 2
@@ -264,10 +267,10 @@ def test_show_and_explore_in_jupyterlab(server, browser, record_property):
             redraw, status = _move(page, index, sliders.nth(slider), value)
             print(f"\nexplore({name!r}): slider move to redraw {redraw * 1e3:.0f} ms ({status})")
             record_property(f"explore_{name}_redraw_ms", round(redraw * 1e3))
-        shot = os.environ.get("POINSOT_JUPYTER_SCREENSHOT")
-        if shot:
-            page.screenshot(path=shot, full_page=True)
     finally:
+        shot = os.environ.get("POINSOT_JUPYTER_SCREENSHOT")
+        if shot:  # kept for the docs, and to see a failure
+            page.screenshot(path=shot, full_page=True)
         context.close()
     outside = [u for u in requests if not u.startswith((url, "data:", "about:", "blob:"))]
     assert not outside, outside[:5]

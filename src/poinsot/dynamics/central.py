@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _display
+from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_choice, as_float_array, as_vec3
 from .._vec import cross, dot
@@ -1092,7 +1093,12 @@ class CentralOrbit:
         return self._plane_to_space(r, phi)
 
     def trajectory(
-        self, t: ArrayLike, *, method: str = "auto", rtol: float = 1e-12
+        self,
+        t: ArrayLike,
+        *,
+        method: str = "auto",
+        rtol: float = 1e-12,
+        progress: Progress = None,
     ) -> PointTrajectory:
         """The orbit as a :class:`poinsot.trajectory.PointTrajectory` on times ``t`` (n,).
 
@@ -1100,9 +1106,11 @@ class CentralOrbit:
         (kg) and ``energy`` the total energy ``E = m v^2/2 + U(r)`` (J) at each
         sample (constant along the exact orbit). ``method`` as in :meth:`orbit`;
         the result's ``method`` is ``"exact"`` (Kepler's equation) or
-        ``"adaptive"`` (integration).
+        ``"adaptive"`` (integration). ``progress``: True (a bar), a callable receiving
+        the fraction done, or None; Kepler's closed form on more than 65536 times is
+        evaluated in chunks, between which Ctrl-C stops it (``KeyboardInterrupt``).
         """
-        return _trajectory(self, t, method, rtol)
+        return _trajectory(self, t, method, rtol, progress)
 
     def _integrate(self, t: FloatArray, rtol: float) -> tuple[FloatArray, FloatArray, FloatArray]:
         rtol = _coef(rtol, "rtol")
@@ -1251,15 +1259,21 @@ class CentralOrbit:
         return r[..., None] * e_r, rdot[..., None] * e_r + (r * phidot)[..., None] * e_phi
 
 
-def _trajectory(orbit: CentralOrbit, t: ArrayLike, method: str, rtol: float) -> PointTrajectory:
+def _trajectory(
+    orbit: CentralOrbit, t: ArrayLike, method: str, rtol: float, progress: Progress = None
+) -> PointTrajectory:
     from ..trajectory import PointTrajectory
 
     t = as_float_array(t, "t")
     if t.ndim != 1:
         raise InvalidInputError(f"Expected `t` of shape (n,), got {t.shape}.")
-    x, v = orbit.state(t, method=method, rtol=rtol)
     pure = orbit.potential.kepler_mu is not None and orbit.potential.kepler_mu > 0
     used = ("kepler" if pure else "integrate") if method == "auto" else method
+    if used == "kepler":  # a closed form per sample: in chunks (Ctrl-C, progress)
+        x, v = in_chunks(lambda tc: orbit.state(tc, method=method, rtol=rtol), t, progress,
+                         "CentralOrbit")  # fmt: skip
+    else:
+        x, v = orbit.state(t, method=method, rtol=rtol)
     info = (
         {"closed_form": "kepler"}
         if used == "kepler"

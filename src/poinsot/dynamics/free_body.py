@@ -62,6 +62,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _display
+from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
 from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
@@ -755,7 +756,7 @@ class FreeRigidBody:
         w, q = self._state(t)
         return w, Rotation.from_quat(q)
 
-    def trajectory(self, t: ArrayLike) -> Trajectory:
+    def trajectory(self, t: ArrayLike, *, progress: Progress = None) -> Trajectory:
         """The exact motion sampled at 1-D times ``t`` as a :class:`~poinsot.Trajectory`.
 
         Time is the first axis: ``omega`` has shape ``(n,) + shape + (3,)``.
@@ -773,13 +774,18 @@ class FreeRigidBody:
         >>> tr = body.trajectory([0.0, 5.0, 10.0])
         >>> tr.method, tr.energy_drift < 1e-14
         ('exact', True)
+
+        ``progress``: True (a bar), a callable receiving the fraction done, or None. A grid
+        of more than 65536 times is evaluated in chunks, between which Ctrl-C stops it
+        (``KeyboardInterrupt``).
         """
         from .invariants import invariants
 
         ta = as_float_array(t, "t")
         if ta.ndim != 1:
             raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
-        w, q = self._eval(ta, True)  # (N, n, ...)
+        # a large grid in chunks: Ctrl-C between them, progress (bit-identical results)
+        w, q = in_chunks(lambda tc: self._eval(tc, True), ta, progress, "FreeRigidBody", axis=1)
         w = np.moveaxis(w, 1, 0)
         q = np.moveaxis(q, 1, 0)
         inv = invariants(self.inertia.reshape(1, self._n, 3, 3), q, w)

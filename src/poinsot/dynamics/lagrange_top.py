@@ -74,6 +74,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _display
+from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
 from ..errors import GimbalLockWarning, InvalidInputError
@@ -1494,12 +1495,14 @@ class LagrangeTop:
         ta, shape = self._times(t)
         return self._angles(ta)[1].reshape(shape)
 
-    def trajectory(self, t: ArrayLike) -> Trajectory:
+    def trajectory(self, t: ArrayLike, *, progress: Progress = None) -> Trajectory:
         """The exact motion sampled at times ``t`` (n,), as a :class:`~poinsot.Trajectory`.
 
         ``energy`` is the kinetic energy ``T`` and ``momentum`` the space angular
         momentum (as :func:`poinsot.dynamics.simulate` returns them);
-        ``info["total_energy"]`` is ``T + V`` (J).
+        ``info["total_energy"]`` is ``T + V`` (J). ``progress``: True (a bar), a callable
+        receiving the fraction done, or None; a grid of more than 65536 times is evaluated
+        in chunks, between which Ctrl-C stops it (``KeyboardInterrupt``).
         """
         from .invariants import invariants
         from .torques import GravityTorque
@@ -1507,7 +1510,13 @@ class LagrangeTop:
         ta = as_float_array(t, "t")
         if ta.ndim != 1:
             raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
-        w, rot = self.state(ta)
+
+        def chunk(tc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            wc, rc = self.state(tc)
+            return wc, np.asarray(rc.as_quat())
+
+        w, q = in_chunks(chunk, ta, progress, "LagrangeTop")
+        rot = Rotation.from_quat(q)
         model = None
         if self._mgl != 0:
             model = GravityTorque(1.0, [0.0, 0.0, math.copysign(1.0, self._mgl)], g=abs(self._mgl))

@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import integrators
+from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_choice, as_float_array, as_times, as_vec3, batch_shape
 from .._vec import cross, dot, hat
@@ -573,6 +574,7 @@ def simulate_particle(
     atol: float = 1e-12,
     max_step: float = math.inf,
     inertial: bool = False,
+    progress: Progress = None,
 ) -> ParticleTrajectory:
     """Integrate a particle's motion relative to a moving frame (theory §9).
 
@@ -607,6 +609,10 @@ def simulate_particle(
         own step control, so its result does not depend on the others.
     max_step : float, optional
         Longest step (s), default unbounded.
+    progress : bool or callable, optional
+        ``True``: a progress bar (tqdm when installed); a callable: called with the
+        fraction done in ``[0, 1]``; default None. The solver loop is Python: Ctrl-C
+        stops it between steps (``KeyboardInterrupt``, nothing partial returned).
     inertial : bool, optional
         Also return the motion seen from the inertial frame, whose axes and
         origin coincide with the frame's at ``t[0]``; the frame's attitude
@@ -692,6 +698,7 @@ def simulate_particle(
     vel = np.empty((n, nb, 3))
     nfev = 0
     message = ""
+    report = as_progress(progress, "simulate_particle")
     for i in range(nb):
         mi = M[i]
 
@@ -708,9 +715,17 @@ def simulate_particle(
         if n == 1:
             pos[0, i], vel[0, i] = R0[i], V0[i]
             continue
-        sol = solve_ivp(
-            rhs, (t[0], t[-1]), y0, method=method, t_eval=t, rtol=rtol, atol=atol, max_step=max_step
-        )
+        part = None if report is None else (lambda f, i=i: report((i + f) / nb))
+        fun = ivp_progress(rhs, float(t[0]), float(t[-1]), part)
+        try:
+            sol = solve_ivp(
+                fun, (t[0], t[-1]), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
+                max_step=max_step,
+            )  # fmt: skip
+        except BaseException:  # Ctrl-C (between the solver's steps) or a failing force
+            if report is not None:
+                report.close()
+            raise
         if sol.status != 0 or sol.y.shape[1] != n or not np.all(np.isfinite(sol.y)):
             reached = float(sol.t[-1]) if sol.t.size else float(t[0])
             raise IntegrationError(
@@ -720,6 +735,8 @@ def simulate_particle(
         pos[:, i], vel[:, i] = sol.y[:3].T, sol.y[3:].T
         nfev += int(sol.nfev)
         message = sol.message
+    if report is not None:
+        report.finish()
     shape = (n, *batch, 3)
     info = {"solver": method, "rtol": rtol, "atol": atol, "evaluations": nfev, "message": message}
     extra: dict[str, Any] = {}

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import integrators
+from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 
@@ -589,8 +590,13 @@ class NumericLagrangian:
         atol: float = 1e-12,
         max_step: float = math.inf,
         units: Mapping[str, str] | Sequence[str] | None = None,
+        progress: Progress = None,
     ) -> CoordinateTrajectory:
         """Integrate from ``q(t[0]) = q0``, ``q'(t[0]) = qdot0`` with ``solve_ivp``.
+
+        ``progress``: True (a progress bar, tqdm when installed), a callable receiving
+        the fraction of the time span done, or None (default). The solver loop is
+        Python: Ctrl-C stops it between steps (``KeyboardInterrupt``, nothing partial).
 
         Parameters
         ----------
@@ -677,16 +683,24 @@ class NumericLagrangian:
             ys = y0.reshape(1, *y0.shape)
             info = {"evaluations": 0, "status": 0, "message": "single output time"}
         else:
-            sol = solve_ivp(
-                fun,
-                (tt[0], tt[-1]),
-                y0.reshape(-1),
-                method=method,
-                t_eval=tt,
-                rtol=rtol,
-                atol=atol,
-                max_step=max_step,
-            )
+            report = as_progress(progress, "LagrangeSystem.simulate")
+            try:
+                sol = solve_ivp(
+                    ivp_progress(fun, float(tt[0]), float(tt[-1]), report),
+                    (tt[0], tt[-1]),
+                    y0.reshape(-1),
+                    method=method,
+                    t_eval=tt,
+                    rtol=rtol,
+                    atol=atol,
+                    max_step=max_step,
+                )
+            except BaseException:
+                if report is not None:
+                    report.close()
+                raise
+            if report is not None:
+                report.finish()
             if sol.status != 0 or sol.y.shape[1] != tt.size:
                 reached = sol.t[-1] if sol.t.size else tt[0]
                 raise IntegrationError(

@@ -1,0 +1,148 @@
+"""progress= and Ctrl-C in the other long calls (issue 21): particles, Lagrangian
+systems, exact solutions on large grids.
+
+As tests/dynamics/test_interrupt.py: a real subprocess gets a real SIGINT 2 s into a
+run that would last much longer; it must raise ``KeyboardInterrupt`` within 1.5 s and
+leave no thread. Progress callables see increasing fractions ending at 1; the results
+are bit-identical with and without progress (and chunked or not).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from poinsot.dynamics import CentralOrbit, FreeRigidBody, LagrangeTop, kepler, simulate_particle
+from poinsot.kinematics import FrameMotion
+
+SRC = str(Path(__file__).parents[2] / "src")
+
+_SCRIPT = textwrap.dedent(
+    """
+    import signal, sys, threading, time
+    import numpy as np
+    signal.signal(signal.SIGINT, signal.default_int_handler)  # see test_interrupt.py
+    from poinsot.dynamics import FreeRigidBody, simulate_particle
+    from poinsot.kinematics import FrameMotion
+
+    which = sys.argv[1]
+    if which == "particle":
+        def run(n):
+            return simulate_particle(FrameMotion(omega=[0, 0, 1.0]), lambda t, r, v: -r,
+                                     [1.0, 0, 0], [0, 0.5, 0], np.linspace(0, n, 11),
+                                     rtol=1e-13, atol=1e-15)
+        small, big = 1.0, 1e6
+    elif which == "lagrangian":
+        import sympy
+        x = sympy.Function("x")(sympy.Symbol("t"))
+        from poinsot.symbolic import LagrangeSystem
+        osc = LagrangeSystem([x], x.diff() ** 2 / 2, x**4 / 4)
+        def run(n):
+            return osc.simulate([1.0], [0.0], np.linspace(0, n, 11), rtol=1e-13, atol=1e-15)
+        small, big = 1.0, 1e7
+    elif which == "free-body":
+        body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.2])
+        def run(n):
+            return body.trajectory(np.linspace(0, 100, int(n)))
+        small, big = 10, 6e6  # ~10 s at ~1.9 us per sample (0.5 GB)
+    run(small)  # compile before the clock starts
+    print("ready", flush=True)
+    try:
+        run(big)
+        print("finished", flush=True)
+    except KeyboardInterrupt:
+        print(f"interrupted {len(threading.enumerate())}", flush=True)
+    except MemoryError:
+        print("memory", flush=True)
+    """
+)
+
+
+@pytest.mark.parametrize("which", ["particle", "lagrangian", "free-body"])
+def test_ctrl_c_stops_long_calls(which, tmp_path):
+    if which == "lagrangian":
+        pytest.importorskip("sympy", reason="the symbolic extra")
+    script = tmp_path / "long_call.py"
+    script.write_text(_SCRIPT)
+    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.Popen([sys.executable, str(script), which], stdout=subprocess.PIPE,
+                            text=True, env=env)  # fmt: skip
+    try:
+        assert proc.stdout is not None
+        assert proc.stdout.readline().strip() == "ready"
+        time.sleep(2.0)
+        t0 = time.perf_counter()
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=60)
+        latency = time.perf_counter() - t0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert out.strip() == "interrupted 1", out
+    assert latency < 1.5, latency
+
+
+def _check(seen):
+    assert seen and seen[-1] == 1.0
+    assert all(x < y for x, y in zip(seen, seen[1:], strict=False))
+    assert all(0.0 <= x <= 1.0 for x in seen)
+
+
+def test_exact_solutions_in_chunks_are_bit_identical_and_report():
+    t = np.linspace(0.0, 50.0, 200_001)  # > 65536 samples: chunked
+    body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.2])
+    seen: list[float] = []
+    a = body.trajectory(t, progress=seen.append)
+    w, rot = body.state(t)  # one call on the whole grid
+    assert np.array_equal(np.asarray(a.omega), w) and np.array_equal(a.quat, rot.as_quat())
+    _check(seen)
+    assert len(seen) == 4  # 200001 / 65536 -> 4 chunks
+    top = LagrangeTop(2.0, 1.0, 4.0, theta=0.6, spin=6.0, precession_rate=-0.8)
+    seen = []
+    b = top.trajectory(t, progress=seen.append)
+    w, rot = top.state(t)
+    assert np.array_equal(np.asarray(b.omega), w) and np.array_equal(b.quat, rot.as_quat())
+    _check(seen)
+    orbit = CentralOrbit.from_state(kepler(1.0), [1.0, 0, 0], [0, 1.2, 0])
+    seen = []
+    c = orbit.trajectory(t, progress=seen.append)
+    x, v = orbit.state(t)
+    # Kepler's equation is iterated to round-off over each chunk: equal to round-off
+    assert np.max(np.abs(np.asarray(c.position) - x)) < 1e-13  # observed 7.5e-15
+    assert np.max(np.abs(np.asarray(c.velocity) - v)) < 1e-13  # observed 4.0e-15
+    _check(seen)
+
+
+def test_particle_progress_changes_nothing():
+    t = np.linspace(0.0, 10.0, 101)
+    args = (FrameMotion(omega=[0, 0, 1.0]), lambda t, r, v: -r, [[1.0, 0, 0], [0.5, 0, 0]],
+            [0, 0.5, 0], t)  # fmt: skip
+    seen: list[float] = []
+    a = simulate_particle(*args, progress=seen.append)
+    b = simulate_particle(*args)
+    assert np.array_equal(np.asarray(a.position), np.asarray(b.position))
+    _check(seen)
+
+
+def test_lagrangian_progress_changes_nothing():
+    sympy = pytest.importorskip("sympy", reason="the symbolic extra")
+    from poinsot.symbolic import LagrangeSystem
+
+    x = sympy.Function("x")(sympy.Symbol("t"))
+    osc = LagrangeSystem([x], x.diff() ** 2 / 2, x**2 / 2)
+    t = np.linspace(0.0, 30.0, 31)
+    seen: list[float] = []
+    a = osc.simulate([1.0], [0.0], t, progress=seen.append)
+    b = osc.simulate([1.0], [0.0], t)
+    assert np.array_equal(a.q, b.q)
+    _check(seen)
+    assert np.allclose(a.q[:, 0], np.cos(t), atol=1e-8)  # and it is the oscillator
