@@ -48,6 +48,14 @@ _SCRIPT = textwrap.dedent(
         def run(n):
             return osc.simulate([1.0], [0.0], np.linspace(0, n, 11), rtol=1e-13, atol=1e-15)
         small, big = 1.0, 1e7
+    elif which == "midpoint-torque":
+        from poinsot.dynamics import GravityTorque, simulate
+        grav = GravityTorque(1.0, [0.0, 0.0, 0.4], g=10.0)   # depends on the attitude
+        w0 = np.random.default_rng(0).normal(size=(2000, 3)) * 5.0
+        def run(n):
+            return simulate([2.0, 2.0, 1.0], [1, 0, 0, 0], w0[: int(min(n, 2000))],
+                            np.linspace(0, n, 201), torque=grav, max_step=1e-3)
+        small, big = 2, 4000.0
     elif which == "free-body":
         body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.2])
         def run(n):
@@ -66,7 +74,7 @@ _SCRIPT = textwrap.dedent(
 )
 
 
-@pytest.mark.parametrize("which", ["particle", "lagrangian", "free-body"])
+@pytest.mark.parametrize("which", ["particle", "lagrangian", "free-body", "midpoint-torque"])
 def test_ctrl_c_stops_long_calls(which, tmp_path):
     if which == "lagrangian":
         pytest.importorskip("sympy", reason="the symbolic extra")
@@ -119,6 +127,20 @@ def test_exact_solutions_in_chunks_are_bit_identical_and_report():
     # Kepler's equation is iterated to round-off over each chunk: equal to round-off
     assert np.max(np.abs(np.asarray(c.position) - x)) < 1e-13  # observed 7.5e-15
     assert np.max(np.abs(np.asarray(c.velocity) - v)) < 1e-13  # observed 4.0e-15
+    _check(seen)
+
+
+def test_midpoint_under_attitude_torque_reports_and_changes_nothing():
+    from poinsot.dynamics import GravityTorque, simulate
+
+    grav = GravityTorque(1.0, [0.0, 0.0, 0.4], g=10.0)
+    w0 = np.random.default_rng(1).normal(size=(3000, 3))
+    t = np.linspace(0.0, 2.0, 21)
+    seen: list[float] = []
+    a = simulate([2.0, 2.0, 1.0], [1, 0, 0, 0], w0, t, torque=grav, max_step=0.01,
+                 progress=seen.append)  # fmt: skip
+    b = simulate([2.0, 2.0, 1.0], [1, 0, 0, 0], w0, t, torque=grav, max_step=0.01)
+    assert a.method == "midpoint" and np.array_equal(a.quat, b.quat)
     _check(seen)
 
 

@@ -461,7 +461,9 @@ _MP_MAXIT = 100
 
 
 @njit(cache=True)
-def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma: no cover
+def midpoint_body(
+    q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, cancel, done
+):  # pragma: no cover
     """The implicit Lie-Poisson midpoint rule of ``simulate(method="midpoint")`` for one
     body under a built-in torque that depends on the attitude (kinds 2-4): the NumPy
     path's step (``euler_equations._midpoint_step_numpy``), the same operations per
@@ -471,7 +473,9 @@ def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma:
     dependence on ``x`` left out of the Jacobian (so the convergence may be linear: the
     stopping rule predicts the next update from the last two). Returns ``(status, k,
     iterations)``: status 0 ok (iterations = the most any step took), 1 not converged,
-    2 non-finite, ``k`` the last output index reached."""
+    2 non-finite, 3 cancelled (``cancel[0]`` set by another thread on Ctrl-C, checked
+    once per output interval; ``done[0]`` counts the intervals done), ``k`` the last
+    output index reached."""
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
     m0, m1, m2 = m[0], m[1], m[2]
     w00, w01, w02 = Ji[0, 0], Ji[0, 1], Ji[0, 2]
@@ -485,6 +489,9 @@ def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma:
     # step's midpoint torque (as the NumPy path)
     t0, t1, t2 = _torque(q0, q1, q2, q3, J, kind, par)
     for k in range(t_out.shape[0] - 1):
+        if cancel[0] != 0:
+            return 3, k, worst
+        done[0] = k
         hk = (t_out[k + 1] - t_out[k]) / nsub[k]
         for s_ in range(nsub[k] * nc):
             h = hk * coef[s_ % nc]
@@ -544,13 +551,16 @@ def midpoint_body(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om):  # pragma:
 
 
 @njit(cache=True, parallel=True)
-def midpoint_batch(q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, res):  # pragma: no cover
+def midpoint_batch(
+    q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, res, cancel, done
+):  # pragma: no cover
     """:func:`midpoint_body` for ``N`` bodies in parallel; ``res`` (N, 3) int64 receives
-    each body's ``(status, k, iterations)``."""
+    each body's ``(status, k, iterations)``; ``done`` (N,) the intervals done per body."""
     for b in prange(q.shape[0]):
         res[b, 0], res[b, 1], res[b, 2] = midpoint_body(
-            q[b], m[b], J[b], Ji[b], kind, par[b], t_out, nsub, coef, oq[:, b, :], om[:, b, :]
-        )
+            q[b], m[b], J[b], Ji[b], kind, par[b], t_out, nsub, coef, oq[:, b, :], om[:, b, :],
+            cancel, done[b : b + 1],
+        )  # fmt: skip
 
 
 # ---------------------------------------------------------------------------
@@ -697,7 +707,7 @@ def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6
     )
 
 
-def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch):
+def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch, progress=None):
     """Run the compiled midpoint rule on validated, flattened arrays (``j``, ``j_inv``
     (N, 3, 3), ``q`` (N, 4), ``m`` (N, 3) body momenta) under a built-in torque model
     given for the batch shape ``batch``. Returns ``(quat (n, N, 4), momentum (n, N, 3),
@@ -714,8 +724,9 @@ def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch):
     om = np.empty((t.size, n_body, 3))
     res = np.empty((n_body, 3), dtype=np.int64)
     c = np.ascontiguousarray
-    threaded(
-        midpoint_batch,
+    cancel = np.zeros(1, dtype=np.int64)
+    done = np.zeros(n_body, dtype=np.int64)
+    args = (
         c(q, dtype=float),
         c(m, dtype=float),
         c(np.broadcast_to(j, (n_body, 3, 3)), dtype=float),
@@ -728,5 +739,16 @@ def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch):
         oq,
         om,
         res,
+        cancel,
+        done,
+    )
+    run_compiled(
+        functools.partial(threaded, midpoint_batch),
+        args,
+        cancel=cancel,
+        done=done,
+        total=max(n_body * (t.size - 1), 1),
+        progress=progress,
+        background=n_body * int(np.sum(nsub)) * len(comp) > 20_000,
     )
     return oq, om, res

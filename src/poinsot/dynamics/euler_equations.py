@@ -823,7 +823,7 @@ def _run_midpoint(
     else:
         from . import _fused  # numba, loaded on first use
 
-        out = _fused.midpoint(j, j_inv, q, m, t, nsub, comp, tfn.model, tfn.batch)
+        out = _fused.midpoint(j, j_inv, q, m, t, nsub, comp, tfn.model, tfn.batch, report)
         if out is None:  # a Python torque: the NumPy step, vectorised over the batch
             Q, MO, it = _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn)
             info["path"] = "NumPy (torque is a Python callable)"
