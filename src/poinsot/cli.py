@@ -893,7 +893,7 @@ def _cmd_ensemble(args: argparse.Namespace) -> int:
         raise _Usage(f"--max-failed must be a fraction in [0, 1], got {args.max_failed}")
     tty = sys.stderr.isatty()
 
-    def progress(done: int, total: int) -> None:
+    def on_chunk(done: int, total: int) -> None:
         if args.quiet:
             return
         if tty:  # one line redrawn in place
@@ -912,7 +912,7 @@ def _cmd_ensemble(args: argparse.Namespace) -> int:
         resume=args.resume,
         client=client,
         timeout=args.timeout,
-        progress=progress,
+        on_chunk=on_chunk,
         allow_paths=args.allow_paths,
         allow_large=args.allow_large,
     )

@@ -33,51 +33,86 @@ _SCRIPT = textwrap.dedent(
     from poinsot.dynamics import FreeRigidBody, simulate_particle
     from poinsot.kinematics import FrameMotion
 
-    which = sys.argv[1]
-    if which == "particle":
-        def run(n):
-            return simulate_particle(FrameMotion(omega=[0, 0, 1.0]), lambda t, r, v: -r,
-                                     [1.0, 0, 0], [0, 0.5, 0], np.linspace(0, n, 11),
-                                     rtol=1e-13, atol=1e-15)
-        small, big = 1.0, 1e6
-    elif which == "lagrangian":
-        import sympy
-        x = sympy.Function("x")(sympy.Symbol("t"))
-        from poinsot.symbolic import LagrangeSystem
-        osc = LagrangeSystem([x], x.diff() ** 2 / 2, x**4 / 4)
-        def run(n):
-            return osc.simulate([1.0], [0.0], np.linspace(0, n, 11), rtol=1e-13, atol=1e-15)
-        small, big = 1.0, 1e7
-    elif which == "midpoint-torque":
-        from poinsot.dynamics import GravityTorque, simulate
-        grav = GravityTorque(1.0, [0.0, 0.0, 0.4], g=10.0)   # depends on the attitude
-        w0 = np.random.default_rng(0).normal(size=(2000, 3)) * 5.0
-        def run(n):
-            return simulate([2.0, 2.0, 1.0], [1, 0, 0, 0], w0[: int(min(n, 2000))],
-                            np.linspace(0, n, 201), torque=grav, max_step=1e-3)
-        small, big = 2, 4000.0
-    elif which == "free-body":
-        body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.2])
-        def run(n):
-            return body.trajectory(np.linspace(0, 100, int(n)))
-        small, big = 10, 6e6  # ~10 s at ~1.9 us per sample (0.5 GB)
-    run(small)  # compile before the clock starts
-    print("ready", flush=True)
-    try:
-        run(big)
-        print("finished", flush=True)
-    except KeyboardInterrupt:
-        print(f"interrupted {len(threading.enumerate())}", flush=True)
-    except MemoryError:
-        print("memory", flush=True)
+    def main():
+        # a guard: Dask's worker processes are spawned and import this file
+        which = sys.argv[1]
+        if which == "particle":
+            def run(n):
+                return simulate_particle(FrameMotion(omega=[0, 0, 1.0]), lambda t, r, v: -r,
+                                         [1.0, 0, 0], [0, 0.5, 0], np.linspace(0, n, 11),
+                                         rtol=1e-13, atol=1e-15)
+            small, big = 1.0, 1e6
+        elif which == "lagrangian":
+            import sympy
+            x = sympy.Function("x")(sympy.Symbol("t"))
+            from poinsot.symbolic import LagrangeSystem
+            osc = LagrangeSystem([x], x.diff() ** 2 / 2, x**4 / 4)
+            def run(n):
+                return osc.simulate([1.0], [0.0], np.linspace(0, n, 11), rtol=1e-13, atol=1e-15)
+            small, big = 1.0, 1e7
+        elif which == "midpoint-torque":
+            from poinsot.dynamics import GravityTorque, simulate
+            grav = GravityTorque(1.0, [0.0, 0.0, 0.4], g=10.0)   # depends on the attitude
+            w0 = np.random.default_rng(0).normal(size=(2000, 3)) * 5.0
+            def run(n):
+                return simulate([2.0, 2.0, 1.0], [1, 0, 0, 0], w0[: int(min(n, 2000))],
+                                np.linspace(0, n, 201), torque=grav, max_step=1e-3)
+            small, big = 2, 4000.0
+        elif which == "free-body":
+            body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.2])
+            def run(n):
+                return body.trajectory(np.linspace(0, 100, int(n)))
+            small, big = 10, 6e6  # ~10 s at ~1.9 us per sample (0.5 GB)
+        elif which.startswith("ensemble"):
+            from poinsot.ensemble import EnsembleProblem, Metric, Normal, run as ens_run
+            p = EnsembleProblem("racket", np.diag([1.0, 2.0, 3.0]), np.array([1.0, 0, 0, 0]),
+                                np.array([0.01, 2.0, 0.01]), np.linspace(0, 15, 301),
+                                dispersions=(("omega0", Normal(sigma=[0.005, 0.05, 0.005])),),
+                                metrics=(Metric("flip", "first_flip_time"),))
+            client = "serial"
+            if which == "ensemble-dask":
+                from dask.distributed import Client, LocalCluster
+                cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, host="127.0.0.1")
+                client = Client(cluster)
+            def run(n):
+                return ens_run(p, int(n), chunk_size=100, client=client, seed=1)
+            small, big = 200, 2e6  # ~20 ms a chunk: minutes for 20000 chunks
+        run(small)  # compile before the clock starts
+        print("ready", flush=True)
+        try:
+            run(big)
+            print("finished", flush=True)
+        except KeyboardInterrupt:
+            print("caught", flush=True)  # the latency ends here (not at the exit)
+            if which == "ensemble-dask":  # nothing of ours may still run on the cluster
+                time.sleep(0.5)
+                busy = sum(len(v) for v in client.processing().values())
+                client.close()
+                cluster.close()
+                print(f"interrupted {1 + busy}", flush=True)
+            else:
+                print(f"interrupted {len(threading.enumerate())}", flush=True)
+        except MemoryError:
+            print("memory", flush=True)
+
+    if __name__ == "__main__":
+        main()
     """
 )
 
 
-@pytest.mark.parametrize("which", ["particle", "lagrangian", "free-body", "midpoint-torque"])
+@pytest.mark.parametrize(
+    "which",
+    ["particle", "lagrangian", "free-body", "midpoint-torque", "ensemble-serial", "ensemble-dask"],
+)
 def test_ctrl_c_stops_long_calls(which, tmp_path):
     if which == "lagrangian":
         pytest.importorskip("sympy", reason="the symbolic extra")
+    if which.startswith("ensemble"):
+        pytest.importorskip("pyarrow", reason="the ensemble extra")
+    if which == "ensemble-dask":
+        pytest.importorskip("dask.distributed", reason="the ensemble extra")
     script = tmp_path / "long_call.py"
     script.write_text(_SCRIPT)
     env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
@@ -89,13 +124,14 @@ def test_ctrl_c_stops_long_calls(which, tmp_path):
         time.sleep(2.0)
         t0 = time.perf_counter()
         proc.send_signal(signal.SIGINT)
-        out, _ = proc.communicate(timeout=60)
+        first = proc.stdout.readline().strip()
         latency = time.perf_counter() - t0
+        out, _ = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
             proc.kill()
             proc.wait()
-    assert out.strip() == "interrupted 1", out
+    assert (first, out.strip()) == ("caught", "interrupted 1"), (first, out)
     assert latency < 1.5, latency
 
 
@@ -168,3 +204,27 @@ def test_lagrangian_progress_changes_nothing():
     assert np.array_equal(a.q, b.q)
     _check(seen)
     assert np.allclose(a.q[:, 0], np.cos(t), atol=1e-8)  # and it is the oscillator
+
+
+def test_ensemble_progress_is_a_fraction_and_on_chunk_counts():
+    pytest.importorskip("pyarrow", reason="the ensemble extra")
+    from poinsot.ensemble import EnsembleProblem, Metric, Normal, run
+
+    p = EnsembleProblem(
+        "racket",
+        np.diag([1.0, 2.0, 3.0]),
+        np.array([1.0, 0, 0, 0]),
+        np.array([0.01, 2.0, 0.01]),
+        np.linspace(0, 15, 301),
+        dispersions=(("omega0", Normal(sigma=[0.005, 0.05, 0.005])),),
+        metrics=(Metric("flip", "first_flip_time"),),
+    )
+    seen: list[float] = []
+    counts: list[tuple[int, int]] = []
+    a = run(p, 50, chunk_size=10, client="serial", seed=3, progress=seen.append,
+            on_chunk=lambda d, n: counts.append((d, n)))  # fmt: skip
+    b = run(p, 50, chunk_size=10, client="serial", seed=3)
+    assert a.table.equals(b.table)
+    _check(seen)
+    assert seen == [k / 5 for k in range(1, 6)]
+    assert counts == [(k, 5) for k in range(1, 6)]

@@ -142,7 +142,7 @@ def test_resume_recomputes_only_missing_chunks(tmp_path):
         seed=2,
         out=out,
         resume=True,
-        progress=lambda done, total: seen.append(done),
+        on_chunk=lambda done, total: seen.append(done),
     )
     assert len(seen) == 2  # two chunks computed
     assert resumed.table.equals(full.table)
@@ -178,7 +178,7 @@ def test_dask_cluster_with_a_killed_worker_gives_the_serial_result():
                 except Exception:  # the worker is gone before it answers
                     pass
 
-        res = run(p, 96, chunk_size=8, client=client, seed=11, progress=kill_one)
+        res = run(p, 96, chunk_size=8, client=client, seed=11, on_chunk=kill_one)
         # the same client again, right away (the problem is scattered under a fresh key)
         again = run(p, 96, chunk_size=8, client=client, seed=11)
     assert killed

@@ -25,6 +25,7 @@ ensemble.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
 import math
 import os
@@ -35,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from .._progress import Progress, as_progress
 from ..errors import InvalidInputError, InvalidTypeError
 from .dispersion import Dispersion, SmallRotation, UniformRotation
 from .metrics import Metric, Motion
@@ -500,7 +502,8 @@ def run(
     out: str | os.PathLike[str] | None = None,
     resume: bool = False,
     timeout: float = 10.0,
-    progress: Callable[[int, int], object] | None = None,
+    progress: Progress = None,
+    on_chunk: Callable[[int, int], object] | None = None,
 ) -> EnsembleResult:
     """Run ``samples`` dispersed motions of ``problem``; return the per-sample table.
 
@@ -524,6 +527,17 @@ def run(
         count and chunk size) and, by the caller, ``summary.json``.
     resume : bool
         Complete an interrupted run in ``out``: only missing chunks are computed.
+    progress : bool or callable, optional
+        As everywhere in poinsot: ``True`` draws a bar (tqdm in terminals and
+        notebooks), a callable receives the fraction of chunks done in [0, 1].
+    on_chunk : callable, optional
+        ``on_chunk(done, total)`` after each chunk arrives (chunk counts; the CLI's
+        ``chunks i/n`` line).
+
+    Ctrl-C raises ``KeyboardInterrupt`` between chunks (serial) or at once (Dask):
+    the chunks still queued are cancelled and a cluster this call started is
+    stopped. Chunks already written to ``out`` stay: ``resume=True`` completes
+    the run.
 
     Returns
     -------
@@ -567,9 +581,15 @@ def run(
         client, own = _client(scheduler, workers, timeout)
         made = True
     try:
-        return _run(problem, samples, chunk_size, client, own, made, scheduler,
-                    workers, seed, out, resume, timeout, progress, digest, n_chunks,
-                    sizes, done)  # fmt: skip
+        report = as_progress(progress, "ensemble")
+        try:
+            result = _run(problem, samples, chunk_size, client, own, made, scheduler,
+                          workers, seed, out, resume, timeout, report, on_chunk, digest,
+                          n_chunks, sizes, done)  # fmt: skip
+        finally:
+            if report is not None:
+                report.close()  # a bar is closed also on Ctrl-C
+        return result
     finally:
         if made:
             client.close()
@@ -588,7 +608,8 @@ def _run(
     out: Any,
     resume: bool,
     timeout: float,
-    progress: Any,
+    report: Any,
+    on_chunk: Any,
     digest: str,
     n_chunks: int,
     sizes: list[int],
@@ -615,8 +636,11 @@ def _run(
             _write_atomic_parquet(table, _chunk_path(outp, i))
         else:
             tables[i] = table
-        if progress is not None:
-            progress(len(done) + len(done_now), n_chunks)
+        count = len(done) + len(done_now)
+        if report is not None:
+            report(count / n_chunks)
+        if on_chunk is not None:
+            on_chunk(count, n_chunks)
 
     done_now: list[int] = []
     if client == "serial":
@@ -629,28 +653,46 @@ def _run(
         try:
             from dask.distributed import as_completed
 
-            # a fresh key: a hashed key may still be being released by a previous run
-            pf = client.scatter(problem, broadcast=True, hash=False)
-            futures = {
-                client.submit(
-                    _chunk_task,
-                    pf,
-                    i,
-                    sizes[i],
-                    seed,
-                    i * chunk_size,
-                    digest,
-                    1,
-                    key=f"poinsot-chunk-{digest[:16]}-{i}",
-                    retries=3,
-                    pure=False,
-                ): i
-                for i in todo
-            }
-            for fut in as_completed(futures):
-                i = futures[fut]
-                done_now.append(i)
-                arrived(i, fut.result())
+            futures: dict[Any, int] = {}
+            try:
+                # a fresh key: a hashed key may still be being released by a previous run
+                pf = client.scatter(problem, broadcast=True, hash=False)
+
+                def submit(i: int) -> Any:
+                    fut = client.submit(
+                        _chunk_task,
+                        pf,
+                        i,
+                        sizes[i],
+                        seed,
+                        i * chunk_size,
+                        digest,
+                        1,
+                        key=f"poinsot-chunk-{digest[:16]}-{i}",
+                        retries=3,
+                        pure=False,
+                    )
+                    futures[fut] = i
+                    return fut
+
+                # a window of chunks in flight, not all of them: the scheduler holds a
+                # few tasks per worker thread and Ctrl-C has little to cancel
+                threads = sum(client.nthreads().values()) or 1
+                queue = iter(todo)
+                first = itertools.islice(queue, 4 * threads + 4)
+                pending = as_completed([submit(i) for i in first])
+                for fut in pending:
+                    i = futures.pop(fut)
+                    done_now.append(i)
+                    arrived(i, fut.result())
+                    nxt = next(queue, None)
+                    if nxt is not None:
+                        pending.add(submit(nxt))
+            except BaseException:
+                # Ctrl-C (also while submitting) or a failed chunk: nothing queued may
+                # keep running for us
+                client.cancel(list(futures), force=True)
+                raise
         finally:
             if own is not None:  # a local cluster of ours (a remote client: closed by run)
                 client.close()

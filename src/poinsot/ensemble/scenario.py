@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._progress import Progress
 from ..errors import InvalidInputError
 from . import dispersion as _disp
 from . import metrics as _metrics
@@ -445,12 +446,14 @@ def run_scenario_ensemble(
     resume: bool = False,
     client: Any = None,
     timeout: float = 10.0,
-    progress: Callable[..., object] | None = None,
+    progress: Progress = None,
+    on_chunk: Callable[[int, int], object] | None = None,
     allow_paths: bool = False,
     allow_large: bool = False,
 ) -> EnsembleResult:
     """Run the ensemble of a scenario file and write its outputs into ``out``
-    (``allow_paths`` as in :func:`poinsot.scenarios.load_scenario`).
+    (``allow_paths`` as in :func:`poinsot.scenarios.load_scenario`; ``progress``,
+    ``on_chunk`` and Ctrl-C as in :func:`run`).
 
     Refused up front (:class:`EnsembleError`, before anything is written) when it
     exceeds the limits of :func:`ensemble_problems`, unless ``allow_large``.
@@ -471,6 +474,7 @@ def run_scenario_ensemble(
         resume=resume,
         timeout=timeout,
         progress=progress,
+        on_chunk=on_chunk,
     )
     outp = Path(out)
     _report(problem, result, outp / "report.html")
