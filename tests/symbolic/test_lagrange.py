@@ -392,7 +392,7 @@ def test_bad_input_names_the_argument():
     assert not tdep.jacobi_conserved
 
 
-@pytest.mark.parametrize("quadratic", [True, False])
+@pytest.mark.parametrize("quadratic", [True, False, "time"])
 def test_forcing_of_quadratic_and_general_lagrangians_matches_lagranges_method(quadratic):
     # A quadratic Lagrangian takes the Christoffel form (forcing from the mass matrix's
     # derivatives, issue 24), with a velocity-linear (rotating frame) and an explicitly
@@ -401,7 +401,10 @@ def test_forcing_of_quadratic_and_general_lagrangians_matches_lagranges_method(q
     x, y = me.dynamicsymbols("x y")
     m, w, k = sympy.symbols("m w k", positive=True)
     xd, yd = x.diff(t), y.diff(t)
-    if quadratic:
+    if quadratic == "time":  # M and b depend on t and q (L read off term by term)
+        T = (1 + t**2) * (xd + sympy.sin(y) * yd) ** 2 / 2 + m * (yd * sympy.exp(t) + x) ** 2
+        P = k * x * y
+    elif quadratic:
         T = m / 2 * ((xd - w * y) ** 2 + (yd + w * x) ** 2 + sympy.cos(x) * xd * yd)
         P = k * (1 + sympy.sin(t)) * (x**2 + y**2) / 2
     else:

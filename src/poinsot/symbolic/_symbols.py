@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 from ..errors import InvalidInputError, InvalidTypeError
@@ -47,22 +48,28 @@ class Coordinates:
         """``q'(t)`` for each coordinate."""
         return tuple(f.diff(self.time) for f in self.funcs)
 
+    @cached_property
+    def _plain_sub(self) -> dict[Any, Any]:
+        t = self.time
+        sub = {}
+        for f, p, v, a in zip(self.funcs, self.plain, self.vel, self.acc, strict=True):
+            sub[f.diff(t, 2)] = a
+            sub[f.diff(t)] = v
+            sub[f] = p
+        return sub
+
     def to_plain(self, expr: Any) -> Any:
         """``q(t), q'(t), q''(t)`` (and given plain symbols) -> plain symbols."""
         import sympy
 
-        t = self.time
-        sub = {}
-        for f, v, a in zip(self.funcs, self.vel, self.acc, strict=True):
-            sub[f.diff(t, 2)] = a
-            sub[f.diff(t)] = v
-        expr = sympy.sympify(expr)
-        # xreplace (exact node matches, top-down: derivatives before the functions
-        # inside them) is much faster than subs on large expressions
-        expr = expr.xreplace(sub)
-        if any(isinstance(d, sympy.Derivative) for d in expr.atoms(sympy.Derivative)):
-            expr = expr.subs(sub)  # derivatives spelt differently (e.g. unevaluated forms)
-        return expr.xreplace({f: p for f, p in zip(self.funcs, self.plain, strict=True)})
+        sub = self._plain_sub
+        # one xreplace (exact node matches, top-down: a derivative is replaced before the
+        # function inside it is reached) is much faster than subs on large expressions
+        out = sympy.sympify(expr).xreplace(sub)
+        if out.has(sympy.Derivative):  # derivatives spelt differently (unevaluated forms)
+            derivs = {k: v for k, v in sub.items() if isinstance(k, sympy.Derivative)}
+            out = sympy.sympify(expr).subs(derivs).xreplace(sub)
+        return out
 
     def to_funcs(self, expr: Any) -> Any:
         """Plain symbols -> ``q(t), q'(t), q''(t)``."""
