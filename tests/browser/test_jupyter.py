@@ -113,7 +113,10 @@ def server(tmp_path):
     # every cell rendered (no windowing of off-screen cells), no news prompt
     settings = tmp_path / "settings"
     for plugin, values in (
-        ("@jupyterlab/notebook-extension/tracker", {"windowingMode": "none"}),
+        (
+            "@jupyterlab/notebook-extension/tracker",
+            {"windowingMode": "none", "autoStartDefaultKernel": True},
+        ),  # fmt: skip
         ("@jupyterlab/apputils-extension/notification", {"fetchNews": "false"}),
     ):
         f = settings / (plugin + ".jupyterlab-settings")
@@ -243,6 +246,11 @@ def test_show_and_explore_in_jupyterlab(server, browser, record_property):
     try:
         page.goto(f"{url}/lab/tree/poinsot.ipynb?token={token}", timeout=90_000)
         page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
+        # some JupyterLab releases still ask which kernel to start: take the preferred one
+        try:
+            page.locator(".jp-Dialog button.jp-mod-accept").click(timeout=5_000)
+        except Exception:  # noqa: BLE001 - no dialog: the kernel started by itself
+            pass
         # wait for the kernel, then run every cell (Run > Run All Cells)
         page.wait_for_selector(".jp-Notebook-ExecutionIndicator[data-status='idle']",
                                timeout=90_000)  # fmt: skip

@@ -75,9 +75,9 @@ def test_ctrl_c_stops_a_long_simulation(method, tmp_path):
         time.sleep(2.0)
         t0 = time.perf_counter()
         proc.send_signal(signal.SIGINT)
-        out, _ = proc.communicate(timeout=60)  # never the whole minute-long run
-        latency = time.perf_counter() - t0  # to the process's exit: a bound on the raise
-        line = out.strip()
+        line = proc.stdout.readline().strip()  # printed where KeyboardInterrupt is caught
+        latency = time.perf_counter() - t0  # (not to the exit: teardown varies with load)
+        proc.communicate(timeout=60)  # never the whole minute-long run
     finally:
         if proc.poll() is None:
             proc.kill()
