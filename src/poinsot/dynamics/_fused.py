@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from .. import _numba_helpers as nh
-from .._jit import njit, prange
+from .._jit import NUMBA, njit, prange
 from .._numba_cache import depends_on
 from .._progress import run_compiled
 from ..rotations._lazy import threaded
@@ -675,15 +675,16 @@ def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6
     stats = np.zeros((n_body, 4), dtype=np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     done = np.zeros(n_body, dtype=np.int64)
+    if NUMBA:  # the lane-blocked kernels, SIMD across bodies (_fused_lanes_ctl)
+        from . import _fused_lanes
+
+        kernel, head = _fused_lanes.BATCH[kind], (y0, jj, ji, par, t)
+    else:  # the NumPy executor runs the one-body loop as Python
+        kernel, head = integrate_batch, (y0, jj, ji, kind, par, t)
     run_compiled(
-        functools.partial(threaded, integrate_batch),
+        functools.partial(threaded, kernel),
         (
-            y0,
-            jj,
-            ji,
-            kind,
-            par,
-            t,
+            *head,
             float(rtol),
             float(atol),
             float(np.inf if max_step is None else max_step),
