@@ -38,6 +38,8 @@ from poinsot.dynamics._fused_lanes_ctl import (  # noqa: E402
     OFF_P,
     OFF_Y,
     OFF_YN,
+    OFF_Z,
+    OFF_KOUT,
     L,
 )
 
@@ -56,6 +58,14 @@ def yn(c: int) -> str:
 
 def fd(i: int, c: int) -> str:
     return f"W[{OFF_F + (i * 7 + c) * L} + l]"
+
+
+def z(c: int) -> str:
+    return f"W[{OFF_Z + c * L} + l]"
+
+
+def kout(c: int) -> str:
+    return f"W[{OFF_KOUT + c * L} + l]"
 
 
 def lit(x: float) -> str:
@@ -124,77 +134,116 @@ def rhs_function(kind: int) -> str:
     return "\n".join(lines)
 
 
-def stage_loop(kind: int, s: int, coef, upto: int, base: callable) -> list[str]:
-    """One lane loop: ``z = base + h * sum_j coef_j K_j``, ``K_s = f(z)``."""
-    out = ["    for l in range(L):", f"        h = W[{OFF_H} + l]"]
-    for c in range(7):
-        out.append(f"        z{c} = {base(c)} + h * ({wsum(coef, k, c, upto)})")
+def rhs_pass(kind: int) -> str:
+    """``_rhs{kind}(W)``: ``K_out = f(z)`` for every lane, ``z`` and ``K_out`` in fixed slots
+    (compiled once per kind, vectorised over the lanes in its own module; the stage loops
+    copy ``K_out`` to its stage)."""
     zs = ", ".join(f"z{c}" for c in range(7))
+    out = [
+        "@njit(cache=True, error_model='numpy')",
+        f"def _rhs{kind}(W):  # pragma: no cover",
+        '    """``W[out] = f(W[z])`` for every lane (the stage right-hand sides)."""',
+        "    for l in range(L):",
+    ]
+    for c in range(7):
+        out.append(f"        z{c} = {z(c)}")
     out.append(f"        r0, r1, r2, r3, r4, r5, r6 = _f{kind}(W, l, {zs})")
     for c in range(7):
-        out.append(f"        {k(s, c)} = r{c}")
-    return out
+        out.append(f"        {kout(c)} = r{c}")
+    return "\n".join(out)
+
+
+def function(name: str, args: str, doc: str, body: list[str]) -> str:
+    head = [
+        "@njit(cache=True, error_model='numpy')",
+        f"def {name}({args}):  # pragma: no cover",
+        f'    """{doc}"""',
+    ]
+    return "\n".join(head + body)
+
+
+def lane_loop(body: list[str]) -> list[str]:
+    return ["    for l in range(L):", f"        h = W[{OFF_H} + l]"] + ["        " + x for x in body]
+
+
+def copy_out(s: int) -> list[str]:
+    """``K_s = K_out`` (the right-hand side just evaluated)."""
+    return [f"{k(s, c)} = {kout(c)}" for c in range(7)]
+
+
+def stage_function(s: int, tab) -> str:
+    """``_stage{s}(W)``: ``z = y + h sum_j a_sj K_j`` of every lane (``K_{s-1}`` first
+    copied from the output slot of the last right-hand side, but for s = 1 and 13)."""
+    body = [] if s in (1, tab.N_STAGES + 1) else copy_out(s - 1)
+    body += [f"{z(c)} = {y(c)} + h * ({wsum(tab.A[s], k, c, s)})" for c in range(7)]
+    return function(f"_stage{s}", "W", f"The argument ``z`` of stage {s}, every lane.", lane_loop(body))
+
+
+def ynew_function(tab) -> str:
+    ns = tab.N_STAGES
+    body = copy_out(ns - 1)
+    for c in range(7):
+        body += [f"n{c} = {y(c)} + h * ({wsum(tab.B, k, c, ns)})", f"{yn(c)} = n{c}", f"{z(c)} = n{c}"]
+    return function("_ynew", "W", "``y_new = y + h sum_j b_j K_j`` (also ``z``), every lane.", lane_loop(body))
+
+
+def err_function(tab) -> str:
+    ns = tab.N_STAGES
+    body = copy_out(ns) + ["e5 = 0.0", "e3 = 0.0"]
+    for c in range(7):
+        body += [
+            f"sc = atol + max(abs({y(c)}), abs({yn(c)})) * rtol",
+            f"a5 = ({wsum(tab.E5, k, c, ns + 1)}) / sc",
+            f"a3 = ({wsum(tab.E3, k, c, ns + 1)}) / sc",
+            "e5 += a5 * a5",
+            "e3 += a3 * a3",
+        ]
+    body += [
+        "err = h * e5 / math.sqrt((e5 + 0.01 * e3) * 7.0)",
+        f"W[{OFF_ERR} + l] = 0.0 if (e5 == 0.0 and e3 == 0.0) else err",
+    ]
+    return function("_err", "W, rtol, atol", "The error norm of the attempt (``K_12`` stored first), every lane.", lane_loop(body))
+
+
+def fcoef_function(tab) -> str:
+    ns = tab.N_STAGES
+    body = copy_out(ns + 3)
+    for c in range(7):
+        body += [
+            f"dy = {yn(c)} - {y(c)}",
+            f"{fd(0, c)} = dy",
+            f"{fd(1, c)} = h * {k(0, c)} - dy",
+            f"{fd(2, c)} = 2.0 * dy - h * ({k(ns, c)} + {k(0, c)})",
+        ]
+        body += [f"{fd(3 + i, c)} = h * ({wsum(tab.D[i], k, c, 16)})" for i in range(4)]
+    return function("_fcoef", "W", "The dense-output coefficients ``F`` (``K_15`` stored first), every lane.", lane_loop(body))
 
 
 def attempt_function(kind: int, tab) -> str:
     """``_attempt{kind}(W, rtol, atol)``: stages 1-11, ``y_new``, the FSAL stage 12 and
     the scaled error of every lane (``_fused.one_body``'s step, lane by lane)."""
-    ns = tab.N_STAGES
-    lines = [
-        "@njit(cache=True, error_model='numpy')",
-        f"def _attempt{kind}(W, rtol, atol):  # pragma: no cover",
-        f'    """One DOP853 step attempt of every lane (torque kind {kind}): the stages, '
-        '``y_new``, the\n    FSAL stage and the error norm ``err`` of each lane."""',
-    ]
-    for s in range(1, ns):
-        lines.append(f"    # stage {s}")
-        lines += stage_loop(kind, s, tab.A[s], s, y)
-    lines.append("    # y_new, the FSAL stage and the error norm")
-    lines += ["    for l in range(L):", f"        h = W[{OFF_H} + l]"]
-    for c in range(7):
-        lines.append(f"        n{c} = {y(c)} + h * ({wsum(tab.B, k, c, ns)})")
-        lines.append(f"        {yn(c)} = n{c}")
-    ns_ = ", ".join(f"n{c}" for c in range(7))
-    lines.append(f"        r0, r1, r2, r3, r4, r5, r6 = _f{kind}(W, l, {ns_})")
-    for c in range(7):
-        lines.append(f"        {k(ns, c)} = r{c}")
-    lines += ["        e5 = 0.0", "        e3 = 0.0"]
-    for c in range(7):
-        lines.append(f"        sc = atol + max(abs({y(c)}), abs(n{c})) * rtol")
-        lines.append(f"        a5 = ({wsum(tab.E5, k, c, ns + 1)}) / sc")
-        lines.append(f"        a3 = ({wsum(tab.E3, k, c, ns + 1)}) / sc")
-        lines.append("        e5 += a5 * a5")
-        lines.append("        e3 += a3 * a3")
-    lines += [
-        "        err = h * e5 / math.sqrt((e5 + 0.01 * e3) * 7.0)",
-        f"        W[{OFF_ERR} + l] = 0.0 if (e5 == 0.0 and e3 == 0.0) else err",
-    ]
-    return "\n".join(lines)
+    body = []
+    for s in range(1, tab.N_STAGES):
+        body += [f"    _stage{s}(W)", f"    _rhs{kind}(W)"]
+    body += ["    _ynew(W)", f"    _rhs{kind}(W)", "    _err(W, rtol, atol)"]
+    return function(
+        f"_attempt{kind}", "W, rtol, atol",
+        f"One DOP853 step attempt of every lane (torque kind {kind}): the stages, ``y_new``, "
+        "the\n    FSAL stage and the error norm ``err`` of each lane.", body,
+    )
 
 
 def dense_function(kind: int, tab) -> str:
     """``_dense{kind}(W)``: the three extra stages and the interpolant ``F`` of every lane."""
-    ns = tab.N_STAGES
-    lines = [
-        "@njit(cache=True, error_model='numpy')",
-        f"def _dense{kind}(W):  # pragma: no cover",
-        f'    """The 7th-order dense output of the step just taken by every lane (torque '
-        f'kind {kind}):\n    the stages 13-15 and the coefficients ``F``."""',
-    ]
-    for s in range(3):
-        lines.append(f"    # extra stage {ns + 1 + s}")
-        lines += stage_loop(kind, ns + 1 + s, tab.A[ns + 1 + s], ns + 1 + s, y)
-    lines += ["    for l in range(L):", f"        h = W[{OFF_H} + l]"]
-    for c in range(7):
-        lines += [
-            f"        dy = {yn(c)} - {y(c)}",
-            f"        {fd(0, c)} = dy",
-            f"        {fd(1, c)} = h * {k(0, c)} - dy",
-            f"        {fd(2, c)} = 2.0 * dy - h * ({k(ns, c)} + {k(0, c)})",
-        ]
-        for i in range(4):
-            lines.append(f"        {fd(3 + i, c)} = h * ({wsum(tab.D[i], k, c, 16)})")
-    return "\n".join(lines)
+    body = []
+    for s in range(tab.N_STAGES + 1, tab.N_STAGES + 4):
+        body += [f"    _stage{s}(W)", f"    _rhs{kind}(W)"]
+    body.append("    _fcoef(W)")
+    return function(
+        f"_dense{kind}", "W",
+        f"The 7th-order dense output of the step just taken by every lane (torque kind {kind}):"
+        "\n    the stages 13-15 and the coefficients ``F``.", body,
+    )
 
 
 DRIVER = '''
@@ -278,8 +327,14 @@ def generate() -> str:
     from poinsot.dynamics import _dop853_tableau as tab
 
     parts = [HEADER]
+    ns = tab.N_STAGES
+    parts += [stage_function(s, tab) for s in range(1, ns)]
+    parts += [ynew_function(tab), err_function(tab)]
+    parts += [stage_function(s, tab) for s in range(ns + 1, ns + 4)]
+    parts.append(fcoef_function(tab))
     for kind in KINDS:
         parts.append(rhs_function(kind))
+        parts.append(rhs_pass(kind))
         parts.append(attempt_function(kind, tab))
         parts.append(dense_function(kind, tab))
         parts.append(DRIVER.replace("{kind}", str(kind)).strip("\n"))

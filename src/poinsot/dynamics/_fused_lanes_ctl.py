@@ -58,7 +58,9 @@ OFF_JI = OFF_J + 9 * L
 OFF_P = OFF_JI + 9 * L
 OFF_H = OFF_P + 4 * L
 OFF_ERR = OFF_H + L
-N_WORK = OFF_ERR + L
+OFF_Z = OFF_ERR + L
+OFF_KOUT = OFF_Z + 7 * L
+N_WORK = OFF_KOUT + 7 * L
 
 # rows of the lane state: floats ``ls`` and integers ``li``
 T, HABS, MINSTEP, TNEW = 0, 1, 2, 3
