@@ -82,7 +82,7 @@ def test_generated_stages_up_to_date():
     ids=["free", "body", "space", "gravity", "gravity-gradient"],
 )
 def test_bit_identical_to_one_body_kernel(torque):
-    n = _fused_lanes.CHUNK + 7  # two chunks, the last one not a multiple of the lanes
+    n = 4 * 4 * _fused_lanes.L + 7  # chunks, the last one not a multiple of the lanes
     moments, quat, omega = _bodies(n)
     if torque == "gradient":  # the field sees the same inertia as the integrator
         moments = np.broadcast_to(moments[0], moments.shape)

@@ -22,6 +22,7 @@ each, ``K_0 = f(y)``), ``y_new``, the dense-output coefficients ``F`` (7 x 7 x L
 from __future__ import annotations
 
 import numpy as np
+from numba import get_num_threads
 
 from .. import _numba_helpers as nh
 from .._jit import njit, prange
@@ -48,8 +49,8 @@ depends_on(__file__, nh, _fused, G)
 
 #: Lanes per block (4 float64 fill an AVX2 register).
 L = 4
-#: Bodies per chunk: the unit of ``prange``, fixed by body index.
-CHUNK = 64
+#: Most bodies per chunk, the unit of ``prange`` (a lane takes the next body of its chunk).
+CHUNK = 256
 
 OFF_Y = 0
 OFF_K = 7 * L
@@ -458,10 +459,13 @@ def integrate_batch(
     y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
 ):  # pragma: no cover
     """:func:`poinsot.dynamics._fused.integrate_batch` (same arguments, same results bit
-    for bit), in chunks of ``CHUNK`` bodies (fixed by body index) stepped ``L`` at a time."""
+    for bit), in chunks of bodies stepped ``L`` at a time."""
     n = y0.shape[0]
-    for c in prange((n + CHUNK - 1) // CHUNK):
+    # about 4 chunks per thread (at most CHUNK bodies, at least 4 L): a lane idles only
+    # at the end of its chunk. A body's results do not depend on its lane or chunk.
+    size = min(CHUNK, max(4 * L, -(-n // (4 * get_num_threads()))))
+    for c in prange((n + size - 1) // size):
         _chunk(
-            c * CHUNK, min(n, (c + 1) * CHUNK), y0, J, Ji, kind, par, t_out, rtol, atol,
+            c * size, min(n, (c + 1) * size), y0, J, Ji, kind, par, t_out, rtol, atol,
             max_step, max_steps, oq, ow, stats, cancel, done,
         )  # fmt: skip
