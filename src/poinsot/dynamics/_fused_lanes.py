@@ -22,7 +22,6 @@ each, ``K_0 = f(y)``), ``y_new``, the dense-output coefficients ``F`` (7 x 7 x L
 from __future__ import annotations
 
 import numpy as np
-from numba import get_num_threads
 
 from .. import _numba_helpers as nh
 from .._jit import njit, prange
@@ -461,9 +460,10 @@ def integrate_batch(
     """:func:`poinsot.dynamics._fused.integrate_batch` (same arguments, same results bit
     for bit), in chunks of bodies stepped ``L`` at a time."""
     n = y0.shape[0]
-    # about 4 chunks per thread (at most CHUNK bodies, at least 4 L): a lane idles only
-    # at the end of its chunk. A body's results do not depend on its lane or chunk.
-    size = min(CHUNK, max(4 * L, -(-n // (4 * get_num_threads()))))
+    # at least 16 chunks (of 4 L to CHUNK bodies) to share among the threads; a lane idles
+    # only at the end of its chunk. A body's results do not depend on its lane or chunk.
+    # (numba's get_num_threads() here would make the kernel uncachable: a ctypes pointer)
+    size = min(CHUNK, max(4 * L, -(-n // 16)))
     for c in prange((n + size - 1) // size):
         _chunk(
             c * size, min(n, (c + 1) * size), y0, J, Ji, kind, par, t_out, rtol, atol,
