@@ -7,7 +7,11 @@ embedded 5th/3rd-order error estimate, 7th-order dense output). Nothing is
 allocated per stage and no Python runs per step; bodies are independent, so a
 batch is spread over threads with ``prange`` (the idle cores, by the rule of
 :func:`poinsot.rotations._lazy.threaded`) and the result is bit-identical for any
-number of threads.
+number of threads. :func:`integrate` runs the lane-blocked form of these kernels
+(:mod:`poinsot.dynamics._fused_lanes`: four bodies stepped together, SIMD across
+bodies, each with its own step control; bit for bit the results of
+:func:`one_body`); :func:`integrate_batch` here, one body per loop iteration, is
+the reference it is tested against and what the NumPy executor runs.
 
 The quaternion is integrated as a vector of R^4 (its exact flow keeps ``|q|``)
 and projected back onto the unit sphere after every accepted step and at every
