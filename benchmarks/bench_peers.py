@@ -399,6 +399,20 @@ def _integrators(moments, quat, omega, torque, mgc):
             set_threads(None)
 
     runs["poinsot dop853 (1 thread)"] = one_thread
+
+    def scalar_kernel(rtol: float, base=base) -> np.ndarray:
+        from poinsot.dynamics import _fused
+
+        set_threads(1)
+        _fused.LANES = False
+        try:
+            return base(rtol)
+        finally:
+            _fused.LANES = True
+            set_threads(None)
+
+    # the kernel before the lanes: one body per loop iteration (the same results)
+    runs["poinsot dop853, one body at a time (1 thread)"] = scalar_kernel
     try:
         runs["diffrax Dopri8 (7N system, jit)"] = diffrax_run(moments, quat, omega, mgc)
     except ImportError as e:

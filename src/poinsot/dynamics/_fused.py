@@ -7,7 +7,11 @@ embedded 5th/3rd-order error estimate, 7th-order dense output). Nothing is
 allocated per stage and no Python runs per step; bodies are independent, so a
 batch is spread over threads with ``prange`` (the idle cores, by the rule of
 :func:`poinsot.rotations._lazy.threaded`) and the result is bit-identical for any
-number of threads.
+number of threads. :func:`integrate` runs the lane-blocked form of these kernels
+(:mod:`poinsot.dynamics._fused_lanes`: four bodies stepped together, SIMD across
+bodies, each with its own step control; bit for bit the results of
+:func:`one_body`); :func:`integrate_batch` here, one body per loop iteration, is
+the reference it is tested against and what the NumPy executor runs.
 
 The quaternion is integrated as a vector of R^4 (its exact flow keeps ``|q|``)
 and projected back onto the unit sphere after every accepted step and at every
@@ -38,7 +42,7 @@ import math
 import numpy as np
 
 from .. import _numba_helpers as nh
-from .._jit import njit, prange
+from .._jit import NUMBA, njit, prange
 from .._numba_cache import depends_on
 from .._progress import run_compiled
 from ..rotations._lazy import threaded
@@ -61,49 +65,53 @@ MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0
 EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 
+#: Whether :func:`integrate` runs the lane-blocked kernels (:mod:`._fused_lanes`, the same
+#: results bit for bit) rather than :func:`integrate_batch`'s one body per iteration;
+#: the benchmarks and tests switch it to time and check one against the other.
+LANES = True
+
 #: ``stats`` columns: accepted steps, rejected steps, evaluations, status.
 OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE, CANCELLED = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, inline="always")
-def _torque(q0, q1, q2, q3, J, kind, par):
-    """The body torque of a built-in model (``kind``, ``par``: see the module notes) at
-    attitude ``q``; shared by the DOP853 right-hand side and the midpoint rule."""
+def _torque_s(
+    q0, q1, q2, q3, j00, j01, j02, j10, j11, j12, j20, j21, j22, kind, p0, p1, p2, p3
+):  # pragma: no cover
+    """The body torque of a built-in model (``kind``, ``par = (p0, p1, p2, p3)``: see the
+    module notes) at attitude ``q``, for inertia ``J`` given by rows; shared by the DOP853
+    right-hand sides (one body, lanes) and the midpoint rule."""
     t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
-        t0, t1, t2 = par[0], par[1], par[2]
+        t0, t1, t2 = p0, p1, p2
     elif kind >= 2:
         # body components of a space vector: the torque, e_z or the orbit radius
         if kind == 2:
-            v0, v1, v2 = par[0], par[1], par[2]
+            v0, v1, v2 = p0, p1, p2
         elif kind == 3:
             v0, v1, v2 = 0.0, 0.0, 1.0
         else:
-            v0, v1, v2 = par[1], par[2], par[3]
+            v0, v1, v2 = p1, p2, p3
         b0, b1, b2 = nh.qrot_inverse(q0, q1, q2, q3, v0, v1, v2)
         if kind == 2:
             t0, t1, t2 = b0, b1, b2
         elif kind == 3:  # gravity about the pin: gamma x (m g c), gamma = R^T e_z
-            t0, t1, t2 = nh.cross(b0, b1, b2, par[1], par[2], par[3])
-            t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
+            t0, t1, t2 = nh.cross(b0, b1, b2, p1, p2, p3)
+            t0, t1, t2 = p0 * t0, p0 * t1, p0 * t2
         else:  # gravity gradient: k n_b x J n_b
-            j0, j1, j2 = nh.matvec(
-                J[0, 0],
-                J[0, 1],
-                J[0, 2],
-                J[1, 0],
-                J[1, 1],
-                J[1, 2],
-                J[2, 0],
-                J[2, 1],
-                J[2, 2],
-                b0,
-                b1,
-                b2,
-            )
+            j0, j1, j2 = nh.matvec(j00, j01, j02, j10, j11, j12, j20, j21, j22, b0, b1, b2)
             t0, t1, t2 = nh.cross(b0, b1, b2, j0, j1, j2)
-            t0, t1, t2 = par[0] * t0, par[0] * t1, par[0] * t2
+            t0, t1, t2 = p0 * t0, p0 * t1, p0 * t2
     return t0, t1, t2
+
+
+@njit(cache=True, inline="always")
+def _torque(q0, q1, q2, q3, J, kind, par):
+    """:func:`_torque_s` with ``J`` (3, 3) and ``par`` (4,) arrays."""
+    return _torque_s(
+        q0, q1, q2, q3, J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0],
+        J[2, 1], J[2, 2], kind, par[0], par[1], par[2], par[3],
+    )  # fmt: skip
 
 
 @njit(cache=True, inline="always")
@@ -675,8 +683,12 @@ def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6
     stats = np.zeros((n_body, 4), dtype=np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     done = np.zeros(n_body, dtype=np.int64)
+    if NUMBA and LANES:  # L bodies at a time, SIMD across bodies (_fused_lanes)
+        from ._fused_lanes import integrate_batch as kernel
+    else:  # one body per loop iteration (and the NumPy executor, as Python)
+        kernel = integrate_batch
     run_compiled(
-        functools.partial(threaded, integrate_batch),
+        functools.partial(threaded, kernel),
         (
             y0,
             jj,

@@ -1,0 +1,148 @@
+"""The lane-blocked DOP853 (``_fused_lanes``, issue 24) against the one-body kernel.
+
+Every lane runs exactly the operations of :func:`poinsot.dynamics._fused.one_body`
+(the stage sums in the same order, the same right-hand side, the same step
+control), so the results must be equal bit for bit, for every torque kind, dense
+output, bodies that end early or fail while the other lanes go on, and a batch that
+is not a multiple of the lanes or chunks.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+
+import numpy as np
+import pytest
+
+from poinsot.dynamics import (
+    ConstantBodyTorque,
+    ConstantSpaceTorque,
+    GravityGradientTorque,
+    GravityTorque,
+    simulate,
+)
+
+pytest.importorskip("numba")
+from poinsot._jit import NUMBA  # noqa: E402
+
+if not NUMBA:  # the NumPy executor runs the one-body kernel only
+    pytest.skip("the lane kernels are numba's", allow_module_level=True)
+
+from poinsot.dynamics import _fused, _fused_lanes  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def _bodies(n, seed=2):
+    rng = np.random.default_rng(seed)
+    moments = rng.uniform(1.0, 2.0, (n, 3))
+    omega = rng.normal(size=(n, 3)) * rng.uniform(0.1, 5.0, (n, 1))  # uneven step counts
+    quat = rng.normal(size=(n, 4))
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    return moments, quat, omega
+
+
+def _both(*args, **kw):
+    """``_fused.integrate`` with the lanes and with one body per iteration."""
+    out = []
+    for lanes in (True, False):
+        _fused.LANES = lanes
+        try:
+            out.append(_fused.integrate(*args, **kw))
+        finally:
+            _fused.LANES = True
+    return out
+
+
+def _assert_same(a, b):
+    for x, y in zip(a, b, strict=True):
+        np.testing.assert_array_equal(x, y)
+
+
+def test_generated_stages_up_to_date():
+    spec = importlib.util.spec_from_file_location(
+        "gen_fused_lanes", os.path.join(ROOT, "tools", "gen_fused_lanes.py")
+    )
+    gen = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen)
+    with open(_fused_lanes.G.__file__) as fh:
+        assert fh.read() == gen.generate(), "run python tools/gen_fused_lanes.py"
+
+
+@pytest.mark.parametrize(
+    "torque",
+    [
+        None,
+        ConstantBodyTorque([0.05, -0.02, 0.03]),
+        ConstantSpaceTorque([0.1, 0.0, -0.05]),
+        GravityTorque(2.0, [0.01, -0.02, 0.1]),
+        "gradient",
+    ],
+    ids=["free", "body", "space", "gravity", "gravity-gradient"],
+)
+def test_bit_identical_to_one_body_kernel(torque):
+    n = 4 * 4 * _fused_lanes.L + 7  # chunks, the last one not a multiple of the lanes
+    moments, quat, omega = _bodies(n)
+    if torque == "gradient":  # the field sees the same inertia as the integrator
+        moments = np.broadcast_to(moments[0], moments.shape)
+        torque = GravityGradientTorque(moments[0], 7.0e6, [0.3, -0.4, 0.8], mu=3.986e14 * 1e5)
+    for t in (np.array([0.0, 3.0]), np.linspace(0.0, 3.0, 41)):  # end only; dense output
+        a, b = _both(moments, quat, omega, t, torque, rtol=1e-9, atol=1e-11, max_step=np.inf)
+        _assert_same(a, b)
+        assert np.ptp(a[2][:, 0]) > 5  # the lanes took different numbers of steps
+
+
+def test_bit_identical_with_failures_and_limits():
+    moments, quat, omega = _bodies(23, seed=4)
+    omega[5] = 1e200  # overflows at once: non-finite while the other lanes go on
+    omega[11] = np.nan
+    t = np.linspace(0.0, 2.0, 9)
+    a, b = _both(moments, quat, omega, t, None, rtol=1e-10, atol=1e-12, max_step=0.3)
+    _assert_same(a, b)
+    status = a[2][:, 3]
+    assert status[5] == _fused.NONFINITE and status[11] == _fused.NONFINITE
+    assert np.all(np.delete(status, [5, 11]) == _fused.OK)
+    assert np.isnan(a[0][1:, 5]).all() and np.isfinite(a[0][:, 0]).all()
+    # too many steps for some bodies only
+    a, b = _both(moments, quat, omega, t, None, rtol=1e-12, atol=1e-14, max_step=np.inf,
+                 max_steps=40)  # fmt: skip
+    _assert_same(a, b)
+    assert (a[2][:, 3] == _fused.TOO_MANY_STEPS).any() and (a[2][:, 3] == _fused.OK).any()
+    # one output time: the initial state only
+    a, b = _both(moments, quat, omega, np.array([0.5]), None, rtol=1e-8, atol=1e-10,
+                 max_step=np.inf)  # fmt: skip
+    _assert_same(a, b)
+
+
+def test_cancel_flag_stops_every_lane():
+    moments, quat, omega = _bodies(9)
+    y0 = np.concatenate([quat, omega], axis=1)
+    jj = np.ascontiguousarray(np.broadcast_to(np.eye(3), (9, 3, 3)) * moments[:, None, :])
+    ji = np.linalg.inv(jj)
+    t = np.linspace(0.0, 1.0, 5)
+    oq, ow = np.empty((5, 9, 4)), np.empty((5, 9, 3))
+    stats = np.zeros((9, 4), dtype=np.int64)
+    cancel = np.ones(1, dtype=np.int64)
+    done = np.zeros(9, dtype=np.int64)
+    _fused_lanes.integrate_batch(
+        y0, jj, ji, 0, np.zeros((9, 4)), t, 1e-8, 1e-10, np.inf, 10**6, oq, ow, stats,
+        cancel, done,
+    )  # fmt: skip
+    assert np.all(stats[:, 3] == _fused.CANCELLED)
+    assert np.isfinite(oq[0]).all() and np.isnan(oq[1:]).all()
+
+
+def test_simulate_uses_the_lanes_and_marks_failures():
+    moments, quat, omega = _bodies(6, seed=8)
+    omega[2] = 1e200  # overflows in the first step
+    t = np.linspace(0.0, 1.0, 5)
+    tr = simulate(moments, quat, omega, t, method="dop853", failures="mark")
+    assert tr.info["failed"][2] and not tr.info["failed"][0]
+    _fused.LANES = False
+    try:
+        ref = simulate(moments, quat, omega, t, method="dop853", failures="mark")
+    finally:
+        _fused.LANES = True
+    np.testing.assert_array_equal(tr.quat, ref.quat)
+    np.testing.assert_array_equal(tr.omega, ref.omega)
