@@ -68,6 +68,13 @@ class _DependentLocator(_LocatorBase):  # type: ignore[misc]  # numba's, or obje
         self._inner = inner
         self._deps = deps
 
+    def __getattr__(self, name):
+        # anything else numba reads of a locator (e.g. `_py_file` in its "cannot cache"
+        # warning) is the wrapped locator's
+        if name == "_inner":
+            raise AttributeError(name)
+        return getattr(self._inner, name)
+
     def ensure_cache_path(self):
         self._inner.ensure_cache_path()
 
