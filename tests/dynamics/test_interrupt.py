@@ -77,7 +77,7 @@ def test_ctrl_c_stops_a_long_simulation(method, tmp_path):
         proc.send_signal(signal.SIGINT)
         line = proc.stdout.readline().strip()  # printed where KeyboardInterrupt is caught
         latency = time.perf_counter() - t0  # (not to the exit: teardown varies with load)
-        proc.communicate(timeout=60)  # never the whole minute-long run
+        proc.wait(timeout=60)  # never the whole minute-long run
     finally:
         if proc.poll() is None:
             proc.kill()

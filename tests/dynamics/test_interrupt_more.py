@@ -14,6 +14,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
@@ -118,6 +119,8 @@ def test_ctrl_c_stops_long_calls(which, tmp_path):
     env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
     proc = subprocess.Popen([sys.executable, str(script), which], stdout=subprocess.PIPE,
                             text=True, env=env)  # fmt: skip
+    watchdog = threading.Timer(120.0, proc.kill)  # a hung child fails, never hangs
+    watchdog.start()
     try:
         assert proc.stdout is not None
         assert proc.stdout.readline().strip() == "ready"
@@ -126,8 +129,12 @@ def test_ctrl_c_stops_long_calls(which, tmp_path):
         proc.send_signal(signal.SIGINT)
         first = proc.stdout.readline().strip()
         latency = time.perf_counter() - t0
-        out, _ = proc.communicate(timeout=60)
+        # the rest from the same buffered reader (communicate() would read the pipe
+        # itself and miss what readline() already buffered); the watchdog bounds it
+        out = proc.stdout.read()
+        proc.wait()
     finally:
+        watchdog.cancel()
         if proc.poll() is None:
             proc.kill()
             proc.wait()
