@@ -132,15 +132,15 @@ def discriminant_term(ia, ib, w):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pragma: no cover
-    """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
-    lam, u0, kq, k2, m1, n2 = par[P_LAM], par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2]
-    jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
-    kappa, beta = par[P_KAPPA], par[P_BETA]
-    major = par[P_MAJOR] > 0.5
-    i, m, j = idx[0], idx[1], idx[2]
+def elliptic_omega(
+    tau, lam, u0, kq, k2, m1, n2, levels, lscale, ks, kps, separatrix, ai, am, aj, want_j
+):  # pragma: no cover - compiled
+    """``(w_i, w_m, w_j, kk, J(r))`` at scaled time ``tau``: ``w_i = a_i dn(u)``,
+    ``w_m = a_m sn(u)``, ``w_j = a_j cn(u)``, ``u = lam tau + u0 = 2 kk K + r``, and
+    ``J(r) = int_0^r sn^2 / (1 + n sn^2)`` when ``want_j`` (else 0); the Landen table
+    ``ks, kps, levels, lscale`` of ``k2``, ``m1 = 1 - k2`` from :func:`landen_fill`."""
     u = lam * tau + u0
-    if par[P_MODE] == SEPARATRIX:
+    if separatrix:
         # k = 1: sn = tanh, cn = dn = sech; J(u) in closed form.
         kk = 0.0
         sn = math.tanh(u)
@@ -156,16 +156,27 @@ def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pr
     else:
         kk, r = reduce_argument(u, kq)
         sgn = 1.0 - 2.0 * (kk - 2.0 * math.floor(0.5 * kk))
-        sn, cn, dn = jacobi_reduced(r, ks, kps, int(par[P_LEVELS]), par[P_LSCALE], k2, m1)
+        sn, cn, dn = jacobi_reduced(r, ks, kps, levels, lscale, k2, m1)
         # J(r) = int_0^r sn^2 / (1 + n sn^2) = sn^3 R_J(cn^2, dn^2, 1, 1 + n sn^2) / 3
         sn2 = sn * sn
-        if sn2 == 0.0 or not want_q:
+        if sn2 == 0.0 or not want_j:
             jr = 0.0
         else:
             jr = sn * sn2 * carlson_rj(cn * cn, dn * dn, 1.0, 1.0 + n2 * sn2) / 3.0
-    wi = amp[i] * dn
-    wm = amp[m] * sgn * sn
-    wj = amp[j] * sgn * cn
+    return ai * dn, am * sgn * sn, aj * sgn * cn, kk, jr
+
+
+@njit(cache=True, inline="always")
+def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pragma: no cover
+    """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
+    jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
+    kappa, beta, lam = par[P_KAPPA], par[P_BETA], par[P_LAM]
+    major = par[P_MAJOR] > 0.5
+    i, m, j = idx[0], idx[1], idx[2]
+    wi, wm, wj, kk, jr = elliptic_omega(
+        tau, lam, par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2], int(par[P_LEVELS]),
+        par[P_LSCALE], ks, kps, par[P_MODE] == SEPARATRIX, amp[i], amp[m], amp[j], want_q,
+    )  # fmt: skip
     if not want_q:
         w0, w1, w2 = _place(i, m, wi, wm, wj)
         return w0, w1, w2, 1.0, 0.0, 0.0, 0.0, 0.0
@@ -216,6 +227,22 @@ def _axis_q(ax, angle):  # pragma: no cover - compiled
     return math.cos(h), s * ax[0], s * ax[1], s * ax[2]
 
 
+@njit(cache=True, inline="always")
+def symmetric_spin(i_s, i_p, w_s):  # pragma: no cover - compiled
+    """``phi' = (I_s - I_p) w_s / I_p``: the rate at which ``w`` turns about the symmetry
+    axis ``s`` of a symmetric body (equatorial moment ``I_p``) in body axes."""
+    return (i_s - i_p) * w_s / i_p
+
+
+@njit(cache=True, inline="always")
+def symmetric_omega(ax, ay, spin, tau):  # pragma: no cover - compiled
+    """The equatorial components ``(w_x, w_y)`` of a symmetric body at scaled ``tau``:
+    ``(a_x, a_y)`` turned by ``spin tau`` (``x, y`` the axes after ``s``, cyclically)."""
+    ang = spin * tau
+    c, sn = math.cos(ang), math.sin(ang)
+    return ax * c - ay * sn, ax * sn + ay * c
+
+
 # ---------------------------------------------------------------------------
 # Setup (per body)
 # ---------------------------------------------------------------------------
@@ -260,7 +287,7 @@ def setup(mom, w0, q0, par, idx, amp, vec, qa, qb, ks, kps, info):  # pragma: no
             ip = im[(s + 1) % 3]
             idx[b, 0] = s
             pb[P_MODE] = SYMMETRIC
-            spin = (im[s] - ip) * w[s] / ip
+            spin = symmetric_spin(im[s], ip, w[s])
             pb[P_SPIN] = spin
             pb[P_PSIDOT] = kmom / ip
             pb[P_PHIDOT] = -spin
@@ -325,12 +352,14 @@ def _setup_uniform(b, w, q0, pb, amp, vec, qa):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _setup_elliptic(
-    b, i, m, j, d, separatrix, mom, w, q0, kmom, pb, idx, amp, qa, qb, ks, kps, info
-):  # pragma: no cover - compiled
+def elliptic_constants(i, m, j, d, separatrix, mom, w, kmom):  # pragma: no cover - compiled
+    """Constants of the elliptic motion about axis ``i`` (``m`` middle, ``j`` the other
+    extreme; ``d = D`` the discriminant, ``separatrix`` when ``k = 1``) for scaled
+    moments ``mom`` and ``w`` (indexable by ``i, m, j``) and ``kmom = |K|``:
+    ``(a_i, a_m, a_j, lam, n, beta, major, kappa, rate0, 1 - k^2, k^2, K, u0, J_h)``
+    (module notes of :mod:`poinsot.dynamics.free_body`; ``J_h = 2 R_J(0, m1, 1, 1 + n)
+    / 3`` is 0 and ``K`` infinite on the separatrix)."""
     ii, im, ij = mom[i], mom[m], mom[j]
-    idx[b, 0], idx[b, 1], idx[b, 2] = i, m, j
-    pb[P_MODE] = SEPARATRIX if separatrix else ELLIPTIC
     # 2 T I_i - K^2 and K^2 - 2 T I_j as sums of same-sign terms (no cancellation)
     g_i = mom[m] * (ii - mom[m]) * w[m] ** 2 + mom[j] * (ii - mom[j]) * w[j] ** 2
     mg_j = mom[i] * (mom[i] - ij) * w[i] ** 2 + mom[m] * (mom[m] - ij) * w[m] ** 2
@@ -342,47 +371,61 @@ def _setup_elliptic(
     s_i = math.copysign(1.0, w[i])
     s_j = math.copysign(1.0, w[j]) if separatrix else 1.0
     s_m = sigma * math.copysign(1.0, ii - ij) * s_i * s_j
-    amp[b, i] = s_i * math.sqrt(ai2)
-    amp[b, m] = s_m * math.sqrt(am2)
-    amp[b, j] = s_j * math.sqrt(aj2)
+    ai = s_i * math.sqrt(ai2)
+    am = s_m * math.sqrt(am2)
+    aj = s_j * math.sqrt(aj2)
     n2 = ij * g_i / (ii * mg_j)
     major = ii > ij
+    beta = (im * im * am2) / (ii * ii * ai2)
+    kappa = kmom * ((1.0 / im - 1.0 / ii) if major else (1.0 / ii - 1.0 / im))
+    rate0 = kmom / (ii if major else im)
+    if separatrix:
+        u0 = math.asinh((w[m] / am) / (w[i] / ai))
+        return ai, am, aj, lam, n2, beta, major, kappa, rate0, 0.0, 1.0, math.inf, u0, 0.0
+    # 1 - k^2 = (I_i - I_j) D / ((I_i - I_m)(K^2 - 2 T I_j)), D exact to a few ulp
+    m1 = (ii - ij) * d / ((ii - im) * mg_j)
+    k2 = min((im - ij) * g_i / ((ii - im) * mg_j), 1.0)  # an ulp above 1 by rounding
+    kq = complete_k(m1)
+    if am2 == 0.0:
+        u0 = 0.0
+    else:
+        sn0, cn0 = w[m] / am, w[j] / aj
+        rho = math.hypot(sn0, cn0)
+        sn0, cn0 = sn0 / rho, cn0 / rho
+        dn0 = w[i] / ai
+        f = sn0 * carlson_rf(cn0 * cn0, dn0 * dn0, 1.0)
+        u0 = f if cn0 >= 0.0 else math.copysign(2.0 * kq, sn0) - f
+    jh = (2.0 / 3.0) * carlson_rj(0.0, m1, 1.0, 1.0 + n2)
+    return ai, am, aj, lam, n2, beta, major, kappa, rate0, m1, k2, kq, u0, jh
+
+
+@njit(cache=True)
+def _setup_elliptic(
+    b, i, m, j, d, separatrix, mom, w, q0, kmom, pb, idx, amp, qa, qb, ks, kps, info
+):  # pragma: no cover - compiled
+    ii, ij = mom[i], mom[j]
+    idx[b, 0], idx[b, 1], idx[b, 2] = i, m, j
+    pb[P_MODE] = SEPARATRIX if separatrix else ELLIPTIC
+    ai, am, aj, lam, n2, beta, major, kappa, rate0, m1, k2, kq, u0, jh = elliptic_constants(
+        i, m, j, d, separatrix, mom, w, kmom
+    )
+    amp[b, i], amp[b, m], amp[b, j] = ai, am, aj
     pb[P_LAM] = lam
     pb[P_N2] = n2
-    pb[P_BETA] = (im * im * am2) / (ii * ii * ai2)
+    pb[P_BETA] = beta
     pb[P_MAJOR] = 1.0 if major else 0.0
     pb[P_KMOM] = kmom
-    pb[P_KAPPA] = kmom * ((1.0 / im - 1.0 / ii) if major else (1.0 / ii - 1.0 / im))
-    pb[P_RATE0] = kmom / (ii if major else im)
+    pb[P_KAPPA] = kappa
+    pb[P_RATE0] = rate0
+    pb[P_M1], pb[P_K2], pb[P_KQ], pb[P_U0] = m1, k2, kq, u0
     if separatrix:
-        pb[P_M1] = 0.0
-        pb[P_K2] = 1.0
-        pb[P_U0] = math.asinh((w[m] / amp[b, m]) / (w[i] / amp[b, i]))
-        pb[P_KQ] = math.inf
         pb[P_LEVELS] = -1.0
         info[b, 3] = 0.0
     else:
-        # 1 - k^2 = (I_i - I_j) D / ((I_i - I_m)(K^2 - 2 T I_j)), D exact to a few ulp
-        m1 = (ii - ij) * d / ((ii - im) * mg_j)
-        k2 = min((im - ij) * g_i / ((ii - im) * mg_j), 1.0)  # an ulp above 1 by rounding
-        pb[P_M1], pb[P_K2] = m1, k2
-        kq = complete_k(m1)
-        pb[P_KQ] = kq
         lv, sc = landen_fill(k2, m1, ks[b], kps[b])
         pb[P_LEVELS] = lv
         pb[P_LSCALE] = sc
         info[b, 3] = m1
-        if am2 == 0.0:
-            u0 = 0.0
-        else:
-            sn0, cn0 = w[m] / amp[b, m], w[j] / amp[b, j]
-            rho = math.hypot(sn0, cn0)
-            sn0, cn0 = sn0 / rho, cn0 / rho
-            dn0 = w[i] / amp[b, i]
-            f = sn0 * carlson_rf(cn0 * cn0, dn0 * dn0, 1.0)
-            u0 = f if cn0 >= 0.0 else math.copysign(2.0 * kq, sn0) - f
-        pb[P_U0] = u0
-        jh = (2.0 / 3.0) * carlson_rj(0.0, m1, 1.0, 1.0 + n2)
         pb[P_JH] = jh
         period = 4.0 * kq / lam
         dj = 2.0 * jh
@@ -441,10 +484,7 @@ def evaluate(
                 # w_perp turns about e_s at the rate spin; R = Rot(K, psi' t) R0 Rot(e_s, phi' t)
                 s = idx[b, 0]
                 x, y = (s + 1) % 3, (s + 2) % 3
-                ang = pb[P_SPIN] * tau
-                c, sn = math.cos(ang), math.sin(ang)
-                wxx = amp[b, x] * c - amp[b, y] * sn
-                wyy = amp[b, x] * sn + amp[b, y] * c
+                wxx, wyy = symmetric_omega(amp[b, x], amp[b, y], pb[P_SPIN], tau)
                 wx, wy, wz = _place(s, x, amp[b, s], wxx, wyy)
                 if want_q:
                     a0, a1, a2, a3 = _axis_q(vec[b], pb[P_PSIDOT] * tau)
@@ -472,4 +512,16 @@ def evaluate(
                     q_out[b, p, 0], q_out[b, p, 1], q_out[b, p, 2], q_out[b, p, 3] = r0, r1, r2, r3
 
 
-__all__ = ["setup", "evaluate", "LMAX", "N_PAR", "REGIMES", "two_sum", "two_prod"]
+__all__ = [
+    "setup",
+    "evaluate",
+    "elliptic_constants",
+    "elliptic_omega",
+    "symmetric_spin",
+    "symmetric_omega",
+    "LMAX",
+    "N_PAR",
+    "REGIMES",
+    "two_sum",
+    "two_prod",
+]
