@@ -46,6 +46,7 @@ __all__ = [
     "NAMESPACES",
     "going",
     "upto",
+    "pick",
 ]
 
 
@@ -152,7 +153,11 @@ def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
                 continue
             if _is_formula(v):
                 wrap = WRAP.get(ns)
-                new[k] = rebind(v, ns) if wrap is None else wrap(v)
+                f = source(v)
+                if wrap is None or f"{f.__module__}.{f.__name__}" in INPLACE:
+                    new[k] = rebind(v, ns)
+                else:
+                    new[k] = wrap(v)
     return new
 
 
@@ -178,6 +183,9 @@ def _is_formula(v: Any) -> bool:
 #: it calls (``poinsot.jax`` wraps them as selects, so each one's branches are merged
 #: where it returns instead of multiplying the paths of its caller)
 WRAP: dict[str, Callable[[Callable[..., Any]], Callable[..., Any]]] = {}
+#: Functions that write into their array arguments (tables): never wrapped (a wrapper
+#: would hand them copies), they run inside their caller's paths.
+INPLACE = {"poinsot.dynamics._elliptic.landen_fill"}
 
 
 def rebind(fn: Callable[..., Any], ns: str) -> Callable[..., Any]:
@@ -350,6 +358,11 @@ def _upto(n: int, nmax: int) -> int:
     return n
 
 
+def _pick(cond: bool, a: Any, b: Any) -> Any:
+    """``a if cond else b`` for two cheap values that are both defined (no branch on JAX)."""
+    return a if cond else b
+
+
 # Any: the two executors' decorators have nothing in common but how they are called
 njit: Any
 guvectorize: Any
@@ -373,3 +386,7 @@ going: Any = njit(inline="always")(_going) if NUMBA else _going
 #: ``range(upto(n, nmax))``: ``n`` steps here, ``nmax`` on JAX (a static trip count;
 #: the table entries beyond ``n`` make the extra steps identities).
 upto: Any = njit(inline="always")(_upto) if NUMBA else _upto
+#: ``pick(cond, a, b)``: ``a if cond else b`` where both are cheap and finite; a
+#: tracing library re-binds it to its select (``jnp.where``), which is not a branch
+#: (a branch doubles the paths a select executor traces).
+pick: Any = njit(inline="always")(_pick) if NUMBA else _pick

@@ -79,6 +79,7 @@ from .._typing import ArrayLike, FloatArray
 __all__ = [
     "LMAX",
     "landen_fill",
+    "landen_table",
     "reduce_argument",
     "jacobi_reduced",
     "jacobi_point",
@@ -324,6 +325,15 @@ def landen_fill(m, m1, ks, kps):  # pragma: no cover - compiled
     return lv, scale
 
 
+def landen_table(m, m1):  # plain Python: for the array executors that trace it (poinsot.jax)
+    """``(L, scale, ks, kps)`` of :func:`landen_fill` with the tables returned as tuples of
+    length :data:`LMAX` (entries past ``L``: ``k = 0``, ``k' = 1``, identity steps)."""
+    ks = [0.0] * LMAX
+    kps = [1.0] * LMAX
+    lv, scale = landen_fill(m, m1, ks, kps)
+    return lv, scale, tuple(ks), tuple(kps)
+
+
 @njit(cache=True)
 def reduce_argument(u, kq):  # pragma: no cover - compiled
     """``(j, r)`` with ``u = 2 j K + r``, ``|r| <= K`` (``j`` a float integer; ``kq = K``)."""
@@ -397,7 +407,8 @@ def complete_k(m1):  # pragma: no cover - compiled
     if not (m1 > 0.0):
         return math.nan
     a, b = 1.0, math.sqrt(m1)
-    for _ in range(64):
+    # 12 steps at most for m1 >= 1e-300 (quadratic convergence); 16 on JAX
+    for _ in range(upto(64, 16)):
         if not going(abs(a - b) > 4.0 * _EPS * a):  # (a NaN stops: it stays NaN)
             break
         a, b = 0.5 * (a + b), math.sqrt(a * b)
