@@ -746,12 +746,17 @@ class FreeBodyMotion:
         >>> m.omega(jnp.array([0.0, 1.0])).round(6).tolist()[1]
         [0.540302, -0.841471, 2.0]
         """
-        t = jnp.asarray(t, dtype=jnp.float64)
-        extra = (None,) * t.ndim
-        ws = self.scale[(..., *extra)]
-        c = jax.tree_util.tree_map(lambda a: a[(..., *extra)], self.constants)
-        w = _free_body_lanes()[1](ws * t, c)
-        return _stack(w) * ws[..., None]
+        return _motion_omega(self, t)
+
+
+@jax.jit
+def _motion_omega(motion: FreeBodyMotion, t: Any) -> Any:
+    t = jnp.asarray(t, dtype=jnp.float64)
+    extra = (None,) * t.ndim
+    ws = motion.scale[(..., *extra)]
+    c = jax.tree_util.tree_map(lambda a: a[(..., *extra)], motion.constants)
+    w = _free_body_lanes()[1](ws * t, c)  # traced: the branches are selects
+    return _stack(w) * ws[..., None]
 
 
 jax.tree_util.register_pytree_node(
