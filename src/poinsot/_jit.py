@@ -44,6 +44,9 @@ __all__ = [
     "numpy_fn",
     "rebind",
     "NAMESPACES",
+    "going",
+    "upto",
+    "pick",
 ]
 
 
@@ -148,15 +151,49 @@ def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
         for k, v in g.items():
             if k in subs:  # the library's own primitive
                 continue
-            if isinstance(v, _pytypes.FunctionType) and v.__module__.startswith("poinsot"):
-                new[k] = rebind(v, ns)
+            if _is_formula(v):
+                wrap = WRAP.get(ns)
+                f = source(v)
+                if wrap is None or f"{f.__module__}.{f.__name__}" in INPLACE:
+                    new[k] = rebind(v, ns)
+                else:
+                    new[k] = wrap(v)
     return new
+
+
+def source(fn: Any) -> Any:
+    """The plain Python function of ``fn``: a numba dispatcher's ``py_func``, or the
+    function a :func:`njit` of the NumPy executor wrapped (else ``fn`` itself)."""
+    f = getattr(fn, "py_func", None)
+    if isinstance(f, _pytypes.FunctionType):
+        return f
+    f = getattr(fn, "__wrapped__", None)
+    if isinstance(f, _pytypes.FunctionType) and getattr(fn, "_poinsot_quiet", False):
+        return f
+    return fn
+
+
+def _is_formula(v: Any) -> bool:
+    """A poinsot function (plain, or compiled by :func:`njit`) whose globals are re-bound."""
+    v = source(v)
+    return isinstance(v, _pytypes.FunctionType) and v.__module__.startswith("poinsot")
+
+
+#: name -> how the globals of a formula run on that library wrap the poinsot functions
+#: it calls (``poinsot.jax`` wraps them as selects, so each one's branches are merged
+#: where it returns instead of multiplying the paths of its caller)
+WRAP: dict[str, Callable[[Callable[..., Any]], Callable[..., Any]]] = {}
+#: Functions that write into their array arguments (tables): never wrapped (a wrapper
+#: would hand them copies), they run inside their caller's paths.
+INPLACE = {"poinsot.dynamics._elliptic.landen_fill"}
 
 
 def rebind(fn: Callable[..., Any], ns: str) -> Callable[..., Any]:
     """``fn`` re-bound to globals where ``math``, ``max``, ``min`` (and ``np``) are those
     of the array library ``ns`` (a key of :data:`NAMESPACES`), and the poinsot functions it
-    calls re-bound too: the same code, run on that library's arrays."""
+    calls re-bound too: the same code, run on that library's arrays. ``fn`` may be
+    compiled by :func:`njit` (its Python source is re-bound)."""
+    fn = source(fn)
     out = _REBOUND.get((fn, ns))
     if out is None:
         f: Any = fn
@@ -288,6 +325,7 @@ def _quiet(fn: Callable[..., Any]) -> Callable[..., Any]:
         with np.errstate(all="ignore"):
             return fn(*args, **kwargs)
 
+    run._poinsot_quiet = True  # type: ignore[attr-defined]  # source() unwraps it
     return run
 
 
@@ -309,6 +347,22 @@ def _np_overload(fn: Any, **kwargs: Any) -> Callable[..., Any]:
     return lambda impl: impl
 
 
+# ------------------------------------------------------- bounded loops for tracing
+def _going(cond: bool) -> bool:
+    """The exit test of an iteration: ``cond`` itself here (numba, NumPy, plain Python)."""
+    return cond
+
+
+def _upto(n: int, nmax: int) -> int:
+    """The trip count of a loop over a table: ``n`` here (``nmax`` on JAX)."""
+    return n
+
+
+def _pick(cond: bool, a: Any, b: Any) -> Any:
+    """``a if cond else b`` for two cheap values that are both defined (no branch on JAX)."""
+    return a if cond else b
+
+
 # Any: the two executors' decorators have nothing in common but how they are called
 njit: Any
 guvectorize: Any
@@ -322,3 +376,17 @@ if NUMBA:
     overload = _extending.overload
 else:
     njit, guvectorize, prange, overload = _np_njit, _np_guvectorize, range, _np_overload
+
+#: ``while going(cond)``/``if not going(cond): break``: a converging iteration's test.
+#: Compiled and plain runs see ``cond``; a tracing library (``poinsot.jax``) re-binds
+#: ``going`` to "keep going" (always true), so a loop written ``for _ in range(N)`` with
+#: this exit test runs all ``N`` steps there: the loops that use it are written so that
+#: steps after convergence change nothing (beyond rounding).
+going: Any = njit(inline="always")(_going) if NUMBA else _going
+#: ``range(upto(n, nmax))``: ``n`` steps here, ``nmax`` on JAX (a static trip count;
+#: the table entries beyond ``n`` make the extra steps identities).
+upto: Any = njit(inline="always")(_upto) if NUMBA else _upto
+#: ``pick(cond, a, b)``: ``a if cond else b`` where both are cheap and finite; a
+#: tracing library re-binds it to its select (``jnp.where``), which is not a branch
+#: (a branch doubles the paths a select executor traces).
+pick: Any = njit(inline="always")(_pick) if NUMBA else _pick

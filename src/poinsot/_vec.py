@@ -34,11 +34,10 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def hat(v: np.ndarray) -> np.ndarray:
     """The cross-product matrices ``v^`` (``v^ u = v x u``), shape (..., 3, 3)."""
     v = np.asarray(v, dtype=float)
-    out = np.zeros(v.shape[:-1] + (3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
+    a, b, c = v[..., 0], v[..., 1], v[..., 2]
+    z = np.zeros(v.shape[:-1])  # by rows, without assignments (poinsot.jax runs it)
+    rows = [np.stack(r, axis=-1) for r in ((z, -c, b), (c, z, -a), (-b, a, z))]
+    return np.stack(rows, axis=-2)
 
 
 def length(x: np.ndarray) -> np.ndarray:

@@ -29,12 +29,14 @@ from __future__ import annotations
 import functools
 import types
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import jax
 import jax.numpy as jnp
 
-from ._jit import NAMESPACES, math_namespace, rebind
+from ._jit import NAMESPACES, WRAP, math_namespace, rebind
+from .errors import InvalidInputError
 from .rotations import _scalar as S
 from .rotations.euler import parse_sequence
 
@@ -57,11 +59,18 @@ __all__ = [
     "slerp",
     "quat_rate",
     "omega_from_quat_rate",
+    "dcm_rate",
+    "omega_from_dcm_rate",
+    "omega_from_euler_rates",
+    "euler_rates",
     "euler_rhs",
     "euler_poisson",
     "integrate",
     "free_body_omega",
     "heavy_top_omega",
+    "FreeBodyMotion",
+    "free_body_exact",
+    "free_body_omega_exact",
 ]
 
 NAMESPACES["jax"] = {
@@ -79,15 +88,24 @@ class _Paths:
 
     active: _Paths | None = None
 
-    def __init__(self, prefix: list[bool]) -> None:
+    def __init__(self, prefix: list[bool], memo: dict[Any, Any]) -> None:
         self.prefix = prefix
         self.met: list[tuple[Any, bool]] = []
+        self.memo = memo  # shared by the runs of one exploration
+        self.calls = 0
 
     def decide(self, cond: Any) -> bool:
         i = len(self.met)
         take = self.prefix[i] if i < len(self.prefix) else True
         self.met.append((cond, take))
+        self.calls = 0
         return take
+
+    def call_key(self, fn: Any) -> tuple[Any, ...]:
+        """Where the run is: the same after the same decisions, in every run (a run is
+        deterministic), so a formula called there computes the same values."""
+        self.calls += 1
+        return (fn, tuple(t for _, t in self.met), self.calls)
 
 
 _TRACER_BOOL = jax.core.Tracer.__bool__
@@ -100,10 +118,12 @@ def _tracer_bool(self: Any) -> bool:
     return paths.decide(self)
 
 
-def _run(fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool]) -> Any:
+def _run(
+    fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool], memo: dict[Any, Any]
+) -> Any:
     # The truth value of a tracer is JAX's error everywhere except inside this call
     # (restored after it, also when nested); tracing is not meant to be shared by threads.
-    paths, outer = _Paths(prefix), _Paths.active
+    paths, outer = _Paths(prefix, memo), _Paths.active
     _Paths.active, jax.core.Tracer.__bool__ = paths, _tracer_bool  # type: ignore[method-assign]
     try:
         out = fn(*args)
@@ -114,29 +134,159 @@ def _run(fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool]) -> A
     return out, paths.met
 
 
-def _explore(fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool]) -> list[Any]:
-    out, met = _run(fn, args, prefix)
+def _explore(
+    fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool], memo: dict[Any, Any]
+) -> list[Any]:
+    """Every path of ``fn``: ``[(mask, result)]``. A formula ``fn`` calls at the same
+    place of two runs (:meth:`_Paths.call_key`) is traced once (``memo``): the runs
+    share the part of ``fn`` before their first different decision."""
+    out, met = _run(fn, args, prefix, memo)
     mask: Any = True
     for cond, take in met:
         mask = jnp.logical_and(mask, cond if take else jnp.logical_not(cond))
     leaves = [(mask, out)]
     for i in range(len(prefix), len(met)):  # the other side of every new branch point
-        leaves += _explore(fn, args, [t for _, t in met[:i]] + [False])
+        leaves += _explore(fn, args, [t for _, t in met[:i]] + [False], memo)
     return leaves
 
 
-def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
-    """``fn`` (a scalar formula) on JAX arrays, its data branches as selects (module notes)."""
-    g = rebind(fn, "jax")
-
+def _merged(g: Callable[..., Any]) -> Callable[..., Any]:
     def run(*args: Any) -> Any:
-        leaves = _explore(g, args, [])
+        leaves = _explore(g, args, [], {})
         mask, out = leaves[-1]
         for m, o in reversed(leaves[:-1]):
             out = jax.tree_util.tree_map(lambda a, b, m=m: jnp.where(m, a, b), o, out)
         return out
 
     return run
+
+
+def _static(x: Any) -> Any:
+    """What a formula's paths can depend on: values of Python scalars, kinds of arrays."""
+    if isinstance(x, jax.Array):
+        return ("array", jnp.result_type(x).kind)
+    return x if isinstance(x, (int, float, bool, str, type(None))) else ("other", type(x))
+
+
+def _is_float(x: Any) -> bool:
+    return isinstance(x, jax.Array) and jnp.issubdtype(x.dtype, jnp.floating)
+
+
+def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """``fn`` (a scalar formula) on JAX arrays, its data branches as selects (module notes).
+
+    The arguments and results are lanes: arrays (or tuples, lists of them) of which
+    element ``e`` of a result depends on element ``e`` of the arguments only (they
+    broadcast). Derivatives: each lane's partial derivatives are those of its own
+    path, taken in forward mode (``jax.jvp`` with a unit tangent per argument, the
+    paths merged by the selects); the tangent of a result is their sum weighted by the
+    argument tangents, a map without the untaken paths, so reverse mode sees no
+    ``0 * inf`` from them either. The poinsot functions ``fn`` calls are merged
+    selects too (:func:`_nested`, :data:`poinsot._jit.WRAP`).
+    """
+    g = rebind(fn, "jax")
+    merged = _merged(g)
+
+    npaths: dict[Any, int] = {}
+
+    def call(*args: Any) -> Any:
+        flat, tree = jax.tree_util.tree_flatten(args)
+        arr = [k for k, x in enumerate(flat) if isinstance(x, jax.Array)]
+        pos = [p for p, k in enumerate(arr) if _is_float(flat[k])]
+        if not pos:
+            return merged(*args)
+        # one path (no data branch for these static arguments): JAX's own derivatives
+        sig = (tree, tuple(_static(x) for x in flat))
+        if sig not in npaths:
+            leaves = _explore(g, args, [], {})
+            npaths[sig] = len(leaves)
+            if len(leaves) == 1:
+                return leaves[0][1]
+        if npaths[sig] == 1:
+            return merged(*args)
+        kinds: list[Any] = []
+
+        def f(*a: Any) -> Any:  # the array leaves as arguments (no tracer closed over)
+            full = list(flat)
+            for k, x in zip(arr, a, strict=True):
+                full[k] = x
+            out = merged(*jax.tree_util.tree_unflatten(tree, full))
+            leaves, otree = jax.tree_util.tree_flatten(out)
+            kinds[:] = [otree] + [jnp.result_type(o) for o in leaves]
+            # results as float lanes for the derivative rule (ints, bools back below)
+            return [jnp.asarray(o, dtype=jnp.float64) for o in leaves]
+
+        fj = jax.custom_jvp(f)
+
+        @fj.defjvp
+        def f_jvp(primals: Any, tangents: Any) -> Any:
+            out = f(*primals)
+
+            def g(*fa: Any) -> Any:  # of the float arguments
+                a = list(primals)
+                for p, x in zip(pos, fa, strict=True):
+                    a[p] = x
+                return f(*a)
+
+            fprim = [primals[p] for p in pos]
+            n = len(pos)
+            units = [jnp.zeros((n,) + jnp.shape(x)).at[k].set(1.0) for k, x in enumerate(fprim)]
+            # d result / d argument k, lane by lane, for every k at once
+            parts = jax.vmap(lambda *u: jax.jvp(g, tuple(fprim), u)[1])(*units)
+            tan = []
+            for o, d in zip(out, parts, strict=True):
+                acc = jnp.zeros(jnp.shape(o))
+                for k in range(n):
+                    term = d[k] * tangents[pos[k]]
+                    acc = acc + (term if jnp.shape(term) == jnp.shape(o) else 0.0)
+                tan.append(acc)
+            return out, tan
+
+        res = fj(*[flat[k] for k in arr])
+        otree, dtypes = kinds[0], kinds[1:]
+        return jax.tree_util.tree_unflatten(
+            otree, [r.astype(t) for r, t in zip(res, dtypes, strict=True)]
+        )
+
+    return call
+
+
+def _nested(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """A poinsot function called by a formula run by :func:`selects`: its own paths
+    merged by selects where it returns (they do not multiply its caller's), traced once
+    per place of its caller's runs (:meth:`_Paths.call_key`). Its derivatives are JAX's
+    own: forward mode, as the outer :func:`selects` takes them, sees only the taken
+    path's tangents."""
+    merged = _merged(rebind(fn, "jax"))
+
+    def run(*args: Any) -> Any:
+        paths = _Paths.active
+        if paths is None:
+            return merged(*args)
+        key = paths.call_key(run)
+        if key not in paths.memo:
+            paths.memo[key] = merged(*args)
+        return paths.memo[key]
+
+    return run
+
+
+class _Vec(list):  # type: ignore[type-arg]
+    """Lanes indexable like a small array by a traced index (``jnp.choose``): the
+    moments, angular velocity and tables of the free-body kernels on JAX."""
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, (int, slice)):
+            return list.__getitem__(self, i)
+        k = jnp.clip(jnp.asarray(i, dtype=jnp.int32), 0, len(self) - 1)
+        cases = jnp.broadcast_arrays(k, *jnp.broadcast_arrays(*self))
+        return jax.lax.select_n(cases[0], *cases[1:])
+
+
+jax.tree_util.register_pytree_node(_Vec, lambda v: (list(v), None), lambda _, c: _Vec(c))
+
+WRAP["jax"] = _nested
+NAMESPACES["jax"].update(going=lambda cond: True, upto=lambda n, nmax: nmax, pick=jnp.where)
 
 
 def _cols(a: Any, k: int) -> list[Any]:
@@ -330,15 +480,21 @@ def _euler_rhs_source() -> Callable[..., Any]:
 @jax.jit
 def euler_rhs(moments: Any, omega: Any, torque: Any = None) -> Any:
     """Euler's equations ``w' = J^-1 (M - w x J w)`` (theory §5) for principal
-    ``moments`` (..., 3) (kg m^2), ``omega`` (..., 3) rad/s, body ``torque`` (N m).
+    ``moments`` (..., 3) (kg m^2) or inertia tensors (..., 3, 3) in body axes (an
+    array whose last two dimensions are ``(3, 3)`` is a tensor, as in
+    :func:`poinsot.dynamics.euler_rhs`), ``omega`` (..., 3) rad/s, body ``torque`` (N m).
 
     >>> euler_rhs(jnp.array([1.0, 2.0, 3.0]), jnp.array([1.0, 1.0, 0.0])).tolist()
     [-0.0, -0.0, -0.3333333333333333]
+    >>> euler_rhs(jnp.diag(jnp.array([1.0, 2.0, 3.0])), jnp.array([1.0, 1.0, 0.0])).tolist()
+    [0.0, 0.0, -0.3333333333333333]
     """
     j = jnp.asarray(moments, dtype=jnp.float64)
-    w = jnp.asarray(omega, dtype=jnp.float64)
-    m = None if torque is None else jnp.asarray(torque, dtype=jnp.float64)
-    return _euler_rhs_source()(j, None, w, m, True)
+    w = _vec3(omega, "omega")
+    m = None if torque is None else _vec3(torque, "torque")
+    if j.ndim >= 2 and j.shape[-2:] == (3, 3):
+        return _euler_rhs_source()(j, jnp.linalg.inv(j), w, m, False)
+    return _euler_rhs_source()(_vec3(j, "moments"), None, w, m, True)
 
 
 @jax.jit
@@ -420,6 +576,27 @@ def heavy_top_omega(moments: Any, mgc: Any, omega0: Any, gamma0: Any, t: Any) ->
     return integrate(lambda s, y: euler_poisson(moments, mgc, y[0], y[1]), y0, t)
 
 
+def _vec3(a: Any, name: str) -> Any:
+    a = jnp.asarray(a, dtype=jnp.float64)
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise InvalidInputError(f"Expected `{name}` to have shape (..., 3), got {a.shape}.")
+    return a
+
+
+def _mat3(a: Any, name: str) -> Any:
+    a = jnp.asarray(a, dtype=jnp.float64)
+    if a.ndim < 2 or a.shape[-2:] != (3, 3):
+        raise InvalidInputError(f"Expected `{name}` to have shape (..., 3, 3), got {a.shape}.")
+    return a
+
+
+def _euler_seq(seq: Any) -> str:
+    axes, _ = parse_sequence(seq)
+    if len(axes) != 3:
+        raise InvalidInputError(f"Expected `seq` to have 3 axes, got {seq!r}.")
+    return str(seq)
+
+
 # The quaternion product the kinematic rates call, on JAX (rebind's globals for "jax"
 # take these in place of the NumPy-facing modules' functions).
 NAMESPACES["jax"]["_quat"] = types.SimpleNamespace(multiply=quat_multiply, conjugate=quat_inverse)
@@ -449,3 +626,194 @@ def omega_from_quat_rate(q: Any, qdot: Any, *, frame: str = "body") -> Any:
     from .kinematics.rates import _omega_from_quat_rate
 
     return rebind(_omega_from_quat_rate, "jax")(q, jnp.asarray(qdot, jnp.float64), frame)
+
+
+@functools.partial(jax.jit, static_argnames="frame")
+def dcm_rate(C: Any, omega: Any, *, frame: str = "body") -> Any:
+    """Poisson's equation ``A' = A w^`` (``frame="body"``, ``w`` in body axes) or
+    ``A' = w^ A`` (``"space"``) (theory §5): rotation matrices ``C`` (..., 3, 3) (body ->
+    space), ``omega`` (..., 3) rad/s; the formula of :func:`poinsot.kinematics.dcm_rate`.
+
+    >>> dcm_rate(jnp.eye(3), jnp.array([0.0, 0.0, 1.0])).tolist()[0]
+    [0.0, -1.0, 0.0]
+    """
+    from .kinematics.rates import _dcm_rate
+
+    return rebind(_dcm_rate, "jax")(_mat3(C, "C"), _vec3(omega, "omega"), _frame(frame))
+
+
+@functools.partial(jax.jit, static_argnames="frame")
+def omega_from_dcm_rate(C: Any, Cdot: Any, *, frame: str = "body") -> Any:
+    """``w = vee(A^T A')`` (body) or ``vee(A' A^T)`` (space), the product antisymmetrised
+    (theory §5): the inverse of :func:`dcm_rate`.
+
+    >>> C = jnp.eye(3)
+    >>> omega_from_dcm_rate(C, dcm_rate(C, jnp.array([1.0, 2.0, 3.0]))).tolist()
+    [1.0, 2.0, 3.0]
+    """
+    from .kinematics.rates import _omega_from_dcm_rate
+
+    f = rebind(_omega_from_dcm_rate, "jax")
+    return f(_mat3(C, "C"), _mat3(Cdot, "Cdot"), _frame(frame))
+
+
+@functools.partial(jax.jit, static_argnames=("seq", "frame"))
+def omega_from_euler_rates(seq: str, angles: Any, rates: Any, *, frame: str = "body") -> Any:
+    """``omega = M(angles) angles'`` (theory §3, §5): column ``k`` of ``M`` is the axis of
+    the ``k``-th elementary rotation of ``seq`` in ``frame`` axes; radians, rad/s; any
+    of the 12 sequences (``"ZXZ"`` intrinsic, ``"zxz"`` extrinsic).
+
+    >>> omega_from_euler_rates("ZXZ", jnp.array([0.0, 0.5, 0.0]), jnp.array([1.0, 0, 0]))
+    ... # doctest: +ELLIPSIS
+    Array([0.        , 0.47942554, 0.87758256], dtype=float64)
+    """
+    from .kinematics.rates import _omega_from_euler_rates
+
+    f = rebind(_omega_from_euler_rates, "jax")
+    return f(_euler_seq(seq), _vec3(angles, "angles"), _vec3(rates, "rates"), _frame(frame))
+
+
+@functools.partial(jax.jit, static_argnames=("seq", "frame"))
+def euler_rates(seq: str, angles: Any, omega: Any, *, frame: str = "body") -> Any:
+    """The Euler kinematic equations ``angles' = M^-1 omega = adj(M) omega / det M``
+    (theory §3, §5), ``M`` as in :func:`omega_from_euler_rates`; ``det M`` is the sine
+    (proper Euler) or cosine (Tait-Bryan) of the middle angle: at gimbal lock the
+    result is inf/NaN (no error is raised inside a traced function).
+
+    >>> euler_rates("ZXZ", jnp.array([0.0, 0.5, 0.0]), jnp.array([0.0, 0.0, 1.0])).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    from .kinematics.rates import _euler_adjugate, _euler_rates
+
+    a, w = _vec3(angles, "angles"), _vec3(omega, "omega")
+    adj, det = rebind(_euler_adjugate, "jax")(_euler_seq(seq), a, _frame(frame))
+    return rebind(_euler_rates, "jax")(adj, det, w)
+
+
+def _frame(frame: Any) -> str:
+    if frame not in ("body", "space"):
+        raise InvalidInputError(f"Expected `frame` to be 'body' or 'space', got {frame!r}.")
+    return str(frame)
+
+
+# ------------------------------------------------------------ the exact free body
+def _free_body_kernels() -> Any:
+    from .dynamics import _free_body_numba
+
+    return _free_body_numba
+
+
+@functools.cache
+def _free_body_lanes() -> tuple[Callable[..., Any], Callable[..., Any]]:
+    k = _free_body_kernels()
+    return selects(k.setup_lanes), selects(k.omega_lanes)
+
+
+@dataclass(frozen=True)
+class FreeBodyMotion:
+    """The exact torque-free motion of a body (or a batch): the constants of
+    :func:`free_body_exact`, a JAX pytree (it passes through ``jit``, ``vmap``, ``grad``).
+
+    ``scale`` is the power of two ``|omega0|`` was divided by (the motion is computed
+    for ``|w| ~ 1``, ``max(I) ~ 1``); ``constants`` the per-body constants of the
+    elliptic (or symmetric, uniform) solution, in the layout of
+    ``poinsot.dynamics._free_body_numba.setup_lanes``. Evaluate with :meth:`omega`.
+    """
+
+    scale: Any
+    constants: tuple[Any, ...]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The batch shape."""
+        return tuple(jnp.shape(self.scale))
+
+    @property
+    def regime(self) -> Any:
+        """Regime codes (int array, batch shape): indices into
+        ``poinsot.dynamics._free_body_numba.REGIMES`` (``"major"`` is 4, ``"minor"`` 5,
+        ``"separatrix"`` 6, ``"symmetric"`` 3, ``"spherical"`` 1, ``"rest"`` 0, a
+        rotation exactly about the middle axis 2)."""
+        return self.constants[0]
+
+    def omega(self, t: Any) -> Any:
+        """Body angular velocity (rad/s), shape ``shape + t.shape + (3,)``, at times ``t`` (s).
+
+        ``w_i = a_i dn(u)``, ``w_m = a_m sn(u)``, ``w_j = a_j cn(u)``, ``u = lam t + u0``
+        (theory §10; :class:`poinsot.dynamics.FreeRigidBody`).
+
+        >>> m = free_body_exact(jnp.array([2.0, 2.0, 1.0]), jnp.array([1.0, 0.0, 2.0]))
+        >>> m.omega(jnp.array([0.0, 1.0])).round(6).tolist()[1]
+        [0.540302, -0.841471, 2.0]
+        """
+        return _motion_omega(self, t)
+
+
+@jax.jit
+def _motion_omega(motion: FreeBodyMotion, t: Any) -> Any:
+    t = jnp.asarray(t, dtype=jnp.float64)
+    extra = (None,) * t.ndim
+    ws = motion.scale[(..., *extra)]
+    c = jax.tree_util.tree_map(lambda a: a[(..., *extra)], motion.constants)
+    w = _free_body_lanes()[1](ws * t, c)  # traced: the branches are selects
+    return _stack(w) * ws[..., None]
+
+
+jax.tree_util.register_pytree_node(
+    FreeBodyMotion,
+    lambda m: ((m.scale, m.constants), None),
+    lambda _, c: FreeBodyMotion(*c),
+)
+
+
+@jax.jit
+def free_body_exact(moments: Any, omega0: Any) -> FreeBodyMotion:
+    """The exact torque-free (Euler-Poinsot) motion of bodies with principal ``moments``
+    (..., 3) (kg m^2, any order) and body angular velocity ``omega0`` (..., 3) (rad/s)
+    at ``t = 0``: a :class:`FreeBodyMotion` (a pytree), evaluated by its ``omega``.
+
+    The algorithm of :class:`poinsot.dynamics.FreeRigidBody`, run from the same
+    source (``poinsot.dynamics._free_body_numba``, ``_elliptic``; theory §10): with
+    ``D = K^2 - 2 T B`` in double-double arithmetic, ``D > 0`` (``D < 0``) the polhode
+    encircles the major (minor) axis ``i``; ``w_i = a_i dn(u | k^2)``,
+    ``w_m = a_m sn(u | k^2)``, ``w_j = a_j cn(u | k^2)``, ``u = lam t + u0`` with
+    ``1 - k^2 = (I_i - I_j) D / ((I_i - I_m) (K^2 - 2 T I_j))``, ``K(k)`` by the AGM,
+    ``u0`` by Carlson's ``R_F``, ``sn, cn, dn`` by the descending Landen
+    transformation; ``D = 0`` (within ``2^-100``): ``sn = tanh``, ``cn = dn = sech``;
+    two equal moments: ``w_perp`` turns at ``(I_s - I_p) w_s / I_p``; three equal, rest,
+    a spin about the middle axis: ``w`` constant. Differentiable w.r.t. ``moments`` and
+    ``omega0`` (each path's derivative; NaN exactly at a spin about a principal axis,
+    where ``k^2 = 0`` enters through a square root, and on the separatrix itself).
+
+    >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.1, 1.0, 0.1]))
+    >>> int(m.regime)                      # 4: "major", near the middle axis
+    4
+    >>> w = m.omega(jnp.array([0.0, 22.9963]))   # one period (FreeRigidBody.period)
+    >>> bool(jnp.allclose(w[0], w[1], atol=1e-4))
+    True
+    """
+    from .dynamics.free_body import _pow2, _snap_symmetric
+
+    j, w = jnp.broadcast_arrays(_vec3(moments, "moments"), _vec3(omega0, "omega0"))
+    mom = rebind(_snap_symmetric, "jax")(j)
+    pow2 = rebind(_pow2, "jax")
+    # exact powers of two (piecewise constant: no derivative)
+    ws = pow2(jax.lax.stop_gradient(jnp.sqrt(jnp.sum(w * w, axis=-1))))
+    iscale = pow2(jax.lax.stop_gradient(jnp.max(mom, axis=-1)))
+    ms, wsc = mom / iscale[..., None], w / ws[..., None]
+    c = _free_body_lanes()[0](_Vec(_cols(ms, 3)), _Vec(_cols(wsc, 3)))
+    return FreeBodyMotion(ws, c)
+
+
+@jax.jit
+def free_body_omega_exact(moments: Any, omega0: Any, t: Any) -> Any:
+    """Body angular velocity ``shape + t.shape + (3,)`` of the exact torque-free motion:
+    ``free_body_exact(moments, omega0).omega(t)`` (:func:`free_body_exact`, theory §10:
+    ``w_i = a_i dn(u)``, ``w_m = a_m sn(u)``, ``w_j = a_j cn(u)``, ``u = lam t + u0``).
+
+    >>> w = free_body_omega_exact(jnp.array([1.0, 2, 3]), jnp.array([0.0, 0, 1]),
+    ...                           jnp.linspace(0, 1, 3))
+    >>> w[-1].tolist()                     # a steady spin about a principal axis
+    [0.0, 0.0, 1.0]
+    """
+    return free_body_exact(moments, omega0).omega(t)

@@ -73,12 +73,13 @@ import math
 
 import numpy as np
 
-from .._jit import njit
+from .._jit import going, njit, upto
 from .._typing import ArrayLike, FloatArray
 
 __all__ = [
     "LMAX",
     "landen_fill",
+    "landen_table",
     "reduce_argument",
     "jacobi_reduced",
     "jacobi_point",
@@ -113,6 +114,13 @@ _EPS = 2.220446049250313e-16
 _QRF = (3.0 * _EPS) ** (-1.0 / 6.0)  # Carlson (1995): R_F, R_J/R_D stopping rules
 _QRD = (0.25 * _EPS) ** (-1.0 / 6.0)
 _QRC = (3.0 * _EPS) ** (-1.0 / 8.0)
+#: Steps of Carlson's duplication on JAX, which runs a fixed number of them (the
+#: stopping rule is met within 20 steps for every argument of the elliptic integrals
+#: here, ``z = 1``, ``x, y`` in ``[0, 1]`` down to ``1e-300``, ``p <= 1e4``; steps after
+#: it leave the value unchanged to rounding). Compiled and plain runs stop by the
+#: rule: ``fac = 4^-n`` reaches 0 (and the rule holds) by ``n = 538``, below ``_NOCAP``.
+NDUP = 24
+_NOCAP = 1100
 
 
 # ---------------------------------------------------------------------------
@@ -128,7 +136,9 @@ def carlson_rc(x, y):  # pragma: no cover - compiled
     a0 = (x + 2.0 * y) / 3.0
     q = _QRC * abs(a0 - x)
     am, xm, ym, fac = a0, x, y, 1.0
-    while fac * q > abs(am):
+    for _ in range(upto(_NOCAP, NDUP)):
+        if not going(fac * q > abs(am)):
+            break
         lam = 2.0 * math.sqrt(xm) * math.sqrt(ym) + ym
         am = 0.25 * (am + lam)
         xm = 0.25 * (xm + lam)
@@ -149,7 +159,9 @@ def carlson_rf(x, y, z):  # pragma: no cover - compiled
     a0 = (x + y + z) / 3.0
     q = _QRF * max(abs(a0 - x), abs(a0 - y), abs(a0 - z))
     am, xm, ym, zm, fac = a0, x, y, z, 1.0
-    while fac * q > abs(am):
+    for _ in range(upto(_NOCAP, NDUP)):
+        if not going(fac * q > abs(am)):
+            break
         sx, sy, sz = math.sqrt(xm), math.sqrt(ym), math.sqrt(zm)
         lam = sx * sy + sy * sz + sz * sx
         am = 0.25 * (am + lam)
@@ -191,7 +203,9 @@ def carlson_rd(x, y, z):  # pragma: no cover - compiled
     a0 = (x + y + 3.0 * z) / 5.0
     q = _QRD * max(abs(a0 - x), abs(a0 - y), abs(a0 - z))
     am, xm, ym, zm, fac, ssum = a0, x, y, z, 1.0, 0.0
-    while fac * q > abs(am):
+    for _ in range(upto(_NOCAP, NDUP)):
+        if not going(fac * q > abs(am)):
+            break
         sx, sy, sz = math.sqrt(xm), math.sqrt(ym), math.sqrt(zm)
         lam = sx * sy + sy * sz + sz * sx
         ssum += fac / (sz * (zm + lam))
@@ -215,6 +229,22 @@ def carlson_rd(x, y, z):  # pragma: no cover - compiled
     return fac * poly / (am * math.sqrt(am)) + 3.0 * ssum
 
 
+@njit(cache=True, inline="always")
+def _rj_rc(ee, sp, pm, lam, d):  # pragma: no cover - compiled
+    """``R_C(1, 1 + ee)`` of a duplication step of :func:`carlson_rj` (closed forms)."""
+    if abs(ee) < 1e-4:
+        return 1.0 - ee * (1.0 / 3.0 - ee * (0.2 - ee * (1.0 / 7.0 - ee / 9.0)))
+    if ee > 0.0:
+        se = math.sqrt(ee)
+        return math.atan(se) / se
+    # ee = prod(sp - s_i) / d, so 1 + ee = 2 sp (p + lam) / d (positive terms, no
+    # cancellation when ee -> -1, i.e. p << x, y, z);
+    # atanh(se) = log((1 + se)^2 / (1 + ee)) / 2.
+    tt = 2.0 * sp * (pm + lam) / d
+    se = math.sqrt(-ee)
+    return 0.5 * math.log((1.0 + se) ** 2 / tt) / se
+
+
 @njit(cache=True)
 def carlson_rj(x, y, z, p):  # pragma: no cover - compiled
     """``R_J(x, y, z, p)`` (DLMF 19.16.2) for ``x, y, z >= 0`` (at most one zero), ``p > 0``.
@@ -228,24 +258,14 @@ def carlson_rj(x, y, z, p):  # pragma: no cover - compiled
     delta = (p - x) * (p - y) * (p - z)
     q = _QRD * max(abs(a0 - x), abs(a0 - y), abs(a0 - z), abs(a0 - p))
     am, xm, ym, zm, pm, fac, ssum = a0, x, y, z, p, 1.0, 0.0
-    while fac * q > abs(am):
+    for _ in range(upto(_NOCAP, NDUP)):
+        if not going(fac * q > abs(am)):
+            break
         sx, sy, sz, sp = math.sqrt(xm), math.sqrt(ym), math.sqrt(zm), math.sqrt(pm)
         lam = sx * sy + sy * sz + sz * sx
         d = (sp + sx) * (sp + sy) * (sp + sz)
         ee = delta * fac * fac * fac / (d * d)
-        if abs(ee) < 1e-4:
-            rc = 1.0 - ee * (1.0 / 3.0 - ee * (0.2 - ee * (1.0 / 7.0 - ee / 9.0)))
-        elif ee > 0.0:
-            se = math.sqrt(ee)
-            rc = math.atan(se) / se
-        else:
-            # ee = prod(sp - s_i) / d, so 1 + ee = 2 sp (p + lam) / d (positive terms, no
-            # cancellation when ee -> -1, i.e. p << x, y, z);
-            # atanh(se) = log((1 + se)^2 / (1 + ee)) / 2.
-            tt = 2.0 * sp * (pm + lam) / d
-            se = math.sqrt(-ee)
-            rc = 0.5 * math.log((1.0 + se) ** 2 / tt) / se
-        ssum += fac * rc / d
+        ssum += fac * _rj_rc(ee, sp, pm, lam, d) / d
         am = 0.25 * (am + lam)
         xm = 0.25 * (xm + lam)
         ym = 0.25 * (ym + lam)
@@ -271,6 +291,14 @@ def carlson_rj(x, y, z, p):  # pragma: no cover - compiled
 # ---------------------------------------------------------------------------
 
 
+@njit(cache=True, inline="always")
+def _landen_down(k, kp):  # pragma: no cover - compiled
+    """One descending Landen step ``(k, k') -> (k_{l+1}, k'_{l+1})``."""
+    # k_{l+1} = (1 - k') / (1 + k') = k^2 / (1 + k')^2 (the latter without cancellation)
+    k1 = (1.0 - kp) / (1.0 + kp) if kp < 0.5 else (k / (1.0 + kp)) ** 2
+    return k1, 2.0 * math.sqrt(kp) / (1.0 + kp)
+
+
 @njit(cache=True)
 def landen_fill(m, m1, ks, kps):  # pragma: no cover - compiled
     """Descending Landen moduli of parameter ``m`` (``m1 = 1 - m``) into ``ks``, ``kps``.
@@ -283,20 +311,27 @@ def landen_fill(m, m1, ks, kps):  # pragma: no cover - compiled
     if not (m1 > 0.0 and 0.0 <= m <= 1.0):
         return -1, (1.0 if m1 == 0.0 else math.nan)
     kp = math.sqrt(m1)
-    k = math.sqrt(m) if m > 0.0 else 0.0
+    k = math.sqrt(m)  # m >= 0 here (one path: the table is written on every one)
     ks[0] = k
     kps[0] = kp
     lv = 0
     scale = 1.0
-    while k >= 1e-9 and lv < ks.shape[0] - 1:
-        # k_{l+1} = (1 - k') / (1 + k') = k^2 / (1 + k')^2 (the latter without cancellation)
-        k = (1.0 - kp) / (1.0 + kp) if kp < 0.5 else (k / (1.0 + kp)) ** 2
-        kp = 2.0 * math.sqrt(kp) / (1.0 + kp)
+    while going(k >= 1e-9) and lv < len(ks) - 1:
+        k, kp = _landen_down(k, kp)
         lv += 1
         ks[lv] = k
         kps[lv] = kp
         scale /= 1.0 + k
     return lv, scale
+
+
+def landen_table(m, m1):  # plain Python: for the array executors that trace it (poinsot.jax)
+    """``(L, scale, ks, kps)`` of :func:`landen_fill` with the tables returned as tuples of
+    length :data:`LMAX` (entries past ``L``: ``k = 0``, ``k' = 1``, identity steps)."""
+    ks = [0.0] * LMAX
+    kps = [1.0] * LMAX
+    lv, scale = landen_fill(m, m1, ks, kps)
+    return lv, scale, tuple(ks), tuple(kps)
 
 
 @njit(cache=True)
@@ -321,18 +356,25 @@ def jacobi_reduced(r, ks, kps, levels, scale, m, m1):  # pragma: no cover - comp
     z = r * scale
     s = math.sin(z)
     c = math.cos(z)
-    for lv in range(levels, 0, -1):
-        k1 = ks[lv]
-        ss = s * s
-        den = 1.0 + k1 * ss
-        # dn(z_l | k_l^2) = sqrt(1 - k_l^2 s^2) = sqrt(k'_l^2 + k_l^2 c^2): the form
-        # without cancellation (and with the smaller rounding) on each side.
-        if ss < 0.5:
-            d = math.sqrt(1.0 - k1 * k1 * ss)
-        else:
-            d = math.sqrt(kps[lv] * kps[lv] + k1 * k1 * c * c)
-        s, c = (1.0 + k1) * s / den, c * d / den
+    # levels .. 1 (on JAX all the table: its entries past `levels` are k = 0, k' = 1,
+    # or k below 1e-9 still descending, steps that leave (s, c) unchanged to rounding)
+    for lv in range(upto(levels, len(ks) - 1), 0, -1):
+        s, c = _landen_up(s, c, ks[lv], kps[lv])
     return s, c, math.sqrt(m1 + m * c * c)
+
+
+@njit(cache=True, inline="always")
+def _landen_up(s, c, k1, kp1):  # pragma: no cover - compiled
+    """One ascending Landen step of ``(sin, cos)`` with the level's ``k``, ``k'``."""
+    ss = s * s
+    den = 1.0 + k1 * ss
+    # dn(z_l | k_l^2) = sqrt(1 - k_l^2 s^2) = sqrt(k'_l^2 + k_l^2 c^2): the form
+    # without cancellation (and with the smaller rounding) on each side.
+    if ss < 0.5:
+        d = math.sqrt(1.0 - k1 * k1 * ss)
+    else:
+        d = math.sqrt(kp1 * kp1 + k1 * k1 * c * c)
+    return (1.0 + k1) * s / den, c * d / den
 
 
 @njit(cache=True)
@@ -365,8 +407,9 @@ def complete_k(m1):  # pragma: no cover - compiled
     if not (m1 > 0.0):
         return math.nan
     a, b = 1.0, math.sqrt(m1)
-    for _ in range(64):
-        if abs(a - b) <= 4.0 * _EPS * a:
+    # 12 steps at most for m1 >= 1e-300 (quadratic convergence); 16 on JAX
+    for _ in range(upto(64, 16)):
+        if not going(abs(a - b) > 4.0 * _EPS * a):  # (a NaN stops: it stays NaN)
             break
         a, b = 0.5 * (a + b), math.sqrt(a * b)
     return math.pi / (a + b)

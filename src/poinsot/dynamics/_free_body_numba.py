@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from .. import _numba_helpers as nh
-from .._jit import njit
+from .._jit import njit, pick
 from .._numba_cache import depends_on
 from . import _elliptic
 
@@ -40,6 +40,7 @@ from ._elliptic import (  # noqa: E402
     complete_k,
     jacobi_reduced,
     landen_fill,
+    landen_table,
     reduce_argument,
 )
 
@@ -132,15 +133,15 @@ def discriminant_term(ia, ib, w):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pragma: no cover
-    """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
-    lam, u0, kq, k2, m1, n2 = par[P_LAM], par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2]
-    jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
-    kappa, beta = par[P_KAPPA], par[P_BETA]
-    major = par[P_MAJOR] > 0.5
-    i, m, j = idx[0], idx[1], idx[2]
+def elliptic_omega(
+    tau, lam, u0, kq, k2, m1, n2, levels, lscale, ks, kps, separatrix, ai, am, aj, want_j
+):  # pragma: no cover - compiled
+    """``(w_i, w_m, w_j, kk, J(r))`` at scaled time ``tau``: ``w_i = a_i dn(u)``,
+    ``w_m = a_m sn(u)``, ``w_j = a_j cn(u)``, ``u = lam tau + u0 = 2 kk K + r``, and
+    ``J(r) = int_0^r sn^2 / (1 + n sn^2)`` when ``want_j`` (else 0); the Landen table
+    ``ks, kps, levels, lscale`` of ``k2``, ``m1 = 1 - k2`` from :func:`landen_fill`."""
     u = lam * tau + u0
-    if par[P_MODE] == SEPARATRIX:
+    if separatrix:
         # k = 1: sn = tanh, cn = dn = sech; J(u) in closed form.
         kk = 0.0
         sn = math.tanh(u)
@@ -156,16 +157,27 @@ def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pr
     else:
         kk, r = reduce_argument(u, kq)
         sgn = 1.0 - 2.0 * (kk - 2.0 * math.floor(0.5 * kk))
-        sn, cn, dn = jacobi_reduced(r, ks, kps, int(par[P_LEVELS]), par[P_LSCALE], k2, m1)
+        sn, cn, dn = jacobi_reduced(r, ks, kps, levels, lscale, k2, m1)
         # J(r) = int_0^r sn^2 / (1 + n sn^2) = sn^3 R_J(cn^2, dn^2, 1, 1 + n sn^2) / 3
         sn2 = sn * sn
-        if sn2 == 0.0 or not want_q:
+        if sn2 == 0.0 or not want_j:
             jr = 0.0
         else:
             jr = sn * sn2 * carlson_rj(cn * cn, dn * dn, 1.0, 1.0 + n2 * sn2) / 3.0
-    wi = amp[i] * dn
-    wm = amp[m] * sgn * sn
-    wj = amp[j] * sgn * cn
+    return ai * dn, am * sgn * sn, aj * sgn * cn, kk, jr
+
+
+@njit(cache=True, inline="always")
+def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pragma: no cover
+    """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
+    jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
+    kappa, beta, lam = par[P_KAPPA], par[P_BETA], par[P_LAM]
+    major = par[P_MAJOR] > 0.5
+    i, m, j = idx[0], idx[1], idx[2]
+    wi, wm, wj, kk, jr = elliptic_omega(
+        tau, lam, par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2], int(par[P_LEVELS]),
+        par[P_LSCALE], ks, kps, par[P_MODE] == SEPARATRIX, amp[i], amp[m], amp[j], want_q,
+    )  # fmt: skip
     if not want_q:
         w0, w1, w2 = _place(i, m, wi, wm, wj)
         return w0, w1, w2, 1.0, 0.0, 0.0, 0.0, 0.0
@@ -216,6 +228,22 @@ def _axis_q(ax, angle):  # pragma: no cover - compiled
     return math.cos(h), s * ax[0], s * ax[1], s * ax[2]
 
 
+@njit(cache=True, inline="always")
+def symmetric_spin(i_s, i_p, w_s):  # pragma: no cover - compiled
+    """``phi' = (I_s - I_p) w_s / I_p``: the rate at which ``w`` turns about the symmetry
+    axis ``s`` of a symmetric body (equatorial moment ``I_p``) in body axes."""
+    return (i_s - i_p) * w_s / i_p
+
+
+@njit(cache=True, inline="always")
+def symmetric_omega(ax, ay, spin, tau):  # pragma: no cover - compiled
+    """The equatorial components ``(w_x, w_y)`` of a symmetric body at scaled ``tau``:
+    ``(a_x, a_y)`` turned by ``spin tau`` (``x, y`` the axes after ``s``, cyclically)."""
+    ang = spin * tau
+    c, sn = math.cos(ang), math.sin(ang)
+    return ax * c - ay * sn, ax * sn + ay * c
+
+
 # ---------------------------------------------------------------------------
 # Setup (per body)
 # ---------------------------------------------------------------------------
@@ -240,33 +268,29 @@ def setup(mom, w0, q0, par, idx, amp, vec, qa, qb, ks, kps, info):  # pragma: no
     for b in range(n):
         im = mom[b]
         w = w0[b]
-        ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
-        kmom = math.sqrt(ka0 * ka0 + ka1 * ka1 + ka2 * ka2)
+        code, i, m, j, d, rel, kmom = classify(im, w)
         pb = par[b]
         pb[:] = 0.0
+        info[b, 0] = code
         info[b, 1] = math.inf
         info[b, 2] = math.nan
         info[b, 3] = math.nan
-        info[b, 4] = math.nan
-        e01, e12, e20 = im[0] == im[1], im[1] == im[2], im[2] == im[0]
-        if kmom == 0.0 or (e01 and e12):
-            # rest or spherical body: uniform rotation about a fixed axis
-            info[b, 0] = R_REST if kmom == 0.0 else R_SPHERICAL
+        info[b, 4] = rel
+        if code == R_REST or code == R_SPHERICAL or code == R_MIDDLE:
+            # uniform rotation about a fixed axis
             _setup_uniform(b, w, q0[b], pb, amp, vec, qa)
-            continue
-        if e01 or e12 or e20:
-            info[b, 0] = R_SYMMETRIC
-            s = 2 if e01 else (0 if e12 else 1)
-            ip = im[(s + 1) % 3]
+        elif code == R_SYMMETRIC:
+            s, ip = i, im[m]
             idx[b, 0] = s
             pb[P_MODE] = SYMMETRIC
-            spin = (im[s] - ip) * w[s] / ip
+            spin = symmetric_spin(im[s], ip, w[s])
             pb[P_SPIN] = spin
             pb[P_PSIDOT] = kmom / ip
             pb[P_PHIDOT] = -spin
             amp[b, :] = w
             # khat = q0 (J w0) q0~ / K
             qq = q0[b]
+            ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
             a0, a1, a2, a3 = nh.qmul(qq[0], qq[1], qq[2], qq[3], 0.0, ka0, ka1, ka2)
             _, v1, v2, v3 = nh.qmul(a0, a1, a2, a3, qq[0], -qq[1], -qq[2], -qq[3])
             vec[b, 0], vec[b, 1], vec[b, 2] = v1 / kmom, v2 / kmom, v3 / kmom
@@ -274,41 +298,54 @@ def setup(mom, w0, q0, par, idx, amp, vec, qa, qb, ks, kps, info):  # pragma: no
             if spin != 0.0:
                 info[b, 1] = 2.0 * math.pi / abs(spin)
                 info[b, 2] = pb[P_PSIDOT] * info[b, 1]
-            continue
-        # distinct moments: a = major, c = minor, bm = middle axis
-        ia = 0
-        ic = 0
-        for k in range(3):
-            if im[k] > im[ia]:
-                ia = k
-            if im[k] < im[ic]:
-                ic = k
-        ibm = 3 - ia - ic
-        # D = K^2 - 2 T B = I_a (I_a - I_b) w_a^2 + I_c (I_c - I_b) w_c^2 (double-double)
-        tah, tal = discriminant_term(im[ia], im[ibm], w[ia])
-        tch, tcl = discriminant_term(im[ic], im[ibm], w[ic])
-        dh, dl = dd_add(tah, tal, tch, tcl)
-        size = abs(tah) + abs(tch)
-        info[b, 4] = abs(dh) / size if size > 0.0 else 0.0
-        if abs(dh) <= SEP_RTOL * size:
-            if size == 0.0:  # permanent rotation about the middle axis
-                info[b, 0] = R_MIDDLE
-                _setup_uniform(b, w, q0[b], pb, amp, vec, qa)
-                continue
-            info[b, 0] = R_SEPARATRIX
-            _setup_elliptic(
-                b, ia, ibm, ic, 0.0, True, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
-            )
-        elif dh > 0.0:
-            info[b, 0] = R_MAJOR
-            _setup_elliptic(
-                b, ia, ibm, ic, dh, False, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
-            )
         else:
-            info[b, 0] = R_MINOR
+            sep = code == R_SEPARATRIX
             _setup_elliptic(
-                b, ic, ibm, ia, dh, False, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
+                b, i, m, j, d, sep, im, w, q0[b], kmom, pb, idx, amp, qa, qb, ks, kps, info
             )
+
+
+@njit(cache=True)
+def classify(im, w):  # pragma: no cover - compiled
+    """``(code, i, m, j, D, |D| / size, |K|)`` of a body with (scaled) moments ``im`` and
+    angular velocity ``w`` (indexable by 0, 1, 2): the regime code ``R_*``; for an
+    elliptic motion (major, minor, separatrix) the encircled axis ``i``, the middle
+    one ``m`` and the other extreme ``j``; for a symmetric body ``i`` the symmetry
+    axis and ``(m, j)`` the next two cyclically. ``D = K^2 - 2 T B`` in double-double
+    arithmetic (its leading part; 0 on the separatrix), and ``|D| / (|t_a| + |t_c|)``
+    (NaN for equal moments)."""
+    ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
+    kmom = math.sqrt(ka0 * ka0 + ka1 * ka1 + ka2 * ka2)
+    e01, e12, e20 = im[0] == im[1], im[1] == im[2], im[2] == im[0]
+    if kmom == 0.0 or (e01 and e12):
+        return pick(kmom == 0.0, R_REST, R_SPHERICAL), 0, 1, 2, 0.0, math.nan, kmom
+    if e01 or e12 or e20:
+        s = pick(e01, 2, pick(e12, 0, 1))
+        return R_SYMMETRIC, s, (s + 1) % 3, (s + 2) % 3, 0.0, math.nan, kmom
+    # distinct moments: a = major, c = minor, bm = middle axis
+    ia, ic = _extremes(im[0], im[1], im[2])
+    ibm = 3 - ia - ic
+    # D = K^2 - 2 T B = I_a (I_a - I_b) w_a^2 + I_c (I_c - I_b) w_c^2 (double-double)
+    tah, tal = discriminant_term(im[ia], im[ibm], w[ia])
+    tch, tcl = discriminant_term(im[ic], im[ibm], w[ic])
+    dh, dl = dd_add(tah, tal, tch, tcl)
+    size = abs(tah) + abs(tch)
+    rel = abs(dh) / pick(size > 0.0, size, 1.0)  # (dh = 0 if size = 0)
+    if abs(dh) <= SEP_RTOL * size:
+        if size == 0.0:  # permanent rotation about the middle axis
+            return R_MIDDLE, ia, ibm, ic, dh, rel, kmom
+        return R_SEPARATRIX, ia, ibm, ic, 0.0, rel, kmom
+    if dh > 0.0:
+        return R_MAJOR, ia, ibm, ic, dh, rel, kmom
+    return R_MINOR, ic, ibm, ia, dh, rel, kmom
+
+
+@njit(cache=True)
+def _extremes(a0, a1, a2):  # pragma: no cover - compiled
+    """``(argmax, argmin)`` of three distinct numbers."""
+    ia = 0 if (a0 > a1 and a0 > a2) else (1 if a1 > a2 else 2)
+    ic = 0 if (a0 < a1 and a0 < a2) else (1 if a1 < a2 else 2)
+    return ia, ic
 
 
 @njit(cache=True)
@@ -325,12 +362,14 @@ def _setup_uniform(b, w, q0, pb, amp, vec, qa):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _setup_elliptic(
-    b, i, m, j, d, separatrix, mom, w, q0, kmom, pb, idx, amp, qa, qb, ks, kps, info
-):  # pragma: no cover - compiled
+def elliptic_constants(i, m, j, d, separatrix, mom, w, kmom):  # pragma: no cover - compiled
+    """Constants of the elliptic motion about axis ``i`` (``m`` middle, ``j`` the other
+    extreme; ``d = D`` the discriminant, ``separatrix`` when ``k = 1``) for scaled
+    moments ``mom`` and ``w`` (indexable by ``i, m, j``) and ``kmom = |K|``:
+    ``(a_i, a_m, a_j, lam, n, beta, major, kappa, rate0, 1 - k^2, k^2, K, u0, J_h)``
+    (module notes of :mod:`poinsot.dynamics.free_body`; ``J_h = 2 R_J(0, m1, 1, 1 + n)
+    / 3`` is 0 and ``K`` infinite on the separatrix)."""
     ii, im, ij = mom[i], mom[m], mom[j]
-    idx[b, 0], idx[b, 1], idx[b, 2] = i, m, j
-    pb[P_MODE] = SEPARATRIX if separatrix else ELLIPTIC
     # 2 T I_i - K^2 and K^2 - 2 T I_j as sums of same-sign terms (no cancellation)
     g_i = mom[m] * (ii - mom[m]) * w[m] ** 2 + mom[j] * (ii - mom[j]) * w[j] ** 2
     mg_j = mom[i] * (mom[i] - ij) * w[i] ** 2 + mom[m] * (mom[m] - ij) * w[m] ** 2
@@ -338,51 +377,75 @@ def _setup_elliptic(
     aj2 = g_i / (ij * (ii - ij))
     am2 = g_i / (im * (ii - im))
     lam = math.sqrt((ii - im) * mg_j / (ii * im * ij))
-    sigma = 1.0 if i == (m + 1) % 3 else -1.0
-    s_i = math.copysign(1.0, w[i])
-    s_j = math.copysign(1.0, w[j]) if separatrix else 1.0
-    s_m = sigma * math.copysign(1.0, ii - ij) * s_i * s_j
-    amp[b, i] = s_i * math.sqrt(ai2)
-    amp[b, m] = s_m * math.sqrt(am2)
-    amp[b, j] = s_j * math.sqrt(aj2)
     n2 = ij * g_i / (ii * mg_j)
-    major = ii > ij
-    pb[P_LAM] = lam
-    pb[P_N2] = n2
-    pb[P_BETA] = (im * im * am2) / (ii * ii * ai2)
-    pb[P_MAJOR] = 1.0 if major else 0.0
-    pb[P_KMOM] = kmom
-    pb[P_KAPPA] = kmom * ((1.0 / im - 1.0 / ii) if major else (1.0 / ii - 1.0 / im))
-    pb[P_RATE0] = kmom / (ii if major else im)
+    beta = (im * im * am2) / (ii * ii * ai2)
+    # the elliptic integrals first, then the signs (on JAX, the paths of the signs
+    # then share one trace of the integrals: poinsot.jax notes)
     if separatrix:
-        pb[P_M1] = 0.0
-        pb[P_K2] = 1.0
-        pb[P_U0] = math.asinh((w[m] / amp[b, m]) / (w[i] / amp[b, i]))
-        pb[P_KQ] = math.inf
-        pb[P_LEVELS] = -1.0
-        info[b, 3] = 0.0
+        m1, k2, kq, jh, rf0 = 0.0, 1.0, math.inf, 0.0, 0.0
     else:
         # 1 - k^2 = (I_i - I_j) D / ((I_i - I_m)(K^2 - 2 T I_j)), D exact to a few ulp
         m1 = (ii - ij) * d / ((ii - im) * mg_j)
         k2 = min((im - ij) * g_i / ((ii - im) * mg_j), 1.0)  # an ulp above 1 by rounding
-        pb[P_M1], pb[P_K2] = m1, k2
         kq = complete_k(m1)
-        pb[P_KQ] = kq
+        jh = (2.0 / 3.0) * carlson_rj(0.0, m1, 1.0, 1.0 + n2)
+        # the phase u0 = F(am0): R_F of (cn0^2, dn0^2) (the signs do not enter)
+        rf0 = 0.0
+        if am2 != 0.0:
+            sn0, cn0 = w[m] / math.sqrt(am2), w[j] / math.sqrt(aj2)
+            cn0 = cn0 / math.hypot(sn0, cn0)
+            dn0 = w[i] / math.sqrt(ai2)
+            rf0 = carlson_rf(cn0 * cn0, dn0 * dn0, 1.0)
+    sigma = pick(i == (m + 1) % 3, 1.0, -1.0)
+    s_i = math.copysign(1.0, w[i])
+    s_j = pick(separatrix, math.copysign(1.0, w[j]), 1.0)
+    s_m = sigma * math.copysign(1.0, ii - ij) * s_i * s_j
+    ai = s_i * math.sqrt(ai2)
+    am = s_m * math.sqrt(am2)
+    aj = s_j * math.sqrt(aj2)
+    major = ii > ij
+    kappa = kmom * pick(major, 1.0 / im - 1.0 / ii, 1.0 / ii - 1.0 / im)
+    rate0 = kmom / pick(major, ii, im)
+    if separatrix:
+        u0 = math.asinh((w[m] / am) / (w[i] / ai))
+    elif am2 == 0.0:
+        u0 = 0.0
+    else:
+        sn0, cn0 = w[m] / am, w[j] / aj
+        rho = math.hypot(sn0, cn0)
+        sn0, cn0 = sn0 / rho, cn0 / rho
+        f = sn0 * rf0
+        u0 = f if cn0 >= 0.0 else math.copysign(2.0 * kq, sn0) - f
+    return ai, am, aj, lam, n2, beta, major, kappa, rate0, m1, k2, kq, u0, jh
+
+
+@njit(cache=True)
+def _setup_elliptic(
+    b, i, m, j, d, separatrix, mom, w, q0, kmom, pb, idx, amp, qa, qb, ks, kps, info
+):  # pragma: no cover - compiled
+    ii, ij = mom[i], mom[j]
+    idx[b, 0], idx[b, 1], idx[b, 2] = i, m, j
+    pb[P_MODE] = SEPARATRIX if separatrix else ELLIPTIC
+    ai, am, aj, lam, n2, beta, major, kappa, rate0, m1, k2, kq, u0, jh = elliptic_constants(
+        i, m, j, d, separatrix, mom, w, kmom
+    )
+    amp[b, i], amp[b, m], amp[b, j] = ai, am, aj
+    pb[P_LAM] = lam
+    pb[P_N2] = n2
+    pb[P_BETA] = beta
+    pb[P_MAJOR] = 1.0 if major else 0.0
+    pb[P_KMOM] = kmom
+    pb[P_KAPPA] = kappa
+    pb[P_RATE0] = rate0
+    pb[P_M1], pb[P_K2], pb[P_KQ], pb[P_U0] = m1, k2, kq, u0
+    if separatrix:
+        pb[P_LEVELS] = -1.0
+        info[b, 3] = 0.0
+    else:
         lv, sc = landen_fill(k2, m1, ks[b], kps[b])
         pb[P_LEVELS] = lv
         pb[P_LSCALE] = sc
         info[b, 3] = m1
-        if am2 == 0.0:
-            u0 = 0.0
-        else:
-            sn0, cn0 = w[m] / amp[b, m], w[j] / amp[b, j]
-            rho = math.hypot(sn0, cn0)
-            sn0, cn0 = sn0 / rho, cn0 / rho
-            dn0 = w[i] / amp[b, i]
-            f = sn0 * carlson_rf(cn0 * cn0, dn0 * dn0, 1.0)
-            u0 = f if cn0 >= 0.0 else math.copysign(2.0 * kq, sn0) - f
-        pb[P_U0] = u0
-        jh = (2.0 / 3.0) * carlson_rj(0.0, m1, 1.0, 1.0 + n2)
         pb[P_JH] = jh
         period = 4.0 * kq / lam
         dj = 2.0 * jh
@@ -409,6 +472,45 @@ def _setup_elliptic(
     p = qb[b]
     r0, r1, r2, r3 = nh.qmul(q0[0], q0[1], q0[2], q0[3], p[0], -p[1], -p[2], -p[3])
     qa[b, 0], qa[b, 1], qa[b, 2], qa[b, 3] = nh.qmul(r0, r1, r2, r3, z0, -z1, -z2, -z3)
+
+
+# ---------------------------------------------------------------------------
+# The same steps per lane, for the array executors that trace them (poinsot.jax)
+# ---------------------------------------------------------------------------
+
+
+def setup_lanes(im, w):  # plain Python: run by poinsot.jax with branches as selects
+    """Per body, the constants :func:`omega_lanes` needs: :func:`setup` without the
+    attitude, returned instead of stored (``im``, ``w`` scaled moments and angular
+    velocity, indexable by 0, 1, 2). ``(code, i, m, j, a_i, a_m, a_j, lam, u0, K, k^2,
+    1 - k^2, n, L, scale, ks, kps, spin)``. Every regime's constants are computed
+    before the regime is chosen (on JAX each is then traced once)."""
+    code, i, m, j, d, rel, kmom = classify(im, w)
+    ell = elliptic_constants(i, m, j, d, code == R_SEPARATRIX, im, w, kmom)
+    ai, am, aj, lam, n2, _, _, _, _, m1, k2, kq, u0, _ = ell
+    lv, sc, ks, kps = landen_table(k2, m1)
+    spin = symmetric_spin(im[i], im[m], w[i])
+    if code == R_MAJOR or code == R_MINOR or code == R_SEPARATRIX:
+        return code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, 0.0
+    if code == R_SYMMETRIC:
+        return code, i, m, j, w[i], w[m], w[j], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0, 1.0, ks, kps, spin
+    return code, 0, 1, 2, w[0], w[1], w[2], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0, 1.0, ks, kps, 0.0
+
+
+def omega_lanes(tau, c):  # plain Python: run by poinsot.jax with branches as selects
+    """``(w_0, w_1, w_2)`` at scaled time ``tau`` of a body with the constants ``c`` of
+    :func:`setup_lanes`: the angular velocity of :func:`evaluate`, principal axes."""
+    code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, spin = c
+    sep = code == R_SEPARATRIX
+    wi, wm, wj, _, _ = elliptic_omega(
+        tau, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, sep, ai, am, aj, False
+    )
+    wxx, wyy = symmetric_omega(am, aj, spin, tau)
+    if code == R_MAJOR or code == R_MINOR or code == R_SEPARATRIX:
+        return _place(i, m, wi, wm, wj)
+    if code == R_SYMMETRIC:
+        return _place(i, m, ai, wxx, wyy)
+    return ai, am, aj
 
 
 # ---------------------------------------------------------------------------
@@ -441,10 +543,7 @@ def evaluate(
                 # w_perp turns about e_s at the rate spin; R = Rot(K, psi' t) R0 Rot(e_s, phi' t)
                 s = idx[b, 0]
                 x, y = (s + 1) % 3, (s + 2) % 3
-                ang = pb[P_SPIN] * tau
-                c, sn = math.cos(ang), math.sin(ang)
-                wxx = amp[b, x] * c - amp[b, y] * sn
-                wyy = amp[b, x] * sn + amp[b, y] * c
+                wxx, wyy = symmetric_omega(amp[b, x], amp[b, y], pb[P_SPIN], tau)
                 wx, wy, wz = _place(s, x, amp[b, s], wxx, wyy)
                 if want_q:
                     a0, a1, a2, a3 = _axis_q(vec[b], pb[P_PSIDOT] * tau)
@@ -472,4 +571,19 @@ def evaluate(
                     q_out[b, p, 0], q_out[b, p, 1], q_out[b, p, 2], q_out[b, p, 3] = r0, r1, r2, r3
 
 
-__all__ = ["setup", "evaluate", "LMAX", "N_PAR", "REGIMES", "two_sum", "two_prod"]
+__all__ = [
+    "setup",
+    "evaluate",
+    "elliptic_constants",
+    "elliptic_omega",
+    "classify",
+    "setup_lanes",
+    "omega_lanes",
+    "symmetric_spin",
+    "symmetric_omega",
+    "LMAX",
+    "N_PAR",
+    "REGIMES",
+    "two_sum",
+    "two_prod",
+]

@@ -116,16 +116,17 @@ def _kernels() -> Any:
 
 
 def _snap_symmetric(moments: np.ndarray) -> np.ndarray:
-    """Moments (N, 3) with pairs closer than ``SYMMETRY_RTOL * max`` made equal."""
-    mom = moments.copy()
-    tol = SYMMETRY_RTOL * np.max(mom, axis=-1)
+    """Moments (..., 3) with pairs closer than ``SYMMETRY_RTOL * max`` made equal (their
+    mean; pairs in the order 01, 12, 20). Written with ``np.where``: ``poinsot.jax``
+    runs it on JAX arrays."""
+    cols = [moments[..., 0], moments[..., 1], moments[..., 2]]
+    tol = SYMMETRY_RTOL * np.max(moments, axis=-1)
     for a, b in ((0, 1), (1, 2), (2, 0)):
-        snap = (mom[:, a] != mom[:, b]) & (np.abs(mom[:, a] - mom[:, b]) <= tol)
-        if np.any(snap):
-            mean = 0.5 * (mom[snap, a] + mom[snap, b])
-            mom[snap, a] = mean
-            mom[snap, b] = mean
-    return mom
+        snap = (cols[a] != cols[b]) & (np.abs(cols[a] - cols[b]) <= tol)
+        mean = 0.5 * (cols[a] + cols[b])
+        cols[a] = np.where(snap, mean, cols[a])
+        cols[b] = np.where(snap, mean, cols[b])
+    return np.stack(cols, axis=-1)
 
 
 def _pow2(x: np.ndarray) -> np.ndarray:

@@ -358,6 +358,11 @@ def dcm_rate(C: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArr
     C = _as_rotation_matrix(C, "C")
     omega = as_vec3(omega, "omega")
     _batch(C=(C, 2), omega=(omega, 1))
+    return _dcm_rate(C, omega, frame)
+
+
+def _dcm_rate(C: np.ndarray, omega: np.ndarray, frame: str) -> np.ndarray:
+    """``A' = A w^`` (body) or ``w^ A`` (space): the formula (``poinsot.jax`` runs it too)."""
     w_hat = _hat(omega)
     return C @ w_hat if frame == "body" else w_hat @ C
 
@@ -402,6 +407,11 @@ def omega_from_dcm_rate(C: ArrayLike, Cdot: ArrayLike, *, frame: str = "body") -
     C = _as_rotation_matrix(C, "C")
     Cdot = as_matrix3(Cdot, "Cdot")
     _batch(C=(C, 2), Cdot=(Cdot, 2))
+    return _omega_from_dcm_rate(C, Cdot, frame)
+
+
+def _omega_from_dcm_rate(C: np.ndarray, Cdot: np.ndarray, frame: str) -> np.ndarray:
+    """``w = vee(A^T A')`` (body) or ``vee(A' A^T)`` (space), antisymmetrised."""
     Ct = np.swapaxes(C, -1, -2)
     return _vee_antisym(Ct @ Cdot if frame == "body" else Cdot @ Ct)
 
@@ -587,6 +597,13 @@ def omega_from_euler_rates(
     _batch(angles=(angles, 1), rates=(rates, 1))
     if degrees:
         rates = np.deg2rad(rates)
+    return _omega_from_euler_rates(seq, angles, rates, frame)
+
+
+def _omega_from_euler_rates(
+    seq: str, angles: np.ndarray, rates: np.ndarray, frame: str
+) -> np.ndarray:
+    """``omega = M(angles) angles'`` (radians): the formula (``poinsot.jax`` runs it too)."""
     M = _euler_matrix(seq, angles, frame)
     return np.einsum("...ij,...j->...i", M, rates)
 
@@ -653,10 +670,7 @@ def euler_rates(
     angles = _euler_args(seq, angles, degrees)
     omega = as_vec3(omega, "omega")
     _batch(angles=(angles, 1), omega=(omega, 1))
-    M = _euler_matrix(seq, angles, frame)
-    c0, c1, c2 = M[..., :, 0], M[..., :, 1], M[..., :, 2]
-    adj = np.stack([_cross(c1, c2), _cross(c2, c0), _cross(c0, c1)], axis=-2)
-    det = _dot(c0, adj[..., 0, :])
+    adj, det = _euler_adjugate(seq, angles, frame)
     small = np.abs(det)
     if np.any(small < GIMBAL_ERROR_DET):
         raise InvalidInputError(
@@ -671,8 +685,22 @@ def euler_rates(
             GimbalLockWarning,
             stacklevel=2,
         )
-    rates = np.einsum("...ij,...j->...i", adj, omega) / det[..., None]
+    rates = _euler_rates(adj, det, omega)
     return np.rad2deg(rates) if degrees else rates
+
+
+def _euler_adjugate(seq: str, angles: np.ndarray, frame: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(adj M, det M)`` of the Euler rate matrix: rows ``c1 x c2``, ``c2 x c0``,
+    ``c0 x c1`` of its columns ``c_k``, ``det M = c0 . (c1 x c2)``."""
+    M = _euler_matrix(seq, angles, frame)
+    c0, c1, c2 = M[..., :, 0], M[..., :, 1], M[..., :, 2]
+    adj = np.stack([_cross(c1, c2), _cross(c2, c0), _cross(c0, c1)], axis=-2)
+    return adj, _dot(c0, adj[..., 0, :])
+
+
+def _euler_rates(adj: np.ndarray, det: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """``angles' = M^-1 omega = adj(M) omega / det M`` (radians per second)."""
+    return np.einsum("...ij,...j->...i", adj, omega) / det[..., None]
 
 
 # --------------------------------------------------------------------------
