@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: venv demo test test-nonumba test-min test-min-core min-versions-banner bench docs browser clean
+.PHONY: venv demo test test-slow test-nonumba test-min test-min-core min-versions-banner bench docs browser clean
 
 venv: $(STAMP)
 
@@ -27,6 +27,12 @@ test: venv browser
 	$(PY) -m mypy src/poinsot
 	$(PY) -m pytest
 	$(MAKE) test-nonumba
+
+# Tests marked slow (minutes of XLA compiling each: the JAX exact free body's forward-
+# and reverse-mode derivatives against central differences); not in `make test`, which
+# must stay well under 20 minutes on 2 cores.
+test-slow: venv
+	$(PY) -m pytest -m slow tests
 
 # The numerical core again without numba (issue 25): POINSOT_NUMBA=0 selects the NumPy
 # executor of the same formula source (poinsot._jit); tests/test_nonumba.py also runs

@@ -74,6 +74,7 @@ def _fd(f, x, h):
     return np.stack(cols, axis=-1)
 
 
+@pytest.mark.slow  # ~1.5 min of XLA compiling: `make test-slow`
 def test_gradients_equal_central_differences():
     # one function of (moments, omega0) for three bodies: random, and 1e-3 (relative
     # in omega_3) on each side of the separatrix
@@ -99,6 +100,7 @@ def test_gradients_equal_central_differences():
         assert np.abs(fwd[b] - want).max() <= 1e-7 * scale, (b, np.abs(fwd[b] - want).max())
 
 
+@pytest.mark.slow  # ~5 min of XLA compiling: `make test-slow`
 def test_reverse_mode_equals_forward_mode():
     # the selects of every regime are in the graph: reverse mode sees no NaN from them
     t = np.array([0.5, 3.0])
