@@ -166,6 +166,33 @@ def _put(y, oq, ow, i):
 
 
 @njit(cache=True)
+def _initial_step(t, y, f, span, rtol, atol, max_step, J, Ji, kind, par, tmp, k1, scale):
+    """First step (Hairer, Norsett & Wanner, II.4), as SciPy's select_initial_step;
+    one right-hand-side evaluation (into ``k1``), ``f`` the derivative at ``(t, y)``.
+    Shared by the one-body kernel and the lanes (a body's results are the same)."""
+    for i in range(7):
+        scale[i] = atol + abs(y[i]) * rtol
+    d0 = _rms(y, scale)
+    d1 = _rms(f, scale)
+    if d0 < 1e-5 or d1 < 1e-5:
+        h0 = 1e-6
+    else:
+        h0 = 0.01 * d0 / d1
+    h0 = min(h0, span)
+    for i in range(7):
+        tmp[i] = y[i] + h0 * f[i]
+    _rhs(t + h0, tmp, J, Ji, kind, par, k1)
+    for i in range(7):
+        tmp[i] = k1[i] - f[i]
+    d2 = _rms(tmp, scale) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+    return min(100.0 * h0, h1, span, max_step)
+
+
+@njit(cache=True)
 def one_body(
     y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
 ):
@@ -193,29 +220,9 @@ def one_body(
     _rhs(t, y, J, Ji, kind, par, f)
     nfev = 1
 
-    # Initial step (Hairer, Norsett & Wanner, II.4), as SciPy's select_initial_step.
-    span = t_end - t
-    for i in range(7):
-        scale[i] = atol + abs(y[i]) * rtol
-    d0 = _rms(y, scale)
-    d1 = _rms(f, scale)
-    if d0 < 1e-5 or d1 < 1e-5:
-        h0 = 1e-6
-    else:
-        h0 = 0.01 * d0 / d1
-    h0 = min(h0, span)
-    for i in range(7):
-        tmp[i] = y[i] + h0 * f[i]
-    _rhs(t + h0, tmp, J, Ji, kind, par, K[1])
+    h_abs = _initial_step(t, y, f, t_end - t, rtol, atol, max_step, J, Ji, kind, par,
+                          tmp, K[1], scale)  # fmt: skip
     nfev += 1
-    for i in range(7):
-        tmp[i] = K[1, i] - f[i]
-    d2 = _rms(tmp, scale) / h0
-    if d1 <= 1e-15 and d2 <= 1e-15:
-        h1 = max(1e-6, h0 * 1e-3)
-    else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
-    h_abs = min(100.0 * h0, h1, span, max_step)
 
     i_out = 1
     steps = 0

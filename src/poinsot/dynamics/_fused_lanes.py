@@ -38,9 +38,9 @@ from ._fused import (
     SAFETY,
     STEP_TOO_SMALL,
     TOO_MANY_STEPS,
+    _initial_step,
     _put,
     _rhs,
-    _rms,
     _torque_s,
 )
 
@@ -97,28 +97,9 @@ def _load(
         return False
     _rhs(t, y, J[b], Ji[b], kind, par[b], f)
     nfev = 1
-    span = t_end - t
-    for i in range(7):
-        scale[i] = atol + abs(y[i]) * rtol
-    d0 = _rms(y, scale)
-    d1 = _rms(f, scale)
-    if d0 < 1e-5 or d1 < 1e-5:
-        h0 = 1e-6
-    else:
-        h0 = 0.01 * d0 / d1
-    h0 = min(h0, span)
-    for i in range(7):
-        tmp[i] = y[i] + h0 * f[i]
-    _rhs(t + h0, tmp, J[b], Ji[b], kind, par[b], k1)
+    h_abs = _initial_step(t, y, f, t_end - t, rtol, atol, max_step, J[b], Ji[b], kind,
+                          par[b], tmp, k1, scale)  # fmt: skip
     nfev += 1
-    for i in range(7):
-        tmp[i] = k1[i] - f[i]
-    d2 = _rms(tmp, scale) / h0
-    if d1 <= 1e-15 and d2 <= 1e-15:
-        h1 = max(1e-6, h0 * 1e-3)
-    else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
-    h_abs = min(100.0 * h0, h1, span, max_step)
     for c in range(7):
         W[OFF_Y + c * L + l] = y[c]
         W[OFF_K + c * L + l] = f[c]
