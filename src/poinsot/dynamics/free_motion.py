@@ -18,7 +18,7 @@ import numpy as np
 from .. import _quat
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_rotation_quat, as_times, as_vec3
-from .._vec import cross
+from .._vec import cross, inverse3
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..rotations.rotation import Rotation
 from ..trajectory import PoseTrajectory
@@ -112,7 +112,7 @@ def simulate_free_motion(
         raise InvalidInputError(
             "Expected `body` to have a positive definite inertia about its centre of mass."
         )
-    j_inv = np.linalg.inv(j)
+    j_inv = inverse3(j)
     r0 = as_vec3(position0, "position0")
     v0 = as_vec3(velocity0, "velocity0")
     w0 = as_vec3(omega0, "omega0")

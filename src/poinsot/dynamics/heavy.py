@@ -41,7 +41,7 @@ import numpy as np
 from .. import integrators
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape
-from .._vec import cross
+from .._vec import cross, inverse3
 from ..errors import InvalidInputError
 from ..trajectory import Trajectory
 from .torques import STANDARD_GRAVITY, GravityTorque
@@ -159,7 +159,7 @@ class HeavyRigidBody:
             )
         self.inertia_tensor = np.array(j, dtype=float)
         self.inertia_tensor.setflags(write=False)
-        self._j_inv = np.linalg.inv(self.inertia_tensor)
+        self._j_inv = inverse3(self.inertia_tensor)
         self.mass = float(self.torque.mass)
         self.center_of_mass = self.torque.center_of_mass
         self.g = float(self.torque.g)
