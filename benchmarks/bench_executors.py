@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 
 CONVERSIONS = ("as_matrix", "from_matrix", "as_rotvec", "from_rotvec", "as_euler ZYX")
+OMEGA, STATE = "free body omega (exact)", "free body omega + attitude (exact)"
+DIFFRAX = "free body omega (Dopri8, rtol 1e-10)"
 
 
 def _median_ms(f: Callable[[], Any], repeat: int = 5) -> float:
@@ -57,7 +59,8 @@ def bench_poinsot(n: int, bodies: int) -> dict[str, float]:
     j = np.sort(rng.uniform(1.0, 1.9, size=(bodies, 3)), axis=1)
     w0 = rng.normal(size=(bodies, 3))
     t = np.linspace(0.0, 10.0, 101)
-    out["free body"] = _median_ms(lambda: FreeRigidBody(j, omega0=w0).state(t), repeat=3)
+    out[OMEGA] = _median_ms(lambda: FreeRigidBody(j, omega0=w0).omega(t), repeat=3)
+    out[STATE] = _median_ms(lambda: FreeRigidBody(j, omega0=w0).state(t), repeat=3)
     return out
 
 
@@ -85,8 +88,16 @@ def bench_jax(n: int, bodies: int) -> dict[str, dict[str, float]]:
     j = jnp.asarray(np.sort(rng.uniform(1.0, 1.9, size=(bodies, 3)), axis=1))
     w0 = jnp.asarray(rng.normal(size=(bodies, 3)))
     t = jnp.linspace(0.0, 10.0, 101)
+    # the exact solution (the same source as numba's), then Euler's equations in diffrax
+    exact = {OMEGA: pj.free_body_omega_exact}
+    if hasattr(pj, "free_body_state_exact"):
+        exact[STATE] = lambda j, w, t: pj.free_body_state_exact(j, w, None, t)
+    for row, f in exact.items():
+        fj, fv = jax.jit(f), jax.jit(jax.vmap(f, in_axes=(0, 0, None)))
+        jit[row] = _median_ms(lambda fj=fj: jax.block_until_ready(fj(j, w0, t)), repeat=3)
+        vmap[row] = _median_ms(lambda fv=fv: jax.block_until_ready(fv(j, w0, t)), repeat=3)
     fb = jax.jit(jax.vmap(pj.free_body_omega, in_axes=(0, 0, None)))
-    vmap["free body"] = _median_ms(lambda: jax.block_until_ready(fb(j, w0, t)), repeat=3)
+    vmap[DIFFRAX] = _median_ms(lambda: jax.block_until_ready(fb(j, w0, t)), repeat=3)
     out = {"jax jit": jit, "jax vmap": vmap}
     try:
         import jaxlie
@@ -124,7 +135,7 @@ def main() -> None:
     names = list(cols)
     print("| operation | " + " | ".join(names) + " |")
     print("| --- |" + " --- |" * len(names))
-    for op in (*CONVERSIONS, "free body"):
+    for op in (*CONVERSIONS, OMEGA, STATE, DIFFRAX):
         cells = [f"{cols[c][op]:.2f}" if op in cols[c] else "-" for c in names]
         print(f"| {op} | " + " | ".join(cells) + " |")
 

@@ -30,9 +30,14 @@ PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "particles.md",
     "jax.md",
 ]
+SLOW_PAGES = [  # minutes of XLA compiling: `make test-slow`
+    "jax-fit.md",
+]
 
 
-@pytest.mark.parametrize("page", PAGES)
+@pytest.mark.parametrize(
+    "page", PAGES + [pytest.param(p, marks=pytest.mark.slow) for p in SLOW_PAGES]
+)
 def test_page_examples_run(page):
     path = DOCS / page
     flags = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE

@@ -36,7 +36,9 @@ PAGES = sorted(p for p in DOCS.glob("*.md") if _blocks(p))
 
 
 def test_every_page_with_prompts_is_doctested():
-    from test_docs_examples import PAGES as DOCTESTED
+    from test_docs_examples import PAGES, SLOW_PAGES
+
+    DOCTESTED = PAGES + SLOW_PAGES
 
     with_prompts = {p.name for p in DOCS.glob("*.md") if ">>> " in p.read_text()}
     assert with_prompts <= set(DOCTESTED), sorted(with_prompts - set(DOCTESTED))
