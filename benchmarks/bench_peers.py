@@ -85,23 +85,6 @@ def blas_one_thread() -> Iterator[str]:
         yield "BLAS pinned to 1 thread"
 
 
-@contextlib.contextmanager
-def one_core() -> Iterator[None]:
-    """Every thread of this process (XLA's pool too) on the first core, as ``taskset -c 0``
-    would start it: a peer that threads itself is then timed per core (Linux only)."""
-    tids = [int(t) for t in os.listdir("/proc/self/task")]
-    before = {t: os.sched_getaffinity(t) for t in tids}
-    first = {min(os.sched_getaffinity(0))}
-    for t in tids:
-        os.sched_setaffinity(t, first)
-    try:
-        yield
-    finally:
-        for t, cpus in before.items():
-            with contextlib.suppress(OSError):  # a thread that ended meanwhile
-                os.sched_setaffinity(t, cpus)
-
-
 def load() -> str:
     a, b, c = os.getloadavg()
     return f"load average {a:.2f} / {b:.2f} / {c:.2f} (1/5/15 min) on {os.cpu_count()} cores"
@@ -442,13 +425,8 @@ def _integrators(moments, quat, omega, torque, mgc):
     try:
         dfx = diffrax_run(moments, quat, omega, mgc)
         runs[f"diffrax Dopri8 (7N system, jit; XLA on {cores} cores)"] = dfx
-        if hasattr(os, "sched_setaffinity") and os.path.isdir("/proc/self/task"):
-
-            def dfx_one_core(rtol: float, dfx=dfx) -> np.ndarray:
-                with one_core():
-                    return dfx(rtol)
-
-            runs["diffrax Dopri8 (the same, on 1 core)"] = dfx_one_core
+        # (XLA's thread pool cannot be shrunk once JAX runs: to time diffrax on one
+        # core, run this script under `taskset -c 0`, poinsot then takes 1 thread too)
     except ImportError as e:
         missing("diffrax", e)
     from bench_fused import gravity_numpy
