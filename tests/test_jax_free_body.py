@@ -74,18 +74,24 @@ def _fd(f, x, h):
     return np.stack(cols, axis=-1)
 
 
-@pytest.mark.slow  # ~1.5 min of XLA compiling: `make test-slow`
-def test_gradients_equal_central_differences():
-    # one function of (moments, omega0) for three bodies: random, and 1e-3 (relative
-    # in omega_3) on each side of the separatrix
-    rng = np.random.default_rng(5)
-    x = np.array(
+def _gradient_points(rng):
+    """(moments, omega0) rows of three bodies: random, and 1e-3 (relative in omega_3)
+    on each side of the separatrix."""
+    return np.array(
         [
             np.concatenate([rng.uniform(1.0, 2.0, 3), rng.normal(size=3)]),
             [1.0, 2.0, 3.0, 1.0, 0.5, _S3 * (1 + 1e-3)],
             [1.0, 2.0, 3.0, 1.0, 0.5, _S3 * (1 - 1e-3)],
         ]
     )
+
+
+@pytest.mark.slow  # ~1.5 min of XLA compiling: `make test-slow`
+def test_gradients_equal_central_differences():
+    # one function of (moments, omega0) for three bodies: random, and 1e-3 (relative
+    # in omega_3) on each side of the separatrix
+    rng = np.random.default_rng(5)
+    x = _gradient_points(rng)
     t = np.array([0.7, 4.0, 11.0])
 
     def f(xx):
@@ -139,6 +145,8 @@ def test_bad_shapes_name_the_argument():
         pj.free_body_exact(np.ones(2), np.ones(3))
     with pytest.raises(InvalidInputError, match="`omega0`"):
         pj.free_body_exact(np.ones(3), np.ones(4))
+    with pytest.raises(InvalidInputError, match="`q0`"):
+        pj.free_body_exact(np.ones(3), np.ones(3), np.ones(3))
     with pytest.raises(InvalidInputError, match="`C`"):
         pj.dcm_rate(np.eye(2), np.ones(3))
     with pytest.raises(InvalidInputError, match="`omega`"):
@@ -205,3 +213,68 @@ def test_euler_rhs_with_a_tensor_equals_the_numpy_path():
     np.testing.assert_allclose(pj.euler_rhs(J, w, m), euler_rhs(J, w, m), rtol=1e-13, atol=1e-13)
     np.testing.assert_allclose(pj.euler_rhs(J, w), euler_rhs(J, w), rtol=1e-13, atol=1e-13)
     _check_grad(lambda x: pj.euler_rhs(J[0], x), w[0])
+
+
+# ------------------------------------------------------------- the attitude
+def _unit_quats(n, seed):
+    q = np.random.default_rng(seed).normal(size=(n, 4))
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def test_attitude_equals_the_numba_path():
+    # every regime, a random initial attitude; the same formulas, so the same sign
+    j = np.array([c[0] for c in CASES])
+    w = np.array([c[1] for c in CASES])
+    q0 = _unit_quats(len(CASES), 11)
+    got_w, got_q = (np.asarray(a) for a in pj.free_body_state_exact(j, w, q0, T))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        want_w, rot = FreeRigidBody(j, omega0=w, rotation0=q0).state(T)
+    want_q = rot.as_quat()
+    assert got_q.shape == want_q.shape == (len(CASES), T.size, 4)
+    err = np.abs(got_q - want_q).max(axis=(1, 2))
+    assert err.max() <= 1e-13, err
+    scale = np.maximum(np.abs(want_w).max(axis=(1, 2), keepdims=True), 1e-300)
+    assert (np.abs(got_w - want_w) / scale).max() <= 1e-13
+    np.testing.assert_allclose(got_q[:, T.size // 2], q0, rtol=0, atol=1e-14)  # t = 0
+
+
+@pytest.mark.slow  # ~8 min of XLA compiling on the shared 2-core machine: `make test-slow`
+def test_attitude_vmap_and_defaults():
+    j = np.array([c[0] for c in CASES[:4]] + [CASES[7][0], CASES[8][0]])
+    w = np.array([c[1] for c in CASES[:4]] + [CASES[7][1], CASES[8][1]])
+    q0 = _unit_quats(len(j), 12)
+    t = np.linspace(-3.0, 5.0, 4)
+    _, batch = pj.free_body_state_exact(j, w, q0, t)
+    mapped = jax.vmap(pj.free_body_state_exact, (0, 0, 0, None))(j, w, q0, t)[1]
+    np.testing.assert_allclose(np.asarray(mapped), np.asarray(batch), rtol=0, atol=1e-15)
+    motion = pj.free_body_exact(j, w, 3.0 * q0)  # normalised
+    np.testing.assert_allclose(np.asarray(motion.attitude(t)), batch, rtol=0, atol=1e-15)
+    # q0 = None: the identity, broadcast over the batch
+    ident = np.asarray(pj.free_body_exact(j, w).attitude(0.0))
+    np.testing.assert_allclose(ident, np.broadcast_to([1.0, 0, 0, 0], ident.shape), atol=1e-15)
+
+
+@pytest.mark.slow  # minutes of XLA compiling: `make test-slow`
+def test_attitude_gradients_equal_central_differences():
+    # d/d(moments, omega0) of a scalar of the attitude (forward mode), three bodies:
+    # random, and 1e-3 (relative in omega_3) on each side of the separatrix
+    rng = np.random.default_rng(5)
+    x = _gradient_points(rng)
+    q0 = _unit_quats(3, 13)
+    t = np.array([0.7, 4.0, 11.0])
+    weights = rng.normal(size=(t.size, 4))
+
+    @jax.jit
+    def f(xx):  # per body: the bodies are independent lanes
+        q = pj.free_body_exact(xx[:, :3], xx[:, 3:], q0).attitude(t)
+        return jnp.sum(q * weights, axis=(1, 2))
+
+    g = np.asarray(jax.jacfwd(f)(jnp.asarray(x)))  # (3, 3, 6): the bodies are lanes
+    g = np.stack([g[b, b] for b in range(3)])
+    d = _fd(f, x, 1e-6)  # (3 bodies, 3 x 6 entries of x)
+    want = np.stack([d[b, 6 * b : 6 * b + 6].reshape(6) for b in range(3)])
+    assert np.all(np.isfinite(g))
+    for b in range(3):
+        scale = np.abs(want[b]).max()
+        assert np.abs(g[b] - want[b]).max() <= 1e-7 * scale, (b, np.abs(g[b] - want[b]).max())

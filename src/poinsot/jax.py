@@ -71,6 +71,7 @@ __all__ = [
     "FreeBodyMotion",
     "free_body_exact",
     "free_body_omega_exact",
+    "free_body_state_exact",
 ]
 
 NAMESPACES["jax"] = {
@@ -704,9 +705,9 @@ def _free_body_kernels() -> Any:
 
 
 @functools.cache
-def _free_body_lanes() -> tuple[Callable[..., Any], Callable[..., Any]]:
+def _free_body_lanes() -> tuple[Callable[..., Any], Callable[..., Any], Callable[..., Any]]:
     k = _free_body_kernels()
-    return selects(k.setup_lanes), selects(k.omega_lanes)
+    return selects(k.setup_lanes), selects(k.attitude_setup_lanes), selects(k.state_lanes)
 
 
 @dataclass(frozen=True)
@@ -717,11 +718,17 @@ class FreeBodyMotion:
     ``scale`` is the power of two ``|omega0|`` was divided by (the motion is computed
     for ``|w| ~ 1``, ``max(I) ~ 1``); ``constants`` the per-body constants of the
     elliptic (or symmetric, uniform) solution, in the layout of
-    ``poinsot.dynamics._free_body_numba.setup_lanes``. Evaluate with :meth:`omega`.
+    ``poinsot.dynamics._free_body_numba.setup_lanes``; ``moments``, ``omega0`` the
+    scaled initial data (..., 3) and ``q0`` the initial attitude (..., 4), unit, from
+    which :meth:`attitude` computes its offsets. Evaluate with :meth:`omega`,
+    :meth:`attitude` or :meth:`state`.
     """
 
     scale: Any
     constants: tuple[Any, ...]
+    moments: Any
+    omega0: Any
+    q0: Any
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -746,31 +753,81 @@ class FreeBodyMotion:
         >>> m.omega(jnp.array([0.0, 1.0])).round(6).tolist()[1]
         [0.540302, -0.841471, 2.0]
         """
-        return _motion_omega(self, t)
+        return _motion_eval(self, t, False)
+
+    def attitude(self, t: Any) -> Any:
+        """Attitude quaternions (body -> space, scalar first), shape ``shape + t.shape +
+        (4,)``, at times ``t`` (s); ``attitude(0) = q0``.
+
+        Theory §10 (:meth:`poinsot.dynamics.FreeRigidBody.rotation`, the same source):
+        an elliptic motion is ``q = qs o Rz(psi) Rx(theta) Rz(phi) o qp``, the z-x-z
+        Euler angles of the body unit momentum about the axis ``j`` the polhode does
+        not encircle (``qp`` permutes the axes so that ``j`` is z; ``qs`` is fixed by
+        ``q0``), ``theta, phi`` from ``J w / |K|``, the precession
+        ``psi = K t / I + kappa (...) (J(u) - J(u0)) / lam`` with the third-kind
+        integral ``J(u) = int sn^2 / (1 + n sn^2)`` by Carlson's ``R_J`` (whole periods
+        by quasi-periodicity); two equal moments: ``q = Rot(k, K t / I_p) q0
+        Rot(e_s, -phi' t)`` (regular precession about the momentum direction ``k``);
+        equal moments, rest, spins about the middle axis: ``q = q0 Rot(w, |w| t)``.
+
+        >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.0, 0.0, 1.0]))
+        >>> m.attitude(jnp.array([jnp.pi])).round(12).tolist()     # half a turn about z
+        [[0.0, 0.0, 0.0, 1.0]]
+        """
+        return _motion_eval(self, t, True)[1]
+
+    def state(self, t: Any) -> tuple[Any, Any]:
+        """``(omega(t), attitude(t))`` in one pass (:meth:`omega`, :meth:`attitude`).
+
+        >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.3, 0.2, 0.9]))
+        >>> w, q = m.state(jnp.linspace(0.0, 1.0, 5))
+        >>> w.shape, q.shape
+        ((5, 3), (5, 4))
+        """
+        return _motion_eval(self, t, True)  # type: ignore[no-any-return]
 
 
-@jax.jit
-def _motion_omega(motion: FreeBodyMotion, t: Any) -> Any:
+@functools.partial(jax.jit, static_argnums=2)
+def _motion_eval(motion: FreeBodyMotion, t: Any, want_q: bool) -> Any:
     t = jnp.asarray(t, dtype=jnp.float64)
     extra = (None,) * t.ndim
+
+    def expand(tree: Any) -> Any:  # the batch against the times
+        return jax.tree_util.tree_map(lambda a: a[(..., *extra)], tree)
+
+    _, attitude_setup, state = _free_body_lanes()
     ws = motion.scale[(..., *extra)]
-    c = jax.tree_util.tree_map(lambda a: a[(..., *extra)], motion.constants)
-    w = _free_body_lanes()[1](ws * t, c)  # traced: the branches are selects
-    return _stack(w) * ws[..., None]
+    im = _Vec(_cols(motion.moments, 3))
+    a = None
+    if want_q:
+        q0 = _cols(motion.q0, 4)
+        a = expand(attitude_setup(im, _Vec(_cols(motion.omega0, 3)), q0, motion.constants))
+    out = state(ws * t, expand(motion.constants), a, expand(im), want_q)  # traced: selects
+    w = _stack(out[:3]) * ws[..., None]
+    return (w, _stack(out[3:])) if want_q else w
 
 
 jax.tree_util.register_pytree_node(
     FreeBodyMotion,
-    lambda m: ((m.scale, m.constants), None),
+    lambda m: ((m.scale, m.constants, m.moments, m.omega0, m.q0), None),
     lambda _, c: FreeBodyMotion(*c),
 )
 
 
+def _quat4(q: Any, name: str) -> Any:
+    q = jnp.asarray(q, dtype=jnp.float64)
+    if q.ndim == 0 or q.shape[-1] != 4:
+        raise InvalidInputError(f"Expected `{name}` to have shape (..., 4), got {q.shape}.")
+    return q
+
+
 @jax.jit
-def free_body_exact(moments: Any, omega0: Any) -> FreeBodyMotion:
+def free_body_exact(moments: Any, omega0: Any, q0: Any = None) -> FreeBodyMotion:
     """The exact torque-free (Euler-Poinsot) motion of bodies with principal ``moments``
-    (..., 3) (kg m^2, any order) and body angular velocity ``omega0`` (..., 3) (rad/s)
-    at ``t = 0``: a :class:`FreeBodyMotion` (a pytree), evaluated by its ``omega``.
+    (..., 3) (kg m^2, any order), body angular velocity ``omega0`` (..., 3) (rad/s)
+    and attitude ``q0`` (..., 4) (principal body -> space, scalar first, normalised;
+    the identity if ``None``) at ``t = 0``: a :class:`FreeBodyMotion` (a pytree),
+    evaluated by its ``omega``, ``attitude`` and ``state``.
 
     The algorithm of :class:`poinsot.dynamics.FreeRigidBody`, run from the same
     source (``poinsot.dynamics._free_body_numba``, ``_elliptic``; theory §10): with
@@ -781,9 +838,10 @@ def free_body_exact(moments: Any, omega0: Any) -> FreeBodyMotion:
     ``u0`` by Carlson's ``R_F``, ``sn, cn, dn`` by the descending Landen
     transformation; ``D = 0`` (within ``2^-100``): ``sn = tanh``, ``cn = dn = sech``;
     two equal moments: ``w_perp`` turns at ``(I_s - I_p) w_s / I_p``; three equal, rest,
-    a spin about the middle axis: ``w`` constant. Differentiable w.r.t. ``moments`` and
-    ``omega0`` (each path's derivative; NaN exactly at a spin about a principal axis,
-    where ``k^2 = 0`` enters through a square root, and on the separatrix itself).
+    a spin about the middle axis: ``w`` constant. The attitude: :meth:`FreeBodyMotion.attitude`.
+    Differentiable w.r.t. ``moments``, ``omega0`` and ``q0`` (each path's derivative;
+    NaN exactly at a spin about a principal axis, where ``k^2 = 0`` enters through a
+    square root, and on the separatrix itself).
 
     >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.1, 1.0, 0.1]))
     >>> int(m.regime)                      # 4: "major", near the middle axis
@@ -794,7 +852,12 @@ def free_body_exact(moments: Any, omega0: Any) -> FreeBodyMotion:
     """
     from .dynamics.free_body import _pow2, _snap_symmetric
 
-    j, w = jnp.broadcast_arrays(_vec3(moments, "moments"), _vec3(omega0, "omega0"))
+    j, w = _vec3(moments, "moments"), _vec3(omega0, "omega0")
+    q = jnp.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else _quat4(q0, "q0")
+    shape = jnp.broadcast_shapes(j.shape[:-1], w.shape[:-1], q.shape[:-1])
+    j, w = jnp.broadcast_to(j, shape + (3,)), jnp.broadcast_to(w, shape + (3,))
+    q = jnp.broadcast_to(q, shape + (4,))
+    q = q / jnp.sqrt(jnp.sum(q * q, axis=-1, keepdims=True))
     mom = rebind(_snap_symmetric, "jax")(j)
     pow2 = rebind(_pow2, "jax")
     # exact powers of two (piecewise constant: no derivative)
@@ -802,7 +865,7 @@ def free_body_exact(moments: Any, omega0: Any) -> FreeBodyMotion:
     iscale = pow2(jax.lax.stop_gradient(jnp.max(mom, axis=-1)))
     ms, wsc = mom / iscale[..., None], w / ws[..., None]
     c = _free_body_lanes()[0](_Vec(_cols(ms, 3)), _Vec(_cols(wsc, 3)))
-    return FreeBodyMotion(ws, c)
+    return FreeBodyMotion(ws, c, ms, wsc, q)
 
 
 @jax.jit
@@ -817,3 +880,18 @@ def free_body_omega_exact(moments: Any, omega0: Any, t: Any) -> Any:
     [0.0, 0.0, 1.0]
     """
     return free_body_exact(moments, omega0).omega(t)
+
+
+@jax.jit
+def free_body_state_exact(moments: Any, omega0: Any, q0: Any, t: Any) -> tuple[Any, Any]:
+    """``(omega, q)`` of the exact torque-free motion, shapes ``shape + t.shape + (3,)``
+    and ``(4,)``: ``free_body_exact(moments, omega0, q0).state(t)`` (theory §10;
+    :meth:`FreeBodyMotion.attitude` for the formula; ``q`` body -> space, scalar
+    first, ``q(0) = q0``).
+
+    >>> w, q = free_body_state_exact(jnp.array([1.0, 2, 3]), jnp.array([0.0, 0, 1]),
+    ...                              jnp.array([1.0, 0, 0, 0]), jnp.array([0.0, jnp.pi]))
+    >>> q.round(12).tolist()               # half a turn about the spin axis z
+    [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+    """
+    return free_body_exact(moments, omega0, q0).state(t)  # type: ignore[no-any-return]

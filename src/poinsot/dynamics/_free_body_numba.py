@@ -24,8 +24,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from .. import _numba_helpers as nh
 from .._jit import njit, pick
 from .._numba_cache import depends_on
@@ -33,6 +31,7 @@ from . import _elliptic
 
 depends_on(__file__, nh, _elliptic)  # before the kernels: editing a helper rebuilds them
 
+from .._numba_helpers import qaxis, qmul  # noqa: E402  # by name: poinsot.jax re-binds them
 from ._elliptic import (  # noqa: E402
     LMAX,
     carlson_rf,
@@ -170,46 +169,90 @@ def elliptic_omega(
 @njit(cache=True, inline="always")
 def _elliptic_point(tau, par, idx, inertia, amp, qs, qp, ks, kps, want_q):  # pragma: no cover
     """Principal-axes ``w`` (3 floats), attitude ``q`` (4 floats), ``J(u)`` at scaled ``tau``."""
-    jh, j0, kmom, rate0 = par[P_JH], par[P_J0], par[P_KMOM], par[P_RATE0]
-    kappa, beta, lam = par[P_KAPPA], par[P_BETA], par[P_LAM]
-    major = par[P_MAJOR] > 0.5
     i, m, j = idx[0], idx[1], idx[2]
     wi, wm, wj, kk, jr = elliptic_omega(
-        tau, lam, par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2], int(par[P_LEVELS]),
-        par[P_LSCALE], ks, kps, par[P_MODE] == SEPARATRIX, amp[i], amp[m], amp[j], want_q,
+        tau, par[P_LAM], par[P_U0], par[P_KQ], par[P_K2], par[P_M1], par[P_N2],
+        int(par[P_LEVELS]), par[P_LSCALE], ks, kps, par[P_MODE] == SEPARATRIX, amp[i], amp[m],
+        amp[j], want_q,
     )  # fmt: skip
+    w0, w1, w2 = _place(i, m, wi, wm, wj)
     if not want_q:
-        w0, w1, w2 = _place(i, m, wi, wm, wj)
         return w0, w1, w2, 1.0, 0.0, 0.0, 0.0, 0.0
+    q0, q1, q2, q3, jval = elliptic_attitude(
+        tau, wi, wm, wj, kk, jr, i, m, j, inertia, par[P_KMOM], par[P_RATE0], par[P_KAPPA],
+        par[P_BETA], par[P_LAM], par[P_MAJOR] > 0.5, par[P_JH], par[P_J0], qs, qp,
+    )  # fmt: skip
+    return w0, w1, w2, q0, q1, q2, q3, jval
+
+
+@njit(cache=True, inline="always")
+def elliptic_attitude(
+    tau, wi, wm, wj, kk, jr, i, m, j, inertia, kmom, rate0, kappa, beta, lam, major, jh, j0, qs, qp
+):  # pragma: no cover - compiled
+    """``(q_0, q_1, q_2, q_3, J(u))``: the attitude ``q = qs o Rzxz o qp`` (principal
+    body -> space) at scaled ``tau`` of an elliptic motion (theory §10), from the
+    point ``wi, wm, wj, kk, jr`` of :func:`elliptic_omega` (``want_j``) and the
+    constants of :func:`elliptic_constants`; ``J(u) = kk J_h + J(r)``."""
     jval = kk * jh + jr
-    if major:
-        psi = rate0 * tau + kappa * beta * (jval - j0) / lam
-    else:
-        psi = rate0 * tau + kappa * (tau - beta * (jval - j0) / lam)
+    # the two precession angles are cheap and finite: a select, not a branch (on JAX a
+    # branch doubles the traced paths)
+    psi = pick(
+        major,
+        rate0 * tau + kappa * beta * (jval - j0) / lam,
+        rate0 * tau + kappa * (tau - beta * (jval - j0) / lam),
+    )
     # z-x-z Euler angles (about axis j) of the body unit momentum; q = qs o Rzxz o qp.
     # (jx, jy) = (j + 1, j + 2) mod 3 is (i, m) or (m, i).
-    if (j + 1) % 3 == i:
-        x = inertia[i] * wi / kmom
-        y = inertia[m] * wm / kmom
-    else:
-        x = inertia[m] * wm / kmom
-        y = inertia[i] * wi / kmom
+    xi, xm = inertia[i] * wi / kmom, inertia[m] * wm / kmom
+    first = (j + 1) % 3 == i
+    x = pick(first, xi, xm)
+    y = pick(first, xm, xi)
     z = inertia[j] * wj / kmom
     st = math.hypot(x, y)
     big = math.sqrt(0.5 * (1.0 + abs(z)))
     small = st / (2.0 * big)
-    if z >= 0.0:
-        ch, sh = big, small
-    else:
-        ch, sh = small, big
+    ch = pick(z >= 0.0, big, small)
+    sh = pick(z >= 0.0, small, big)
     ph = math.atan2(x, y)
     ha = 0.5 * (psi + ph)
     hb = 0.5 * (psi - ph)
     z0, z1, z2, z3 = ch * math.cos(ha), sh * math.cos(hb), sh * math.sin(hb), ch * math.sin(ha)
-    r0, r1, r2, r3 = nh.qmul(qs[0], qs[1], qs[2], qs[3], z0, z1, z2, z3)
-    q0, q1, q2, q3 = nh.qmul(r0, r1, r2, r3, qp[0], qp[1], qp[2], qp[3])
-    w0, w1, w2 = _place(i, m, wi, wm, wj)
-    return w0, w1, w2, q0, q1, q2, q3, jval
+    r0, r1, r2, r3 = qmul(qs[0], qs[1], qs[2], qs[3], z0, z1, z2, z3)
+    q0, q1, q2, q3 = qmul(r0, r1, r2, r3, qp[0], qp[1], qp[2], qp[3])
+    return q0, q1, q2, q3, jval
+
+
+@njit(cache=True, inline="always")
+def elliptic_offset(
+    wi, wm, wj, kk, jr, i, m, j, inertia, kmom, rate0, kappa, beta, lam, major, jh, q0
+):  # pragma: no cover - compiled
+    """``(qs_0, qs_1, qs_2, qs_3, J0, qp_0, qp_1, qp_2, qp_3)``: the constants of
+    :func:`elliptic_attitude` with ``q(0) = q0``, from the point of
+    :func:`elliptic_omega` at ``tau = 0``."""
+    p0, p1, p2, p3 = axis_permutation(j)
+    # J(u0) and the Euler quaternion Rz(psi0) Rx(theta0) Rz(phi0) at t = 0 (with J0 = 0,
+    # psi0 = +-kappa beta J(u0) / lam); then J0 = J(u0) and psi0 -> 0.
+    one = (1.0, 0.0, 0.0, 0.0)
+    z0, z1, z2, z3, j0 = elliptic_attitude(
+        0.0, wi, wm, wj, kk, jr, i, m, j, inertia, kmom, rate0, kappa, beta, lam, major, jh,
+        0.0, one, one,
+    )  # fmt: skip
+    psi0 = kappa * beta * j0 / lam
+    psi0 = pick(major, psi0, -psi0)
+    z0, z1, z2, z3 = qmul(math.cos(0.5 * psi0), 0.0, 0.0, -math.sin(0.5 * psi0), z0, z1, z2, z3)
+    # qs = q0 o qp~ o qz0~
+    r0, r1, r2, r3 = qmul(q0[0], q0[1], q0[2], q0[3], p0, -p1, -p2, -p3)
+    s0, s1, s2, s3 = qmul(r0, r1, r2, r3, z0, -z1, -z2, -z3)
+    return s0, s1, s2, s3, j0, p0, p1, p2, p3
+
+
+@njit(cache=True, inline="always")
+def axis_permutation(j):  # pragma: no cover - compiled
+    """The quaternion taking ``(x, y, z) = (e_{j+1}, e_{j+2}, e_j)``: a rotation by -120,
+    +120, 0 deg about ``(1, 1, 1)`` for ``j = 0, 1, 2``."""
+    c = pick(j == 2, 1.0, 0.5)
+    s = pick(j == 0, -0.5, pick(j == 1, 0.5, 0.0))
+    return c, s, s, s
 
 
 @njit(cache=True, inline="always")
@@ -248,11 +291,6 @@ def symmetric_omega(ax, ay, spin, tau):  # pragma: no cover - compiled
 # Setup (per body)
 # ---------------------------------------------------------------------------
 
-_ONE = np.array([1.0, 0.0, 0.0, 0.0])
-_PERM = np.array(
-    [[0.5, -0.5, -0.5, -0.5], [0.5, 0.5, 0.5, 0.5], [1.0, 0.0, 0.0, 0.0]]
-)  # (x, y, z) = (e_{j+1}, e_{j+2}, e_j): rotations by -120, +120, 0 deg about (1, 1, 1)
-
 
 @njit(cache=True)
 def setup(mom, w0, q0, par, idx, amp, vec, qa, qb, ks, kps, info):  # pragma: no cover
@@ -288,13 +326,8 @@ def setup(mom, w0, q0, par, idx, amp, vec, qa, qb, ks, kps, info):  # pragma: no
             pb[P_PSIDOT] = kmom / ip
             pb[P_PHIDOT] = -spin
             amp[b, :] = w
-            # khat = q0 (J w0) q0~ / K
-            qq = q0[b]
-            ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
-            a0, a1, a2, a3 = nh.qmul(qq[0], qq[1], qq[2], qq[3], 0.0, ka0, ka1, ka2)
-            _, v1, v2, v3 = nh.qmul(a0, a1, a2, a3, qq[0], -qq[1], -qq[2], -qq[3])
-            vec[b, 0], vec[b, 1], vec[b, 2] = v1 / kmom, v2 / kmom, v3 / kmom
-            qa[b, :] = qq
+            vec[b, 0], vec[b, 1], vec[b, 2] = momentum_direction(im, w, q0[b], kmom)
+            qa[b, :] = q0[b]
             if spin != 0.0:
                 info[b, 1] = 2.0 * math.pi / abs(spin)
                 info[b, 2] = pb[P_PSIDOT] * info[b, 1]
@@ -352,13 +385,44 @@ def _extremes(a0, a1, a2):  # pragma: no cover - compiled
 def _setup_uniform(b, w, q0, pb, amp, vec, qa):  # pragma: no cover - compiled
     pb[P_MODE] = UNIFORM
     amp[b, :] = w
-    wn = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    pb[P_RATE] = wn
-    if wn > 0.0:
-        vec[b, 0], vec[b, 1], vec[b, 2] = w[0] / wn, w[1] / wn, w[2] / wn
-    else:
-        vec[b, 0], vec[b, 1], vec[b, 2] = 0.0, 0.0, 1.0
+    pb[P_RATE], vec[b, 0], vec[b, 1], vec[b, 2] = spin_axis(w)
     qa[b, :] = q0
+
+
+@njit(cache=True, inline="always")
+def spin_axis(w):  # pragma: no cover - compiled
+    """``(|w|, e_0, e_1, e_2)``: the rate and axis of a uniform rotation (``e_z`` at rest)."""
+    wn = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    # a select: the division by zero of the resting lane is discarded
+    on = wn > 0.0
+    d = pick(on, wn, 1.0)
+    return wn, pick(on, w[0] / d, 0.0), pick(on, w[1] / d, 0.0), pick(on, w[2] / d, 1.0)
+
+
+@njit(cache=True, inline="always")
+def momentum_direction(im, w, q, kmom):  # pragma: no cover - compiled
+    """``khat = q (J w) q~ / K``: the fixed direction of the angular momentum in space."""
+    ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
+    a0, a1, a2, a3 = qmul(q[0], q[1], q[2], q[3], 0.0, ka0, ka1, ka2)
+    _, v1, v2, v3 = qmul(a0, a1, a2, a3, q[0], -q[1], -q[2], -q[3])
+    return v1 / kmom, v2 / kmom, v3 / kmom
+
+
+@njit(cache=True, inline="always")
+def uniform_attitude(vec, rate, qa, tau):  # pragma: no cover - compiled
+    """``q = qa o Rot(e, |w| tau)``: a uniform rotation about the body axis ``e``."""
+    c0, c1, c2, c3 = _axis_q(vec, rate * tau)
+    return qmul(qa[0], qa[1], qa[2], qa[3], c0, c1, c2, c3)
+
+
+@njit(cache=True, inline="always")
+def symmetric_attitude(vec, psidot, phidot, qa, s, tau):  # pragma: no cover - compiled
+    """``q = Rot(khat, psi' tau) qa Rot(e_s, phi' tau)``: regular precession about the
+    momentum ``khat`` (space) and spin about the symmetry axis ``s`` (body)."""
+    a0, a1, a2, a3 = _axis_q(vec, psidot * tau)
+    hp = 0.5 * phidot * tau
+    r0, r1, r2, r3 = qmul(a0, a1, a2, a3, qa[0], qa[1], qa[2], qa[3])
+    return qaxis(r0, r1, r2, r3, math.cos(hp), math.sin(hp), s)
 
 
 @njit(cache=True)
@@ -456,22 +520,16 @@ def _setup_elliptic(
         info[b, 1] = period
         # Landau's convention (Euler z-axis = the encircled axis i): differs by 2 pi
         info[b, 2] = pb[P_RATE0] * period + extra + 2.0 * math.pi * math.copysign(1.0, ii - ij)
-    qb[b, :] = _PERM[j]
-    # J(u0) and the Euler quaternion Rz(psi0) Rx(theta0) Rz(phi0) at t = 0 (with J0 = 0
-    # in par, psi0 = +-kappa beta J(u0) / lam); then J0 = J(u0) and psi0 -> 0.
-    one = _ONE
-    _, _, _, z0, z1, z2, z3, j0 = _elliptic_point(
-        0.0, pb, idx[b], mom, amp[b], one, one, ks[b], kps[b], True
+    wi, wm, wj, kk, jr = elliptic_omega(
+        0.0, lam, u0, kq, k2, m1, n2, int(pb[P_LEVELS]), pb[P_LSCALE], ks[b], kps[b], separatrix,
+        ai, am, aj, True,
+    )  # fmt: skip
+    s0, s1, s2, s3, j0, p0, p1, p2, p3 = elliptic_offset(
+        wi, wm, wj, kk, jr, i, m, j, mom, kmom, rate0, kappa, beta, lam, major, pb[P_JH], q0
     )
     pb[P_J0] = j0
-    psi0 = pb[P_KAPPA] * pb[P_BETA] * j0 / pb[P_LAM]
-    if not major:
-        psi0 = -psi0
-    z0, z1, z2, z3 = nh.qmul(math.cos(0.5 * psi0), 0.0, 0.0, -math.sin(0.5 * psi0), z0, z1, z2, z3)
-    # qs = q0 o qp~ o qz0~
-    p = qb[b]
-    r0, r1, r2, r3 = nh.qmul(q0[0], q0[1], q0[2], q0[3], p[0], -p[1], -p[2], -p[3])
-    qa[b, 0], qa[b, 1], qa[b, 2], qa[b, 3] = nh.qmul(r0, r1, r2, r3, z0, -z1, -z2, -z3)
+    qa[b, 0], qa[b, 1], qa[b, 2], qa[b, 3] = s0, s1, s2, s3
+    qb[b, 0], qb[b, 1], qb[b, 2], qb[b, 3] = p0, p1, p2, p3
 
 
 # ---------------------------------------------------------------------------
@@ -480,37 +538,81 @@ def _setup_elliptic(
 
 
 def setup_lanes(im, w):  # plain Python: run by poinsot.jax with branches as selects
-    """Per body, the constants :func:`omega_lanes` needs: :func:`setup` without the
+    """Per body, the constants :func:`state_lanes` needs: :func:`setup` without the
     attitude, returned instead of stored (``im``, ``w`` scaled moments and angular
     velocity, indexable by 0, 1, 2). ``(code, i, m, j, a_i, a_m, a_j, lam, u0, K, k^2,
-    1 - k^2, n, L, scale, ks, kps, spin)``. Every regime's constants are computed
-    before the regime is chosen (on JAX each is then traced once)."""
+    1 - k^2, n, L, scale, ks, kps, spin, |K|, beta, major, kappa, rate0, J_h)``. Every
+    regime's constants are computed before the regime is chosen (on JAX each is then
+    traced once)."""
     code, i, m, j, d, rel, kmom = classify(im, w)
     ell = elliptic_constants(i, m, j, d, code == R_SEPARATRIX, im, w, kmom)
-    ai, am, aj, lam, n2, _, _, _, _, m1, k2, kq, u0, _ = ell
+    ai, am, aj, lam, n2, beta, major, kappa, rate0, m1, k2, kq, u0, jh = ell
     lv, sc, ks, kps = landen_table(k2, m1)
     spin = symmetric_spin(im[i], im[m], w[i])
+    att = (kmom, beta, major, kappa, rate0, jh)  # of the attitude (attitude_setup_lanes)
     if code == R_MAJOR or code == R_MINOR or code == R_SEPARATRIX:
-        return code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, 0.0
+        return (code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, 0.0) + att
     if code == R_SYMMETRIC:
-        return code, i, m, j, w[i], w[m], w[j], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0, 1.0, ks, kps, spin
-    return code, 0, 1, 2, w[0], w[1], w[2], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0, 1.0, ks, kps, 0.0
+        return (
+            code, i, m, j, w[i], w[m], w[j], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0, 1.0, ks, kps, spin
+        ) + att  # fmt: skip
+    return (
+        code, 0, 1, 2, w[0], w[1], w[2], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0, 1.0, ks, kps, 0.0
+    ) + att  # fmt: skip
 
 
-def omega_lanes(tau, c):  # plain Python: run by poinsot.jax with branches as selects
-    """``(w_0, w_1, w_2)`` at scaled time ``tau`` of a body with the constants ``c`` of
-    :func:`setup_lanes`: the angular velocity of :func:`evaluate`, principal axes."""
-    code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, spin = c
+def attitude_setup_lanes(im, w, q, c):  # plain Python: run by poinsot.jax as selects
+    """Per body, the attitude constants :func:`state_lanes` needs, from the constants
+    ``c`` of :func:`setup_lanes` and the initial attitude ``q`` (principal body ->
+    space, 4 lanes): :func:`setup`'s ``qa`` and ``qb`` (elliptic: the offsets ``qs``,
+    ``qp`` of :func:`elliptic_attitude`; else ``q`` and the identity), ``vec`` (the
+    momentum direction, or the spin axis), ``J0`` and the rate of the turn about
+    ``vec`` (``psi'`` or ``|w|``): 13 lanes."""
+    code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, spin = c[:18]
+    kmom, beta, major, kappa, rate0, jh = c[18:]
     sep = code == R_SEPARATRIX
-    wi, wm, wj, _, _ = elliptic_omega(
-        tau, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, sep, ai, am, aj, False
+    wi, wm, wj, kk, jr = elliptic_omega(
+        0.0, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, sep, ai, am, aj, True
+    )
+    ell = elliptic_offset(
+        wi, wm, wj, kk, jr, i, m, j, im, kmom, rate0, kappa, beta, lam, major, jh, q
+    )
+    k0, k1, k2_ = momentum_direction(im, w, q, kmom)
+    wn, e0, e1, e2 = spin_axis(w)
+    if code == R_MAJOR or code == R_MINOR or code == R_SEPARATRIX:
+        return ell[:4] + ell[5:] + (0.0, 0.0, 1.0, ell[4], 0.0)
+    one = (1.0, 0.0, 0.0, 0.0)
+    if code == R_SYMMETRIC:
+        return (q[0], q[1], q[2], q[3]) + one + (k0, k1, k2_, 0.0, kmom / im[m])
+    return (q[0], q[1], q[2], q[3]) + one + (e0, e1, e2, 0.0, wn)
+
+
+def state_lanes(tau, c, a, im, want_q):  # plain Python: run by poinsot.jax as selects
+    """``(w_0, w_1, w_2)`` and, if ``want_q``, ``(q_0, q_1, q_2, q_3)`` at scaled time
+    ``tau`` of a body with the constants ``c`` of :func:`setup_lanes` and ``a`` of
+    :func:`attitude_setup_lanes` (``None`` without ``want_q``), scaled moments ``im``:
+    :func:`evaluate` in principal axes, the attitude principal body -> space."""
+    code, i, m, j, ai, am, aj, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, spin = c[:18]
+    kmom, beta, major, kappa, rate0, jh = c[18:]
+    sep = code == R_SEPARATRIX
+    wi, wm, wj, kk, jr = elliptic_omega(
+        tau, lam, u0, kq, k2, m1, n2, lv, sc, ks, kps, sep, ai, am, aj, want_q
     )
     wxx, wyy = symmetric_omega(am, aj, spin, tau)
+    qe = qs = qu = ()
+    if want_q:
+        qa, qb, vec, j0, rate = a[0:4], a[4:8], a[8:11], a[11], a[12]
+        qe = elliptic_attitude(
+            tau, wi, wm, wj, kk, jr, i, m, j, im, kmom, rate0, kappa, beta, lam, major, jh, j0,
+            qa, qb,
+        )[:4]  # fmt: skip
+        qs = symmetric_attitude(vec, rate, -spin, qa, i, tau)
+        qu = uniform_attitude(vec, rate, qa, tau)
     if code == R_MAJOR or code == R_MINOR or code == R_SEPARATRIX:
-        return _place(i, m, wi, wm, wj)
+        return _place(i, m, wi, wm, wj) + qe
     if code == R_SYMMETRIC:
-        return _place(i, m, ai, wxx, wyy)
-    return ai, am, aj
+        return _place(i, m, ai, wxx, wyy) + qs
+    return (ai, am, aj) + qu
 
 
 # ---------------------------------------------------------------------------
@@ -546,28 +648,24 @@ def evaluate(
                 wxx, wyy = symmetric_omega(amp[b, x], amp[b, y], pb[P_SPIN], tau)
                 wx, wy, wz = _place(s, x, amp[b, s], wxx, wyy)
                 if want_q:
-                    a0, a1, a2, a3 = _axis_q(vec[b], pb[P_PSIDOT] * tau)
-                    hp = 0.5 * pb[P_PHIDOT] * tau
-                    g = qa[b]
-                    r0, r1, r2, r3 = nh.qmul(a0, a1, a2, a3, g[0], g[1], g[2], g[3])
-                    q0, q1, q2, q3 = nh.qaxis(r0, r1, r2, r3, math.cos(hp), math.sin(hp), s)
+                    q0, q1, q2, q3 = symmetric_attitude(
+                        vec[b], pb[P_PSIDOT], pb[P_PHIDOT], qa[b], s, tau
+                    )
             else:
                 wx, wy, wz = amp[b, 0], amp[b, 1], amp[b, 2]
                 if want_q:
-                    c0, c1, c2, c3 = _axis_q(vec[b], pb[P_RATE] * tau)
-                    g = qa[b]
-                    q0, q1, q2, q3 = nh.qmul(g[0], g[1], g[2], g[3], c0, c1, c2, c3)
+                    q0, q1, q2, q3 = uniform_attitude(vec[b], pb[P_RATE], qa[b], tau)
             # to the given body axes: w_given = qv w qv~, q_given = q o qv~
             if v[0] == 1.0:
                 w_out[b, p, 0], w_out[b, p, 1], w_out[b, p, 2] = ws * wx, ws * wy, ws * wz
                 if want_q:
                     q_out[b, p, 0], q_out[b, p, 1], q_out[b, p, 2], q_out[b, p, 3] = q0, q1, q2, q3
             else:
-                a0, a1, a2, a3 = nh.qmul(v[0], v[1], v[2], v[3], 0.0, wx, wy, wz)
-                _, r1, r2, r3 = nh.qmul(a0, a1, a2, a3, v[0], -v[1], -v[2], -v[3])
+                a0, a1, a2, a3 = qmul(v[0], v[1], v[2], v[3], 0.0, wx, wy, wz)
+                _, r1, r2, r3 = qmul(a0, a1, a2, a3, v[0], -v[1], -v[2], -v[3])
                 w_out[b, p, 0], w_out[b, p, 1], w_out[b, p, 2] = ws * r1, ws * r2, ws * r3
                 if want_q:
-                    r0, r1, r2, r3 = nh.qmul(q0, q1, q2, q3, v[0], -v[1], -v[2], -v[3])
+                    r0, r1, r2, r3 = qmul(q0, q1, q2, q3, v[0], -v[1], -v[2], -v[3])
                     q_out[b, p, 0], q_out[b, p, 1], q_out[b, p, 2], q_out[b, p, 3] = r0, r1, r2, r3
 
 
@@ -578,7 +676,9 @@ __all__ = [
     "elliptic_omega",
     "classify",
     "setup_lanes",
-    "omega_lanes",
+    "attitude_setup_lanes",
+    "state_lanes",
+    "elliptic_attitude",
     "symmetric_spin",
     "symmetric_omega",
     "LMAX",
