@@ -122,6 +122,7 @@ def test_reverse_mode_equals_forward_mode():
     np.testing.assert_allclose(g, want, rtol=1e-7, atol=1e-9)
 
 
+@pytest.mark.slow  # ~75 s of XLA compiling (four programs): `make test-slow`
 def test_vmap_and_pytree():
     j = np.array([c[0] for c in CASES[:4]])
     w = np.array([c[1] for c in CASES[:4]])
@@ -278,3 +279,12 @@ def test_attitude_gradients_equal_central_differences():
     for b in range(3):
         scale = np.abs(want[b]).max()
         assert np.abs(g[b] - want[b]).max() <= 1e-7 * scale, (b, np.abs(g[b] - want[b]).max())
+
+
+def test_unphysical_moments_name_the_argument():
+    # concrete inputs are checked like FreeRigidBody's; A + B < C is no rigid body
+    for bad in ([1.0, 1.0, 3.0], [-1.0, 2.0, 2.0], [np.nan, 1.0, 1.0]):
+        with pytest.raises(InvalidInputError, match="`moments`"):
+            pj.free_body_exact(np.array(bad), np.ones(3))
+    with pytest.raises(InvalidInputError, match="triangle inequality"):  # the same rule
+        FreeRigidBody([1.0, 1.0, 3.0], omega0=np.ones(3))
