@@ -38,7 +38,9 @@ SLOW_PAGES = [  # minutes of XLA compiling: `make test-slow`
 @pytest.mark.parametrize(
     "page", PAGES + [pytest.param(p, marks=pytest.mark.slow) for p in SLOW_PAGES]
 )
-def test_page_examples_run(page):
+def test_page_examples_run(page, monkeypatch, tmp_path):
+    # files an example writes (docs/notebook.md saves "flip.html") go to a scratch folder
+    monkeypatch.chdir(tmp_path)
     path = DOCS / page
     flags = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
     result = doctest.testfile(str(path), module_relative=False, optionflags=flags, verbose=False)
