@@ -839,9 +839,10 @@ def free_body_exact(moments: Any, omega0: Any, q0: Any = None) -> FreeBodyMotion
     transformation; ``D = 0`` (within ``2^-100``): ``sn = tanh``, ``cn = dn = sech``;
     two equal moments: ``w_perp`` turns at ``(I_s - I_p) w_s / I_p``; three equal, rest,
     a spin about the middle axis: ``w`` constant. The attitude: :meth:`FreeBodyMotion.attitude`.
-    Differentiable w.r.t. ``moments``, ``omega0`` and ``q0`` (each path's derivative;
-    NaN exactly at a spin about a principal axis, where ``k^2 = 0`` enters through a
-    square root, and on the separatrix itself).
+    ``omega`` is differentiable w.r.t. ``moments`` and ``omega0`` (each path's
+    derivative; NaN exactly at a spin about a principal axis, where ``k^2 = 0`` enters
+    through a square root, and on the separatrix itself); the attitude's derivative
+    programs do not yet compile within 18 GB on a CPU (docs/jax.md).
 
     >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.1, 1.0, 0.1]))
     >>> int(m.regime)                      # 4: "major", near the middle axis
