@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _numba_helpers as nh
-from .._jit import njit, prange
+from .._jit import NUMBA, njit, prange
 from .._numba_cache import depends_on
 from . import _fused
 from . import _fused_stages as G
@@ -46,8 +46,40 @@ from ._fused import (
 
 depends_on(__file__, nh, _fused, G)
 
-#: Lanes per block (4 float64 fill an AVX2 register).
-L = 4
+if NUMBA:
+    from numba.extending import intrinsic
+
+    @intrinsic
+    def _borrow(typingctx, arr):  # pragma: no cover - compiled
+        """A view of ``arr`` without its meminfo: no reference counting on it.
+
+        numba increments and decrements an array's reference count (atomic operations on
+        its meminfo) around every call that passes it; on the arrays every thread shares
+        (the bodies, the outputs) the two cores then fight over one cache line on each
+        call of the per-lane control. Only for arrays that the caller keeps alive for the
+        whole call (the kernel's arguments)."""
+
+        def codegen(context, builder, sig, args):
+            ary = context.make_array(sig.args[0])(context, builder, value=args[0])
+            out = context.make_array(sig.return_type)(context, builder)
+            context.populate_array(
+                out, data=ary.data, shape=ary.shape, strides=ary.strides,
+                itemsize=ary.itemsize, meminfo=None,
+            )  # fmt: skip
+            return out._getvalue()
+
+        return arr(arr), codegen
+
+else:  # the lane kernel runs compiled only; the NumPy executor steps one body at a time
+
+    def _borrow(arr):
+        return arr
+
+#: Lanes per block: 8 float64, two AVX2 registers (or one AVX-512) per operation. Two
+#: independent registers per operation let the core overlap the long dependency chains of
+#: the stage sums and the right-hand side; measured against 4 lanes on a 2-core AMD EPYC
+#: (AVX2): 20-25% less time per evaluation, 16 lanes no better than 8.
+L = 8
 #: Most bodies per chunk, the unit of ``prange`` (a lane takes the next body of its chunk).
 CHUNK = 256
 
@@ -420,6 +452,10 @@ def _chunk(
     li = np.zeros((N_LI, L), dtype=np.int64)
     li[BODY, :] = -1
     scratch = np.empty((5, 7))
+    # the caller holds the arguments for the whole call: no reference counting on them
+    y0, J, Ji, par, t_out = _borrow(y0), _borrow(J), _borrow(Ji), _borrow(par), _borrow(t_out)
+    oq, ow, stats = _borrow(oq), _borrow(ow), _borrow(stats)
+    cancel, done = _borrow(cancel), _borrow(done)
     nxt = lo
     while True:
         nxt, active = lane_fill(

@@ -79,7 +79,7 @@ from .._validate import (
 )
 from .._vec import cross as _cross
 from .._vec import hat as _hat
-from .._vec import inverse3
+from .._vec import _OFF_DIAGONAL, inverse3
 from ..errors import IntegrationError, InvalidInputError
 from ..mass.tensor import _momentum, single_principal_moments
 from ..rotations.rotation import Rotation
@@ -546,7 +546,8 @@ def simulate(
         jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
     if jb.shape[0] != n_body and jb.shape[0] != 1:  # pragma: no cover - guarded by broadcast
         raise InvalidInputError("Incompatible `body` batch shape.")
-    j_inv = inverse3(jb)
+    # the compiled DOP853 inverts the inertia itself; the other methods take it here
+    j_inv = None if method == "dop853" else inverse3(jb)
     tfn = None if torque_fn is None else _TorqueCall(torque_fn, batch, method)
     mc = None
     if m_const is not None:
@@ -592,7 +593,7 @@ def simulate(
                 )
                 if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
                     qs, ws, info = _run_adaptive(
-                        jb, j_inv, q, omega0_n, tt, h_max, mc, tfn, rtol, atol, "DOP853"
+                        jb, inverse3(jb), q, omega0_n, tt, h_max, mc, tfn, rtol, atol, "DOP853"
                     )
                     info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
                 else:
@@ -613,7 +614,13 @@ def simulate(
         info["torque_calls"] = tfn.calls
 
     n = tt.shape[0]
-    inv = _invariants(jb, False, qs, ws, None)
+    # principal axes (the usual batch): the moments' products instead of 3x3 ones, the
+    # same values (the tensor's off-diagonal terms add exact zeros)
+    diagonal = not np.any(jb.reshape(-1, 9)[:, _OFF_DIAGONAL])
+    if diagonal:
+        inv = _invariants(np.diagonal(jb, axis1=-2, axis2=-1), True, qs, ws, None)
+    else:
+        inv = _invariants(jb, False, qs, ws, None)
     energy, momentum = inv.kinetic, inv.momentum_space
     out = batch
     quat = qs.reshape((n,) + out + (4,))
