@@ -75,6 +75,7 @@ else:  # the lane kernel runs compiled only; the NumPy executor steps one body a
     def _borrow(arr):
         return arr
 
+
 #: Lanes per block: 8 float64, two AVX2 registers (or one AVX-512) per operation. Two
 #: independent registers per operation let the core overlap the long dependency chains of
 #: the stage sums and the right-hand side; measured against 4 lanes on a 2-core AMD EPYC

@@ -77,9 +77,9 @@ from .._validate import (
     batch_shape,
     plain_vec3,
 )
+from .._vec import _OFF_DIAGONAL, inverse3
 from .._vec import cross as _cross
 from .._vec import hat as _hat
-from .._vec import _OFF_DIAGONAL, inverse3
 from ..errors import IntegrationError, InvalidInputError
 from ..mass.tensor import _momentum, single_principal_moments
 from ..rotations.rotation import Rotation
