@@ -7,9 +7,9 @@ evaluation counts), the cost of one step attempt alone (12 stages of ``L`` lanes
 (every lane), both per evaluation per body: the rest of the kernel's time is the
 per-lane step control, loading bodies and writing outputs.
 
-``--control`` also times the kernel with the attempt replaced by a stub (``y_new = y``,
-an error norm that keeps the step): the cost of everything but the attempt, per attempt
-per body (it compiles a copy of the chunk loop: a few minutes).
+``--control`` also splits the chunk loop's time by phase (refilling and checking the
+lanes, the attempt, accept/reject, dense output, accepting) with the CPU's cycle
+counter, per lane-attempt (one body's step attempt); the parts add up to the whole.
 
 Run: ``python benchmarks/profile_lanes.py [--n 10000] [--repeat 5] [--control]``.
 """
@@ -87,51 +87,105 @@ def main() -> None:
 
 
 def _control(moments, quat, omega, repeat):
-    """The chunk loop with a stub attempt, and the real one, per attempt per body."""
-    import inspect
+    """The chunk loop's time split by phase with the CPU's cycle counter.
 
+    A copy of ``_fused_lanes._chunk`` whose phases (refilling and checking the lanes,
+    the attempt, accept/reject, dense output, accepting) are bracketed by
+    ``lfence`` + ``llvm.readcyclecounter``: the parts add up to the whole by construction
+    (the fence and the counter's own cost land in the phases)."""
     from numba import njit
+    from numba.core import types
+    from numba.extending import intrinsic
 
     from poinsot.dynamics import GravityTorque
     from poinsot.dynamics import _fused_lanes as FL
     from poinsot.dynamics._fused import _flat_problem
 
+    @intrinsic
+    def cycles(typingctx):
+        def codegen(context, builder, signature, args):
+            from llvmlite import ir
+
+            # lfence first: the counter is read once the phase's instructions are done,
+            # not while the out-of-order core still works on them
+            fence = builder.module.declare_intrinsic(
+                "llvm.x86.sse2.lfence", fnty=ir.FunctionType(ir.VoidType(), [])
+            )
+            builder.call(fence, [])
+            fnty = ir.FunctionType(ir.IntType(64), [])
+            fn = builder.module.declare_intrinsic("llvm.readcyclecounter", fnty=fnty)
+            return builder.call(fn, [])
+
+        return types.int64(), codegen
+
     L = FL.L
-    off_y, off_k, off_yn, off_err = FL.OFF_Y, FL.OFF_K, FL.OFF_YN, FL.OFF_ERR
 
     @njit
-    def stub(W, kind, rtol, atol):
-        for l in range(L):
-            for c in range(7):
-                W[off_yn + c * L + l] = W[off_y + c * L + l]
-                W[off_k + 12 * 7 * L + c * L + l] = W[off_k + c * L + l]
-            W[off_err + l] = 0.9**8  # SAFETY * err^(-1/8) = 1: the step is kept
+    def chunk(lo, hi, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow,
+              stats, cancel, done, acc):  # fmt: skip
+        W = np.zeros(FL.N_WORK)
+        ls = np.zeros((FL.N_LS, L))
+        li = np.zeros((FL.N_LI, L), dtype=np.int64)
+        li[FL.BODY, :] = -1
+        scratch = np.empty((5, 7))
+        nxt = lo
+        while True:
+            c0 = cycles()
+            nxt, active = FL.lane_fill(nxt, hi, W, ls, li, scratch, y0, J, Ji, kind, par,
+                                       t_out, rtol, atol, max_step, max_steps, oq, ow, stats,
+                                       cancel, done)  # fmt: skip
+            c1 = cycles()
+            acc[0] += c1 - c0
+            if active == 0:
+                break
+            acc[5] += active
+            FL._attempt(W, kind, rtol, atol)
+            c2 = cycles()
+            dense = FL.lane_control(W, ls, li, t_out)
+            c3 = cycles()
+            if dense:
+                FL._dense(W, kind)
+            c4 = cycles()
+            FL.lane_accept(W, ls, li, scratch, t_out, oq, ow, stats)
+            c5 = cycles()
+            acc[1] += c2 - c1
+            acc[2] += c3 - c2
+            acc[3] += c4 - c3
+            acc[4] += c5 - c4
 
-    src = inspect.getsource(FL._chunk.py_func).replace("@njit(cache=True)\n", "")
-    src = src.replace("def _chunk(", "def _stub_chunk(").replace("_attempt(W,", "_stub(W,")
-    ns = dict(vars(FL), _stub=stub)
-    exec(src, ns)  # noqa: S102 - the kernel's own source with the attempt swapped
-    chunks = {"real": FL._chunk, "stub attempt": njit(ns["_stub_chunk"])}
     n = len(moments)
-    tq = GravityTorque(1.0, [0.0, 0.0, 0.3], g=9.81)
-    _, kind, par, jj, ji, y0 = _flat_problem(moments, quat, omega, tq)
     t_out = np.array([0.0, 10.0])
-
-    def run(chunk):
-        oq, ow = np.empty((2, n, 4)), np.empty((2, n, 3))
-        stats = np.zeros((n, 4), np.int64)
-        cancel, done = np.zeros(1, np.int64), np.zeros(n, np.int64)
-        for lo in range(0, n, FL.CHUNK):
-            chunk(lo, min(n, lo + FL.CHUNK), y0, jj, ji, kind, par, t_out, 1.3e-8, 1.3e-10,
-                  np.inf, 10**6, oq, ow, stats, cancel, done)  # fmt: skip
-        return stats
-
-    for name, chunk in chunks.items():
-        stats = run(chunk)
-        secs = _best(lambda chunk=chunk: run(chunk), repeat)
-        tries = int(stats[:, 0].sum() + stats[:, 1].sum())
-        print(f"  heavy, {name}: {secs:.3f} s, {tries} attempts, "
-              f"{1e9 * secs / tries:.0f} ns per attempt per body")  # fmt: skip
+    cases = {
+        "free, rtol 1.5e-7": (None, 1.5e-7),
+        "heavy, rtol 1.3e-8": (GravityTorque(1.0, [0.0, 0.0, 0.3], g=9.81), 1.3e-8),
+    }
+    names = ["refill + checks", "attempt (12 stages)", "accept/reject", "dense output",
+             "accept: project, outputs"]  # fmt: skip
+    print("  split of the chunk loop (cycle counter, 1 thread; per lane-attempt, i.e. one "
+          "body's step attempt):")  # fmt: skip
+    for name, (tq, rtol) in cases.items():
+        _, kind, par, jj, ji, y0 = _flat_problem(moments, quat, omega, tq)
+        best = None
+        for _ in range(repeat + 1):
+            oq, ow = np.empty((2, n, 4)), np.empty((2, n, 3))
+            stats = np.zeros((n, 4), np.int64)
+            cancel, done = np.zeros(1, np.int64), np.zeros(n, np.int64)
+            acc = np.zeros(6, np.int64)
+            t0 = time.perf_counter()
+            for lo in range(0, n, FL.CHUNK):
+                chunk(lo, min(n, lo + FL.CHUNK), y0, jj, ji, kind, par, t_out, rtol,
+                      rtol * 1e-2, np.inf, 10**6, oq, ow, stats, cancel, done, acc)  # fmt: skip
+            secs = time.perf_counter() - t0
+            if best is None or secs < best[0]:
+                best = (secs, acc)
+        secs, acc = best
+        per_cycle = secs / acc[:5].sum()  # seconds per counter tick
+        lanes = acc[5]
+        parts = ", ".join(
+            f"{k} {1e9 * per_cycle * acc[i] / lanes:.0f} ns ({100 * acc[i] / acc[:5].sum():.0f}%)"
+            for i, k in enumerate(names)
+        )
+        print(f"  {name}: {1e9 * secs / lanes:.0f} ns per lane-attempt = {parts}")
 
 
 def _attempts(W, kind, loops):
