@@ -45,7 +45,7 @@ from .. import _numba_helpers as nh
 from .._jit import NUMBA, njit, prange
 from .._numba_cache import depends_on
 from .._progress import run_compiled
-from .._vec import inverse3
+from .._vec import diagonal3, inverse3
 from ..rotations._lazy import threaded
 from . import _dop853_tableau as _tab
 
@@ -615,7 +615,7 @@ def _flat_problem(j, q0, omega0, torque):
     the torque is not built in."""
     j = np.asarray(j, dtype=float)
     if j.shape[-2:] != (3, 3):
-        j = j[..., :, None] * np.eye(3)
+        j = diagonal3(j)
     batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], omega0.shape[:-1])
     kp = torque_kernel(torque, batch)
     if kp is None:

@@ -77,7 +77,7 @@ from .._validate import (
     batch_shape,
     plain_vec3,
 )
-from .._vec import _OFF_DIAGONAL, inverse3
+from .._vec import _OFF_DIAGONAL, diagonal3, inverse3
 from .._vec import cross as _cross
 from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError
@@ -127,7 +127,7 @@ def _body_inertia(body: Any) -> np.ndarray:
         name = "body"
     j, principal = _as_inertia(inertia, name)
     if principal:
-        j = j[..., :, None] * np.eye(3)
+        j = diagonal3(j)
     return j
 
 
