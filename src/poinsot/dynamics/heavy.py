@@ -41,7 +41,7 @@ import numpy as np
 from .. import integrators
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape
-from .._vec import cross, inverse3
+from .._vec import cross, diagonal3, inverse3
 from ..errors import InvalidInputError
 from ..trajectory import Trajectory
 from .torques import STANDARD_GRAVITY, GravityTorque
@@ -146,7 +146,7 @@ class HeavyRigidBody:
             )
         j, principal = as_inertia(inertia, "inertia")
         if principal:
-            j = j[..., :, None] * np.eye(3)
+            j = diagonal3(j)
         if j.shape != (3, 3):
             raise InvalidInputError(
                 f"Expected `inertia` of one body, shape (3,) or (3, 3), got {j.shape}."

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import as_choice, as_positive, as_vec3, batch_shape
-from .._vec import cross
+from .._vec import cross, diagonal3
 from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = [
@@ -372,7 +372,7 @@ class GravityGradientTorque(TorqueModel):
 
         j, principal = as_inertia(self.inertia, "inertia")
         if principal:
-            j = j[..., :, None] * np.eye(3)
+            j = diagonal3(j)
         r = as_positive(self.radius, "radius")
         mu = as_positive(self.mu, "mu")
         n = as_vec3(self.direction, "direction")

@@ -20,7 +20,7 @@ import numpy as np
 from .. import _display
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_positive, as_vec3, batch_shape
-from .._vec import cross
+from .._vec import cross, diagonal3
 from ..errors import InvalidInputError, InvalidTypeError
 from . import solids
 from .meshes import mesh as _mesh
@@ -272,7 +272,7 @@ class RigidBody:
         m = as_positive(self.mass, "mass")
         j, principal = as_inertia(self.inertia, "inertia", allow_singular=True)
         if principal:
-            j = j[..., :, None] * np.eye(3)
+            j = diagonal3(j)
         c = as_vec3(self.center_of_mass, "center_of_mass")
         batch_shape(mass=(m, 0), inertia=(j, 2), center_of_mass=(c, 1))
         m = _readonly(m)
