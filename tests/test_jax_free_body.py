@@ -292,3 +292,31 @@ def test_unphysical_moments_name_the_argument():
             pj.free_body_exact(np.array(bad), np.ones(3))
     with pytest.raises(InvalidInputError, match="triangle inequality"):  # the same rule
         FreeRigidBody([1.0, 1.0, 3.0], omega0=np.ones(3))
+
+
+def test_rotation0_is_q0_under_the_name_of_free_rigid_body():
+    # API.md: exact solutions take the initial attitude as `rotation0`; here it is the
+    # same as `q0` for a JAX array, a poinsot Rotation and a SciPy Rotation (whose
+    # scalar-last quaternions must not be misread). The pytree's leaves are compared:
+    # no attitude program is compiled.
+    from scipy.spatial.transform import Rotation as SciPyRotation
+
+    from poinsot import Rotation
+
+    rng = np.random.default_rng(7)
+    q = rng.normal(size=4)
+    q /= np.linalg.norm(q)
+    moments, omega = jnp.array([1.0, 2.0, 3.0]), jnp.array([0.3, 0.2, 0.9])
+    want = jax.tree_util.tree_leaves(pj.free_body_exact(moments, omega, jnp.asarray(q)))
+    for r0 in (
+        jnp.asarray(q),
+        Rotation.from_quat(q),
+        SciPyRotation.from_quat(np.roll(q, -1)),  # SciPy: scalar last
+    ):
+        got = jax.tree_util.tree_leaves(pj.free_body_exact(moments, omega, rotation0=r0))
+        for a, b in zip(got, want, strict=True):
+            np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-15)
+    with pytest.raises(InvalidInputError, match="not both"):
+        pj.free_body_exact(moments, omega, jnp.asarray(q), rotation0=jnp.asarray(q))
+    with pytest.raises(InvalidInputError, match="`rotation0`"):
+        pj.free_body_exact(moments, omega, rotation0=np.zeros(4))

@@ -777,6 +777,19 @@ class FreeBodyMotion:
         """
         return _motion_eval(self, t, True)[1]
 
+    def rotation(self, t: Any) -> Any:
+        """:meth:`attitude` under the name of the NumPy exact solutions
+        (``FreeRigidBody.rotation``): here the scalar-first quaternions themselves,
+        ``shape + t.shape + (4,)``, not a :class:`~poinsot.Rotation` (which cannot hold
+        traced values).
+
+        >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.0, 0.0, 1.0]))
+        >>> t = jnp.linspace(0.0, jnp.pi, 5)  # the shapes of attitude's example: compiled once
+        >>> bool((m.rotation(t) == m.attitude(t)).all())
+        True
+        """
+        return self.attitude(t)
+
     def state(self, t: Any) -> tuple[Any, Any]:
         """``(omega(t), attitude(t))`` in one pass (:meth:`omega`, :meth:`attitude`).
 
@@ -822,12 +835,18 @@ def _quat4(q: Any, name: str) -> Any:
     return q
 
 
-def free_body_exact(moments: Any, omega0: Any, q0: Any = None) -> FreeBodyMotion:
+def free_body_exact(
+    moments: Any, omega0: Any, q0: Any = None, *, rotation0: Any = None
+) -> FreeBodyMotion:
     """The exact torque-free (Euler-Poinsot) motion of bodies with principal ``moments``
     (..., 3) (kg m^2, any order), body angular velocity ``omega0`` (..., 3) (rad/s)
     and attitude ``q0`` (..., 4) (principal body -> space, scalar first, normalised;
     the identity if ``None``) at ``t = 0``: a :class:`FreeBodyMotion` (a pytree),
-    evaluated by its ``omega``, ``attitude`` and ``state``.
+    evaluated by its ``omega``, ``attitude`` (alias ``rotation``) and ``state``.
+    ``rotation0=`` (keyword, the name of ``FreeRigidBody``'s argument) takes the
+    initial attitude instead of ``q0``: a JAX array of quaternions (traced or not), or
+    anything :class:`poinsot.dynamics.FreeRigidBody` accepts (a :class:`~poinsot.Rotation`,
+    a SciPy ``Rotation``, quaternions), checked and converted with NumPy.
 
     The algorithm of :class:`poinsot.dynamics.FreeRigidBody`, run from the same
     source (``poinsot.dynamics._free_body_numba``, ``_elliptic``; theory §10): with
@@ -857,6 +876,19 @@ def free_body_exact(moments: Any, omega0: Any, q0: Any = None) -> FreeBodyMotion
         from .mass.tensor import check_principal_moments
 
         check_principal_moments(np.asarray(moments, dtype=float), "moments")
+    if rotation0 is not None:
+        if q0 is not None:
+            from .errors import InvalidInputError
+
+            raise InvalidInputError(
+                "Give the initial attitude as `q0` or as `rotation0`, not both."
+            )
+        if isinstance(rotation0, jax.Array):  # traced or not: left to _quat4
+            q0 = rotation0
+        else:
+            from ._validate import as_rotation_quat
+
+            q0 = as_rotation_quat(rotation0, "rotation0")
     return _free_body_exact(moments, omega0, q0)
 
 
