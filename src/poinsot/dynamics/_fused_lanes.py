@@ -21,6 +21,8 @@ each, ``K_0 = f(y)``), ``y_new``, the dense-output coefficients ``F`` (7 x 7 x L
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .. import _numba_helpers as nh
@@ -46,11 +48,12 @@ from ._fused import (
 
 depends_on(__file__, nh, _fused, G)
 
+_borrow: Any
 if NUMBA:
     from numba.extending import intrinsic
 
     @intrinsic
-    def _borrow(typingctx, arr):  # pragma: no cover - compiled
+    def _borrow_intrinsic(typingctx, arr):  # pragma: no cover - compiled
         """A view of ``arr`` without its meminfo: no reference counting on it.
 
         numba increments and decrements an array's reference count (atomic operations on
@@ -70,10 +73,13 @@ if NUMBA:
 
         return arr(arr), codegen
 
+    _borrow = _borrow_intrinsic
 else:  # the lane kernel runs compiled only; the NumPy executor steps one body at a time
 
-    def _borrow(arr):
+    def _identity(arr: Any) -> Any:
         return arr
+
+    _borrow = _identity
 
 
 #: Lanes per block: 8 float64, two AVX2 registers (or one AVX-512) per operation. Two

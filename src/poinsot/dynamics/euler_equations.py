@@ -546,8 +546,6 @@ def simulate(
         jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
     if jb.shape[0] != n_body and jb.shape[0] != 1:  # pragma: no cover - guarded by broadcast
         raise InvalidInputError("Incompatible `body` batch shape.")
-    # the compiled DOP853 inverts the inertia itself; the other methods take it here
-    j_inv = None if method == "dop853" else inverse3(jb)
     tfn = None if torque_fn is None else _TorqueCall(torque_fn, batch, method)
     mc = None
     if m_const is not None:
@@ -557,7 +555,7 @@ def simulate(
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             if method == "midpoint":
                 qs, ws, info = _run_midpoint(
-                    jb, j_inv, q, omega0_n, tt, h_max, comp, mc, tfn, report
+                    jb, inverse3(jb), q, omega0_n, tt, h_max, comp, mc, tfn, report
                 )
             elif method == "splitting":
                 grav = None
@@ -575,7 +573,7 @@ def simulate(
             elif method == "rk4":
                 qs, ws, info = _run_rk4_compiled(jb, q, omega0_n, tt, h_max, model, report)
                 if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
-                    qs, ws, info = _run_rk4(jb, j_inv, q, omega0_n, tt, h_max, mc, tfn)
+                    qs, ws, info = _run_rk4(jb, inverse3(jb), q, omega0_n, tt, h_max, mc, tfn)
                     info["path"] = "NumPy (torque is a Python callable)"
             elif method == "dop853":
                 from . import _fused  # numba, loaded on first use
@@ -600,7 +598,7 @@ def simulate(
                     qs, ws, info = _fused_info(fused, tt, rtol, atol, mark=failures == "mark")
             else:
                 qs, ws, info = _run_adaptive(
-                    jb, j_inv, q, omega0_n, tt, h_max, mc, tfn, rtol, atol, solver
+                    jb, inverse3(jb), q, omega0_n, tt, h_max, mc, tfn, rtol, atol, solver
                 )
     except BaseException:
         if report is not None:
