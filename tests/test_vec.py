@@ -26,3 +26,29 @@ def test_inverse3_of_full_tensors_inverts():
     assert got.shape == a.shape
     assert np.allclose(got @ a, np.eye(3), rtol=0, atol=1e-10)
     assert np.array_equal(inverse3(a[0, 0]), np.diag([1.0, 1 / 2.0, 1 / 3.0]))
+
+
+def test_diagonal3_is_moments_times_the_identity():
+    from poinsot._vec import all_diagonal3, diagonal3
+
+    rng = np.random.default_rng(5)
+    for shape in [(3,), (40, 3), (2, 5, 3)]:
+        d = rng.uniform(0.1, 10.0, shape)
+        got = diagonal3(d)
+        assert np.array_equal(got, d[..., :, None] * np.eye(3))
+        assert all_diagonal3(got)
+    full = diagonal3(rng.uniform(1.0, 2.0, (10, 3)))
+    full[7, 2, 0] = 1e-300  # one tiny off-diagonal entry anywhere in the batch
+    assert not all_diagonal3(full)
+    assert not all_diagonal3(np.zeros((0, 3, 3)))
+
+
+def test_sort3_is_numpys_sort_with_ties():
+    from poinsot.mass.tensor import _sort3
+
+    rng = np.random.default_rng(6)
+    for shape in [(3,), (1000, 3), (4, 7, 3)]:
+        m = rng.integers(0, 3, shape).astype(float)  # many ties
+        assert np.array_equal(_sort3(m), np.sort(m, axis=-1))
+        m = rng.normal(size=shape)
+        assert np.array_equal(_sort3(m), np.sort(m, axis=-1))

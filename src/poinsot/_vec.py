@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "diagonal3", "dot", "hat", "inverse3", "length", "unit"]
+__all__ = ["all_diagonal3", "cross", "diagonal3", "dot", "hat", "inverse3", "length", "unit"]
 
 # Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
 _N2_LO, _N2_HI = 1e-290, 1e290
@@ -43,6 +43,14 @@ def hat(v: np.ndarray) -> np.ndarray:
 _OFF_DIAGONAL = np.array([1, 2, 3, 5, 6, 7])  # entries (0,1) (0,2) (1,0) (1,2) (2,0) (2,1)
 
 
+def all_diagonal3(a: np.ndarray) -> bool:
+    """Whether every matrix of a non-empty ``(..., 3, 3)`` batch is diagonal (a batch of
+    principal-axes inertia tensors: the cheap paths of :func:`inverse3` and of the
+    invariants in ``simulate``)."""
+    a = np.asarray(a)
+    return bool(a.size) and not np.any(a.reshape(a.shape[:-2] + (9,))[..., _OFF_DIAGONAL])
+
+
 def diagonal3(d: np.ndarray) -> np.ndarray:
     """The diagonal matrices ``(..., 3, 3)`` with diagonals ``d`` (..., 3): principal
     moments as inertia tensors. The same values as ``d[..., :, None] * np.eye(3)`` for
@@ -67,7 +75,7 @@ def inverse3(a: np.ndarray) -> np.ndarray:
     """
     a = np.asarray(a, dtype=float)
     flat = a.reshape(a.shape[:-2] + (9,))
-    if a.size and not np.any(flat[..., _OFF_DIAGONAL]):
+    if all_diagonal3(a):
         out = np.zeros(flat.shape)
         np.divide(1.0, flat[..., ::4], out=out[..., ::4])  # the diagonal: entries 0, 4, 8
         return out.reshape(a.shape)

@@ -77,7 +77,7 @@ from .._validate import (
     batch_shape,
     plain_vec3,
 )
-from .._vec import _OFF_DIAGONAL, diagonal3, inverse3
+from .._vec import all_diagonal3, diagonal3, inverse3
 from .._vec import cross as _cross
 from .._vec import hat as _hat
 from ..errors import IntegrationError, InvalidInputError
@@ -614,8 +614,7 @@ def simulate(
     n = tt.shape[0]
     # principal axes (the usual batch): the moments' products instead of 3x3 ones, the
     # same values (the tensor's off-diagonal terms add exact zeros)
-    diagonal = not np.any(jb.reshape(-1, 9)[:, _OFF_DIAGONAL])
-    if diagonal:
+    if all_diagonal3(jb):
         inv = _invariants(np.diagonal(jb, axis1=-2, axis2=-1), True, qs, ws, None)
     else:
         inv = _invariants(jb, False, qs, ws, None)
