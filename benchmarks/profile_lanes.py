@@ -124,29 +124,33 @@ def _control(moments, quat, omega, repeat):
     def chunk(lo, hi, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow,
               stats, cancel, done, acc):  # fmt: skip
         W = np.zeros(FL.N_WORK)
-        ls = np.zeros((FL.N_LS, L))
-        li = np.zeros((FL.N_LI, L), dtype=np.int64)
-        li[FL.BODY, :] = -1
+        W[FL.S_BODY : FL.S_BODY + L] = -1.0
+        W[FL.S_END : FL.S_END + L] = -1.0
         scratch = np.empty((5, 7))
+        t_end = t_out[-1]
         nxt = lo
         while True:
             c0 = cycles()
-            nxt, active = FL.lane_fill(nxt, hi, W, ls, li, scratch, y0, J, Ji, kind, par,
-                                       t_out, rtol, atol, max_step, max_steps, oq, ow, stats,
-                                       cancel, done)  # fmt: skip
+            n_busy, n_end = FL.lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
+            while n_end > 0 or (n_busy < L and nxt < hi):
+                nxt = FL.lane_service(nxt, hi, W, scratch, y0, J, Ji, kind, par, t_out, rtol,
+                                      atol, max_step, oq, ow, stats, done)  # fmt: skip
+                n_busy, n_end = FL.lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
             c1 = cycles()
             acc[0] += c1 - c0
-            if active == 0:
+            if n_busy == 0:
                 break
-            acc[5] += active
+            acc[5] += n_busy
             FL._attempt(W, kind, rtol, atol)
             c2 = cycles()
-            dense = FL.lane_control(W, ls, li, t_out)
+            n_dense = FL.lane_control(W)
             c3 = cycles()
-            if dense:
+            if n_dense > 0:
                 FL._dense(W, kind)
+                FL.lane_dense_out(W, scratch, t_out, oq, ow, done)
             c4 = cycles()
-            FL.lane_accept(W, ls, li, scratch, t_out, oq, ow, stats)
+            if FL.lane_accept(W) > 0:
+                FL.lane_events(W, scratch, t_out, oq, ow, stats, done)
             c5 = cycles()
             acc[1] += c2 - c1
             acc[2] += c3 - c2
@@ -159,7 +163,7 @@ def _control(moments, quat, omega, repeat):
         "free, rtol 1.5e-7": (None, 1.5e-7),
         "heavy, rtol 1.3e-8": (GravityTorque(1.0, [0.0, 0.0, 0.3], g=9.81), 1.3e-8),
     }
-    names = ["refill + checks", "attempt (12 stages)", "accept/reject", "dense output",
+    names = ["prepare + refill", "attempt (12 stages)", "accept/reject", "dense output",
              "accept: project, outputs"]  # fmt: skip
     print("  split of the chunk loop (cycle counter, 1 thread; per lane-attempt, i.e. one "
           "body's step attempt):")  # fmt: skip

@@ -115,6 +115,40 @@ def test_bit_identical_with_failures_and_limits():
     _assert_same(a, b)
 
 
+def test_bit_identical_negative_times_and_step_too_small():
+    moments, quat, omega = _bodies(21, seed=5)
+    omega[::3] *= 40.0  # fast bodies: steps that shrink below 10 ulp(t) at large t
+    # negative times crossing zero: 10 ulp(t) from the bits of t < 0, t = 0
+    a, b = _both(moments, quat, omega, np.linspace(-2.0, 1.0, 7), None, rtol=1e-9,
+                 atol=1e-11, max_step=np.inf)  # fmt: skip
+    _assert_same(a, b)
+    assert np.all(a[2][:, 3] == _fused.OK)
+    t = np.array([1e13, 1e13 + 2.0])  # ulp(1e13) = 2e-3: fast bodies cannot keep rtol 1e-13
+    a, b = _both(moments, quat, omega, t, None, rtol=1e-13, atol=1e-15, max_step=np.inf)
+    _assert_same(a, b)
+    status = a[2][:, 3]
+    assert (status == _fused.STEP_TOO_SMALL).any() and (status == _fused.OK).any()
+
+
+def test_next_up_is_nextafter():
+    from numba import njit
+
+    @njit
+    def up(x, out):
+        for i in range(x.shape[0]):
+            out[i] = _fused_lanes._next_up(x[i])
+
+    tiny = np.finfo(float).tiny
+    x = np.array([0.0, -0.0, 5e-324, -5e-324, tiny, -tiny, 1.0, -1.0, 2.0, -2.0, 0.1, -3.5e7,
+                  np.finfo(float).max, -np.finfo(float).max, np.inf, -np.inf, np.nan])  # fmt: skip
+    rng = np.random.default_rng(1)  # every magnitude, both signs, denormals included
+    x = np.concatenate([x, rng.normal(size=2000) * 10.0 ** rng.uniform(-320, 300, 2000)])
+    out = np.empty_like(x)
+    up(x, out)
+    with np.errstate(over="ignore"):  # nextafter(max, inf) = inf
+        np.testing.assert_array_equal(out, np.nextafter(x, np.inf))
+
+
 def test_cancel_flag_stops_every_lane():
     moments, quat, omega = _bodies(9)
     y0 = np.concatenate([quat, omega], axis=1)

@@ -8,7 +8,7 @@ allocated per stage and no Python runs per step; bodies are independent, so a
 batch is spread over threads with ``prange`` (the idle cores, by the rule of
 :func:`poinsot.rotations._lazy.threaded`) and the result is bit-identical for any
 number of threads. :func:`integrate` runs the lane-blocked form of these kernels
-(:mod:`poinsot.dynamics._fused_lanes`: four bodies stepped together, SIMD across
+(:mod:`poinsot.dynamics._fused_lanes`: eight bodies stepped together, SIMD across
 bodies, each with its own step control; bit for bit the results of
 :func:`one_body`); :func:`integrate_batch` here, one body per loop iteration, is
 the reference it is tested against and what the NumPy executor runs.

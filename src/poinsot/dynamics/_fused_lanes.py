@@ -1,22 +1,26 @@
 """Per-lane step control of the lane-blocked DOP853 (numba kernels, private).
 
 ``simulate(method="dop853")`` steps the bodies of a batch ``L`` at a time: the
-generated kernels of :mod:`poinsot.dynamics._fused_lanes` compute the stages, the
+generated kernels of :mod:`poinsot.dynamics._fused_stages` compute the stages, the
 new state and the error norm of all ``L`` lanes in loops over the lanes, which
 LLVM vectorises across bodies (structure of arrays: component ``c`` of lane
 ``l`` at ``W[offset + c * L + l]``). Each lane keeps its own time, step size,
-accept/reject, error control, output index and counters; the functions here run
-that control lane by lane, exactly as :func:`poinsot.dynamics._fused.one_body`
-runs it for one body, so that every body gets bit for bit the results of
-``one_body`` whatever lane or block it runs in (hence also for any number of
-threads). A lane whose body ends (done, failed or cancelled) takes the next body
-of its chunk; a lane with no body left is idle (``h = 0``, its results ignored),
-and the chunk ends when every lane is idle.
+accept/reject, error control, output index and counters, in rows of ``W`` too; the
+control is written as loops over the lanes with selects instead of branches
+(:func:`lane_prepare`, :func:`lane_control`, :func:`lane_accept`), so it vectorises like
+the stages, and only the rare events run lane by lane (a body starting or ending,
+outputs). Every lane runs exactly the operations of
+:func:`poinsot.dynamics._fused.one_body`, so every body gets bit for bit the results of
+``one_body`` whatever lane or block it runs in (hence also for any number of threads).
+A lane whose body ends (done, failed or cancelled) takes the next body of its chunk; a
+lane with no body left is idle (``h = 0``, its results ignored), and the chunk ends when
+every lane is idle.
 
 Work-array layout (float64 offsets): ``y`` (7 x L), the 16 stages ``K_s`` (7 x L
 each, ``K_0 = f(y)``), ``y_new``, the dense-output coefficients ``F`` (7 x 7 x L),
 ``J`` and ``J^-1`` (9 x L, row-major), the torque parameters (4 x L), the step
-``h`` and the error norm ``err`` (L each).
+``h`` and the error norm ``err`` (L each), the stage argument ``z`` and value, then the
+lane state (``S_*`` rows of L).
 """
 
 from __future__ import annotations
@@ -101,19 +105,80 @@ OFF_H = OFF_P + 4 * L
 OFF_ERR = OFF_H + L
 OFF_Z = OFF_ERR + L
 OFF_KOUT = OFF_Z + 7 * L
-N_WORK = OFF_KOUT + 7 * L
 assert G.L == L, "run tools/gen_fused_lanes.py"
 
-# rows of the lane state: floats ``ls`` and integers ``li``
-T, HABS, MINSTEP, TNEW = 0, 1, 2, 3
-N_LS = 4
-BODY, STEPS, REJ, NFEV, IOUT, FRESH, REJFLAG, ACC, DENSE = 0, 1, 2, 3, 4, 5, 6, 7, 8
-N_LI = 9
+# The lane state: rows of ``W`` after the stage arrays (one base pointer for every loop
+# over the lanes, so that LLVM vectorises them with constant offsets and no aliasing
+# checks). Counters, flags and the body index are float64 rows too (exact below 2^53).
+OFF_S = OFF_KOUT + 7 * L
+S_T = OFF_S  # time of the lane's state
+S_HABS = OFF_S + L  # |step| to try next (the attempt's own h once prepared)
+S_MINSTEP = OFF_S + 2 * L  # 10 ulp(t), set at the start of every step
+S_TNEW = OFF_S + 3 * L  # time at the end of the attempt
+S_TOUT = OFF_S + 4 * L  # the next output time t_out[i_out]
+S_BODY = OFF_S + 5 * L  # body index, -1 for an idle lane
+S_STEPS = OFF_S + 6 * L  # accepted steps
+S_REJ = OFF_S + 7 * L  # rejected steps
+S_NFEV = OFF_S + 8 * L  # right-hand-side evaluations
+S_IOUT = OFF_S + 9 * L  # outputs written
+S_FRESH = OFF_S + 10 * L  # 1: the next attempt starts a new step
+S_REJFLAG = OFF_S + 11 * L  # 1: an attempt of this step was rejected
+S_ACC = OFF_S + 12 * L  # 1: the last attempt was accepted
+S_DENSE = OFF_S + 13 * L  # 1: outputs inside the accepted step
+S_READY = OFF_S + 14 * L  # 1: prepared for the next attempt
+S_END = OFF_S + 15 * L  # the status that ends the lane's body, -1 if none
+S_EVENT = OFF_S + 16 * L  # 1: the accepted step needs scalar work (outputs, non-finite)
+S_POW = OFF_S + 17 * L  # err ** EXPONENT
+N_WORK = OFF_S + 18 * L
+
+_bits: Any
+_from_bits: Any
+if NUMBA:
+    from llvmlite import ir
+    from numba.core import types
+
+    @intrinsic
+    def _bits_intrinsic(typingctx, x):  # pragma: no cover - compiled
+        """The IEEE bits of a float64 as an int64 (a bitcast, vectorised by LLVM)."""
+
+        def codegen(context, builder, sig, args):
+            return builder.bitcast(args[0], ir.IntType(64))
+
+        return types.int64(types.float64), codegen
+
+    @intrinsic
+    def _from_bits_intrinsic(typingctx, b):  # pragma: no cover - compiled
+        """The float64 of IEEE bits ``b`` (int64)."""
+
+        def codegen(context, builder, sig, args):
+            return builder.bitcast(args[0], ir.DoubleType())
+
+        return types.float64(types.int64), codegen
+
+    _bits, _from_bits = _bits_intrinsic, _from_bits_intrinsic
+else:
+
+    def _bits_py(x: Any) -> Any:
+        return np.float64(x).view(np.int64)
+
+    def _from_bits_py(b: Any) -> Any:
+        return np.int64(b).view(np.float64)
+
+    _bits, _from_bits = _bits_py, _from_bits_py
+
+
+@njit(cache=True, inline="always")
+def _next_up(t):  # pragma: no cover
+    """``np.nextafter(t, inf)`` for every float64 (NaN, infinities, zeros included), from
+    the bits: no libm call, so that the loop over the lanes vectorises."""
+    b = _bits(t)
+    b = b + 1 if (t > 0.0) & (t != np.inf) else (b - 1 if t < 0.0 else b)
+    return 5e-324 if t == 0.0 else _from_bits(b)
 
 
 @njit(cache=True)
 def _load(
-    b, l, W, ls, li, scratch, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, oq, ow, stats
+    b, l, W, scratch, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, oq, ow, stats, done
 ):  # pragma: no cover
     """Start body ``b`` in lane ``l``: the first output, ``f`` and the initial step, as
     :func:`~poinsot.dynamics._fused.one_body`. False when the body is done already."""
@@ -134,11 +199,10 @@ def _load(
     stats[b, 3] = OK
     if n_out == 1:
         return False
+    done[b] = 1
     _rhs(t, y, J[b], Ji[b], kind, par[b], f)
-    nfev = 1
     h_abs = _initial_step(t, y, f, t_end - t, rtol, atol, max_step, J[b], Ji[b], kind,
                           par[b], tmp, k1, scale)  # fmt: skip
-    nfev += 1
     for c in range(7):
         W[OFF_Y + c * L + l] = y[c]
         W[OFF_K + c * L + l] = f[c]
@@ -148,204 +212,242 @@ def _load(
             W[OFF_JI + (3 * r + c) * L + l] = Ji[b, r, c]
     for i in range(4):
         W[OFF_P + i * L + l] = par[b, i]
-    ls[T, l] = t
-    ls[HABS, l] = h_abs
-    li[BODY, l] = b
-    li[STEPS, l] = 0
-    li[REJ, l] = 0
-    li[NFEV, l] = nfev
-    li[IOUT, l] = 1
-    li[FRESH, l] = 1
-    li[REJFLAG, l] = 0
-    li[ACC, l] = 0
-    li[DENSE, l] = 0
+    W[S_T + l] = t
+    W[S_HABS + l] = h_abs
+    W[S_TOUT + l] = t_out[1]
+    W[S_BODY + l] = b
+    W[S_STEPS + l] = 0.0
+    W[S_REJ + l] = 0.0
+    W[S_NFEV + l] = 2.0  # f and the initial step's evaluation
+    W[S_IOUT + l] = 1.0
+    W[S_FRESH + l] = 1.0
+    W[S_REJFLAG + l] = 0.0
+    W[S_READY + l] = 0.0
     return True
 
 
 @njit(cache=True)
-def _start(l, W, ls, li, t_out, max_step, max_steps, cancel, done):  # pragma: no cover
-    """The checks before a step attempt of lane ``l`` (those of a new step first), then
-    its ``t_new`` and ``h``. Returns -1 to go on, else the status that ends the body."""
-    if li[FRESH, l] != 0:
-        if cancel[0] != 0:
-            return CANCELLED
-        done[li[BODY, l]] = li[IOUT, l]
-        if li[STEPS, l] >= max_steps:
-            return TOO_MANY_STEPS
-        t = ls[T, l]
-        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
-        ls[MINSTEP, l] = min_step
-        h_abs = ls[HABS, l]
-        if h_abs > max_step:
-            h_abs = max_step
-        elif h_abs < min_step:
-            h_abs = min_step
-        ls[HABS, l] = h_abs
-        s = W[OFF_K + 4 * L + l] + W[OFF_K + 5 * L + l] + W[OFF_K + 6 * L + l]
-        if not np.isfinite(s + W[OFF_Y + 4 * L + l] + W[OFF_Y + 5 * L + l] + W[OFF_Y + 6 * L + l]):
-            return NONFINITE
-        li[REJFLAG, l] = 0
-        li[FRESH, l] = 0
-    h_abs = ls[HABS, l]
-    if not h_abs >= ls[MINSTEP, l]:  # also catches a NaN step from a non-finite state
-        return STEP_TOO_SMALL
-    t = ls[T, l]
-    t_new = t + h_abs
-    t_end = t_out[t_out.shape[0] - 1]
-    if t_new > t_end:
-        t_new = t_end
-    h = t_new - t
-    ls[HABS, l] = h
-    ls[TNEW, l] = t_new
-    W[OFF_H + l] = h
-    return -1
-
-
-@njit(cache=True)
-def _finish(l, status, W, li, t_out, oq, ow, stats):  # pragma: no cover
+def _finish(l, status, W, t_out, oq, ow, stats):  # pragma: no cover
     """End the body of lane ``l`` with ``status``: NaN at the outputs not reached, its
     counters; the lane becomes idle."""
-    b = li[BODY, l]
-    for i in range(li[IOUT, l], t_out.shape[0]):
+    b = int(W[S_BODY + l])
+    for i in range(int(W[S_IOUT + l]), t_out.shape[0]):
         for c in range(4):
             oq[i, b, c] = np.nan
         for c in range(3):
             ow[i, b, c] = np.nan
-    stats[b, 0] = li[STEPS, l]
-    stats[b, 1] = li[REJ, l]
-    stats[b, 2] = li[NFEV, l]
+    stats[b, 0] = int(W[S_STEPS + l])
+    stats[b, 1] = int(W[S_REJ + l])
+    stats[b, 2] = int(W[S_NFEV + l])
     stats[b, 3] = status
-    li[BODY, l] = -1
+    W[S_BODY + l] = -1.0
+    W[S_READY + l] = 0.0
     W[OFF_H + l] = 0.0
 
 
+@njit(cache=True, error_model="numpy")
+def lane_prepare(W, t_end, max_step, max_steps, cancel):  # pragma: no cover
+    """The checks before a step attempt (those of a new step first: cancel, step count,
+    finite state, then the step size against ``10 ulp(t)``) and the attempt's ``t_new``
+    and ``h``, for every busy lane not yet prepared, as ``one_body`` runs them. A lane
+    that passes is committed (``READY``); a lane that fails keeps its state and gets the
+    status that ends its body in ``END``. Branch-free (selects), vectorised across the
+    lanes. Returns ``(busy lanes, lanes that end)``."""
+    n_busy = 0
+    n_end = 0
+    for l in range(L):
+        busy = W[S_BODY + l] >= 0.0
+        todo = busy & (W[S_READY + l] == 0.0)
+        fresh = W[S_FRESH + l] != 0.0
+        t = W[S_T + l]
+        min_step = 10.0 * abs(_next_up(t) - t) if fresh else W[S_MINSTEP + l]
+        h0 = W[S_HABS + l]
+        hc = max_step if h0 > max_step else (min_step if h0 < min_step else h0)
+        h_abs = hc if fresh else h0
+        s = W[OFF_K + 4 * L + l] + W[OFF_K + 5 * L + l] + W[OFF_K + 6 * L + l]
+        fin = np.isfinite(s + W[OFF_Y + 4 * L + l] + W[OFF_Y + 5 * L + l] + W[OFF_Y + 6 * L + l])
+        st = NONFINITE if not fin else -1.0
+        st = TOO_MANY_STEPS if W[S_STEPS + l] >= max_steps else st
+        st = CANCELLED if cancel else st
+        st = st if fresh else -1.0
+        # ``not >=`` also catches a NaN step from a non-finite state
+        st = STEP_TOO_SMALL if (st < 0.0) & (not h_abs >= min_step) else st
+        ok = todo & (st < 0.0)
+        end = todo & (st >= 0.0)
+        t_new = t + h_abs
+        t_new = t_end if t_new > t_end else t_new
+        h = t_new - t
+        W[S_MINSTEP + l] = min_step if ok else W[S_MINSTEP + l]
+        W[S_HABS + l] = h if ok else h0
+        W[S_TNEW + l] = t_new if ok else W[S_TNEW + l]
+        W[OFF_H + l] = h if ok else W[OFF_H + l]
+        W[S_REJFLAG + l] = 0.0 if ok & fresh else W[S_REJFLAG + l]
+        W[S_FRESH + l] = 0.0 if ok else W[S_FRESH + l]
+        W[S_READY + l] = 1.0 if ok else W[S_READY + l]
+        W[S_END + l] = st if end else -1.0
+        n_busy += 1 if busy else 0
+        n_end += 1 if end else 0
+    return n_busy, n_end
+
+
 @njit(cache=True)
-def lane_fill(
-    nxt, hi, W, ls, li, scratch, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps,
-    oq, ow, stats, cancel, done,
+def lane_service(
+    nxt, hi, W, scratch, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, oq, ow, stats,
+    done,
 ):  # fmt: skip  # pragma: no cover
-    """Prepare every lane for the next attempt: a lane without a body takes body ``nxt``
-    (while ``nxt < hi``), a body that ends before its attempt is finished and replaced.
-    Returns ``(nxt, number of lanes with a body)``."""
-    active = 0
+    """End the bodies :func:`lane_prepare` found ending, and give every idle lane the next
+    body of the chunk (``nxt``, while ``nxt < hi``). Returns the new ``nxt``."""
     for l in range(L):
-        while True:
-            if li[BODY, l] < 0:
-                if nxt >= hi:
-                    break
-                b = nxt
-                nxt += 1
-                if not _load(
-                    b, l, W, ls, li, scratch, y0, J, Ji, kind, par, t_out, rtol, atol,
-                    max_step, oq, ow, stats,
-                ):  # fmt: skip
-                    continue
-            st = _start(l, W, ls, li, t_out, max_step, max_steps, cancel, done)
-            if st < 0:
-                active += 1
-                break
-            _finish(l, st, W, li, t_out, oq, ow, stats)
-    return nxt, active
+        if W[S_END + l] >= 0.0:
+            _finish(l, int(W[S_END + l]), W, t_out, oq, ow, stats)
+            W[S_END + l] = -1.0
+        while W[S_BODY + l] < 0.0 and nxt < hi:
+            b = nxt
+            nxt += 1
+            _load(b, l, W, scratch, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, oq, ow,
+                  stats, done)  # fmt: skip
+    return nxt
 
 
-@njit(cache=True)
-def lane_control(W, ls, li, t_out):  # pragma: no cover
+@njit(cache=True, error_model="numpy")
+def lane_control(W):  # pragma: no cover
     """Accept or reject the attempt of every busy lane and set its next step size, as
-    ``one_body``. Returns whether a lane needs dense output in its accepted step."""
-    any_dense = False
+    ``one_body`` (selects, vectorised across the lanes but for libm's ``pow``). Returns
+    the number of lanes with outputs inside their accepted step (dense output)."""
+    for l in range(L):  # one call per lane: the only part left scalar
+        W[S_POW + l] = W[OFF_ERR + l] ** EXPONENT
+    n_dense = 0
     for l in range(L):
-        if li[BODY, l] < 0:
-            continue
+        busy = W[S_BODY + l] >= 0.0
         err = W[OFF_ERR + l]
-        li[NFEV, l] += 12
-        h_abs = ls[HABS, l]
-        if err < 1.0:
-            if err == 0.0:
-                factor = MAX_FACTOR
-            else:
-                factor = min(MAX_FACTOR, SAFETY * err**EXPONENT)
-            if li[REJFLAG, l] != 0:
-                factor = min(1.0, factor)
-            ls[HABS, l] = h_abs * factor
-            li[STEPS, l] += 1
-            li[ACC, l] = 1
-            dense = t_out[li[IOUT, l]] < ls[TNEW, l]
-            li[DENSE, l] = 1 if dense else 0
-            any_dense = any_dense or dense
-        else:
-            if not np.isfinite(err):
-                factor = MIN_FACTOR
-            else:
-                factor = max(MIN_FACTOR, SAFETY * err**EXPONENT)
-            ls[HABS, l] = h_abs * factor
-            li[REJFLAG, l] = 1
-            li[REJ, l] += 1
-            li[ACC, l] = 0
-            li[DENSE, l] = 0
-    return any_dense
+        p = W[S_POW + l]
+        acc = err < 1.0
+        fa = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * p)
+        fa = min(1.0, fa) if W[S_REJFLAG + l] != 0.0 else fa
+        fr = max(MIN_FACTOR, SAFETY * p) if np.isfinite(err) else MIN_FACTOR
+        factor = fa if acc else fr
+        a = busy & acc
+        r = busy & (not acc)
+        W[S_HABS + l] = W[S_HABS + l] * factor if busy else W[S_HABS + l]
+        W[S_NFEV + l] += 12.0 if busy else 0.0
+        W[S_STEPS + l] += 1.0 if a else 0.0
+        W[S_REJ + l] += 1.0 if r else 0.0
+        W[S_REJFLAG + l] = 1.0 if r else W[S_REJFLAG + l]
+        W[S_ACC + l] = 1.0 if a else 0.0
+        d = a & (W[S_TOUT + l] < W[S_TNEW + l])
+        W[S_DENSE + l] = 1.0 if d else 0.0
+        W[S_READY + l] = 0.0
+        n_dense += 1 if d else 0
+    return n_dense
 
 
 @njit(cache=True)
-def lane_accept(W, ls, li, scratch, t_out, oq, ow, stats):  # pragma: no cover
-    """For every lane whose attempt was accepted: the dense outputs inside the step, the
-    projection of ``q`` onto ``|q| = 1`` (``f`` scaled with it), the outputs at the new
-    time; the body ends when its last output is written or its state is not finite."""
+def lane_dense_out(W, scratch, t_out, oq, ow, done):  # pragma: no cover
+    """The outputs inside the accepted step of every lane that has some, from the dense
+    output (:func:`_dense`'s coefficients ``F``, the state before the step)."""
     n_out = t_out.shape[0]
     tmp = scratch[0]
     for l in range(L):
-        if li[BODY, l] < 0 or li[ACC, l] == 0:
+        if W[S_DENSE + l] == 0.0:
             continue
-        li[ACC, l] = 0
-        b = li[BODY, l]
-        i_out = li[IOUT, l]
-        t = ls[T, l]
-        t_new = ls[TNEW, l]
-        if li[DENSE, l] != 0:
-            li[NFEV, l] += 3
-            h = W[OFF_H + l]
-            while i_out < n_out and t_out[i_out] < t_new:
-                x = (t_out[i_out] - t) / h
-                for c in range(7):
-                    v = 0.0
-                    for i in range(7):
-                        v += W[OFF_F + ((6 - i) * 7 + c) * L + l]
-                        if i % 2 == 0:
-                            v *= x
-                        else:
-                            v *= 1.0 - x
-                    tmp[c] = v + W[OFF_Y + c * L + l]
-                _put(tmp, oq[:, b, :], ow[:, b, :], i_out)
-                i_out += 1
+        W[S_NFEV + l] += 3.0
+        b = int(W[S_BODY + l])
+        i_out = int(W[S_IOUT + l])
+        t = W[S_T + l]
+        t_new = W[S_TNEW + l]
+        h = W[OFF_H + l]
+        while i_out < n_out and t_out[i_out] < t_new:
+            x = (t_out[i_out] - t) / h
+            for c in range(7):
+                v = 0.0
+                for i in range(7):
+                    v += W[OFF_F + ((6 - i) * 7 + c) * L + l]
+                    if i % 2 == 0:
+                        v *= x
+                    else:
+                        v *= 1.0 - x
+                tmp[c] = v + W[OFF_Y + c * L + l]
+            _put(tmp, oq[:, b, :], ow[:, b, :], i_out)
+            i_out += 1
+        W[S_IOUT + l] = i_out
+        W[S_TOUT + l] = t_out[i_out]  # t_new <= t_out[-1]: the last output is never inside
+        done[b] = i_out
+
+
+@njit(cache=True, error_model="numpy")
+def lane_accept(W):  # pragma: no cover
+    """Every accepted lane moves to its new state: ``q`` projected onto ``|q| = 1``
+    (``f = K_12`` scaled with it, ``f`` being linear in ``q``), the new time. Selects,
+    vectorised across the lanes. Returns the number of lanes that need
+    :func:`lane_events` (an output at the new time, a non-finite state)."""
+    ks = OFF_K + 12 * 7 * L
+    n_event = 0
+    for l in range(L):
+        a = W[S_ACC + l] != 0.0
         n0 = W[OFF_YN + l]
         n1 = W[OFF_YN + L + l]
         n2 = W[OFF_YN + 2 * L + l]
         n3 = W[OFF_YN + 3 * L + l]
         s = 1.0 / np.sqrt(n0**2 + n1**2 + n2**2 + n3**2)
-        ks = OFF_K + 12 * 7 * L
+        v0, v1, v2, v3 = n0 * s, n1 * s, n2 * s, n3 * s
+        v4, v5, v6 = W[OFF_YN + 4 * L + l], W[OFF_YN + 5 * L + l], W[OFF_YN + 6 * L + l]
+        fin = (
+            np.isfinite(v0) & np.isfinite(v1) & np.isfinite(v2) & np.isfinite(v3)
+            & np.isfinite(v4) & np.isfinite(v5) & np.isfinite(v6)
+        )  # fmt: skip
+        W[OFF_Y + l] = v0 if a else W[OFF_Y + l]
+        W[OFF_Y + L + l] = v1 if a else W[OFF_Y + L + l]
+        W[OFF_Y + 2 * L + l] = v2 if a else W[OFF_Y + 2 * L + l]
+        W[OFF_Y + 3 * L + l] = v3 if a else W[OFF_Y + 3 * L + l]
+        W[OFF_Y + 4 * L + l] = v4 if a else W[OFF_Y + 4 * L + l]
+        W[OFF_Y + 5 * L + l] = v5 if a else W[OFF_Y + 5 * L + l]
+        W[OFF_Y + 6 * L + l] = v6 if a else W[OFF_Y + 6 * L + l]
+        W[OFF_K + l] = W[ks + l] * s if a else W[OFF_K + l]
+        W[OFF_K + L + l] = W[ks + L + l] * s if a else W[OFF_K + L + l]
+        W[OFF_K + 2 * L + l] = W[ks + 2 * L + l] * s if a else W[OFF_K + 2 * L + l]
+        W[OFF_K + 3 * L + l] = W[ks + 3 * L + l] * s if a else W[OFF_K + 3 * L + l]
+        W[OFF_K + 4 * L + l] = W[ks + 4 * L + l] if a else W[OFF_K + 4 * L + l]
+        W[OFF_K + 5 * L + l] = W[ks + 5 * L + l] if a else W[OFF_K + 5 * L + l]
+        W[OFF_K + 6 * L + l] = W[ks + 6 * L + l] if a else W[OFF_K + 6 * L + l]
+        W[S_T + l] = W[S_TNEW + l] if a else W[S_T + l]
+        W[S_FRESH + l] = 1.0 if a else W[S_FRESH + l]
+        e = a & ((not fin) | (W[S_TOUT + l] == W[S_TNEW + l]))
+        W[S_EVENT + l] = 1.0 if e else 0.0
+        n_event += 1 if e else 0
+    return n_event
+
+
+@njit(cache=True)
+def lane_events(W, scratch, t_out, oq, ow, stats, done):  # pragma: no cover
+    """The scalar end of an accepted step, lanes flagged by :func:`lane_accept`: a
+    non-finite state ends the body; the outputs at the new time are written, and the body
+    ends with its last output."""
+    n_out = t_out.shape[0]
+    tmp = scratch[0]
+    for l in range(L):
+        if W[S_EVENT + l] == 0.0:
+            continue
+        W[S_EVENT + l] = 0.0
         nonfinite = False
         for c in range(7):
-            v = W[OFF_YN + c * L + l]
-            fc = W[ks + c * L + l]
-            if c < 4:
-                v *= s
-                fc *= s
-            W[OFF_Y + c * L + l] = v
-            W[OFF_K + c * L + l] = fc
-            tmp[c] = v
-            if not np.isfinite(v):
+            tmp[c] = W[OFF_Y + c * L + l]
+            if not np.isfinite(tmp[c]):
                 nonfinite = True
-        ls[T, l] = t_new
-        li[IOUT, l] = i_out
         if nonfinite:
-            _finish(l, NONFINITE, W, li, t_out, oq, ow, stats)
+            _finish(l, NONFINITE, W, t_out, oq, ow, stats)
             continue
+        b = int(W[S_BODY + l])
+        i_out = int(W[S_IOUT + l])
+        t_new = W[S_T + l]
         while i_out < n_out and t_out[i_out] == t_new:
             _put(tmp, oq[:, b, :], ow[:, b, :], i_out)
             i_out += 1
-        li[IOUT, l] = i_out
-        li[FRESH, l] = 1
+        W[S_IOUT + l] = i_out
         if i_out >= n_out:
-            _finish(l, OK, W, li, t_out, oq, ow, stats)
+            _finish(l, OK, W, t_out, oq, ow, stats)
+        else:
+            W[S_TOUT + l] = t_out[i_out]
+            done[b] = i_out
 
 
 # ---------------------------------------------------------------------------
@@ -452,29 +554,34 @@ def _chunk(
     lo, hi, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats,
     cancel, done,
 ):  # fmt: skip  # pragma: no cover
-    """Bodies ``lo`` to ``hi - 1`` through the ``L`` lanes: a lane whose body ends takes
-    the next one (:func:`lane_fill`); the chunk ends when every lane is idle."""
+    """Bodies ``lo`` to ``hi - 1`` through the ``L`` lanes. Every phase but the rare
+    events is one loop over the lanes (:func:`lane_prepare`, :func:`_attempt`,
+    :func:`lane_control`, :func:`lane_accept`); a lane whose body ends takes the next one
+    (:func:`lane_service`); the chunk ends when every lane is idle."""
     W = np.zeros(N_WORK)
-    ls = np.zeros((N_LS, L))
-    li = np.zeros((N_LI, L), dtype=np.int64)
-    li[BODY, :] = -1
+    W[S_BODY : S_BODY + L] = -1.0
+    W[S_END : S_END + L] = -1.0
     scratch = np.empty((5, 7))
     # the caller holds the arguments for the whole call: no reference counting on them
     y0, J, Ji, par, t_out = _borrow(y0), _borrow(J), _borrow(Ji), _borrow(par), _borrow(t_out)
     oq, ow, stats = _borrow(oq), _borrow(ow), _borrow(stats)
     cancel, done = _borrow(cancel), _borrow(done)
+    t_end = t_out[t_out.shape[0] - 1]
     nxt = lo
     while True:
-        nxt, active = lane_fill(
-            nxt, hi, W, ls, li, scratch, y0, J, Ji, kind, par, t_out, rtol, atol, max_step,
-            max_steps, oq, ow, stats, cancel, done,
-        )  # fmt: skip
-        if active == 0:
+        n_busy, n_end = lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
+        while n_end > 0 or (n_busy < L and nxt < hi):
+            nxt = lane_service(nxt, hi, W, scratch, y0, J, Ji, kind, par, t_out, rtol, atol,
+                               max_step, oq, ow, stats, done)  # fmt: skip
+            n_busy, n_end = lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
+        if n_busy == 0:
             break
         _attempt(W, kind, rtol, atol)
-        if lane_control(W, ls, li, t_out):
+        if lane_control(W) > 0:
             _dense(W, kind)
-        lane_accept(W, ls, li, scratch, t_out, oq, ow, stats)
+            lane_dense_out(W, scratch, t_out, oq, ow, done)
+        if lane_accept(W) > 0:
+            lane_events(W, scratch, t_out, oq, ow, stats, done)
 
 
 @njit(cache=True, parallel=True, nogil=True)
