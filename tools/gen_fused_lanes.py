@@ -68,9 +68,13 @@ def lit(x: float) -> str:
 
 def wsum(coef, stage: callable, c: int, upto: int) -> str:
     """``c0 * K_0 + c1 * K_1 + ...`` over the non-zero coefficients below ``upto``, left
-    to right (the scalar kernel's sum from 0.0, whose zero terms change nothing)."""
-    terms = [f"{lit(coef[j])} * {stage(j, c)}" for j in range(upto) if coef[j] != 0.0]
-    return " + ".join(terms) if terms else "0.0"
+    to right, one fused multiply-add per term from 0.0 (the scalar kernel's sum, whose
+    zero terms change nothing)."""
+    acc = "0.0"
+    for j in range(upto):
+        if coef[j] != 0.0:
+            acc = f"fma({lit(coef[j])}, {stage(j, c)}, {acc})"
+    return acc
 
 
 def function(name: str, args: str, doc: str, body: list[str]) -> str:
@@ -97,7 +101,7 @@ def stage_function(s: int, tab) -> str:
     """``_stage{s}(W)``: ``z = y + h sum_j a_sj K_j`` of every lane (``K_{s-1}`` first
     copied from the output slot of the last right-hand side, but for s = 1 and 13)."""
     body = [] if s in (1, tab.N_STAGES + 1) else copy_out(s - 1)
-    body += [f"{z(c)} = {y(c)} + h * ({wsum(tab.A[s], k, c, s)})" for c in range(7)]
+    body += [f"{z(c)} = fma(h, {wsum(tab.A[s], k, c, s)}, {y(c)})" for c in range(7)]
     return function(
         f"_stage{s}", "W", f"The argument ``z`` of stage {s}, every lane.", lane_loop(body)
     )
@@ -108,7 +112,7 @@ def ynew_function(tab) -> str:
     body = copy_out(ns - 1)
     for c in range(7):
         body += [
-            f"n{c} = {y(c)} + h * ({wsum(tab.B, k, c, ns)})",
+            f"n{c} = fma(h, {wsum(tab.B, k, c, ns)}, {y(c)})",
             f"{yn(c)} = n{c}",
             f"{z(c)} = n{c}",
         ]
@@ -174,7 +178,12 @@ from __future__ import annotations
 
 import math
 
+from .. import _numba_helpers as nh
 from .._jit import njit
+from .._numba_cache import depends_on
+from .._numba_helpers import fma
+
+depends_on(__file__, nh)  # the cache sees edits of the fused multiply-add
 
 L = {L}
 '''

@@ -18,8 +18,10 @@ Formulas (theory §1, §5, §10):
   and ``sin`` of the half angle;
 - :func:`qrot_inverse` ``R^T v`` (space -> body components) for any non-zero ``L``;
 - :func:`cross` ``a x b``; :func:`matvec` ``W x`` for a 3x3 matrix given by rows;
+- :func:`vertical` ``|L|^2 R^T e_z``, the third row of ``R(L)`` times ``|L|^2``;
 - :func:`gravity_kick` ``m + h gamma x (m g c)``, the exact gravity kick about a
   fixed point with the attitude frozen (``gamma = R^T e_z``);
+- :func:`fma` ``a b + c`` rounded once (the hardware's fused multiply-add);
 - :func:`euler_momentum_rate` Euler's equations in momentum form,
   ``dm/dt = m x W m + M`` (``m = J w`` body momentum, ``W = J^-1``, ``M``
   the body torque).
@@ -32,7 +34,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ._jit import njit
+from ._jit import NUMBA, njit
 from .rotations import _scalar as _S
 
 #: Files these helpers are built from: :func:`poinsot._numba_cache.depends_on` adds
@@ -48,13 +50,45 @@ __all__ = [
     "cross",
     "matvec",
     "euler_momentum_rate",
+    "fma",
     "gravity_kick",
+    "vertical",
     "midpoint_newton_step",
     "midpoint_momentum",
 ]
 
 # typed Any: numba's stubs want literal option values, a plain dict[str, str] matches none
 _INLINE: dict[str, Any] = {"inline": "always"}
+
+
+fma: Any
+if NUMBA:
+    from llvmlite import ir
+    from numba.core import types
+    from numba.extending import intrinsic
+
+    @intrinsic
+    def _fma(typingctx, a, b, c):  # pragma: no cover - compiled
+        """``a b + c`` rounded once: ``llvm.fma``, which LLVM vectorises (``vfmadd``) and
+        which is correctly rounded on every CPU (a libm call where the CPU has no FMA), so
+        the scalar and the lane kernels that both use it agree bit for bit."""
+        sig = types.float64(types.float64, types.float64, types.float64)
+
+        def codegen(context, builder, signature, args):
+            f64 = ir.DoubleType()
+            fnty = ir.FunctionType(f64, [f64, f64, f64])
+            fn = builder.module.declare_intrinsic("llvm.fma", [f64], fnty)
+            return builder.call(fn, list(args))
+
+        return sig, codegen
+
+    fma = _fma
+else:  # the NumPy executor: one rounding more (its results are not numba's bit for bit)
+
+    def _fma_numpy(a: Any, b: Any, c: Any) -> Any:
+        return a * b + c
+
+    fma = _fma_numpy
 
 
 #: ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1): the plain-Python
@@ -114,15 +148,25 @@ def matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2):  # pragma: 
 
 
 @njit(**_INLINE)
+def vertical(q0, q1, q2, q3):  # pragma: no cover - compiled
+    """``|L|^2 R^T e_z``: the third row of ``R(L)`` (theory §2) scaled by ``|L|^2``, the
+    upward vertical in body axes for a unit ``L``; :func:`qrot_inverse` of ``e_z``
+    without its products with zero."""
+    return (
+        2.0 * (q1 * q3 - q0 * q2),
+        2.0 * (q2 * q3 + q0 * q1),
+        q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3,
+    )
+
+
+@njit(**_INLINE)
 def gravity_kick(q0, q1, q2, q3, m0, m1, m2, g0, g1, g2, h):  # pragma: no cover - compiled
     """``m + h gamma x G`` with ``gamma = R^T e_z`` (third row of ``R(L)``), ``G = m g c``.
 
     The exact flow over ``h`` of the gravity potential ``V = G . gamma`` about a fixed
     point (theory §10): the attitude, hence ``gamma``, is frozen during the kick.
     """
-    y0 = 2.0 * (q1 * q3 - q0 * q2)
-    y1 = 2.0 * (q2 * q3 + q0 * q1)
-    y2 = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
+    y0, y1, y2 = vertical(q0, q1, q2, q3)
     c0, c1, c2 = cross(y0, y1, y2, g0, g1, g2)
     return m0 + h * c0, m1 + h * c1, m2 + h * c2
 

@@ -36,7 +36,7 @@ from . import _fused
 from . import _fused_stages as G
 from ._fused import (
     CANCELLED,
-    EXPONENT,
+    DIAGONAL,
     MAX_FACTOR,
     MIN_FACTOR,
     NONFINITE,
@@ -44,6 +44,7 @@ from ._fused import (
     SAFETY,
     STEP_TOO_SMALL,
     TOO_MANY_STEPS,
+    _err_pow,
     _initial_step,
     _put,
     _rhs,
@@ -128,8 +129,7 @@ S_DENSE = OFF_S + 13 * L  # 1: outputs inside the accepted step
 S_READY = OFF_S + 14 * L  # 1: prepared for the next attempt
 S_END = OFF_S + 15 * L  # the status that ends the lane's body, -1 if none
 S_EVENT = OFF_S + 16 * L  # 1: the accepted step needs scalar work (outputs, non-finite)
-S_POW = OFF_S + 17 * L  # err ** EXPONENT
-N_WORK = OFF_S + 18 * L
+N_WORK = OFF_S + 17 * L
 
 _bits: Any
 _from_bits: Any
@@ -312,15 +312,13 @@ def lane_service(
 @njit(cache=True, error_model="numpy")
 def lane_control(W):  # pragma: no cover
     """Accept or reject the attempt of every busy lane and set its next step size, as
-    ``one_body`` (selects, vectorised across the lanes but for libm's ``pow``). Returns
+    ``one_body`` (selects, vectorised across the lanes). Returns
     the number of lanes with outputs inside their accepted step (dense output)."""
-    for l in range(L):  # one call per lane: the only part left scalar
-        W[S_POW + l] = W[OFF_ERR + l] ** EXPONENT
     n_dense = 0
     for l in range(L):
         busy = W[S_BODY + l] >= 0.0
         err = W[OFF_ERR + l]
-        p = W[S_POW + l]
+        p = _err_pow(err)
         acc = err < 1.0
         fa = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * p)
         fa = min(1.0, fa) if W[S_REJFLAG + l] != 0.0 else fa
@@ -458,7 +456,8 @@ def lane_events(W, scratch, t_out, oq, ow, stats, done):  # pragma: no cover
 @njit(cache=True, inline="always", error_model="numpy")
 def _rhs_lane(W, l, kind):  # pragma: no cover
     """``K_out = f(z)`` of lane ``l``: :func:`poinsot.dynamics._fused._rhs`'s formulas (its
-    torque :func:`~poinsot.dynamics._fused._torque_s`) on the lane's parameters."""
+    torque :func:`~poinsot.dynamics._fused._torque_s`, its diagonal form for ``kind`` plus
+    ``DIAGONAL``) on the lane's parameters."""
     q0, q1, q2, q3 = W[OFF_Z + l], W[OFF_Z + L + l], W[OFF_Z + 2 * L + l], W[OFF_Z + 3 * L + l]
     w0, w1, w2 = W[OFF_Z + 4 * L + l], W[OFF_Z + 5 * L + l], W[OFF_Z + 6 * L + l]
     a00, a01, a02 = W[OFF_J + l], W[OFF_J + L + l], W[OFF_J + 2 * L + l]
@@ -469,12 +468,20 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
     i20, i21, i22 = W[OFF_JI + 6 * L + l], W[OFF_JI + 7 * L + l], W[OFF_JI + 8 * L + l]
     p0, p1, p2, p3 = W[OFF_P + l], W[OFF_P + L + l], W[OFF_P + 2 * L + l], W[OFF_P + 3 * L + l]
     d0, d1, d2, d3 = nh.qmul(q0, q1, q2, q3, 0.0, w0, w1, w2)
-    k0, k1, k2 = nh.matvec(a00, a01, a02, a10, a11, a12, a20, a21, a22, w0, w1, w2)
+    diagonal = kind >= DIAGONAL
+    if diagonal:
+        k0, k1, k2 = a00 * w0, a11 * w1, a22 * w2
+    else:
+        k0, k1, k2 = nh.matvec(a00, a01, a02, a10, a11, a12, a20, a21, a22, w0, w1, w2)
     t0, t1, t2 = _torque_s(
-        q0, q1, q2, q3, a00, a01, a02, a10, a11, a12, a20, a21, a22, kind, p0, p1, p2, p3
-    )
+        q0, q1, q2, q3, a00, a01, a02, a10, a11, a12, a20, a21, a22,
+        kind - DIAGONAL if diagonal else kind, p0, p1, p2, p3,
+    )  # fmt: skip
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
-    f4, f5, f6 = nh.matvec(i00, i01, i02, i10, i11, i12, i20, i21, i22, m0, m1, m2)
+    if diagonal:
+        f4, f5, f6 = i00 * m0, i11 * m1, i22 * m2
+    else:
+        f4, f5, f6 = nh.matvec(i00, i01, i02, i10, i11, i12, i20, i21, i22, m0, m1, m2)
     W[OFF_KOUT + l] = 0.5 * d0
     W[OFF_KOUT + L + l] = 0.5 * d1
     W[OFF_KOUT + 2 * L + l] = 0.5 * d2
@@ -486,8 +493,8 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
 
 @njit(cache=True, error_model="numpy")
 def _rhs_lanes(W, kind):  # pragma: no cover
-    """``K_out = f(z)`` for every lane; one loop per torque kind (the kind a constant in
-    each, so that the loop body has no branch and vectorises)."""
+    """``K_out = f(z)`` for every lane; one loop per torque kind and inertia form (the
+    kind a constant in each, so that the loop body has no branch and vectorises)."""
     if kind == 0:
         for l in range(L):
             _rhs_lane(W, l, 0)
@@ -500,9 +507,24 @@ def _rhs_lanes(W, kind):  # pragma: no cover
     elif kind == 3:
         for l in range(L):
             _rhs_lane(W, l, 3)
-    else:
+    elif kind == 4:
         for l in range(L):
             _rhs_lane(W, l, 4)
+    elif kind == DIAGONAL:
+        for l in range(L):
+            _rhs_lane(W, l, DIAGONAL)
+    elif kind == DIAGONAL + 1:
+        for l in range(L):
+            _rhs_lane(W, l, DIAGONAL + 1)
+    elif kind == DIAGONAL + 2:
+        for l in range(L):
+            _rhs_lane(W, l, DIAGONAL + 2)
+    elif kind == DIAGONAL + 3:
+        for l in range(L):
+            _rhs_lane(W, l, DIAGONAL + 3)
+    else:
+        for l in range(L):
+            _rhs_lane(W, l, DIAGONAL + 4)
 
 
 @njit(cache=True, error_model="numpy")
