@@ -93,6 +93,44 @@ def test_bit_identical_to_one_body_kernel(torque):
         assert np.ptp(a[2][:, 0]) > 5  # the lanes took different numbers of steps
 
 
+@pytest.mark.parametrize("torque", [None, GravityTorque(2.0, [0.01, -0.02, 0.1])],
+                         ids=["free", "gravity"])  # fmt: skip
+def test_bit_identical_with_full_inertia_tensors(torque):
+    """Tensors off their principal axes: the right-hand side with 3x3 products (a batch
+    of diagonal tensors takes the diagonal form, checked above)."""
+    n = 2 * _fused_lanes.L + 3
+    moments, quat, omega = _bodies(n, seed=6)
+    rot = np.linalg.qr(np.random.default_rng(7).normal(size=(n, 3, 3)))[0]
+    tensors = np.einsum("nij,nj,nkj->nik", rot, moments, rot)
+    assert not np.all(tensors[:, 0, 1] == 0.0)
+    a, b = _both(tensors, quat, omega, np.linspace(0.0, 2.0, 5), torque, rtol=1e-9,
+                 atol=1e-11, max_step=np.inf)  # fmt: skip
+    _assert_same(a, b)
+    assert np.all(a[2][:, 3] == _fused.OK)
+
+
+@pytest.mark.parametrize("kind", [0, 3])
+def test_diagonal_form_equals_the_full_products(kind):
+    """Principal axes: the diagonal right-hand side skips products with exact zeros,
+    which change at most the sign of a zero, so the motion is the same bit for bit."""
+    n = 2 * _fused_lanes.L + 3
+    moments, quat, omega = _bodies(n, seed=8)
+    torque = None if kind == 0 else GravityTorque(2.0, [0.01, -0.02, 0.1])
+    _, k, par, jj, ji, y0 = _fused._flat_problem(moments, quat, omega, torque)
+    assert k == kind
+    t = np.linspace(0.0, 2.0, 5)
+    out = []
+    for kd in (kind, kind + _fused.DIAGONAL):
+        oq, ow = np.empty((5, n, 4)), np.empty((5, n, 3))
+        stats = np.zeros((n, 4), dtype=np.int64)
+        cancel, done = np.zeros(1, dtype=np.int64), np.zeros(n, dtype=np.int64)
+        _fused_lanes.integrate_batch(y0, jj, ji, kd, par, t, 1e-9, 1e-11, np.inf, 10**6,
+                                     oq, ow, stats, cancel, done)  # fmt: skip
+        out.append((oq, ow, stats))
+    _assert_same(*out)
+    assert np.all(out[0][2][:, 3] == _fused.OK)
+
+
 def test_bit_identical_with_failures_and_limits():
     moments, quat, omega = _bodies(23, seed=4)
     omega[5] = 1e200  # overflows at once: non-finite while the other lanes go on

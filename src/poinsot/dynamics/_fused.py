@@ -30,8 +30,9 @@ Built-in torques are fused into the right-hand side (``kind``):
    space direction of the orbit radius: ``M_b = k (n_b x J n_b)``,
    ``n_b = R^T n``.
 
-``kind + DIAGONAL`` marks a batch whose inertia tensors are all diagonal (principal
-axes): the right-hand side then multiplies by the moments instead of 3x3 matrices.
+``kind + DIAGONAL`` (kinds 0 and 3) marks a batch whose inertia tensors are all
+diagonal (principal axes): the right-hand side then multiplies by the moments instead
+of 3x3 matrices.
 The stage sums ``y + h sum_j a_sj K_j`` (and those of ``y_new``, the error estimate
 and the dense output) run as chains of fused multiply-adds (:func:`poinsot._numba_helpers.fma`),
 which both kernels share, so they stay equal bit for bit.
@@ -77,8 +78,9 @@ EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 #: the benchmarks and tests switch it to time and check one against the other.
 LANES = True
 
-#: Added to the torque ``kind`` of the DOP853 kernels when every body's ``J`` is diagonal
-#: (principal axes, the usual case): the right-hand side skips the zero products.
+#: Added to the torque ``kind`` (none or gravity) of the DOP853 kernels when every body's
+#: ``J`` is diagonal (principal axes, the usual case): the right-hand side skips the
+#: zero products.
 DIAGONAL = 8
 
 #: ``stats`` columns: accepted steps, rejected steps, evaluations, status.
@@ -711,7 +713,7 @@ def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6
     stats = np.zeros((n_body, 4), dtype=np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     done = np.zeros(n_body, dtype=np.int64)
-    if all_diagonal3(jj):
+    if kind in (0, 3) and all_diagonal3(jj):  # the lane kernel's diagonal forms
         kind += DIAGONAL
     if NUMBA and LANES:  # L bodies at a time, SIMD across bodies (_fused_lanes)
         from ._fused_lanes import integrate_batch as kernel

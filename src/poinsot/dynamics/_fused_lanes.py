@@ -494,7 +494,9 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
 @njit(cache=True, error_model="numpy")
 def _rhs_lanes(W, kind):  # pragma: no cover
     """``K_out = f(z)`` for every lane; one loop per torque kind and inertia form (the
-    kind a constant in each, so that the loop body has no branch and vectorises)."""
+    kind a constant in each, so that the loop body has no branch and vectorises). The
+    diagonal forms only for the batches people run by the thousand, free bodies and
+    heavy tops (each form costs seconds of compiling)."""
     if kind == 0:
         for l in range(L):
             _rhs_lane(W, l, 0)
@@ -513,18 +515,9 @@ def _rhs_lanes(W, kind):  # pragma: no cover
     elif kind == DIAGONAL:
         for l in range(L):
             _rhs_lane(W, l, DIAGONAL)
-    elif kind == DIAGONAL + 1:
-        for l in range(L):
-            _rhs_lane(W, l, DIAGONAL + 1)
-    elif kind == DIAGONAL + 2:
-        for l in range(L):
-            _rhs_lane(W, l, DIAGONAL + 2)
-    elif kind == DIAGONAL + 3:
-        for l in range(L):
-            _rhs_lane(W, l, DIAGONAL + 3)
     else:
         for l in range(L):
-            _rhs_lane(W, l, DIAGONAL + 4)
+            _rhs_lane(W, l, DIAGONAL + 3)
 
 
 @njit(cache=True, error_model="numpy")
