@@ -28,10 +28,10 @@ PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "kinematics-fields.md",
     "kinematics-rates.md",
     "particles.md",
-    "jax.md",
 ]
 SLOW_PAGES = [  # minutes of XLA compiling: `make test-slow`
     "jax-fit.md",
+    "jax.md",  # ~100 s: the exact attitude's programs (tests/test_jax_free_body.py checks them)
 ]
 
 
