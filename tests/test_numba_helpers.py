@@ -69,3 +69,33 @@ def test_helpers_against_scipy_and_numpy(i):
         # the gravity kick is h times the torque of GravityTorque with m g c = t3
         kick = GravityTorque(1.0, t3, g=1.0).body_torque(0.0, p, np.zeros(3))
         np.testing.assert_allclose(out[28:31], v + h * kick, atol=1e-15)
+
+
+@numba.njit
+def _fma_vertical(a, b, c, q):
+    out = np.empty((a.shape[0], 4))
+    for k in range(a.shape[0]):
+        out[k, 0] = nh.fma(a[k], b[k], c[k])
+        out[k, 1:] = nh.vertical(q[k, 0], q[k, 1], q[k, 2], q[k, 3])
+    return out
+
+
+def test_fma_rounds_once_and_vertical_is_the_third_row():
+    """``fma`` against exact rational arithmetic rounded once (``float(Fraction)``), on
+    cases where ``a b + c`` rounds twice; ``vertical`` against SciPy's matrix row."""
+    from fractions import Fraction
+
+    n = 200
+    a = 1.0 + RNG.uniform(-1, 1, n) * 2.0**-26
+    b = 1.0 + RNG.uniform(-1, 1, n) * 2.0**-26
+    c = -(a * b)  # the product's rounding error is all that is left
+    c[: n // 2] = RNG.normal(size=n // 2) * 10.0 ** RNG.uniform(-5, 5, n // 2)
+    q = RNG.normal(size=(n, 4)) * RNG.uniform(0.5, 2.0, (n, 1))
+    out = _fma_vertical(a, b, c, q)
+    abc = zip(a, b, c, strict=True)
+    exact = [float(Fraction(x) * Fraction(y) + Fraction(z)) for x, y, z in abc]
+    np.testing.assert_array_equal(out[:, 0], exact)
+    assert np.any(out[n // 2 :, 0] != (a * b + c)[n // 2 :])  # two roundings differ
+    n2 = np.sum(q * q, axis=1)
+    row = _sci(q).as_matrix()[:, 2, :]  # R^T e_z = third row of R
+    np.testing.assert_allclose(out[:, 1:] / n2[:, None], row, rtol=0, atol=1e-15)
