@@ -1,16 +1,29 @@
 """Progress reports and Ctrl-C for long compiled calls (private).
 
 A compiled loop (numba, ``nogil=True``) cannot be interrupted: the interpreter runs a
-signal handler only between bytecodes. So :func:`run_compiled` runs the kernel in a
-worker thread and keeps the calling thread in Python, waking every ``poll`` seconds
-to report progress; on ``KeyboardInterrupt`` it raises a shared cancel flag that the
-kernel checks once per step, waits for the worker to stop (one step: milliseconds)
-and re-raises, so nothing partial is returned and no thread is left running. The
-kernel's arithmetic is untouched: results are bit-identical with or without it.
+signal handler only between bytecodes. Every kernel checks a shared cancel flag once
+per step; :func:`run_compiled` raises it on Ctrl-C in one of two ways:
+
+* **In the calling thread** (no progress asked for, the main thread, Python's own
+  SIGINT handler in place, POSIX): for the call, SIGINT goes to a three-instruction
+  native handler (:class:`_SigintFlag`, built once with llvmlite) that stores 1 into
+  the flag; the previous handler is restored afterwards, bit for bit, and
+  ``KeyboardInterrupt`` raised if the signal came. The kernel keeps numba's thread
+  team of the calling thread: a worker thread would start a new OpenMP team each call,
+  and the old team's spinning threads compete with it for the cores (measured: 10,000
+  free bodies took 20-25 % longer that way on 2 cores).
+* **In a worker thread** otherwise: the calling thread stays in Python, waking every
+  ``poll`` seconds to report progress; on ``KeyboardInterrupt`` it raises the flag and
+  waits for the worker to stop (one step: milliseconds).
+
+Either way nothing partial is returned and no thread is left running. The kernel's
+arithmetic is untouched: results are bit-identical with or without it.
 """
 
 from __future__ import annotations
 
+import os
+import signal
 import sys
 import threading
 import time
@@ -106,7 +119,8 @@ def run_compiled(
     poll: float = 0.1,
     background: bool = True,
 ) -> Any:
-    """``kernel(*args)`` in a worker thread, interruptible by Ctrl-C.
+    """``kernel(*args)``, interruptible by Ctrl-C: in the calling thread with the
+    native SIGINT flag when it can be (module notes), else in a worker thread.
 
     ``cancel`` (1,) int64 is set to 1 on ``KeyboardInterrupt`` (the kernel must stop
     soon after it sees it); ``done`` (any shape, int64) is summed and divided by
@@ -118,6 +132,12 @@ def run_compiled(
     if not background and progress is None:
         cancel[0] = 0
         return kernel(*args)
+    if progress is None:
+        flag = _sigint_flag()
+        if flag is not None:
+            cancel[0] = 0
+            with flag.raising(cancel):
+                return kernel(*args)
     out: dict[str, Any] = {}
     from ._jit import NUMBA
 
@@ -163,6 +183,105 @@ def run_compiled(
     if "error" in out:
         raise out["error"]
     return out.get("value")
+
+
+class _SigintFlag:
+    """SIGINT as a store of 1 into a cancel flag, for a compiled call in the main thread.
+
+    The handler is native code (an async-signal-safe store through a pointer slot),
+    compiled once per process with llvmlite's JIT, which numba already loads: a Python
+    handler cannot run while the main thread is inside the kernel, and a numba
+    ``cfunc`` would cost a compile per process for three instructions.
+    """
+
+    def __init__(self) -> None:
+        import ctypes
+
+        import llvmlite.binding as llvm
+
+        self._slot = np.zeros(1, dtype=np.int64)  # the address of the current flag
+        ir = f"""
+        define void @poinsot_sigint(i32 %sig) {{
+          %slot = inttoptr i64 {self._slot.ctypes.data} to i64**
+          %flag = load volatile i64*, i64** %slot
+          store volatile i64 1, i64* %flag
+          ret void
+        }}
+        """
+        llvm.initialize_native_target()
+        llvm.initialize_native_asmprinter()
+        module = llvm.parse_assembly(ir)
+        module.verify()
+        machine = llvm.Target.from_default_triple().create_target_machine()
+        self._engine = llvm.create_mcjit_compiler(module, machine)  # kept: owns the code
+        self._engine.finalize_object()
+        self._handler = ctypes.c_void_p(self._engine.get_function_address("poinsot_sigint"))
+        libc = ctypes.CDLL(None, use_errno=True)
+        self._signal = libc.signal
+        self._signal.argtypes = [ctypes.c_int, ctypes.c_void_p]
+        self._signal.restype = ctypes.c_void_p
+        self._sigaction = libc.sigaction
+        self._sigaction.argtypes = [ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p]
+        self._sigaction.restype = ctypes.c_int
+        # the previous `struct sigaction`, kept opaque (no platform's is over 256 bytes)
+        self._old = ctypes.create_string_buffer(512)
+
+    def install(self, cancel: np.ndarray) -> bool:
+        """Route SIGINT to ``cancel[0] = 1``; ``False`` (nothing changed) if the current
+        disposition cannot be read."""
+        self._slot[0] = cancel.ctypes.data
+        if self._sigaction(signal.SIGINT, None, self._old) != 0:
+            return False
+        self._signal(signal.SIGINT, self._handler)
+        return True
+
+    def restore(self) -> None:
+        """Put back the exact disposition :meth:`install` found (Python's handler)."""
+        self._sigaction(signal.SIGINT, self._old, None)
+
+    def raising(self, cancel: np.ndarray) -> _Raising:
+        return _Raising(self, cancel)
+
+
+class _Raising:
+    """``with flag.raising(cancel):`` SIGINT sets ``cancel[0]`` during the block, and
+    ``KeyboardInterrupt`` is raised at its end if it did (as Python would have)."""
+
+    def __init__(self, flag: _SigintFlag, cancel: np.ndarray) -> None:
+        self._flag, self._cancel, self._on = flag, cancel, False
+
+    def __enter__(self) -> None:
+        self._on = self._flag.install(self._cancel)
+
+    def __exit__(self, *exc: object) -> None:
+        if self._on:
+            self._flag.restore()
+        if self._cancel[0] != 0 and exc[0] is None:
+            raise KeyboardInterrupt
+
+
+_FLAG: list[_SigintFlag | None] = []  # built on first use; [None] if it cannot be
+
+
+def _sigint_flag() -> _SigintFlag | None:
+    """The native SIGINT flag when a compiled call may run in this thread (module notes),
+    else ``None`` (the caller takes the worker thread)."""
+    if (
+        os.name != "posix"
+        or threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
+        return None
+    from ._jit import NUMBA
+
+    if not NUMBA:  # the NumPy executor's kernels are Python: keep the worker thread
+        return None
+    if not _FLAG:
+        try:
+            _FLAG.append(_SigintFlag())
+        except Exception:  # pragma: no cover - no llvmlite JIT or libc here
+            _FLAG.append(None)
+    return _FLAG[0]
 
 
 def in_chunks(

@@ -128,3 +128,66 @@ def test_progress_true_without_a_terminal_writes_whole_lines(capsys, monkeypatch
 def test_progress_must_be_a_bool_or_a_callable():
     with pytest.raises(InvalidTypeError, match="`progress`"):
         simulate([1.0, 2.0, 3.0], [1, 0, 0, 0], [0.1, 0.2, 3.0], [0.0, 1.0], progress="yes")
+
+
+# The compiled call in the calling thread (poinsot._progress, module notes): SIGINT goes
+# to a native handler that raises the kernel's cancel flag, and Python's handler is back
+# afterwards. `kernel` here is a Python stand-in that signals its own process.
+def _needs_native_flag():
+    from poinsot._jit import NUMBA
+
+    if not NUMBA or os.name != "posix":
+        pytest.skip("the native SIGINT flag is for numba kernels on POSIX")
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        pytest.skip("SIGINT does not have Python's default handler in this process")
+
+
+def test_ctrl_c_in_the_calling_thread_sets_the_flag_and_raises():
+    import threading
+
+    from poinsot._progress import run_compiled
+
+    _needs_native_flag()
+    cancel = np.zeros(1, dtype=np.int64)
+    seen = {}
+
+    def kernel():
+        seen["thread"] = threading.current_thread()
+        os.kill(os.getpid(), signal.SIGINT)
+        t0 = time.monotonic()
+        while cancel[0] == 0 and time.monotonic() - t0 < 5.0:  # another thread may take it
+            time.sleep(0.001)
+        seen["cancel"] = int(cancel[0])
+        return "partial"
+
+    with pytest.raises(KeyboardInterrupt):
+        run_compiled(kernel, (), cancel=cancel, background=True)
+    assert seen == {"thread": threading.main_thread(), "cancel": 1}
+    # Python's own handler is back: the next SIGINT is an ordinary KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1.0)
+    # and a call without a signal returns its value with the flag down
+    assert run_compiled(lambda: int(cancel[0]), (), cancel=cancel, background=True) == 0
+
+
+def test_a_custom_sigint_handler_keeps_the_worker_thread():
+    """With the user's own handler in place the call runs in a worker thread (the user's
+    handler, not ours, must see a Ctrl-C)."""
+    import threading
+
+    from poinsot._progress import run_compiled
+
+    _needs_native_flag()
+    calls = []
+    previous = signal.signal(signal.SIGINT, lambda *_: calls.append(1))
+    try:
+        thread = run_compiled(
+            threading.current_thread, (), cancel=np.zeros(1, dtype=np.int64), background=True
+        )
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.05)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert thread is not threading.main_thread()
+    assert calls == [1]
