@@ -632,9 +632,9 @@ def torque_kernel(torque, batch: tuple[int, ...]):
     return None
 
 
-def _flat_problem(j, q0, omega0, torque):
+def _flat_problem(j, q0, omega0, torque, diagonal=None):
     """``(batch, kind, par, J, J^-1, y0)`` flattened to ``N`` bodies, or ``None`` when
-    the torque is not built in."""
+    the torque is not built in (``diagonal``: whether every ``J`` is, if known)."""
     j = np.asarray(j, dtype=float)
     if j.shape[-2:] != (3, 3):
         j = diagonal3(j)
@@ -645,7 +645,7 @@ def _flat_problem(j, q0, omega0, torque):
     kind, par = kp
     n_body = int(np.prod(batch, dtype=np.int64))
     jj = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
-    ji = inverse3(jj)
+    ji = inverse3(jj, diagonal)
     y0 = np.empty((n_body, 7))
     y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
     y0[:, 4:] = np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3)
@@ -693,16 +693,22 @@ def rk4(j, q0, w0, t, nsub, torque, progress=None):
     )
 
 
-def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6, progress=None):
+def integrate(
+    j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6, progress=None, diagonal=None
+):
     """Run the fused kernel on validated arrays.
 
     ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
     axes, ``q0`` (..., 4) unit quaternions, ``omega0`` (..., 3) rad/s, ``t`` (n,)
     increasing output times; ``torque`` ``None`` or a built-in model of
-    :mod:`poinsot.dynamics.torques`. Returns ``(quat (n, ..., 4), omega
+    :mod:`poinsot.dynamics.torques`; ``diagonal`` whether every ``j`` is diagonal, if
+    the caller knows (``None``: checked here). Returns ``(quat (n, ..., 4), omega
     (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built in.
     """
-    flat = _flat_problem(j, q0, omega0, torque)
+    if diagonal is None:  # (moments (..., 3) are made diagonal tensors below)
+        j = np.asarray(j, dtype=float)
+        diagonal = all_diagonal3(j) if j.shape[-2:] == (3, 3) else True
+    flat = _flat_problem(j, q0, omega0, torque, diagonal)
     if flat is None:
         return None
     batch, kind, par, jj, ji, y0 = flat
@@ -713,7 +719,7 @@ def integrate(j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6
     stats = np.zeros((n_body, 4), dtype=np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     done = np.zeros(n_body, dtype=np.int64)
-    if kind in (0, 3) and all_diagonal3(jj):  # the lane kernel's diagonal forms
+    if kind in (0, 3) and diagonal:  # the lane kernel's diagonal forms
         kind += DIAGONAL
     if NUMBA and LANES:  # L bodies at a time, SIMD across bodies (_fused_lanes)
         from ._fused_lanes import integrate_batch as kernel

