@@ -171,8 +171,12 @@ def rotations(n: int) -> None:
         missing("quaternionic", e)
 
     rows = []
+    cores = os.cpu_count() or 1
     for k, (name, nbytes, ours, _) in enumerate(ops):
-        set_threads(None)
+        # pinned to every core, as the integrators below and as XLA runs: the default
+        # follows the load average, which this script's own runs raise (it then took
+        # one thread, so the column measured one thread twice)
+        set_threads(cores)
         t_auto = best(ours)
         set_threads(1)
         t_one = best(ours)
@@ -192,12 +196,13 @@ def rotations(n: int) -> None:
                 best_peer, best_name = t, pname
         row += [f"{best_peer / t_auto:.2f}x ({best_name})", f"{t_auto / floor:.2f}x"]
         rows.append(row)
-    head = [f"N = {n:.0e}, ns per rotation", "poinsot", "poinsot 1 thr", "copy floor"]
+    head = [f"N = {n:.0e}, ns per rotation", f"poinsot ({cores} thr)", "poinsot 1 thr"]
+    head.append("copy floor")
     head += list(peers) + ["best non-SciPy peer / poinsot", "poinsot / floor"]
     print(table(rows, head))
     print(f"  (* timed on {SMALL} rotations)")
     print(
-        f"  (poinsot default threads = the idle cores, now {_threads()}; copy floor = "
+        f"  (poinsot's default would take {_threads()} thread(s) now: the idle cores; copy floor = "
         f"{1e-9 / per_byte:.1f} GB/s from copying the (N, 3, 3) batch; copying the (N, 4) "
         f"quaternions, small enough for malloc to reuse its pages: "
         f"{1e9 * best(lambda: q.copy()) / n:.1f} ns per rotation)"

@@ -51,6 +51,8 @@ __all__ = [
     "matvec",
     "euler_momentum_rate",
     "fma",
+    "store_nt",
+    "fence",
     "gravity_kick",
     "vertical",
     "midpoint_newton_step",
@@ -62,6 +64,8 @@ _INLINE: dict[str, Any] = {"inline": "always"}
 
 
 fma: Any
+store_nt: Any
+fence: Any
 if NUMBA:
     from llvmlite import ir
     from numba.core import types
@@ -83,12 +87,58 @@ if NUMBA:
         return sig, codegen
 
     fma = _fma
+
+    @intrinsic
+    def _store_nt(typingctx, a, i, v):  # pragma: no cover - compiled
+        """``a[i] = v`` (``a`` a 1-D C array, ``i`` in bounds) as a streaming store:
+        LLVM's ``!nontemporal`` store (``movnti``/``movntsd`` on x86), which writes
+        around the caches and skips reading the line first; consecutive stores fill
+        whole lines in the write-combining buffers. Order them with :func:`fence`
+        before another thread reads them."""
+        sig = types.void(a, i, v)
+
+        def codegen(context, builder, signature, args):
+            from numba.core import cgutils
+
+            arrty = signature.args[0]
+            ary = context.make_array(arrty)(context, builder, value=args[0])
+            ptr = cgutils.get_item_pointer(
+                context, builder, arrty, ary, [args[1]], wraparound=False, boundscheck=False
+            )
+            store = builder.store(args[2], ptr)
+            one = builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)])
+            store.set_metadata("nontemporal", one)
+            return context.get_dummy_value()
+
+        return sig, codegen
+
+    @intrinsic
+    def _fence(typingctx):  # pragma: no cover - compiled
+        """A full memory fence (``mfence``): streaming stores before it are visible to
+        every thread after it."""
+
+        def codegen(context, builder, signature, args):
+            builder.fence("seq_cst")
+            return context.get_dummy_value()
+
+        return types.void(), codegen
+
+    store_nt = _store_nt
+    fence = _fence
 else:  # the NumPy executor: one rounding more (its results are not numba's bit for bit)
 
     def _fma_numpy(a: Any, b: Any, c: Any) -> Any:
         return a * b + c
 
+    def _store_numpy(a: Any, i: Any, v: Any) -> None:
+        a[i] = v
+
+    def _fence_numpy() -> None:
+        pass
+
     fma = _fma_numpy
+    store_nt = _store_numpy
+    fence = _fence_numpy
 
 
 #: ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1): the plain-Python

@@ -438,3 +438,28 @@ def test_random_without_a_seed_differs_between_calls_and_forked_children():
     child = np.frombuffer(os.read(r, 32), dtype=np.float64)
     os.close(r), os.close(w)
     assert not np.array_equal(child, Rotation.random().as_quat())
+
+
+def test_streamed_inverse_is_the_exact_conjugate():
+    """A batch large enough for the streaming stores (``_kernels.STREAM_MIN_BYTES``)
+    is the conjugate bit for bit (signed zeros included) on 1 and on every thread, and
+    SciPy's inverse to round-off; rows past the last full part of the split are
+    written too (an odd count)."""
+    from poinsot.rotations._kernels import STREAM_MIN_BYTES
+
+    n = STREAM_MIN_BYTES // 32 + 1001
+    q = np.random.default_rng(5).normal(size=(n, 4))
+    q[:7, 1:] = 0.0  # the identity's -0.0 in the conjugate
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    r = Rotation.from_quat(q)
+    want = q * np.array([1.0, -1.0, -1.0, -1.0])
+    n0 = get_num_threads()
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            set_num_threads(threads)
+            got = r.inv().as_quat()
+            assert got.tobytes() == want.tobytes(), threads
+    finally:
+        set_num_threads(n0)
+    s = SciPyRotation.from_quat(q, scalar_first=True).inv().as_quat(scalar_first=True)
+    np.testing.assert_allclose(got, s, rtol=0, atol=1e-15)

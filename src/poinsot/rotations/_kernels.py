@@ -33,11 +33,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import _numba_helpers as nh
 from .._jit import NUMBA, guvectorize, lanes, njit, overload, prange
 from .._numba_cache import depends_on
 from . import _scalar as S
 
-depends_on(__file__, S)
+depends_on(__file__, S, nh)
 
 _D3 = np.zeros(3)
 _D4 = np.zeros(4)
@@ -186,14 +187,37 @@ def qrot_flat(q, v, out):  # pragma: no cover - compiled
         )
 
 
+#: Results of at least this many bytes (half the L3 of the 2-core machine measured) are
+#: written by :func:`conj_flat` with streaming stores (:func:`nh.store_nt`): they would
+#: not stay in the caches anyway, and a streaming store skips reading each line before
+#: writing it. On 10^6 rotations (2 threads, 3 runs of 41 interleaved rounds) the
+#: inverse took 1.63-1.89 ns per rotation instead of 1.96-2.31; the same values.
+STREAM_MIN_BYTES = 1 << 24
+#: Parts of a streamed result (each thread writes whole parts, then fences them).
+_STREAM_PARTS = 64
+
+
 @njit(**_PAR)
 def conj_flat(q, out):  # pragma: no cover - compiled
-    for n in prange(q.shape[0]):
-        out[n, 0], out[n, 1], out[n, 2], out[n, 3] = q[n, 0], -q[n, 1], -q[n, 2], -q[n, 3]
+    n = q.shape[0]
+    if out.nbytes < STREAM_MIN_BYTES:
+        for k in prange(n):
+            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = q[k, 0], -q[k, 1], -q[k, 2], -q[k, 3]
+        return
+    src, dst = q.reshape(-1), out.reshape(-1)
+    size = -(-n // _STREAM_PARTS)
+    for part in prange(_STREAM_PARTS):
+        for i in range(4 * part * size, 4 * min(n, (part + 1) * size), 4):
+            nh.store_nt(dst, i, src[i])
+            nh.store_nt(dst, i + 1, -src[i + 1])
+            nh.store_nt(dst, i + 2, -src[i + 2])
+            nh.store_nt(dst, i + 3, -src[i + 3])
+        nh.fence()
 
 
 @njit(**_PAR)
 def to_matrix_flat(q, m):  # pragma: no cover - compiled
+    # (streaming stores measured no faster here: the fresh result's page faults dominate)
     for n in prange(q.shape[0]):
         r = _to_matrix(q[n, 0], q[n, 1], q[n, 2], q[n, 3])
         for k in range(9):
