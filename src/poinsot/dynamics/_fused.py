@@ -654,9 +654,9 @@ def _flat_problem(j, q0, omega0, torque, diagonal=None):
 
 
 def _long(y0, t, steps=0):
-    """Whether a run may last long enough (~> 10 ms) to be worth a worker thread that
-    can take Ctrl-C: many bodies times outputs, many fixed steps, or many turns (an
-    adaptive step takes a fraction of a turn)."""
+    """Whether a run may last long enough (~> 10 ms) to be worth making interruptible by
+    Ctrl-C (:func:`poinsot._progress.run_compiled`): many bodies times outputs, many
+    fixed steps, or many turns (an adaptive step takes a fraction of a turn)."""
     turns = float(np.abs(y0[:, 4:]).max(initial=0.0)) * float(t[-1] - t[0]) / (2.0 * np.pi)
     return y0.shape[0] * max(t.size, steps, 50.0 * turns) > 20_000
 
