@@ -557,7 +557,7 @@ def simulate(
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             if method == "midpoint":
                 qs, ws, info = _run_midpoint(
-                    jb, inverse3(jb), q, omega0_n, tt, h_max, comp, mc, tfn, report
+                    jb, inverse3(jb, diagonal), q, omega0_n, tt, h_max, comp, mc, tfn, report
                 )
             elif method == "splitting":
                 grav = None
@@ -575,7 +575,9 @@ def simulate(
             elif method == "rk4":
                 qs, ws, info = _run_rk4_compiled(jb, q, omega0_n, tt, h_max, model, report)
                 if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
-                    qs, ws, info = _run_rk4(jb, inverse3(jb), q, omega0_n, tt, h_max, mc, tfn)
+                    qs, ws, info = _run_rk4(
+                        jb, inverse3(jb, diagonal), q, omega0_n, tt, h_max, mc, tfn
+                    )
                     info["path"] = "NumPy (torque is a Python callable)"
             elif method == "dop853":
                 from . import _fused  # numba, loaded on first use
@@ -594,14 +596,24 @@ def simulate(
                 )
                 if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
                     qs, ws, info = _run_adaptive(
-                        jb, inverse3(jb), q, omega0_n, tt, h_max, mc, tfn, rtol, atol, "DOP853"
+                        jb,
+                        inverse3(jb, diagonal),
+                        q,
+                        omega0_n,
+                        tt,
+                        h_max,
+                        mc,
+                        tfn,
+                        rtol,
+                        atol,
+                        "DOP853",
                     )
                     info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
                 else:
                     qs, ws, info = _fused_info(fused, tt, rtol, atol, mark=failures == "mark")
             else:
                 qs, ws, info = _run_adaptive(
-                    jb, inverse3(jb), q, omega0_n, tt, h_max, mc, tfn, rtol, atol, solver
+                    jb, inverse3(jb, diagonal), q, omega0_n, tt, h_max, mc, tfn, rtol, atol, solver
                 )
     except BaseException:
         if report is not None:
