@@ -103,3 +103,71 @@ def test_improper_and_non_orthogonal_batches_are_rejected(n):
     m[n // 2] = np.diag([1.0, 1.0, 1.0 + 1e-10])
     q = Rotation.from_matrix(m).as_quat()
     np.testing.assert_allclose(_sign_free_distance(q, np.array([1.0, 0, 0, 0])), 0, atol=1e-15)
+
+
+def _streamed_batch() -> tuple[np.ndarray, np.ndarray]:
+    # a result of at least STREAM_MIN_BYTES (the kernel's streaming stores), a row count
+    # that is not a multiple of the block: the last, partial block of the last part
+    from poinsot.rotations._kernels import STREAM_MIN_BYTES
+
+    n = STREAM_MIN_BYTES // 32 + 1001
+    e, f = _axis_angle_batch(n, seed=6)
+    return _rodrigues(e, f), _exact_quat(e, f)
+
+
+def test_streamed_batch_equals_sub_batches_bit_for_bit_on_any_thread_count():
+    """The streamed result (the check reduced to a count per part, no per-matrix
+    arrays) is, bit for bit, what sub-batches of the plain-store kernel and the
+    one-rotation path give, on one and on every thread; and the exact quaternion
+    to round-off."""
+    import numba
+
+    from poinsot.rotations import get_num_threads, set_num_threads
+
+    m, exact = _streamed_batch()
+    n = len(m)
+    parts = [Rotation.from_matrix(m[i : i + N_BIG]).as_quat() for i in range(0, n, N_BIG)]
+    want = np.concatenate(parts)
+    assert want.nbytes // len(parts) < 1 << 24  # the sub-batches store plainly
+    rows = np.r_[0:5, n - 5 : n]
+    singles = np.array([Rotation.from_matrix(m[i]).as_quat() for i in rows])
+    np.testing.assert_array_equal(want[rows], singles)
+    n0 = get_num_threads()
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            set_num_threads(threads)
+            got = Rotation.from_matrix(m).as_quat()
+            assert got.tobytes() == want.tobytes(), threads
+    finally:
+        set_num_threads(n0)
+    assert _sign_free_distance(got, exact).max() < 5e-15  # observed 4.7e-16
+
+
+@pytest.mark.parametrize("where", ["first", "last"])
+def test_one_bad_matrix_in_a_streamed_batch_is_found(where):
+    """The count per part finds a single bad matrix anywhere (the first row, the last
+    row of the partial block), and the batch then gets the per-matrix messages and
+    projection."""
+    m, exact = _streamed_batch()
+    i = 0 if where == "first" else len(m) - 1
+    keep = m[i].copy()
+    m[i, 2, 1] = np.nan
+    with pytest.raises(InvalidInputError, match="only finite values"):
+        Rotation.from_matrix(m)
+    m[i] = keep * np.array([1.0, 1.0, -1.0])  # a reflection: det = -1
+    with pytest.raises(InvalidInputError, match=r"determinant > 0\), got det = -1"):
+        Rotation.from_matrix(m)
+    m[i] = keep @ np.diag([1.0, 1.0, 1.0 + 1e-9])  # off by 2e-9: projected
+    q = Rotation.from_matrix(m).as_quat()
+    assert _sign_free_distance(q[i], exact[i]) < 5e-15  # observed 1.7e-16
+    with pytest.raises(InvalidInputError, match="orthogonal within 1e-10"):
+        Rotation.from_matrix(m, atol=1e-10)
+    # a user tolerance below the exact one (1e-14) is the one applied: the Rodrigues
+    # matrices' round-off (observed max |A^T A - E| = 2e-15) fails 1e-15, and exact
+    # identities pass atol = 0
+    m[i] = keep
+    with pytest.raises(InvalidInputError, match="orthogonal within 1e-15"):
+        Rotation.from_matrix(m, atol=1e-15)
+    m[:] = np.eye(3)
+    q = Rotation.from_matrix(m, atol=0.0).as_quat()
+    assert q.tobytes() == np.broadcast_to([1.0, 0.0, 0.0, 0.0], q.shape).tobytes()

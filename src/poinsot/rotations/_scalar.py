@@ -27,7 +27,9 @@ __all__ = [
     "hamilton",
     "rotate",
     "to_matrix",
+    "matrix_residual",
     "matrix_check",
+    "is_rotation_within",
     "from_matrix",
     "from_rotvec",
     "rotvec_angle",
@@ -108,6 +110,32 @@ def to_matrix(w: float, x: float, y: float, z: float) -> tuple[float, ...]:
     )
 
 
+def matrix_residual(
+    a00: float,
+    a01: float,
+    a02: float,
+    a10: float,
+    a11: float,
+    a12: float,
+    a20: float,
+    a21: float,
+    a22: float,
+) -> tuple[float, float, float, float, float, float, float]:
+    """The six entries of ``A^T A - E`` (diagonal first) and ``det A``, rows given."""
+    c00 = a00 * a00 + a10 * a10 + a20 * a20 - 1.0
+    c11 = a01 * a01 + a11 * a11 + a21 * a21 - 1.0
+    c22 = a02 * a02 + a12 * a12 + a22 * a22 - 1.0
+    c01 = a00 * a01 + a10 * a11 + a20 * a21
+    c02 = a00 * a02 + a10 * a12 + a20 * a22
+    c12 = a01 * a02 + a11 * a12 + a21 * a22
+    det = (
+        a00 * (a11 * a22 - a12 * a21)
+        - a01 * (a10 * a22 - a12 * a20)
+        + a02 * (a10 * a21 - a11 * a20)
+    )
+    return c00, c11, c22, c01, c02, c12, det
+
+
 def matrix_check(
     a00: float,
     a01: float,
@@ -120,19 +148,31 @@ def matrix_check(
     a22: float,
 ) -> tuple[float, float]:
     """``(max |A^T A - E|, det A)`` of a 3x3 matrix given by rows."""
-    c00 = a00 * a00 + a10 * a10 + a20 * a20 - 1.0
-    c11 = a01 * a01 + a11 * a11 + a21 * a21 - 1.0
-    c22 = a02 * a02 + a12 * a12 + a22 * a22 - 1.0
-    c01 = a00 * a01 + a10 * a11 + a20 * a21
-    c02 = a00 * a02 + a10 * a12 + a20 * a22
-    c12 = a01 * a02 + a11 * a12 + a21 * a22
-    e = max(abs(c00), abs(c11), abs(c22), abs(c01), abs(c02), abs(c12))
-    det = (
-        a00 * (a11 * a22 - a12 * a21)
-        - a01 * (a10 * a22 - a12 * a20)
-        + a02 * (a10 * a21 - a11 * a20)
-    )
-    return e, det
+    c00, c11, c22, c01, c02, c12, det = matrix_residual(a00, a01, a02, a10, a11, a12, a20, a21, a22)
+    return max(abs(c00), abs(c11), abs(c22), abs(c01), abs(c02), abs(c12)), det
+
+
+def is_rotation_within(
+    a00: float,
+    a01: float,
+    a02: float,
+    a10: float,
+    a11: float,
+    a12: float,
+    a20: float,
+    a21: float,
+    a22: float,
+    tol: float,
+) -> bool:
+    """``max |A^T A - E| <= tol`` and ``det A > 0``, False for any NaN or inf entry.
+
+    Each comparison is made on its own (a NaN fails it), so no ``max`` that could
+    drop a NaN; ``&`` rather than ``and``: no branch, and the compiled batch loop
+    stays vectorised.
+    """
+    c00, c11, c22, c01, c02, c12, det = matrix_residual(a00, a01, a02, a10, a11, a12, a20, a21, a22)
+    near = (abs(c00) <= tol) & (abs(c11) <= tol) & (abs(c22) <= tol) & (abs(c01) <= tol)
+    return near & (abs(c02) <= tol) & (abs(c12) <= tol) & (det > 0.0)
 
 
 def from_matrix(

@@ -31,6 +31,10 @@ EXACT_ATOL = 1e-14
 
 _D3 = np.zeros(3)
 _D4 = np.zeros(4)
+_NONE = np.empty(0)
+#: Parts of a large batch for ``from_matrix_flat`` (each a run of whole blocks, spread
+#: over the threads; each counts its bad matrices).
+_PARTS = 64
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
@@ -49,9 +53,26 @@ def _to_quat(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if big(shape):
         f = flat(m, 9)
         q, err, det = np.empty((f.shape[0], 4)), np.empty(f.shape[0]), np.empty(f.shape[0])
-        threaded(kernels().from_matrix_flat, f, q, err, det)
+        threaded(kernels().from_matrix_flat, f, q, err, det, np.empty(_PARTS, np.int64), 0.0)
         return q.reshape(shape + (4,)), err.reshape(shape), det.reshape(shape)
     return kernels().matrix_to_quat(m, _D4)
+
+
+def _to_quat_if_within(m: np.ndarray, tol: float) -> np.ndarray | None:
+    """Large batches: the quaternions if every matrix is a rotation within ``tol``
+    (``max |A^T A - E| <= tol``, ``det > 0``, finite), else None; small ones: None.
+
+    The common case of user data, without the two per-matrix arrays of :func:`_to_quat`
+    (see ``from_matrix_flat``); a batch that fails goes through :func:`_to_quat`
+    again for its messages and projections.
+    """
+    if not big(m.shape[:-2]):
+        return None
+    f = flat(m, 9)
+    q = np.empty((f.shape[0], 4))
+    bad = np.zeros(_PARTS, dtype=np.int64)
+    threaded(kernels().from_matrix_flat, f, q, _NONE, _NONE, bad, tol)
+    return None if bad.any() else q.reshape(m.shape[:-2] + (4,))
 
 
 def quat_from_matrix(m: np.ndarray) -> np.ndarray:
@@ -59,7 +80,8 @@ def quat_from_matrix(m: np.ndarray) -> np.ndarray:
 
     Trusts its input (no checks): use :func:`quat_from_user_matrix` for user data.
     """
-    return _to_quat(m)[0]
+    q = _to_quat_if_within(m, math.inf)
+    return _to_quat(m)[0] if q is None else q
 
 
 def _nearest_rotation(m: np.ndarray) -> np.ndarray:
@@ -77,6 +99,10 @@ def quat_from_user_matrix(
     # finiteness is checked on the kernel's output (its err is NaN exactly for a
     # non-finite matrix): one pass over the matrices instead of two
     m = as_trailing(m, name, (3, 3), finite=False)
+    with np.errstate(invalid="ignore", over="ignore"):
+        q = _to_quat_if_within(m, min(atol, EXACT_ATOL))
+    if q is not None:
+        return q
     with np.errstate(invalid="ignore", over="ignore"):  # NaN/inf in: NaN err out, no warning
         q, err, det = _to_quat(m)
     if err.size == 0:
