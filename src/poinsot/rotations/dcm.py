@@ -58,21 +58,19 @@ def _to_quat(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return kernels().matrix_to_quat(m, _D4)
 
 
-def _to_quat_if_within(m: np.ndarray, tol: float) -> np.ndarray | None:
-    """Large batches: the quaternions if every matrix is a rotation within ``tol``
-    (``max |A^T A - E| <= tol``, ``det > 0``, finite), else None; small ones: None.
+def _quat_counting(m: np.ndarray, tol: float) -> tuple[np.ndarray, int]:
+    """A large batch's quaternions, and how many of its matrices are not rotations within
+    ``tol`` (``max |A^T A - E| <= tol``, ``det > 0``, finite).
 
-    The common case of user data, without the two per-matrix arrays of :func:`_to_quat`
-    (see ``from_matrix_flat``); a batch that fails goes through :func:`_to_quat`
-    again for its messages and projections.
+    Without the two per-matrix arrays of :func:`_to_quat` (see ``from_matrix_flat``):
+    the quaternions are the same bits; a batch with a bad matrix goes through
+    :func:`_to_quat` again for its messages and projections.
     """
-    if not big(m.shape[:-2]):
-        return None
     f = flat(m, 9)
     q = np.empty((f.shape[0], 4))
     bad = np.zeros(_PARTS, dtype=np.int64)
     threaded(kernels().from_matrix_flat, f, q, _NONE, _NONE, bad, tol)
-    return None if bad.any() else q.reshape(m.shape[:-2] + (4,))
+    return q.reshape(m.shape[:-2] + (4,)), int(bad.sum())
 
 
 def quat_from_matrix(m: np.ndarray) -> np.ndarray:
@@ -80,8 +78,9 @@ def quat_from_matrix(m: np.ndarray) -> np.ndarray:
 
     Trusts its input (no checks): use :func:`quat_from_user_matrix` for user data.
     """
-    q = _to_quat_if_within(m, math.inf)
-    return _to_quat(m)[0] if q is None else q
+    if big(m.shape[:-2]):
+        return _quat_counting(m, math.inf)[0]
+    return _to_quat(m)[0]
 
 
 def _nearest_rotation(m: np.ndarray) -> np.ndarray:
@@ -99,10 +98,11 @@ def quat_from_user_matrix(
     # finiteness is checked on the kernel's output (its err is NaN exactly for a
     # non-finite matrix): one pass over the matrices instead of two
     m = as_trailing(m, name, (3, 3), finite=False)
-    with np.errstate(invalid="ignore", over="ignore"):
-        q = _to_quat_if_within(m, min(atol, EXACT_ATOL))
-    if q is not None:
-        return q
+    if big(m.shape[:-2]):  # the common case first: every matrix a rotation to round-off
+        with np.errstate(invalid="ignore", over="ignore"):
+            q, n_bad = _quat_counting(m, min(atol, EXACT_ATOL))
+        if n_bad == 0:
+            return q
     with np.errstate(invalid="ignore", over="ignore"):  # NaN/inf in: NaN err out, no warning
         q, err, det = _to_quat(m)
     if err.size == 0:
