@@ -52,3 +52,22 @@ def test_sort3_is_numpys_sort_with_ties():
         assert np.array_equal(_sort3(m), np.sort(m, axis=-1))
         m = rng.normal(size=shape)
         assert np.array_equal(_sort3(m), np.sort(m, axis=-1))
+
+
+def test_out_arrays_get_the_same_values_and_are_returned():
+    # the compiled DOP853 packs J and J^-1 into reused arrays: `out=` must change nothing
+    from poinsot._vec import diagonal3
+
+    rng = np.random.default_rng(7)
+    d = rng.uniform(0.1, 10.0, (30, 3))
+    dirty = np.full((30, 3, 3), np.nan)  # a reused array holds the last call's values
+    assert diagonal3(d, out=dirty) is dirty
+    assert np.array_equal(dirty, d[..., :, None] * np.eye(3))
+    dirty2 = np.full((30, 3, 3), -7.0)
+    assert inverse3(dirty, True, out=dirty2) is dirty2
+    assert np.array_equal(dirty2, np.linalg.inv(dirty))
+    m = rng.normal(size=(30, 3, 3))
+    a = m @ np.swapaxes(m, -1, -2) + np.eye(3)
+    out = np.empty_like(a)
+    assert inverse3(a, out=out) is out
+    assert np.array_equal(out, inverse3(a))

@@ -52,6 +52,7 @@ from .. import _numba_helpers as nh
 from .._jit import NUMBA, njit, prange
 from .._numba_cache import depends_on
 from .._progress import run_compiled
+from .._scratch import hold
 from .._vec import all_diagonal3, diagonal3, inverse3
 from ..rotations._lazy import threaded
 from . import _dop853_tableau as _tab
@@ -606,15 +607,19 @@ def midpoint_batch(
 # ---------------------------------------------------------------------------
 
 
-def torque_kernel(torque, batch: tuple[int, ...]):
+def torque_kernel(torque, batch: tuple[int, ...], par=None):
     """``(kind, par (batch + (4,)))`` for a built-in torque model, else ``None``.
 
     ``None`` (no torque) is kind 0. A torque the kernel does not know (a Python
-    callable) returns ``None``: the caller takes its slower path.
+    callable) returns ``None``: the caller takes its slower path. ``par``: an array of
+    that shape to fill (else a new one).
     """
     from . import torques as _tq
 
-    par = np.zeros(batch + (4,))
+    if par is None:
+        par = np.zeros(batch + (4,))
+    else:
+        par.fill(0.0)
     if torque is None:
         return 0, par
     if isinstance(torque, _tq.ConstantBodyTorque | _tq.ConstantSpaceTorque):
@@ -632,21 +637,31 @@ def torque_kernel(torque, batch: tuple[int, ...]):
     return None
 
 
-def _flat_problem(j, q0, omega0, torque, diagonal=None):
+def _flat_problem(j, q0, omega0, torque, diagonal=None, scratch=None, principal=None):
     """``(batch, kind, par, J, J^-1, y0)`` flattened to ``N`` bodies, or ``None`` when
-    the torque is not built in (``diagonal``: whether every ``J`` is, if known)."""
+    the torque is not built in (``diagonal``: whether every ``J`` is, if known;
+    ``scratch``: a :func:`poinsot._scratch.hold` block for the packed arrays, which then
+    live as long as it; ``principal``: whether ``j`` holds principal moments (..., 3)
+    rather than tensors, ``None``: from its shape)."""
     j = np.asarray(j, dtype=float)
-    if j.shape[-2:] != (3, 3):
-        j = diagonal3(j)
+    if j.shape[-2:] != (3, 3) if principal is None else principal:
+        out = None if scratch is None else scratch.empty("j", j.shape[:-1] + (3, 3))
+        j = diagonal3(j, out=out)
     batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], omega0.shape[:-1])
-    kp = torque_kernel(torque, batch)
+    n_body = int(np.prod(batch, dtype=np.int64))
+    kp = torque_kernel(
+        torque, batch, None if scratch is None else scratch.empty("par", batch + (4,))
+    )
     if kp is None:
         return None
     kind, par = kp
-    n_body = int(np.prod(batch, dtype=np.int64))
     jj = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
-    ji = inverse3(jj, diagonal)
-    y0 = np.empty((n_body, 7))
+    if scratch is None:
+        ji = inverse3(jj, diagonal)
+        y0 = np.empty((n_body, 7))
+    else:
+        ji = inverse3(jj, diagonal, out=scratch.empty("ji", (n_body, 3, 3)))
+        y0 = scratch.empty("y0", (n_body, 7))
     y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
     y0[:, 4:] = np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3)
     par = np.ascontiguousarray(par.reshape(n_body, 4))
@@ -657,7 +672,9 @@ def _long(y0, t, steps=0):
     """Whether a run may last long enough (~> 10 ms) to be worth making interruptible by
     Ctrl-C (:func:`poinsot._progress.run_compiled`): many bodies times outputs, many
     fixed steps, or many turns (an adaptive step takes a fraction of a turn)."""
-    turns = float(np.abs(y0[:, 4:]).max(initial=0.0)) * float(t[-1] - t[0]) / (2.0 * np.pi)
+    w = y0[:, 4:]  # max |w| without a temporary |w| array
+    w_max = max(float(w.max(initial=0.0)), -float(w.min(initial=0.0)))
+    turns = w_max * float(t[-1] - t[0]) / (2.0 * np.pi)
     return y0.shape[0] * max(t.size, steps, 50.0 * turns) > 20_000
 
 
@@ -694,7 +711,19 @@ def rk4(j, q0, w0, t, nsub, torque, progress=None):
 
 
 def integrate(
-    j, q0, omega0, t, torque, *, rtol, atol, max_step, max_steps=10**6, progress=None, diagonal=None
+    j,
+    q0,
+    omega0,
+    t,
+    torque,
+    *,
+    rtol,
+    atol,
+    max_step,
+    max_steps=10**6,
+    progress=None,
+    diagonal=None,
+    principal=None,
 ):
     """Run the fused kernel on validated arrays.
 
@@ -702,13 +731,25 @@ def integrate(
     axes, ``q0`` (..., 4) unit quaternions, ``omega0`` (..., 3) rad/s, ``t`` (n,)
     increasing output times; ``torque`` ``None`` or a built-in model of
     :mod:`poinsot.dynamics.torques`; ``diagonal`` whether every ``j`` is diagonal, if
-    the caller knows (``None``: checked here). Returns ``(quat (n, ..., 4), omega
-    (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built in.
+    the caller knows (``None``: checked here); ``principal`` whether ``j`` holds principal
+    moments (``None``: from its shape, ambiguous for three bodies). Returns ``(quat (n,
+    ..., 4), omega (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built
+    in;
+    ``stats`` is this thread's scratch array (:mod:`poinsot._scratch`): read it before
+    the thread's next call.
     """
+    j = np.asarray(j, dtype=float)
+    if principal is None:
+        principal = j.shape[-2:] != (3, 3)
     if diagonal is None:  # (moments (..., 3) are made diagonal tensors below)
-        j = np.asarray(j, dtype=float)
-        diagonal = all_diagonal3(j) if j.shape[-2:] == (3, 3) else True
-    flat = _flat_problem(j, q0, omega0, torque, diagonal)
+        diagonal = True if principal else all_diagonal3(j)
+    with hold() as scratch:
+        flat = _flat_problem(j, q0, omega0, torque, diagonal, scratch, principal)
+        return _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scratch)
+
+
+def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scratch):
+    """:func:`integrate` on the flattened problem, inside its scratch block."""
     if flat is None:
         return None
     batch, kind, par, jj, ji, y0 = flat
@@ -716,9 +757,9 @@ def integrate(
     t = np.ascontiguousarray(t, dtype=float)
     oq = np.empty((t.size, n_body, 4))
     ow = np.empty((t.size, n_body, 3))
-    stats = np.zeros((n_body, 4), dtype=np.int64)
+    stats = scratch.zeros("stats", (n_body, 4), dtype=np.int64)
     cancel = np.zeros(1, dtype=np.int64)
-    done = np.zeros(n_body, dtype=np.int64)
+    done = scratch.zeros("done", (n_body,), dtype=np.int64)
     if kind in (0, 3) and diagonal:  # the lane kernel's diagonal forms
         kind += DIAGONAL
     if NUMBA and LANES:  # L bodies at a time, SIMD across bodies (_fused_lanes)

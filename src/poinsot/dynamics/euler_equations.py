@@ -66,6 +66,7 @@ import numpy as np
 
 from .. import _quat, integrators
 from .._progress import _Report, as_progress
+from .._scratch import hold
 from .._typing import ArrayLike, FloatArray, IntArray
 from .._validate import (
     as_choice,
@@ -88,7 +89,7 @@ if TYPE_CHECKING:
     from ..mass.body import RigidBody
     from .torques import TorqueModel
 from ..trajectory import Trajectory
-from .invariants import _invariants
+from .invariants import _kinetic_space
 from .torques import ConstantBodyTorque, GravityTorque, as_torque
 
 __all__ = ["euler_rhs", "simulate", "METHODS"]
@@ -112,8 +113,9 @@ def _as_inertia(inertia: object, name: str) -> tuple[np.ndarray, bool]:
     return as_inertia(inertia, name)
 
 
-def _body_inertia(body: Any) -> np.ndarray:
-    """The body-axes inertia tensor ``(..., 3, 3)`` of ``body`` (RigidBody or array)."""
+def _body_inertia(body: Any) -> tuple[np.ndarray, bool]:
+    """The body-axes inertia of ``body`` (RigidBody or array): ``(moments (..., 3), True)``
+    for principal moments, else ``(tensor (..., 3, 3), False)``."""
     if hasattr(body, "inertia") and hasattr(body, "mass"):
         mass = np.asarray(body.mass, dtype=float)
         if not np.all(np.isfinite(mass)) or np.any(mass <= 0):
@@ -125,10 +127,7 @@ def _body_inertia(body: Any) -> np.ndarray:
     else:
         inertia = body
         name = "body"
-    j, principal = _as_inertia(inertia, name)
-    if principal:
-        j = diagonal3(j)
-    return j
+    return _as_inertia(inertia, name)
 
 
 # ---------------------------------------------------------------------------
@@ -487,11 +486,11 @@ def simulate(
             f"`failures='mark'` applies to method='dop853' (the compiled batch integrator), "
             f"got method={method!r}."
         )
-    j = _body_inertia(body)
+    j, principal = _body_inertia(body)
     q0 = as_rotation_quat(rotation0, "rotation0")
     omega0 = as_vec3(omega0, "omega0")
     tt = as_times(t, "t")
-    named = {"body": (j, 2), "rotation0": (q0, 1), "omega0": (omega0, 1)}
+    named = {"body": (j, 1 if principal else 2), "rotation0": (q0, 1), "omega0": (omega0, 1)}
     model = as_torque(torque)
     torque_fn = None
     m_const = None
@@ -541,13 +540,21 @@ def simulate(
     q = np.ascontiguousarray(np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4))
     # the batch flattened to N bodies (the kernels take (N, 3))
     omega0_n = np.ascontiguousarray(np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3))
-    jb = j.reshape(-1, 3, 3) if j.shape[:-2] == batch else None
-    if jb is None:
-        jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
-    if jb.shape[0] != n_body and jb.shape[0] != 1:  # pragma: no cover - guarded by broadcast
-        raise InvalidInputError("Incompatible `body` batch shape.")
-    # principal axes (the usual batch): the diagonal forms of the kernel and invariants
-    diagonal = all_diagonal3(jb)
+    moments: FloatArray | None = None
+    if principal:
+        # principal moments (N, 3) (the usual batch): the diagonal forms of the kernels and
+        # of the invariants; the compiled DOP853 packs its own tensors, without a temporary
+        moments = np.ascontiguousarray(np.broadcast_to(j, batch + (3,)).reshape(n_body, 3))
+        jb = np.empty((0, 3, 3)) if method == "dop853" else diagonal3(moments)
+        diagonal = True
+    else:
+        if j.shape[:-2] == batch:
+            jb = j.reshape(-1, 3, 3)
+        else:
+            jb = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
+        diagonal = all_diagonal3(jb)
+        if diagonal:
+            moments = np.diagonal(jb, axis1=-2, axis2=-1)
     tfn = None if torque_fn is None else _TorqueCall(torque_fn, batch, method)
     mc = None
     if m_const is not None:
@@ -583,7 +590,7 @@ def simulate(
                 from . import _fused  # numba, loaded on first use
 
                 fused = _fused.integrate(
-                    jb,
+                    moments if principal else jb,
                     q,
                     omega0_n,
                     tt,
@@ -593,8 +600,11 @@ def simulate(
                     max_step=h_max,
                     progress=report,
                     diagonal=diagonal,
+                    principal=principal,
                 )
                 if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
+                    if principal and moments is not None:  # (always set then)
+                        jb = diagonal3(moments)
                     qs, ws, info = _run_adaptive(
                         jb,
                         inverse3(jb, diagonal),
@@ -629,15 +639,19 @@ def simulate(
     n = tt.shape[0]
     # principal axes: the moments' products instead of 3x3 ones, the same values (the
     # tensor's off-diagonal terms add exact zeros)
-    if diagonal:
-        inv = _invariants(np.diagonal(jb, axis1=-2, axis2=-1), True, qs, ws, None)
-    else:
-        inv = _invariants(jb, False, qs, ws, None)
-    energy, momentum = inv.kinetic, inv.momentum_space
+    with hold() as scratch:  # J w is a temporary here: only T and K_s are kept
+        k = scratch.empty("momentum_body", ws.shape)
+        if moments is not None:  # diagonal
+            k = _momentum(moments, True, ws, out=k)
+        else:
+            k = _momentum(jb, False, ws, out=k)
+        energy, momentum = _kinetic_space(qs, ws, k)
     out = batch
     quat = qs.reshape((n,) + out + (4,))
     compiled_dop853 = method == "dop853" and "path" not in info
-    return Trajectory(
+    # arrays made here (and the compiled kernel's outputs) are handed over, not copied
+    return Trajectory._own(
+        ("omega", "energy", "momentum") if compiled_dop853 else ("energy", "momentum"),
         t=tt,
         # the compiled DOP853 returns unit quaternions (held, for a marked failure)
         rotation=Rotation._wrap(quat) if compiled_dop853 else Rotation.from_quat(quat),

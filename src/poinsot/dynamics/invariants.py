@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -166,12 +166,8 @@ def _invariants(
     j: np.ndarray, principal: bool, q: np.ndarray, w: np.ndarray, torque_model: TorqueModel | None
 ) -> Invariants:
     """Kernel of :func:`invariants` (validated arrays, a TorqueModel or None)."""
-    from ..rotations._lazy import kernels
-
     k = _momentum(j, principal, w)
-    t = 0.5 * np.einsum("...i,...i->...", w, k)
-    shape = np.broadcast_shapes(q.shape[:-1], k.shape[:-1])
-    ks = kernels().qrot(np.broadcast_to(q, shape + (4,)), np.broadcast_to(k, shape + (3,)))
+    t, ks = _kinetic_space(q, w, k)
     v = None if torque_model is None else torque_model.potential(q)
     energy = t if v is None else t + v
     return Invariants(
@@ -182,6 +178,18 @@ def _invariants(
         momentum_space=ks,
         momentum_z=np.asarray(ks[..., 2]),
     )
+
+
+def _kinetic_space(q: np.ndarray, w: np.ndarray, k: np.ndarray) -> tuple[Any, np.ndarray]:
+    """``T = w.K / 2`` and ``K_s = q K q~`` from the body momentum ``K = J w`` (theory §8):
+    the free body's invariants, written once for :func:`_invariants` and ``simulate``."""
+    from ..rotations._lazy import kernels
+
+    t = np.einsum("...i,...i->...", w, k)
+    t *= 0.5  # in place: the same values as 0.5 * t, without a second array
+    shape = np.broadcast_shapes(q.shape[:-1], k.shape[:-1])
+    ks = kernels().qrot(np.broadcast_to(q, shape + (4,)), np.broadcast_to(k, shape + (3,)))
+    return t, ks
 
 
 def invariants(

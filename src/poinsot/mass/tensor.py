@@ -659,11 +659,14 @@ def inertia_ellipsoid(inertia: ArrayLike) -> tuple[FloatArray, Rotation]:
 # ---------------------------------------------------------------------------
 
 
-def _momentum(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
-    """``K = J w`` for principal moments ``j`` (..., 3) or a tensor ``j`` (..., 3, 3)."""
+def _momentum(
+    j: np.ndarray, principal: bool, w: np.ndarray, out: np.ndarray | None = None
+) -> np.ndarray:
+    """``K = J w`` for principal moments ``j`` (..., 3) or a tensor ``j`` (..., 3, 3)
+    (``out``: an array of the broadcast shape to write it into)."""
     if principal:
-        return j * w
-    return np.einsum("...ij,...j->...i", j, w)
+        return np.multiply(j, w, out=out)
+    return np.einsum("...ij,...j->...i", j, w, out=out)
 
 
 def _kinetic(j: np.ndarray, principal: bool, w: np.ndarray) -> np.ndarray:
