@@ -124,17 +124,23 @@ def _control(moments, quat, omega, repeat):
     def chunk(lo, hi, y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow,
               stats, cancel, done, acc):  # fmt: skip
         W = np.zeros(FL.N_WORK)
+        scratch = np.empty((1, 7))
+        t_end = t_out[-1]
+        c0 = cycles()
+        first = np.empty((hi - lo, 8))
+        FL._first_steps(lo, hi, W, y0, J, Ji, kind, par, t_end - t_out[0], rtol, atol,
+                        max_step, first)  # fmt: skip
+        W[:] = 0.0
         W[FL.S_BODY : FL.S_BODY + L] = -1.0
         W[FL.S_END : FL.S_END + L] = -1.0
-        scratch = np.empty((5, 7))
-        t_end = t_out[-1]
+        acc[0] += cycles() - c0
         nxt = lo
         while True:
             c0 = cycles()
             n_busy, n_end = FL.lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
             while n_end > 0 or (n_busy < L and nxt < hi):
-                nxt = FL.lane_service(nxt, hi, W, scratch, y0, J, Ji, kind, par, t_out, rtol,
-                                      atol, max_step, oq, ow, stats, done)  # fmt: skip
+                nxt = FL.lane_service(nxt, lo, hi, W, y0, J, Ji, par, t_out, first,
+                                      oq, ow, stats, done)  # fmt: skip
                 n_busy, n_end = FL.lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
             c1 = cycles()
             acc[0] += c1 - c0
@@ -163,8 +169,8 @@ def _control(moments, quat, omega, repeat):
         "free, rtol 1.5e-7": (None, 1.5e-7),
         "heavy, rtol 1.3e-8": (GravityTorque(1.0, [0.0, 0.0, 0.3], g=9.81), 1.3e-8),
     }
-    names = ["prepare + refill", "attempt (12 stages)", "accept/reject", "dense output",
-             "accept: project, outputs"]  # fmt: skip
+    names = ["first steps, prepare + refill", "attempt (12 stages)", "accept/reject",
+             "dense output", "accept: project, outputs"]  # fmt: skip
     print("  split of the chunk loop (cycle counter, 1 thread; per lane-attempt, i.e. one "
           "body's step attempt):")  # fmt: skip
     for name, (tq, rtol) in cases.items():

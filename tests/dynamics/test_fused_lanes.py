@@ -218,3 +218,36 @@ def test_simulate_uses_the_lanes_and_marks_failures():
         _fused.LANES = True
     np.testing.assert_array_equal(tr.quat, ref.quat)
     np.testing.assert_array_equal(tr.omega, ref.omega)
+
+
+@pytest.mark.parametrize("kind", [0, 3, _fused.DIAGONAL, _fused.DIAGONAL + 3])
+def test_first_steps_of_the_lanes_are_the_one_body_initial_step(kind):
+    # the lanes take every body's f and first step from one vectorised pass per chunk
+    # (_first_steps): the same bits as _initial_step's, in each of its branches
+    n = 2 * _fused_lanes.L + 5  # the last block is short: it repeats the last body
+    moments, quat, omega = _bodies(n, seed=8)
+    omega[3] = 0.0  # at rest: f = 0, the 1e-6 / 1e-3 h0 branch
+    omega[4] = 1e-7  # d1 < 1e-5: h0 = 1e-6
+    omega[5] = 3e3  # fast: the step from d2
+    omega[6] = np.nan  # non-finite: NaN steps, as one body's
+    torque = None if kind % _fused.DIAGONAL == 0 else GravityTorque(2.0, [0.01, -0.02, 0.1])
+    _, k, par, jj, ji, y0 = _fused._flat_problem(moments, quat, omega, torque)
+    assert k == kind % _fused.DIAGONAL
+    cases = [  # (span, max_step, rtol, atol): h0 or h1 cut by the span, by max_step
+        (10.0, np.inf, 1e-7, 1e-9),
+        (1e-12, np.inf, 1e-9, 1e-11),
+        (10.0, 2e-3, 1e-12, 1e-14),
+        (3.0, np.inf, 1e-6, 1e-12),
+    ]
+    for span, max_step, rtol, atol in cases:
+        first = np.empty((n - 3, 8))
+        W = np.full(_fused_lanes.N_WORK, np.nan)  # rows it does not load are never read
+        _fused_lanes._first_steps(3, n, W, y0, jj, ji, kind, par, span, rtol, atol, max_step,
+                                  first)  # fmt: skip
+        for b in range(3, n):
+            f, tmp, k1, scale = np.empty(7), np.empty(7), np.empty(7), np.empty(7)
+            _fused._rhs(0.0, y0[b], jj[b], ji[b], kind, par[b], f)
+            h = _fused._initial_step(0.0, y0[b], f, span, rtol, atol, max_step, jj[b], ji[b],
+                                     kind, par[b], tmp, k1, scale)  # fmt: skip
+            np.testing.assert_array_equal(first[b - 3, :7], f)
+            np.testing.assert_array_equal(first[b - 3, 7], h)

@@ -734,9 +734,7 @@ def integrate(
     the caller knows (``None``: checked here); ``principal`` whether ``j`` holds principal
     moments (``None``: from its shape, ambiguous for three bodies). Returns ``(quat (n,
     ..., 4), omega (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built
-    in;
-    ``stats`` is this thread's scratch array (:mod:`poinsot._scratch`): read it before
-    the thread's next call.
+    in.
     """
     j = np.asarray(j, dtype=float)
     if principal is None:
@@ -757,7 +755,7 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
     t = np.ascontiguousarray(t, dtype=float)
     oq = np.empty((t.size, n_body, 4))
     ow = np.empty((t.size, n_body, 3))
-    stats = scratch.zeros("stats", (n_body, 4), dtype=np.int64)
+    stats = np.zeros((n_body, 4), dtype=np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     done = scratch.zeros("done", (n_body,), dtype=np.int64)
     if kind in (0, 3) and diagonal:  # the lane kernel's diagonal forms
