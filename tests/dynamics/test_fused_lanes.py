@@ -251,3 +251,14 @@ def test_first_steps_of_the_lanes_are_the_one_body_initial_step(kind):
                                      kind, par[b], tmp, k1, scale)  # fmt: skip
             np.testing.assert_array_equal(first[b - 3, :7], f)
             np.testing.assert_array_equal(first[b - 3, 7], h)
+
+
+def test_zero_atol_with_an_exact_zero_in_the_state_is_an_integration_error():
+    # scale = atol + rtol |y| = 0 for the identity's zero components: the lanes' first
+    # steps are NaN (no Python error model in a threaded kernel: it crashed with a
+    # SystemError before the first steps were computed across the lanes)
+    from poinsot import IntegrationError
+
+    with pytest.raises(IntegrationError, match="below round-off"):
+        simulate([1.0, 2.0, 3.0], [1.0, 0.0, 0.0, 0.0], [0.1, 0.2, 0.3], [0.0, 1.0],
+                 rtol=1e-8, atol=0.0)  # fmt: skip
