@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from poinsot import _scratch
+from poinsot._jit import NUMBA
 from poinsot.dynamics import invariants, simulate
 
 
@@ -109,6 +110,7 @@ def test_the_callers_arrays_stay_theirs_and_results_are_read_only():
     assert not np.shares_memory(tr.t, t)
 
 
+@pytest.mark.skipif(not NUMBA, reason="half a second compiled: minutes as Python")
 def test_a_progress_callback_that_simulates_again_does_not_disturb_the_outer_run():
     # long enough (~0.5 s) for the progress reports of the running kernel (every 0.1 s)
     moments, quat, omega = _problem(5, n=3000)
