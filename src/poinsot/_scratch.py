@@ -2,9 +2,10 @@
 
 A compiled batch call packs its inputs into arrays that live only for the call (the
 bodies' states, ``J^-1``, counters). Freshly allocated, arrays of 128 KiB to a few MiB
-come from the top of glibc's heap, which ``free`` hands back to the kernel once the
-call is over: the next call then touches new pages, and every 4 KiB page costs a page
-fault. On this project's 2-core KVM machine a fault costs about 4 us, and a
+come from the top of glibc's heap, which ``free`` may give back to the operating system
+once the call is over: the next call then touches new pages, and every 4 KiB page costs
+a page fault. On the 2-core KVM machine of ``docs/performance.md`` a fault costs about
+4 us, and a
 ``simulate`` call on 10,000 free bodies took 750-1100 of them: 3-4 ms of a 14-20 ms
 call (measured; arrays of 4 MiB and more get transparent huge pages from NumPy and fault
 far less). Arrays taken from here are kept by the thread that asked for them, so a call
@@ -27,9 +28,10 @@ from typing import Any
 
 import numpy as np
 
-#: Largest array kept (bytes): beyond it a fresh array is cheap next to the work on it,
-#: and a kept one would pin its memory for the life of the thread.
-MAX_BYTES = 16 << 20
+#: Largest array kept (bytes): NumPy asks for transparent huge pages from 4 MiB on, so a
+#: fresh array that large faults once per 2 MiB, not per 4 KiB; and a kept one pins its
+#: memory for the life of the thread (at most a few arrays of this size per thread).
+MAX_BYTES = 4 << 20
 
 _local = threading.local()
 
