@@ -21,6 +21,7 @@ LAYERS: list[tuple[str, ...]] = [
         "_jit",
         "_numba_cache",
         "_progress",
+        "_scratch",
         "_display",
         "__version__",
         "integrators",

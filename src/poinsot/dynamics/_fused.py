@@ -193,7 +193,8 @@ def _put(y, oq, ow, i):
 def _initial_step(t, y, f, span, rtol, atol, max_step, J, Ji, kind, par, tmp, k1, scale):
     """First step (Hairer, Norsett & Wanner, II.4), as SciPy's select_initial_step;
     one right-hand-side evaluation (into ``k1``), ``f`` the derivative at ``(t, y)``.
-    Shared by the one-body kernel and the lanes (a body's results are the same)."""
+    The one-body kernel's; the lanes run its operations, in its order, across the lanes
+    (:func:`poinsot.dynamics._fused_lanes.lane_first_steps`: the same bits, tested)."""
     for i in range(7):
         scale[i] = atol + abs(y[i]) * rtol
     d0 = _rms(y, scale)
