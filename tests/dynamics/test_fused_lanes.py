@@ -253,12 +253,22 @@ def test_first_steps_of_the_lanes_are_the_one_body_initial_step(kind):
             np.testing.assert_array_equal(first[b - 3, 7], h)
 
 
-def test_zero_atol_with_an_exact_zero_in_the_state_is_an_integration_error():
-    # scale = atol + rtol |y| = 0 for the identity's zero components: the lanes' first
-    # steps are NaN (no Python error model in a threaded kernel: it crashed with a
-    # SystemError before the first steps were computed across the lanes)
+@pytest.mark.parametrize("lanes", [True, False])
+def test_zero_atol_with_an_exact_zero_in_the_state_is_an_integration_error(lanes):
+    # scale = atol + rtol |y| = 0 for the identity's zero components: the first step is
+    # NaN (no Python error model in a threaded kernel: both kernels crashed with a
+    # SystemError), and the message names atol = 0 as the cause
     from poinsot import IntegrationError
 
-    with pytest.raises(IntegrationError, match="below round-off"):
+    _fused.LANES = lanes
+    try:
+        with pytest.raises(IntegrationError, match=r"below round-off.*`atol=0`"):
+            simulate([1.0, 2.0, 3.0], [1.0, 0.0, 0.0, 0.0], [0.1, 0.2, 0.3], [0.0, 1.0],
+                     rtol=1e-8, atol=0.0)  # fmt: skip
+        # the same body with atol > 0, or without an exact zero, integrates
         simulate([1.0, 2.0, 3.0], [1.0, 0.0, 0.0, 0.0], [0.1, 0.2, 0.3], [0.0, 1.0],
+                 rtol=1e-8, atol=1e-14)  # fmt: skip
+        simulate([1.0, 2.0, 3.0], [0.7, 0.1, 0.5, 0.5], [0.1, 0.2, 0.3], [0.0, 1.0],
                  rtol=1e-8, atol=0.0)  # fmt: skip
+    finally:
+        _fused.LANES = True

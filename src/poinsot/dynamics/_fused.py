@@ -189,7 +189,10 @@ def _put(y, oq, ow, i):
         ow[i, k] = y[4 + k]
 
 
-@njit(cache=True)
+# NumPy's error model: with atol = 0, a zero component of the state has scale 0 and its
+# norm is 0/0 = NaN, so the step is NaN and the body fails as STEP_TOO_SMALL, as in
+# the lanes; Python's model raised ZeroDivisionError inside a threaded kernel (SystemError)
+@njit(cache=True, error_model="numpy")
 def _initial_step(t, y, f, span, rtol, atol, max_step, J, Ji, kind, par, tmp, k1, scale):
     """First step (Hairer, Norsett & Wanner, II.4), as SciPy's select_initial_step;
     one right-hand-side evaluation (into ``k1``), ``f`` the derivative at ``(t, y)``.
@@ -217,7 +220,7 @@ def _initial_step(t, y, f, span, rtol, atol, max_step, J, Ji, kind, par, tmp, k1
     return min(100.0 * h0, h1, span, max_step)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def one_body(
     y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
 ):

@@ -703,17 +703,23 @@ def _fused_info(
                 qs[last + 1 :, b], ws[last + 1 :, b] = qs[last, b], ws[last, b]
     elif bad.size:
         first = int(bad[0])
-        reason = {
-            _fused.STEP_TOO_SMALL: "the step size fell below round-off",
-            _fused.TOO_MANY_STEPS: "it needed more than 10^6 steps",
-            _fused.NONFINITE: "the state became non-finite",
-        }[int(stats[first, 3])]
+        status = int(stats[first, 3])
         alive = np.flatnonzero(np.isfinite(ws[:, first, 0]))
         t_reached = float(tt[alive[-1]]) if alive.size else float(tt[0])
+        if atol == 0.0 and status == _fused.STEP_TOO_SMALL:
+            # the error scale atol + rtol |y| is 0 where a component is exactly 0
+            hint = (
+                "With `atol=0` a component that is exactly 0 (the identity's vector part, "
+                "a zero rate) allows no error at all: give `atol > 0`."
+            )
+        else:
+            hint = (
+                "The problem may be stiff or diverging: loosen `rtol`, shorten the run, "
+                "or check the torque."
+            )
         raise IntegrationError(
             f"dop853 integration failed for {bad.size} of {stats.shape[0]} bodies (first: body "
-            f"{first}): {reason} after t = {t_reached:.6g}. The problem may be stiff or diverging: "
-            f"loosen `rtol`, shorten the run, or check the torque."
+            f"{first}): {FAILURE_REASONS[status]} after t = {t_reached:.6g}. {hint}"
         )
     info = {
         "steps": stats[:, 0].copy(),
