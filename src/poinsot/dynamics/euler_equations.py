@@ -382,7 +382,10 @@ def simulate(
     rtol, atol : float, optional
         Tolerances of ``"adaptive"`` and ``"dop853"`` (defaults ``1e-10``,
         ``1e-12``): the local error of each step, per body, is kept below
-        ``atol + rtol |y|`` componentwise (RMS over the 7 components). The
+        ``atol + rtol |y|`` componentwise (RMS over the 7 components). With
+        ``atol=0`` a component that is exactly 0 (the identity's vector part, a
+        zero rate) allows no error at all, and ``"dop853"`` raises
+        :class:`~poinsot.IntegrationError` naming ``atol``. The
         fixed-step methods have none: passing ``rtol``/``atol`` (or ``solver``)
         with them raises :class:`~poinsot.InvalidInputError` instead of being
         ignored.
