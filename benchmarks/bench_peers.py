@@ -8,7 +8,9 @@ SymPy.
 Rules followed by every table:
 
 * same process, same run; each time is the **minimum** of ``--repeat`` runs
-  (after a warm-up that also compiles);
+  (after a warm-up that also compiles), and the runs are **interleaved**: each
+  round times poinsot and every peer of a row once, in turn, so that a slow spell
+  of the shared machine falls on all of them alike;
 * SciPy's OpenBLAS is pinned to one thread (threadpoolctl) for SciPy's runs:
   ``solve_ivp`` takes norms of the long state through BLAS, and on a shared
   machine a BLAS call waits for its second thread (about 10x slower for the same
@@ -57,16 +59,31 @@ def best(fn: Callable[[], object], repeat: int | None = None) -> float:
     return min(times)
 
 
-def best_calls(fn: Callable[[], object], number: int, repeat: int | None = None) -> float:
-    """Minimum over ``repeat`` rounds of the mean time of ``number`` calls of ``fn()``."""
-    fn()
-    times = []
-    for _ in range(repeat or REPEAT):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        times.append((time.perf_counter() - t0) / number)
-    return min(times)
+def interleaved(
+    fns: dict[str, Callable[[], object]],
+    number: int = 1,
+    repeat: int | None = None,
+    before: dict[str, Callable[[], object]] | None = None,
+) -> dict[str, float]:
+    """Per name, the minimum over ``repeat`` rounds of the mean time of ``number`` calls.
+
+    Each round times every function once, in turn (after one warm-up round), so that a
+    slow spell of the shared machine falls on poinsot and its peers alike: timed one
+    after the other, the same n = 2 pendulum call took 0.80 us in one process and
+    1.35-1.55 us in the next, the interpreter's empty loop 1.7x slower with it.
+    ``before[name]``, if given, runs untimed before each of that name's timings."""
+    before = before or {}
+    times: dict[str, list[float]] = {name: [] for name in fns}
+    for r in range((repeat or REPEAT) + 1):
+        for name, fn in fns.items():
+            if name in before:
+                before[name]()
+            t0 = time.perf_counter()
+            for _ in range(number):
+                fn()
+            if r:
+                times[name].append((time.perf_counter() - t0) / number)
+    return {name: min(ts) for name, ts in times.items()}
 
 
 def missing(name: str, exc: Exception) -> None:
@@ -113,8 +130,7 @@ def rotations(n: int) -> None:
     m_small = m[:SMALL]
     # The memory floor: the time per byte of copying an array as large as a matrix batch
     # (a fresh result array, its pages faulted in as any new NumPy result's are), times
-    # the bytes each operation must read and write.
-    per_byte = best(lambda: m.copy(), 2 * REPEAT) / (2 * m.nbytes)
+    # the bytes each operation must read and write; timed in each row's rounds.
     f8 = 8 * n
     ops: list[tuple[str, int, Callable[[], object], Callable[[], object]]] = [
         ("matrix -> quaternion", f8 * 13, lambda: Rotation.from_matrix(m), lambda: None),
@@ -172,28 +188,32 @@ def rotations(n: int) -> None:
 
     rows = []
     cores = os.cpu_count() or 1
+    per_bytes = []
     for k, (name, nbytes, ours, _) in enumerate(ops):
-        # pinned to every core, as the integrators below and as XLA runs: the default
-        # follows the load average, which this script's own runs raise (it then took
-        # one thread, so the column measured one thread twice)
-        set_threads(cores)
-        t_auto = best(ours)
-        set_threads(1)
-        t_one = best(ours)
+        # poinsot pinned to every core, as the integrators below and as XLA runs (the
+        # default follows the load average, which this script's own runs raise), and to
+        # one thread; every function of the row timed in the same interleaved rounds
+        fns: dict[str, Callable[[], object]] = {"auto": ours, "one": ours, "floor": m.copy}
+        fns.update((pname, fs[k]) for pname, fs in peers.items() if fs[k] is not None)
+        t = interleaved(
+            fns, before={"auto": lambda: set_threads(cores), "one": lambda: set_threads(1)}
+        )
         set_threads(None)
+        t_auto, t_one = t["auto"], t["one"]
+        per_byte = t["floor"] / (2 * m.nbytes)
+        per_bytes.append(per_byte)
         floor = per_byte * nbytes
         row = [name, f"{1e9 * t_auto / n:.1f}", f"{1e9 * t_one / n:.1f}", f"{1e9 * floor / n:.1f}"]
         best_peer, best_name = math.inf, "-"
-        for pname, fns in peers.items():
-            fn = fns[k]
-            if fn is None:
+        for pname in peers:
+            if pname not in t:
                 row.append("-")
                 continue
             slow = k == 0 and pname in ("numpy-quaternion", "quaternionic")
-            t = best(fn) * (n / SMALL if slow else 1.0)
-            row.append(f"{1e9 * t / n:.1f}" + ("*" if slow else ""))
-            if pname != "SciPy" and t < best_peer:
-                best_peer, best_name = t, pname
+            tp = t[pname] * (n / SMALL if slow else 1.0)
+            row.append(f"{1e9 * tp / n:.1f}" + ("*" if slow else ""))
+            if pname != "SciPy" and tp < best_peer:
+                best_peer, best_name = tp, pname
         row += [f"{best_peer / t_auto:.2f}x ({best_name})", f"{t_auto / floor:.2f}x"]
         rows.append(row)
     head = [f"N = {n:.0e}, ns per rotation", f"poinsot ({cores} thr)", "poinsot 1 thr"]
@@ -203,7 +223,8 @@ def rotations(n: int) -> None:
     print(f"  (* timed on {SMALL} rotations)")
     print(
         f"  (poinsot's default would take {_threads()} thread(s) now: the idle cores; copy floor = "
-        f"{1e-9 / per_byte:.1f} GB/s from copying the (N, 3, 3) batch; copying the (N, 4) "
+        f"{1e-9 / max(per_bytes):.1f}-{1e-9 / min(per_bytes):.1f} GB/s from copying the (N, 3, 3) "
+        f"batch in each row's rounds; copying the (N, 4) "
         f"quaternions, small enough for malloc to reuse its pages: "
         f"{1e9 * best(lambda: q.copy()) / n:.1f} ns per rotation)"
     )
@@ -565,34 +586,37 @@ def pendulum_rhs(ns: tuple[int, ...]) -> None:
         # are relative to the previous link (the same system in other coordinates)
         qv, vv = np.diff(y[:n], prepend=0.0), np.diff(y[n:], prepend=0.0)
         number = 20_000
-        t_ours = best_calls(lambda f=f, y=y: f(0.0, y), number)
-        row = [str(n), f"{1e6 * t_ours:.2f}"]
+        fns: dict[str, Callable[[], object]] = {"ours": lambda f=f, y=y: f(0.0, y)}
         try:
             pin, model, data = _pinocchio_pendulum(n)
             tau = np.zeros(n)
             a_pin = pin.aba(model, data, qv, vv, tau)
             assert np.allclose(np.cumsum(a_pin), acc, rtol=1e-9, atol=1e-9), (a_pin, acc)
-            t_pin = best_calls(lambda: pin.aba(model, data, qv, vv, tau), number)
-            row += [f"{1e6 * t_pin:.2f}", f"{t_pin / t_ours:.2f}x"]
+            fns["pin"] = lambda: pin.aba(model, data, qv, vv, tau)
         except ImportError as e:
             missing("pinocchio", e)
-            row += ["-", "-"]
         try:
-            mj, model, data = _mujoco_pendulum(n)
+            mj, model_mj, data_mj = _mujoco_pendulum(n)
 
             def mj_acc():
-                data.qpos[:] = qv
-                data.qvel[:] = vv
-                mj.mj_forward(model, data)
-                return data.qacc
+                data_mj.qpos[:] = qv
+                data_mj.qvel[:] = vv
+                mj.mj_forward(model_mj, data_mj)
+                return data_mj.qacc
 
             a_mj = mj_acc().copy()
             assert np.allclose(np.cumsum(a_mj), acc, rtol=1e-6, atol=1e-6), (a_mj, acc)
-            t_mj = best_calls(mj_acc, number)
-            row += [f"{1e6 * t_mj:.2f}", f"{t_mj / t_ours:.2f}x"]
+            fns["mj"] = mj_acc
         except ImportError as e:
             missing("mujoco", e)
-            row += ["-", "-"]
+        t = interleaved(fns, number)
+        t_ours = t["ours"]
+        row = [str(n), f"{1e6 * t_ours:.2f}"]
+        for key in ("pin", "mj"):
+            if key in t:
+                row += [f"{1e6 * t[key]:.2f}", f"{t[key] / t_ours:.2f}x"]
+            else:
+                row += ["-", "-"]
         rows.append(row)
     head = ["n-link pendulum, one state (us/call)", "poinsot f(t, y)", "Pinocchio aba"]
     head += ["aba / poinsot", "MuJoCo mj_forward", "mj_forward / poinsot"]
@@ -621,8 +645,8 @@ def derivation(n: int) -> None:
         k.kanes_equations(parts, loads)
         return k
 
-    t_ours = best(ours, max(1, REPEAT // 2))
-    t_kane = best(kane, max(1, REPEAT // 2))
+    t = interleaved({"ours": ours, "kane": kane}, repeat=max(1, REPEAT // 2))
+    t_ours, t_kane = t["ours"], t["kane"]
     rows = [[str(n), f"{t_ours:.2f}", f"{t_kane:.2f}", f"{t_kane / t_ours:.2f}x"]]
     head = ["n-link pendulum derivation (s)", "poinsot LagrangeSystem", "SymPy KanesMethod"]
     head.append("Kane / poinsot")

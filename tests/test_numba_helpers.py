@@ -4,6 +4,8 @@ ones, the torque models for the gravity kick."""
 
 from __future__ import annotations
 
+import platform
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as SciRotation
@@ -99,3 +101,24 @@ def test_fma_rounds_once_and_vertical_is_the_third_row():
     n2 = np.sum(q * q, axis=1)
     row = _sci(q).as_matrix()[:, 2, :]  # R^T e_z = third row of R
     np.testing.assert_allclose(out[:, 1:] / n2[:, None], row, rtol=0, atol=1e-15)
+
+
+@numba.njit
+def _sum_prefetching(a, ahead):
+    s = 0.0
+    for i in range(a.size):
+        nh.prefetch(a, i + ahead)  # far out of bounds on either side: never faults
+        s += a[i]
+    return s
+
+
+def test_prefetch_emits_the_instruction_and_changes_no_value():
+    """``prefetch`` compiles to x86's ``prefetcht0`` (the hint is really there), does not
+    fault for indices far outside the array, and the loop's value is NumPy's."""
+    a = RNG.normal(size=1000)
+    expected = float(np.add.reduce(a[:, None], axis=1).cumsum()[-1])  # sequential sum
+    for ahead in (0, 64, 10**9, -(10**9)):
+        assert _sum_prefetching(a, ahead) == expected
+    if platform.machine().lower() in ("x86_64", "amd64"):
+        asm = _sum_prefetching.inspect_asm(_sum_prefetching.signatures[0])
+        assert "prefetcht0" in asm

@@ -53,6 +53,7 @@ __all__ = [
     "fma",
     "store_nt",
     "fence",
+    "prefetch",
     "gravity_kick",
     "vertical",
     "midpoint_newton_step",
@@ -66,6 +67,7 @@ _INLINE: dict[str, Any] = {"inline": "always"}
 fma: Any
 store_nt: Any
 fence: Any
+prefetch: Any
 if NUMBA:
     from llvmlite import ir
     from numba.core import types
@@ -123,8 +125,34 @@ if NUMBA:
 
         return types.void(), codegen
 
+    @intrinsic
+    def _prefetch(typingctx, a, i):  # pragma: no cover - compiled
+        """Ask for the cache line of ``a[i]`` (``a`` a 1-D C array; ``i`` may be out of
+        bounds: a prefetch never faults): ``llvm.prefetch`` (``prefetcht0`` on x86). It
+        changes no value, only when a later load finds its line in the caches."""
+        sig = types.void(a, i)
+
+        def codegen(context, builder, signature, args):
+            from numba.core import cgutils
+
+            arrty = signature.args[0]
+            ary = context.make_array(arrty)(context, builder, value=args[0])
+            ptr = cgutils.get_item_pointer(
+                context, builder, arrty, ary, [args[1]], wraparound=False, boundscheck=False
+            )
+            i8p, i32 = ir.IntType(8).as_pointer(), ir.IntType(32)
+            fnty = ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32])
+            fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.prefetch.p0")
+            # read, keep in every cache level, data (not instruction) cache
+            flags = [ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)]
+            builder.call(fn, [builder.bitcast(ptr, i8p), *flags])
+            return context.get_dummy_value()
+
+        return sig, codegen
+
     store_nt = _store_nt
     fence = _fence
+    prefetch = _prefetch
 else:  # the NumPy executor: one rounding more (its results are not numba's bit for bit)
 
     def _fma_numpy(a: Any, b: Any, c: Any) -> Any:
@@ -136,9 +164,13 @@ else:  # the NumPy executor: one rounding more (its results are not numba's bit 
     def _fence_numpy() -> None:
         pass
 
+    def _prefetch_numpy(a: Any, i: Any) -> None:
+        pass
+
     fma = _fma_numpy
     store_nt = _store_numpy
     fence = _fence_numpy
+    prefetch = _prefetch_numpy
 
 
 #: ``P o Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`` (theory §1): the plain-Python

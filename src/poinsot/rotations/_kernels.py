@@ -233,6 +233,13 @@ def to_matrix_flat(q, m):  # pragma: no cover - compiled
 
 #: Rotations per block of :func:`from_matrix_flat` (its buffers, 15 * 8 * 256 bytes, stay in L1).
 _BLOCK = 256
+#: How many matrices ahead :func:`from_matrix_flat` asks for the lines it will read
+#: (software prefetch; both ends of a 72-byte matrix, so that no line is skipped).
+#: Without it the transposition's loads waited on memory: on 10^6 matrices (72 MB, from
+#: DRAM; one thread, a Zen 4 EPYC) the kernel took 21 ns per rotation against 8-9.5 on
+#: batches that fit in L3, and 10 ns with it. Measured on the transposition alone:
+#: 8.8 ns per matrix without, 5.8 / 5.2 / 5.1 / 6.0 ns 16 / 32 / 64 / 128 matrices ahead.
+_AHEAD = 64
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -261,6 +268,7 @@ def from_matrix_flat(a, q, err, det, bad, tol):  # pragma: no cover - compiled
     parts = min(bad.shape[0], blocks)
     per = -(-blocks // parts)
     dst = q.reshape(-1)
+    src = a.reshape(-1)
     for p in prange(parts):
         buf = np.empty((9, _BLOCK))
         out = np.empty((6, _BLOCK))
@@ -269,6 +277,9 @@ def from_matrix_flat(a, q, err, det, bad, tol):  # pragma: no cover - compiled
             lo = b * _BLOCK
             m = min(lo + _BLOCK, n) - lo
             for j in range(m):
+                i = 9 * (lo + j + _AHEAD)  # see _AHEAD
+                nh.prefetch(src, i)
+                nh.prefetch(src, i + 8)
                 for c in range(9):
                     buf[c, j] = a[lo + j, c]
             # two loops rather than a test of `full` in one: LLVM vectorised that one
