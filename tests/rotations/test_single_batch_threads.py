@@ -463,3 +463,40 @@ def test_streamed_inverse_is_the_exact_conjugate():
         set_num_threads(n0)
     s = SciPyRotation.from_quat(q, scalar_first=True).inv().as_quat(scalar_first=True)
     np.testing.assert_allclose(got, s, rtol=0, atol=1e-15)
+
+
+def test_streamed_matrices_equal_plain_stores_bit_for_bit():
+    """A batch whose (N, 3, 3) result is large enough for the streaming stores
+    (``_kernels.STREAM_MIN_BYTES``) gives, bit for bit on 1 and on every thread, the
+    matrices of sub-batches written with plain stores and of single rotations, and
+    SciPy's to round-off; an odd count, so rows past the last full part are written."""
+    from poinsot.rotations._kernels import STREAM_MIN_BYTES
+
+    n = STREAM_MIN_BYTES // 72 + 1001
+    q = np.random.default_rng(8).normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    r = Rotation.from_quat(q)
+    step = max(PARALLEL_MIN_SIZE, n // 8)  # sub-batches below STREAM_MIN_BYTES
+    assert 72 * step < STREAM_MIN_BYTES
+    want = np.concatenate([r[i : i + step].as_matrix() for i in range(0, n, step)])
+    rows = np.r_[0:3, n - 3 : n]
+    singles = np.array([r[int(i)].as_matrix() for i in rows])
+    np.testing.assert_array_equal(want[rows], singles)
+    n0 = get_num_threads()
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            set_num_threads(threads)
+            got = r.as_matrix()
+            assert got.tobytes() == want.tobytes(), threads
+    finally:
+        set_num_threads(n0)
+    # A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T in extended precision (where NumPy has it)
+    ql = q.astype(np.longdouble)
+    w, v = ql[:, 0], ql[:, 1:]
+    exact = (2 * w * w - 1)[:, None, None] * np.eye(3, dtype=np.longdouble)
+    exact += 2 * v[:, :, None] * v[:, None, :]
+    x, y, z = v.T
+    hat = np.zeros((n, 3, 3), dtype=np.longdouble)
+    hat[:, 0, 1], hat[:, 0, 2], hat[:, 1, 2] = -z, y, -x
+    exact += 2 * w[:, None, None] * (hat - hat.transpose(0, 2, 1))
+    np.testing.assert_allclose(got, exact.astype(float), rtol=0, atol=2e-14)  # seen 1.3e-15
