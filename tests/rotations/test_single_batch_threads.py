@@ -144,6 +144,7 @@ def _all_ops(r, v, ang):
             "apply_inv": r.apply(v, inverse=True),
             "apply_one": r[3].apply(v),
             "inv": r.inv().as_quat(),
+            "magnitude": r.magnitude(),
         }
 
 
@@ -500,3 +501,29 @@ def test_streamed_matrices_equal_plain_stores_bit_for_bit():
     hat[:, 0, 1], hat[:, 0, 2], hat[:, 1, 2] = -z, y, -x
     exact += 2 * w[:, None, None] * (hat - hat.transpose(0, 2, 1))
     np.testing.assert_allclose(got, exact.astype(float), rtol=0, atol=2e-14)  # seen 1.3e-15
+
+
+def test_large_batch_magnitude_is_the_angle():
+    """A large batch's angles (compiled |l|, |l0|, then NumPy's atan2 in chunks) against
+    the angles the rotations were built from, SciPy, and the one-rotation path; the
+    sign of ``l0`` does not matter (q and -q), nor does 0 or pi exactly."""
+    from poinsot.rotations._lazy import CHUNK
+
+    n = max(PARALLEL_MIN_SIZE, 5 * CHUNK) + 17  # several chunks, the last one partial
+    rng = np.random.default_rng(21)
+    f = rng.uniform(0.0, np.pi, n)
+    f[:3] = 0.0, np.pi, np.pi / 2
+    e = rng.standard_normal((n, 3))
+    e /= np.linalg.norm(e, axis=1, keepdims=True)
+    q = np.concatenate([np.cos(f / 2)[:, None], np.sin(f / 2)[:, None] * e], axis=1)
+    q[1::2] *= -1.0  # the same rotations
+    r = Rotation.from_quat(q)
+    got = r.magnitude()
+    assert got.shape == (n,) and got[0] == 0.0
+    np.testing.assert_allclose(got, f, rtol=0, atol=2e-14)  # seen 4.4e-16 (q rounded)
+    s = SciPyRotation.from_quat(q, scalar_first=True).magnitude()
+    np.testing.assert_allclose(got, s, rtol=0, atol=2e-14)
+    rows = np.r_[0:5, n - 5 : n]
+    singles = np.array([r[int(i)].magnitude() for i in rows])
+    np.testing.assert_allclose(got[rows], singles, rtol=0, atol=2e-14)  # libm vs SIMD atan2
+    assert r[: 17 * 1200].reshape(1200, 17).magnitude().shape == (1200, 17)

@@ -59,6 +59,7 @@ def _callable_when_compiled(fn):
 
 for _fn in (
     S.matrix_residual,
+    S.angle_atan2_args,
     S.euler_atan2_args,
     S.euler_from_atan2,
     S.rotvec_angle,
@@ -82,6 +83,7 @@ _to_euler = _inline(S.to_euler)
 _euler_atan2_args = _inline(S.euler_atan2_args)
 _euler_from_atan2 = _inline(S.euler_from_atan2)
 _rotvec_angle = _inline(S.rotvec_angle)
+_angle_atan2_args = _inline(S.angle_atan2_args)
 _from_rotvec_tan = _inline(S.from_rotvec_tan)
 
 
@@ -376,6 +378,13 @@ def euler_from_atan2_flat(h, seq, angles, singular):  # pragma: no cover - compi
         a, b, c, s = _euler_from_atan2(h[0, n], h[1, n], h[2, n], i, j, k, extrinsic, 1e-7)
         angles[n, 0], angles[n, 1], angles[n, 2] = a, b, c
         singular[n] = s
+
+
+@njit(cache=True, nogil=True)
+def angle_atan2_args_flat(q, buf):  # pragma: no cover - compiled
+    # buf (2, m): the y = |l| and x = |l0| of 2 atan2(y, x)
+    for n in range(q.shape[0]):
+        buf[0, n], buf[1, n] = _angle_atan2_args(q[n, 0], q[n, 1], q[n, 2], q[n, 3])
 
 
 @njit(cache=True, nogil=True)

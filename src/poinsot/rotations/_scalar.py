@@ -419,8 +419,18 @@ def euler_from_atan2(
 
 
 def angle(w: float, x: float, y: float, z: float) -> float:
-    """Rotation angle in ``[0, pi]``: ``2 atan2(|l|, |l0|)`` (theory §2)."""
-    return 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), abs(w))
+    """Rotation angle in ``[0, pi]``: ``2 atan2(|l|, |l0|)`` (theory §2).
+
+    Written as :func:`angle_atan2_args` and ``atan2``: large batches take the
+    ``atan2`` from NumPy's vectorised loop in between.
+    """
+    s, c = angle_atan2_args(w, x, y, z)
+    return 2.0 * math.atan2(s, c)
+
+
+def angle_atan2_args(w: float, x: float, y: float, z: float) -> tuple[float, float]:
+    """The ``(|l|, |l0|)`` whose ``2 atan2`` is :func:`angle`."""
+    return math.sqrt(x * x + y * y + z * z), abs(w)
 
 
 def cross(

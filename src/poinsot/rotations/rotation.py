@@ -916,7 +916,7 @@ class Rotation:
         q = self._q
         if q.ndim == 1:
             return np.float64(one.angle1(q))
-        return (2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0])))[()]
+        return rotvec_mod.angle_from_quat(q)[()]
 
     def __pow__(self, n: ArrayLike) -> Rotation:
         """``r ** n``: the rotation about the same axis by ``n`` times its angle.

@@ -10,7 +10,7 @@ import numpy as np
 
 from ._lazy import big, chunked, flat, kernels, threaded
 
-__all__ = ["quat_from_rotvec", "rotvec_from_quat"]
+__all__ = ["angle_from_quat", "quat_from_rotvec", "rotvec_from_quat"]
 
 _D3 = np.zeros(3)
 _D4 = np.zeros(4)
@@ -40,3 +40,22 @@ def rotvec_from_quat(q: np.ndarray) -> np.ndarray:
         threaded(kernels().to_rotvec_flat, flat(q, 4), v.reshape(-1, 3))
         return v
     return kernels().quat_to_rotvec(q, _D3)
+
+
+def angle_from_quat(q: np.ndarray) -> np.ndarray:
+    """``f = |phi| = 2 atan2(|l|, |l0|)`` in ``[0, pi]`` for unit ``q`` (..., 4) -> (...)."""
+    if big(q.shape[:-1]):
+        qf = flat(q, 4)
+        f = np.empty(qf.shape[0])
+        k = kernels()
+
+        def step(lo: int, hi: int) -> None:
+            buf = np.empty((2, hi - lo))
+            k.angle_atan2_args_flat(qf[lo:hi], buf)
+            out = f[lo:hi]
+            np.arctan2(buf[0], buf[1], out=out)
+            out *= 2.0
+
+        chunked(step, qf.shape[0])
+        return f.reshape(q.shape[:-1])
+    return 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0]))
