@@ -145,6 +145,8 @@ def _all_ops(r, v, ang):
             "apply_one": r[3].apply(v),
             "inv": r.inv().as_quat(),
             "magnitude": r.magnitude(),
+            "mrp": r.as_mrp(),
+            "from_mrp": Rotation.from_mrp(v * 2).as_quat(),
         }
 
 
@@ -527,3 +529,24 @@ def test_large_batch_magnitude_is_the_angle():
     singles = np.array([r[int(i)].magnitude() for i in rows])
     np.testing.assert_allclose(got[rows], singles, rtol=0, atol=2e-14)  # libm vs SIMD atan2
     assert r[: 17 * 1200].reshape(1200, 17).magnitude().shape == (1200, 17)
+
+
+@pytest.mark.parametrize("scale", [1e99, 1e150, 1e300])
+def test_large_mrp_batch_with_far_rows(scale):
+    """A large batch of MRPs with one far row (``|p|^2`` near or past overflow): the
+    compiled pass hands the batch back to the shadow-set path when ``|p|^2 > 1e199``,
+    so every row equals its one-rotation result and the far row is the rotation by
+    ``f = 4 atan(|p|) -> 2 pi``, ``L -> (-1, 2 e / |p|)``; the near rows agree with
+    SciPy."""
+    n = PARALLEL_MIN_SIZE + 3
+    p = np.random.default_rng(9).uniform(-3, 3, (n, 3))
+    p[n // 2] = 0.0, 0.0, scale
+    got = Rotation.from_mrp(p).as_quat()
+    rows = np.r_[0:3, n // 2, n - 3 : n]
+    singles = np.array([Rotation.from_mrp(p[i]).as_quat() for i in rows])
+    np.testing.assert_array_equal(got[rows], singles)
+    np.testing.assert_allclose(got[n // 2], [-1.0, 0.0, 0.0, 2.0 / scale], rtol=1e-15)
+    near = np.ones(n, bool)
+    near[n // 2] = False
+    s = SciPyRotation.from_mrp(p[near]).as_quat(scalar_first=True)
+    np.testing.assert_allclose(got[near], s, rtol=0, atol=1e-14)

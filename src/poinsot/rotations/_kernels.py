@@ -77,6 +77,7 @@ _from_rotvec = _inline(S.from_rotvec)
 _to_rotvec = _inline(S.to_rotvec)
 _canonical = _inline(S.canonical)
 _to_mrp = _inline(S.to_mrp)
+_from_mrp = _inline(S.from_mrp)
 _angle = _inline(S.angle)
 _euler_quat = _inline(S.from_euler)
 _to_euler = _inline(S.to_euler)
@@ -339,6 +340,30 @@ def from_matrix_flat(a, q, err, det, bad, tol):  # pragma: no cover - compiled
         if stream:
             nh.fence()
         bad[p] = count
+
+
+@njit(**_PAR)
+def to_mrp_flat(q, p):  # pragma: no cover - compiled
+    for n in prange(q.shape[0]):
+        w, x, y, z = _canonical(q[n, 0], q[n, 1], q[n, 2], q[n, 3])
+        p[n, 0], p[n, 1], p[n, 2] = _to_mrp(w, x, y, z)
+
+
+#: |p|^2 above which :func:`from_mrp_flat` leaves a batch to the caller's shadow-set
+#: path (which takes ``-p / |p|^2`` for ``|p| > 1e100``): below it, both agree.
+MRP_DIRECT_MAX = 1e199
+
+
+@njit(**_PAR)
+def from_mrp_flat(p, q):  # pragma: no cover - compiled
+    # returns how many rows have |p|^2 > MRP_DIRECT_MAX (or NaN): the caller then
+    # converts the batch its own way
+    far = 0
+    for n in prange(p.shape[0]):
+        a, b, c = p[n, 0], p[n, 1], p[n, 2]
+        far += not (a * a + b * b + c * c <= MRP_DIRECT_MAX)
+        q[n, 0], q[n, 1], q[n, 2], q[n, 3] = _from_mrp(a, b, c)
+    return far
 
 
 @njit(**_PAR)

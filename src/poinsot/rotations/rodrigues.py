@@ -18,6 +18,7 @@ import numpy as np
 
 from .._vec import length as length_array
 from ..errors import SingularityWarning
+from ._lazy import big, flat, kernels, threaded
 from .quaternion import canonical_array
 
 __all__ = ["quat_from_gibbs", "gibbs_from_quat", "quat_from_mrp", "mrp_from_quat"]
@@ -61,17 +62,27 @@ def quat_from_mrp(p: np.ndarray) -> np.ndarray:
     For ``|p| > 1e100`` (where ``|p|^2`` could overflow) the shadow set
     ``-p / |p|^2`` (the same rotation, ``-L``) is used and the sign restored.
     """
+    if big(p.shape[:-1]):  # one compiled pass, unless a row needs the shadow set
+        q = np.empty(p.shape[:-1] + (4,))
+        if threaded(kernels().from_mrp_flat, flat(p, 3), q.reshape(-1, 4)) == 0:
+            return q
     n = length_array(p)
-    big = n > 1e100
-    if np.any(big):
-        safe = np.where(big, n, 1.0)[..., None]
-        p = np.where(big[..., None], -p / safe / safe, p)
-    n2 = np.einsum("...i,...i->...", p, p)[..., None]
+    far = n > 1e100
+    if np.any(far):
+        safe = np.where(far, n, 1.0)[..., None]
+        p = np.where(far[..., None], -p / safe / safe, p)
+    # summed in the order of the compiled and one-rotation paths (einsum's may differ)
+    a, b, c = p[..., 0], p[..., 1], p[..., 2]
+    n2 = (a * a + b * b + c * c)[..., None]
     q = np.concatenate([1.0 - n2, 2.0 * p], axis=-1) / (1.0 + n2)
-    return np.where(big[..., None], -q, q) if np.any(big) else q
+    return np.where(far[..., None], -q, q) if np.any(far) else q
 
 
 def mrp_from_quat(q: np.ndarray) -> np.ndarray:
     """``p = l / (1 + l0)`` (with ``l0 >= 0``, so ``|p| <= 1``) for unit quaternions."""
+    if big(q.shape[:-1]):
+        p = np.empty(q.shape[:-1] + (3,))
+        threaded(kernels().to_mrp_flat, flat(q, 4), p.reshape(-1, 3))
+        return p
     q = _positive_scalar(q)
     return q[..., 1:] / (1.0 + q[..., :1])
