@@ -550,3 +550,37 @@ def test_large_mrp_batch_with_far_rows(scale):
     near[n // 2] = False
     s = SciPyRotation.from_mrp(p[near]).as_quat(scalar_first=True)
     np.testing.assert_allclose(got[near], s, rtol=0, atol=1e-14)
+
+
+def test_large_mean_is_the_symmetric_centre_on_any_thread_count():
+    """Rotations in pairs ``c exp(+d)``, ``c exp(-d)`` about a centre ``c`` have ``c``
+    as their chordal mean (the cross terms of ``sum q q^T`` cancel, leaving ``c c^T``
+    plus directions orthogonal to ``c``): a large set (compiled partial sums over
+    fixed chunks, the last one partial), with equal weights per pair, over all
+    rotations and per column; the same bits on 1 and on every thread; SciPy."""
+    from poinsot.rotations.rotation import _MEAN_CHUNK
+
+    half = (PARALLEL_MIN_SIZE + 3 * _MEAN_CHUNK) // 2 + 7
+    rng = np.random.default_rng(17)
+    centre = Rotation.from_rotvec([0.3, -1.2, 2.0])
+    v = rng.normal(scale=0.4, size=(half, 3))
+    v /= np.maximum(1.0, np.linalg.norm(v, axis=1))[:, None]  # |d| <= 1 < pi / 2: the
+    d = Rotation.from_rotvec(v)  # centre stays the top eigenvector of every pair too
+    r = Rotation.concatenate([centre * d, centre * d.inv()])
+    w = np.tile(rng.uniform(0.1, 2.0, half), 2)
+    n0 = get_num_threads()
+    try:
+        got = {}
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            set_num_threads(threads)
+            got[threads] = (r.mean().as_quat(), r.mean(w).as_quat())
+            cols = r.reshape(2, half).mean(w.reshape(2, half), axis=0)
+    finally:
+        set_num_threads(n0)
+    (a, aw), (b, bw) = got.values()
+    assert a.tobytes() == b.tobytes() and aw.tobytes() == bw.tobytes()
+    for q in (a, aw):
+        assert (Rotation.from_quat(q).inv() * centre).magnitude() < 1e-13  # seen 2.2e-15
+    assert ((cols.inv() * centre).magnitude() < 1e-13).all()
+    s = SciPyRotation.from_quat(r.as_quat(), scalar_first=True).mean(w)
+    assert (Rotation.from_scipy(s).inv() * Rotation.from_quat(aw)).magnitude() < 1e-13

@@ -343,6 +343,34 @@ def from_matrix_flat(a, q, err, det, bad, tol):  # pragma: no cover - compiled
 
 
 @njit(**_PAR)
+def outer_sums_flat(q, w, chunk, out):  # pragma: no cover - compiled
+    # out[k, c] = the 10 entries (upper triangle, row by row) of sum w_i q_i q_i^T over
+    # rotations [c chunk, (c + 1) chunk) of set k: fixed chunks, so the caller's sum of
+    # them does not depend on the thread count
+    sets, n = w.shape
+    parts = out.shape[1]
+    for t in prange(sets * parts):
+        k, c = t // parts, t % parts
+        s00 = s01 = s02 = s03 = s11 = s12 = s13 = s22 = s23 = s33 = 0.0
+        for i in range(c * chunk, min(n, (c + 1) * chunk)):
+            a, b, d, e = q[k, i, 0], q[k, i, 1], q[k, i, 2], q[k, i, 3]
+            wa, wb, wd, we = w[k, i] * a, w[k, i] * b, w[k, i] * d, w[k, i] * e
+            s00 += wa * a
+            s01 += wa * b
+            s02 += wa * d
+            s03 += wa * e
+            s11 += wb * b
+            s12 += wb * d
+            s13 += wb * e
+            s22 += wd * d
+            s23 += wd * e
+            s33 += we * e
+        out[k, c, 0], out[k, c, 1], out[k, c, 2], out[k, c, 3] = s00, s01, s02, s03
+        out[k, c, 4], out[k, c, 5], out[k, c, 6] = s11, s12, s13
+        out[k, c, 7], out[k, c, 8], out[k, c, 9] = s22, s23, s33
+
+
+@njit(**_PAR)
 def to_mrp_flat(q, p):  # pragma: no cover - compiled
     for n in prange(q.shape[0]):
         w, x, y, z = _canonical(q[n, 0], q[n, 1], q[n, 2], q[n, 3])

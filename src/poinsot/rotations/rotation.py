@@ -1032,9 +1032,33 @@ class Rotation:
         wk = np.transpose(w, (*kept, *axes)).reshape(*kept_shape, n)
         if np.any(np.sum(wk, axis=-1) == 0):
             raise InvalidInputError("Expected `weights` not to be all zero.")
-        m = np.einsum("...i,...ij,...ik->...jk", wk, qk, qk)
+        m = _outer_sums(qk, wk)
         _, vecs = np.linalg.eigh(m)
         return Rotation._wrap(vecs[..., :, -1])
+
+
+#: Rotations per partial sum of :func:`_outer_sums` (fixed: no dependence on threads).
+_MEAN_CHUNK = 4096
+#: (row, column) of the 10 entries :func:`_outer_sums`'s kernel returns.
+_UPPER = np.triu_indices(4)
+
+
+def _outer_sums(q: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``M = sum_i w_i q_i q_i^T`` (..., 4, 4) over the next-to-last axis of ``q``
+    (..., n, 4), ``w`` (..., n): one compiled pass for large sets (partial sums over
+    fixed chunks, added in order), NumPy's ``einsum`` otherwise."""
+    if not big(q.shape[:-1]):
+        return np.einsum("...i,...ij,...ik->...jk", w, q, q)
+    lead, n = q.shape[:-2], q.shape[-2]
+    qf = np.ascontiguousarray(q).reshape(-1, n, 4)
+    wf = np.ascontiguousarray(w, dtype=float).reshape(-1, n)
+    parts = np.empty((qf.shape[0], -(-n // _MEAN_CHUNK), 10))
+    threaded(kernels().outer_sums_flat, qf, wf, _MEAN_CHUNK, parts)
+    upper = parts.sum(axis=1)
+    m = np.empty((qf.shape[0], 4, 4))
+    m[:, _UPPER[0], _UPPER[1]] = upper
+    m[:, _UPPER[1], _UPPER[0]] = upper
+    return m.reshape(*lead, 4, 4)
 
 
 def _as_rotation(r: object, name: str) -> Rotation:
