@@ -187,13 +187,15 @@ def qmul_flat(p, q, r):  # pragma: no cover - compiled
 
 
 @njit(**_PAR)
-def qrot_flat(q, v, out):  # pragma: no cover - compiled
+def qrot_flat(q, v, s, out):  # pragma: no cover - compiled
+    # s = -1.0 rotates by the conjugates (an exact sign flip: the inverse without a
+    # conjugated copy of the batch)
     lq, lv = q.shape[0] - 1, v.shape[0] - 1
     for n in prange(out.shape[0]):
         a = min(np.int64(n), lq)
         b = min(np.int64(n), lv)
         out[n, 0], out[n, 1], out[n, 2] = _rotate(
-            q[a, 0], q[a, 1], q[a, 2], q[a, 3], v[b, 0], v[b, 1], v[b, 2]
+            q[a, 0], s * q[a, 1], s * q[a, 2], s * q[a, 3], v[b, 0], v[b, 1], v[b, 2]
         )
 
 

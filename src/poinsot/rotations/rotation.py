@@ -895,11 +895,8 @@ class Rotation:
             shape = _broadcast_shapes("the rotations and `vectors`", shape, v.shape[:-1])
         k = kernels()
         if big(shape) and self.shape in (shape, ()) and v.shape[:-1] in (shape, ()):
-            qf = flat(q, 4)
-            if inv:
-                qf = conjugate_array(qf)
             out = np.empty(shape + (3,))
-            threaded(k.qrot_flat, qf, flat(v, 3), out.reshape(-1, 3))
+            threaded(k.qrot_flat, flat(q, 4), flat(v, 3), -1.0 if inv else 1.0, out.reshape(-1, 3))
             return out
         if inv:
             q = conjugate_array(q)
