@@ -157,3 +157,44 @@ def test_bad_inputs_are_named():
         RigidTransform.from_dual_quat(np.zeros(8))
     with pytest.raises(InvalidInputError, match="translation"):
         RigidTransform.from_components([1.0, 2.0], Rotation.identity())
+
+
+@pytest.mark.parametrize("streamed", [False, True])
+def test_large_batch_matrices_equal_small_batches_on_any_thread_count(streamed):
+    """A large batch's homogeneous matrices (one compiled pass; with streaming stores
+    once the result reaches ``_kernels.STREAM_MIN_BYTES``) are, bit for bit on 1 and on
+    every thread, those of small batches (NumPy assembly of ``Rotation.as_matrix``),
+    with the last row ``(0, 0, 0, 1)`` and ``R`` orthonormal to round-off; a broadcast
+    (read-only, strided) translation included."""
+    import numba
+
+    from poinsot.rotations import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
+    from poinsot.rotations._kernels import STREAM_MIN_BYTES
+
+    n = (STREAM_MIN_BYTES // 128 if streamed else PARALLEL_MIN_SIZE) + 1001
+    rng = np.random.default_rng(13)
+    r = Rotation.from_quat(rng.normal(size=(n, 4)))
+    t = rng.normal(size=(n, 3))
+    t[: n // 2] = [1.0, -2.0, 3.0]
+    tf = RigidTransform.from_components(t, r)
+    want = np.concatenate([tf[i : i + 5000].as_matrix() for i in range(0, n, 5000)])
+    n0 = get_num_threads()
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            set_num_threads(threads)
+            got = tf.as_matrix()
+            assert got.tobytes() == want.tobytes(), threads
+    finally:
+        set_num_threads(n0)
+    np.testing.assert_array_equal(got[:, 3], np.broadcast_to([0.0, 0.0, 0.0, 1.0], (n, 4)))
+    np.testing.assert_array_equal(got[:, :3, 3], t)
+    rt = got[:, :3, :3]
+    np.testing.assert_allclose(
+        rt @ rt.transpose(0, 2, 1), np.broadcast_to(np.eye(3), (n, 3, 3)), atol=1e-14
+    )
+    single = RigidTransform.from_components(t[7], r[7]).as_matrix()
+    np.testing.assert_array_equal(got[7], single)
+    one_t = RigidTransform.from_components([1.0, 2.0, 3.0], r)  # broadcast translation
+    np.testing.assert_array_equal(
+        one_t.as_matrix()[:, :3, 3], np.broadcast_to([1.0, 2.0, 3.0], (n, 3))
+    )

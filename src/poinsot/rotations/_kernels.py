@@ -251,6 +251,37 @@ def to_matrix_flat(q, m):  # pragma: no cover - compiled
         nh.fence()
 
 
+@njit(**_PAR)
+def to_matrix4_flat(q, t, m):  # pragma: no cover - compiled
+    # homogeneous [[R, t], [0, 0, 0, 1]] in rows of 16, each value stored in address
+    # order (streamed as in to_matrix_flat)
+    n = q.shape[0]
+    if m.nbytes < STREAM_MIN_BYTES:
+        for i in prange(n):
+            r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
+            for k in range(3):
+                m[i, 4 * k], m[i, 4 * k + 1], m[i, 4 * k + 2] = r[3 * k], r[3 * k + 1], r[3 * k + 2]
+                m[i, 4 * k + 3] = t[i, k]
+            m[i, 12], m[i, 13], m[i, 14], m[i, 15] = 0.0, 0.0, 0.0, 1.0
+        return
+    dst = m.reshape(-1)
+    size = -(-n // _STREAM_PARTS)
+    for part in prange(_STREAM_PARTS):
+        for i in range(part * size, min(n, (part + 1) * size)):
+            r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
+            o = 16 * i
+            for k in range(3):
+                nh.store_nt(dst, o + 4 * k, r[3 * k])
+                nh.store_nt(dst, o + 4 * k + 1, r[3 * k + 1])
+                nh.store_nt(dst, o + 4 * k + 2, r[3 * k + 2])
+                nh.store_nt(dst, o + 4 * k + 3, t[i, k])
+            nh.store_nt(dst, o + 12, 0.0)
+            nh.store_nt(dst, o + 13, 0.0)
+            nh.store_nt(dst, o + 14, 0.0)
+            nh.store_nt(dst, o + 15, 1.0)
+        nh.fence()
+
+
 #: Rotations per block of :func:`from_matrix_flat` (its buffers, 15 * 8 * 256 bytes, stay in L1).
 _BLOCK = 256
 #: How many matrices ahead :func:`from_matrix_flat` asks for the lines it will read

@@ -20,6 +20,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_float_array, as_trailing
 from .._vec import cross, dot
 from ..errors import InvalidInputError, InvalidTypeError
+from ._lazy import big, flat, kernels, threaded
 from .rotation import Rotation
 
 __all__ = ["RigidTransform", "FiniteScrew", "sclerp"]
@@ -280,6 +281,11 @@ class RigidTransform:
         >>> RigidTransform.from_translation([1.0, 0, 0]).as_matrix()[0]
         array([1., 0., 0., 1.])
         """
+        if big(self.shape):  # one compiled pass
+            m = np.empty(self.shape + (4, 4))
+            q = flat(self._rotation._q, 4)
+            threaded(kernels().to_matrix4_flat, q, flat(self._t, 3), m.reshape(-1, 16))
+            return m
         m = np.zeros(self.shape + (4, 4))
         m[..., :3, :3] = self._rotation.as_matrix()
         m[..., :3, 3] = self._t
