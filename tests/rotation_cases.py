@@ -74,3 +74,21 @@ SCIPY_EMPTY = _scipy_can(lambda R: R.from_quat(np.empty((0, 4))).as_matrix().sha
 SCIPY_POWER = _scipy_can(
     lambda R: abs((R.from_rotvec([0.0, 0.0, 1.0]) ** -1.3).as_rotvec()[2] + 1.3) < 1e-13
 )
+
+
+def on_one_and_every_thread(fn):
+    """``[fn() on one thread, fn() on every thread]`` (``poinsot.rotations``'
+    ``set_num_threads``), the thread setting restored afterwards."""
+    import numba
+
+    from poinsot.rotations import get_num_threads, set_num_threads
+
+    n0 = get_num_threads()
+    try:
+        out = []
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            set_num_threads(threads)
+            out.append(fn())
+        return out
+    finally:
+        set_num_threads(n0)

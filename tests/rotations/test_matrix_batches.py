@@ -120,9 +120,7 @@ def test_streamed_batch_equals_sub_batches_bit_for_bit_on_any_thread_count():
     arrays) is, bit for bit, what sub-batches of the plain-store kernel and the
     one-rotation path give, on one and on every thread; and the exact quaternion
     to round-off."""
-    import numba
-
-    from poinsot.rotations import get_num_threads, set_num_threads
+    from rotation_cases import on_one_and_every_thread
 
     m, exact = _streamed_batch()
     n = len(m)
@@ -132,14 +130,8 @@ def test_streamed_batch_equals_sub_batches_bit_for_bit_on_any_thread_count():
     rows = np.r_[0:5, n - 5 : n]
     singles = np.array([Rotation.from_matrix(m[i]).as_quat() for i in rows])
     np.testing.assert_array_equal(want[rows], singles)
-    n0 = get_num_threads()
-    try:
-        for threads in (1, numba.config.NUMBA_NUM_THREADS):
-            set_num_threads(threads)
-            got = Rotation.from_matrix(m).as_quat()
-            assert got.tobytes() == want.tobytes(), threads
-    finally:
-        set_num_threads(n0)
+    for got in on_one_and_every_thread(lambda: Rotation.from_matrix(m).as_quat()):
+        assert got.tobytes() == want.tobytes()
     assert _sign_free_distance(got, exact).max() < 5e-15  # observed 4.7e-16
 
 

@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation as SciPyRotation
 
 from poinsot import GimbalLockWarning, InvalidInputError, InvalidTypeError, Rotation, slerp
 from poinsot.rotations import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
-from rotation_cases import SCIPY_EMPTY, all_quaternions
+from rotation_cases import SCIPY_EMPTY, all_quaternions, on_one_and_every_thread
 
 Q = all_quaternions()
 SEQS = ["ZXZ", "zxz", "XYZ", "xyz", "ZYX", "yzy", "XZY", "euler", "krylov"]
@@ -174,14 +174,7 @@ def test_large_batches_equal_small_batches(big):
 
 def test_threads_give_bit_identical_results(big):
     r, v, ang = big
-    n0 = get_num_threads()
-    try:
-        set_num_threads(1)
-        one = _all_ops(r, v, ang)
-        set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        many = _all_ops(r, v, ang)
-    finally:
-        set_num_threads(n0)
+    one, many = on_one_and_every_thread(lambda: _all_ops(r, v, ang))
     for name in one:
         np.testing.assert_array_equal(one[name], many[name], err_msg=name)
 
@@ -456,14 +449,8 @@ def test_streamed_inverse_is_the_exact_conjugate():
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     r = Rotation.from_quat(q)
     want = q * np.array([1.0, -1.0, -1.0, -1.0])
-    n0 = get_num_threads()
-    try:
-        for threads in (1, numba.config.NUMBA_NUM_THREADS):
-            set_num_threads(threads)
-            got = r.inv().as_quat()
-            assert got.tobytes() == want.tobytes(), threads
-    finally:
-        set_num_threads(n0)
+    for got in on_one_and_every_thread(lambda: r.inv().as_quat()):
+        assert got.tobytes() == want.tobytes()
     s = SciPyRotation.from_quat(q, scalar_first=True).inv().as_quat(scalar_first=True)
     np.testing.assert_allclose(got, s, rtol=0, atol=1e-15)
 
@@ -485,14 +472,8 @@ def test_streamed_matrices_equal_plain_stores_bit_for_bit():
     rows = np.r_[0:3, n - 3 : n]
     singles = np.array([r[int(i)].as_matrix() for i in rows])
     np.testing.assert_array_equal(want[rows], singles)
-    n0 = get_num_threads()
-    try:
-        for threads in (1, numba.config.NUMBA_NUM_THREADS):
-            set_num_threads(threads)
-            got = r.as_matrix()
-            assert got.tobytes() == want.tobytes(), threads
-    finally:
-        set_num_threads(n0)
+    for got in on_one_and_every_thread(r.as_matrix):
+        assert got.tobytes() == want.tobytes()
     # A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T in extended precision (where NumPy has it)
     ql = q.astype(np.longdouble)
     w, v = ql[:, 0], ql[:, 1:]
@@ -568,16 +549,8 @@ def test_large_mean_is_the_symmetric_centre_on_any_thread_count():
     d = Rotation.from_rotvec(v)  # centre stays the top eigenvector of every pair too
     r = Rotation.concatenate([centre * d, centre * d.inv()])
     w = np.tile(rng.uniform(0.1, 2.0, half), 2)
-    n0 = get_num_threads()
-    try:
-        got = {}
-        for threads in (1, numba.config.NUMBA_NUM_THREADS):
-            set_num_threads(threads)
-            got[threads] = (r.mean().as_quat(), r.mean(w).as_quat())
-            cols = r.reshape(2, half).mean(w.reshape(2, half), axis=0)
-    finally:
-        set_num_threads(n0)
-    (a, aw), (b, bw) = got.values()
+    (a, aw), (b, bw) = on_one_and_every_thread(lambda: (r.mean().as_quat(), r.mean(w).as_quat()))
+    cols = r.reshape(2, half).mean(w.reshape(2, half), axis=0)
     assert a.tobytes() == b.tobytes() and aw.tobytes() == bw.tobytes()
     for q in (a, aw):
         assert (Rotation.from_quat(q).inv() * centre).magnitude() < 1e-13  # seen 2.2e-15

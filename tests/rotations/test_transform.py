@@ -166,10 +166,9 @@ def test_large_batch_matrices_equal_small_batches_on_any_thread_count(streamed):
     every thread, those of small batches (NumPy assembly of ``Rotation.as_matrix``),
     with the last row ``(0, 0, 0, 1)`` and ``R`` orthonormal to round-off; a broadcast
     (read-only, strided) translation included."""
-    import numba
-
-    from poinsot.rotations import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
+    from poinsot.rotations import PARALLEL_MIN_SIZE
     from poinsot.rotations._kernels import STREAM_MIN_BYTES
+    from rotation_cases import on_one_and_every_thread
 
     n = (STREAM_MIN_BYTES // 128 if streamed else PARALLEL_MIN_SIZE) + 1001
     rng = np.random.default_rng(13)
@@ -178,14 +177,8 @@ def test_large_batch_matrices_equal_small_batches_on_any_thread_count(streamed):
     t[: n // 2] = [1.0, -2.0, 3.0]
     tf = RigidTransform.from_components(t, r)
     want = np.concatenate([tf[i : i + 5000].as_matrix() for i in range(0, n, 5000)])
-    n0 = get_num_threads()
-    try:
-        for threads in (1, numba.config.NUMBA_NUM_THREADS):
-            set_num_threads(threads)
-            got = tf.as_matrix()
-            assert got.tobytes() == want.tobytes(), threads
-    finally:
-        set_num_threads(n0)
+    for got in on_one_and_every_thread(tf.as_matrix):
+        assert got.tobytes() == want.tobytes()
     np.testing.assert_array_equal(got[:, 3], np.broadcast_to([0.0, 0.0, 0.0, 1.0], (n, 4)))
     np.testing.assert_array_equal(got[:, :3, 3], t)
     rt = got[:, :3, :3]

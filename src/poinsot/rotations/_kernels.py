@@ -228,57 +228,52 @@ def conj_flat(q, out):  # pragma: no cover - compiled
         nh.fence()
 
 
-@njit(**_PAR)
-def to_matrix_flat(q, m):  # pragma: no cover - compiled
-    n = q.shape[0]
-    if m.nbytes < STREAM_MIN_BYTES:
-        for i in prange(n):
-            r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
-            for k in range(9):
-                m[i, k] = r[k]
-        return
-    # Streamed (see STREAM_MIN_BYTES): the fresh result's pages come zeroed by the OS
-    # and already evicted, so an ordinary store would read each line back first. On
-    # 10^6 rotations (a Zen 4 EPYC, 11 interleaved rounds) 9.2 instead of 10.4 ns per
-    # rotation on one thread, 5.8 against 5.9 on two; into a reused array 3.3 against 4.0.
-    dst = m.reshape(-1)
-    size = -(-n // _STREAM_PARTS)
-    for part in prange(_STREAM_PARTS):
-        for i in range(part * size, min(n, (part + 1) * size)):
-            r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
-            for k in range(9):
-                nh.store_nt(dst, 9 * i + k, r[k])
-        nh.fence()
+@njit(inline="always")
+def _put(dst, i, v, stream):  # pragma: no cover - compiled
+    if stream:
+        nh.store_nt(dst, i, v)
+    else:
+        dst[i] = v
+
+
+@njit(inline="always")
+def _matrix_row(dst, q, t, i, width, stream):  # pragma: no cover - compiled
+    # row i of to_matrix_flat, each value stored in address order: streaming stores
+    # that alternated between the two cache lines of a 16-row took 390 ns per row
+    # instead of 12 (10^6 rows, 2 threads)
+    r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
+    o = width * i
+    if width == 9:
+        for k in range(9):
+            _put(dst, o + k, r[k], stream)
+    else:
+        for k in range(3):
+            _put(dst, o + 4 * k, r[3 * k], stream)
+            _put(dst, o + 4 * k + 1, r[3 * k + 1], stream)
+            _put(dst, o + 4 * k + 2, r[3 * k + 2], stream)
+            _put(dst, o + 4 * k + 3, t[i, k], stream)
+        for k in range(12, 15):
+            _put(dst, o + k, 0.0, stream)
+        _put(dst, o + 15, 1.0, stream)
 
 
 @njit(**_PAR)
-def to_matrix4_flat(q, t, m):  # pragma: no cover - compiled
-    # homogeneous [[R, t], [0, 0, 0, 1]] in rows of 16, each value stored in address
-    # order (streamed as in to_matrix_flat)
-    n = q.shape[0]
+def to_matrix_flat(q, t, m):  # pragma: no cover - compiled
+    # Rows of 9 (R), or of 16 ([[R, t], [0, 0, 0, 1]], t given per row). Streamed from
+    # STREAM_MIN_BYTES: the fresh result's pages come zeroed by the OS and already
+    # evicted, so an ordinary store would read each line back first. On 10^6 rotations
+    # (a Zen 4 EPYC, 11 interleaved rounds) 9.2 instead of 10.4 ns per rotation on one
+    # thread, 5.8 against 5.9 on two; into a reused array 3.3 against 4.0.
+    n, width = q.shape[0], m.shape[1]
+    dst = m.reshape(-1)
     if m.nbytes < STREAM_MIN_BYTES:
         for i in prange(n):
-            r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
-            for k in range(3):
-                m[i, 4 * k], m[i, 4 * k + 1], m[i, 4 * k + 2] = r[3 * k], r[3 * k + 1], r[3 * k + 2]
-                m[i, 4 * k + 3] = t[i, k]
-            m[i, 12], m[i, 13], m[i, 14], m[i, 15] = 0.0, 0.0, 0.0, 1.0
+            _matrix_row(dst, q, t, i, width, False)
         return
-    dst = m.reshape(-1)
     size = -(-n // _STREAM_PARTS)
     for part in prange(_STREAM_PARTS):
         for i in range(part * size, min(n, (part + 1) * size)):
-            r = _to_matrix(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
-            o = 16 * i
-            for k in range(3):
-                nh.store_nt(dst, o + 4 * k, r[3 * k])
-                nh.store_nt(dst, o + 4 * k + 1, r[3 * k + 1])
-                nh.store_nt(dst, o + 4 * k + 2, r[3 * k + 2])
-                nh.store_nt(dst, o + 4 * k + 3, t[i, k])
-            nh.store_nt(dst, o + 12, 0.0)
-            nh.store_nt(dst, o + 13, 0.0)
-            nh.store_nt(dst, o + 14, 0.0)
-            nh.store_nt(dst, o + 15, 1.0)
+            _matrix_row(dst, q, t, i, width, True)
         nh.fence()
 
 

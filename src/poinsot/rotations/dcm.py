@@ -35,6 +35,8 @@ _NONE = np.empty(0)
 #: Parts of a large batch for ``from_matrix_flat`` (each a run of whole blocks, spread
 #: over the threads; each counts its bad matrices).
 _PARTS = 64
+#: ``to_matrix_flat``'s translations, unused for rows of 9.
+_NO_T = np.empty((0, 3))
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
@@ -42,7 +44,7 @@ def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     if big(q.shape[:-1]):
         f = flat(q, 4)
         m = np.empty((f.shape[0], 9))
-        threaded(kernels().to_matrix_flat, f, m)
+        threaded(kernels().to_matrix_flat, f, _NO_T, m)
         return m.reshape(q.shape[:-1] + (3, 3))
     return kernels().quat_to_matrix(q, _D3)
 

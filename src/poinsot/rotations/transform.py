@@ -284,7 +284,7 @@ class RigidTransform:
         if big(self.shape):  # one compiled pass
             m = np.empty(self.shape + (4, 4))
             q = flat(self._rotation._q, 4)
-            threaded(kernels().to_matrix4_flat, q, flat(self._t, 3), m.reshape(-1, 16))
+            threaded(kernels().to_matrix_flat, q, flat(self._t, 3), m.reshape(-1, 16))
             return m
         m = np.zeros(self.shape + (4, 4))
         m[..., :3, :3] = self._rotation.as_matrix()
