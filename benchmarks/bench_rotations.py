@@ -30,7 +30,12 @@ from scipy.spatial.transform import Slerp
 
 from poinsot import Rotation, slerp
 from poinsot.kinematics import rates as K
-from poinsot.rotations import get_num_threads, set_num_threads
+from poinsot.rotations import RigidTransform, get_num_threads, set_num_threads
+
+try:  # SciPy >= 1.16
+    from scipy.spatial.transform import RigidTransform as SciPyTransform
+except ImportError:
+    SciPyTransform = None
 
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 
@@ -466,7 +471,7 @@ def main(n: int = 1_000_000) -> None:
         SciPyRotation.from_quat(q, scalar_first=True),
         SciPyRotation.from_quat(r2.as_quat(), scalar_first=True),
     )
-    m, rv = r.as_matrix(), r.as_rotvec()
+    m, rv, mrp = r.as_matrix(), r.as_rotvec(), r.as_mrp()
     warnings.simplefilter("ignore")
 
     floor_s = median_time(lambda: q.copy(), repeat=15)
@@ -497,10 +502,30 @@ def main(n: int = 1_000_000) -> None:
         ("quat->euler", lambda: r.as_euler("ZXZ"), lambda: s.as_euler("ZXZ"), None),
         ("compose", lambda: r * r2, lambda: s * s2, f8 * 12),
         ("apply", lambda: r.apply(v), lambda: s.apply(v), f8 * (4 + 3 + 3)),
+        (
+            "apply inverse",
+            lambda: r.apply(v, inverse=True),
+            lambda: s.apply(v, inverse=True),
+            f8 * (4 + 3 + 3),
+        ),
         ("inverse", lambda: r.inv(), lambda: s.inv(), f8 * 8),
+        ("magnitude", lambda: r.magnitude(), lambda: s.magnitude(), None),
+        ("quat->mrp", lambda: r.as_mrp(), lambda: s.as_mrp(), f8 * (4 + 3)),
+        ("mrp->quat", lambda: Rotation.from_mrp(mrp), lambda: SciPyRotation.from_mrp(mrp), None),
+        ("mean", lambda: r.mean(), lambda: s.mean(), f8 * 4),
     ]
+    if SciPyTransform is not None:
+        tf, tf_s = RigidTransform.from_components(v, r), SciPyTransform.from_components(v, s)
+        ops.append(("transform->matrix", tf.as_matrix, tf_s.as_matrix, f8 * (4 + 3 + 16)))
     rows, ratios = [], []
     threads = get_num_threads()
+    try:  # SciPy's BLAS on one thread (its mean multiplies matrices; see bench_peers.py)
+        from threadpoolctl import threadpool_limits
+
+        pinned = threadpool_limits(1)
+        blas = "SciPy's BLAS pinned to 1 thread"
+    except ImportError:
+        pinned, blas = None, "SciPy's BLAS not pinned (no threadpoolctl)"
     for name, ours, theirs, nbytes in ops:
         one, many, auto, sci = [], [], [], []
         for _ in range(5):  # interleaved: one thread, every thread, default, SciPy
@@ -528,10 +553,12 @@ def main(n: int = 1_000_000) -> None:
                 floor,
             ]
         )
+    if pinned is not None:
+        pinned.unregister()
     print(
         f"N = {n:,} rotations (ns per rotation), {threads} numba threads, load average "
         f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; medians of 5 interleaved rounds "
-        "(each the best of 3); "
+        f"(each the best of 3); {blas}; "
         f"memory floor from q.copy(): {2 * q.nbytes / floor_s / 1e9:.1f} GB/s"
     )
     head = ["operation", "1 thread", f"{threads} threads", "default", "SciPy"]
