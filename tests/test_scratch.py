@@ -8,6 +8,7 @@ are unchanged by later calls; arrays handed to ``simulate`` stay the caller's.
 from __future__ import annotations
 
 import threading
+import time
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -121,17 +122,26 @@ def test_the_callers_arrays_stay_theirs_and_results_are_read_only():
 
 @pytest.mark.skipif(not NUMBA, reason="half a second compiled: minutes as Python")
 def test_a_progress_callback_that_simulates_again_does_not_disturb_the_outer_run():
-    # long enough (~0.5 s) for the progress reports of the running kernel (every 0.1 s)
+    # long enough (>= 0.5 s on this CPU, however fast) for the progress reports of the
+    # running kernel (every 0.1 s): 300 s of motion took 0.5 s on one machine and under
+    # 0.1 s on a faster one, where no report came before the end
     moments, quat, omega = _problem(5, n=3000)
-    expected = _arrays(_run(moments, quat, omega, duration=300.0))
     small = _problem(6, n=3000)  # the same sizes: the outer run's arrays would fit
+    _run(*small)  # compiled (or loaded from the cache) before anything is timed
+    duration = 300.0
+    while True:
+        start = time.perf_counter()
+        expected = _arrays(_run(moments, quat, omega, duration=duration))
+        if time.perf_counter() - start >= 0.5 or duration > 1e5:
+            break
+        duration *= 2.0
     inner = []
 
     def progress(fraction):
         if fraction < 1.0:
             inner.append(_run(*small))
 
-    got = _run(moments, quat, omega, duration=300.0, progress=progress)
+    got = _run(moments, quat, omega, duration=duration, progress=progress)
     assert inner  # called while the kernel ran
     assert _same(_arrays(got), expected)
     assert _same(_arrays(inner[-1]), _arrays(_run(*small)))

@@ -164,8 +164,8 @@ def test_large_batch_matrices_equal_small_batches_on_any_thread_count(streamed):
     """A large batch's homogeneous matrices (one compiled pass; with streaming stores
     once the result reaches ``_kernels.STREAM_MIN_BYTES``) are, bit for bit on 1 and on
     every thread, those of small batches (NumPy assembly of ``Rotation.as_matrix``),
-    with the last row ``(0, 0, 0, 1)`` and ``R`` orthonormal to round-off; a broadcast
-    (read-only, strided) translation included."""
+    with the last row ``(0, 0, 0, 1)``, the translations as given and ``R`` orthonormal
+    to round-off; one translation given for every rotation too."""
     from poinsot.rotations import PARALLEL_MIN_SIZE
     from poinsot.rotations._kernels import STREAM_MIN_BYTES
     from rotation_cases import on_one_and_every_thread
@@ -187,7 +187,7 @@ def test_large_batch_matrices_equal_small_batches_on_any_thread_count(streamed):
     )
     single = RigidTransform.from_components(t[7], r[7]).as_matrix()
     np.testing.assert_array_equal(got[7], single)
-    one_t = RigidTransform.from_components([1.0, 2.0, 3.0], r)  # broadcast translation
+    one_t = RigidTransform.from_components([1.0, 2.0, 3.0], r)  # broadcast to every rotation
     np.testing.assert_array_equal(
         one_t.as_matrix()[:, :3, 3], np.broadcast_to([1.0, 2.0, 3.0], (n, 3))
     )
