@@ -129,6 +129,9 @@ def _print_result(
         print(line)
     names = ", ".join(p.name for p in files)
     print(f"outputs: {out}{'/' if not str(out).endswith('/') else ''} ({names})")
+    report = [p for p in files if p.name == "report.html"]
+    if report:  # the one file to open: said last, as a path a browser takes
+        print(f"report: {Path(report[0]).resolve().as_uri()}")
 
 
 def _run_with_progress(scenario: Any, out: Path, args: argparse.Namespace) -> Any:

@@ -344,6 +344,11 @@ def test_user_facing_text_cites_the_theory_page_not_spec(capsys, tmp_path):
     for f in files:
         assert "SPEC" not in f.read_text(), f
     code, out, err = run(
-        capsys, "demo", "--out", tmp_path / "d", "--no-report", "--duration", "0.5"
+        capsys, "demo", "--out", tmp_path / "d", "--no-figures", "--duration", "0.5"
     )
     assert code == 0 and "SPEC" not in out + err and "docs/theory.md §" in out
+    # the demo ends by saying where its report is, as a path a browser opens
+    last = out.splitlines()[-1]
+    assert last.startswith("report: file://"), last
+    assert Path(last.removeprefix("report: file://")) == (tmp_path / "d" / "report.html").resolve()
+    assert (tmp_path / "d" / "report.html").is_file()
