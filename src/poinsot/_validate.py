@@ -28,6 +28,7 @@ __all__ = [
     "as_matrix3",
     "as_positive",
     "as_bool",
+    "read_regular_file",
     "plain_vec3",
     "plain_floats",
     "as_choice",
@@ -330,3 +331,66 @@ def check_rotation_matrix(
             f"got det = {worst:.6g}."
         )
     return s
+
+
+def read_regular_file(path: Any, *, max_bytes: int, what: str) -> bytes:
+    """The bytes of the regular file ``path``, refused before reading if it is not one.
+
+    A scenario names its files, so a FIFO would block the reader forever, a link to
+    ``/dev/zero`` would fill the memory and a junk file of hundreds of MB would be parsed
+    whole: the file is opened without blocking, checked to be a regular file of at most
+    ``max_bytes`` bytes (``fstat`` on the open descriptor: what is read is what was
+    checked), and read with that bound. Raises :class:`InvalidInputError` naming the
+    file and ``what`` it should have been; ``FileNotFoundError``, ``IsADirectoryError``
+    and other ``OSError`` pass through for the caller to word.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> p = os.path.join(d, "a.txt")
+    >>> _ = open(p, "w").write("hello")
+    >>> read_regular_file(p, max_bytes=16, what="a text file")
+    b'hello'
+    >>> pipe = os.path.join(d, "pipe")
+    >>> os.mkfifo(pipe)
+    >>> read_regular_file(pipe, max_bytes=16, what="a text file")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    poinsot.errors.InvalidInputError: .../pipe: expected a text file (a regular file), got a FIFO.
+    """
+    import os
+    import stat
+
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        st = os.fstat(fd)
+        if stat.S_ISDIR(st.st_mode):
+            raise IsADirectoryError(21, "Is a directory", str(path))
+        if not stat.S_ISREG(st.st_mode):
+            kinds = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+                     (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))  # fmt: skip
+            kind = next((name for test, name in kinds if test(st.st_mode)), "another file type")
+            raise InvalidInputError(f"{path}: expected {what} (a regular file), got {kind}.")
+        if st.st_size > max_bytes:
+            raise InvalidInputError(
+                f"{path}: expected {what} of at most {max_bytes / 2**20:g} MiB, got "
+                f"{st.st_size / 2**20:.4g} MiB; the limit guards against reading a wrong "
+                "file whole."
+            )
+        chunks = []
+        left = max_bytes + 1  # a file that grows while read is still bounded
+        while left > 0:
+            chunk = os.read(fd, min(left, 1 << 20))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            left -= len(chunk)
+        if left <= 0:
+            raise InvalidInputError(
+                f"{path}: expected {what} of at most {max_bytes / 2**20:g} MiB; it grew "
+                "beyond that while being read."
+            )
+        return b"".join(chunks)
+    finally:
+        os.close(fd)

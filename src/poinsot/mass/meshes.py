@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray, IntArray
-from .._validate import as_positive, as_trailing
+from .._validate import as_int, as_positive, as_trailing, read_regular_file
 from ..errors import InvalidInputError, InvalidTypeError
 
 __all__ = ["MeshProperties", "mesh", "read_mesh"]
@@ -224,7 +224,14 @@ def mesh(
 
 
 # ------------------------------------------------------------------------------ reading
-def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
+#: Largest mesh file :func:`read_mesh` reads by default (bytes): 256 MiB, a binary STL
+#: of 5 million triangles.
+MAX_MESH_BYTES = 256 * 2**20
+
+
+def read_mesh(
+    path: str | os.PathLike[str], *, max_bytes: int = MAX_MESH_BYTES
+) -> tuple[FloatArray, IntArray]:
     """Vertices and triangles of a Wavefront OBJ or an STL (ASCII or binary) file.
 
     OBJ (``.obj``): ``v x y z`` lines are vertices and ``f i j k ...`` lines
@@ -241,7 +248,11 @@ def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
     ----------
     path : str or path-like
         The file: ``.obj`` (OBJ) or ``.stl`` (STL), any case; another suffix is
-        refused before the file is opened (a ``.ply`` is not an STL).
+        refused before the file is opened (a ``.ply`` is not an STL). Only a regular
+        file is read (a FIFO or a device is refused without blocking).
+    max_bytes : int, optional
+        Largest file size read (bytes), default :data:`MAX_MESH_BYTES` (256 MiB): a
+        larger file is refused before it is read.
 
     Returns
     -------
@@ -280,6 +291,7 @@ def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
         raise InvalidTypeError(
             f"Expected `path` to be a str or os.PathLike, got {type(path).__name__}."
         )
+    max_bytes = as_int(max_bytes, "max_bytes", minimum=1)
     p = Path(path)
     if p.suffix.lower() not in (".obj", ".stl"):
         raise InvalidInputError(
@@ -287,7 +299,7 @@ def read_mesh(path: str | os.PathLike[str]) -> tuple[FloatArray, IntArray]:
             f"{p.suffix or '(none)'!r}."
         )
     try:
-        raw = p.read_bytes()
+        raw = read_regular_file(p, max_bytes=max_bytes, what="a mesh file")
     except FileNotFoundError:
         raise InvalidInputError(f"{path}: no such mesh file.") from None
     except IsADirectoryError:

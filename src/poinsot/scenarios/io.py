@@ -19,7 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InvalidTypeError, PoinsotError
+from .._validate import read_regular_file
+from ..errors import InvalidInputError, InvalidTypeError, PoinsotError
 from ._toml import ScenarioError, Table, locate_keys
 from .schema import (
     MAX_SAMPLES,
@@ -86,6 +87,11 @@ def demo_scenario_text() -> str:
     return resources.files("poinsot.scenarios").joinpath("tennis_racket.toml").read_text("utf-8")
 
 
+#: Largest scenario file read (bytes): 1 MiB, a hundred times the longest shipped
+#: example; a larger file is refused before it is read (docs/cli.md, 'Limits').
+MAX_SCENARIO_BYTES = 2**20
+
+
 def load_scenario(path: str | os.PathLike[str], *, allow_paths: bool = False) -> Scenario:
     """Read and validate a scenario file.
 
@@ -139,7 +145,10 @@ def load_scenario(path: str | os.PathLike[str], *, allow_paths: bool = False) ->
         )
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8-sig")  # a UTF-8 byte-order mark is skipped
+        raw = read_regular_file(p, max_bytes=MAX_SCENARIO_BYTES, what="a TOML scenario file")
+        text = raw.decode("utf-8-sig")  # a UTF-8 byte-order mark is skipped
+    except InvalidInputError as exc:
+        raise ScenarioError(str(exc).removeprefix(f"{p}: "), file=str(path)) from None
     except FileNotFoundError:
         raise ScenarioError("no such file.", file=str(path)) from None
     except IsADirectoryError:
