@@ -352,3 +352,50 @@ def test_user_facing_text_cites_the_theory_page_not_spec(capsys, tmp_path):
     assert last.startswith("report: file://"), last
     assert Path(last.removeprefix("report: file://")) == (tmp_path / "d" / "report.html").resolve()
     assert (tmp_path / "d" / "report.html").is_file()
+
+
+_FULL_DISK = """
+import resource, signal, sys
+from poinsot.cli import main
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails with EFBIG
+resource.setrlimit(resource.RLIMIT_FSIZE, (int(sys.argv[1]), resource.RLIM_INFINITY))
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.parametrize("existing", [False, True])
+def test_a_run_that_cannot_write_keeps_nothing_and_names_the_folder(tmp_path, existing):
+    """Issue 38: a full disk during `run` left four files without summary.json, so a
+    retry needed --force. The file-size limit of the OS (RLIMIT_FSIZE, in a subprocess)
+    makes a real write fail part-way, as a full disk does."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    argv = [
+        "run",
+        "--no-figures",
+        "--duration",
+        "2",
+        "--out",
+        str(out),
+        str(EXAMPLES / "tennis_racket.toml"),
+    ]
+    if existing:  # a forced rerun over a complete earlier run keeps that run intact
+        assert main([*argv, "--quiet"]) == 0
+        before = {p.name: p.read_bytes() for p in out.iterdir()}
+        argv.append("--force")
+    proc = subprocess.run(
+        [sys.executable, "-c", _FULL_DISK, "20000", *argv],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert f"cannot write the outputs: {out}" in proc.stderr, proc.stderr
+    assert "File too large" in proc.stderr and "nothing of this run was kept" in proc.stderr
+    if existing:
+        assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    else:
+        assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir() if p.name != "out"] == []  # no staging left
+    # the retry needs nothing more than the same command
+    assert main([*argv, "--quiet"]) == 0 and (out / "summary.json").is_file()

@@ -2,8 +2,8 @@
 
 :func:`write_outputs` writes ``trajectory.csv`` (or ``.npz``), the PNG figures of
 the scenario's kind, ``report.html`` and ``summary.json`` (last, so that its
-presence marks a complete run), every file through a temporary name in the same
-directory and :func:`os.replace`; :func:`run_scenario` solves and writes.
+presence marks a complete run), all of them into a staging folder beside the output
+directory, moved into place once complete; :func:`run_scenario` solves and writes.
 
 Figures are drawn on :class:`matplotlib.figure.Figure` objects made here, never
 through pyplot: the caller's backend and figures are left alone.
@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -255,6 +257,29 @@ def _report(
 
 
 # ----------------------------------------------------------------------------- public
+def _publish(stage: Path, out: Path, names: list[str]) -> list[Path]:
+    """Move the complete outputs ``names`` from ``stage`` into ``out``.
+
+    An empty ``out`` is replaced by the staging folder in one rename. Into a non-empty
+    one (``--force``) the old ``summary.json`` goes first and the new one last, so that
+    the folder never looks complete in between; outputs of an earlier run that this one
+    did not rewrite are removed.
+    """
+    if not any(out.iterdir()):
+        out.rmdir()
+        os.rename(stage, out)
+    else:
+        (out / "summary.json").unlink(missing_ok=True)
+        for name in names:
+            if name != "summary.json":
+                os.replace(stage / name, out / name)
+        for name in OUTPUT_FILES:  # outputs of an earlier run that this one did not rewrite
+            if name not in names:
+                (out / name).unlink(missing_ok=True)
+        os.replace(stage / "summary.json", out / "summary.json")
+    return [out / name for name in names]
+
+
 def _check_fmt(fmt: Any) -> None:
     if fmt not in ("csv", "npz"):
         raise InvalidInputError(f"Expected `format` (--format) to be 'csv' or 'npz', got {fmt!r}.")
@@ -275,9 +300,10 @@ def write_outputs(
     Files: ``trajectory.csv`` or ``trajectory.npz`` (and ``reference.csv``/``.npz``
     with a reference method), the figures of the scenario's kind (``omega.png``,
     ``invariants.png``, and MacCullagh's and Poinsot's pictures for a free body),
-    ``report.html`` and, last, ``summary.json``. Each file is written to a
-    temporary name in ``out`` and renamed. ``result`` is not modified: writing
-    twice gives the same files.
+    ``report.html`` and, last, ``summary.json``. The files are written into a
+    staging folder beside ``out`` and moved into place once all are complete, so a
+    failure while writing (a full disk) leaves ``out`` as it was. ``result`` is not
+    modified: writing twice gives the same files.
 
     Returns
     -------
@@ -289,6 +315,8 @@ def write_outputs(
     InvalidInputError
         ``fmt`` is not ``"csv"`` or ``"npz"``; ``out`` exists, is not empty and
         ``force`` is false.
+    OSError
+        A file cannot be written (``filename`` is ``out``; nothing of the run is kept).
 
     Notes
     -----
@@ -299,31 +327,42 @@ def write_outputs(
     _check_fmt(fmt)
     progress = progress or quiet_progress
     out = prepare_output_dir(out, force=force)
-    # a forced rerun first removes the old summary, so that the directory never looks
-    # complete until the new summary is written
-    (out / "summary.json").unlink(missing_ok=True)
     summary = result.sections()  # a fresh dict: the result itself is never changed
     notes: list[str] = summary["run"]["notes"]
-    files = _write_trajectory(result, result.trajectory, out / f"trajectory.{fmt}", fmt)
-    if result.reference is not None:
-        files += _write_trajectory(result, result.reference, out / f"reference.{fmt}", fmt)
-    progress(0.0, "writing the trajectory")
-    if figures:
-        progress(0.2, "figures")
-        files += _figures(result, out, notes)
-    if report:
-        progress(0.5, "report")
-        files += _report(result, summary, out, notes)
-    else:
-        notes.append("report.html not written (--no-report)")
-    summary_path = out / "summary.json"
-    summary["run"]["files"] = [p.name for p in files] + [summary_path.name]
-    files.append(
-        _atomic(summary_path, lambda fh: json.dump(summary, fh, indent=2, allow_nan=False))
-    )
-    for name in OUTPUT_FILES:  # outputs of an earlier run that this one did not rewrite
-        if name not in summary["run"]["files"]:
-            (out / name).unlink(missing_ok=True)
+    # every file goes into a staging folder beside ``out`` (same file system), moved into
+    # place once all are written: a run that fails while writing (a full disk) leaves
+    # ``out`` as it was, so a retry needs no --force
+    stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=out.parent))
+    try:
+        files = _write_trajectory(result, result.trajectory, stage / f"trajectory.{fmt}", fmt)
+        if result.reference is not None:
+            files += _write_trajectory(result, result.reference, stage / f"reference.{fmt}", fmt)
+        progress(0.0, "writing the trajectory")
+        if figures:
+            progress(0.2, "figures")
+            files += _figures(result, stage, notes)
+        if report:
+            progress(0.5, "report")
+            files += _report(result, summary, stage, notes)
+        else:
+            notes.append("report.html not written (--no-report)")
+        summary["run"]["files"] = [p.name for p in files] + ["summary.json"]
+        files.append(
+            _atomic(
+                stage / "summary.json",
+                lambda fh: json.dump(summary, fh, indent=2, allow_nan=False),
+            )
+        )
+        files = _publish(stage, out, [p.name for p in files])
+    except OSError as exc:  # named by the folder the user chose, not the staging file
+        raise OSError(
+            exc.errno,
+            f"{exc.strerror or exc} (while writing {Path(exc.filename or '').name or 'a file'};"
+            " nothing of this run was kept)",
+            str(out),
+        ) from exc
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
     progress(1.0, "done")
     return OutputFiles(files, notes)
 
