@@ -176,7 +176,7 @@ def thread_count() -> int:
 
 def threaded(kernel: Callable[..., Any], *args: Any) -> Any:
     """Call a threaded flat kernel with the thread count described in the module notes."""
-    if _USER_THREADS:
+    if _USER_THREADS or not _numba():  # the NumPy executor runs on the calling thread
         return kernel(*args)
     from numba import get_num_threads as _get
     from numba import set_num_threads as _set
