@@ -151,3 +151,15 @@ def test_invariants_and_torques_wrong_types():
         D.CallableTorque(lambda t, q, w: w, frame=None)
     with pytest.raises(InvalidTypeError, match="`inertia`"):
         D.kinetic_energy(None, W0)
+
+
+def test_apsides_index_like_the_pair_they_unpack_to():
+    """Issue 38: ``CentralOrbit.apsides[0]`` raised TypeError."""
+    from poinsot.dynamics import CentralOrbit
+
+    orbit = CentralOrbit(lambda r: -1.0 / r, energy=-0.3, angular_momentum=1.0)
+    r_min, r_max = orbit.apsides
+    assert orbit.apsides[0] == r_min and orbit.apsides[1] == r_max and len(orbit.apsides) == 2
+    # Kepler, mu = m = 1: r = p / (1 +- e), p = L^2, e = sqrt(1 + 2 E L^2)
+    e = (1.0 + 2.0 * -0.3) ** 0.5
+    assert abs(r_min - 1.0 / (1.0 + e)) < 1e-12 and abs(r_max - 1.0 / (1.0 - e)) < 1e-12

@@ -189,3 +189,47 @@ def test_frenet_unrepresentable_derivatives():
     t = np.linspace(0.0, 2 * np.pi, 60)
     with pytest.raises(InvalidInputError, match="finite first to third derivatives"):
         K.frenet(1e-200 * t, _helix(t))  # r''' ~ 1e600
+
+
+# ---------------------------------------------------------------- issue 38: raw NumPy errors
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: K.centrodes(np.zeros((5, 2)), np.ones((4, 2)), np.zeros(5), np.ones(5)),
+         r"`point` \(5,\), `velocity` \(4,\)"),
+        (lambda: K.centrodes(np.zeros((5, 2)), np.ones((5, 2)), np.zeros(4), np.ones(5)),
+         r"`angle` \(4,\)"),
+        (lambda: K.velocity_center(np.zeros((5, 2)), np.ones((4, 2)), 1.0), r"`velocity` \(4,\)"),
+        (lambda: K.acceleration_center(np.zeros((5, 2)), np.ones((5, 2)), np.ones(3), 0.0),
+         r"`omega` \(3,\)"),
+        (lambda: K.integrate_poisson_matrix(Rotation.identity(), lambda t: np.zeros(4), [0, 1]),
+         r"`omega\(t\)` to return shape \(3,\).*got \(4,\) at t = 0"),
+        (lambda: K.coning_quat([0.1, 0.2], 1.0, [0.0]), r"`half_angle` to be a real number"),
+        (lambda: Rotation.from_euler("ship", [1.0, 2.0]), r"`angles` to have shape \(\.\.\., 3\)"),
+    ],
+)  # fmt: skip
+def test_named_errors_instead_of_numpy_tracebacks(call, match):
+    with pytest.raises(InvalidInputError, match=match):
+        call()
+
+
+def test_rigid_transform_bad_inputs_are_named():
+    from poinsot.rotations.transform import RigidTransform
+
+    with pytest.raises(InvalidInputError, match=r"`translation` \(3,\), `rotation` \(2,\)"):
+        RigidTransform.from_components(np.zeros((3, 3)), Rotation.from_quat(np.ones((2, 4))))
+    with pytest.raises(InvalidTypeError, match="`n`"):
+        RigidTransform.identity() ** "x"
+    # a real power is a screw motion: half of a translation by 2 is a translation by 1
+    half = RigidTransform.from_translation([0.0, 0.0, 2.0]) ** np.float64(0.5)
+    np.testing.assert_allclose(half.as_components()[0], [0.0, 0.0, 1.0], atol=1e-15)
+
+
+def test_acceleration_center_of_a_translation_is_at_infinity():
+    """Its docstring said inf for omega = eps = 0; it returned NaN (0/0)."""
+    q = K.acceleration_center([[0.0, 0.5], [1.0, 1.0]], [[1.0, 0.0], [0.0, 0.0]], 0.0, 0.0)
+    assert np.isinf(q[0]).all() and np.isnan(q[1]).all()  # a_A = 0 too: every point
+    # and the ordinary case still solves a_Q = 0: a_A + eps k x AQ - omega^2 AQ = 0
+    a, acc, w, e = np.array([0.3, -0.2]), np.array([1.5, 0.7]), 2.0, -3.0
+    d = K.acceleration_center(a, acc, w, e) - a
+    np.testing.assert_allclose(acc + e * np.array([-d[1], d[0]]) - w**2 * d, 0.0, atol=1e-14)

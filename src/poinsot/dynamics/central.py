@@ -277,7 +277,14 @@ def power_law(k: float, n: float) -> Potential:
 class Apsides:
     """Pericentre and apocentre distances (m); ``apocentre = inf`` for an unbound orbit.
 
-    Unpacks as ``r_min, r_max = orbit.apsides``.
+    Unpacks and indexes as the pair ``(r_min, r_max)``: ``r_min, r_max = orbit.apsides``,
+    ``orbit.apsides[0]``.
+
+    Examples
+    --------
+    >>> a = Apsides(1.0, 3.0)
+    >>> a[0], a[-1], len(a), tuple(a)
+    (1.0, 3.0, 2, (1.0, 3.0))
     """
 
     pericentre: float
@@ -285,6 +292,12 @@ class Apsides:
 
     def __iter__(self) -> Iterator[float]:
         return iter((self.pericentre, self.apocentre))
+
+    def __len__(self) -> int:
+        return 2
+
+    def __getitem__(self, index: Any) -> Any:
+        return (self.pericentre, self.apocentre)[index]
 
 
 @dataclass(frozen=True)

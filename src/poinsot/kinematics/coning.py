@@ -17,14 +17,17 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array
+from ..errors import InvalidInputError
 
 __all__ = ["coning_quat", "coning_omega"]
 
 
 def _args(half_angle: ArrayLike, rate: ArrayLike, t: ArrayLike) -> tuple[float, float, np.ndarray]:
-    a = float(as_float_array(half_angle, "half_angle"))
-    w = float(as_float_array(rate, "rate"))
-    return a, w, as_float_array(t, "t")
+    a, w = as_float_array(half_angle, "half_angle"), as_float_array(rate, "rate")
+    for name, x in (("half_angle", a), ("rate", w)):
+        if x.ndim:
+            raise InvalidInputError(f"Expected `{name}` to be a real number, got shape {x.shape}.")
+    return float(a), float(w), as_float_array(t, "t")
 
 
 def coning_quat(half_angle: float, rate: float, t: ArrayLike) -> FloatArray:

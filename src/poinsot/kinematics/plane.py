@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validate import as_float_array, as_trailing
+from .._validate import as_float_array, as_trailing, batch_shape
 
 __all__ = ["velocity_center", "acceleration_center", "centrodes", "Centrodes"]
 
@@ -43,9 +43,10 @@ def velocity_center(point: ArrayLike, velocity: ArrayLike, omega: ArrayLike) -> 
     """
     a = as_trailing(point, "point", (2,))
     v = as_trailing(velocity, "velocity", (2,))
-    w = as_float_array(omega, "omega")[..., None]
+    w = as_float_array(omega, "omega")
+    batch_shape(point=(a, 1), velocity=(v, 1), omega=(w, 0))
     with np.errstate(divide="ignore", invalid="ignore"):
-        return a + _perp(v) / w
+        return a + _perp(v) / w[..., None]
 
 
 def acceleration_center(
@@ -55,8 +56,9 @@ def acceleration_center(
     ``Q = A + (eps k x a_A + omega^2 a_A) / (eps^2 + omega^4)``.
 
     The one point with zero acceleration (``a_Q = 0`` solves
-    ``eps k x AQ - omega^2 AQ = -a_A``); ``inf`` when ``omega = eps = 0`` (an
-    instantaneous translation).
+    ``eps k x AQ - omega^2 AQ = -a_A``); ``inf`` components when ``omega = eps = 0``
+    and ``a_A != 0`` (a translation: no point is at rest in acceleration), ``nan`` when
+    ``a_A = 0`` too (every point is such a centre), as :func:`velocity_center`.
 
     Examples
     --------
@@ -64,13 +66,21 @@ def acceleration_center(
 
     >>> acceleration_center([0.0, 0.5], [0.0, 0.0], -4.0, 0.0)
     array([0. , 0.5])
+    >>> acceleration_center([0.0, 0.5], [1.0, 0.0], 0.0, 0.0)   # a translation
+    array([inf, inf])
     """
     a = as_trailing(point, "point", (2,))
     acc = as_trailing(acceleration, "acceleration", (2,))
-    w = as_float_array(omega, "omega")[..., None]
-    e = as_float_array(eps, "eps")[..., None]
+    w = as_float_array(omega, "omega")
+    e = as_float_array(eps, "eps")
+    batch_shape(point=(a, 1), acceleration=(acc, 1), omega=(w, 0), eps=(e, 0))
+    w, e = w[..., None], e[..., None]
+    den = e * e + w**4
     with np.errstate(divide="ignore", invalid="ignore"):
-        return a + (e * _perp(acc) + w * w * acc) / (e * e + w**4)
+        q = a + (e * _perp(acc) + w * w * acc) / den
+    # 0/0 above when omega = eps = 0: the centre is at infinity unless a_A = 0 too
+    moving = np.any(acc != 0.0, axis=-1, keepdims=True)
+    return np.where(den == 0.0, np.where(moving, np.inf, np.nan), q)
 
 
 @dataclass(frozen=True)
@@ -124,8 +134,11 @@ def centrodes(
     True
     """
     a = as_trailing(point, "point", (2,))
-    p = velocity_center(a, velocity, omega)
+    v = as_trailing(velocity, "velocity", (2,))
+    w = as_float_array(omega, "omega")
     f = as_float_array(angle, "angle")
+    batch_shape(point=(a, 1), velocity=(v, 1), angle=(f, 0), omega=(w, 0))
+    p = velocity_center(a, v, w)
     c, s = np.cos(f), np.sin(f)
     d = p - a
     moving = np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1]], axis=-1)

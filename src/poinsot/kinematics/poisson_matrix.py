@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validate import as_choice, as_rotation_quat, as_times
+from .._validate import as_choice, as_float_array, as_rotation_quat, as_times
 from .._vec import cross, hat
 from ..errors import IntegrationError, InvalidInputError
 from ..rotations.rotation import Rotation
@@ -110,7 +110,11 @@ def integrate_poisson_matrix(
         w_of = lambda _t: w_c  # noqa: E731
 
     def full(c: FloatArray, time: float) -> FloatArray:
-        w = np.asarray(w_of(time), dtype=float)
+        w = as_float_array(w_of(time), "omega(t)")
+        if w.shape != (3,):  # checked at every call: a callable may change its mind
+            raise InvalidInputError(
+                f"Expected `omega(t)` to return shape (3,) (rad/s), got {w.shape} at t = {time:g}."
+            )
         return c @ hat(w) if frame == "body" else hat(w) @ c
 
     def unpack(y: FloatArray) -> FloatArray:

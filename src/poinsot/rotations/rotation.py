@@ -517,9 +517,9 @@ class Rotation:
         deg = as_bool(degrees, "degrees")
         axes, extrinsic, _ = _seq(seq)
         signs = euler.preset_signs(seq)
-        if signs is not None:  # e.g. "ship": the first angle turns the other way
-            angles = as_float_array(angles, "angles") * np.asarray(signs)
         k = len(axes)
+        if signs is not None:  # e.g. "ship": the first angle turns the other way
+            angles = euler.as_angles(angles, k) * np.asarray(signs)  # shape checked first
         t: Sequence[float] | None = plain_vec3(angles) if k == 3 else None
         if k == 1:
             a0 = _real(angles)

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validate import as_bool, as_float_array, as_trailing
+from .._validate import as_bool, as_float_array, as_trailing, batch_shape
 from .._vec import cross, dot
 from ..errors import InvalidInputError, InvalidTypeError
 from ._lazy import big, flat, kernels, threaded
@@ -140,7 +140,7 @@ class RigidTransform:
         """
         rot = _as_rotation(rotation)
         t = as_trailing(translation, "translation", (3,))
-        shape = np.broadcast_shapes(rot.shape, t.shape[:-1])
+        shape = batch_shape(translation=(t, 1), rotation=(rot.shape, 0))
         q = np.broadcast_to(rot.as_quat(), shape + (4,))
         return cls(Rotation.from_quat(q), np.broadcast_to(t, shape + (3,)))
 
@@ -361,8 +361,17 @@ class RigidTransform:
         return RigidTransform(rot, self._rotation.apply(other._t) + self._t)
 
     def __pow__(self, n: float) -> RigidTransform:
-        """``n``-th power along the screw: ``exp(n log(self))`` (any real ``n``)."""
-        return RigidTransform.from_exp_coords(float(n) * self.as_exp_coords())
+        """``n``-th power along the screw: ``exp(n log(self))`` (any real ``n``).
+
+        Examples
+        --------
+        >>> (RigidTransform.from_translation([0.0, 0.0, 2.0]) ** 0.5).as_components()[0]
+        array([0., 0., 1.])
+        """
+        k = as_float_array(n, "n")
+        if k.ndim:
+            raise InvalidInputError(f"Expected `n` to be a real number, got shape {k.shape}.")
+        return RigidTransform.from_exp_coords(float(k) * self.as_exp_coords())
 
     def __getitem__(self, index: Any) -> RigidTransform:
         if self.shape == ():
