@@ -54,6 +54,7 @@ __all__ = [
     "store_nt",
     "fence",
     "prefetch",
+    "cancelled",
     "gravity_kick",
     "vertical",
     "midpoint_newton_step",
@@ -68,6 +69,7 @@ fma: Any
 store_nt: Any
 fence: Any
 prefetch: Any
+cancelled: Any
 if NUMBA:
     from llvmlite import ir
     from numba.core import types
@@ -150,9 +152,33 @@ if NUMBA:
 
         return sig, codegen
 
+    @intrinsic
+    def _cancelled(typingctx, a):  # pragma: no cover - compiled
+        """``a[0] != 0`` (``a`` a 1-D int64 C array) read anew at every call: an atomic
+        (acquire) load, a plain ``mov`` on x86. The flag is set by a signal handler or
+        another thread, which the kernel cannot see: a plain ``cancel[0]`` may be
+        hoisted out of a loop that never writes it, and a minute-long step loop then
+        ignored Ctrl-C until its output interval ended (issue 38)."""
+        sig = types.boolean(a)
+
+        def codegen(context, builder, signature, args):
+            from numba.core import cgutils
+
+            arrty = signature.args[0]
+            ary = context.make_array(arrty)(context, builder, value=args[0])
+            ptr = cgutils.get_item_pointer(
+                context, builder, arrty, ary, [ir.Constant(ir.IntType(64), 0)],
+                wraparound=False, boundscheck=False,
+            )  # fmt: skip
+            value = builder.load_atomic(ptr, "acquire", 8)
+            return builder.icmp_signed("!=", value, ir.Constant(value.type, 0))
+
+        return sig, codegen
+
     store_nt = _store_nt
     fence = _fence
     prefetch = _prefetch
+    cancelled = _cancelled
 else:  # the NumPy executor: one rounding more (its results are not numba's bit for bit)
 
     def _fma_numpy(a: Any, b: Any, c: Any) -> Any:
@@ -167,7 +193,11 @@ else:  # the NumPy executor: one rounding more (its results are not numba's bit 
     def _prefetch_numpy(a: Any, i: Any) -> None:
         pass
 
+    def _cancelled_numpy(a: Any) -> bool:
+        return bool(a[0] != 0)
+
     fma = _fma_numpy
+    cancelled = _cancelled_numpy
     store_nt = _store_numpy
     fence = _fence_numpy
     prefetch = _prefetch_numpy

@@ -59,6 +59,20 @@ _SCRIPT = textwrap.dedent(
                 return simulate([2.0, 2.0, 1.0], [1, 0, 0, 0], w0[: int(min(n, 2000))],
                                 np.linspace(0, n, 201), torque=grav, max_step=1e-3)
             small, big = 2, 4000.0
+        elif which.startswith("one-interval"):
+            # issue 38: a SciPy user's [0, T], two output times: the step loops read the
+            # cancel flag once per output interval (a hoisted load), so Ctrl-C waited
+            # for the end of the whole run (30 s and more)
+            from poinsot.dynamics import simulate
+            method = which.split(":")[1]
+            w0 = np.random.default_rng(0).normal(size=(20000, 3)) * 3.0
+            def run(n):
+                if method == "dop853":  # many bodies, each many adaptive steps
+                    return simulate([1.0, 2.0, 3.0], [1, 0, 0, 0], w0, [0.0, n],
+                                    method="dop853", rtol=1e-12, atol=1e-14)
+                return simulate([1.0, 2.0, 3.0], [1, 0, 0, 0], [1.0, 2.0, 3.0], [0.0, n],
+                                method=method, max_step=1e-3)
+            small, big = 1.0, 1e6
         elif which == "free-body":
             body = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 1.0, 0.2])
             def run(n):
@@ -105,7 +119,18 @@ _SCRIPT = textwrap.dedent(
 
 @pytest.mark.parametrize(
     "which",
-    ["particle", "lagrangian", "free-body", "midpoint-torque", "ensemble-serial", "ensemble-dask"],
+    [
+        "particle",
+        "lagrangian",
+        "free-body",
+        "midpoint-torque",
+        "ensemble-serial",
+        "ensemble-dask",
+        "one-interval:midpoint",
+        "one-interval:rk4",
+        "one-interval:splitting",
+        "one-interval:dop853",
+    ],
 )
 def test_ctrl_c_stops_long_calls(which, tmp_path):
     if which == "lagrangian":

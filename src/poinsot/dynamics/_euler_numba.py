@@ -76,7 +76,7 @@ def midpoint(q, m, W, M, t, nsub, coef, cancel, progress):
             ns = nsub[k]
             hk = (t[k + 1] - t[k]) / ns
             for s_ in range(ns * nc):
-                if cancel[0] != 0:
+                if nh.cancelled(cancel):
                     return Q, MO, 3, i, k, worst
                 # a composition stage of length coef[j] * hk (one stage for order 2)
                 h = hk * coef[s_ % nc]
@@ -194,7 +194,7 @@ def splitting(q, m, inv_i, M, t, nsub, coef, cancel, progress, G=None):
             progress[0] = i * (n - 1) + k
             hk = (t[k + 1] - t[k]) / nsub[k]
             for s_ in range(nsub[k] * nc):
-                if cancel[0] != 0:
+                if nh.cancelled(cancel):
                     return Q, MO, 3, i, k
                 h = hk * coef[s_ % nc]
                 hh = 0.5 * h

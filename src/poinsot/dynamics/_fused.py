@@ -259,7 +259,7 @@ def one_body(
     steps = 0
     rejected = 0
     while i_out < n_out:
-        if cancel[0] != 0:
+        if nh.cancelled(cancel):
             stats[3] = CANCELLED
             break
         done[0] = i_out
@@ -437,7 +437,7 @@ def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow, cancel, done):  # pragma
     (``method="rk4"``: the same stages as the NumPy path of ``simulate``, the
     quaternion renormalised after every step). Returns the index of the first output
     interval whose end state is non-finite, or -1; -2 when ``cancel[0]`` was set
-    (checked once per output interval; ``done[0]`` counts the intervals done)."""
+    (checked at every step; ``done[0]`` counts the intervals done)."""
     y = y0.copy()
     k1 = np.empty(7)
     k2 = np.empty(7)
@@ -446,11 +446,11 @@ def rk4_body(y0, J, Ji, kind, par, t_out, nsub, oq, ow, cancel, done):  # pragma
     ys = np.empty(7)
     _put(y, oq, ow, 0)
     for k in range(t_out.shape[0] - 1):
-        if cancel[0] != 0:
-            return -2
         done[0] = k
         h = (t_out[k + 1] - t_out[k]) / nsub[k]
         for s in range(nsub[k]):
+            if nh.cancelled(cancel):  # at every step: one interval may hold them all
+                return -2
             tn = t_out[k] + s * h
             _rhs(tn, y, J, Ji, kind, par, k1)
             for i in range(7):
@@ -520,7 +520,7 @@ def midpoint_body(
     stopping rule predicts the next update from the last two). Returns ``(status, k,
     iterations)``: status 0 ok (iterations = the most any step took), 1 not converged,
     2 non-finite, 3 cancelled (``cancel[0]`` set by another thread on Ctrl-C, checked
-    once per output interval; ``done[0]`` counts the intervals done), ``k`` the last
+    at every step; ``done[0]`` counts the intervals done), ``k`` the last
     output index reached."""
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
     m0, m1, m2 = m[0], m[1], m[2]
@@ -535,11 +535,11 @@ def midpoint_body(
     # step's midpoint torque (as the NumPy path)
     t0, t1, t2 = _torque(q0, q1, q2, q3, J, kind, par)
     for k in range(t_out.shape[0] - 1):
-        if cancel[0] != 0:
-            return 3, k, worst
         done[0] = k
         hk = (t_out[k + 1] - t_out[k]) / nsub[k]
         for s_ in range(nsub[k] * nc):
+            if nh.cancelled(cancel):  # at every step: one interval may hold them all
+                return 3, k, worst
             h = hk * coef[s_ % nc]
             h2 = 0.5 * h
             o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, m0, m1, m2)

@@ -647,11 +647,11 @@ def _chunk(
     W[S_END : S_END + L] = -1.0
     nxt = lo
     while True:
-        n_busy, n_end = lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
+        n_busy, n_end = lane_prepare(W, t_end, max_step, max_steps, nh.cancelled(cancel))
         while n_end > 0 or (n_busy < L and nxt < hi):
             nxt = lane_service(nxt, lo, hi, W, y0, J, Ji, par, t_out, first, oq, ow,
                                stats, done)  # fmt: skip
-            n_busy, n_end = lane_prepare(W, t_end, max_step, max_steps, cancel[0] != 0)
+            n_busy, n_end = lane_prepare(W, t_end, max_step, max_steps, nh.cancelled(cancel))
         if n_busy == 0:
             break
         _attempt(W, kind, rtol, atol)
