@@ -1,10 +1,15 @@
 """Engine adapters of ``poinsot verify``: run a case, return its states on the case's grid.
 
 An engine has a ``name``, a ``label`` (the settings, e.g. ``"scipy DOP853 rtol=1e-12"``),
-``skip_reason(case)`` (None when it can run the case, else why not) and
-``run(case) -> (states, work)``: the states as :func:`poinsot.verify.metrics.evaluate`
-reads them (scalar-first body -> space quaternions and body-axes angular velocity,
-or positions and velocities), and the engine's own count of work.
+``skip_reason(case)`` (None when it can run the case, else why the case is outside
+what the engine models: the case is *skipped*) and ``run(case) -> (states, work)``:
+the states as :func:`poinsot.verify.metrics.evaluate` reads them (scalar-first
+body -> space quaternions and body-axes angular velocity, or positions and
+velocities), and the engine's own count of work. Optionally ``missing_reason(case)``:
+why an engine that should have given the case's states did not (e.g. no file): the
+case is *missing*, which fails the verdict unless allowed (docs/verify.md). The
+states may carry ``"defects"``, a list of findings that fail the case whatever its
+metrics (e.g. an attitude and angular velocity that are not one motion).
 
 - :class:`SciPyEngine`: ``scipy.integrate.solve_ivp`` (any method, any tolerance) on
   the Euler(-Poisson) equations ``J_O w' + w x J_O w = m c x (R^T g)`` with
@@ -335,7 +340,8 @@ def _positive(x: Any, name: str) -> float:
 
 
 def run(engine: Any, case: Case) -> Any:
-    """Run ``case`` in ``engine`` and evaluate it (a skipped case carries its reason).
+    """Run ``case`` in ``engine`` and evaluate it (a skipped or missing case carries
+    its reason).
 
     Returns a :class:`poinsot.verify.metrics.CaseResult`.
     """
@@ -344,10 +350,16 @@ def run(engine: Any, case: Case) -> Any:
     reason = engine.skip_reason(case)
     if reason:
         return CaseResult(case=case.name, group=case.group, status="skip", reason=reason)
+    missing = getattr(engine, "missing_reason", None)
+    reason = missing(case) if missing is not None else None
+    if reason:
+        return CaseResult(case=case.name, group=case.group, status="missing", reason=reason)
     case.exact()  # outside the engine's timing
     t0 = time.perf_counter()
     states, work = engine.run(case)
-    return evaluate(case, states, seconds=time.perf_counter() - t0, work=work)
+    states = dict(states)
+    defects = list(states.pop("defects", None) or ())
+    return evaluate(case, states, seconds=time.perf_counter() - t0, work=work, defects=defects)
 
 
 def make(name: str, **options: Any) -> Any:

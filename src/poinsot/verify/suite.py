@@ -25,22 +25,59 @@ from .cases import CASES_VERSION, Case, cases
 from .engines import make, run
 from .metrics import METRICS, CaseResult
 
+#: the statuses of a case, in the order the verdict counts them
+STATUSES = ("pass", "fail", "missing", "skip")
+
 
 @dataclass
 class Verdict:
     """The results of one engine on a set of cases.
 
-    ``passed`` is True when no case failed (skipped cases do not count).
+    ``passed`` is True when at least one case was scored, none failed, none is
+    missing (unless ``allow_missing``) and, with ``require_all``, none was skipped
+    (:meth:`problems` says why not). A skipped case is outside what the engine
+    models (an orbit in MuJoCo); a missing case is one the engine should have
+    given and did not (no file).
     """
 
     engine: str
     label: str
     results: list[CaseResult]
     sweep: list[dict[str, Any]] = field(default_factory=list)
+    require_all: bool = False
+    allow_missing: bool = False
+
+    @property
+    def counts(self) -> dict[str, int]:
+        """``{"pass", "fail", "missing", "skip"} -> number of cases``."""
+        return {s: sum(r.status == s for r in self.results) for s in STATUSES}
+
+    def problems(self) -> list[str]:
+        """Why the verdict is not a pass (empty when it is)."""
+        c = self.counts
+        out = []
+        if c["pass"] + c["fail"] == 0:
+            out.append(f"no case was scored ({len(self.results)} selected)")
+        if c["fail"]:
+            out.append(f"{c['fail']} case(s) failed")
+        if c["missing"] and not self.allow_missing:
+            out.append(f"{c['missing']} case(s) missing (--allow-missing to accept)")
+        if c["skip"] and self.require_all:
+            out.append(f"{c['skip']} case(s) skipped under --require-all")
+        return out
 
     @property
     def passed(self) -> bool:
-        return all(r.status != "fail" for r in self.results)
+        return not self.problems()
+
+    def summary(self) -> str:
+        """The verdict line, e.g. ``PASS (4 passed, 0 failed, 0 missing, 8 skipped)``."""
+        c = self.counts
+        line = (
+            f"{'PASS' if self.passed else 'FAIL'} ({c['pass']} passed, {c['fail']} failed, "
+            f"{c['missing']} missing, {c['skip']} skipped)"
+        )
+        return line + ("" if self.passed else ": " + "; ".join(self.problems()))
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -48,9 +85,10 @@ class Verdict:
             "settings": self.label,
             "cases_version": CASES_VERSION,
             "passed": self.passed,
-            "counts": {
-                s: sum(r.status == s for r in self.results) for s in ("pass", "fail", "skip")
-            },
+            "verdict": self.summary(),
+            "problems": self.problems(),
+            "policy": {"require_all": self.require_all, "allow_missing": self.allow_missing},
+            "counts": self.counts,
             "results": [r.to_json() for r in self.results],
             "metrics": {k: {"units": u, "meaning": m} for k, (u, m) in METRICS.items()},
             "sweep": self.sweep,
@@ -82,7 +120,8 @@ class Verdict:
 
 
 def check(engine: Any, select: str | Iterable[str] | None = None,
-          progress: Callable[[Case, CaseResult], object] | None = None) -> Verdict:  # fmt: skip
+          progress: Callable[[Case, CaseResult], object] | None = None, *,
+          require_all: bool = False, allow_missing: bool = False) -> Verdict:  # fmt: skip
     """Run every selected case in ``engine`` and score it.
 
     Parameters
@@ -94,6 +133,10 @@ def check(engine: Any, select: str | Iterable[str] | None = None,
         Case names or groups; default all.
     progress : callable, optional
         Called with ``(case, result)`` after each case.
+    require_all : bool, optional
+        A skipped case (outside what the engine models) fails the verdict.
+    allow_missing : bool, optional
+        A missing case (e.g. no file) does not fail the verdict.
 
     Returns
     -------
@@ -104,8 +147,10 @@ def check(engine: Any, select: str | Iterable[str] | None = None,
     >>> from poinsot.verify import make
     >>> from poinsot.verify.suite import check
     >>> v = check(make("mujoco"), "orbit")   # MuJoCo cannot express an orbit: skipped
-    >>> [r.status for r in v.results], v.passed
-    (['skip', 'skip'], True)
+    >>> [r.status for r in v.results], v.passed     # and no case scored is no pass
+    (['skip', 'skip'], False)
+    >>> v.problems()
+    ['no case was scored (2 selected)']
     """
     out = []
     for case in cases(select):
@@ -113,7 +158,8 @@ def check(engine: Any, select: str | Iterable[str] | None = None,
         out.append(res)
         if progress is not None:
             progress(case, res)
-    return Verdict(engine.name, engine.label, out)
+    return Verdict(engine.name, engine.label, out, require_all=require_all,
+                   allow_missing=allow_missing)  # fmt: skip
 
 
 #: the setting a sweep varies, per engine (and its default values)
@@ -152,7 +198,7 @@ def sweep(engine: str, values: Sequence[float] | None = None,
         for case in cases(select):
             t0 = time.perf_counter()
             res = run(eng, case)
-            if res.status == "skip":
+            if res.status in ("skip", "missing"):
                 continue
             err_key = "attitude" if "attitude" in res.metrics else "position"
             rows.append({
@@ -176,7 +222,7 @@ def write(verdict: Verdict, out: str | Path, *, pages: bool = True) -> list[Path
     if pages:
         (out / "cases").mkdir(exist_ok=True)
         for res in verdict.results:
-            if res.status == "skip" or not res.errors:
+            if res.status in ("skip", "missing") or not res.errors:
                 continue
             p = _case_page(verdict, res, out / "cases" / f"{res.case}.html")
             if p is not None:
@@ -201,8 +247,8 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
 
     case = cases(res.case)[0]
     states = res.states
-    if not states:
-        return None
+    if not states or not all(np.all(np.isfinite(v)) for v in states.values()):
+        return None  # nothing to draw (a diverged engine): the index page has its figures
     ex = case.exact()
     title = f"poinsot verify: {case.name} in {verdict.label}"
     summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
