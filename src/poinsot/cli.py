@@ -2,11 +2,13 @@
 
 Subcommands: ``run`` (a scenario file), ``demo`` (the embedded tennis-racket flip),
 ``check`` (validate a scenario and estimate its cost), ``convert`` (between rotation
-representations), ``inertia`` (inertia tensor of a solid). Exit codes: 0 success,
+representations), ``inertia`` (inertia tensor of a solid), ``ensemble`` (a Monte-Carlo
+ensemble), ``verify`` (an engine against exact solutions). Exit codes: 0 success,
 2 invalid input, a run refused by its limits or a diverging integration (a
-one-line message with advice, no traceback), 1 unexpected failure (a bug;
-traceback with ``--debug``). The scenario format and every option are documented
-in ``docs/cli.md``.
+one-line message with advice, no traceback), 1 a failure: a verdict of failure with
+its outputs written (``verify`` FAIL; ``ensemble``: more than ``--max-failed`` of the
+samples failed) or an unexpected failure (a bug; traceback with ``--debug``). The
+scenario format and every option are documented in ``docs/cli.md``.
 
 Examples
 --------
@@ -893,8 +895,9 @@ _ENSEMBLE_EPILOG = """example:
 writes DIR/chunks/chunk-NNNNNN.parquet (one per chunk, a Parquet dataset),
 DIR/ensemble.json (what defines the samples), DIR/summary.json (statistics of
 every metric) and DIR/report.html. The result does not depend on --workers,
---chunk order, retries or --resume. Exit codes: 0 done, 2 bad input or an
-unreachable scheduler, 1 a bug.
+--chunk order, retries or --resume. Exit codes: 0 done; 1 more than
+--max-failed of the samples failed (the outputs are written), or a bug; 2 bad
+input or an unreachable scheduler.
 """
 
 
@@ -974,7 +977,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run the ``poinsot`` command with ``argv`` (default ``sys.argv[1:]``).
 
     Returns the exit code: 0 success, 2 invalid input (also a run refused by its
-    limits, or an integration that diverged), 1 unexpected failure (a bug).
+    limits, or an integration that diverged), 1 a failure: a verdict of failure
+    (``verify`` FAIL, ``ensemble`` over ``--max-failed``) or an unexpected one (a bug).
     """
     from .errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotWarning
 
