@@ -423,3 +423,34 @@ def test_docs_rk4_figures_are_the_verdicts():
     assert ("`rk4` at 0.01 s gives 1.1e-7 rad on the racket flip, within the attitude "
             "threshold, but the verdict fails it on the momentum drift (3.8e-8 > 1e-8); at "
             "0.005 s it passes (7.0e-9 rad") in text  # fmt: skip
+
+
+def test_verify_html_shows_thresholds_and_fits_its_legend(tmp_path, capsys):
+    """Issue 38: the page states each metric's threshold, keeps numbers on one line, has
+    notes without a stray unit "1", a legend inside the chart and a threshold line that
+    sits between the sweep's points above and below 1e-6 rad."""
+    import re
+
+    out = tmp_path / "s"
+    main(["verify", "scipy", "--cases", "racket-flip,top-loops", "--sweep", "1e-5,1e-8,1e-11",
+          "--out", str(out), "--quiet"])  # fmt: skip
+    main(["verify", "scipy", "--method", "RK23", "--rtol", "1e-4", "--cases", "racket-flip",
+          "--out", str(tmp_path / "bad"), "--quiet"])  # fmt: skip
+    page = (out / "verify.html").read_text()
+    assert '<tr class="limits"><td>threshold</td><td></td><td class="num">1.0e-06</td>' in page
+    assert "white-space:nowrap" in page
+    bad = (tmp_path / "bad" / "verify.html").read_text()
+    note = re.search(r'<td class="note">([^<]*)</td></tr></table>', bad).group(1)
+    assert "omega" in note and not re.search(r"\d 1(;|$)", note)  # "... > 1e-06 1" before
+    svg = page[page.index("<svg") :]
+    width = float(re.search(r'<svg[^>]* width="(\d+)"', svg).group(1))
+    for x, name in re.findall(r'<text x="([\d.]+)"[^>]*text-anchor="start"[^>]*>([^<]+)<', svg):
+        assert float(x) + 7 * len(name) <= width, name  # 11 px text: < 7 px a character
+    y_thr = float(re.search(r'y1="([\d.]+)"[^>]*stroke-dasharray', svg).group(1))
+    rows = json.loads((out / "verify.json").read_text())["sweep"]
+    racket = sorted((r for r in rows if r["case"] == "racket-flip"), key=lambda r: r["work"])
+    pts = re.search(r'<polyline[^>]*points="([^"]+)"><title>racket-flip', svg).group(1).split()
+    ys = [float(p.split(",")[1]) for p in pts]
+    above = [y for y, r in zip(ys, racket, strict=True) if r["error"] > 1e-6]
+    below = [y for y, r in zip(ys, racket, strict=True) if r["error"] < 1e-6]
+    assert above and below and max(above) < y_thr < min(below)  # SVG y grows downwards

@@ -108,6 +108,7 @@ class Verdict:
                     "" if m is None else f"{m['value']:.1e}" + ("" if m["passed"] else "!")
                 )
             rows.append(cells)
+        rows.append(["threshold", ""] + [_thresholds(self.results, n) for n in names])
         widths = [max(len(row[k]) for row in rows) for k in range(len(head))]
         lines = [
             "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in rows
@@ -182,8 +183,9 @@ def sweep(engine: str, values: Sequence[float] | None = None,
     -------
     list of dict
         One per (value, case): ``{"setting", "value", "case", "error", "units",
-        "seconds", "work", "status"}``, ``error`` the attitude error (rad) of a rigid
-        body or the relative position error of a point.
+        "threshold", "seconds", "work", "status"}``, ``error`` the attitude error (rad)
+        of a rigid body or the relative position error of a point, ``threshold`` its
+        threshold.
     """
     if engine not in SWEEPS:
         raise InvalidInputError(
@@ -204,6 +206,7 @@ def sweep(engine: str, values: Sequence[float] | None = None,
             rows.append({
                 "setting": key, "value": float(value), "case": case.name,
                 "error": res.metrics[err_key]["value"], "units": METRICS[err_key][0],
+                "threshold": res.metrics[err_key]["threshold"],
                 "seconds": res.seconds or time.perf_counter() - t0, "work": res.work,
                 "status": res.status,
             })  # fmt: skip
@@ -267,10 +270,17 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
                         series=[("error vs the exact solution", "1 (relative)", errs)])  # fmt: skip
 
 
+def _thresholds(results: list[CaseResult], name: str) -> str:
+    """The threshold(s) of metric ``name`` over the scored cases (e.g. ``"1.0e-06"``)."""
+    values = sorted({r.metrics[name]["threshold"] for r in results if name in r.metrics})
+    return " / ".join(f"{v:.1e}" for v in values)
+
+
 def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
     esc = html.escape
     names = list(METRICS)
     head = "".join(f"<th>{esc(n)}<br><small>{esc(METRICS[n][0])}</small></th>" for n in names)
+    limits = "".join(f'<td class="num">{esc(_thresholds(verdict.results, n))}</td>' for n in names)
     rows = []
     for r in verdict.results:
         cells = []
@@ -281,26 +291,31 @@ def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
             else:
                 cls = "ok" if m["passed"] else "bad"
                 cells.append(
-                    f'<td class="{cls}" title="threshold {m["threshold"]:.1e}">'
+                    f'<td class="num {cls}" title="threshold {m["threshold"]:.1e}">'
                     f"{m['value']:.1e}</td>"
                 )
         name = (
             f'<a href="{esc(links[r.case])}">{esc(r.case)}</a>' if r.case in links else esc(r.case)
         )
         rows.append(f'<tr><td>{name}</td><td class="{r.status}">{r.status}</td>{"".join(cells)}'
-                    f"<td>{esc(r.reason)}</td></tr>")  # fmt: skip
-    verdict_line = "PASS: every case within its thresholds" if verdict.passed else "FAIL"
+                    f'<td class="note">{esc(r.reason)}</td></tr>')  # fmt: skip
+    verdict_line = esc(verdict.summary())
     chart = _work_precision_svg(verdict.sweep) if verdict.sweep else ""
     title = f"poinsot verify: {esc(verdict.label)}"
     return f"""<!doctype html><html><head><meta charset="utf-8"><title>{title}</title>
-<style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:75em}}table{{border-collapse:collapse}}
-td,th{{border:1px solid #ccc;padding:.25em .5em;text-align:right}}td:first-child{{text-align:left}}
-.ok{{background:#e8f5e9}}.bad,.fail{{background:#ffebee}}.skip{{color:#777}}</style></head><body>
+<style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:90em}}table{{border-collapse:collapse}}
+td,th{{border:1px solid #ccc;padding:.25em .5em;text-align:right;white-space:nowrap}}
+td:first-child{{text-align:left}}td.note{{text-align:left;white-space:normal;min-width:20em}}
+tr.limits td{{background:#f5f5f5;font-style:italic}}
+.ok{{background:#e8f5e9}}.bad,.fail,.missing{{background:#ffebee}}.skip{{color:#777}}</style></head><body>
 <h1>poinsot verify</h1><p><b>{esc(verdict.label)}</b>, cases version {CASES_VERSION}:
 <b>{verdict_line}</b></p>
-<table><tr><th>case</th><th>status</th>{head}<th>note</th></tr>{"".join(rows)}</table>
-<p>Metrics and thresholds: docs/verify.md (poinsot's documentation); the exact solutions:
-docs/theory.md §9-§10.
+<table><tr><th>case</th><th>status</th>{head}<th>note</th></tr>
+<tr class="limits"><td>threshold</td><td></td>{limits}<td class="note">a value passes when it is
+at most its threshold</td></tr>{"".join(rows)}</table>
+<p>Statuses: pass, fail, missing (no states from the engine: fails the verdict unless
+allowed), skip (outside what the engine models). Metrics and thresholds: docs/verify.md
+(poinsot's documentation); the exact solutions: docs/theory.md §9-§10.
 Quaternions scalar first, body -> space; angular velocity in body axes; SI units, radians.</p>
 {chart}</body></html>
 """
@@ -311,14 +326,18 @@ def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
     pts = [r for r in rows if r["work"] and r["error"] > 0 and math.isfinite(r["error"])]
     if not pts:
         return ""
-    w, h, pad = 640, 400, 56
+    names = list(dict.fromkeys(p["case"] for p in pts))
+    thresholds = sorted({float(p["threshold"]) for p in pts if p.get("threshold")})
+    plot_w, h, pad = 640, 400, 56
+    legend = 16 + 7 * max(len(n) for n in names)  # 11 px text: under 7 px a character
+    w = plot_w + legend
     lx = np.log10([p["work"] for p in pts])
-    ly = np.log10([max(p["error"], 1e-17) for p in pts])
+    ly = np.log10([max(p["error"], 1e-17) for p in pts] + thresholds)
     x0, x1 = math.floor(lx.min()), math.ceil(lx.max()) + (lx.min() == lx.max())
     y0, y1 = math.floor(ly.min()), math.ceil(ly.max()) + (ly.min() == ly.max())
 
     def sx(v: float) -> float:
-        return pad + (v - x0) / (x1 - x0) * (w - 2 * pad)
+        return pad + (v - x0) / (x1 - x0) * (plot_w - 2 * pad)
 
     def sy(v: float) -> float:
         return h - pad - (v - y0) / (y1 - y0) * (h - 2 * pad)
@@ -336,9 +355,14 @@ def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
         parts.append(text(sx(k), h - pad + 18, f"1e{k}"))
     for k in range(y0, y1 + 1):
         parts.append(text(pad - 6, sy(k) + 4, f"1e{k}", "end"))
-        parts.append(f'<line x1="{pad}" x2="{w - pad}" y1="{sy(k):.1f}" y2="{sy(k):.1f}" '
+        parts.append(f'<line x1="{pad}" x2="{plot_w - pad}" y1="{sy(k):.1f}" y2="{sy(k):.1f}" '
                      'stroke="#eee"/>')  # fmt: skip
-    for j, name in enumerate(dict.fromkeys(p["case"] for p in pts)):
+    for thr in thresholds:
+        y = sy(math.log10(thr))
+        parts.append(f'<line x1="{pad}" x2="{plot_w - pad}" y1="{y:.1f}" y2="{y:.1f}" '
+                     'stroke="#000" stroke-dasharray="6 4"/>')  # fmt: skip
+        parts.append(text(plot_w - pad - 4, y - 4, f"threshold {thr:.0e}", "end"))
+    for j, name in enumerate(names):
         mine = sorted((p for p in pts if p["case"] == name), key=lambda p: p["work"])
         xy = " ".join(
             f"{sx(math.log10(p['work'])):.1f},{sy(math.log10(max(p['error'], 1e-17))):.1f}"
@@ -347,9 +371,9 @@ def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
         c = colours[j % len(colours)]
         parts.append(f'<polyline fill="none" stroke="{c}" points="{xy}">'
                      f"<title>{html.escape(name)}</title></polyline>")  # fmt: skip
-        parts.append(text(w - pad + 4, pad + 14 * j, name, "start", f'fill="{c}"'))
+        parts.append(text(plot_w - pad + 12, pad + 14 * j, name, "start", f'fill="{c}"'))
     units = pts[0]["units"]
-    parts.append(text(w / 2, h - 8, "work (evaluations or steps)"))
+    parts.append(text(plot_w / 2, h - 8, "work (evaluations or steps)"))
     parts.append(text(14, h / 2, f"largest error ({units})", "middle",
                       f'transform="rotate(-90 14 {h / 2})"'))  # fmt: skip
     return "<h2>Work-precision</h2>" + "".join(parts) + "</svg>"
