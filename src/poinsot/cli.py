@@ -2,11 +2,13 @@
 
 Subcommands: ``run`` (a scenario file), ``demo`` (the embedded tennis-racket flip),
 ``check`` (validate a scenario and estimate its cost), ``convert`` (between rotation
-representations), ``inertia`` (inertia tensor of a solid). Exit codes: 0 success,
+representations), ``inertia`` (inertia tensor of a solid), ``ensemble`` (a Monte-Carlo
+ensemble), ``verify`` (an engine against exact solutions). Exit codes: 0 success,
 2 invalid input, a run refused by its limits or a diverging integration (a
-one-line message with advice, no traceback), 1 unexpected failure (a bug;
-traceback with ``--debug``). The scenario format and every option are documented
-in ``docs/cli.md``.
+one-line message with advice, no traceback), 1 a failure: a verdict of failure with
+its outputs written (``verify`` FAIL; ``ensemble``: more than ``--max-failed`` of the
+samples failed) or an unexpected failure (a bug; traceback with ``--debug``). The
+scenario format and every option are documented in ``docs/cli.md``.
 
 Examples
 --------
@@ -783,7 +785,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--order", type=int, choices=(2, 4, 6), help="order (poinsot midpoint/splitting)"
     )
-    p.add_argument("--quat-order", choices=("wxyz", "xyzw"), help="file: quaternion order")
+    p.add_argument("--quat-order", choices=("wxyz", "xyzw"),
+                   help="file: order of the four quaternion columns in the file, whatever "
+                   "their names (default: qw, qx, qy, qz by name; q0..q3 scalar "
+                   "first)")  # fmt: skip
     p.add_argument("--omega-frame", choices=("body", "space"), help="file: axes of w")
     p.add_argument("--degrees", action="store_true", help="file: w in deg/s")
     p.add_argument("--sweep", nargs="?", const="", metavar="VALUES",
@@ -791,6 +796,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "values; default a standard set)")  # fmt: skip
     p.add_argument("--format", choices=("csv", "parquet"), default="csv", help="export format")
     p.add_argument("--out", metavar="DIR", help="write verify.json, verify.html and case pages")
+    p.add_argument("--require-all", action="store_true",
+                   help="a skipped case (one the engine does not model, e.g. an orbit in "
+                   "MuJoCo) fails the verdict: every selected case must be scored")  # fmt: skip
+    p.add_argument("--allow-missing", action="store_true",
+                   help="file: a case without a file does not fail the verdict (it is listed "
+                   "as missing; a run that scores no case still fails)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
     p.set_defaults(func=_cmd_verify)
     return parser
@@ -802,13 +813,18 @@ _VERIFY_EPILOG = """examples:
   poinsot verify export cases/          (then, after your engine wrote cases/*.csv)
   poinsot verify file cases/ --quat-order xyzw
 
-Exit codes: 0 every case within its thresholds (skipped cases do not count), 1 a case
-over a threshold, 2 bad input. Cases, metrics, thresholds and conventions: docs/verify.md.
+Verdict: PASS when at least one case was scored and every scored case is within its
+thresholds; a missing case (no file) fails unless --allow-missing; a skipped case
+(outside what the engine models) is listed and fails only with --require-all.
+Exit codes: 0 PASS; 1 FAIL (a case over a threshold, a missing case, no case scored;
+the outputs of --out are written); 2 bad input (options, unreadable or malformed
+files, files in other conventions, an engine that models none of the selected
+cases). Cases, metrics, thresholds and conventions: docs/verify.md.
 """
 
 
 def _cmd_verify(args: argparse.Namespace) -> int:
-    from .verify import export, make
+    from .verify import cases, export, make
     from .verify.suite import SWEEPS, check, sweep, write
 
     if args.engine == "export":
@@ -839,7 +855,16 @@ def _cmd_verify(args: argparse.Namespace) -> int:
             print(f"  {case.name}: {res.status}" + (f" ({res.reason})" if res.reason else ""),
                   file=sys.stderr, flush=True)  # fmt: skip
 
-    verdict = check(engine, args.cases, progress=each)
+    selected = cases(args.cases)
+    reasons = {c.name: engine.skip_reason(c) for c in selected}
+    if all(reasons.values()):
+        why = "; ".join(dict.fromkeys(str(r) for r in reasons.values()))
+        raise _Usage(
+            f"the {args.engine} engine models none of the selected cases "
+            f"({', '.join(reasons)}): {why}; select others with --cases (docs/verify.md)"
+        )
+    verdict = check(engine, args.cases, progress=each, require_all=args.require_all,
+                    allow_missing=args.allow_missing)  # fmt: skip
     if args.sweep is not None:
         if args.engine not in SWEEPS:
             raise _Usage(f"--sweep: the {args.engine} engine has no setting to sweep")
@@ -863,9 +888,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"wrote {args.out}/verify.json, {args.out}/verify.html and {len(files) - 2} "
                   "case pages in cases/")  # fmt: skip
-    counts = {s: sum(r.status == s for r in verdict.results) for s in ("pass", "fail", "skip")}
-    print(f"verdict: {'PASS' if verdict.passed else 'FAIL'} ({counts['pass']} passed, "
-          f"{counts['fail']} failed, {counts['skip']} skipped)")  # fmt: skip
+    print(f"verdict: {verdict.summary()}")
     return 0 if verdict.passed else 1
 
 
@@ -875,8 +898,9 @@ _ENSEMBLE_EPILOG = """example:
 writes DIR/chunks/chunk-NNNNNN.parquet (one per chunk, a Parquet dataset),
 DIR/ensemble.json (what defines the samples), DIR/summary.json (statistics of
 every metric) and DIR/report.html. The result does not depend on --workers,
---chunk order, retries or --resume. Exit codes: 0 done, 2 bad input or an
-unreachable scheduler, 1 a bug.
+--chunk order, retries or --resume. Exit codes: 0 done; 1 more than
+--max-failed of the samples failed (the outputs are written), or a bug; 2 bad
+input or an unreachable scheduler.
 """
 
 
@@ -956,7 +980,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run the ``poinsot`` command with ``argv`` (default ``sys.argv[1:]``).
 
     Returns the exit code: 0 success, 2 invalid input (also a run refused by its
-    limits, or an integration that diverged), 1 unexpected failure (a bug).
+    limits, or an integration that diverged), 1 a failure: a verdict of failure
+    (``verify`` FAIL, ``ensemble`` over ``--max-failed``) or an unexpected one (a bug).
     """
     from .errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotWarning
 

@@ -66,7 +66,6 @@ def test_bad_arguments_are_named():
                 t=np.linspace(0, 1, 11), integrator="RK4", timestep=0.01)  # fmt: skip
     for key, value, word in (
         ("integrator", "rk4", "integrator"),
-        ("timestep", 0.003, "whole number"),
         ("q0", [2.0, 0, 0, 0], "unit quaternion"),
         ("inertia", -np.eye(3), "positive definite"),
         ("mass", 0.0, "mass"),
@@ -78,8 +77,30 @@ def test_bad_arguments_are_named():
 
 def test_skips_are_explained():
     eng = make("mujoco", integrator="RK4", timestep=0.01)
-    assert "does not divide" in eng.skip_reason(cases("top-loops")[0])
+    assert eng.skip_reason(cases("top-loops")[0]) is None  # a step longer than the grid's
     assert "turning frame" in eng.skip_reason(cases("foucault")[0])
+
+
+def test_times_between_steps_are_read_by_a_shorter_step():
+    """Issue 38: at a step that does not divide the 0.005 s grid of the tops (MuJoCo's
+    default 0.002 s), the tops are scored, not skipped. The in-between times are read by
+    one shorter MuJoCo step on a copy: the run itself is unchanged (bit for bit at the
+    whole steps), the error keeps RK4's order 4 (0.0025 -> 0.002 s: 0.8^4 = 0.41,
+    observed 4.69e-5 -> 1.92e-5 rad) and a small step passes (3e-4 s: 9.6e-9 rad)."""
+    case = cases("top-loops")[0]
+    i = case.inputs
+    kw = dict(inertia=i["inertia"], mass=i["mass"], com=i["com"], q0=i["q0"],
+              omega0=i["omega0"], gravity=i["gravity"], fixed_point=True, integrator="RK4",
+              timestep=0.002)  # fmt: skip
+    qa, wa = run_mujoco(t=case.t, **kw)  # 0.005 s: every other time between steps
+    qb, wb = run_mujoco(t=case.t[::2], **kw)  # 0.01 s: whole steps only
+    assert np.array_equal(qa[::2], qb) and np.array_equal(wa[::2], wb)
+    err = {h: run(make("mujoco", integrator="RK4", timestep=h), case) for h in (0.0025, 0.002)}
+    assert all(r.status == "fail" for r in err.values())  # scored, and RK4 fails them
+    ratio = err[0.002].metrics["attitude"]["value"] / err[0.0025].metrics["attitude"]["value"]
+    assert 0.3 < ratio < 0.55
+    fine = run(make("mujoco", integrator="RK4", timestep=3e-4), case)
+    assert fine.status == "pass" and fine.metrics["attitude"]["value"] < 2e-8
 
 
 def test_cli_mujoco_verdicts(capsys):
@@ -88,3 +109,7 @@ def test_cli_mujoco_verdicts(capsys):
     assert "4 passed" in capsys.readouterr().out
     assert main(["verify", "mujoco", "--method", "Euler", "--step", "0.001", "--cases",
                  "racket-flip", "--quiet"]) == 1  # fmt: skip
+    # MuJoCo's default step on the tops' grid: scored and failed (before: skipped, PASS)
+    assert main(["verify", "mujoco", "--method", "RK4", "--step", "0.002", "--cases",
+                 "top-loops,kepler-e0.5", "--quiet"]) == 1  # fmt: skip
+    assert "verdict: FAIL (0 passed, 1 failed, 0 missing, 1 skipped)" in capsys.readouterr().out

@@ -185,7 +185,7 @@ def test_file_engine_bad_input(tmp_path):
         FileEngine(tmp_path / "missing")
     with pytest.raises(InvalidTypeError):
         FileEngine(3)
-    assert run(FileEngine(tmp_path), case).status == "skip"
+    assert run(FileEngine(tmp_path), case).status == "missing"  # no file: not a skip
     _write(tmp_path, case, 2.0 * ex["quat"], ex["omega"])
     with pytest.raises(InvalidInputError, match="unit quaternions"):
         run(FileEngine(tmp_path), case)
@@ -213,7 +213,7 @@ def test_cli_verdicts_and_outputs(tmp_path, capsys):
         main(["verify", "scipy", "--cases", "free-symmetric,kepler-e0.5", "--out", str(out)]) == 0
     )
     text = capsys.readouterr().out
-    assert "verdict: PASS (2 passed, 0 failed, 0 skipped)" in text
+    assert "verdict: PASS (2 passed, 0 failed, 0 missing, 0 skipped)" in text
     data = json.loads((out / "verify.json").read_text())
     assert data["passed"] and [r["case"] for r in data["results"]] == [
         "free-symmetric",
@@ -250,3 +250,207 @@ def test_thresholds_are_finite_and_stated():
     for c in ALL:
         assert all(math.isfinite(v) and v > 0 for v in c.thresholds.values())
         assert c.t[0] == 0.0 and np.all(np.diff(c.t) > 0)
+
+
+# --- issue 38: what a verdict means --------------------------------------------------
+
+
+def test_an_empty_directory_is_not_a_pass(tmp_path, capsys):
+    """An engine that wrote nothing scored no case: FAIL (exit 1), the report written."""
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    out = tmp_path / "v"
+    assert main(["verify", "file", str(empty), "--quiet", "--out", str(out)]) == 1
+    text = capsys.readouterr().out
+    assert "verdict: FAIL (0 passed, 0 failed, 12 missing, 0 skipped)" in text
+    assert "no case was scored" in text
+    data = json.loads((out / "verify.json").read_text())
+    assert not data["passed"] and data["counts"]["missing"] == len(ALL)
+    # accepting missing files does not make an empty run a pass
+    assert main(["verify", "file", str(empty), "--allow-missing", "--quiet"]) == 1
+    from poinsot.verify.suite import check
+
+    assert not check(FileEngine(empty), allow_missing=True).passed
+
+
+def test_missing_files_fail_unless_allowed(tmp_path, capsys):
+    export(tmp_path, "racket-flip")
+    assert main(["verify", "file", str(tmp_path), "--cases", "free-body"]) == 1
+    text = capsys.readouterr().out
+    assert "verdict: FAIL (1 passed, 0 failed, 3 missing, 0 skipped)" in text
+    for name in ("free-minor-axis", "free-major-axis", "free-symmetric"):  # listed as such
+        assert f"{name}: missing: no file {name}.csv" in text
+    assert main(["verify", "file", str(tmp_path), "--cases", "free-body", "--allow-missing"]) == 0
+    assert "verdict: PASS (1 passed, 0 failed, 3 missing, 0 skipped)" in capsys.readouterr().out
+
+
+def test_skips_are_listed_and_fail_with_require_all(capsys):
+    args = ["verify", "poinsot", "--method", "rk4", "--step", "0.002",
+            "--cases", "free-symmetric,kepler-e0.5"]  # fmt: skip
+    assert main(args) == 0  # rk4 integrates rigid bodies: the orbit is outside its scope
+    text = capsys.readouterr().out
+    assert "kepler-e0.5: skip: method 'rk4' integrates rigid bodies" in text
+    assert "verdict: PASS (1 passed, 0 failed, 0 missing, 1 skipped)" in text
+    assert main([*args, "--require-all"]) == 1
+    assert "1 case(s) skipped under --require-all" in capsys.readouterr().out
+    # an engine that models none of the selected cases is bad input, not a pass
+    assert main(["verify", "mujoco", "--cases", "orbit"]) == 2
+    assert "models none of the selected cases" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "content, words",
+    [
+        ("", ["empty file"]),
+        ("t,qw,qx,qy,qz,wx,wy,wz\n", ["header alone"]),
+        ("t,qw,qx,qy,qz,wx,wy,wz\n0,1,0,0,0,0.1,4,0.1\nabc,1,0,0,0,0.1,4,0.1\n",
+         ["column `t`", "'abc'", "data row 2"]),
+        ("t,qw,qx,qy,qz,wx,wy,wz\n0,1,0,0,0,0.1,4,0.1\n0.01,1,0,0,0\n", ["5 in data row 2"]),
+    ],
+)  # fmt: skip
+def test_malformed_csv_is_bad_input_naming_file_and_column(tmp_path, capsys, content, words):
+    (tmp_path / "racket-flip.csv").write_text(content)
+    assert main(["verify", "file", str(tmp_path), "--cases", "racket-flip"]) == 2
+    err = capsys.readouterr().err
+    assert "racket-flip.csv" in err and "unexpected failure" not in err
+    for w in words:
+        assert w in err
+
+
+def test_grid_error_names_the_first_wrong_time(tmp_path):
+    case = cases("racket-flip")[0]
+    ex = case.exact()
+    t = case.t.copy()
+    t[7] = np.nan
+    pd.DataFrame(np.column_stack([t, ex["quat"], ex["omega"]]),
+                 columns=list("t") + ["qw", "qx", "qy", "qz", "wx", "wy", "wz"]).to_csv(
+        tmp_path / "racket-flip.csv", index=False, na_rep="nan")  # fmt: skip
+    with pytest.raises(
+        InvalidInputError, match=r"got t = nan s in data row 8 where the grid has 0\.07"
+    ):
+        run(FileEngine(tmp_path), case)
+    t[7] = 0.0699  # off the grid by 1e-4 s: the two figures differ
+    pd.DataFrame(np.column_stack([t, ex["quat"], ex["omega"]]),
+                 columns=list("t") + ["qw", "qx", "qy", "qz", "wx", "wy", "wz"]).to_csv(
+        tmp_path / "racket-flip.csv", index=False)  # fmt: skip
+    with pytest.raises(
+        InvalidInputError, match=r"got t = 0\.0699 s in data row 8 where the grid has 0\.07"
+    ):
+        run(FileEngine(tmp_path), case)
+
+
+@pytest.mark.parametrize("header", ["qw,qx,qy,qz", "q0,q1,q2,q3", "a"])
+def test_quat_order_xyzw_reads_by_position_whatever_the_names(tmp_path, header):
+    """--quat-order gives the order of the four quaternion columns in the file."""
+    case = cases("racket-flip")[0]
+    ex = case.exact()
+    names = header.split(",") if header != "a" else ["qx", "qy", "qz", "qw"]  # named, xyzw
+    pd.DataFrame(np.column_stack([case.t, ex["quat"][:, [1, 2, 3, 0]], ex["omega"]]),
+                 columns=["t", *names, "wx", "wy", "wz"]).to_csv(
+        tmp_path / "racket-flip.csv", index=False)  # fmt: skip
+    res = run(FileEngine(tmp_path, quat_order="xyzw"), case)
+    assert res.status == "pass" and res.metrics["attitude"]["value"] < 1e-12
+    if header == "a":  # correct names in scalar-last order: read by name without the flag
+        assert run(FileEngine(tmp_path), case).metrics["attitude"]["value"] < 1e-12
+        with pytest.raises(InvalidInputError, match="quat_order='xyzw'") as err:
+            run(FileEngine(tmp_path, quat_order="wxyz"), case)  # the flag wins, and is wrong
+        assert "columns qx, qy, qz, qw read as w, x, y, z" in str(err.value)
+    else:  # the flag was given: the advice is not the flag itself
+        with pytest.raises(InvalidInputError, match="quat_order='xyzw'"):
+            run(FileEngine(tmp_path), case)
+
+
+def _explicit_euler(case):
+    """Explicit Euler on the Euler equations and q' = q (0, w) / 2, one step per sample."""
+    from poinsot.dynamics import euler_rhs
+    from poinsot.kinematics import quat_rate
+
+    i, h = case.inputs, case.t[1] - case.t[0]
+    q, w = np.array(i["q0"]), np.array(i["omega0"])
+    qs, ws = [q], [w]
+    for _ in range(case.t.size - 1):
+        q, w = q + h * quat_rate(q, w), w + h * euler_rhs(i["inertia"], w, None)
+        q = q / np.linalg.norm(q)
+        qs.append(q)
+        ws.append(w)
+    return np.array(qs), np.array(ws)
+
+
+def test_a_wrong_engine_is_a_fail_with_its_report(tmp_path, capsys):
+    """Explicit Euler's attitude and angular velocity are not one motion to 1e-2 (residual
+    0.0101 on the racket at 0.01 s): that is an engine's failure (exit 1, report written),
+    not bad input (before: exit 2 and no report)."""
+    case = cases("racket-flip")[0]
+    q, w = _explicit_euler(case)
+    _write(tmp_path, case, q, w)
+    out = tmp_path / "v"
+    assert main(["verify", "file", str(tmp_path), "--cases", "racket-flip", "--quiet",
+                 "--out", str(out)]) == 1  # fmt: skip
+    assert "verdict: FAIL (0 passed, 1 failed" in capsys.readouterr().out
+    res = json.loads((out / "verify.json").read_text())["results"][0]
+    assert res["status"] == "fail" and "kinematics" in res["reason"]
+    assert res["metrics"]["attitude"]["value"] > 0.5  # explicit Euler drifts far: 1.07 rad
+    assert (out / "verify.html").is_file() and (out / "cases" / "racket-flip.html").is_file()
+
+
+def test_non_finite_states_fail(tmp_path):
+    case = cases("racket-flip")[0]
+    ex = case.exact()
+    q, w = ex["quat"].copy(), ex["omega"].copy()
+    q[500:], w[500:] = np.nan, np.nan  # an engine that diverged half way
+    _write(tmp_path, case, q, w)
+    res = run(FileEngine(tmp_path), case)
+    assert res.status == "fail" and "non-finite" in res.reason
+    assert res.metrics["attitude"]["value"] == math.inf
+
+
+def test_docs_rk4_figures_are_the_verdicts():
+    """docs/verify.md quotes poinsot's rk4 on the racket flip: at 0.01 s within the
+    attitude threshold but failed on the momentum drift (3.8e-8), at 0.005 s a pass.
+    Issue 38: the docs said 0.01 s passes; the verdict failed it."""
+    from pathlib import Path
+
+    racket = cases("racket-flip")[0]
+    coarse = run(make("poinsot", method="rk4", step=0.01), racket)
+    assert coarse.status == "fail"
+    assert [n for n, m in coarse.metrics.items() if not m["passed"]] == ["momentum"]
+    assert f"{coarse.metrics['momentum']['value']:.1e}" == "3.8e-08"
+    assert f"{coarse.metrics['attitude']['value']:.1e}" == "1.1e-07"
+    fine = run(make("poinsot", method="rk4", step=0.005), racket)
+    assert fine.status == "pass" and f"{fine.metrics['attitude']['value']:.1e}" == "7.0e-09"
+    doc = (Path(__file__).parents[2] / "docs" / "verify.md").read_text()
+    text = " ".join(doc.split())
+    assert ("`rk4` at 0.01 s gives 1.1e-7 rad on the racket flip, within the attitude "
+            "threshold, but the verdict fails it on the momentum drift (3.8e-8 > 1e-8); at "
+            "0.005 s it passes (7.0e-9 rad") in text  # fmt: skip
+
+
+def test_verify_html_shows_thresholds_and_fits_its_legend(tmp_path, capsys):
+    """Issue 38: the page states each metric's threshold, keeps numbers on one line, has
+    notes without a stray unit "1", a legend inside the chart and a threshold line that
+    sits between the sweep's points above and below 1e-6 rad."""
+    import re
+
+    out = tmp_path / "s"
+    main(["verify", "scipy", "--cases", "racket-flip,top-loops", "--sweep", "1e-5,1e-8,1e-11",
+          "--out", str(out), "--quiet"])  # fmt: skip
+    main(["verify", "scipy", "--method", "RK23", "--rtol", "1e-4", "--cases", "racket-flip",
+          "--out", str(tmp_path / "bad"), "--quiet"])  # fmt: skip
+    page = (out / "verify.html").read_text()
+    assert '<tr class="limits"><td>threshold</td><td></td><td class="num">1.0e-06</td>' in page
+    assert "white-space:nowrap" in page
+    bad = (tmp_path / "bad" / "verify.html").read_text()
+    note = re.search(r'<td class="note">([^<]*)</td></tr></table>', bad).group(1)
+    assert "omega" in note and not re.search(r"\d 1(;|$)", note)  # "... > 1e-06 1" before
+    svg = page[page.index("<svg") :]
+    width = float(re.search(r'<svg[^>]* width="(\d+)"', svg).group(1))
+    for x, name in re.findall(r'<text x="([\d.]+)"[^>]*text-anchor="start"[^>]*>([^<]+)<', svg):
+        assert float(x) + 7 * len(name) <= width, name  # 11 px text: < 7 px a character
+    y_thr = float(re.search(r'y1="([\d.]+)"[^>]*stroke-dasharray', svg).group(1))
+    rows = json.loads((out / "verify.json").read_text())["sweep"]
+    racket = sorted((r for r in rows if r["case"] == "racket-flip"), key=lambda r: r["work"])
+    pts = re.search(r'<polyline[^>]*points="([^"]+)"><title>racket-flip', svg).group(1).split()
+    ys = [float(p.split(",")[1]) for p in pts]
+    above = [y for y, r in zip(ys, racket, strict=True) if r["error"] > 1e-6]
+    below = [y for y, r in zip(ys, racket, strict=True) if r["error"] < 1e-6]
+    assert above and below and max(above) < y_thr < min(below)  # SVG y grows downwards

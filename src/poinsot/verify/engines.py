@@ -1,10 +1,15 @@
 """Engine adapters of ``poinsot verify``: run a case, return its states on the case's grid.
 
 An engine has a ``name``, a ``label`` (the settings, e.g. ``"scipy DOP853 rtol=1e-12"``),
-``skip_reason(case)`` (None when it can run the case, else why not) and
-``run(case) -> (states, work)``: the states as :func:`poinsot.verify.metrics.evaluate`
-reads them (scalar-first body -> space quaternions and body-axes angular velocity,
-or positions and velocities), and the engine's own count of work.
+``skip_reason(case)`` (None when it can run the case, else why the case is outside
+what the engine models: the case is *skipped*) and ``run(case) -> (states, work)``:
+the states as :func:`poinsot.verify.metrics.evaluate` reads them (scalar-first
+body -> space quaternions and body-axes angular velocity, or positions and
+velocities), and the engine's own count of work. Optionally ``missing_reason(case)``:
+why an engine that should have given the case's states did not (e.g. no file): the
+case is *missing*, which fails the verdict unless allowed (docs/verify.md). The
+states may carry ``"defects"``, a list of findings that fail the case whatever its
+metrics (e.g. an attitude and angular velocity that are not one motion).
 
 - :class:`SciPyEngine`: ``scipy.integrate.solve_ivp`` (any method, any tolerance) on
   the Euler(-Poisson) equations ``J_O w' + w x J_O w = m c x (R^T g)`` with
@@ -264,8 +269,10 @@ class MuJoCoEngine:
     integrator : {"Euler", "RK4", "implicitfast"}, optional
         MuJoCo's integrator (default ``"RK4"``).
     timestep : float, optional
-        MuJoCo's step (s), default 1e-3; the case's grid spacing must be a multiple
-        of it.
+        MuJoCo's step (s), default 1e-3. A time of the case's grid between two steps
+        (e.g. the tops' 0.005 s grid at MuJoCo's default 0.002 s) is read by one
+        shorter MuJoCo step from the last whole step, on a copy of the state
+        (:mod:`poinsot.verify._mujoco`); the label says so when a grid needs it.
 
     Notes
     -----
@@ -286,6 +293,12 @@ class MuJoCoEngine:
         self.integrator = integrator
         self.timestep = _positive(timestep, "timestep")
         self.label = f"mujoco {integrator} timestep={self.timestep:g} s"
+        from ._mujoco import sampling
+        from .cases import cases
+
+        grids = {float(c.t[1]) for c in cases() if c.kind == "rigid"}
+        if any(np.any(sampling(np.array([g]), self.timestep)[1]) for g in grids):
+            self.label += " (times between steps: one shorter step from the last whole step)"
 
     def skip_reason(self, case: Case) -> str | None:
         if case.kind != "rigid":
@@ -295,13 +308,6 @@ class MuJoCoEngine:
             import mujoco  # noqa: F401
         except ImportError as exc:
             return f"the mujoco package is not installed: pip install 'poinsot[verify]' ({exc})"
-        dt = float(case.t[1] - case.t[0])
-        k = dt / self.timestep
-        if abs(k - round(k)) > 1e-6 or round(k) < 1:
-            return (
-                f"timestep {self.timestep:g} s does not divide the case's grid step {dt:g} s "
-                "(MuJoCo's states are read at whole steps, not interpolated)"
-            )
         return None
 
     def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
@@ -313,7 +319,10 @@ class MuJoCoEngine:
             gravity=i["gravity"], fixed_point=i["fixed_point"], t=case.t,
             integrator=self.integrator, timestep=self.timestep,
         )  # fmt: skip
-        steps = int(round(case.t[-1] / self.timestep))
+        from ._mujoco import sampling
+
+        whole, frac = sampling(case.t, self.timestep)
+        steps = int(whole[-1]) + int(np.count_nonzero(frac))  # whole and shorter steps
         return {"quat": _quat_unit(q), "omega": np.asarray(w, dtype=float)}, steps
 
 
@@ -335,7 +344,8 @@ def _positive(x: Any, name: str) -> float:
 
 
 def run(engine: Any, case: Case) -> Any:
-    """Run ``case`` in ``engine`` and evaluate it (a skipped case carries its reason).
+    """Run ``case`` in ``engine`` and evaluate it (a skipped or missing case carries
+    its reason).
 
     Returns a :class:`poinsot.verify.metrics.CaseResult`.
     """
@@ -344,10 +354,16 @@ def run(engine: Any, case: Case) -> Any:
     reason = engine.skip_reason(case)
     if reason:
         return CaseResult(case=case.name, group=case.group, status="skip", reason=reason)
+    missing = getattr(engine, "missing_reason", None)
+    reason = missing(case) if missing is not None else None
+    if reason:
+        return CaseResult(case=case.name, group=case.group, status="missing", reason=reason)
     case.exact()  # outside the engine's timing
     t0 = time.perf_counter()
     states, work = engine.run(case)
-    return evaluate(case, states, seconds=time.perf_counter() - t0, work=work)
+    states = dict(states)
+    defects = list(states.pop("defects", None) or ())
+    return evaluate(case, states, seconds=time.perf_counter() - t0, work=work, defects=defects)
 
 
 def make(name: str, **options: Any) -> Any:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -99,21 +100,65 @@ def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
 
 
 def read_table(path: Path) -> dict[str, np.ndarray]:
-    """Columns of a CSV (header row) or Parquet file as float arrays."""
+    """Columns of a CSV (header row) or Parquet file as float arrays, in file order.
+
+    Raises
+    ------
+    InvalidInputError
+        For an empty file, a header without data rows, a row with the wrong number
+        of fields, or a field that is not a number (naming the file, the line and
+        the column).
+    """
     if path.suffix == ".parquet":
         import pyarrow.parquet as pq
 
         tab = pq.read_table(path)
-        return {c: np.asarray(tab.column(c), dtype=float) for c in tab.column_names}
-    try:
-        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
-    except ValueError as exc:
+        if tab.num_rows == 0:
+            raise InvalidInputError(
+                f"{path}: expected one row per sample of the case's grid, found no rows "
+                f"(columns {', '.join(tab.column_names) or 'none'})."
+            )
+        cols: dict[str, np.ndarray] = {}
+        for c in tab.column_names:
+            try:
+                cols[c] = np.asarray(tab.column(c).to_numpy(zero_copy_only=False), dtype=float)
+            except (TypeError, ValueError):
+                raise InvalidInputError(
+                    f"{path}: expected column `{c}` to hold numbers, found type "
+                    f"{tab.schema.field(c).type}."
+                ) from None
+        return cols
+    import csv
+
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        rows = [r for r in csv.reader(f) if r and any(x.strip() for x in r)]
+    if not rows:
         raise InvalidInputError(
-            f"Expected {path} to be a CSV file of numbers with a header row: {exc}"
-        ) from None
-    return {
-        name: np.atleast_1d(np.asarray(data[name], dtype=float)) for name in data.dtype.names or ()
-    }
+            f"{path}: expected a header row (e.g. t, qw, qx, qy, qz, wx, wy, wz) and one row "
+            "per sample of the case's grid, found an empty file."
+        )
+    header = [h.strip() for h in rows[0]]
+    if len(rows) == 1:
+        raise InvalidInputError(
+            f"{path}: expected one row per sample of the case's grid after the header "
+            f"({', '.join(header)}), found the header alone."
+        )
+    data = np.empty((len(rows) - 1, len(header)))
+    for n, row in enumerate(rows[1:]):
+        if len(row) != len(header):
+            raise InvalidInputError(
+                f"{path}: expected {len(header)} fields per row (the header's), found "
+                f"{len(row)} in data row {n + 1}."
+            )
+        for k, x in enumerate(row):
+            try:  # an empty field is a missing value (NaN), as pandas writes it
+                data[n, k] = float(x) if x.strip() else np.nan
+            except ValueError:
+                raise InvalidInputError(
+                    f"{path}: expected column `{header[k]}` to hold numbers, found "
+                    f"{x.strip()!r} in data row {n + 1}."
+                ) from None
+    return {name: data[:, k] for k, name in enumerate(header)}
 
 
 class FileEngine:
@@ -124,10 +169,11 @@ class FileEngine:
     directory : str or Path
         Where the files are; a case without a file is skipped.
     quat_order : {"wxyz", "xyzw"}, optional
-        Order of the quaternion columns ``q0..q3`` (or ``qw, qx, qy, qz`` by name):
-        scalar first (default, poinsot, MuJoCo) or scalar last (SciPy, Eigen's
-        coefficients, ROS). A file with ``r11..r33`` gives the attitude matrix
-        (body -> space) instead.
+        Order of the four quaternion columns (``q0..q3``, or ``qw, qx, qy, qz``) as
+        they stand in the file, whatever their names: scalar first (poinsot,
+        MuJoCo) or scalar last (SciPy, Eigen's coefficients, ROS). Default None:
+        ``qw, qx, qy, qz`` by name, ``q0..q3`` scalar first. A file with
+        ``r11..r33`` gives the attitude matrix (body -> space) instead.
     omega_frame : {"body", "space"}, optional
         Axes of ``wx, wy, wz`` (default body).
     degrees : bool, optional
@@ -139,13 +185,16 @@ class FileEngine:
     quaternions unit, and the motion must satisfy the kinematic equation
     ``q' = q (0, w) / 2`` (docs/theory.md §5) to a relative 1e-2, by a 4th-order
     central difference of ``q``. When it does not, the other conventions are tried
-    (scalar-last quaternions, space-axes or degree angular velocity) and the error
-    names the one that fits.
+    (the other quaternion order, space-axes or degree angular velocity): if one
+    fits, the error names it (bad input); if none does, the engine's attitude and
+    angular velocity are not one motion, and the case is scored as given and fails
+    with that finding. A case without a file is *missing* (``missing_reason``).
+    Non-finite states (a diverged engine) are scored as given: they fail.
     """
 
     name = "file"
 
-    def __init__(self, directory: str | Path, quat_order: str = "wxyz",
+    def __init__(self, directory: str | Path, quat_order: str | None = None,
                  omega_frame: str = "body", degrees: bool = False):  # fmt: skip
         if not isinstance(directory, (str, Path)):
             raise InvalidTypeError(
@@ -156,9 +205,10 @@ class FileEngine:
             raise InvalidInputError(
                 f"Expected `directory` to be an existing directory, got {str(directory)!r}."
             )
-        if quat_order not in ("wxyz", "xyzw"):
+        if quat_order not in (None, "wxyz", "xyzw"):
             raise InvalidInputError(
-                f"Expected `quat_order` to be 'wxyz' or 'xyzw', got {quat_order!r}."
+                f"Expected `quat_order` to be 'wxyz', 'xyzw' or None (by column name), got "
+                f"{quat_order!r}."
             )
         if omega_frame not in ("body", "space"):
             raise InvalidInputError(
@@ -167,7 +217,8 @@ class FileEngine:
         if not isinstance(degrees, bool):
             raise InvalidTypeError(f"Expected `degrees` to be True or False, got {degrees!r}.")
         self.quat_order, self.omega_frame, self.degrees = quat_order, omega_frame, degrees
-        self.label = f"file {self.directory} ({quat_order}, omega in {omega_frame} axes" + (
+        order = quat_order or "quaternion columns by name"
+        self.label = f"file {self.directory} ({order}, omega in {omega_frame} axes" + (
             ", deg/s)" if degrees else ", rad/s)"
         )
 
@@ -179,22 +230,33 @@ class FileEngine:
         return None
 
     def skip_reason(self, case: Case) -> str | None:
+        return None  # a file may hold any case
+
+    def missing_reason(self, case: Case) -> str | None:
         return (
             None if self._file(case) else f"no file {case.name}.csv or .parquet in {self.directory}"
         )
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], None]:
+    def run(self, case: Case) -> tuple[dict[str, Any], None]:
         path = self._file(case)
         assert path is not None
         cols = read_table(path)
         if "t" not in cols:
             raise InvalidInputError(f"{path}: expected a column `t` (s).")
         t = cols["t"]
-        if t.shape != case.t.shape or not np.allclose(t, case.t, rtol=0.0, atol=1e-9):
+        grid = (
+            f"the case's time grid ({case.t.size} samples, step {case.t[1] - case.t[0]:g} s "
+            f"from 0; see {case.name}.json of `poinsot verify export`)"
+        )
+        if t.shape != case.t.shape:
+            raise InvalidInputError(f"{path}: expected {grid} in column `t`, got {t.size} samples.")
+        bad = np.nonzero(~(np.abs(t - case.t) <= 1e-9))[0]
+        if bad.size:
+            k = int(bad[0])
             raise InvalidInputError(
-                f"{path}: expected the case's time grid ({case.t.size} samples, step "
-                f"{case.t[1] - case.t[0]:g} s from 0), got {t.size} samples from {t[0]:g} s "
-                f"(see {case.name}.json of `poinsot verify export`)."
+                f"{path}: expected {grid} in column `t`, got t = {float(t[k])!r} s in data row "
+                f"{k + 1} where the grid has {float(case.t[k])!r} s ({bad.size} samples off by "
+                "more than 1e-9 s)."
             )
         if case.kind == "point":
             need = POINT_COLUMNS[1:]
@@ -210,39 +272,57 @@ class FileEngine:
         ), None
 
 
-def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], order: str,
-                        frame: str, degrees: bool) -> dict[str, np.ndarray]:  # fmt: skip
+def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], order: str | None,
+                        frame: str, degrees: bool) -> dict[str, Any]:  # fmt: skip
     from ..rotations.rotation import Rotation
 
     wcols = ("wx", "wy", "wz")
     if any(c not in cols for c in wcols):
         raise InvalidInputError(f"{path}: expected the angular velocity columns wx, wy, wz.")
     w = np.column_stack([cols[c] for c in wcols])
+    alternatives: list[tuple[str, np.ndarray]] = []
     if all(c in cols for c in MATRIX_COLUMNS):
         m = np.stack([cols[c] for c in MATRIX_COLUMNS], axis=-1).reshape(-1, 3, 3)
+        if not np.all(np.isfinite(m)):
+            return _diverged(path, case, cols)
         q = np.asarray(Rotation.from_matrix(m).as_quat(), dtype=float)
+        given = "attitude matrix r11..r33"
     else:
-        names = ("qw", "qx", "qy", "qz") if all(c in cols for c in ("qw", "qx", "qy", "qz")) else (
-            "q0", "q1", "q2", "q3")  # fmt: skip
+        named = ("qw", "qx", "qy", "qz")
+        names = named if all(c in cols for c in named) else ("q0", "q1", "q2", "q3")
         if any(c not in cols for c in names):
             raise InvalidInputError(
                 f"{path}: expected quaternion columns qw, qx, qy, qz (or q0..q3) or matrix "
-                f"columns r11..r33."
+                f"columns r11..r33, found {', '.join(cols)}."
             )
-        q = np.column_stack([cols[c] for c in names])
-        if names[0] == "q0" and order == "xyzw":
-            q = q[:, [3, 0, 1, 2]]
+        # the four quaternion columns in file order; --quat-order reads them by position
+        in_file = [c for c in cols if c in names]
+        raw = np.column_stack([cols[c] for c in in_file])
+        by_order = {"wxyz": raw, "xyzw": raw[:, [3, 0, 1, 2]]}
+        if order is None:
+            q = np.column_stack([cols[c] for c in names])  # by name (q0..q3: scalar first)
+            given = "quaternion columns by name" if names == named else "q0..q3 scalar first"
+        else:
+            q = by_order[order]
+            given = f"{order}: columns {', '.join(in_file)} read as {', '.join(order)}"
+        for o, label in (("xyzw", "scalar-last quaternions (quat_order='xyzw')"),
+                         ("wxyz", "scalar-first quaternions (quat_order='wxyz')")):  # fmt: skip
+            if not np.array_equal(by_order[o], q, equal_nan=True):
+                alternatives.append((label, by_order[o]))
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(w))):
+        return _diverged(path, case, cols)
     norm = np.linalg.norm(q, axis=-1)
-    if not np.all(np.isfinite(q)) or np.max(np.abs(norm - 1.0)) > 1e-6:
+    if np.max(np.abs(norm - 1.0)) > 1e-6:
         raise InvalidInputError(
             f"{path}: expected unit quaternions, found |q| from {np.min(norm):.6g} to "
             f"{np.max(norm):.6g}."
         )
+    defects = []
     fit = _kinematic_residual(case.t, q, w, frame, degrees)
     if not fit < 1e-2:
         hints = []
         for label, qq, fr, dg in (
-            ("scalar-last quaternions (quat_order='xyzw')", q[:, [3, 0, 1, 2]], frame, degrees),
+            *[(lab, qa, frame, degrees) for lab, qa in alternatives],
             ("angular velocity in space axes (omega_frame='space')", q, "space", degrees),
             ("angular velocity in body axes (omega_frame='body')", q, "body", degrees),
             ("angular velocity in deg/s (degrees=True)", q, frame, True),
@@ -251,13 +331,19 @@ def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], ord
                 continue
             if _kinematic_residual(case.t, qq, w, fr, dg) < 1e-2:
                 hints.append(label)
-        hint = f" The data fit {' or '.join(hints)}." if hints else (
-            " No other convention fits either: the attitude and the angular velocity do not "
-            "belong to one motion.")  # fmt: skip
-        raise InvalidInputError(
-            f"{path}: the attitude and the angular velocity violate the kinematic equation "
-            f"q' = q (0, w) / 2 (relative residual {fit:.2g}) with the conventions given "
-            f"({order}, omega in {frame} axes, {'deg/s' if degrees else 'rad/s'}).{hint}"
+        conventions = f"({given}, omega in {frame} axes, {'deg/s' if degrees else 'rad/s'})"
+        if hints:
+            raise InvalidInputError(
+                f"{path}: the attitude and the angular velocity violate the kinematic equation "
+                f"q' = q (0, w) / 2 (relative residual {fit:.2g}) with the conventions given "
+                f"{conventions}. The data fit {' or '.join(hints)}."
+            )
+        # no convention fits: not a convention error but an engine whose attitude and
+        # angular velocity are not one motion (e.g. explicit Euler at a coarse step)
+        defects.append(
+            f"kinematics: attitude and angular velocity violate q' = q (0, w) / 2 (relative "
+            f"residual {fit:.3g} >= 0.01 with the conventions given {conventions}, and no "
+            "other convention fits): they are not one motion (docs/theory.md §5)"
         )
     if degrees:
         w = np.radians(w)
@@ -265,7 +351,17 @@ def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], ord
         w = np.asarray(Rotation.from_quat(q).inv().apply(w), dtype=float)
     from .engines import _quat_unit
 
-    return {"quat": _quat_unit(q), "omega": w}
+    return {"quat": _quat_unit(q), "omega": w, "defects": defects}
+
+
+def _diverged(path: Path, case: Case, cols: dict[str, np.ndarray]) -> dict[str, Any]:
+    """States of a file with non-finite values: NaN states that fail every metric."""
+    from .engines import _nan_states
+
+    bad = [c for c, v in cols.items() if c != "t" and not np.all(np.isfinite(v))]
+    out: dict[str, Any] = _nan_states(case)
+    out["defects"] = [f"non-finite values in column(s) {', '.join(bad)} of {path.name}"]
+    return out
 
 
 def _kinematic_residual(

@@ -44,9 +44,13 @@ class CaseResult:
     ----------
     case : str
     group : str
-    status : {"pass", "fail", "skip"}
+    status : {"pass", "fail", "skip", "missing"}
+        ``"skip"``: the case is outside what the engine models (e.g. an orbit in
+        MuJoCo's rigid-body adapter); ``"missing"``: the engine should have given
+        the states and did not (e.g. no file).
     reason : str
-        Why a case failed (the metrics over their thresholds) or was skipped.
+        Why a case failed (the metrics over their thresholds, or a defect of the
+        states), was skipped or is missing.
     metrics : dict
         ``name -> {"value", "threshold", "units", "passed"}`` (see :data:`METRICS`).
     errors : dict
@@ -174,7 +178,12 @@ def crossings(t: np.ndarray, s: np.ndarray, level: float) -> np.ndarray:
 
 
 def evaluate(
-    case: Case, states: dict[str, np.ndarray], *, seconds: float = 0.0, work: int | None = None
+    case: Case,
+    states: dict[str, np.ndarray],
+    *,
+    seconds: float = 0.0,
+    work: int | None = None,
+    defects: list[str] | None = None,
 ) -> CaseResult:
     """Compare an engine's states with the exact ones and give the verdict.
 
@@ -187,12 +196,15 @@ def evaluate(
         ``position``, ``velocity`` (n, 3) for a point.
     seconds, work : optional
         The engine's wall time (s) and work count, reported as given.
+    defects : list of str, optional
+        Findings about the states that fail the case whatever its metrics (e.g.
+        an attitude and angular velocity that violate the kinematic equation).
 
     Returns
     -------
     CaseResult
         ``status`` ``"pass"`` when every metric is within its threshold (a
-        non-finite value never passes).
+        non-finite value never passes) and there is no defect.
 
     Examples
     --------
@@ -227,21 +239,29 @@ def evaluate(
             scale = float(np.max(np.linalg.norm(exact[key], axis=-1)))
             errors[key] = e / scale
             values[key] = _max(e) / scale
-    got, ref = integrals(case, states), integrals(case, exact)
-    values["energy"] = _drift(got["energy"], abs(float(ref["energy"][0])))
-    if "momentum" in got:
-        k = got["momentum"]
-        k0 = float(np.linalg.norm(ref["momentum"][0]))
-        if case.group == "heavy-top":
-            k = k[:, 2]  # only K_z is conserved under gravity
-        values["momentum"] = _drift(k, k0)
-    if case.event is not None:
-        level = float(case.event["level"])
-        te = crossings(case.t, event_signal(case, exact), level)  # type: ignore[arg-type]
-        tg = crossings(case.t, event_signal(case, states), level)  # type: ignore[arg-type]
-        values["events"] = (
-            float(np.max(np.abs(tg - te), initial=0.0)) if tg.size == te.size else math.inf
-        )
+    finite = all(np.all(np.isfinite(np.asarray(v, dtype=float))) for v in states.values())
+    if not finite:  # a diverged engine: no integral or event to measure, every one fails
+        values["energy"] = math.inf
+        if case.kind == "rigid" or case.group == "orbit":
+            values["momentum"] = math.inf
+        if case.event is not None:
+            values["events"] = math.inf
+    else:
+        got, ref = integrals(case, states), integrals(case, exact)
+        values["energy"] = _drift(got["energy"], abs(float(ref["energy"][0])))
+        if "momentum" in got:
+            k = got["momentum"]
+            k0 = float(np.linalg.norm(ref["momentum"][0]))
+            if case.group == "heavy-top":
+                k = k[:, 2]  # only K_z is conserved under gravity
+            values["momentum"] = _drift(k, k0)
+        if case.event is not None:
+            level = float(case.event["level"])
+            te = crossings(case.t, event_signal(case, exact), level)  # type: ignore[arg-type]
+            tg = crossings(case.t, event_signal(case, states), level)  # type: ignore[arg-type]
+            values["events"] = (
+                float(np.max(np.abs(tg - te), initial=0.0)) if tg.size == te.size else math.inf
+            )
     metrics = {}
     failed = []
     for name, value in values.items():
@@ -254,7 +274,9 @@ def evaluate(
             "passed": passed,
         }
         if not passed:
-            failed.append(f"{name} {value:.3g} > {thr:.3g} {METRICS[name][0]}")
+            unit = METRICS[name][0]
+            failed.append(f"{name} {value:.3g} > {thr:.3g}" + ("" if unit == "1" else f" {unit}"))
+    failed.extend(defects or ())
     return CaseResult(
         case=case.name,
         group=case.group,

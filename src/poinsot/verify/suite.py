@@ -25,22 +25,59 @@ from .cases import CASES_VERSION, Case, cases
 from .engines import make, run
 from .metrics import METRICS, CaseResult
 
+#: the statuses of a case, in the order the verdict counts them
+STATUSES = ("pass", "fail", "missing", "skip")
+
 
 @dataclass
 class Verdict:
     """The results of one engine on a set of cases.
 
-    ``passed`` is True when no case failed (skipped cases do not count).
+    ``passed`` is True when at least one case was scored, none failed, none is
+    missing (unless ``allow_missing``) and, with ``require_all``, none was skipped
+    (:meth:`problems` says why not). A skipped case is outside what the engine
+    models (an orbit in MuJoCo); a missing case is one the engine should have
+    given and did not (no file).
     """
 
     engine: str
     label: str
     results: list[CaseResult]
     sweep: list[dict[str, Any]] = field(default_factory=list)
+    require_all: bool = False
+    allow_missing: bool = False
+
+    @property
+    def counts(self) -> dict[str, int]:
+        """``{"pass", "fail", "missing", "skip"} -> number of cases``."""
+        return {s: sum(r.status == s for r in self.results) for s in STATUSES}
+
+    def problems(self) -> list[str]:
+        """Why the verdict is not a pass (empty when it is)."""
+        c = self.counts
+        out = []
+        if c["pass"] + c["fail"] == 0:
+            out.append(f"no case was scored ({len(self.results)} selected)")
+        if c["fail"]:
+            out.append(f"{c['fail']} case(s) failed")
+        if c["missing"] and not self.allow_missing:
+            out.append(f"{c['missing']} case(s) missing (--allow-missing to accept)")
+        if c["skip"] and self.require_all:
+            out.append(f"{c['skip']} case(s) skipped under --require-all")
+        return out
 
     @property
     def passed(self) -> bool:
-        return all(r.status != "fail" for r in self.results)
+        return not self.problems()
+
+    def summary(self) -> str:
+        """The verdict line, e.g. ``PASS (4 passed, 0 failed, 0 missing, 8 skipped)``."""
+        c = self.counts
+        line = (
+            f"{'PASS' if self.passed else 'FAIL'} ({c['pass']} passed, {c['fail']} failed, "
+            f"{c['missing']} missing, {c['skip']} skipped)"
+        )
+        return line + ("" if self.passed else ": " + "; ".join(self.problems()))
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -48,9 +85,10 @@ class Verdict:
             "settings": self.label,
             "cases_version": CASES_VERSION,
             "passed": self.passed,
-            "counts": {
-                s: sum(r.status == s for r in self.results) for s in ("pass", "fail", "skip")
-            },
+            "verdict": self.summary(),
+            "problems": self.problems(),
+            "policy": {"require_all": self.require_all, "allow_missing": self.allow_missing},
+            "counts": self.counts,
             "results": [r.to_json() for r in self.results],
             "metrics": {k: {"units": u, "meaning": m} for k, (u, m) in METRICS.items()},
             "sweep": self.sweep,
@@ -70,6 +108,7 @@ class Verdict:
                     "" if m is None else f"{m['value']:.1e}" + ("" if m["passed"] else "!")
                 )
             rows.append(cells)
+        rows.append(["threshold", ""] + [_thresholds(self.results, n) for n in names])
         widths = [max(len(row[k]) for row in rows) for k in range(len(head))]
         lines = [
             "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in rows
@@ -82,7 +121,8 @@ class Verdict:
 
 
 def check(engine: Any, select: str | Iterable[str] | None = None,
-          progress: Callable[[Case, CaseResult], object] | None = None) -> Verdict:  # fmt: skip
+          progress: Callable[[Case, CaseResult], object] | None = None, *,
+          require_all: bool = False, allow_missing: bool = False) -> Verdict:  # fmt: skip
     """Run every selected case in ``engine`` and score it.
 
     Parameters
@@ -94,6 +134,10 @@ def check(engine: Any, select: str | Iterable[str] | None = None,
         Case names or groups; default all.
     progress : callable, optional
         Called with ``(case, result)`` after each case.
+    require_all : bool, optional
+        A skipped case (outside what the engine models) fails the verdict.
+    allow_missing : bool, optional
+        A missing case (e.g. no file) does not fail the verdict.
 
     Returns
     -------
@@ -104,8 +148,10 @@ def check(engine: Any, select: str | Iterable[str] | None = None,
     >>> from poinsot.verify import make
     >>> from poinsot.verify.suite import check
     >>> v = check(make("mujoco"), "orbit")   # MuJoCo cannot express an orbit: skipped
-    >>> [r.status for r in v.results], v.passed
-    (['skip', 'skip'], True)
+    >>> [r.status for r in v.results], v.passed     # and no case scored is no pass
+    (['skip', 'skip'], False)
+    >>> v.problems()
+    ['no case was scored (2 selected)']
     """
     out = []
     for case in cases(select):
@@ -113,7 +159,8 @@ def check(engine: Any, select: str | Iterable[str] | None = None,
         out.append(res)
         if progress is not None:
             progress(case, res)
-    return Verdict(engine.name, engine.label, out)
+    return Verdict(engine.name, engine.label, out, require_all=require_all,
+                   allow_missing=allow_missing)  # fmt: skip
 
 
 #: the setting a sweep varies, per engine (and its default values)
@@ -136,8 +183,9 @@ def sweep(engine: str, values: Sequence[float] | None = None,
     -------
     list of dict
         One per (value, case): ``{"setting", "value", "case", "error", "units",
-        "seconds", "work", "status"}``, ``error`` the attitude error (rad) of a rigid
-        body or the relative position error of a point.
+        "threshold", "seconds", "work", "status"}``, ``error`` the attitude error (rad)
+        of a rigid body or the relative position error of a point, ``threshold`` its
+        threshold.
     """
     if engine not in SWEEPS:
         raise InvalidInputError(
@@ -152,12 +200,13 @@ def sweep(engine: str, values: Sequence[float] | None = None,
         for case in cases(select):
             t0 = time.perf_counter()
             res = run(eng, case)
-            if res.status == "skip":
+            if res.status in ("skip", "missing"):
                 continue
             err_key = "attitude" if "attitude" in res.metrics else "position"
             rows.append({
                 "setting": key, "value": float(value), "case": case.name,
                 "error": res.metrics[err_key]["value"], "units": METRICS[err_key][0],
+                "threshold": res.metrics[err_key]["threshold"],
                 "seconds": res.seconds or time.perf_counter() - t0, "work": res.work,
                 "status": res.status,
             })  # fmt: skip
@@ -176,7 +225,7 @@ def write(verdict: Verdict, out: str | Path, *, pages: bool = True) -> list[Path
     if pages:
         (out / "cases").mkdir(exist_ok=True)
         for res in verdict.results:
-            if res.status == "skip" or not res.errors:
+            if res.status in ("skip", "missing") or not res.errors:
                 continue
             p = _case_page(verdict, res, out / "cases" / f"{res.case}.html")
             if p is not None:
@@ -201,8 +250,8 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
 
     case = cases(res.case)[0]
     states = res.states
-    if not states:
-        return None
+    if not states or not all(np.all(np.isfinite(v)) for v in states.values()):
+        return None  # nothing to draw (a diverged engine): the index page has its figures
     ex = case.exact()
     title = f"poinsot verify: {case.name} in {verdict.label}"
     summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
@@ -221,10 +270,17 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
                         series=[("error vs the exact solution", "1 (relative)", errs)])  # fmt: skip
 
 
+def _thresholds(results: list[CaseResult], name: str) -> str:
+    """The threshold(s) of metric ``name`` over the scored cases (e.g. ``"1.0e-06"``)."""
+    values = sorted({r.metrics[name]["threshold"] for r in results if name in r.metrics})
+    return " / ".join(f"{v:.1e}" for v in values)
+
+
 def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
     esc = html.escape
     names = list(METRICS)
     head = "".join(f"<th>{esc(n)}<br><small>{esc(METRICS[n][0])}</small></th>" for n in names)
+    limits = "".join(f'<td class="num">{esc(_thresholds(verdict.results, n))}</td>' for n in names)
     rows = []
     for r in verdict.results:
         cells = []
@@ -235,26 +291,31 @@ def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
             else:
                 cls = "ok" if m["passed"] else "bad"
                 cells.append(
-                    f'<td class="{cls}" title="threshold {m["threshold"]:.1e}">'
+                    f'<td class="num {cls}" title="threshold {m["threshold"]:.1e}">'
                     f"{m['value']:.1e}</td>"
                 )
         name = (
             f'<a href="{esc(links[r.case])}">{esc(r.case)}</a>' if r.case in links else esc(r.case)
         )
         rows.append(f'<tr><td>{name}</td><td class="{r.status}">{r.status}</td>{"".join(cells)}'
-                    f"<td>{esc(r.reason)}</td></tr>")  # fmt: skip
-    verdict_line = "PASS: every case within its thresholds" if verdict.passed else "FAIL"
+                    f'<td class="note">{esc(r.reason)}</td></tr>')  # fmt: skip
+    verdict_line = esc(verdict.summary())
     chart = _work_precision_svg(verdict.sweep) if verdict.sweep else ""
     title = f"poinsot verify: {esc(verdict.label)}"
     return f"""<!doctype html><html><head><meta charset="utf-8"><title>{title}</title>
-<style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:75em}}table{{border-collapse:collapse}}
-td,th{{border:1px solid #ccc;padding:.25em .5em;text-align:right}}td:first-child{{text-align:left}}
-.ok{{background:#e8f5e9}}.bad,.fail{{background:#ffebee}}.skip{{color:#777}}</style></head><body>
+<style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:90em}}table{{border-collapse:collapse}}
+td,th{{border:1px solid #ccc;padding:.25em .5em;text-align:right;white-space:nowrap}}
+td:first-child{{text-align:left}}td.note{{text-align:left;white-space:normal;min-width:20em}}
+tr.limits td{{background:#f5f5f5;font-style:italic}}
+.ok{{background:#e8f5e9}}.bad,.fail,.missing{{background:#ffebee}}.skip{{color:#777}}</style></head><body>
 <h1>poinsot verify</h1><p><b>{esc(verdict.label)}</b>, cases version {CASES_VERSION}:
 <b>{verdict_line}</b></p>
-<table><tr><th>case</th><th>status</th>{head}<th>note</th></tr>{"".join(rows)}</table>
-<p>Metrics and thresholds: docs/verify.md (poinsot's documentation); the exact solutions:
-docs/theory.md §9-§10.
+<table><tr><th>case</th><th>status</th>{head}<th>note</th></tr>
+<tr class="limits"><td>threshold</td><td></td>{limits}<td class="note">a value passes when it is
+at most its threshold</td></tr>{"".join(rows)}</table>
+<p>Statuses: pass, fail, missing (no states from the engine: fails the verdict unless
+allowed), skip (outside what the engine models). Metrics and thresholds: docs/verify.md
+(poinsot's documentation); the exact solutions: docs/theory.md §9-§10.
 Quaternions scalar first, body -> space; angular velocity in body axes; SI units, radians.</p>
 {chart}</body></html>
 """
@@ -265,14 +326,18 @@ def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
     pts = [r for r in rows if r["work"] and r["error"] > 0 and math.isfinite(r["error"])]
     if not pts:
         return ""
-    w, h, pad = 640, 400, 56
+    names = list(dict.fromkeys(p["case"] for p in pts))
+    thresholds = sorted({float(p["threshold"]) for p in pts if p.get("threshold")})
+    plot_w, h, pad = 640, 400, 56
+    legend = 16 + 7 * max(len(n) for n in names)  # 11 px text: under 7 px a character
+    w = plot_w + legend
     lx = np.log10([p["work"] for p in pts])
-    ly = np.log10([max(p["error"], 1e-17) for p in pts])
+    ly = np.log10([max(p["error"], 1e-17) for p in pts] + thresholds)
     x0, x1 = math.floor(lx.min()), math.ceil(lx.max()) + (lx.min() == lx.max())
     y0, y1 = math.floor(ly.min()), math.ceil(ly.max()) + (ly.min() == ly.max())
 
     def sx(v: float) -> float:
-        return pad + (v - x0) / (x1 - x0) * (w - 2 * pad)
+        return pad + (v - x0) / (x1 - x0) * (plot_w - 2 * pad)
 
     def sy(v: float) -> float:
         return h - pad - (v - y0) / (y1 - y0) * (h - 2 * pad)
@@ -290,9 +355,14 @@ def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
         parts.append(text(sx(k), h - pad + 18, f"1e{k}"))
     for k in range(y0, y1 + 1):
         parts.append(text(pad - 6, sy(k) + 4, f"1e{k}", "end"))
-        parts.append(f'<line x1="{pad}" x2="{w - pad}" y1="{sy(k):.1f}" y2="{sy(k):.1f}" '
+        parts.append(f'<line x1="{pad}" x2="{plot_w - pad}" y1="{sy(k):.1f}" y2="{sy(k):.1f}" '
                      'stroke="#eee"/>')  # fmt: skip
-    for j, name in enumerate(dict.fromkeys(p["case"] for p in pts)):
+    for thr in thresholds:
+        y = sy(math.log10(thr))
+        parts.append(f'<line x1="{pad}" x2="{plot_w - pad}" y1="{y:.1f}" y2="{y:.1f}" '
+                     'stroke="#000" stroke-dasharray="6 4"/>')  # fmt: skip
+        parts.append(text(plot_w - pad - 4, y - 4, f"threshold {thr:.0e}", "end"))
+    for j, name in enumerate(names):
         mine = sorted((p for p in pts if p["case"] == name), key=lambda p: p["work"])
         xy = " ".join(
             f"{sx(math.log10(p['work'])):.1f},{sy(math.log10(max(p['error'], 1e-17))):.1f}"
@@ -301,9 +371,9 @@ def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
         c = colours[j % len(colours)]
         parts.append(f'<polyline fill="none" stroke="{c}" points="{xy}">'
                      f"<title>{html.escape(name)}</title></polyline>")  # fmt: skip
-        parts.append(text(w - pad + 4, pad + 14 * j, name, "start", f'fill="{c}"'))
+        parts.append(text(plot_w - pad + 12, pad + 14 * j, name, "start", f'fill="{c}"'))
     units = pts[0]["units"]
-    parts.append(text(w / 2, h - 8, "work (evaluations or steps)"))
+    parts.append(text(plot_w / 2, h - 8, "work (evaluations or steps)"))
     parts.append(text(14, h / 2, f"largest error ({units})", "middle",
                       f'transform="rotate(-90 14 {h / 2})"'))  # fmt: skip
     return "<h2>Work-precision</h2>" + "".join(parts) + "</svg>"
