@@ -168,3 +168,44 @@ def test_on_the_separatrix_still_asymptotic():
     """Exactly released from the upright with a slow spin: the separatrix, unchanged."""
     top = LagrangeTop(1.0, 0.5, 1.0, theta=0.0, spin=1.0)
     assert top.motion_type == "asymptotic"
+
+
+def _ulps_below_separatrix(k):
+    """theta0 = 0.5, spin 3, precession rate H / (A (1 + cos theta0)) (K_z = H), and
+    theta' ``k`` ulps below the separatrix value (E = m g l): A = 1, C = 0.5, mgl = 1."""
+    th, a, c, g, r = 0.5, 1.0, 0.5, 1.0, 3.0
+    psd = c * r / (a * (1.0 + math.cos(th)))
+    thd = math.sqrt(2.0 * g * (1.0 - math.cos(th)) / a - psd**2 * math.sin(th) ** 2)
+    for _ in range(k):
+        thd = math.nextafter(thd, -math.inf)
+    return (a, c, g, th, thd, psd, r)
+
+
+@pytest.mark.parametrize("k", [1, 2, 4, 8, 64, 4096])
+def test_a_few_ulps_off_the_separatrix_is_not_snapped_onto_it(k):
+    """Issue 38: y2 - y3 <= 64 eps scale was snapped to the separatrix: 64 ulps below it,
+    poinsot said "asymptotic", period inf and NaN precession (true period 54.7466 s)."""
+    a, c, g, th, thd, psd, r = _ulps_below_separatrix(k)
+    top = LagrangeTop(a, c, g, theta=th, theta_rate=thd, precession_rate=psd, spin=r)
+    assert top.motion_type != "asymptotic"
+    assert math.isfinite(top.nutation_period) and math.isfinite(top.mean_precession_rate)
+    u1, u2, u3 = top.cos_theta_roots
+    assert u2 <= 1.0 <= u3  # (1 - u2 ~ 1e-16 may round to 1 in u itself)
+
+
+def test_near_the_separatrix_within_10x_of_one_ulp_of_input():
+    """64 ulps below the separatrix (1 - m = 3e-15): the period and the attitude at
+    t = 70 s are as accurate as the problem allows: within 10x of what moving theta'
+    by one ulp changes in the reference (measured: period 0.056 s off for 0.023 s per
+    ulp; attitude 2.1e-5 rad for 8.4e-6; at 1, 4 and 16 ulps 1.4x, 1.7x and 1.8x)."""
+    k = 64
+    args = _ulps_below_separatrix(k)
+    nxt = _ulps_below_separatrix(k + 1)
+    ref, ref1 = (_reference(*x, (70.0,), dps=40) for x in (args, nxt))
+    a, c, g, th, thd, psd, r = args
+    top = LagrangeTop(a, c, g, theta=th, theta_rate=thd, precession_rate=psd, spin=r)
+    per_ulp = abs(float(ref1["period"] - ref["period"]))
+    assert abs(top.nutation_period - float(ref["period"])) < 10.0 * per_ulp
+    att_ulp = _angle([float(x) for x in ref1["quats"][0]], ref["quats"][0])
+    q = top.rotation(np.array([70.0])).as_quat()[0]
+    assert _angle(q, ref["quats"][0]) < 10.0 * att_ulp, (_angle(q, ref["quats"][0]), att_ulp)

@@ -983,12 +983,9 @@ class LagrangeTop:
             else:  # f(0) = -k^2 < 0 < f(middle of the band)
                 y2 = _rtsafe(fy, dfy, 0.0, om - 0.5 * (x1 + x2))
             y3 = -k * k / (c3 * y1 * y2)
-        # separatrix u2 = u3 = 1: the roots within the round-off of the coefficients
-        scale = (s.w2 + c3 * om + abs(k * h)) / max(abs(d2), _EPS * c3) + abs(k) / math.sqrt(
-            max(abs(d2), _EPS * c3)
-        )
-        if y2 - y3 <= 64.0 * _EPS * scale:
-            y2 = y3 = 0.0
+        # no snapping onto the separatrix u2 = u3 = 1: a band a few ulps of input below
+        # it has a finite period (1 - m ~ 1e-15), and y2, y3 from P in y are as accurate
+        # as the inputs make them (issue 38: a snap at 64 eps put such a top 2.9 rad off)
         s.y2, s.y3 = y2, y3
         if y2 == 0.0 or y3 == 0.0:
             s.kmh = 0.0
