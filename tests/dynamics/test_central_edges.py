@@ -105,8 +105,12 @@ def test_a_nearly_parabolic_orbit_warns_with_the_size():
 
     near = orbit(0.9999)
     t = np.linspace(0.0, 3.0 * near.radial_period, 20)
-    with pytest.warns(AccuracyWarning, match=r"e = 0\.9999.*good to ~[0-9.]+e-0[78] of a"):
+    with pytest.warns(AccuracyWarning, match=r"e = 0\.9999.*good to ~[0-9.]+e-0[78] of a") as w:
         near.orbit(t, method="integrate")
+    # issue 38: given by (E, L), the speed is no input: the warning names the kind of input
+    # the bound holds for and the better-conditioned method
+    text = str(w[0].message)
+    assert "started from a state" in text and "(E, L)" in text and "method='kepler'" in text
     far = orbit(0.5)
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyWarning)

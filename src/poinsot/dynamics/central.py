@@ -1153,8 +1153,12 @@ class CentralOrbit:
         if 25.0 * moved > 1e-9:
             warnings.warn(
                 f"A nearly parabolic orbit (e = {e:.6g}) over {periods:.3g} radial periods: "
-                f"one ulp of the initial speed moves the position by ~{moved:.1e} of a, and "
-                f"the integrated orbit is good to ~{25 * moved:.1e} of a (docs/particles.md).",
+                f"the integrated orbit is good to ~{25 * moved:.1e} of a, the bound of the "
+                f"integration in the swept angle near e = 1. It is what the problem allows "
+                f"for an orbit started from a state (one ulp of the speed moves the position "
+                f"by ~{moved:.1e} of a); an orbit given by (E, L) is better conditioned than "
+                f"that, and for a Kepler potential method='kepler' keeps ~1e-13 "
+                f"(docs/particles.md).",
                 AccuracyWarning,
                 stacklevel=4,
             )
