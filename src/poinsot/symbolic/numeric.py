@@ -27,7 +27,7 @@ import math
 import threading
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
@@ -613,6 +613,21 @@ class NumericLagrangian:
             return "state", self._undefined_text(t[i], y[i], p, what, rate)
         return None
 
+    def _raise_undefined(
+        self, exc: BaseException, t: Any, y: Any, params: Mapping[str, float] | ArrayLike | None
+    ) -> NoReturn:
+        """``exc`` raised by a kernel at the states ``y``: re-raised as it is if it is not
+        a formula evaluated outside its domain, else as an :class:`InvalidInputError`
+        naming the state and the term (a ``ZeroDivisionError`` is not a bug of poinsot)."""
+        if not _undefined(exc):
+            raise exc
+        p = self._params(params)
+        a = np.ascontiguousarray(np.asarray(y, dtype=float).reshape(-1, 2 * self.n))
+        tt = np.ascontiguousarray(np.broadcast_to(np.asarray(t, dtype=float), a.shape[:1]))
+        found = self._start_problem(tt, a, p, self._kernels())
+        text = found[1] if found is not None else f"the equations of motion raise {exc!r}"
+        raise InvalidInputError(_framed("state", text)) from None
+
     def check_state(
         self,
         t: ArrayLike,
@@ -675,7 +690,10 @@ class NumericLagrangian:
         tt = np.ascontiguousarray(np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1))
         out = np.empty_like(flat)
         lam = np.empty((flat.shape[0], self.n_constraints))
-        bad = ns["_batch"](tt, flat, p, out, lam)
+        try:
+            bad = ns["_batch"](tt, flat, p, out, lam)
+        except _UNDEFINED as exc:
+            self._raise_undefined(exc, tt, flat, params)
         if bad >= 0:
             raise InvalidInputError(
                 "The mass matrix (augmented with the constraints) is singular at the state "
@@ -700,8 +718,11 @@ class NumericLagrangian:
             # these types (no dispatcher type matching), the scratch kept (no allocation
             # but the result's). Set up by the first such call (below).
             out = np.empty(self._shape1)
-            if one(t, y, self._work, out):
-                return out
+            try:
+                if one(t, y, self._work, out):
+                    return out
+            except _UNDEFINED as exc:
+                self._raise_undefined(exc, t, y, params)
         if (
             params is None
             and type(y) is np.ndarray
@@ -718,8 +739,11 @@ class NumericLagrangian:
                 aux.update(t1=np.empty(1), lam1=np.empty((1, self.n_constraints)))
             aux["t1"][0] = t
             out = np.empty((1, 2 * self.n))
-            if ns["_batch"](aux["t1"], y.reshape(1, -1), self._defaults, out, aux["lam1"]) < 0:
-                return out.reshape(-1)
+            try:
+                if ns["_batch"](aux["t1"], y.reshape(1, -1), self._defaults, out, aux["lam1"]) < 0:
+                    return out.reshape(-1)
+            except _UNDEFINED as exc:
+                self._raise_undefined(exc, t, y, params)
         return self._run(t, y, params)[0]
 
     rhs = __call__
@@ -741,7 +765,10 @@ class NumericLagrangian:
         tt = np.broadcast_to(np.asarray(t, dtype=float), a.shape[:-1]).reshape(-1)
         tt = np.ascontiguousarray(tt)
         out = np.empty((flat.shape[0], self.n, self.n))
-        ns["_mass"](tt, flat, p, out)
+        try:
+            ns["_mass"](tt, flat, p, out)
+        except _UNDEFINED as exc:
+            self._raise_undefined(exc, tt, flat, params)
         return out.reshape((*a.shape[:-1], self.n, self.n))
 
     def _lambdified(self, which: str) -> Any:
@@ -790,6 +817,27 @@ class NumericLagrangian:
         """Jacobi integral ``q' . dL/dq' - L`` at the states ``y``."""
         return self._scalar("jacobi", t, y, params)
 
+    def _units(self, units: Mapping[str, str] | Sequence[str] | None) -> tuple[str, ...]:
+        """The units of the coordinates: given, else guessed from their names."""
+        from ._symbols import coordinate_unit
+
+        if units is None:
+            units = {}
+        if isinstance(units, Mapping):
+            unknown = [k for k in units if k not in self.coordinates]
+            if unknown:
+                raise InvalidInputError(
+                    f"Expected the keys of `units` among the coordinates "
+                    f"{list(self.coordinates)}, got {unknown[0]!r}."
+                )
+            return tuple(str(units.get(c, coordinate_unit(c))) for c in self.coordinates)
+        if isinstance(units, str):
+            raise InvalidTypeError(
+                f"Expected `units` to be a sequence of {self.n} strings or a mapping, got "
+                f"the string {units!r}."
+            )
+        return tuple(units)
+
     def simulate(
         self,
         q0: ArrayLike,
@@ -823,9 +871,12 @@ class NumericLagrangian:
             A ``solve_ivp`` method (:data:`SOLVERS`), default ``"DOP853"``.
         rtol, atol, max_step : float, optional
             Passed to ``solve_ivp`` (defaults ``1e-10``, ``1e-12``, no limit).
-        units : sequence of str, optional
-            The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` unknown, the
-            default), carried by the result and its channels.
+        units : sequence of str or mapping, optional
+            The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` unknown), or a
+            mapping from some coordinate names to units; carried by the result and
+            its channels. Default (and for a name the mapping leaves out): guessed
+            from the name as the ``lagrangian`` scenario kind does (``theta1``, ``phi``
+            an angle in rad; ``x``, ``r``, ``z_2`` a length in m; else ``""``).
 
         Returns
         -------
@@ -961,7 +1012,7 @@ class NumericLagrangian:
         return CoordinateTrajectory(
             t=tt,
             method=method,
-            units=() if units is None else tuple(units),
+            units=self._units(units),
             q=ys[..., : self.n],
             qdot=ys[..., self.n :],
             coordinates=self.coordinates,

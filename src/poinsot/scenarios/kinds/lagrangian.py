@@ -64,30 +64,22 @@ _KEYS = (
 #: Units a coordinate may have in ``[lagrangian] units`` ("": none stated).
 UNITS = ("rad", "m", "")
 
-_GREEK = frozenset(
-    "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi "
-    "sigma tau upsilon phi chi psi omega varphi vartheta".split()
-)
-_LENGTHS = frozenset("x y z r s l d h rho".split())
-
 
 def coordinate_unit(name: str) -> str:
     """SI unit of a generalized coordinate guessed from its name: a Greek letter
     (``theta1``, ``phi``) is an angle (``"rad"``); ``x``, ``y``, ``z``, ``r``, ``s``,
     ``l``, ``d``, ``h``, ``rho`` (with digits or ``_`` after) a length (``"m"``);
-    else unknown (``""``). ``[lagrangian] units`` overrides the guess.
+    else unknown (``""``). ``[lagrangian] units`` overrides the guess. The library's
+    guess (:meth:`poinsot.symbolic.NumericLagrangian.simulate` without ``units``).
 
     Examples
     --------
     >>> [coordinate_unit(n) for n in ("theta1", "phi", "x", "rho", "z_2", "q")]
     ['rad', 'rad', 'm', 'm', 'm', '']
     """
-    stem = name.rstrip("0123456789_").lower()
-    if stem in _GREEK:
-        return "rad"
-    if stem in _LENGTHS:
-        return "m"
-    return ""
+    from ...symbolic._symbols import coordinate_unit as guess  # SymPy-free, loaded late
+
+    return guess(name)
 
 
 def rate_unit(unit: str) -> str:
@@ -316,7 +308,6 @@ class Lagrangian(ScenarioKind):
         f = spec.system.to_numeric(dict(spec.parameters))
         progress(0.0, method)
         sim = scenario.simulation
-        kept = [str(c.func) for c in spec.system.coordinates]
         lt = f.simulate(
             spec.q0,
             spec.qdot0,
@@ -325,7 +316,7 @@ class Lagrangian(ScenarioKind):
             rtol=spec.rtol,
             atol=spec.atol,
             max_step=sim.max_step if sim.max_step is not None else np.inf,
-            units=spec.units or tuple(coordinate_unit(c) for c in kept),
+            units=spec.units or None,  # None: the library's guess from the names
         )
         progress(1.0, method)
         return dataclasses.replace(lt, method=method)  # named as the scenario names it
