@@ -410,6 +410,27 @@ class NumericLagrangian:
         self._aux: dict[str, Any] = {}
         self._sympy = sympy
 
+    # -------------------------------------------------------------- pickling
+    #: What a pickle leaves out: the compiled kernels, their scratch and the lambdified
+    #: functions (rebuilt on first use, from the generated source), and the sympy module.
+    _TRANSIENT = ("_ns", "_one", "_work", "_aux", "_sympy")
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The system, the parameters and the generated source: picklable (e.g. for
+        ``multiprocessing`` or Dask); the kernels are compiled again where it lands
+        (numba's disk cache makes that a load)."""
+        return {k: v for k, v in self.__dict__.items() if k not in self._TRANSIENT}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        import sympy
+
+        self.__dict__.update(state)
+        self._ns = None
+        self._one = None
+        self._work = np.empty(0)
+        self._aux = {}
+        self._sympy = sympy
+
     # --------------------------------------------------------------- helpers
     @property
     def source(self) -> str:
