@@ -603,7 +603,9 @@ class NumericLagrangian:
                         ns["_batch"](t[i : i + 1], y[i : i + 1], p, out[:1], lam[:1])
                 except _UNDEFINED:
                     break
-            what = "divide by zero" if isinstance(exc, ZeroDivisionError) else "give NaN"
+            # numba raises ZeroDivisionError where NumPy gives inf: the same words for both
+            zero = isinstance(exc, ZeroDivisionError)
+            what = "give an infinite value (a division by zero)" if zero else "give NaN"
             return "state", self._undefined_text(t[i], y[i], p, what, rate)
         finite = np.isfinite(M.reshape(N, -1)).all(axis=1)
         if not finite.all():
@@ -970,7 +972,7 @@ class NumericLagrangian:
                 # the first state that raises, named with the term to blame
                 found = self._start_problem(t_buf.copy(), states.copy(), p, ns)
                 text = (
-                    found[1].replace(" divide by zero at ", " divided by zero at ")
+                    found[1]
                     if found is not None and found[0] == "state"
                     else f"the equations of motion raised {exc!r} at t = {_num(time)}"
                 )
@@ -984,7 +986,7 @@ class NumericLagrangian:
                 i = -2 - bad
                 y_i = states[i]
                 bad_values = np.concatenate([flat_out[i, self.n :], flat_lam[i]])
-                what = "gave NaN" if np.isnan(bad_values).any() else "gave an infinite value"
+                what = "give NaN" if np.isnan(bad_values).any() else "give an infinite value"
                 text = self._undefined_text(time, y_i, p, what)
                 raise IntegrationError(f"{text[0].upper()}{text[1:]}.")
             return flat_out.reshape(-1)
