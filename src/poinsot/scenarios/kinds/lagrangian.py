@@ -198,8 +198,9 @@ def _check_system(t: Any, system: Any, params: Any, q0: Any, qdot0: Any) -> None
     if problem is not None:
         from ...symbolic.numeric import _framed
 
-        message = _framed(*problem, "an initial state (`q0`, `qdot0`)")
-        key = "kinetic" if problem[0] == "kinetic" else "q0"
+        kind, text = problem
+        message = _framed(kind, text, "an initial state (`q0`, `qdot0`)")
+        key = "kinetic" if kind == "kinetic" else "q0"
         raise t.error(key, message[0].lower() + message[1:])
 
 
