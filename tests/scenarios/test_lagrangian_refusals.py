@@ -60,3 +60,71 @@ def test_the_advice_after_a_failed_integration_names_this_kind_s_methods(tmp_pat
     advice = err.split("Advice:")[1]
     assert '"Radau"' in advice and '"adaptive"' not in advice and '"DOP853"' not in advice
     assert not (tmp_path / "o").exists()
+
+
+class _Hung(BaseException):
+    """Not an Exception: the CLI's catch-all cannot turn it into an exit code."""
+
+
+def _deadline(seconds: int):
+    """A context manager failing the test (``_Hung``) instead of letting it hang."""
+    import contextlib
+    import signal
+
+    if not hasattr(signal, "SIGALRM"):
+        pytest.skip("no SIGALRM to guard a hang with")
+
+    @contextlib.contextmanager
+    def guard():
+        def hung(*_):
+            raise _Hung(f"still running after {seconds} s")
+
+        old = signal.signal(signal.SIGALRM, hung)
+        signal.alarm(seconds)
+        try:
+            yield
+        finally:
+            signal.alarm(0)
+            signal.signal(signal.SIGALRM, old)
+
+    return guard()
+
+
+ONE = (
+    'kind = "lagrangian"\n[lagrangian]\ncoordinates = ["x"]\nparameters = {{ {params} }}\n'
+    'kinetic = "x_dot**2/2"\npotential = "{potential}"\nq0 = [{q0}]\nqdot0 = [0.0]\n'
+    '[simulation]\nduration = 1.0\nsamples = 11\nmethod = "DOP853"\n'
+)
+
+
+@pytest.mark.parametrize(
+    ("params", "potential", "q0", "said"),
+    [
+        # the old code: check ok, run spinning at full CPU (a NaN first step of solve_ivp)
+        (
+            "k = 1.0",
+            "k*sqrt(x)",
+            "-1.0",
+            "give NaN at t = 0, x = -1, x_dot = 0: the potential k*sqrt(x) is not real",
+        ),
+        # the old code: check ok, run exit 1 "unexpected failure: ZeroDivisionError"
+        ("k = 1.0", "k/(x - 1)", "1.0", "x = 1, x_dot = 0: the potential k/(x - 1) is infinite"),
+        (
+            "k = 0.0, m = 1.0",
+            "m*x**2/k",
+            "0.5",
+            "the potential m*x**2/k is infinite there (k = 0, m = 1)",
+        ),
+    ],
+)
+def test_equations_not_finite_at_the_start_exit_2_in_check_and_run(
+    tmp_path, capsys, params, potential, q0, said
+):
+    path = tmp_path / "nan.toml"
+    path.write_text(ONE.format(params=params, potential=potential, q0=q0))
+    with _deadline(60):
+        assert _run_and_check(path, tmp_path) == (2, 2)
+    err = capsys.readouterr().err
+    assert err.count("nan.toml:7: `lagrangian.q0` expected an initial state") == 2, err
+    assert err.count(said) == 2, err
+    assert not (tmp_path / "o").exists()

@@ -29,6 +29,30 @@ def test_gravity_on_a_double_pendulum_is_minus_grad_v():
         assert sympy.simplify(qk + v.diff(c)) == 0
 
 
+@pytest.mark.parametrize(
+    "form",
+    [
+        lambda r, f: ([sympy.Matrix(r[0]), sympy.Matrix(r[1])], [sympy.Matrix(v) for v in f]),
+        lambda r, f: ([sympy.Matrix(r[0]).T, sympy.ImmutableMatrix(r[1])], f),
+        lambda r, f: (sympy.Matrix(r), sympy.Matrix(f)),  # one point per row
+    ],
+    ids=["columns", "row-and-immutable", "one-per-row"],
+)
+def test_positions_and_forces_as_sympy_matrices(form):
+    """Issue 38: a sympy.Matrix position was refused; any of its forms gives the same
+    -dV/dq as the lists (gravity on the double pendulum)."""
+    th1, th2 = dynamicsymbols("theta1 theta2")
+    m1, m2, l1, l2, g = sympy.symbols("m1 m2 l1 l2 g", positive=True)
+    r1 = [l1 * sympy.sin(th1), -l1 * sympy.cos(th1)]
+    r2 = [r1[0] + l2 * sympy.sin(th2), r1[1] - l2 * sympy.cos(th2)]
+    positions, forces = form([r1, r2], [[0, -m1 * g], [0, -m2 * g]])
+    q = generalized_forces(positions, forces, sympy.Matrix([th1, th2]))
+    v = m1 * g * r1[1] + m2 * g * r2[1]
+    assert len(q) == 2
+    for qk, c in zip(q, [th1, th2], strict=True):
+        assert sympy.simplify(qk + v.diff(c)) == 0
+
+
 def test_covariant_change_matches_the_direct_computation():
     """A force (fx, fy) at (x, y): Q in polar coordinates from J^T Q_cartesian equals
     the generalized forces computed directly in (r, phi)."""

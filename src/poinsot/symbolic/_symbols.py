@@ -15,6 +15,32 @@ from typing import Any
 
 from ..errors import InvalidInputError, InvalidTypeError
 
+_GREEK = frozenset(
+    "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi "
+    "sigma tau upsilon phi chi psi omega varphi vartheta".split()
+)
+_LENGTHS = frozenset("x y z r s l d h rho".split())
+
+
+def coordinate_unit(name: str) -> str:
+    """SI unit of a generalized coordinate guessed from its name: a Greek letter
+    (``theta1``, ``phi``) is an angle (``"rad"``); ``x``, ``y``, ``z``, ``r``, ``s``,
+    ``l``, ``d``, ``h``, ``rho`` (with digits or ``_`` after) a length (``"m"``);
+    else unknown (``""``). The default units of :meth:`NumericLagrangian.simulate` and
+    of the ``lagrangian`` scenario kind (whose ``[lagrangian] units`` overrides it).
+
+    Examples
+    --------
+    >>> [coordinate_unit(n) for n in ("theta1", "phi", "x", "rho", "z_2", "q")]
+    ['rad', 'rad', 'm', 'm', 'm', '']
+    """
+    stem = name.rstrip("0123456789_").lower()
+    if stem in _GREEK:
+        return "rad"
+    if stem in _LENGTHS:
+        return "m"
+    return ""
+
 
 def default_time() -> Any:
     """SymPy's time symbol ``t`` used by :func:`sympy.physics.mechanics.dynamicsymbols`."""

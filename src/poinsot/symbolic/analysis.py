@@ -31,6 +31,9 @@ def _sympy() -> Any:
 
 
 def _list(x: Any, name: str) -> list[Any]:
+    if isinstance(x, _sympy().MatrixBase):
+        # a column or row vector: its entries; a matrix: its rows (one vector each)
+        return list(x) if 1 in x.shape else [x.row(i) for i in range(x.rows)]
     if isinstance(x, str | bytes) or not hasattr(x, "__iter__"):
         raise InvalidTypeError(f"Expected `{name}` to be a sequence, got {type(x).__name__}.")
     return list(x)
@@ -54,9 +57,10 @@ def generalized_forces(
     Parameters
     ----------
     positions : sequence of vectors
-        ``r_i`` (2 or 3 SymPy expressions each) in terms of the coordinates.
+        ``r_i`` (2 or 3 SymPy expressions each, a list or a ``sympy.Matrix`` column
+        or row) in terms of the coordinates; a matrix holds one per row.
     forces : sequence of vectors
-        ``F_i`` (same number of components), any expressions.
+        ``F_i`` (same number of components), any expressions; the same forms.
     coordinates : sequence
         ``q_k`` (``dynamicsymbols`` or symbols).
 

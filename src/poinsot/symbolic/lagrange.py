@@ -26,6 +26,7 @@ symbolically: :meth:`LagrangeSystem.to_numeric` solves the system numerically.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -642,6 +643,44 @@ class LagrangeSystem:
             out[f"p_{q.func.__name__}"] = p
         return out
 
+    def _first_undefined(
+        self, values: Mapping[Any, float], rate: str = "'"
+    ) -> tuple[str, str, str, set[Any]] | None:
+        """The first term of the system that is not a finite real number at ``values``
+        (plain symbols -> floats): ``(label, expression, what it is, its symbols)``, the
+        user's terms (potential, kinetic energy...) before those derived from them (the
+        mass matrix, the forcing). Evaluated by SymPy: only to explain a failure."""
+        import sympy
+
+        c = self._c
+        names = {q: sympy.Symbol(nm) for q, nm in zip(c.plain, c.names, strict=True)}
+        names.update({u: sympy.Symbol(nm + rate) for u, nm in zip(c.vel, c.names, strict=True)})
+        M, F = self._MF
+        A, _, gamma = self._constraints
+        n = len(c.plain)
+        terms: list[tuple[str, Any]] = [("the potential", self._P), ("the kinetic energy", self._T)]
+        terms.append(("the generalized potential", self._V))
+        terms += [(f"the generalized force on {c.names[k]}", self._Q[k]) for k in range(n)]
+        terms += [(f"the holonomic constraint {f}", f) for f in self._hol]
+        terms += [(f"the kinematic constraint {f}", f) for f in self._nonhol]
+        for i in range(n):
+            for j in range(i, n):
+                entry = f"d^2T/d{c.names[i]}{rate}d{c.names[j]}{rate}"
+                terms.append((f"the mass matrix entry {entry} =", M[i, j]))
+        terms += [(f"the force term of the equation of {c.names[k]},", F[k]) for k in range(n)]
+        terms += [(f"the constraint acceleration term {j + 1},", g) for j, g in enumerate(gamma)]
+        # exact values (the floats' own): 0/0 is nan, 1/0 zoo, sqrt(-1) I (with Floats
+        # mpmath raises ZeroDivisionError for 0.0/0.0)
+        sub = {s: sympy.Rational(v) for s, v in values.items()}
+        for label, expr in terms:
+            e = sympy.sympify(expr)
+            if e.is_number and e.is_finite:
+                continue
+            defect = _defect(e, sub)
+            if defect is not None:
+                return label, str(e.xreplace(names)), defect, e.free_symbols
+        return None
+
     # ---------------------------------------------------------------- numbers
     def to_numeric(self, parameters: Mapping[str, float] | None = None) -> NumericLagrangian:
         """A compiled right-hand side ``f(t, y, params=None)``, ``y = [q, q']``.
@@ -714,6 +753,32 @@ class LagrangeSystem:
             f"LagrangeSystem(coordinates={list(self.coordinates)}, "
             f"constraints={len(self._hol)} holonomic + {len(self._nonhol)} kinematic)"
         )
+
+
+def _defect(expr: Any, values: Mapping[Any, Any]) -> str | None:
+    """What keeps ``expr`` at ``values`` from being a finite float (``"infinite"``,
+    ``"not real"``...), or None when it is one."""
+    import sympy
+
+    try:
+        v = expr.xreplace(values).evalf()
+    except ZeroDivisionError:
+        return "infinite"
+    except (TypeError, ValueError, ArithmeticError):  # no number there
+        return "undefined"
+    if v.has(sympy.nan):
+        return "undefined (NaN)"
+    if v.has(sympy.zoo, sympy.oo, -sympy.oo):
+        return "infinite"
+    try:
+        z = complex(v)
+    except (TypeError, ValueError):
+        return "undefined"
+    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
+        return "beyond the floating-point range"
+    if z.imag != 0 and abs(z.imag) > 1e-12 * max(1.0, abs(z.real)):
+        return f"not real ({v})"
+    return None
 
 
 def _seq(value: Any, name: str) -> Any:

@@ -27,14 +27,14 @@ import math
 import threading
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
 from .. import integrators
 from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
-from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotError
 
 if TYPE_CHECKING:
     from .lagrange import LagrangeSystem
@@ -112,6 +112,7 @@ def _batch(t, y, p, out, lam):
     K = np.empty((n + m, n + m))
     b = np.empty(n + m)
     bad = -1
+    nonfinite = -1
     for i in range(y.shape[0]):
         _system(t[i], y[i], p, K, b)
         if not _solve(K, b, n + m) and bad < 0:
@@ -121,6 +122,15 @@ def _batch(t, y, p, out, lam):
             out[i, n + k] = b[k]
         for j in range(m):
             lam[i, j] = b[n + j]
+        if nonfinite < 0:
+            for k in range(n + m):
+                if b[k] - b[k] != 0.0:  # NaN or infinite
+                    nonfinite = i
+                    break
+    # the first singular state; else -2 - the first state with a non-finite q'' or
+    # lambda; else -1
+    if bad < 0 and nonfinite >= 0:
+        return -2 - nonfinite
     return bad
 
 
@@ -296,6 +306,47 @@ def _compile(src: str) -> dict[str, Any]:
         return vars(module)
 
 
+def _passthrough(*args: Any, **kwargs: Any) -> Any:
+    """``njit`` for the generated source run by the interpreter: the function itself."""
+    if args and callable(args[0]):
+        return args[0]
+    return lambda fn: fn
+
+
+#: What the generated kernels raise where a formula is not defined: a division by zero
+#: (numba and Python), a math domain error or an overflow (Python's ``math``).
+_UNDEFINED = (ArithmeticError, ValueError)
+
+
+def _undefined(exc: BaseException) -> bool:
+    """Whether ``exc`` is a formula evaluated outside its domain (not one of ours)."""
+    return isinstance(exc, _UNDEFINED) and not isinstance(exc, PoinsotError)
+
+
+def _num(v: float) -> str:
+    return f"{float(v):.15g}"
+
+
+def _positive_definite(m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Whether each symmetric matrix of the stack ``m`` (..., n, n) is positive definite
+    (every eigenvalue above ``1e-12`` times the largest in magnitude), and the
+    eigenvalues: the test of a kinetic energy ``d^2T/dq'dq'`` (a mass matrix), shared by
+    :meth:`NumericLagrangian.simulate` and the ``lagrangian`` scenario kind."""
+    m = np.asarray(m, dtype=float)
+    if m.shape[-1] == 0:
+        return np.zeros(m.shape[:-2], dtype=bool), np.zeros((*m.shape[:-2], 0))
+    eig = np.linalg.eigvalsh(0.5 * (m + np.swapaxes(m, -1, -2)))
+    scale = np.maximum(np.max(np.abs(eig), axis=-1), 1e-300)
+    return np.all(eig > 1e-12 * scale[..., None], axis=-1), eig
+
+
+def _framed(kind: str, message: str, subject: str = "a state") -> str:
+    """A message of :meth:`NumericLagrangian._start_problem` as a sentence of its own."""
+    if kind == "state":
+        return f"Expected {subject} where the equations of motion are finite, but {message}."
+    return message[0].upper() + message[1:]
+
+
 class NumericLagrangian:
     """Compiled right-hand side of a :class:`~poinsot.symbolic.LagrangeSystem`.
 
@@ -357,6 +408,27 @@ class NumericLagrangian:
         self._work = np.empty(0)
         self._shape1 = (2 * self.n,)
         self._aux: dict[str, Any] = {}
+        self._sympy = sympy
+
+    # -------------------------------------------------------------- pickling
+    #: What a pickle leaves out: the compiled kernels, their scratch and the lambdified
+    #: functions (rebuilt on first use, from the generated source), and the sympy module.
+    _TRANSIENT = ("_ns", "_one", "_work", "_aux", "_sympy")
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The system, the parameters and the generated source: picklable (e.g. for
+        ``multiprocessing`` or Dask); the kernels are compiled again where it lands
+        (numba's disk cache makes that a load)."""
+        return {k: v for k, v in self.__dict__.items() if k not in self._TRANSIENT}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        import sympy
+
+        self.__dict__.update(state)
+        self._ns = None
+        self._one = None
+        self._work = np.empty(0)
+        self._aux = {}
         self._sympy = sympy
 
     # --------------------------------------------------------------- helpers
@@ -440,7 +512,11 @@ class NumericLagrangian:
         y = np.zeros((1, 2 * self.n))
         p = np.zeros(len(self.parameters))
         lam = np.empty((1, self.n_constraints))
-        ns["_batch"](np.zeros(1), y, p, np.empty((1, 2 * self.n)), lam)
+        try:  # any state compiles the kernels (a formula undefined there is no matter)
+            ns["_batch"](np.zeros(1), y, p, np.empty((1, 2 * self.n)), lam)
+        except _UNDEFINED as exc:
+            if not _undefined(exc):
+                raise
         if self._defaults_ok:
             self._one_entry()
         return self
@@ -459,6 +535,173 @@ class NumericLagrangian:
             )
         return a
 
+    # ------------------------------------------------------- states refused
+    def _interpreted(self) -> dict[str, Any]:
+        """The generated source run by the interpreter (the same formulas, no numba
+        compilation): to probe a few states at once, e.g. when a scenario is checked."""
+        ns = self._aux.get("interpreted")
+        if ns is None:
+            ns = {"np": np, "math": math, "njit": _passthrough, "CACHE": False}
+            ns["_solve"] = _solve_py
+            code = compile(self._src, "<poinsot.symbolic generated rhs, interpreted>", "exec")
+            exec(code, ns)  # noqa: S102 - poinsot's own generated source (module docstring)
+            self._aux["interpreted"] = ns
+        return ns
+
+    def _state_text(self, t: float, y: np.ndarray, rate: str = "'") -> str:
+        """``t = 0, x = -1, x' = 0``: a state as the messages name it."""
+        n = self.n
+        parts = [f"t = {_num(t)}"]
+        parts += [f"{c} = {_num(v)}" for c, v in zip(self.coordinates, y[:n], strict=True)]
+        parts += [f"{c}{rate} = {_num(v)}" for c, v in zip(self.coordinates, y[n:], strict=True)]
+        return ", ".join(parts)
+
+    def _undefined_text(
+        self, t: float, y: np.ndarray, p: np.ndarray, what: str, rate: str = "'"
+    ) -> str:
+        """``the equations of motion give NaN at t = 0, x = -1, x' = 0: the potential
+        k*sqrt(x) is not real there (k = 1)``: ``what`` happened at the state and the
+        first term of the system to blame (evaluated by SymPy: only after a failure)."""
+        text = f"the equations of motion {what} at {self._state_text(t, y, rate)}"
+        c = self._system._c
+        values: dict[Any, float] = {c.time: float(t)}
+        values.update(zip(c.plain, y[: self.n].tolist(), strict=True))
+        values.update(zip(c.vel, y[self.n :].tolist(), strict=True))
+        values.update(zip(self._params_sym, p.tolist(), strict=True))
+        found = self._system._first_undefined(values, rate)
+        if found is not None:
+            label, expr, defect, used = found
+            text += f": {label} {expr} is {defect} there"
+            named = [f"{s} = {_num(values[s])}" for s in self._params_sym if s in used]
+            if named:
+                text += f" ({', '.join(named)})"
+        return text
+
+    def _start_problem(
+        self, t: np.ndarray, y: np.ndarray, p: np.ndarray, ns: dict[str, Any], rate: str = "'"
+    ) -> tuple[str, str] | None:
+        """Why the equations cannot be integrated from the states ``y`` (N, 2n) at the
+        times ``t`` (N,), or None: ``("state", ...)`` a term not finite (NaN, infinite,
+        a division by zero), ``("kinetic", ...)`` a mass matrix not positive definite
+        (no constraints kept), ``("singular", ...)`` an augmented matrix singular. The
+        message starts in lower case (the caller frames it)."""
+        n, m, N = self.n, self.n_constraints, y.shape[0]
+        M = np.empty((N, n, n))
+        out = np.empty_like(y)
+        lam = np.empty((N, m))
+        try:
+            with np.errstate(all="ignore"):
+                ns["_mass"](t, y, p, M)
+                code = ns["_batch"](t, y, p, out, lam)
+        except _UNDEFINED as exc:
+            if not _undefined(exc):
+                raise
+            i = 0
+            for i in range(N):  # the first state that raises
+                try:
+                    with np.errstate(all="ignore"):
+                        ns["_batch"](t[i : i + 1], y[i : i + 1], p, out[:1], lam[:1])
+                except _UNDEFINED:
+                    break
+            # numba raises ZeroDivisionError where NumPy gives inf: the same words for both
+            zero = isinstance(exc, ZeroDivisionError)
+            what = "give an infinite value (a division by zero)" if zero else "give NaN"
+            return "state", self._undefined_text(t[i], y[i], p, what, rate)
+        finite = np.isfinite(M.reshape(N, -1)).all(axis=1)
+        if not finite.all():
+            i = int(np.argmin(finite))
+            what = "give a mass matrix that is not finite"
+            return "state", self._undefined_text(t[i], y[i], p, what, rate)
+        if m == 0:
+            ok, eig = _positive_definite(M)
+            if not ok.all():
+                i = int(np.argmin(ok))
+                rates = ", ".join(f"{c}{rate}" for c in self.coordinates)
+                return "kinetic", (
+                    "expected a kinetic energy that is positive definite in the velocities "
+                    f"({rates}) at the initial state ({self._state_text(t[i], y[i], rate)}), "
+                    f"got the mass matrix d^2T/dq'dq' = {np.round(M[i], 12).tolist()} "
+                    f"(eigenvalues {np.round(eig[i], 12).tolist()}): a negative or missing "
+                    "velocity term has no motion to integrate."
+                )
+        if code >= 0:
+            return "singular", (
+                "the mass matrix (augmented with the constraints) is singular at the initial "
+                f"state {self._state_text(t[code], y[code], rate)}."
+            )
+        if code < -1:
+            i = -2 - code
+            bad = np.concatenate([out[i, n:], lam[i]])
+            what = "give NaN" if np.isnan(bad).any() else "give an infinite value"
+            return "state", self._undefined_text(t[i], y[i], p, what, rate)
+        return None
+
+    def _raise_undefined(
+        self, exc: BaseException, t: Any, y: Any, params: Mapping[str, float] | ArrayLike | None
+    ) -> NoReturn:
+        """``exc`` raised by a kernel at the states ``y``: re-raised as it is if it is not
+        a formula evaluated outside its domain, else as an :class:`InvalidInputError`
+        naming the state and the term (a ``ZeroDivisionError`` is not a bug of poinsot)."""
+        if not _undefined(exc):
+            raise exc
+        p = self._params(params)
+        a = np.ascontiguousarray(np.asarray(y, dtype=float).reshape(-1, 2 * self.n))
+        tt = np.ascontiguousarray(np.broadcast_to(np.asarray(t, dtype=float), a.shape[:1]))
+        found = self._start_problem(tt, a, p, self._kernels())
+        text = found[1] if found is not None else f"the equations of motion raise {exc!r}"
+        raise InvalidInputError(_framed("state", text)) from None
+
+    def check_state(
+        self,
+        t: ArrayLike,
+        y: ArrayLike,
+        params: Mapping[str, float] | ArrayLike | None = None,
+        *,
+        compiled: bool = True,
+    ) -> None:
+        """Refuse states the equations of motion cannot be integrated from, as
+        :meth:`simulate` does with its initial states.
+
+        Parameters
+        ----------
+        t : array_like
+            Times, broadcasting to the batch shape of ``y``.
+        y : array_like, shape (..., 2n)
+            States ``[q, q']``.
+        params : mapping, optional
+            Parameter values (override the defaults).
+        compiled : bool, optional
+            Evaluate with the compiled kernels (default) or run the same generated
+            source with the interpreter (no compilation: quicker for a few states).
+
+        Raises
+        ------
+        InvalidInputError
+            If a term of the equations is not finite at a state (NaN, infinite, a
+            division by zero: the message names the state and the term), if the
+            mass matrix is not positive definite there (no constraints kept) or if
+            the mass matrix augmented with the constraints is singular.
+
+        Examples
+        --------
+        >>> import sympy
+        >>> from poinsot.symbolic import LagrangeSystem
+        >>> x = sympy.Function("x")(sympy.Symbol("t"))
+        >>> f = LagrangeSystem([x], x.diff() ** 2 / 2, sympy.sqrt(x)).to_numeric()
+        >>> f.check_state(0.0, [-1.0, 0.0])  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        poinsot.errors.InvalidInputError: Expected ... give NaN at t = 0, x = -1, x' = 0: ...
+        """
+        p = self._params(params)
+        a = self._state(y)
+        flat = np.ascontiguousarray(a.reshape(-1, 2 * self.n))
+        tt = np.broadcast_to(np.asarray(t, dtype=float), a.shape[:-1]).reshape(-1)
+        ns = self._kernels() if compiled else self._interpreted()
+        problem = self._start_problem(np.ascontiguousarray(tt), flat, p, ns)
+        if problem is not None:
+            raise InvalidInputError(_framed(*problem))
+
     def _run(
         self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -470,7 +713,10 @@ class NumericLagrangian:
         tt = np.ascontiguousarray(np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1))
         out = np.empty_like(flat)
         lam = np.empty((flat.shape[0], self.n_constraints))
-        bad = ns["_batch"](tt, flat, p, out, lam)
+        try:
+            bad = ns["_batch"](tt, flat, p, out, lam)
+        except _UNDEFINED as exc:
+            self._raise_undefined(exc, tt, flat, params)
         if bad >= 0:
             raise InvalidInputError(
                 "The mass matrix (augmented with the constraints) is singular at the state "
@@ -495,8 +741,11 @@ class NumericLagrangian:
             # these types (no dispatcher type matching), the scratch kept (no allocation
             # but the result's). Set up by the first such call (below).
             out = np.empty(self._shape1)
-            if one(t, y, self._work, out):
-                return out
+            try:
+                if one(t, y, self._work, out):
+                    return out
+            except _UNDEFINED as exc:
+                self._raise_undefined(exc, t, y, params)
         if (
             params is None
             and type(y) is np.ndarray
@@ -513,8 +762,11 @@ class NumericLagrangian:
                 aux.update(t1=np.empty(1), lam1=np.empty((1, self.n_constraints)))
             aux["t1"][0] = t
             out = np.empty((1, 2 * self.n))
-            if ns["_batch"](aux["t1"], y.reshape(1, -1), self._defaults, out, aux["lam1"]) < 0:
-                return out.reshape(-1)
+            try:
+                if ns["_batch"](aux["t1"], y.reshape(1, -1), self._defaults, out, aux["lam1"]) < 0:
+                    return out.reshape(-1)
+            except _UNDEFINED as exc:
+                self._raise_undefined(exc, t, y, params)
         return self._run(t, y, params)[0]
 
     rhs = __call__
@@ -536,7 +788,10 @@ class NumericLagrangian:
         tt = np.broadcast_to(np.asarray(t, dtype=float), a.shape[:-1]).reshape(-1)
         tt = np.ascontiguousarray(tt)
         out = np.empty((flat.shape[0], self.n, self.n))
-        ns["_mass"](tt, flat, p, out)
+        try:
+            ns["_mass"](tt, flat, p, out)
+        except _UNDEFINED as exc:
+            self._raise_undefined(exc, tt, flat, params)
         return out.reshape((*a.shape[:-1], self.n, self.n))
 
     def _lambdified(self, which: str) -> Any:
@@ -585,6 +840,27 @@ class NumericLagrangian:
         """Jacobi integral ``q' . dL/dq' - L`` at the states ``y``."""
         return self._scalar("jacobi", t, y, params)
 
+    def _units(self, units: Mapping[str, str] | Sequence[str] | None) -> tuple[str, ...]:
+        """The units of the coordinates: given, else guessed from their names."""
+        from ._symbols import coordinate_unit
+
+        if units is None:
+            units = {}
+        if isinstance(units, Mapping):
+            unknown = [k for k in units if k not in self.coordinates]
+            if unknown:
+                raise InvalidInputError(
+                    f"Expected the keys of `units` among the coordinates "
+                    f"{list(self.coordinates)}, got {unknown[0]!r}."
+                )
+            return tuple(str(units.get(c, coordinate_unit(c))) for c in self.coordinates)
+        if isinstance(units, str):
+            raise InvalidTypeError(
+                f"Expected `units` to be a sequence of {self.n} strings or a mapping, got "
+                f"the string {units!r}."
+            )
+        return tuple(units)
+
     def simulate(
         self,
         q0: ArrayLike,
@@ -618,9 +894,12 @@ class NumericLagrangian:
             A ``solve_ivp`` method (:data:`SOLVERS`), default ``"DOP853"``.
         rtol, atol, max_step : float, optional
             Passed to ``solve_ivp`` (defaults ``1e-10``, ``1e-12``, no limit).
-        units : sequence of str, optional
-            The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` unknown, the
-            default), carried by the result and its channels.
+        units : sequence of str or mapping, optional
+            The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` unknown), or a
+            mapping from some coordinate names to units; carried by the result and
+            its channels. Default (and for a name the mapping leaves out): guessed
+            from the name as the ``lagrangian`` scenario kind does (``theta1``, ``phi``
+            an angle in rad; ``x``, ``r``, ``z_2`` a length in m; else ``""``).
 
         Returns
         -------
@@ -670,6 +949,12 @@ class NumericLagrangian:
         )
         nb = max(1, math.prod(batch))
         ns = self._kernels()
+        # what no step can start from, refused before solve_ivp (a NaN derivative at the
+        # start makes its first step size NaN: it retried forever)
+        start = np.ascontiguousarray(y0.reshape(nb, 2 * self.n))
+        problem = self._start_problem(np.full(nb, float(tt[0])), start, p, ns)
+        if problem is not None:
+            raise InvalidInputError(_framed(*problem, "an initial state (`q0`, `qdot0`)"))
         flat_lam = np.empty((nb, self.n_constraints))
         t_buf = np.empty(nb)
         counter = itertools.count()
@@ -678,12 +963,32 @@ class NumericLagrangian:
             next(counter)
             t_buf.fill(time)
             flat_out = np.empty((nb, 2 * self.n))  # a new array: solve_ivp keeps them
-            bad = ns["_batch"](t_buf, yy.reshape(nb, 2 * self.n), p, flat_out, flat_lam)
+            states = yy.reshape(nb, 2 * self.n)
+            try:
+                bad = ns["_batch"](t_buf, states, p, flat_out, flat_lam)
+            except _UNDEFINED as exc:
+                if not _undefined(exc):
+                    raise
+                # the first state that raises, named with the term to blame
+                found = self._start_problem(t_buf.copy(), states.copy(), p, ns)
+                text = (
+                    found[1]
+                    if found is not None and found[0] == "state"
+                    else f"the equations of motion raised {exc!r} at t = {_num(time)}"
+                )
+                raise IntegrationError(f"{text[0].upper()}{text[1:]}.") from None
             if bad >= 0:
                 raise IntegrationError(
                     f"The (augmented) mass matrix became singular at t = {time} "
-                    f"(state {yy.reshape(nb, -1)[bad].tolist()})."
+                    f"(state {states[bad].tolist()})."
                 )
+            if bad < -1:  # a non-finite q'' or lambda: stop rather than let SciPy retry
+                i = -2 - bad
+                y_i = states[i]
+                bad_values = np.concatenate([flat_out[i, self.n :], flat_lam[i]])
+                what = "give NaN" if np.isnan(bad_values).any() else "give an infinite value"
+                text = self._undefined_text(time, y_i, p, what)
+                raise IntegrationError(f"{text[0].upper()}{text[1:]}.")
             return flat_out.reshape(-1)
 
         if tt.size == 1:
@@ -730,7 +1035,7 @@ class NumericLagrangian:
         return CoordinateTrajectory(
             t=tt,
             method=method,
-            units=() if units is None else tuple(units),
+            units=self._units(units),
             q=ys[..., : self.n],
             qdot=ys[..., self.n :],
             coordinates=self.coordinates,

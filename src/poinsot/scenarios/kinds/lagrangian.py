@@ -64,30 +64,22 @@ _KEYS = (
 #: Units a coordinate may have in ``[lagrangian] units`` ("": none stated).
 UNITS = ("rad", "m", "")
 
-_GREEK = frozenset(
-    "alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi "
-    "sigma tau upsilon phi chi psi omega varphi vartheta".split()
-)
-_LENGTHS = frozenset("x y z r s l d h rho".split())
-
 
 def coordinate_unit(name: str) -> str:
     """SI unit of a generalized coordinate guessed from its name: a Greek letter
     (``theta1``, ``phi``) is an angle (``"rad"``); ``x``, ``y``, ``z``, ``r``, ``s``,
     ``l``, ``d``, ``h``, ``rho`` (with digits or ``_`` after) a length (``"m"``);
-    else unknown (``""``). ``[lagrangian] units`` overrides the guess.
+    else unknown (``""``). ``[lagrangian] units`` overrides the guess. The library's
+    guess (:meth:`poinsot.symbolic.NumericLagrangian.simulate` without ``units``).
 
     Examples
     --------
     >>> [coordinate_unit(n) for n in ("theta1", "phi", "x", "rho", "z_2", "q")]
     ['rad', 'rad', 'm', 'm', 'm', '']
     """
-    stem = name.rstrip("0123456789_").lower()
-    if stem in _GREEK:
-        return "rad"
-    if stem in _LENGTHS:
-        return "m"
-    return ""
+    from ...symbolic._symbols import coordinate_unit as guess  # SymPy-free, loaded late
+
+    return guess(name)
 
 
 def rate_unit(unit: str) -> str:
@@ -179,13 +171,16 @@ def _build(t: Any, coords: Any, params: Any, formulas: Any) -> Any:
         raise t.error(None, str(exc)) from None
 
 
-def _check_system(t: Any, system: Any, params: Any, q0: Any, *, constrained: bool) -> None:
+def _check_system(t: Any, system: Any, params: Any, q0: Any, qdot0: Any) -> None:
     """What ``run`` would refuse, refused when the file is read (``check`` and ``run``
-    agree): a parameter that no equation uses (a typo, most likely), and a kinetic
-    energy that is not positive definite in the velocities at ``q0`` (its mass matrix
-    ``d^2 T / dq' dq'``: a negative ``m x'^2 / 2``, or a coordinate without velocity)."""
+    agree): a parameter that no equation uses (a typo, most likely); a kinetic energy
+    that is not positive definite in the velocities at the initial state (its mass
+    matrix ``d^2 T / dq' dq'``: a negative ``m x'^2 / 2``, or a coordinate without
+    velocity); equations of motion that are not finite there (``sqrt`` of a negative
+    number, a division by zero: the message names the state and the term). The last
+    two are the library's own test (``NumericLagrangian.check_state``), run on the
+    generated source by the interpreter (no compilation for ``check``)."""
     import numpy as np
-    import sympy
 
     used = {str(s) for s in system.parameters}
     unused = [name for name, _ in params if name not in used]
@@ -197,26 +192,16 @@ def _check_system(t: Any, system: Any, params: Any, q0: Any, *, constrained: boo
             + " in no equation of motion; "
             "remove them (or use them in `kinetic`, `potential`, ...).",
         )
-    if constrained:  # the mass matrix of a constrained system includes the multipliers
-        return
-    values = {s: dict(params)[str(s)] for s in system.parameters}
-    values.update(dict(zip(system.coordinates, (float(x) for x in q0), strict=True)))
-    try:
-        m = np.array(sympy.Matrix(system.mass_matrix).subs(values).evalf(), dtype=float)
-    except (TypeError, ValueError):  # not numeric at q0 (e.g. depends on t): run decides
-        return
-    eig = np.linalg.eigvalsh(0.5 * (m + m.T)) if m.size else np.zeros(0)
-    scale = float(np.max(np.abs(eig), initial=0.0))
-    if m.size == 0 or not np.all(eig > 1e-12 * max(scale, 1e-300)):
-        kept = [str(f.func) for f in system.coordinates]
-        raise t.error(
-            "kinetic",
-            "expected a kinetic energy that is positive definite in the velocities "
-            f"({', '.join(k + '_dot' for k in kept)}) at q0, got the mass matrix "
-            f"d^2T/dq'dq' = {np.round(m, 12).tolist()} (eigenvalues "
-            f"{np.round(eig, 12).tolist()}): a negative or missing velocity term has no "
-            "motion to integrate.",
-        )
+    f = system.to_numeric(dict(params))  # cached: `run` solves with this one
+    y0 = np.ascontiguousarray([[*q0, *qdot0]], dtype=float)
+    problem = f._start_problem(np.zeros(1), y0, f._params(None), f._interpreted(), "_dot")
+    if problem is not None:
+        from ...symbolic.numeric import _framed
+
+        kind, text = problem
+        message = _framed(kind, text, "an initial state (`q0`, `qdot0`)")
+        key = "kinetic" if kind == "kinetic" else "q0"
+        raise t.error(key, message[0].lower() + message[1:])
 
 
 class Lagrangian(ScenarioKind):
@@ -292,9 +277,7 @@ class Lagrangian(ScenarioKind):
         qdot0 = t.vector("qdot0", m, what=f"an array of {m} numbers (initial rates)")
         rtol = t.number("rtol", 1e-10, positive=True)
         atol = t.number("atol", 1e-12, positive=True)
-        _check_system(
-            t, system, params, q0, constrained=t.has("holonomic") or t.has("nonholonomic")
-        )
+        _check_system(t, system, params, q0, qdot0)
         units = self._units(t, kept)
         t.finish(_KEYS)
         from ..draw import read_draw
@@ -326,7 +309,6 @@ class Lagrangian(ScenarioKind):
         f = spec.system.to_numeric(dict(spec.parameters))
         progress(0.0, method)
         sim = scenario.simulation
-        kept = [str(c.func) for c in spec.system.coordinates]
         lt = f.simulate(
             spec.q0,
             spec.qdot0,
@@ -335,7 +317,7 @@ class Lagrangian(ScenarioKind):
             rtol=spec.rtol,
             atol=spec.atol,
             max_step=sim.max_step if sim.max_step is not None else np.inf,
-            units=spec.units or tuple(coordinate_unit(c) for c in kept),
+            units=spec.units or None,  # None: the library's guess from the names
         )
         progress(1.0, method)
         return dataclasses.replace(lt, method=method)  # named as the scenario names it
