@@ -221,7 +221,9 @@ def _rows(d: Mapping[str, Any], units: Mapping[str, str] | str | None) -> list[s
     for key, v in d.items():
         if key in _HIDDEN:
             continue
-        if isinstance(units, str):  # one unit for the values (initial, final...)
+        if key.endswith("_s") and not isinstance(v, Mapping):  # seconds, whatever the section
+            u = "s"
+        elif isinstance(units, str):  # one unit for the values (initial, final...)
             u = _KNOWN_UNITS.get(key, units)
         else:
             u = (units or {}).get(key) or _KNOWN_UNITS.get(key, "")

@@ -122,8 +122,8 @@ def describe_comparison(comparison: dict[str, Any]) -> str:
     Examples
     --------
     >>> print(describe_comparison({"reference": "radau", "differences": {
-    ...     "theta1": {"max": 0.1912, "time_of_max": 20.0, "units": "rad"},
-    ...     "theta1_dot": {"max": 0.7562, "time_of_max": 19.9, "units": "rad/s"}}}))
+    ...     "theta1": {"max": 0.1912, "time_of_max_s": 20.0, "units": "rad"},
+    ...     "theta1_dot": {"max": 0.7562, "time_of_max_s": 19.9, "units": "rad/s"}}}))
     ... # doctest: +NORMALIZE_WHITESPACE
     vs radau: theta1 differs by up to 0.191 rad (at t = 20 s),
     theta1' by up to 0.756 rad/s (at t = 19.9 s)
@@ -134,7 +134,7 @@ def describe_comparison(comparison: dict[str, Any]) -> str:
         verb = " differs" if k == 0 else ""
         parts.append(
             f"{quantity_label(name)}{verb} by up to {float(d['max']):.3g}{units} "
-            f"(at t = {float(d['time_of_max']):.4g} s)"
+            f"(at t = {float(d['time_of_max_s']):.4g} s)"
         )
     return f"vs {comparison['reference']}: " + (", ".join(parts) if parts else "no difference")
 
