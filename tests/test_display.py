@@ -138,8 +138,13 @@ def test_every_result_type_renders(tmp_path):
         assert "<svg" in h and "<path" in h, name  # the small chart
         n = max(len(re.findall(r" L", p)) for p in re.findall(r"d='M[^']*'", h))
         assert n <= 240, name  # decimated
-        if getattr(res, "energy_drift", None) is not None:
-            assert "energy drift" in text, name
+        # a drift is shown only for a quantity the result says its motion conserves
+        from poinsot.trajectory import CONSERVED_LABELS
+
+        for key in getattr(res, "conserved_drifts", dict)():
+            assert f"{CONSERVED_LABELS[key]} drift (relative)" in text, name
+        if "drift" in text:
+            assert "docs/theory.md" in text, name
 
 
 def test_strings_are_escaped_and_display_never_raises():
@@ -226,3 +231,53 @@ def test_explore_recomputes_from_the_exact_solution(preset):
     name, s = next(iter(ex.sliders.items()))
     s.value = min(s.max, s.value + 10 * s.step)
     assert ex.view.value != first  # redrawn
+
+
+def _drifts(c: _Checker) -> dict[str, float]:
+    """``label -> value`` of the drift rows of a result's display."""
+    lines = c.text
+    out = {}
+    for i, line in enumerate(lines):
+        if line.endswith("drift (relative)"):
+            out[line] = _numbers(lines[i + 1])[0]
+    return out
+
+
+def test_heavy_top_display_shows_t_plus_v_drift():
+    """issue 38: the display showed the kinetic energy's change (1e-3) as "energy drift"
+    while T + V drifts 1e-12: it now shows T + V and K_z, recomputed here from the state."""
+    from poinsot.dynamics import HeavyRigidBody
+
+    m, g, c = 1.5, 9.81, np.array([0.0, 0.0, 0.4])
+    inertia = np.array([2.0, 2.0, 1.0])
+    top = HeavyRigidBody(inertia, m, c, g=g)
+    q0 = poinsot.Rotation.from_euler("x", 0.5).as_quat()
+    tr = top.simulate(q0, [0.5, 0.0, 20.0], np.linspace(0, 10, 501), rtol=1e-10)
+    w = np.asarray(tr.omega)
+    t_kin = 0.5 * np.sum(inertia * w**2, axis=-1)
+    z_c = tr.rotation.apply(c)[:, 2]  # height of the centre of mass above the pin (m)
+    e = t_kin + m * g * z_c
+    rel_e = np.max(np.abs(e - e[0])) / max(abs(e[0]), np.max(t_kin))
+    k = tr.rotation.apply(inertia * w)  # K in space axes
+    rel_kz = np.max(np.abs(k[:, 2] - k[0, 2])) / np.linalg.norm(k[0])
+    shown = _drifts(_parse(tr._repr_html_()))
+    assert set(shown) == {"energy T + V drift (relative)", "K_z drift (relative)"}
+    assert shown["energy T + V drift (relative)"] == pytest.approx(rel_e, rel=2e-3)
+    assert shown["K_z drift (relative)"] == pytest.approx(rel_kz, rel=2e-3)
+    assert rel_e < 1e-9  # and it is small, unlike the kinetic energy's change
+    assert np.ptp(t_kin) / t_kin[0] > 1e-4
+
+
+def test_torqued_body_display_claims_no_conservation():
+    from poinsot.dynamics import ConstantSpaceTorque, simulate
+
+    t = np.linspace(0, 5, 101)
+    for torque in ([0.0, 0.0, 1.0], ConstantSpaceTorque([0.0, 1.0, 0.0])):
+        tr = simulate([1.0, 2.0, 3.0], [1, 0, 0, 0], [0.1, 1, 0], t, torque=torque)
+        assert np.ptp(tr.momentum_norm) > 0.1  # |K| changes: no invariant
+        text = "".join(_parse(tr._repr_html_()).text)
+        assert "drift" not in text
+    free = simulate([1.0, 2.0, 3.0], [1, 0, 0, 0], [0.1, 1, 0], t, max_step=1e-3)
+    shown = _drifts(_parse(free._repr_html_()))
+    assert shown["energy T drift (relative)"] == pytest.approx(free.energy_drift, rel=2e-3)
+    assert shown["|K| drift (relative)"] == pytest.approx(free.momentum_drift, rel=2e-3)

@@ -83,6 +83,21 @@ INFO_KEYS = {
     "path": "which implementation ran (e.g. compiled kernel or solve_ivp fallback)",
     "failed": "why each body of a batch failed ('' if it did not; failures='mark' only)",
     "orthonormality_drift": "largest entry of abs(C^T C - E), matrix integration (propagate)",
+    "torque": "the torque acting ('none' for a free body, else the torque model's class name)",
+    "conserved": "names of the quantities the motion conserves (docs/theory.md §8, §10): "
+    "'energy' (T), 'momentum' (K), 'total_energy' (T + V), 'momentum_z' (K_z); "
+    "empty when a torque does work",
+    "total_energy": "T + V at each sample (J), exact heavy-top solutions",
+    "potential_energy": "potential energy V of a conservative torque at each sample (J), "
+    "the shape of `energy`",
+}
+
+#: Display names of the conserved quantities of ``info["conserved"]``.
+CONSERVED_LABELS = {
+    "energy": "energy T",
+    "momentum": "|K|",
+    "total_energy": "energy T + V",
+    "momentum_z": "K_z",
 }
 
 _XYZ = ("x", "y", "z")
@@ -257,10 +272,8 @@ class Result:
             if key in self.info:
                 v = np.asarray(self.info[key])
                 rows.append((key.replace("_", " "), d.value(v if v.size < 4 else v.max(), units)))
-        for name in ("energy_drift", "momentum_drift", "jacobi_drift"):
-            drift = getattr(self, name, None)
-            if drift is not None:
-                rows.append((name.replace("_", " ") + " (relative)", d.value(drift, "", 3)))
+        for label, drift in self._drift_rows():
+            rows.append((label, d.value(drift, "", 3)))
         chart, label = "", ""
         for ch in self.state_channels().values():
             if ch.name == "attitude":
@@ -274,7 +287,14 @@ class Result:
         extra = (
             f"<div style='font-size:11px;color:#666'>{d.esc(label)}</div>{chart}" if chart else ""
         )
-        return d.table(type(self).__name__, rows, "SI units; docs/conventions.md", extra)
+        note = "SI units; docs/conventions.md"
+        if any(lab.endswith("drift (relative)") for lab, _ in rows):
+            note += "; conserved quantities: docs/theory.md §8, §10"
+        return d.table(type(self).__name__, rows, note, extra)
+
+    def _drift_rows(self) -> list[tuple[str, float]]:
+        """``(label, relative drift)`` of the quantities this result conserves."""
+        return []
 
     def _freeze_info(self) -> None:
         if not isinstance(self.method, str):
@@ -448,6 +468,54 @@ class Trajectory(Result):
         if k is None:
             return None
         return _relative(np.abs(k - k[0]), k[0])
+
+    def conserved_drifts(self) -> dict[str, float]:
+        """Relative drift of each quantity the motion conserves, ``name -> drift``.
+
+        The names are those of ``info["conserved"]`` (docs/theory.md §8, §10):
+        ``"energy"`` (:attr:`energy_drift`) and ``"momentum"``
+        (:attr:`momentum_drift`, ``|K|``) for a free body; ``"total_energy"``,
+        ``max_k |E_k - E_0| / max(|E_0|, max_k T_k)`` with ``E = T + V``
+        (``V`` from ``info["potential_energy"]``), and ``"momentum_z"``,
+        ``max_k |K_z,k - K_z,0| / |K_0|``, for a body with a fixed point in
+        gravity. Empty when the result does not say what its motion conserves
+        (``info`` without ``"conserved"``) or a torque does work: the kinetic
+        energy and ``|K|`` are then no invariants, and their changes no error.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot.dynamics import HeavyRigidBody
+        >>> top = HeavyRigidBody([2.0, 2.0, 1.0], 1.0, [0.0, 0.0, 0.4], g=10.0)
+        >>> tr = top.simulate([0.99, 0.1, 0.0, 0.0], [0.5, 0.0, 20.0], np.linspace(0, 1, 11),
+        ...                   max_step=1e-3)
+        >>> sorted(tr.conserved_drifts())
+        ['momentum_z', 'total_energy']
+        """
+        out: dict[str, float] = {}
+        for name in self.info.get("conserved", ()):
+            value: float | None = None
+            if name == "energy":
+                value = self.energy_drift
+            elif name == "momentum":
+                value = self.momentum_drift
+            elif name == "total_energy" and self.energy is not None:
+                v = self.info.get("potential_energy")
+                if v is not None:
+                    scale = np.max(np.abs(self.energy), axis=0)
+                    value = _drift(self.energy + np.asarray(v, dtype=float), scale)
+            elif name == "momentum_z" and self.momentum is not None:
+                kz = self.momentum[..., 2]
+                value = _relative(np.abs(kz - kz[0]), np.linalg.norm(self.momentum[0], axis=-1))
+            if value is not None:
+                out[name] = value
+        return out
+
+    def _drift_rows(self) -> list[tuple[str, float]]:
+        return [
+            (f"{CONSERVED_LABELS[k]} drift (relative)", v)
+            for k, v in self.conserved_drifts().items()
+        ]
 
     @property
     def momentum_vector_drift(self) -> float | None:
@@ -790,6 +858,12 @@ class CoordinateTrajectory(Result):
         larger of the initial energy and the largest kinetic energy, so that an
         energy that starts at 0 is judged on the scale of the motion)."""
         return _drift(self.energy, self._scale())
+
+    def _drift_rows(self) -> list[tuple[str, float]]:
+        # the Jacobi integral only where it is a first integral (autonomous system,
+        # gyroscopic forces); T + P is conserved only in a subset of those, where h = T + P
+        drift = self.jacobi_drift if self.jacobi_conserved else None
+        return [] if drift is None else [("Jacobi integral h drift (relative)", drift)]
 
     @property
     def jacobi_drift(self) -> float | None:

@@ -399,3 +399,40 @@ def test_a_run_that_cannot_write_keeps_nothing_and_names_the_folder(tmp_path, ex
     assert [p.name for p in tmp_path.iterdir() if p.name != "out"] == []  # no staging left
     # the retry needs nothing more than the same command
     assert main([*argv, "--quiet"]) == 0 and (out / "summary.json").is_file()
+
+
+def _first_chart(page: str) -> int:
+    """Where the viewer (its scene and charts) starts in report.html."""
+    return page.index('<div id="poinsot-scene-col">')
+
+
+def test_report_header_marks_accuracy_and_lists_warnings_first(capsys, tmp_path):
+    """issue 38: the warnings were ~1500 px down the page, under the charts; the header
+    line now says "accuracy: N warnings" (N = the summary's warnings) and lists them
+    before the first chart; an accurate run says "accuracy: ok"."""
+    import html
+
+    out = tmp_path / "o"
+    code, _, _ = run(capsys, "run", racket(tmp_path), "--out", out, "--no-figures")
+    assert code == 0
+    warnings = json.loads((out / "summary.json").read_text())["accuracy"]["warnings"]
+    assert len(warnings) >= 2
+    page = (out / "report.html").read_text()
+    h1 = re.search(r"<h1>(.*?)</h1>", page, flags=re.S).group(1)
+    assert f"accuracy: {len(warnings)} warnings" in h1
+    chart = _first_chart(page)
+    for w in warnings:
+        assert 0 < page.index(html.escape(w)) < chart
+    assert page.count("<h2>Accuracy warnings</h2>") == 1  # one list, not again below
+
+    good = tmp_path / "good"
+    code, _, _ = run(
+        capsys, "run", EXAMPLES / "tennis_racket.toml", "--duration", 2.0, "--out", good,
+        "--no-figures",
+    )  # fmt: skip
+    assert code == 0
+    assert json.loads((good / "summary.json").read_text())["accuracy"]["warnings"] == []
+    page = (good / "report.html").read_text()
+    h1 = re.search(r"<h1>(.*?)</h1>", page, flags=re.S).group(1)
+    assert "accuracy: ok" in h1 and "warning" not in h1
+    assert "Accuracy warnings" not in page

@@ -515,3 +515,36 @@ def test_progress_in_a_log_is_whole_lines_and_most_failed_exits_1(tmp_path, caps
     assert (tmp_path / "b" / "summary.json").exists()  # the outputs are written
     assert main([*base, "--out", str(tmp_path / "c"), "--quiet", "--max-failed", "1"]) == 0
     assert main([*base, "--out", str(tmp_path / "d"), "--max-failed", "2"]) == 2
+
+
+def test_file_without_spread_is_refused_not_run_as_identical_samples(tmp_path, capsys):
+    """issue 38: a file without [dispersion] ran N identical samples silently (every
+    metric had 5%-95% [x, x]); it is refused before anything is written, and so is a
+    dispersion of zero spread. The example's own dispersions draw distinct samples."""
+    import re
+
+    text = (EXAMPLES / "tennis_racket_ensemble.toml").read_text()
+    bare = re.sub(r"\[dispersion\.omega0\].*?(?=\[\[metric\]\])", "", text, flags=re.S)
+    assert "dispersion" not in bare
+    zero = re.sub(r"\[dispersion\.omega0\].*?(?=\[\[metric\]\])",
+                  '[dispersion.omega0]\ndistribution = "normal"\nsigma = [0.0, 0.0, 0.0]\n\n',
+                  text, flags=re.S)  # fmt: skip
+    for name, body, words in (
+        ("bare.toml", bare, "no [dispersion] table"),
+        ("zero.toml", zero, "zero spread in [dispersion.omega0]"),
+    ):
+        path = tmp_path / name
+        path.write_text(body)
+        out = tmp_path / f"out-{name}"
+        argv = ["ensemble", str(path), "--samples", "4", "--out", str(out), "--workers", "0"]
+        assert main(argv) == 2, name
+        err = capsys.readouterr().err
+        assert f"{name}: {words}" in err and "every sample would be the same run" in err, err
+        assert "docs/ensembles.md" in err and not out.exists()
+    # what is accepted really varies: two samples of the example's draw differ
+    from poinsot.ensemble.engine import _draw
+    from poinsot.ensemble.scenario import load_ensemble
+
+    _, problem = load_ensemble(EXAMPLES / "tennis_racket_ensemble.toml")
+    drawn = _draw(problem, np.random.default_rng(1), 2)
+    assert np.ptp(drawn["omega0"], axis=0).max() > 0

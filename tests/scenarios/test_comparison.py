@@ -87,7 +87,7 @@ def test_double_pendulum_difference_matches_an_independent_solve(pendulum):
     for k, name in enumerate(diffs):
         # observed agreement 3e-4 relative (the methods' difference dwarfs round-off)
         assert diffs[name]["max"] == pytest.approx(independent[k].max(), rel=2e-2), name
-        assert diffs[name]["time_of_max"] == pytest.approx(t[independent[k].argmax()], abs=0.2)
+        assert diffs[name]["time_of_max_s"] == pytest.approx(t[independent[k].argmax()], abs=0.2)
 
 
 def test_double_pendulum_disagreement_warns_everywhere(pendulum):
@@ -101,7 +101,7 @@ def test_double_pendulum_disagreement_warns_everywhere(pendulum):
     warnings = [w for w in summary["accuracy"]["warnings"] if "in theta1 " in w]
     assert len(warnings) == 1
     w = warnings[0]
-    assert f"differ by up to {d['max']:.3g} rad in theta1 (at t = {d['time_of_max']:.4g} s)" in w
+    assert f"differ by up to {d['max']:.3g} rad in theta1 (at t = {d['time_of_max_s']:.4g} s)" in w
     assert f"poinsot: warning: accuracy: {w}" in stderr
     assert "vs Radau: theta1 differs by up to" in stdout and "theta2' by up to" in stdout
     page = (out / "report.html").read_text()
@@ -166,7 +166,7 @@ def test_kepler_reports_position_and_velocity_differences():
     dv = np.linalg.norm(a.velocity - b.velocity, axis=-1)
     assert diffs["position"]["units"] == "m" and diffs["velocity"]["units"] == "m/s"
     assert diffs["position"]["max"] == pytest.approx(dr.max(), rel=1e-12)
-    assert diffs["position"]["time_of_max"] == a.t[dr.argmax()]
+    assert diffs["position"]["time_of_max_s"] == a.t[dr.argmax()]
     assert diffs["velocity"]["max"] == pytest.approx(dv.max(), rel=1e-12)
     assert diffs["position"]["final"] == pytest.approx(dr[-1], rel=1e-12)
     truth = _kepler_position(a.t, np.array([1.0, 0.2, 0.1]), np.array([0.1, 1.1, 0.3]))
@@ -231,3 +231,20 @@ def test_lagrangian_units_table():
     for bad, match in (('{ theta2 = "deg" }', "one of"), ('{ phi = "rad" }', "among")):
         with pytest.raises(ScenarioError, match=f"lagrangian.units.*{match}"):
             parse_scenario(base.replace("qdot0 = [0.0, 0.0]", f"qdot0 = [0.0, 0.0]\nunits = {bad}"))
+
+
+def test_time_of_max_is_in_seconds(pendulum):
+    """issue 38: the report's accuracy table gave "time of max 20 rad" (the quantity's
+    units); summary.json names the seconds in its key and the table writes "s"."""
+    import re
+
+    _, _, out = pendulum
+    summary = json.loads((out / "summary.json").read_text())
+    diffs = summary["accuracy"]["comparison"]["differences"]
+    assert all("time_of_max" not in d and "time_of_max_s" in d for d in diffs.values())
+    t = load_scenario(EXAMPLES / "double_pendulum.toml").simulation.times()
+    for d in diffs.values():  # a time of the run, in s
+        assert t[0] <= d["time_of_max_s"] <= t[-1]
+    page = (out / "report.html").read_text()
+    shown = re.findall(r"<th>time of max</th><td[^>]*>([^<]*)</td>", page)
+    assert shown == [f"{d['time_of_max_s']:.6g} s" for d in diffs.values()]

@@ -129,3 +129,31 @@ def test_top_summary_says_its_energies_counts_its_steps_and_has_no_empty_rows():
     sim = res.scenario.simulation
     assert s["run"]["info"]["chunks"] > 1
     assert s["run"]["info"]["steps"] == round(sim.duration / sim.max_step)
+
+
+def _vector_after(text: str, label: str) -> np.ndarray:
+    rest = text[text.index(label) + len(label) :]
+    return np.array([float(x) for x in rest[rest.index("[") + 1 : rest.index("]")].split(",")])
+
+
+def test_describe_says_about_which_point_each_moment_is():
+    """issue 38: the console printed the principal moments about the centre of mass
+    ([0.0008, 0.0018, 0.002]) beside "A = B = 2C", which holds about the pin only.
+    Oracle: Huygens-Steiner by hand, J_O = J_C + m (|c|^2 E - c c^T)."""
+    from poinsot.scenarios.describe import describe
+
+    s = load_scenario(EXAMPLES / "kovalevskaya_top.toml")
+    text = describe(simulate_scenario(s, duration=0.05))
+    body_line = next(x for x in text.splitlines() if x.startswith("body:"))
+    j_c = np.asarray(s.body.inertia, dtype=float)
+    m, c = float(s.body.mass), np.asarray(s.body.center_of_mass, dtype=float)
+    j_o = j_c + m * (c @ c * np.eye(3) - np.outer(c, c))
+    about_cm = _vector_after(body_line, "principal moments about the centre of mass")
+    np.testing.assert_allclose(about_cm, np.linalg.eigvalsh(j_c), rtol=1e-3)
+    about_pin = _vector_after(body_line, "about the fixed point (body axes) A, B, C =")
+    np.testing.assert_allclose(about_pin, np.diag(j_o), rtol=1e-3)
+    a, b, cc = about_pin
+    assert a == pytest.approx(b) and a == pytest.approx(2 * cc)  # the statement, about O
+    assert not np.isclose(about_cm[0], 2 * about_cm[2])  # ... not about the centre of mass
+    assert "A = B = 2C about the fixed point" in text
+    assert "kg m^2" in body_line.split("about the fixed point")[1]

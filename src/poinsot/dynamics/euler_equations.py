@@ -651,6 +651,7 @@ def simulate(
         energy, momentum = _kinetic_space(qs, ws, k)
     out = batch
     quat = qs.reshape((n,) + out + (4,))
+    info.update(_system_info(model, quat))
     compiled_dop853 = method == "dop853" and "path" not in info
     # arrays made here (and the compiled kernel's outputs) are handed over, not copied
     return Trajectory._own(
@@ -664,6 +665,25 @@ def simulate(
         momentum=momentum.reshape((n,) + out + (3,)),
         info=info,
     )
+
+
+def _system_info(model: TorqueModel | None, quat: np.ndarray) -> dict[str, Any]:
+    """``info`` keys saying what the motion conserves (docs/theory.md §8, §10): a free
+    body ``T`` and ``K``; a conservative torque ``T + V`` (with ``V`` at each sample),
+    and ``K_z`` too for gravity about a fixed point; any other torque nothing."""
+    from .torques import GravityTorque
+
+    if model is None:
+        return {"torque": "none", "conserved": ("energy", "momentum")}
+    info: dict[str, Any] = {"torque": type(model).__name__, "conserved": ()}
+    if model.conservative:
+        v = model.potential(quat)
+        if v is not None:
+            info["potential_energy"] = np.asarray(v, dtype=float).reshape(quat.shape[:-1])
+            info["conserved"] = ("total_energy",)
+            if isinstance(model, GravityTorque):
+                info["conserved"] = ("total_energy", "momentum_z")
+    return info
 
 
 # ---------------------------------------------------------------------------

@@ -803,7 +803,12 @@ class FreeRigidBody:
             "exact",
             energy=inv.kinetic.reshape(lead),
             momentum=inv.momentum_space.reshape(lead + (3,)),
-            info={"regime": regime, "closed_form": "jacobi"},
+            info={
+                "regime": regime,
+                "closed_form": "jacobi",
+                "torque": "none",
+                "conserved": ("energy", "momentum"),
+            },
         )
 
     def __getitem__(self, key: int | slice | tuple[Any, ...]) -> FreeRigidBody:

@@ -172,6 +172,7 @@ def simulate_free_motion(
     w = ys[:, 10:]
     jw = w @ j.T
     energy = 0.5 * m * np.sum(ys[:, 3:6] ** 2, axis=-1) + 0.5 * np.sum(w * jw, axis=-1)
+    free = force is None and model is None and not points
     return PoseTrajectory(
         tt,
         rot,
@@ -179,7 +180,13 @@ def simulate_free_motion(
         "DOP853",
         energy=energy,
         momentum=rot.apply(jw),
-        info={"solver": "DOP853", "rtol": float(rtol), "atol": float(atol)},
+        info={
+            "solver": "DOP853",
+            "rtol": float(rtol),
+            "atol": float(atol),
+            # no force, no torque: T (translation + rotation) and K are conserved
+            **({"torque": "none", "conserved": ("energy", "momentum")} if free else {}),
+        },
         position=ys[:, :3],
         velocity=ys[:, 3:6],
     )

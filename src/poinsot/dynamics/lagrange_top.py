@@ -1525,7 +1525,20 @@ class LagrangeTop:
             "exact",
             energy=inv.kinetic,
             momentum=inv.momentum_space,
-            info={"closed_form": "lagrange", "motion_type": self.motion_type},
+            info={
+                "closed_form": "lagrange",
+                "motion_type": self.motion_type,
+                "total_energy": inv.energy,
+                **(
+                    {
+                        "torque": "GravityTorque",
+                        "conserved": ("total_energy", "momentum_z"),
+                        "potential_energy": inv.potential,
+                    }
+                    if model is not None
+                    else {"torque": "none", "conserved": ("energy", "momentum")}
+                ),
+            },
         )
 
     def __repr__(self) -> str:

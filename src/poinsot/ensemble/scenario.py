@@ -106,6 +106,12 @@ def problem_from_scenario(
             disps.append((name, _disp.from_table(sub, name)))
         except InvalidInputError as exc:
             raise at(f"dispersion.{name}", str(exc)) from None
+    if not disps:  # N copies of one run: refused, not run silently
+        raise EnsembleError(
+            f"{where}: no [dispersion] table: every sample would be the same run. An "
+            f"ensemble draws its inputs from [dispersion.<quantity>] tables (quantities: "
+            f"{', '.join(QUANTITIES)}; docs/ensembles.md); for one run use `poinsot run`."
+        )
     mtables = data.get("metric", [])
     if not isinstance(mtables, list) or not mtables:
         raise EnsembleError(
@@ -151,6 +157,14 @@ def problem_from_scenario(
             _draw(replace(problem, dispersions=((name, d),)), np.random.default_rng(0), 2)
         except InvalidInputError as exc:
             raise at(f"dispersion.{name}", str(exc), table.get(name)) from None
+    # dispersions of zero spread (sigma = 0, one choice...): the samples would all be equal
+    drawn = _draw(problem, np.random.default_rng(0), 8)
+    if not any(np.ptp(drawn[name], axis=0).max() > 0 for name, _ in disps):
+        raise EnsembleError(
+            f"{where}: zero spread in "
+            f"{', '.join(f'[dispersion.{n}]' for n, _ in disps)}: every sample would be "
+            f"the same run. Give a spread (docs/ensembles.md); for one run use `poinsot run`."
+        )
     return problem
 
 

@@ -88,6 +88,11 @@ body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 1.
 h1 { font-size: 1.5em; margin-bottom: 0.2em; }
 h2 { font-size: 1.2em; margin-top: 1.4em; }
 h3 { font-size: 1.02em; margin: 1.1em 0 0.3em; }
+h1 span.accuracy { font-size: 0.6em; font-weight: 600; padding: 2px 8px; margin-left: 0.6em;
+       border-radius: 3px; vertical-align: middle; }
+h1 span.accuracy.ok { background: #e3f4e3; color: #1b5e20; }
+h1 span.accuracy.warn { background: #fff1d6; color: #8a4b00; }
+h1 span.accuracy.none { background: #eee; color: #555; }
 p.meta, p.note { color: #555; margin: 0.2em 0; font-size: 0.93em; }
 div.controls { display: flex; gap: 1em; align-items: center; margin: 0.4em 0; }
 div.controls input[type=range] { flex: 1; max-width: 700px; }
@@ -221,7 +226,9 @@ def _rows(d: Mapping[str, Any], units: Mapping[str, str] | str | None) -> list[s
     for key, v in d.items():
         if key in _HIDDEN:
             continue
-        if isinstance(units, str):  # one unit for the values (initial, final...)
+        if key.endswith("_s") and not isinstance(v, Mapping):  # seconds, whatever the section
+            u = "s"
+        elif isinstance(units, str):  # one unit for the values (initial, final...)
             u = _KNOWN_UNITS.get(key, units)
         else:
             u = (units or {}).get(key) or _KNOWN_UNITS.get(key, "")
@@ -271,6 +278,42 @@ def summary_html(summary: Mapping[str, Any]) -> str:
 # ----------------------------------------------------------------------------- page
 
 
+def _accuracy_head(summary: Mapping[str, Any] | None) -> tuple[str, str]:
+    """The pass/warn mark of the header line and the warnings listed under it, from
+    ``summary["accuracy"]`` (docs/cli.md "Accuracy"); nothing without that section.
+
+    >>> _accuracy_head({"accuracy": {"warnings": [], "drift_threshold": 1e-6}})[0]
+    ' <span class="accuracy ok" id="poinsot-accuracy">accuracy: ok</span>'
+    >>> mark, listed = _accuracy_head({"accuracy": {"warnings": ["K drifts by 0.1"]}})
+    >>> "accuracy: 1 warning<" in mark, "<li>K drifts by 0.1</li>" in listed
+    (True, True)
+    """
+    acc = summary.get("accuracy") if isinstance(summary, Mapping) else None
+    if not isinstance(acc, Mapping) or "warnings" not in acc:
+        return "", ""
+    esc = html.escape
+    warnings = [str(w) for w in acc.get("warnings") or ()]
+    if not warnings:
+        assessed = any(
+            acc.get(k) is not None
+            for k in ("drift_threshold", "attitude_threshold", "agreement_threshold")
+        )
+        text, cls = ("accuracy: ok", "ok") if assessed else ("accuracy: not checked", "none")
+        return f' <span class="accuracy {cls}" id="poinsot-accuracy">{text}</span>', ""
+    n = len(warnings)
+    mark = (
+        f' <span class="accuracy warn" id="poinsot-accuracy">'
+        f"accuracy: {n} warning{'s' if n > 1 else ''}</span>"
+    )
+    items = "".join(f"<li>{esc(w)}</li>" for w in warnings)
+    listed = (
+        '<section id="poinsot-accuracy-warnings"><h2>Accuracy warnings</h2>'
+        f'<ul class="warnings">{items}</ul><p class="note">The thresholds and what to '
+        'change: docs/cli.md, "Accuracy".</p></section>\n'
+    )
+    return mark, listed
+
+
 def page_html(
     *,
     title: str,
@@ -283,9 +326,10 @@ def page_html(
     animated: bool = True,
     lead: str = "",
 ) -> str:
-    """The page: title, meta line, ``lead`` (trusted HTML), controls (if
-    ``animated``), the viewer's figure (scene and charts from ``payload``), notes,
-    extra sections, the summary."""
+    """The page: title with the accuracy mark of ``summary`` (``accuracy: ok`` or
+    ``accuracy: N warnings``), meta line, the accuracy warnings, ``lead`` (trusted
+    HTML), controls (if ``animated``), the viewer's figure (scene and charts from
+    ``payload``), notes, extra sections, the summary."""
     esc = html.escape
     data = json.dumps(payload, separators=(",", ":")).replace("</", "<\\/")
     opts = "".join(
@@ -300,6 +344,8 @@ def page_html(
     )
     if not animated:
         controls = ""
+    mark, warned = _accuracy_head(summary)
+    lead = warned + lead
     note_html = "".join(f'<p class="note">{esc(n)}</p>' for n in notes)
     table = "" if summary is None else summary_html(summary)
     extra = "".join(f"<h2>{esc(head)}</h2>\n<div>{content}</div>\n" for head, content in sections)
@@ -307,7 +353,7 @@ def page_html(
     return (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f"<title>{esc(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
-        f'<h1>{esc(title)}</h1>\n<p class="meta">{meta}</p>\n<p id="poinsot-error"></p>\n'
+        f'<h1>{esc(title)}{mark}</h1>\n<p class="meta">{meta}</p>\n<p id="poinsot-error"></p>\n'
         f'{lead}{controls}\n<div id="{DIV_ID}"><div id="poinsot-scene-col"></div>'
         '<div id="poinsot-panels"></div></div>\n'
         f"{note_html}\n{table}\n"

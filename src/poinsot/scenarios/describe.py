@@ -115,6 +115,26 @@ def _drifts(inv: dict[str, Any]) -> str:
     return ", ".join(changes) if changes else "done"
 
 
+def _about_fixed_point(body: dict[str, Any]) -> str:
+    """The moments about the fixed point of a body that turns about one (a heavy top):
+    its diagonal in body axes ``A, B, C`` when the body axes are principal there (what
+    ``A = B`` or ``A = B = 2C`` refer to, docs/theory.md §10), else its principal moments.
+
+    >>> _about_fixed_point({"inertia_about_fixed_point": [[2, 0, 0], [0, 2, 0], [0, 0, 1]]})
+    '; about the fixed point (body axes) A, B, C = [2, 2, 1] kg m^2'
+    >>> _about_fixed_point({"principal_moments": [1, 2, 3]})
+    ''
+    """
+    if "inertia_about_fixed_point" not in body:
+        return ""
+    j = np.asarray(body["inertia_about_fixed_point"], dtype=float)
+    off = j - np.diag(np.diag(j))
+    if np.max(np.abs(off)) <= 1e-12 * np.max(np.abs(j)):
+        return f"; about the fixed point (body axes) A, B, C = {fmt_vector(np.diag(j))} kg m^2"
+    moments = np.linalg.eigvalsh(0.5 * (j + j.T))
+    return f"; principal moments about the fixed point {fmt_vector(moments)} kg m^2"
+
+
 def describe_comparison(comparison: dict[str, Any]) -> str:
     """One line from ``accuracy.comparison`` of a summary: the largest difference of
     each state quantity from the reference run, in its units, and when.
@@ -122,8 +142,8 @@ def describe_comparison(comparison: dict[str, Any]) -> str:
     Examples
     --------
     >>> print(describe_comparison({"reference": "radau", "differences": {
-    ...     "theta1": {"max": 0.1912, "time_of_max": 20.0, "units": "rad"},
-    ...     "theta1_dot": {"max": 0.7562, "time_of_max": 19.9, "units": "rad/s"}}}))
+    ...     "theta1": {"max": 0.1912, "time_of_max_s": 20.0, "units": "rad"},
+    ...     "theta1_dot": {"max": 0.7562, "time_of_max_s": 19.9, "units": "rad/s"}}}))
     ... # doctest: +NORMALIZE_WHITESPACE
     vs radau: theta1 differs by up to 0.191 rad (at t = 20 s),
     theta1' by up to 0.756 rad/s (at t = 19.9 s)
@@ -134,7 +154,7 @@ def describe_comparison(comparison: dict[str, Any]) -> str:
         verb = " differs" if k == 0 else ""
         parts.append(
             f"{quantity_label(name)}{verb} by up to {float(d['max']):.3g}{units} "
-            f"(at t = {float(d['time_of_max']):.4g} s)"
+            f"(at t = {float(d['time_of_max_s']):.4g} s)"
         )
     return f"vs {comparison['reference']}: " + (", ".join(parts) if parts else "no difference")
 
@@ -166,8 +186,8 @@ def describe(result: ScenarioResult, *, title: str = "poinsot", notes: Iterable[
             else ""
         )
         lines.append(
-            f"body: {shape}{fmt(s.body.mass)} kg; principal moments "
-            f"{fmt_vector(b['principal_moments'])} kg m^2"
+            f"body: {shape}{fmt(s.body.mass)} kg; principal moments about the centre of mass "
+            f"{fmt_vector(b['principal_moments'])} kg m^2" + _about_fixed_point(b)
         )
     init = summ["initial_state"]
     times = summ["run"]["times"]

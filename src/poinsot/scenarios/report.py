@@ -80,11 +80,8 @@ def write_scenario_report(
     s = result.scenario
     spec = s.adapter.report(result)
     summary = result.summary if summary is None else summary
-    warnings = list(summary.get("accuracy", {}).get("warnings", ()) or ())
+    # the accuracy mark and warnings are in the page's header (from summary["accuracy"])
     sections = list(spec.sections)
-    if warnings:
-        items = "".join(f"<li>{html.escape(w)}</li>" for w in warnings)
-        sections.insert(0, ("Accuracy warnings", f'<ul class="warnings">{items}</ul>'))
     charts = list(spec.charts)
     if spec.reference is None:  # a rigid body's reference is drawn by the renderer
         charts += difference_charts(result)

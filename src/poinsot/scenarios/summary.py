@@ -183,7 +183,7 @@ def _comparison(scenario: Scenario, tr: Any, ref: Any) -> tuple[dict[str, Any] |
         tol = tols.get(d.name)
         differences[d.name] = {
             "max": float(d.max),
-            "time_of_max": float(d.time_of_max),
+            "time_of_max_s": float(d.time_of_max),
             "final": float(d.final),
             "scale": float(d.scale),
             "tolerance": None if tol is None else float(tol),

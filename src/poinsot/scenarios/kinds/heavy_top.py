@@ -233,7 +233,8 @@ class HeavyTop(ScenarioKind):
             entries["case"] = Entry("Kovalevskaya top (docs/theory.md §10)")
             entries["kovalevskaya_integral"] = Entry(k, "rad^4/s^4")
             lines.append(
-                f"Kovalevskaya top (A = B = 2C, centre of mass equatorial): the fourth integral "
+                f"Kovalevskaya top (A = B = 2C about the fixed point, centre of mass in the "
+                f"equatorial plane): the fourth integral "
                 f"k = {fmt(k)} rad^4/s^4 is conserved"
             )
         return Facts(entries, tuple(lines))
