@@ -673,7 +673,7 @@ def _system_info(model: TorqueModel | None, quat: np.ndarray) -> dict[str, Any]:
     and ``K_z`` too for gravity about a fixed point; any other torque nothing."""
     from .torques import GravityTorque
 
-    if model is None:
+    if model is None or (isinstance(model, ConstantBodyTorque) and not np.any(model.torque)):
         return {"torque": "none", "conserved": ("energy", "momentum")}
     info: dict[str, Any] = {"torque": type(model).__name__, "conserved": ()}
     if model.conservative:
