@@ -92,6 +92,9 @@ INFO_KEYS = {
     "the shape of `energy`",
 }
 
+#: ``info`` keys holding one value per sample (arrays of the shape of ``energy``).
+PER_SAMPLE_INFO = ("potential_energy", "total_energy")
+
 #: Display names of the conserved quantities of ``info["conserved"]``.
 CONSERVED_LABELS = {
     "energy": "energy T",

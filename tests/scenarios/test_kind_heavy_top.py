@@ -157,3 +157,19 @@ def test_describe_says_about_which_point_each_moment_is():
     assert not np.isclose(about_cm[0], 2 * about_cm[2])  # ... not about the centre of mass
     assert "A = B = 2C about the fixed point" in text
     assert "kg m^2" in body_line.split("about the fixed point")[1]
+
+
+def test_chunked_run_keeps_v_per_sample_and_out_of_summary():
+    """A long run is split in chunks: V (info["potential_energy"]) must cover every
+    sample, recomputed here as m g z_c from the attitude, and stay out of summary.json."""
+    s = load_scenario(EXAMPLES / "kovalevskaya_top.toml")
+    res = simulate_scenario(s)
+    tr = res.trajectory
+    assert res.summary["run"]["info"]["chunks"] > 1
+    assert "potential_energy" not in res.summary["run"]["info"]
+    m, c = float(s.body.mass), np.asarray(s.body.center_of_mass, dtype=float)
+    v = m * float(s.torque.g) * tr.rotation.apply(c)[:, 2]
+    np.testing.assert_allclose(tr.info["potential_energy"], v, rtol=1e-12, atol=1e-15)
+    e = np.asarray(tr.energy) + v
+    drift = np.max(np.abs(e - e[0])) / max(abs(e[0]), np.max(np.abs(tr.energy)))
+    assert tr.conserved_drifts()["total_energy"] == pytest.approx(drift, rel=1e-9)

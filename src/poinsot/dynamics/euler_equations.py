@@ -673,13 +673,17 @@ def _system_info(model: TorqueModel | None, quat: np.ndarray) -> dict[str, Any]:
     and ``K_z`` too for gravity about a fixed point; any other torque nothing."""
     from .torques import GravityTorque
 
-    if model is None:
+    if model is None or (isinstance(model, ConstantBodyTorque) and not np.any(model.torque)):
         return {"torque": "none", "conserved": ("energy", "momentum")}
     info: dict[str, Any] = {"torque": type(model).__name__, "conserved": ()}
     if model.conservative:
-        v = model.potential(quat)
+        try:  # a user's potential_function may not take the (n, ..., 4) samples at once
+            v = model.potential(quat)
+            v = None if v is None else np.asarray(v, dtype=float).reshape(quat.shape[:-1])
+        except Exception:  # noqa: BLE001 - then the result just does not claim T + V
+            v = None
         if v is not None:
-            info["potential_energy"] = np.asarray(v, dtype=float).reshape(quat.shape[:-1])
+            info["potential_energy"] = v
             info["conserved"] = ("total_energy",)
             if isinstance(model, GravityTorque):
                 info["conserved"] = ("total_energy", "momentum_z")

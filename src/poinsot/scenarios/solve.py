@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
-from ..trajectory import Trajectory
+from ..trajectory import PER_SAMPLE_INFO, Trajectory
 from .kind import Progress
 from .schema import MAX_SAMPLES, Scenario
 
@@ -257,6 +257,10 @@ def _concatenate(parts: list[Any]) -> Any:
         else:
             kwargs[f.name] = v0
     info = dict(parts[-1].info)
+    for key in PER_SAMPLE_INFO:  # one value per sample (V, T + V): joined as the samples
+        if all(key in p.info for p in parts):
+            values = [np.asarray(p.info[key]) for p in parts]
+            info[key] = np.concatenate([values[0]] + [v[1:] for v in values[1:]])
     for key in _COUNTS:  # one count for the whole run, not the last chunk's
         values = [p.info.get(key) for p in parts]
         if all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in values):

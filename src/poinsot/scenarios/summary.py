@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 
 from ..trajectory import (
+    PER_SAMPLE_INFO,
     CoordinateTrajectory,
     PointTrajectory,
     Trajectory,
@@ -436,7 +437,8 @@ class ScenarioResult:
                 "memory_bytes": self.cost.memory_bytes,
                 "seconds": self.cost.seconds,
             },
-            "info": jsonable(dict(tr.info)),
+            # the run's details, not its per-sample series (V is in the invariants)
+            "info": jsonable({k: v for k, v in tr.info.items() if k not in PER_SAMPLE_INFO}),
             "versions": versions(),
             "notes": [],
             "units": {"wall_time_s": "s"},
