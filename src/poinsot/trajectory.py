@@ -90,6 +90,8 @@ INFO_KEYS = {
     "total_energy": "T + V at each sample (J), exact heavy-top solutions",
     "potential_energy": "potential energy V of a conservative torque at each sample (J), "
     "the shape of `energy`",
+    "gravity_moment": "m g c (N m, body axes) of gravity about the fixed point: "
+    "V = gamma . m g c with gamma = R^T e_z (theory §10)",
 }
 
 #: ``info`` keys holding one value per sample (arrays of the shape of ``energy``).
@@ -479,8 +481,8 @@ class Trajectory(Result):
         ``"energy"`` (:attr:`energy_drift`) and ``"momentum"``
         (:attr:`momentum_drift`, ``|K|``) for a free body; ``"total_energy"``,
         ``max_k |E_k - E_0| / max(|E_0|, max_k T_k)`` with ``E = T + V``
-        (``V`` from ``info["potential_energy"]``), and ``"momentum_z"``,
-        ``max_k |K_z,k - K_z,0| / |K_0|``, for a body with a fixed point in
+        (``V`` from ``info["potential_energy"]`` or ``info["gravity_moment"]``), and
+        ``"momentum_z"``, ``max_k |K_z,k - K_z,0| / |K_0|``, for a body with a fixed point in
         gravity. Empty when the result does not say what its motion conserves
         (``info`` without ``"conserved"``) or a torque does work: the kinetic
         energy and ``|K|`` are then no invariants, and their changes no error.
@@ -503,7 +505,7 @@ class Trajectory(Result):
             elif name == "momentum":
                 value = self.momentum_drift
             elif name == "total_energy" and self.energy is not None:
-                v = self.info.get("potential_energy")
+                v = self._potential_energy()
                 if v is not None:
                     scale = np.max(np.abs(self.energy), axis=0)
                     value = _drift(self.energy + np.asarray(v, dtype=float), scale)
@@ -513,6 +515,19 @@ class Trajectory(Result):
             if value is not None:
                 out[name] = value
         return out
+
+    def _potential_energy(self) -> FloatArray | None:
+        """``V`` at each sample (J): ``info["potential_energy"]``, or from
+        ``info["gravity_moment"]`` as ``gamma . m g c``, ``gamma = R^T e_z`` the third row
+        of the attitude matrix."""
+        v = self.info.get("potential_energy")
+        if v is not None:
+            return np.asarray(v, dtype=float)
+        mgc = self.info.get("gravity_moment")
+        if mgc is None:
+            return None
+        gamma = self.rotation.as_matrix()[..., 2, :]
+        return np.einsum("...i,...i->...", gamma, np.asarray(mgc, dtype=float))
 
     def _drift_rows(self) -> list[tuple[str, float]]:
         return [
