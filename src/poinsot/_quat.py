@@ -30,7 +30,12 @@ __all__ = [
     "axis_angle_principal",
     "from_gibbs",
     "from_rotvec",
+    "to_body",
+    "up_body",
+    "gravity_potential",
 ]
+
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 
 
 def pure(v: np.ndarray) -> np.ndarray:
@@ -123,3 +128,30 @@ def from_rotvec(v: np.ndarray) -> np.ndarray:
     from .rotations.rotvec import quat_from_rotvec
 
     return quat_from_rotvec(v)
+
+
+def to_body(quat: np.ndarray, v_space: np.ndarray) -> np.ndarray:
+    """``R^T v``: space components -> body components, for unit ``quat`` (..., 4) and
+    vectors (..., 3), broadcast."""
+    from .rotations._lazy import kernels
+
+    shape = np.broadcast_shapes(quat.shape[:-1], v_space.shape[:-1])
+    return kernels().qrot(
+        np.broadcast_to(quat * _CONJ, shape + (4,)), np.broadcast_to(v_space, shape + (3,))
+    )
+
+
+def up_body(quat: np.ndarray) -> np.ndarray:
+    """``gamma = R^T e_z``, the upward vertical in body axes (third row of ``R``)."""
+    return to_body(quat, np.array([0.0, 0.0, 1.0]))
+
+
+def gravity_potential(quat: np.ndarray, moment: np.ndarray) -> np.ndarray:
+    """``V = m g z_c = gamma . (m g c)`` (J) of gravity about a fixed point (theory §10):
+    ``moment = m g c`` (N m) with ``c`` the centre of mass in body axes.
+
+    >>> q = np.array([np.cos(np.pi / 6), np.sin(np.pi / 6), 0.0, 0.0])   # 60 deg about x
+    >>> round(float(gravity_potential(q, np.array([0.0, 0.0, 2.0]))), 12)  # 2 cos(60 deg)
+    1.0
+    """
+    return np.einsum("...i,...i->...", up_body(quat), moment)

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from . import _display
+from ._quat import gravity_potential
 from ._typing import FloatArray
 from ._validate import as_float_array
 from .errors import InvalidInputError, InvalidTypeError
@@ -518,16 +519,15 @@ class Trajectory(Result):
 
     def _potential_energy(self) -> FloatArray | None:
         """``V`` at each sample (J): ``info["potential_energy"]``, or from
-        ``info["gravity_moment"]`` as ``gamma . m g c``, ``gamma = R^T e_z`` the third row
-        of the attitude matrix."""
+        ``info["gravity_moment"]`` as ``gamma . m g c`` (the formula of
+        :class:`~poinsot.dynamics.GravityTorque`, :func:`poinsot._quat.gravity_potential`)."""
         v = self.info.get("potential_energy")
         if v is not None:
             return np.asarray(v, dtype=float)
         mgc = self.info.get("gravity_moment")
         if mgc is None:
             return None
-        gamma = self.rotation.as_matrix()[..., 2, :]
-        return np.einsum("...i,...i->...", gamma, np.asarray(mgc, dtype=float))
+        return gravity_potential(np.asarray(self.rotation.as_quat()), np.asarray(mgc, dtype=float))
 
     def _drift_rows(self) -> list[tuple[str, float]]:
         return [

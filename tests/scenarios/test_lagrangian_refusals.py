@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from deadline import deadline
 from poinsot.cli import main
 
 pytest.importorskip("sympy")
@@ -62,34 +63,6 @@ def test_the_advice_after_a_failed_integration_names_this_kind_s_methods(tmp_pat
     assert not (tmp_path / "o").exists()
 
 
-class _Hung(BaseException):
-    """Not an Exception: the CLI's catch-all cannot turn it into an exit code."""
-
-
-def _deadline(seconds: int):
-    """A context manager failing the test (``_Hung``) instead of letting it hang."""
-    import contextlib
-    import signal
-
-    if not hasattr(signal, "SIGALRM"):
-        pytest.skip("no SIGALRM to guard a hang with")
-
-    @contextlib.contextmanager
-    def guard():
-        def hung(*_):
-            raise _Hung(f"still running after {seconds} s")
-
-        old = signal.signal(signal.SIGALRM, hung)
-        signal.alarm(seconds)
-        try:
-            yield
-        finally:
-            signal.alarm(0)
-            signal.signal(signal.SIGALRM, old)
-
-    return guard()
-
-
 ONE = (
     'kind = "lagrangian"\n[lagrangian]\ncoordinates = ["x"]\nparameters = {{ {params} }}\n'
     'kinetic = "x_dot**2/2"\npotential = "{potential}"\nq0 = [{q0}]\nqdot0 = [0.0]\n'
@@ -122,7 +95,7 @@ def test_equations_not_finite_at_the_start_exit_2_in_check_and_run(
 ):
     path = tmp_path / "nan.toml"
     path.write_text(ONE.format(params=params, potential=potential, q0=q0))
-    with _deadline(60):
+    with deadline(60):
         assert _run_and_check(path, tmp_path) == (2, 2)
     err = capsys.readouterr().err
     assert err.count("nan.toml:7: `lagrangian.q0` expected an initial state") == 2, err

@@ -6,12 +6,10 @@ would give; pickling (multiprocessing, Dask)."""
 
 from __future__ import annotations
 
-import contextlib
 import multiprocessing
 import operator
 import pickle
 import re
-import signal
 
 import numpy as np
 import pytest
@@ -19,6 +17,7 @@ import pytest
 sympy = pytest.importorskip("sympy")
 from sympy.physics.mechanics import dynamicsymbols  # noqa: E402
 
+from deadline import deadline  # noqa: E402
 from poinsot._jit import NUMBA  # noqa: E402
 from poinsot.errors import IntegrationError, InvalidInputError  # noqa: E402
 from poinsot.symbolic import LagrangeSystem  # noqa: E402
@@ -26,29 +25,6 @@ from poinsot.symbolic import LagrangeSystem  # noqa: E402
 x, th = dynamicsymbols("x theta")
 k, m = sympy.symbols("k m")
 KE = x.diff() ** 2 / 2
-
-
-class _Hung(BaseException):
-    """Not an Exception: nothing on the way (the CLI's catch-all) turns it into a result."""
-
-
-@contextlib.contextmanager
-def deadline(seconds: int):
-    """Fail (``_Hung``) instead of hanging: SciPy's step loop is Python, so the alarm's
-    handler runs inside it."""
-    if not hasattr(signal, "SIGALRM"):
-        pytest.skip("no SIGALRM to guard a hang with")
-
-    def hung(*_):
-        raise _Hung(f"still running after {seconds} s")
-
-    old = signal.signal(signal.SIGALRM, hung)
-    signal.alarm(seconds)
-    try:
-        yield
-    finally:
-        signal.alarm(0)
-        signal.signal(signal.SIGALRM, old)
 
 
 SQRT = LagrangeSystem([x], KE, k * sympy.sqrt(x))

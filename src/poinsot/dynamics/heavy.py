@@ -60,7 +60,7 @@ HEAVY_METHODS = integrators.names("rigid")
 
 def _upward(q: np.ndarray) -> np.ndarray:
     """``gamma = R^T e_z`` for unit quaternions ``q`` (..., 4) (the torque model's kernel)."""
-    from .torques import _up_body
+    from .._quat import up_body as _up_body
 
     return _up_body(q)
 

@@ -38,6 +38,9 @@ from typing import Any
 
 import numpy as np
 
+from .._quat import gravity_potential
+from .._quat import to_body as _to_body
+from .._quat import up_body as _up_body
 from .._validate import as_choice, as_positive, as_vec3, batch_shape
 from .._vec import cross, diagonal3
 from ..errors import InvalidInputError, InvalidTypeError
@@ -55,23 +58,6 @@ __all__ = [
 
 #: Standard acceleration of gravity (m/s^2).
 STANDARD_GRAVITY = 9.80665
-
-_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
-
-
-def _to_body(quat: np.ndarray, v_space: np.ndarray) -> np.ndarray:
-    """``R^T v`` for unit quaternions ``quat`` (..., 4) and vectors (..., 3)."""
-    from ..rotations._lazy import kernels
-
-    shape = np.broadcast_shapes(quat.shape[:-1], v_space.shape[:-1])
-    return kernels().qrot(
-        np.broadcast_to(quat * _CONJ, shape + (4,)), np.broadcast_to(v_space, shape + (3,))
-    )
-
-
-def _up_body(quat: np.ndarray) -> np.ndarray:
-    """``gamma = R^T e_z``, the upward vertical in body axes (third row of ``R``)."""
-    return _to_body(quat, np.array([0.0, 0.0, 1.0]))
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -234,8 +220,7 @@ class GravityTorque(TorqueModel):
         return cross(_up_body(np.asarray(quat, dtype=float)), self.moment)
 
     def potential(self, quat: np.ndarray) -> np.ndarray:
-        gamma = _up_body(np.asarray(quat, dtype=float))
-        return np.einsum("...i,...i->...", gamma, self.moment)
+        return gravity_potential(np.asarray(quat, dtype=float), self.moment)
 
 
 @dataclass(frozen=True, eq=False)
