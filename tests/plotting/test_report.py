@@ -955,7 +955,11 @@ def test_euler_angles_wrapped_alike_and_law_legends_not_doubled(tmp_path):
     )
     P, _ = _write(tmp_path, tr, euler_seq="ZXZ", checks=[law])
     title = next(x for x in _titles(P) if x.startswith("attitude: Euler angles ZXZ"))
-    assert title.endswith("(each wrapped to (-180, 180])")
+    # and why not unwrapped: the spin runs over 20 rad/s x 10 s / 2 pi = 31.8 turns
+    assert title.endswith(
+        "(each wrapped to (-180, 180]: unwrapped, phi would run over 31.8 turns and "
+        "flatten the others)"
+    ), title
     for name in ("psi, precession (Z)", "theta, nutation (X)", "phi, spin (Z)"):
         y = _named_series(P, name)[1]
         assert np.all(np.abs(y) <= 180.0 + 1e-3), name

@@ -762,8 +762,10 @@ def _panels(tr: Any, ref: Any, checks: Any, tq: Any, euler_seq: Any, free_body: 
     if q is not None and t.size > 1 and float(np.max(_angles_between(q), initial=0.0)) > 0:
         try:
             ang = np.unwrap(np.asarray(q.as_euler(euler_seq)), axis=0)
-            # a spin: all three shown in (-180, 180] deg, so that they read alike
-            wrapped = np.full(3, bool(np.any(np.ptp(ang, axis=0) > 4.0 * np.pi)))
+            # a spin: all three shown in (-180, 180] deg, so that they read alike (one
+            # angle unwrapped over many turns would flatten the others on the shared axis)
+            spans = np.ptp(ang, axis=0)
+            wrapped = np.full(3, bool(np.any(spans > 4.0 * np.pi)))
             ang = np.where(wrapped, np.angle(np.exp(1j * ang)), ang)
         except _Bad:
             ang = None
@@ -778,7 +780,13 @@ def _panels(tr: Any, ref: Any, checks: Any, tq: Any, euler_seq: Any, free_body: 
                 )
                 for k in range(3)
             ]
-            how = " (each wrapped to (-180, 180])" if wrapped[0] else " (unwrapped)"
+            how = " (unwrapped)"
+            if wrapped[0]:  # say why not unwrapped, with the turns it would take
+                k = int(np.argmax(spans))
+                how = (
+                    f" (each wrapped to (-180, 180]: unwrapped, {names[k].split(',')[0]} "
+                    f"would run over {spans[k] / (2.0 * np.pi):.3g} turns and flatten the others)"
+                )
             out.append((f"attitude: Euler angles {euler_seq}{how}", "deg", series))
     laws = [c for c in checks if not c.conserved and c.expected is not None]
     if laws:  # compared with a known law (a closed form): the relative deviation
