@@ -10,6 +10,7 @@ that runs is a notebook that is right. Stored without outputs.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -33,7 +34,9 @@ def test_there_are_four_notebooks_stored_without_outputs():
 def test_notebook_runs(path, tmp_path, monkeypatch):
     src = str(Path(__file__).resolve().parents[1] / "src")
     monkeypatch.setenv("PYTHONPATH", src + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    monkeypatch.setenv("MPLBACKEND", "Agg")
+    # Jupyter's own inline backend (Agg would draw nothing and let a broken figure pass):
+    # every figure a cell makes must arrive as a PNG output (issue 38)
+    monkeypatch.setenv("MPLBACKEND", "module://matplotlib_inline.backend_inline")
     nb = nbformat.read(path, as_version=4)
     client = nbclient.NotebookClient(
         nb, timeout=120, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
@@ -42,3 +45,12 @@ def test_notebook_runs(path, tmp_path, monkeypatch):
     outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     assert any(o.output_type in ("display_data", "execute_result") for o in outputs)
+    for i, cell in enumerate(nb.cells):
+        if cell.cell_type == "code" and re.search(_MAKES_FIGURE, cell.source):
+            pngs = [o for o in cell.outputs if "image/png" in o.get("data", {})]
+            assert pngs, f"{path.name}, cell {i}: makes a figure but shows none"
+
+
+#: matplotlib calls that make a figure in a cell (the notebooks draw through pyplot or
+#: poinsot's plot_* functions)
+_MAKES_FIGURE = r"plt\.(subplots|figure)\(|\bplot_\w+\("
