@@ -292,3 +292,26 @@ def test_torqued_body_display_claims_no_conservation():
         assert shown["|K| drift (relative)"] == pytest.approx(
             np.max(np.abs(k - k[0])) / k[0], abs=1e-14
         )
+
+
+def test_a_blank_viewer_says_why_where_jupyter_strips_it():
+    """Issue 38: an untrusted notebook strips frames and scripts, so show() was blank and
+    explore() printed 'VBox(children=...)'. What is left after the stripping (and the
+    text form) says why and what to do."""
+    from poinsot.plotting import show
+    from poinsot.plotting.notebook import UNTRUSTED_NOTE
+
+    tr = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 2.0, 0.1]).trajectory(np.linspace(0, 1, 5))
+    v = show(tr)
+    frame = v._repr_html_()
+    # what an untrusted notebook keeps: the frame (and any script) removed
+    kept = re.sub(r"<iframe.*?</iframe>|<script.*?</script>", "", frame, flags=re.S)
+    text = re.sub(r"<[^>]+>", "", kept)
+    assert "not trusted" in text and "Trust Notebook" in text and ".save(" in text
+    bundle = v._repr_mimebundle_()
+    assert bundle["text/html"] == frame and UNTRUSTED_NOTE in bundle["text/plain"]
+    pytest.importorskip("ipywidgets", reason="explore() needs ipywidgets (poinsot[notebook])")
+    from poinsot.plotting import explore
+
+    plain = explore("kepler")._repr_mimebundle_()["text/plain"]
+    assert not plain.startswith("VBox") and "show(" in plain and "docs/notebook.md" in plain

@@ -31,6 +31,15 @@ from .report import report_html
 PRESETS = ("racket", "symmetric-top", "lagrange-top", "foucault", "kepler")
 
 
+#: What a blank viewer means (docs/notebook.md, "Untrusted notebooks").
+UNTRUSTED_NOTE = (
+    "If the view is blank, the notebook is not trusted (Jupyter then shows no frames or "
+    "scripts in outputs): trust it (JupyterLab: File > Trust Notebook; Classic: "
+    "File > Trust Notebook; `jupyter trust NOTEBOOK`), or save the page with "
+    ".save('report.html') and open that in a browser."
+)
+
+
 class Viewer:
     """The report's viewer for a notebook cell (an ``<iframe srcdoc>``).
 
@@ -47,12 +56,20 @@ class Viewer:
         self.height = int(height)
 
     def _repr_html_(self) -> str:
-        # sandboxed, scripts only: the page reaches neither the notebook nor a network
+        # sandboxed, scripts only: the page reaches neither the notebook nor a network.
+        # An untrusted notebook strips frames and scripts from its outputs: the note under
+        # the frame (plain HTML, kept) then says why the view is blank and what to do
         return (
             f'<iframe class="poinsot-viewer" srcdoc="{html.escape(self.html, quote=True)}" '
             f'style="width:100%;height:{self.height}px;border:1px solid #ddd" '
             'sandbox="allow-scripts"></iframe>'
+            f'<p class="poinsot-untrusted" style="font-size:11px;color:#666;margin:2px 0">'
+            f"{html.escape(UNTRUSTED_NOTE)}</p>"
         )
+
+    def _repr_mimebundle_(self, **kwargs: Any) -> dict[str, str]:
+        """HTML (the viewer) and, where HTML is not shown, text saying what it holds."""
+        return {"text/html": self._repr_html_(), "text/plain": repr(self) + ". " + UNTRUSTED_NOTE}
 
     def save(self, path: str | Path) -> Path:
         """Write the page to ``path`` (an HTML file that opens in any browser)."""
@@ -309,7 +326,14 @@ class Explorer:
         self.update()
 
     def _repr_mimebundle_(self, **kwargs: Any) -> Any:
-        return self.widget._repr_mimebundle_(**kwargs)
+        bundle = self.widget._repr_mimebundle_(**kwargs)
+        if isinstance(bundle, dict):  # where widgets cannot run, not 'VBox(children=...)'
+            bundle["text/plain"] = (
+                f"{self!r}: sliders and a viewer, shown where Jupyter runs widgets in a "
+                "trusted notebook (ipywidgets installed, docs/notebook.md). Elsewhere: "
+                "show(...) of a result, or report_html(...) saved to a file."
+            )
+        return bundle
 
     def __repr__(self) -> str:
         return f"Explorer({self.preset!r}, {self.values()})"
