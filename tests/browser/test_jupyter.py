@@ -85,6 +85,31 @@ def _notebook(path: Path) -> None:
     path.write_text(json.dumps(nb))
 
 
+def _untrusted_notebook(path: Path) -> None:
+    """A notebook saved with the output of ``show()`` and no signature: what a user gets
+    opening a notebook file someone else ran (Jupyter does not trust its outputs)."""
+    import numpy as np
+
+    from poinsot.dynamics import FreeRigidBody
+    from poinsot.plotting import show
+
+    tr = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.05, 4.0, 0.05]).trajectory(
+        np.linspace(0.0, 2.0, 21)
+    )
+    bundle = show(tr)._repr_mimebundle_()
+    nb = {
+        "cells": [{"cell_type": "code", "execution_count": 1, "id": "c0", "metadata": {},
+                   "outputs": [{"output_type": "display_data", "data": bundle,
+                                "metadata": {}}],
+                   "source": "show(tr)"}],
+        "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python",
+                                    "name": "python3"}},
+        "nbformat": 4,
+        "nbformat_minor": 5,
+    }  # fmt: skip
+    path.write_text(json.dumps(nb))
+
+
 @pytest.fixture
 def server(tmp_path):
     """A JupyterLab server on 127.0.0.1 (random port and token), stopped afterwards."""
@@ -97,6 +122,7 @@ def server(tmp_path):
     root = tmp_path / "work"
     root.mkdir()
     _notebook(root / "poinsot.ipynb")
+    _untrusted_notebook(root / "untrusted.ipynb")
     env = dict(os.environ)
     for var, sub in (("JUPYTER_CONFIG_DIR", "config"), ("JUPYTER_DATA_DIR", "data"),
                      ("JUPYTER_RUNTIME_DIR", "runtime"), ("IPYTHONDIR", "ipython")):  # fmt: skip
@@ -283,3 +309,24 @@ def test_show_and_explore_in_jupyterlab(server, browser, record_property):
     outside = [u for u in requests if not u.startswith((url, "data:", "about:", "blob:"))]
     assert not outside, outside[:5]
     assert not errors, errors[:5]
+
+
+def test_an_untrusted_viewer_says_why_it_is_blank(server, browser):
+    """Issue 38: opened untrusted, JupyterLab shows no frame (the viewer was blank with
+    no word); the line kept under it says why and what to do."""
+    url, token = server
+    context = browser.new_context(viewport={"width": 1200, "height": 900})
+    page = context.new_page()
+    try:
+        page.goto(f"{url}/lab/tree/untrusted.ipynb?token={token}", timeout=90_000)
+        page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
+        try:  # a kernel dialog on some releases: not needed, nothing is run
+            page.locator(".jp-Dialog button.jp-mod-accept").click(timeout=5_000)
+        except Exception:  # noqa: BLE001 - no dialog
+            pass
+        note = page.get_by_text("If the view is blank, the notebook is not trusted")
+        note.wait_for(timeout=60_000)
+        assert note.is_visible()
+        assert page.locator(".jp-OutputArea iframe").count() == 0  # stripped: untrusted
+    finally:
+        context.close()
