@@ -440,7 +440,11 @@ def test_verify_html_shows_thresholds_and_fits_its_legend(tmp_path, capsys):
     assert '<tr class="limits"><td>threshold</td><td></td><td class="num">1.0e-06</td>' in page
     assert "white-space:nowrap" in page
     bad = (tmp_path / "bad" / "verify.html").read_text()
-    note = re.search(r'<td class="note">([^<]*)</td></tr></table>', bad).group(1)
+    cell = re.search(r'<td class="note">(.*?)</td></tr></table>', bad).group(1)
+    # every number of a note in one unbreakable span (a line broke after "9.86e-")
+    assert re.search(r'<span class="n">\d[\d.]*e-\d+</span>', cell)
+    assert "span.n{white-space:nowrap}" in bad
+    note = re.sub(r"<[^>]+>", "", cell)
     assert "omega" in note and not re.search(r"\d 1(;|$)", note)  # "... > 1e-06 1" before
     svg = page[page.index("<svg") :]
     width = float(re.search(r'<svg[^>]* width="(\d+)"', svg).group(1))

@@ -12,6 +12,7 @@ from __future__ import annotations
 import html
 import json
 import math
+import re
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -298,7 +299,7 @@ def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
             f'<a href="{esc(links[r.case])}">{esc(r.case)}</a>' if r.case in links else esc(r.case)
         )
         rows.append(f'<tr><td>{name}</td><td class="{r.status}">{r.status}</td>{"".join(cells)}'
-                    f'<td class="note">{esc(r.reason)}</td></tr>')  # fmt: skip
+                    f'<td class="note">{_unbroken_numbers(r.reason)}</td></tr>')  # fmt: skip
     verdict_line = esc(verdict.summary())
     chart = _work_precision_svg(verdict.sweep) if verdict.sweep else ""
     title = f"poinsot verify: {esc(verdict.label)}"
@@ -306,6 +307,7 @@ def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
 <style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:90em}}table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:.25em .5em;text-align:right;white-space:nowrap}}
 td:first-child{{text-align:left}}td.note{{text-align:left;white-space:normal;min-width:20em}}
+span.n{{white-space:nowrap}}
 tr.limits td{{background:#f5f5f5;font-style:italic}}
 .ok{{background:#e8f5e9}}.bad,.fail,.missing{{background:#ffebee}}.skip{{color:#777}}</style></head><body>
 <h1>poinsot verify</h1><p><b>{esc(verdict.label)}</b>, cases version {CASES_VERSION}:
@@ -319,6 +321,24 @@ allowed), skip (outside what the engine models). Metrics and thresholds: docs/ve
 Quaternions scalar first, body -> space; angular velocity in body axes; SI units, radians.</p>
 {chart}</body></html>
 """
+
+
+#: a number as the notes write it (``9.86e-05``, ``0.00153``, ``-3``)
+_NUMBER = re.compile(r"[-+]?\d[\d.]*(?:e[-+]?\d+)?")
+
+
+def _unbroken_numbers(text: str) -> str:
+    """``text`` as HTML, each number in a ``span.n`` that never breaks: a browser
+    breaks lines after the ``-`` of ``9.86e-05`` otherwise.
+
+    >>> _unbroken_numbers("omega 9.86e-05 > 1e-06 'x'")
+    'omega <span class="n">9.86e-05</span> &gt; <span class="n">1e-06</span> &#x27;x&#x27;'
+    """
+    out, last = [], 0
+    for m in _NUMBER.finditer(text):  # escaped piece by piece: no span inside an entity
+        out += [html.escape(text[last : m.start()]), f'<span class="n">{m.group(0)}</span>']
+        last = m.end()
+    return "".join(out) + html.escape(text[last:])
 
 
 def _work_precision_svg(rows: list[dict[str, Any]]) -> str:
