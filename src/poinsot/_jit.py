@@ -47,6 +47,8 @@ __all__ = [
     "going",
     "upto",
     "pick",
+    "compiling",
+    "mute_compile_notice",
 ]
 
 
@@ -390,3 +392,83 @@ upto: Any = njit(inline="always")(_upto) if NUMBA else _upto
 #: tracing library re-binds it to its select (``jnp.where``), which is not a branch
 #: (a branch doubles the paths a select executor traces).
 pick: Any = njit(inline="always")(_pick) if NUMBA else _pick
+
+
+# ------------------------------------------------------------ compilation watch
+#: thread ident -> how many numba compilations are running in that thread now (nested:
+#: a kernel compiles the functions it calls). :func:`compiling` reads it: a caller that
+#: waits for a worker thread on Ctrl-C does not wait for a compilation to end.
+_COMPILING: dict[int, int] = {}
+#: the one-line notice printed when a poinsot kernel starts compiling: muted while a
+#: caller says it itself (the CLI's "compiling (first run only)"), or by
+#: ``POINSOT_COMPILE_NOTICE=0``; at most one line a minute.
+_NOTICE: dict[str, float] = {"muted": 0, "last": -math.inf}
+_NOTICE_EVERY_S = 60.0
+
+
+def compiling(ident: int | None) -> bool:
+    """Whether the thread ``ident`` is compiling a numba kernel now."""
+    return ident is not None and _COMPILING.get(ident, 0) > 0
+
+
+class mute_compile_notice:
+    """``with mute_compile_notice():`` the library prints no compile notice in the block
+    (the caller announces compilation its own way, or asked for quiet)."""
+
+    def __enter__(self) -> None:
+        _NOTICE["muted"] += 1
+
+    def __exit__(self, *exc: object) -> None:
+        _NOTICE["muted"] -= 1
+
+
+def _notice(name: str) -> None:
+    import sys
+    import time
+
+    if _NOTICE["muted"] or os.environ.get("POINSOT_COMPILE_NOTICE", "1").strip() in ("0", "no"):
+        return
+    now = time.monotonic()
+    if now - _NOTICE["last"] < _NOTICE_EVERY_S:
+        return
+    _NOTICE["last"] = now
+    print(
+        f"poinsot: compiling {name} for this machine (first use after an install or upgrade, "
+        "then cached; can take a minute; Ctrl-C stops it; docs/performance.md, 'Cold start')",
+        file=sys.stderr,
+        flush=True,
+    )
+
+
+def _install_compile_watch() -> None:
+    import threading
+
+    from numba.core import event
+
+    class Watch(event.Listener):
+        """Counts the compilations of each thread; announces an outermost one of a poinsot
+        kernel (a load from numba's cache fires no ``numba:compile`` event)."""
+
+        def on_start(self, ev: Any) -> None:
+            ident = threading.get_ident()
+            depth = _COMPILING.get(ident, 0)
+            _COMPILING[ident] = depth + 1
+            if depth == 0:
+                disp = (ev.data or {}).get("dispatcher")
+                fn: Any = getattr(disp, "py_func", None)
+                if fn is not None and getattr(fn, "__module__", "").startswith("poinsot"):
+                    _notice(f"{fn.__module__}.{fn.__name__}")
+
+        def on_end(self, ev: Any) -> None:
+            ident = threading.get_ident()
+            depth = _COMPILING.get(ident, 1) - 1
+            if depth > 0:
+                _COMPILING[ident] = depth
+            else:
+                _COMPILING.pop(ident, None)
+
+    event.register("numba:compile", Watch())  # type: ignore[no-untyped-call]
+
+
+if NUMBA:
+    _install_compile_watch()

@@ -16,7 +16,12 @@ per step; :func:`run_compiled` raises it on Ctrl-C in one of two ways:
   ``poll`` seconds to report progress; on ``KeyboardInterrupt`` it raises the flag and
   waits for the worker to stop (one step: milliseconds).
 
-Either way nothing partial is returned and no thread is left running. The kernel's
+Ctrl-C while numba compiles the kernel (a cold cache) stops the call at once too: the
+native handler also makes Python's SIGINT pending, which the compiler's Python code
+raises; a worker thread that is compiling is not waited for (it finishes the
+compilation, which numba caches, and its kernel stops at the first step).
+
+Either way nothing partial is returned and no kernel is left running. The kernel's
 arithmetic is untouched: results are bit-identical with or without it.
 """
 
@@ -169,6 +174,15 @@ def run_compiled(
                 progress(min(float(done.sum()) / total, 1.0))
     except KeyboardInterrupt:
         cancel[0] = 1
+        from ._jit import compiling
+
+        if compiling(worker.ident):
+            # numba is compiling the kernel (a cold cache: up to minutes) and cannot be
+            # stopped: the daemon thread finishes the compilation (and caches it) on its
+            # own; its kernel then sees the flag at its first step and returns
+            if progress is not None:
+                progress.close()
+            raise
         t0 = time.monotonic()
         while time.monotonic() - t0 < 60.0:
             try:
@@ -200,11 +214,17 @@ class _SigintFlag:
         import llvmlite.binding as llvm
 
         self._slot = np.zeros(1, dtype=np.int64)  # the address of the current flag
+        # ... and Python's own SIGINT made pending (PyErr_SetInterruptEx is documented
+        # async-signal-safe): while numba compiles the kernel (Python code, minutes on a
+        # cold cache) KeyboardInterrupt is raised at once instead of after the compilation
+        interrupt = ctypes.cast(ctypes.pythonapi.PyErr_SetInterruptEx, ctypes.c_void_p).value
         ir = f"""
         define void @poinsot_sigint(i32 %sig) {{
           %slot = inttoptr i64 {self._slot.ctypes.data} to i64**
           %flag = load volatile i64*, i64** %slot
           store volatile i64 1, i64* %flag
+          %raise = inttoptr i64 {interrupt} to i32 (i32)*
+          %r = call i32 %raise(i32 %sig)
           ret void
         }}
         """
@@ -257,6 +277,10 @@ class _Raising:
         if self._on:
             self._flag.restore()
         if self._cancel[0] != 0 and exc[0] is None:
+            # the handler made Python's SIGINT pending: the interpreter raises it at its
+            # next check (a backward jump), here, as one KeyboardInterrupt
+            for _ in range(4):
+                pass
             raise KeyboardInterrupt
 
 

@@ -171,12 +171,15 @@ class _compile_note:
         self._stack: Any = None
 
     def __enter__(self) -> _compile_note:
-        from ._jit import NUMBA
-
-        if self.quiet or _compile_note.said or not NUMBA:
-            return self
         import contextlib
 
+        from ._jit import NUMBA, mute_compile_notice
+
+        # the CLI says it in its own words (or not at all, --quiet): not the library too
+        self._stack = contextlib.ExitStack()
+        self._stack.enter_context(mute_compile_notice())
+        if self.quiet or _compile_note.said or not NUMBA:
+            return self
         from numba.core import event
 
         class Listener(event.Listener):
@@ -188,7 +191,6 @@ class _compile_note:
             def on_end(self, ev: Any) -> None:
                 pass
 
-        self._stack = contextlib.ExitStack()
         self._stack.enter_context(event.install_listener("numba:compile", Listener()))
         return self
 

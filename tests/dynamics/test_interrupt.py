@@ -153,11 +153,13 @@ def test_ctrl_c_in_the_calling_thread_sets_the_flag_and_raises():
 
     def kernel():
         seen["thread"] = threading.current_thread()
-        os.kill(os.getpid(), signal.SIGINT)
-        t0 = time.monotonic()
-        while cancel[0] == 0 and time.monotonic() - t0 < 5.0:  # another thread may take it
-            time.sleep(0.001)
-        seen["cancel"] = int(cancel[0])
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            t0 = time.monotonic()
+            while cancel[0] == 0 and time.monotonic() - t0 < 5.0:  # another thread may take it
+                time.sleep(0.001)
+        finally:  # a Python kernel also sees the KeyboardInterrupt the handler made pending
+            seen["cancel"] = int(cancel[0])
         return "partial"
 
     with pytest.raises(KeyboardInterrupt):
@@ -191,3 +193,93 @@ def test_a_custom_sigint_handler_keeps_the_worker_thread():
         signal.signal(signal.SIGINT, previous)
     assert thread is not threading.main_thread()
     assert calls == [1]
+
+
+def _numba_listener(on_start):
+    from numba.core import event
+
+    class Listener(event.Listener):
+        def on_start(self, ev):
+            on_start()
+
+        def on_end(self, ev):
+            pass
+
+    return event.install_listener("numba:compile", Listener())
+
+
+def test_ctrl_c_while_numba_compiles_in_the_calling_thread_stops_the_compilation():
+    """Issue 38: with an empty cache a Ctrl-C 15 s into `simulate(rtol=1e-10)` stopped
+    95 s later (the native flag waited for the compilation, then for the kernel). Now the
+    compilation itself is interrupted: the kernel is never compiled, nor run."""
+    from numba import njit
+
+    from poinsot._progress import run_compiled
+
+    _needs_native_flag()
+    kernel = njit(lambda x: x + 1.0)  # new: numba compiles it on this call
+    cancel = np.zeros(1, dtype=np.int64)
+    with _numba_listener(lambda: os.kill(os.getpid(), signal.SIGINT)):
+        with pytest.raises(KeyboardInterrupt):
+            run_compiled(kernel, (1.0,), cancel=cancel, background=True)
+    assert kernel.signatures == []  # before: compiled to the end, then run
+    assert run_compiled(kernel, (1.0,), cancel=cancel, background=True) == 2.0
+
+
+def test_ctrl_c_while_a_worker_compiles_does_not_wait_for_the_compilation():
+    """With progress the kernel runs in a worker thread: a compilation (here made to take
+    8 s) is not waited for on Ctrl-C (before: the caller waited for the compilation and
+    the run, 61 s -> 95 s in the issue; the process then waited for the thread)."""
+    import threading
+
+    from numba import njit
+
+    from poinsot._progress import as_progress, run_compiled
+
+    kernel = njit(lambda x: x + 2.0)
+    cancel = np.zeros(1, dtype=np.int64)
+
+    def slow_compile():
+        if threading.current_thread() is not threading.main_thread():
+            time.sleep(8.0)
+
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    with _numba_listener(slow_compile):
+        timer.start()
+        t0 = time.monotonic()
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                run_compiled(
+                    kernel, (1.0,), cancel=cancel, progress=as_progress(lambda f: None, "x")
+                )
+            waited = time.monotonic() - t0
+        finally:
+            timer.cancel()
+    assert waited < 4.0, waited  # not the 8 s compilation (before: 8 s and more)
+
+
+def test_the_library_says_when_it_compiles(capsys, monkeypatch):
+    """A poinsot kernel that compiles prints one line (the library, not only the CLI, says
+    it); a muted block (the CLI's own note, --quiet) and a second kernel within a minute
+    print nothing."""
+    from numba import njit
+
+    from poinsot import _jit
+
+    def kernel(name):  # a new function of a poinsot module: numba compiles it
+        ns = {"__name__": "poinsot._fake"}
+        exec(f"def {name}(x):\n    return x * 3.0", ns)
+        return njit(ns[name])
+
+    monkeypatch.setitem(_jit._NOTICE, "last", -np.inf)
+    monkeypatch.delenv("POINSOT_COMPILE_NOTICE", raising=False)
+    with _jit.mute_compile_notice():
+        kernel("muted")(1.0)
+    assert "compiling" not in capsys.readouterr().err
+    kernel("first")(1.0)
+    kernel("second")(1.0)
+    err = capsys.readouterr().err
+    assert err.count("poinsot: compiling") == 1, err
+    assert "poinsot._fake.first" in err and "Ctrl-C stops it" in err
+    njit(lambda x: x - 1.0)(1.0)  # not poinsot's: numba's own business
+    assert "compiling" not in capsys.readouterr().err
