@@ -25,7 +25,7 @@ test: venv browser
 	$(PY) -m ruff check src tests benchmarks
 	$(PY) -m ruff format --check src tests benchmarks tools
 	$(PY) -m mypy src/poinsot
-	$(PY) -m pytest
+	$(PY) -m pytest --durations=30
 	$(MAKE) test-nonumba
 
 # Tests marked slow (minutes of XLA compiling each: the JAX exact free body's forward-

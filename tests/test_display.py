@@ -315,3 +315,24 @@ def test_a_blank_viewer_says_why_where_jupyter_strips_it():
 
     plain = explore("kepler")._repr_mimebundle_()["text/plain"]
     assert not plain.startswith("VBox") and "show(" in plain and "docs/notebook.md" in plain
+
+
+def test_show_charts_a_point_result():
+    """Issue 38: point results (orbits, Foucault) got no charts in show(). Now the
+    position with the distance |r| and the velocity with the speed: on a Kepler orbit the
+    distance runs between the apsides and the speed obeys the vis-viva law."""
+    from poinsot.plotting.notebook import _point_series
+
+    orbit = CentralOrbit.from_state(kepler(1.0), [1.0, 0, 0], [0, 1.2, 0])
+    t = np.linspace(0.0, orbit.radial_period, 4001)
+    tr = orbit.trajectory(t)
+    charts = {title: series for title, _, series in _point_series(tr)}
+    pos = next(s for k, s in charts.items() if k.startswith("position"))
+    vel = next(s for k, s in charts.items() if k.startswith("velocity"))
+    peri, apo = orbit.apsides[0], orbit.apsides[1]
+    assert np.min(pos["|r|"]) == pytest.approx(peri, rel=1e-6)
+    assert np.max(pos["|r|"]) == pytest.approx(apo, rel=1e-5)
+    a = (peri + apo) / 2  # vis-viva, mu = 1
+    assert np.allclose(vel["|v|"] ** 2, 2 / pos["|r|"] - 1 / a, rtol=1e-9)
+    html = tr.show().html
+    assert "distance |r|" in html and "speed |v|" in html

@@ -48,6 +48,7 @@ __all__ = [
     "upto",
     "pick",
     "compiling",
+    "compile_seconds",
     "mute_compile_notice",
 ]
 
@@ -406,6 +407,18 @@ _NOTICE: dict[str, float] = {"muted": 0, "last": -math.inf}
 _NOTICE_EVERY_S = 60.0
 
 
+#: seconds spent in outermost numba compilations so far (all threads), and the start time
+#: of the one running in each thread
+_COMPILE_TIME: dict[str, float] = {"total": 0.0}
+_COMPILE_START: dict[int, float] = {}
+
+
+def compile_seconds() -> float:
+    """Seconds this process has spent compiling numba kernels so far (0 without numba):
+    the difference over a call is its compile time (loads from the cache not counted)."""
+    return _COMPILE_TIME["total"]
+
+
 def compiling(ident: int | None) -> bool:
     """Whether the thread ``ident`` is compiling a numba kernel now."""
     return ident is not None and _COMPILING.get(ident, 0) > 0
@@ -442,6 +455,7 @@ def _notice(name: str) -> None:
 
 def _install_compile_watch() -> None:
     import threading
+    import time
 
     from numba.core import event
 
@@ -454,10 +468,14 @@ def _install_compile_watch() -> None:
             depth = _COMPILING.get(ident, 0)
             _COMPILING[ident] = depth + 1
             if depth == 0:
+                _COMPILE_START[ident] = time.perf_counter()
                 disp = (ev.data or {}).get("dispatcher")
                 fn: Any = getattr(disp, "py_func", None)
-                if fn is not None and getattr(fn, "__module__", "").startswith("poinsot"):
-                    _notice(f"{fn.__module__}.{fn.__name__}")
+                module = getattr(fn, "__module__", None) or ""
+                if module.startswith("poinsot_rhs"):  # generated: poinsot.symbolic.numeric
+                    _notice("the equations of motion of a Lagrangian system")
+                elif fn is not None and module.startswith("poinsot"):
+                    _notice(f"{module}.{fn.__name__}")
 
         def on_end(self, ev: Any) -> None:
             ident = threading.get_ident()
@@ -466,6 +484,9 @@ def _install_compile_watch() -> None:
                 _COMPILING[ident] = depth
             else:
                 _COMPILING.pop(ident, None)
+                start = _COMPILE_START.pop(ident, None)
+                if start is not None:
+                    _COMPILE_TIME["total"] += time.perf_counter() - start
 
     event.register("numba:compile", Watch())  # type: ignore[no-untyped-call]
 

@@ -286,7 +286,11 @@ def _cmd_check(args: argparse.Namespace) -> int:
             + "."
         )
     if not args.quiet:
-        print(f"ok: {args.scenario}: {describe_scenario(scenario)}")
+        print(f"ok: {args.scenario}: {describe_scenario(scenario)}", flush=True)
+        # what `run` does: both methods (an adaptive one timed on a short piece) and
+        # the outputs
+        with _compile_note(quiet=False):
+            cost = estimate_cost(scenario, duration=args.duration, measure=True, outputs=True)
         print(f"{cost.describe()} (rough; limits in docs/cli.md)")
     return 0
 

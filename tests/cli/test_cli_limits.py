@@ -436,3 +436,66 @@ def test_report_header_marks_accuracy_and_lists_warnings_first(capsys, tmp_path)
     h1 = re.search(r"<h1>(.*?)</h1>", page, flags=re.S).group(1)
     assert "accuracy: ok" in h1 and "warning" not in h1
     assert "Accuracy warnings" not in page
+
+
+def test_check_estimates_what_the_run_does(capsys):
+    """Issue 38: `check examples/double_pendulum.toml` said ~2.7 s while a run took
+    18-22 s (the adaptive Radau reference counted as one step per sample, the outputs
+    not at all). The estimate now has a part per method (an adaptive one measured on a
+    short first piece) and the outputs, and its total is their sum."""
+    from poinsot.scenarios import estimate_cost, load_scenario
+
+    s = load_scenario(EXAMPLES / "double_pendulum.toml")
+    static = estimate_cost(s, duration=4.0)
+    cost = estimate_cost(s, duration=4.0, measure=True, outputs=True)
+    assert [m for m, _ in cost.methods] == ["DOP853", "Radau"]
+    assert cost.measured == ("DOP853", "Radau")
+    assert cost.outputs_seconds > 0
+    assert cost.seconds == pytest.approx(sum(x for _, x in cost.methods) + cost.outputs_seconds)
+    assert static.measured == () and static.outputs_seconds == 0
+    # the pieces ran: the same samples and steps are reported as without measuring
+    assert (cost.samples, cost.steps) == (static.samples, static.steps)
+    code, out, _ = run(capsys, "check", EXAMPLES / "double_pendulum.toml", "--duration", "4")
+    line = out.splitlines()[1]
+    assert code == 0 and "Radau ~" in line and "measured on a piece" in line
+    assert "outputs ~" in line
+
+
+def test_fixed_step_methods_are_not_measured():
+    from poinsot.scenarios import estimate_cost, load_scenario
+
+    s = load_scenario(EXAMPLES / "satellite_torque.toml")
+    cost = estimate_cost(s, measure=True)
+    assert cost.measured == () or all(m != s.simulation.method for m in cost.measured)
+
+
+def test_the_summary_reports_solve_reference_and_compile_time_apart():
+    """summary.json counted numba's compile time as the method's time (85 s for a cold
+    Kovalevskaya run, 2.7 s warm): the parts are now apart and add up to wall_time_s."""
+    from poinsot.scenarios import load_scenario, simulate_scenario
+
+    r = simulate_scenario(load_scenario(EXAMPLES / "double_pendulum.toml"), duration=1.0)
+    run_ = r.summary["run"]
+    parts = [run_["solve_time_s"], run_["reference_time_s"], run_["compile_time_s"]]
+    assert all(x is not None and x >= 0 for x in parts)
+    assert run_["wall_time_s"] == pytest.approx(sum(parts))
+    for k in ("solve_time_s", "reference_time_s", "compile_time_s"):
+        assert run_["units"][k] == "s"
+    assert "Radau: " in r.describe() and "s)" in r.describe().split("Radau: ")[1]
+
+
+def test_compile_seconds_counts_a_compilation_and_nothing_else():
+    import time
+
+    from numba import njit
+
+    from poinsot._jit import compile_seconds
+
+    f = njit(lambda x: x * 5.0)
+    c0, t0 = compile_seconds(), time.perf_counter()
+    f(1.0)  # compiles
+    took, counted = time.perf_counter() - t0, compile_seconds() - c0
+    assert 0 < counted <= took
+    c0 = compile_seconds()
+    f(2.0)  # compiled: nothing to count
+    assert compile_seconds() == c0

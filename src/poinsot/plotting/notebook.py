@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError, PoinsotError
-from ..trajectory import CoordinateTrajectory, Result, Trajectory
+from ..trajectory import CoordinateTrajectory, PointTrajectory, Result, Trajectory
 from .report import report_html
 
 PRESETS = ("racket", "symmetric-top", "lagrange-top", "foucault", "kepler")
@@ -136,7 +136,31 @@ def show(result: Result, *, height: int = 640, **options: Any) -> Viewer:
         opts["free_body"] = False  # the polhode only when the caller says it is torque-free
     if isinstance(result, CoordinateTrajectory) and "series" not in opts:
         opts["series"] = _coordinate_series(result)
+    if isinstance(result, PointTrajectory) and "series" not in opts:
+        if np.ndim(result.position) != 2:
+            raise InvalidInputError(
+                f"Expected one point, got a batch of shape {np.shape(result.position)[1:-1]}: "
+                "show one (index the batch of position and velocity)."
+            )
+        opts["series"] = _point_series(result)
     return Viewer(report_html(trajectory=result, **opts), height)
+
+
+def _point_series(result: PointTrajectory) -> list[tuple[str, str, dict[str, Any]]]:
+    """Charts of a point's motion: position with the distance ``|r|`` from the origin,
+    velocity with the speed, in the result's frame, and the energy where it is given."""
+    where = f"{result.frame_name} axes"
+    r = np.asarray(result.position, dtype=float)
+    v = np.asarray(result.velocity, dtype=float)
+    out: list[tuple[str, str, dict[str, Any]]] = [
+        (f"position, {where}, and distance |r| (m)", "m",
+         {"x": r[:, 0], "y": r[:, 1], "z": r[:, 2], "|r|": np.linalg.norm(r, axis=-1)}),
+        (f"velocity, {where}, and speed |v| (m/s)", "m/s",
+         {"vx": v[:, 0], "vy": v[:, 1], "vz": v[:, 2], "|v|": np.linalg.norm(v, axis=-1)}),
+    ]  # fmt: skip
+    if result.energy is not None and np.ndim(result.energy) == 1:
+        out.append(("energy (J)", "J", {"energy": np.asarray(result.energy, dtype=float)}))
+    return out
 
 
 def _coordinate_series(result: CoordinateTrajectory) -> list[tuple[str, str, dict[str, Any]]]:

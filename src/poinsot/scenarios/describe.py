@@ -208,7 +208,10 @@ def describe(result: ScenarioResult, *, title: str = "poinsot", notes: Iterable[
     acc = summ["accuracy"]
     lines.append(f"{acc['method']}: {_drifts(acc['invariants'])} ({result.wall_time:.2f} s)")
     if acc["reference_invariants"]:
-        lines.append(f"{acc['reference']}: {_drifts(acc['reference_invariants'])}")
+        took = "" if result.reference_time is None else f" ({result.reference_time:.2f} s)"
+        lines.append(f"{acc['reference']}: {_drifts(acc['reference_invariants'])}{took}")
+    if result.compile_time >= 0.05:
+        lines.append(f"compiling (first run only): {result.compile_time:.2f} s")
     cmp_ = acc["comparison"]
     if cmp_:
         lines.append(describe_comparison(cmp_))

@@ -95,13 +95,33 @@ class Cost:
     steps: int
     memory_bytes: int
     seconds: float
+    #: seconds of each method (the method, then the reference), solving only
+    methods: tuple[tuple[str, float], ...] = ()
+    #: seconds to write the outputs (tables, figures, report.html), rough
+    outputs_seconds: float = 0.0
+    #: seconds numba spent compiling during a measured estimate (first run only)
+    compile_seconds: float = 0.0
+    #: the methods whose time was measured on a short piece of the run (``measure=True``)
+    measured: tuple[str, ...] = ()
 
     def describe(self) -> str:
-        """One line: ``"cost: 3001 samples, 6002 steps, ~2 MB, ~0.02 s"``."""
-        return (
+        """One line: ``"cost: 3001 samples, 6002 steps, ~2 MB, ~0.02 s"``, and what the
+        time is made of when it has more than one part."""
+        line = (
             f"cost: {self.samples} samples, {self.steps} integration steps, "
             f"~{_bytes(self.memory_bytes)} memory, ~{_seconds(self.seconds)}"
         )
+        parts = [
+            f"{m} ~{_seconds(sec)}" + (" (measured on a piece)" if m in self.measured else "")
+            for m, sec in self.methods
+        ]
+        if self.outputs_seconds:
+            parts.append(f"outputs ~{_seconds(self.outputs_seconds)}")
+        if len(parts) > 1:
+            line += " (" + ", ".join(parts) + ")"
+        if self.compile_seconds >= 0.5:
+            line += f"; compiling took {_seconds(self.compile_seconds)} (first run only)"
+        return line
 
     def problems(self, *, allow_large: bool = False) -> list[str]:
         """What exceeds the limits (empty when the run may go ahead)."""
@@ -154,11 +174,24 @@ def _steps(scenario: Scenario, method: str, samples: int) -> int:
     return (samples - 1) * per_interval
 
 
-def estimate_cost(scenario: Scenario, *, duration: float | None = None) -> Cost:
+def estimate_cost(
+    scenario: Scenario,
+    *,
+    duration: float | None = None,
+    measure: bool = False,
+    outputs: bool = False,
+) -> Cost:
     """Estimate the cost of running ``scenario`` (after the ``duration`` override).
 
-    Nothing is allocated: a scenario of ``1e12`` seconds is estimated as fast as
-    one of a second.
+    The time is ``seconds_per_run + seconds_per_step * steps`` of each method (the
+    method and the reference), from each kind's table. Nothing is allocated: a
+    scenario of ``1e12`` seconds is estimated as fast as one of a second. An adaptive
+    method's steps are not known in advance (they follow the motion): with
+    ``measure=True`` (``poinsot check``) each adaptive method is run on a short first
+    piece of the motion (~2 %, at most ~0.3 s of work) and its time scaled to the
+    whole duration; a compilation this triggers (a cold cache) is counted apart
+    (:attr:`Cost.compile_seconds`). ``outputs=True`` adds the rough time of writing
+    the tables, figures and report of ``poinsot run``.
 
     Examples
     --------
@@ -177,13 +210,94 @@ def estimate_cost(scenario: Scenario, *, duration: float | None = None) -> Cost:
     steps = sum(_steps(scenario, m, n) for m in methods)
     per_step = scenario.adapter.seconds_per_step
     per_run = scenario.adapter.seconds_per_run
-    seconds = sum(
-        per_run.get(m, _DEFAULT_SECONDS_PER_RUN)
-        + per_step.get(m, _DEFAULT_SECONDS_PER_STEP) * _steps(scenario, m, n)
-        for m in methods
-    )
+    each = []
+    measured = []
+    compiled = 0.0
+    for m in methods:
+        sec = per_run.get(m, _DEFAULT_SECONDS_PER_RUN) + per_step.get(
+            m, _DEFAULT_SECONDS_PER_STEP
+        ) * _steps(scenario, m, n)
+        if measure and _adaptive(m) and n * len(methods) <= MAX_SAMPLES:
+            piece = _measure(scenario, m, sec)
+            if piece is not None:
+                sec, comp = piece
+                compiled += comp
+                measured.append(m)
+        each.append((m, sec))
+    out_s = _outputs_seconds(scenario, n, measure) if outputs else 0.0
     memory = _BYTES_PER_SAMPLE * n * len(methods)
-    return Cost(samples=n, steps=steps, memory_bytes=memory, seconds=seconds)
+    return Cost(
+        samples=n,
+        steps=steps,
+        memory_bytes=memory,
+        seconds=sum(sec for _, sec in each) + out_s,
+        methods=tuple(each),
+        outputs_seconds=out_s,
+        compile_seconds=compiled,
+        measured=tuple(measured),
+    )
+
+
+#: Rough seconds to write a run's outputs: a fixed part, each figure (matplotlib draws
+#: it as a PNG and again in report.html: most of the time), and per sample the tables;
+#: measured on the shipped examples by benchmarks/bench_estimates.py.
+_OUTPUT_SECONDS = 1.0
+_SECONDS_PER_FIGURE = 0.9
+_OUTPUT_SECONDS_PER_SAMPLE = 2e-5
+_TYPICAL_FIGURES = 4
+
+
+def _outputs_seconds(scenario: Scenario, samples: int, measure: bool) -> float:
+    figures = _TYPICAL_FIGURES
+    if measure:  # the figures this kind draws for this scenario, from a run of 3 samples
+        sim = scenario.simulation
+        tiny = simulate_scenario(
+            scenario, duration=min(sim.duration, 2 * sim.spacing()), allow_large=True
+        )
+        figures = len(tiny.figures())
+    return _OUTPUT_SECONDS + _SECONDS_PER_FIGURE * figures + _OUTPUT_SECONDS_PER_SAMPLE * samples
+
+
+def _adaptive(method: str) -> bool:
+    from ..integrators import INTEGRATORS
+
+    entry = INTEGRATORS.get(method)
+    return bool(entry is not None and entry.adaptive)
+
+
+#: Target work of the measured piece of an adaptive run (s) and its largest fraction.
+_PIECE_SECONDS = 0.3
+_PIECE_FRACTION = 0.02
+
+
+def _measure(scenario: Scenario, method: str, guess: float) -> tuple[float, float] | None:
+    """``(seconds of the whole run, seconds compiling)`` of ``method`` from a run of a
+    short first piece (after a tiny one that compiles and warms up), or None when the
+    run is too short to need it."""
+    from .._jit import compile_seconds
+
+    sim = scenario.simulation
+    frac = min(_PIECE_FRACTION, _PIECE_SECONDS / max(guess, 1e-9))
+    piece = sim.duration * frac
+    warm = min(piece, 2 * sim.spacing())
+    if piece < 4 * sim.spacing() or piece >= sim.duration:
+        return None
+    kind = scenario.adapter
+    one = dataclasses.replace(
+        scenario, simulation=dataclasses.replace(sim, method=method, reference=None)
+    )
+    c0 = compile_seconds()
+    w = _override(one, warm)
+    kind.solve(w, method, w.simulation.times(), quiet_progress)  # compiles, warms up
+    compiled = compile_seconds() - c0
+    timed = []
+    for span_ in (warm, piece):  # time = fixed + rate * duration, from two spans
+        r = _override(one, span_)
+        start = time.perf_counter()
+        kind.solve(r, method, r.simulation.times(), quiet_progress)
+        timed.append(time.perf_counter() - start)
+    rate = max(timed[1] - timed[0], 0.0) / (piece - warm)
+    return timed[0] + rate * (sim.duration - warm), compiled
 
 
 # ----------------------------------------------------------------------------- solving
@@ -382,12 +496,28 @@ def simulate_scenario(
     kind = scenario.adapter
     t = scenario.simulation.times()
     has_ref = scenario.simulation.reference is not None
+    from .._jit import compile_seconds
+
+    # numba's compile time (a cold cache) is counted apart from each method's time
+    c0 = compile_seconds()
     start = time.perf_counter()
     tr = kind.solve(
         scenario, scenario.simulation.method, t, span(progress, 0.0, 0.5 if has_ref else 1.0)
     )
-    wall = time.perf_counter() - start
+    c1 = compile_seconds()
+    wall = time.perf_counter() - start - (c1 - c0)
     ref = None
+    ref_wall = None
     if has_ref:
+        start = time.perf_counter()
         ref = kind.solve(scenario, scenario.simulation.reference, t, span(progress, 0.5, 1.0))
-    return ScenarioResult.build(scenario, tr, ref, wall_time=wall, cost=cost)
+        ref_wall = time.perf_counter() - start - (compile_seconds() - c1)
+    return ScenarioResult.build(
+        scenario,
+        tr,
+        ref,
+        wall_time=wall,
+        cost=cost,
+        reference_time=ref_wall,
+        compile_time=compile_seconds() - c0,
+    )
