@@ -157,6 +157,12 @@ def test_bad_inputs_are_named():
         RigidTransform.from_dual_quat(np.zeros(8))
     with pytest.raises(InvalidInputError, match="translation"):
         RigidTransform.from_components([1.0, 2.0], Rotation.identity())
+    # the argument is `rotation` (it named `quat`, the argument of from_quat: issue 38)
+    for bad in (np.ones((2, 5)), [1.0, 0.0, 0.0]):
+        with pytest.raises(InvalidInputError, match="`rotation`.*got shape"):
+            RigidTransform.from_components([1.0, 2.0, 3.0], bad)
+        with pytest.raises(InvalidInputError, match="`rotation`"):
+            RigidTransform.from_rotation(bad)
 
 
 @pytest.mark.parametrize("streamed", [False, True])

@@ -430,7 +430,14 @@ def _as_rotation(rotation: object) -> Rotation:
         return rotation
     if type(rotation).__name__ == "Rotation" and hasattr(rotation, "as_quat"):
         return Rotation.from_scipy(rotation)
-    return Rotation.from_quat(as_float_array(rotation, "rotation"))
+    q = as_float_array(rotation, "rotation")
+    if q.ndim == 0 or q.shape[-1] != 4:
+        # named as the caller's argument (Rotation.from_quat would name its own `quat`)
+        raise InvalidInputError(
+            "Expected `rotation` to be a Rotation (poinsot or SciPy) or scalar-first "
+            f"quaternions of shape (..., 4), got shape {q.shape}."
+        )
+    return Rotation.from_quat(q)
 
 
 def sclerp(a: RigidTransform, b: RigidTransform, s: ArrayLike) -> RigidTransform:
