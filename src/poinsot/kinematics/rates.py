@@ -1,4 +1,4 @@
-"""Rates of every attitude representation: the kinematic equations (SPEC S3, S5).
+"""Rates of every attitude representation: the kinematic equations (theory §3, §5).
 
 Each representation ``x`` of an attitude has a pair of functions
 
@@ -9,7 +9,7 @@ Each representation ``x`` of an attitude has a pair of functions
 
 ``frame`` names the axes ``omega`` is written in: ``"body"`` (``w_xi``, the
 moving axes) or ``"space"`` (``w_x``, the fixed axes); the two are related by
-``w_x = C w_xi`` where ``C`` maps body components to space components (SPEC S2).
+``w_x = C w_xi`` where ``C`` maps body components to space components (theory §2).
 Angular velocities are always in rad/s.
 
 ================================  =================================================
@@ -185,7 +185,7 @@ def _quat_arg(q: Any, name: str) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------
-# quaternion (SPEC S5)
+# quaternion (theory §5)
 # --------------------------------------------------------------------------
 def _quat_rate(q: np.ndarray, omega: np.ndarray, frame: str) -> np.ndarray:
     if frame == "body":
@@ -200,7 +200,7 @@ def _omega_from_quat_rate(q: np.ndarray, qdot: np.ndarray, frame: str) -> np.nda
 
 
 def quat_rate(q: Rotation | ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
-    """Time derivative of the attitude quaternion (Poisson's equation, SPEC S5).
+    """Time derivative of the attitude quaternion (Poisson's equation, theory §5).
 
     Parameters
     ----------
@@ -246,7 +246,7 @@ def quat_rate(q: Rotation | ArrayLike, omega: ArrayLike, *, frame: str = "body")
 def omega_from_quat_rate(
     q: Rotation | ArrayLike, qdot: ArrayLike, *, frame: str = "body"
 ) -> FloatArray:
-    """Angular velocity from the quaternion and its derivative (SPEC S5).
+    """Angular velocity from the quaternion and its derivative (theory §5).
 
     ``w_xi = 2 vec(L~ o L')`` (body) or ``w_x = 2 vec(L' o L~)`` (space).
 
@@ -299,7 +299,7 @@ def omega_from_quat_rate(
 
 
 # --------------------------------------------------------------------------
-# direction cosine matrix (SPEC S5)
+# direction cosine matrix (theory §5)
 # --------------------------------------------------------------------------
 _ORTHO_TOL = ORTHOGONALITY_ATOL
 
@@ -317,7 +317,7 @@ def _as_rotation_matrix(C: ArrayLike, name: str) -> np.ndarray:
 
 
 def dcm_rate(C: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:
-    """Time derivative of a direction cosine matrix (Poisson, SPEC S5).
+    """Time derivative of a direction cosine matrix (Poisson, theory §5).
 
     ``A' = A w_xi^`` (body) or ``A' = w_x^ A`` (space); column by column
     ``a_k' = w_x x a_k``.
@@ -368,7 +368,7 @@ def _dcm_rate(C: np.ndarray, omega: np.ndarray, frame: str) -> np.ndarray:
 
 
 def omega_from_dcm_rate(C: ArrayLike, Cdot: ArrayLike, *, frame: str = "body") -> FloatArray:
-    """Angular velocity from a rotation matrix and its derivative (SPEC S5).
+    """Angular velocity from a rotation matrix and its derivative (theory §5).
 
     ``w_xi^ = A^T A'`` (body) or ``w_x^ = A' A^T`` (space). The product is
     antisymmetrised before reading off the vector, so a ``Cdot`` with a small
@@ -417,7 +417,7 @@ def _omega_from_dcm_rate(C: np.ndarray, Cdot: np.ndarray, frame: str) -> np.ndar
 
 
 # --------------------------------------------------------------------------
-# Euler angles, all 12 sequences (SPEC S3)
+# Euler angles, all 12 sequences (theory §3)
 # --------------------------------------------------------------------------
 def _elementary(axis: int, angle: np.ndarray) -> np.ndarray:
     """Rotation matrices about coordinate axis ``axis`` by ``angle``, (..., 3, 3)."""
@@ -434,7 +434,7 @@ def _euler_matrix(seq: str, angles: np.ndarray, frame: str) -> np.ndarray:
     """Matrix ``M`` with ``omega = M @ angle_rates`` (angles in rad), (..., 3, 3).
 
     Column ``k`` is the axis of the ``k``-th elementary rotation written in the
-    chosen frame (SPEC S3): the attitude is ``C = F0 F1 F2`` with
+    chosen frame (theory §3): the attitude is ``C = F0 F1 F2`` with
     ``F = (R_a1, R_a2, R_a3)`` for an intrinsic and ``(R_a3, R_a2, R_a1)`` for an
     extrinsic sequence; the space-frame axis of factor ``k`` is
     ``F0 .. F(k-1) e_k`` and the body-frame one ``(F(k+1) .. F2)^T e_k``.
@@ -498,7 +498,7 @@ def euler_rate_matrix(
 ) -> FloatArray:
     """The matrix ``M(angles)`` of the Euler kinematic equations ``omega = M angles'``.
 
-    One construction for all 12 sequences (SPEC S3): column ``k`` is the unit
+    One construction for all 12 sequences (theory §3): column ``k`` is the unit
     axis of the ``k``-th elementary rotation of ``seq`` written in ``frame``
     axes. ``det M`` is ``+-sin`` (proper Euler) or ``+-cos`` (Tait-Bryan) of the
     middle angle; it vanishes at gimbal lock.
@@ -544,7 +544,7 @@ def euler_rate_matrix(
 def omega_from_euler_rates(
     seq: str, angles: ArrayLike, rates: ArrayLike, *, frame: str = "body", degrees: bool = False
 ) -> FloatArray:
-    """Angular velocity from Euler angles and their rates (SPEC S3).
+    """Angular velocity from Euler angles and their rates (theory §3).
 
     ``omega = sum_k angle_k' * (axis of the k-th elementary rotation)``. For
     ``seq="euler"`` (z-x-z, angles ``(psi, theta, phi)``) and the body frame this
@@ -611,7 +611,7 @@ def _omega_from_euler_rates(
 def euler_rates(
     seq: str, angles: ArrayLike, omega: ArrayLike, *, frame: str = "body", degrees: bool = False
 ) -> FloatArray:
-    """Euler angle rates from the angular velocity (SPEC S3, inverted).
+    """Euler angle rates from the angular velocity (theory §3, inverted).
 
     Solves ``M(angles) angles' = omega`` in closed form
     (``M^-1 = adj(M)/det M``, rows ``c2 x c3, c3 x c1, c1 x c2`` over the triple
@@ -710,7 +710,7 @@ def gibbs_rate(g: ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatA
     """Time derivative of the Gibbs vector (Rodrigues parameters).
 
     ``g' = 1/2 (w + s g x w + (g.w) g)``, ``s = +1`` (body) or ``-1`` (space);
-    from ``g = l/l0`` and SPEC S5.
+    from ``g = l/l0`` and theory §5.
 
     Parameters
     ----------

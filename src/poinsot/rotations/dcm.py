@@ -1,4 +1,4 @@
-"""Direction cosine matrices (SPEC S2) <-> unit quaternions.
+"""Direction cosine matrices (theory §2) <-> unit quaternions.
 
 **Convention:** the matrix ``A`` of a rotation has as columns the images of the
 reference basis vectors written in the reference basis (``a_ij = cos(e_i, e'_j)``),

@@ -1,10 +1,10 @@
-"""Euler and Tait-Bryan (Krylov) angles, all 12 sequences in one code path (SPEC S3).
+"""Euler and Tait-Bryan (Krylov) angles, all 12 sequences in one code path (theory §3).
 
 **Convention (as SciPy reads sequences):** upper-case letters (``"ZXZ"``) are
 *intrinsic* rotations about the moving (body) axes, lower-case (``"zxz"``)
 *extrinsic* rotations about the fixed axes. Intrinsic ``abc`` with angles
 ``(f1, f2, f3)`` is extrinsic ``cba`` with ``(f3, f2, f1)``, and the rotation is
-``C = A_a(f1) A_b(f2) A_c(f3)`` (SPEC S3: ``C = A_psi A_theta A_phi``). Presets:
+``C = A_a(f1) A_b(f2) A_c(f3)`` (theory §3: ``C = A_psi A_theta A_phi``). Presets:
 
 =========== ======== ==================================================
 preset      sequence angles

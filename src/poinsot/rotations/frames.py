@@ -1,4 +1,4 @@
-"""Rotations determined by vectors: basis images (SPEC S2, Theorem 1) and Wahba's problem."""
+"""Rotations determined by vectors: basis images (theory §2, Theorem 1) and Wahba's problem."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ _EYE = np.eye(3)
 def quat_from_basis(
     e1: ArrayLike, e2: ArrayLike, e3: ArrayLike, *, atol: float = ORTHOGONALITY_ATOL
 ) -> np.ndarray:
-    """Quaternion ``L`` with ``e_k = L o i_k o L~`` (SPEC S2, the notes' Theorem 1).
+    """Quaternion ``L`` with ``e_k = L o i_k o L~`` (theory §2, the notes' Theorem 1).
 
     With ``r_k = e_k - i_k``, ``s_k = e_k + i_k``:
     ``L = +-((s_m . r_k) + r_k x r_m) / sqrt((s_m . r_k)^2 + |r_k x r_m|^2)`` for a

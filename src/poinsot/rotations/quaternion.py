@@ -1,4 +1,4 @@
-"""Quaternion algebra (SPEC S1), on arrays of shape ``(..., 4)``.
+"""Quaternion algebra (theory §1), on arrays of shape ``(..., 4)``.
 
 **Convention:** Hamilton quaternions (``i1 o i2 = i3``), stored scalar first
 ``[l0, l1, l2, l3]``. Every function broadcasts over leading dimensions like a
@@ -88,7 +88,7 @@ def _broadcast(name_a: str, a: np.ndarray, name_b: str, b: np.ndarray) -> None:
 def multiply(p: ArrayLike, q: ArrayLike) -> FloatArray:
     """Hamilton product ``P o Q``.
 
-    ``P o Q = p0 q0 - p.q + p0 q + q0 p + p x q`` (SPEC S1).
+    ``P o Q = p0 q0 - p.q + p0 q + q0 p + p x q`` (theory §1).
 
     Parameters
     ----------
@@ -102,7 +102,7 @@ def multiply(p: ArrayLike, q: ArrayLike) -> FloatArray:
     Notes
     -----
     **Convention:** Hamilton, scalar first. ``multiply(q2, q1)`` is the rotation
-    ``q1`` followed by ``q2`` about fixed axes (SPEC S4).
+    ``q1`` followed by ``q2`` about fixed axes (theory §4).
 
     Examples
     --------
@@ -115,7 +115,7 @@ def multiply(p: ArrayLike, q: ArrayLike) -> FloatArray:
 
 
 def conjugate(q: ArrayLike) -> FloatArray:
-    """Conjugate ``L~ = l0 - l`` (SPEC S1).
+    """Conjugate ``L~ = l0 - l`` (theory §1).
 
     Examples
     --------
@@ -141,7 +141,7 @@ def canonical_array(q: np.ndarray) -> np.ndarray:
 
 
 def norm_squared(q: ArrayLike) -> FloatArray:
-    """The notes' norm ``||L|| = L o L~ = l0^2 + |l|^2`` (SPEC S1).
+    """The notes' norm ``||L|| = L o L~ = l0^2 + |l|^2`` (theory §1).
 
     Examples
     --------
@@ -153,7 +153,7 @@ def norm_squared(q: ArrayLike) -> FloatArray:
 
 
 def norm(q: ArrayLike) -> FloatArray:
-    """Length ``|L| = sqrt(||L||)`` (SPEC S1).
+    """Length ``|L| = sqrt(||L||)`` (theory §1).
 
     Examples
     --------
@@ -175,7 +175,7 @@ def normalize(q: ArrayLike) -> FloatArray:
 
 
 def inverse(q: ArrayLike) -> FloatArray:
-    """Inverse ``L^-1 = L~ / ||L||`` for ``L != 0`` (SPEC S1).
+    """Inverse ``L^-1 = L~ / ||L||`` for ``L != 0`` (theory §1).
 
     Examples
     --------
@@ -190,9 +190,9 @@ def inverse(q: ArrayLike) -> FloatArray:
 def exp(q: ArrayLike) -> FloatArray:
     """Quaternion exponential ``exp(a + v) = e^a (cos|v| + v/|v| sin|v|)``.
 
-    The analogue of de Moivre's formula (SPEC S1); for a pure quaternion
+    The analogue of de Moivre's formula (theory §1); for a pure quaternion
     ``(0, f e / 2)`` it gives the unit quaternion of the rotation by ``f``
-    about ``e`` (SPEC S2). ``sin|v|/|v|`` is evaluated without cancellation
+    about ``e`` (theory §2). ``sin|v|/|v|`` is evaluated without cancellation
     near ``v = 0``.
 
     Examples
@@ -246,7 +246,7 @@ def log(q: ArrayLike) -> FloatArray:
 
 
 def power(q: ArrayLike, t: ArrayLike) -> FloatArray:
-    """Real power ``L^t = |L|^t (cos tf + e sin tf) = exp(t log L)`` (SPEC S1, de Moivre).
+    """Real power ``L^t = |L|^t (cos tf + e sin tf) = exp(t log L)`` (theory §1, de Moivre).
 
     Parameters
     ----------
@@ -281,7 +281,7 @@ def rotate(q: ArrayLike, v: ArrayLike) -> FloatArray:
     """The sandwich ``q o v o q~`` of a vector ``v`` (as a pure quaternion).
 
     For a unit ``q = cos(f/2) + e sin(f/2)`` this rotates ``v`` by ``f`` about
-    ``e`` (right-handed, SPEC S2); for a non-unit ``q`` the result is scaled by
+    ``e`` (right-handed, theory §2); for a non-unit ``q`` the result is scaled by
     ``||q||``. Expanded: ``v' = (q0^2 - |q|^2) v + 2 (q.v) q + 2 q0 (q x v)``.
 
     Parameters

@@ -1,4 +1,4 @@
-"""Gibbs (Rodrigues) vectors and modified Rodrigues parameters (SPEC S2).
+"""Gibbs (Rodrigues) vectors and modified Rodrigues parameters (theory §2).
 
 **Convention:** Gibbs vector ``g = e tan(f/2) = l / l0``; MRP
 ``p = e tan(f/4) = l / (1 + l0)``. Both are taken from the quaternion with

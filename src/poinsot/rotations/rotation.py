@@ -1,4 +1,4 @@
-"""The :class:`Rotation` facade, :func:`compose` and :func:`slerp` (SPEC S2-S4).
+"""The :class:`Rotation` facade, :func:`compose` and :func:`slerp` (theory §2-§4).
 
 A :class:`Rotation` is an immutable array of rotations of any leading shape,
 stored as unit scalar-first quaternions. It is a thin, documented layer over
@@ -10,8 +10,8 @@ the hub, each representation converts to and from it.
 
 * Active rotations. ``r.apply(v)`` rotates ``v``; equivalently, if ``r`` is the
   attitude of a body B relative to a frame N, it maps body components to N
-  components, ``v_n = C_nb v_b`` (SPEC S2, ``e_k = L o i_k o L~``).
-* ``r2 * r1`` is ``r1`` followed by ``r2``, both about the fixed axes (SPEC S4,
+  components, ``v_n = C_nb v_b`` (theory §2, ``e_k = L o i_k o L~``).
+* ``r2 * r1`` is ``r1`` followed by ``r2``, both about the fixed axes (theory §4,
   "one point of view": ``C = B A``, ``N = M o L``).
 * Radians unless ``degrees=True``; quaternions scalar first unless
   ``scalar_first=False``.
@@ -172,7 +172,7 @@ def _broadcast_shapes(what: str, *shapes: tuple[int, ...]) -> tuple[int, ...]:
 
 
 class Rotation:
-    """Rotations in 3D, any leading shape, stored as unit quaternions (SPEC S2).
+    """Rotations in 3D, any leading shape, stored as unit quaternions (theory §2).
 
     Build one with a ``from_*`` constructor and read it with the matching
     ``as_*`` method; ``r2 * r1`` composes (``r1`` first, fixed axes),
@@ -204,7 +204,7 @@ class Rotation:
     --------
     >>> import numpy as np
     >>> from poinsot import Rotation
-    >>> a = Rotation.from_euler("x", 90, degrees=True)   # SPEC S4 worked example
+    >>> a = Rotation.from_euler("x", 90, degrees=True)   # theory §4 worked example
     >>> b = Rotation.from_euler("y", 90, degrees=True)
     >>> (b * a).as_matrix().round(12) + 0.0                # C = B A
     array([[ 0.,  1.,  0.],
@@ -403,7 +403,7 @@ class Rotation:
 
     @classmethod
     def from_matrix(cls, matrix: ArrayLike, *, atol: float = dcm.ORTHOGONALITY_ATOL) -> Rotation:
-        """From direction cosine matrices (..., 3, 3) (SPEC S2).
+        """From direction cosine matrices (..., 3, 3) (theory §2).
 
         Determinant must be > 0; the matrix must be orthogonal within ``atol``
         (``max |A^T A - E|``). Matrices orthogonal to within
@@ -430,7 +430,7 @@ class Rotation:
 
     @classmethod
     def from_rotvec(cls, rotvec: ArrayLike, *, degrees: bool = False) -> Rotation:
-        """From rotation vectors ``phi = f e`` (..., 3) (SPEC S2, ``A = exp(phi^)``).
+        """From rotation vectors ``phi = f e`` (..., 3) (theory §2, ``A = exp(phi^)``).
 
         Examples
         --------
@@ -455,7 +455,7 @@ class Rotation:
     ) -> Rotation:
         """From a (not necessarily unit) axis (..., 3) and angle (...), right-handed.
 
-        ``L = cos(f/2) + e sin(f/2)`` with ``e = axis / |axis|`` (SPEC S2). A zero
+        ``L = cos(f/2) + e sin(f/2)`` with ``e = axis / |axis|`` (theory §2). A zero
         axis raises :class:`~poinsot.InvalidInputError`.
 
         Examples
@@ -488,7 +488,7 @@ class Rotation:
 
     @classmethod
     def from_euler(cls, seq: str, angles: ArrayLike, *, degrees: bool = False) -> Rotation:
-        """From Euler/Tait-Bryan angles (SPEC S3).
+        """From Euler/Tait-Bryan angles (theory §3).
 
         Parameters
         ----------
@@ -503,7 +503,7 @@ class Rotation:
         Notes
         -----
         **Convention:** intrinsic ``"ZXZ"`` with ``(psi, theta, phi)`` is
-        ``C = A_z(psi) A_x(theta) A_z(phi)`` (SPEC S3); extrinsic ``"zxz"`` is
+        ``C = A_z(psi) A_x(theta) A_z(phi)`` (theory §3); extrinsic ``"zxz"`` is
         ``C = A_z(f3) A_x(f2) A_z(f1)``.
 
         Examples
@@ -538,7 +538,7 @@ class Rotation:
 
     @classmethod
     def from_gibbs(cls, gibbs: ArrayLike) -> Rotation:
-        """From Gibbs (Rodrigues) vectors ``g = e tan(f/2)`` (..., 3) (SPEC S2).
+        """From Gibbs (Rodrigues) vectors ``g = e tan(f/2)`` (..., 3) (theory §2).
 
         Examples
         --------
@@ -570,7 +570,7 @@ class Rotation:
 
     @classmethod
     def from_basis(cls, e1: ArrayLike, e2: ArrayLike, e3: ArrayLike) -> Rotation:
-        """The rotation taking the reference basis ``i_k`` onto ``e_k`` (SPEC S2, Theorem 1).
+        """The rotation taking the reference basis ``i_k`` onto ``e_k`` (theory §2, Theorem 1).
 
         ``e_k = L o i_k o L~``; the ``e_k`` (each (..., 3)) must be orthonormal
         and right-handed within ``dcm.ORTHOGONALITY_ATOL`` (projected if needed).
@@ -703,7 +703,7 @@ class Rotation:
         return q if first else np.roll(q, -1, axis=-1)
 
     def as_matrix(self) -> np.ndarray:
-        """Direction cosine matrices (..., 3, 3): ``A = E + 2 l0 l^ + 2 l^ l^`` (SPEC S2).
+        """Direction cosine matrices (..., 3, 3): ``A = E + 2 l0 l^ + 2 l^ l^`` (theory §2).
 
         Examples
         --------
@@ -761,7 +761,7 @@ class Rotation:
         return axis, angle[()]
 
     def as_euler(self, seq: str, *, degrees: bool = False) -> np.ndarray:
-        """Euler/Tait-Bryan angles (..., 3) in ``[-pi, pi]`` for a 3-axis ``seq`` (SPEC S3).
+        """Euler/Tait-Bryan angles (..., 3) in ``[-pi, pi]`` for a 3-axis ``seq`` (theory §3).
 
         See :meth:`from_euler` for sequences and presets. The middle angle is in
         ``[0, pi]`` (proper Euler) or ``[-pi/2, pi/2]`` (Tait-Bryan). At gimbal
@@ -819,7 +819,7 @@ class Rotation:
 
     # ------------------------------------------------------------- operations
     def __mul__(self, other: Rotation) -> Rotation:
-        """``self * other``: ``other`` first, then ``self``, about fixed axes (SPEC S4)."""
+        """``self * other``: ``other`` first, then ``self``, about fixed axes (theory §4)."""
         if not isinstance(other, Rotation):
             _not_composable(other, "r * other")
         p, q = self._q, other._q
@@ -867,7 +867,7 @@ class Rotation:
         return Rotation._wrap(conjugate_array(q))
 
     def apply(self, vectors: ArrayLike, *, inverse: bool = False) -> FloatArray:
-        """Rotate vectors (..., 3): ``v' = L o v o L~`` (SPEC S2), or the inverse.
+        """Rotate vectors (..., 3): ``v' = L o v o L~`` (theory §2), or the inverse.
 
         Rotation and vector leading shapes broadcast. **Convention:** if the
         rotation is the attitude ``C_nb`` of a body, ``apply`` maps body
@@ -1087,7 +1087,7 @@ def _not_composable(other: object, expr: str) -> NoReturn:
 
 
 def compose(rotations: Sequence[Rotation] | Rotation, *, axes: str = "fixed") -> Rotation:
-    """Compose rotations ``L_1, ..., L_n`` listed in the order they are performed (SPEC S4).
+    """Compose rotations ``L_1, ..., L_n`` listed in the order they are performed (theory §4).
 
     Parameters
     ----------

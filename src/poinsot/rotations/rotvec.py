@@ -1,4 +1,4 @@
-"""Rotation vectors ``phi = f e`` (SPEC S2, ``A = exp(phi^)``) <-> unit quaternions.
+"""Rotation vectors ``phi = f e`` (theory §2, ``A = exp(phi^)``) <-> unit quaternions.
 
 **Convention:** ``f`` in radians, right-handed about ``e``; :func:`rotvec_from_quat`
 returns the shortest rotation, ``|phi| = f in [0, pi]``.
