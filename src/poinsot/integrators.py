@@ -34,6 +34,7 @@ __all__ = [
     "names",
     "orders",
     "check_method",
+    "check_options",
     "markdown_table",
 ]
 
@@ -63,6 +64,9 @@ class Integrator:
         ``"scipy.integrate.solve_ivp"`` or ``"closed form"``.
     theory : str
         The section of ``docs/theory.md`` it implements.
+    options : tuple of str
+        The keyword options of :func:`poinsot.dynamics.simulate` it takes (beyond the
+        problem): what :func:`check_options` lets through.
 
     Examples
     --------
@@ -77,6 +81,7 @@ class Integrator:
     systems: tuple[str, ...]
     implementation: str
     theory: str
+    options: tuple[str, ...] = ()
 
 
 def _scipy(name: str, what: str) -> Integrator:
@@ -139,6 +144,7 @@ INTEGRATORS: dict[str, Integrator] = {
             ("rigid",),
             "poinsot (compiled)",
             "§10",
+            ("max_step", "order"),
         ),
         Integrator(
             "splitting",
@@ -148,6 +154,7 @@ INTEGRATORS: dict[str, Integrator] = {
             ("rigid",),
             "poinsot (compiled)",
             "§10",
+            ("max_step", "order"),
         ),
         Integrator(
             "rk4",
@@ -157,6 +164,7 @@ INTEGRATORS: dict[str, Integrator] = {
             ("attitude", "rigid"),
             "poinsot (compiled)",
             "§5, §10",
+            ("max_step",),
         ),
         Integrator(
             "dop853",
@@ -166,6 +174,7 @@ INTEGRATORS: dict[str, Integrator] = {
             ("rigid",),
             "poinsot (compiled)",
             "§10",
+            ("max_step", "rtol", "atol", "failures"),
         ),
         Integrator(
             "adaptive",
@@ -175,6 +184,7 @@ INTEGRATORS: dict[str, Integrator] = {
             ("attitude", "rigid", "particle"),
             "scipy.integrate.solve_ivp",
             "§5, §9, §10",
+            ("max_step", "rtol", "atol", "solver"),
         ),
         _scipy("DOP853", "explicit Runge-Kutta of order 8"),
         _scipy("RK45", "explicit Runge-Kutta of order 5(4)"),
@@ -271,3 +281,30 @@ def markdown_table() -> str:
             f"{', '.join(i.systems)} | {i.implementation} | {i.theory} |"
         )
     return "\n".join(rows)
+
+
+def check_options(method: str, given: dict[str, object], among: Iterable[str]) -> None:
+    """Refuse an option that ``method`` does not take (its row's ``options``), naming the
+    methods of ``among`` that take it; options given as ``None`` are not given.
+
+    Examples
+    --------
+    >>> check_options("dop853", {"rtol": 1e-8, "solver": None}, ["rk4", "dop853"])
+    >>> check_options("rk4", {"rtol": 1e-8}, ["rk4", "dop853", "adaptive"])
+    Traceback (most recent call last):
+    ...
+    poinsot.errors.InvalidInputError: `rtol` applies to method='dop853' or 'adaptive' only (method='rk4' is classical Runge-Kutta, quaternion renormalised after each step, without tolerances: set its accuracy with `max_step`), got rtol=1e-08.
+    """
+    facts = INTEGRATORS[method]
+    for name, value in given.items():
+        if value is None or name in facts.options:
+            continue
+        takers = " or ".join(repr(m) for m in among if name in INTEGRATORS[m].options)
+        what = facts.description
+        if name in ("rtol", "atol") and not facts.adaptive:
+            what += ", without tolerances: set its accuracy with `max_step`"
+            what += " and `order`" if "order" in facts.options else ""
+        raise InvalidInputError(
+            f"`{name}` applies to method={takers} only (method={method!r} is {what}), "
+            f"got {name}={value!r}."
+        )

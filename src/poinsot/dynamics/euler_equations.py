@@ -513,25 +513,10 @@ def simulate(
         if not h_max > 0:
             raise InvalidInputError(f"Expected `max_step` to be positive, got {max_step!r}.")
     n_body = math.prod(batch)
-    if order is not None and method not in ("midpoint", "splitting"):
-        raise InvalidInputError(
-            f"`order` applies to method='midpoint' or 'splitting' only, got method={method!r}."
-        )
-    if method == "dop853" and solver is not None:
-        raise InvalidInputError(
-            f"`solver` applies to method='adaptive' only (method='dop853' is poinsot's own "
-            f"compiled DOP853), got solver={solver!r}."
-        )
-    if method not in ("adaptive", "dop853"):
-        options = {"rtol": rtol, "atol": atol, "solver": solver}
-        given = [(n, v) for n, v in options.items() if v is not None]
-        if given:
-            name, value = given[0]
-            raise InvalidInputError(
-                f"`{name}` applies to method='adaptive' only (method={method!r} is a "
-                f"fixed-step method without tolerances: set its accuracy with `max_step` "
-                f"and `order`), got {name}={value!r}."
-            )
+    # refusals from the methods' facts (integrators.INTEGRATORS[...].options)
+    integrators.check_options(
+        method, {"order": order, "rtol": rtol, "atol": atol, "solver": solver}, METHODS
+    )
     rtol, atol = _tolerances(1e-10 if rtol is None else rtol, 1e-12 if atol is None else atol)
     solver = as_choice("DOP853" if solver is None else solver, "solver", SOLVERS)
     if order is None:
