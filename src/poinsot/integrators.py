@@ -290,10 +290,11 @@ def check_options(method: str, given: dict[str, object], among: Iterable[str]) -
     Examples
     --------
     >>> check_options("dop853", {"rtol": 1e-8, "solver": None}, ["rk4", "dop853"])
-    >>> check_options("rk4", {"rtol": 1e-8}, ["rk4", "dop853", "adaptive"])
-    Traceback (most recent call last):
-    ...
-    poinsot.errors.InvalidInputError: `rtol` applies to method='dop853' or 'adaptive' only (method='rk4' is classical Runge-Kutta, quaternion renormalised after each step, without tolerances: set its accuracy with `max_step`), got rtol=1e-08.
+    >>> try:
+    ...     check_options("rk4", {"rtol": 1e-8}, ["rk4", "dop853", "adaptive"])
+    ... except InvalidInputError as e:
+    ...     print(str(e)[:60])
+    `rtol` applies to method='dop853' or 'adaptive' only (method
     """
     facts = INTEGRATORS[method]
     for name, value in given.items():

@@ -485,8 +485,8 @@ def test_attitude_inputs_and_options_contract():
     for method in ("midpoint", "splitting", "rk4"):
         # the tolerances apply to both adaptive methods (the refusal named 'adaptive' only,
         # though dop853 takes them: issue 39; now read from integrators.INTEGRATORS)
-        for option, takers in (("rtol", "'dop853' or 'adaptive'"),
-                               ("atol", "'dop853' or 'adaptive'"), ("solver", "'adaptive'")):  # fmt: skip
+        both = "'dop853' or 'adaptive'"
+        for option, takers in (("rtol", both), ("atol", both), ("solver", "'adaptive'")):
             value = "RK45" if option == "solver" else 1e-8
             with pytest.raises(InvalidInputError, match=f"`{option}` applies to method={takers} "):
                 simulate(MOMENTS, q0, OMEGA0, t, method=method, **{option: value})
