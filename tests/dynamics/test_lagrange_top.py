@@ -247,6 +247,107 @@ def test_precession_per_nutation_matches_integrated_psi():
     assert abs(top.theta(period) - top.theta(0.0)) < 1e-13
 
 
+def _mp_psi(a, c, mgl, theta, thd, psd, r, ts):
+    """``(psi(t) - psi0, theta(t), nutation period)`` at 40 digits from the same double
+    inputs: ``mpmath.quad`` of ``psi' = (K_z - H u) / (A (1 - u^2))`` with
+    ``u = cos(theta) = u1 + (u2 - u1) sn^2(tau' t + tau0)`` (``mpmath.ellipfun``), over
+    whole nutation periods (``2K`` in ``tau``) and the rest.
+
+    ``m g l < 0``: the same integrand in ``u -> -u``, ``H -> -H`` (the band ``[u2, u3]``
+    of ``-u`` is then ``[u1, u2]``)."""
+    mp = mpmath.mp
+    mp.dps = 40
+    a, c, mgl = mp.mpf(a), mp.mpf(c), mp.mpf(mgl)
+    th, thd, psd, h = mp.mpf(theta), mp.mpf(thd), mp.mpf(psd), c * mp.mpf(r)
+    flip = mgl < 0
+    if flip:
+        mgl, th, thd, h = -mgl, mp.pi - th, -thd, -h
+    u0, s0 = mp.cos(th), mp.sin(th)
+    al = a * psd * s0**2  # K_z - H u = A L - H x,  x = u - u0
+    e0 = a * (thd**2 + (psd * s0) ** 2) / 2  # (E - m g l u0)
+    # P(u0 + x) = (2/A)(e0 - m g l x)(s0^2 - 2 u0 x - x^2) - (A L - H x)^2 / A^2
+    cf = [
+        2 * mgl / a,
+        -2 * e0 / a + 4 * mgl * u0 / a - (h / a) ** 2,
+        -4 * e0 * u0 / a - 2 * mgl * s0**2 / a + 2 * al * h / a**2,
+        2 * e0 * s0**2 / a - (al / a) ** 2,
+    ]
+    with mp.workprec(mp.prec + 300):
+        x1, x2, x3 = sorted(mp.re(x) for x in mp.polyroots(cf, maxsteps=400, extraprec=600))
+    dx = x2 - x1
+    m = dx / (x3 - x1)
+    rate = mp.sqrt(mgl * (x3 - x1) / (2 * a))
+    kq = mp.ellipk(m)
+    rho = min(max(-x1 / dx, mp.mpf(0)), mp.mpf(1))
+    tau0 = mp.ellipf(mp.asin(mp.sqrt(rho)), m) * (-1 if thd > 0 else 1)  # u' = -sin(th) th'
+
+    def f(v):
+        x = x1 + dx * mp.ellipfun("sn", v, m=m) ** 2
+        return (al - h * x) / (a * (s0**2 - 2 * u0 * x - x * x))
+
+    def quad(lo, hi):
+        n = int(mp.ceil(4 * (hi - lo) / kq)) if hi > lo else 1
+        pts = [lo + (hi - lo) * k / n for k in range(n + 1)]
+        return mp.quad(f, pts, method="gauss-legendre")
+
+    per = 2 * quad(mp.mpf(0), kq)  # f is even and 2K-periodic
+    psi, th_t = [], []
+    for t in ts:
+        tau = rate * mp.mpf(t) + tau0
+        nper = mp.floor((tau - tau0) / (2 * kq))
+        lo = tau0 + 2 * kq * nper
+        psi.append(float((nper * per + quad(lo, tau)) / rate))
+        th_t.append(mp.acos(u0 + x1 + dx * mp.ellipfun("sn", tau, m=m) ** 2))
+    th_t = [float(mp.pi - x if flip else x) for x in th_t]
+    return np.array(psi), np.array(th_t), float(2 * kq / rate)
+
+
+#: psi of fast tops (issue 38): (Delta sigma + Delta delta) / 2 kept ulp(r t) absolute
+#: (relative up to 4e-11 / 5e-8 / 1e-5 at r = 1e3 / 1e5 / 1e6, 3e-5 for the nutating
+#: top, 3e-7 for the hanging one); now observed <= 4e-15 (the ordinary top, loops),
+#: <= 7e-14 (the nutating r = -1e6 top, loops: psi' changes sign), 4e-16 elsewhere.
+#: theta and the period: observed <= 4.4e-16 rad and 2.2e-16 relative.
+TOL_PSI = 1e-12
+PSI_CASES = {
+    "ordinary (loops)": (MGL, 0.5, -1.0, 0.1, 20.0),
+    "r = 1e3": (MGL, math.radians(30.0), 0.0, 0.0, 1e3),
+    "r = 1e5": (MGL, math.radians(30.0), 0.0, 0.0, 1e5),
+    "r = 1e6": (MGL, math.radians(30.0), 0.0, 0.0, 1e6),
+    "r = -1e6, nutating (loops)": (MGL, 2.0, 1e-3, 0.0, -1e6),
+    "hanging, r = 1e5": (-MGL, 1.0, 0.0, 0.0, 1e5),
+}
+
+
+@pytest.mark.parametrize("name", list(PSI_CASES))
+def test_psi_to_full_relative_precision(name):
+    """``psi(t)`` against a 40-digit integral of ``psi'`` (the same double inputs): full
+    relative precision, also for a fast top whose slow precession ``~ m g l / (C r)`` is
+    a 1e-12 part of the Cayley-Klein angles ``sigma``, ``delta``."""
+    mgl, theta, thd, psd, r = PSI_CASES[name]
+    top = LagrangeTop(A, C, mgl, theta=theta, theta_rate=thd, precession_rate=psd, spin=r)
+    t = np.array([0.3, 1.0, 7.0])
+    ref, th_ref, period = _mp_psi(A, C, mgl, theta, thd, psd, r, t)
+    err = np.abs(top.psi(t) - ref) / np.abs(ref)
+    assert err.max() <= TOL_PSI, err
+    # theta and the period: 1 - m and 1 - u2 were off for a nutating fast top (taken from
+    # a nearly double root of P in y; r = -1e6: the period 3e-10 relative, theta 5.8e-10
+    # rad, 15% of the band)
+    assert np.abs(top.theta(t) - th_ref).max() <= 1e-14
+    assert abs(top.nutation_period / period - 1.0) <= 1e-14
+
+
+def test_regular_precession_psi_to_full_relative_precision():
+    """Uniform precession at the slow rate of a fast top: ``psi' = L / sin^2(theta)``, not
+    ``(sigma' + delta') / 2`` whose parts ``+-(H/C - H/A)`` cancel (7.6e-6 relative at
+    ``r = 1e6`` before)."""
+    t = np.array([0.3, 1.0, 7.0])
+    for r in (20.0, 1e3, 1e6):
+        for rate in regular_precession_rates(A, C, MGL, 0.6, r):
+            top = LagrangeTop(A, C, MGL, theta=0.6, precession_rate=float(rate), spin=r)
+            assert top.motion_type == "regular precession"
+            np.testing.assert_allclose(top.psi(t), float(rate) * t, rtol=3e-15, atol=0)
+
+
 def test_regular_precession_stays():
     theta = 0.8
     for rate in regular_precession_rates(A, C, MGL, theta, 25.0):

@@ -50,8 +50,15 @@ depends_on(__file__, el)
     P_R,  # spin r = H / C
     P_NP1,  # 1 - n+ = (1 - u2) / (1 - u1), exact near the upright
     P_Y2,  # 1 - u2
-) = range(28)
-N_PAR = 28
+    P_PSI,  # 1: psi - psi0 = F(tau) - F(tau0) (see psi_sum), else (Delta sigma + Delta delta)/2
+    P_Q1P,  # (K_z - H u1) / (2 A (1 - u1) tau')   times G+
+    P_Q1M,  # (K_z - H u1) / (2 A (1 + u1) tau')   times G-
+    P_Q2P,  # (K_z - H u2) / (2 A (1 - u1) tau')   times S+
+    P_Q2M,  # (K_z - H u2) / (2 A (1 + u1) tau')   times S-
+    P_FC,  # F over [0, K]
+    P_F0,  # F(tau0)
+) = range(35)
+N_PAR = 35
 
 
 @njit(cache=True, inline="always")
@@ -81,8 +88,43 @@ def _sine_series(c, theta):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi):  # pragma: no cover - compiled
-    """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau))`` for the argument ``tau`` (any real).
+def psi_sum(r, s, c, d, par):  # pragma: no cover - compiled
+    """``F(r) = Q1+ G+ + Q1- G- + Q2+ S+ + Q2- S-`` on the reduced argument ``|r| <= K``
+    (``s, c, d`` its ``sn, cn, dn``): ``psi - psi0 = F(tau) - F(tau0)``.
+
+    ``K_z - H u = (K_z - H u1) cn^2 + (K_z - H u2) sn^2`` and
+    ``2 / (1 - u^2) = 1 / (1 - u) + 1 / (1 + u)``, ``1 -+ u = (1 -+ u1)(1 - n+- sn^2)``
+    give ``2 A tau' psi' = (K_z - H u1) (g+ / (1 - u1) + g- / (1 + u1)) + (K_z - H u2)
+    (s+ / (1 - u1) + s- / (1 + u1))`` with ``g = cn^2 / (1 - n sn^2)``,
+    ``s = sn^2 / (1 - n sn^2)`` (docs/theory.md §10). Their integrals
+    ``S(n; r) = s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3`` and ``G = r - (1 - n) S`` (no
+    division by ``n``; ``1 - n+ s^2`` as ``(1 - n+) + n+ c^2``, exact near the upright)
+    are positive, the coefficients small for a fast top (``~ m g l / H``): a sum of
+    terms of one sign unless ``psi'`` changes sign (loops), so ``psi`` keeps full
+    relative precision, where ``(Delta sigma + Delta delta) / 2`` cancels the parts
+    ``+-H / A`` of ``sigma'``, ``delta'`` (``ulp(r t)`` absolute).
+    """
+    np1 = par[P_NP1]
+    nm = par[P_NM]
+    sp = 0.0
+    sm = 0.0
+    s2 = s * s
+    if s2 > 0.0:
+        c2 = c * c
+        d2 = d * d
+        s3 = s * s2 / 3.0
+        sp = s3 * el.carlson_rj(c2, d2, 1.0, np1 + par[P_NP] * c2)
+        sm = s3 * el.carlson_rj(c2, d2, 1.0, 1.0 - nm * s2)
+    gp = r - np1 * sp
+    gm = r - (1.0 - nm) * sm
+    return par[P_Q1P] * gp + par[P_Q1M] * gm + par[P_Q2P] * sp + par[P_Q2M] * sm
+
+
+@njit(cache=True)
+def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi, want_psi):  # pragma: no cover
+    """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau), F(tau))`` for the argument ``tau`` (any
+    real); ``F`` of :func:`psi_sum` (plus ``2 j`` times its value over ``[0, K]``) only
+    with ``want_psi``, else 0.
 
     ``Pi(n; tau) = int_0^tau dv / (1 - n sn^2 v)``. With ``tau = 2 j K + r``,
     ``|r| <= K``: by Fourier series when the coefficients ``fp``/``fm`` are given
@@ -100,7 +142,7 @@ def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi):  # pragma: no cover
         if want_pi:
             a = math.sqrt(-nm)
             pim = (tau + a * math.atan(a * sn)) / (1.0 - nm)
-        return sn, cn, dn, 0.0, pim  # on the separatrix K_z = H: no n+ term
+        return sn, cn, dn, 0.0, pim, 0.0  # on the separatrix K_z = H: no n+ term
     kq = par[P_K]
     j, r = el.reduce_argument(tau, kq)
     s, c, d = el.jacobi_reduced(r, ks, kps, lv, scale, m, m1)
@@ -118,16 +160,21 @@ def _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi):  # pragma: no cover
         if par[P_CM] != 0.0:
             p = 1.0 - nm * s2
             pim = _pi_reduced(fm, nm, p, r, theta, s, s2, c2, d2) + 2.0 * j * par[P_PIM]
+    f = 0.0
+    if want_psi:
+        f = psi_sum(r, s, c, d, par) + 2.0 * j * par[P_FC]
     if j - 2.0 * math.floor(0.5 * j) != 0.0:
         s, c = -s, -c
-    return s, c, d, pip, pim
+    return s, c, d, pip, pim, f
 
 
 @njit(cache=True)
 def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no cover
     """Attitude ``out_q`` (n, 4), body angular velocity ``out_w`` (n, 3) and
-    ``out_x`` (n, 4) = ``(sin(theta/2), cos(theta/2), sigma, delta)`` (signed half-angle
-    functions, continuous Cayley-Klein angles) at the times ``t`` (n,), ``m g l > 0``.
+    ``out_x`` (n, 2|4|5) = ``(sin(theta/2), cos(theta/2), sigma, delta, psi - psi0)``
+    (signed half-angle functions, continuous Cayley-Klein angles, and with 5 columns
+    the precession of :func:`psi_sum`, which needs ``par[P_PSI]`` set) at the times
+    ``t`` (n,), ``m g l > 0``.
 
     The attitude is ``(c cos(sigma/2), s cos(delta/2), s sin(delta/2), c sin(sigma/2))``
     with ``sigma = psi + phi``, ``delta = psi - phi`` (z-x-z Euler angles).
@@ -144,11 +191,12 @@ def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no c
     a_s = math.sqrt(0.5 * om1)
     a_c = math.sqrt(0.5 * dx)
     big_a, big_h = par[P_A], par[P_H]
+    want_psi = out_x.shape[1] > 4 and par[P_PSI] > 0.5
     for p in range(t.shape[0]):
         tp = t[p]
         tau = rate * tp + tau0
         want_pi = want_q or want_w or out_x.shape[1] > 2
-        sn, cn, dn, pip, pim = _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi)
+        sn, cn, dn, pip, pim, f = _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, want_pi, want_psi)
         sn2 = sn * sn
         if sps:
             s = a_s * cn
@@ -169,6 +217,8 @@ def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no c
         if out_x.shape[1] > 2:
             out_x[p, 2] = sig
             out_x[p, 3] = dlt
+        if want_psi:
+            out_x[p, 4] = f - par[P_F0]
         if want_q:
             out_q[p, 0] = c * math.cos(0.5 * sig)
             out_q[p, 1] = s * math.cos(0.5 * dlt)
@@ -200,8 +250,9 @@ def motion(t, par, fp, fm, want_q, want_w, out_q, out_w, out_x):  # pragma: no c
 
 @njit(cache=True)
 def pi_at(tau, par, fp, fm):  # pragma: no cover - compiled
-    """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau))`` at one argument (for the constants)."""
+    """``(sn, cn, dn, Pi(n+; tau), Pi(n-; tau), F(tau))`` at one argument (for the
+    constants)."""
     ks = np.empty(el.LMAX)
     kps = np.empty(el.LMAX)
     lv, scale = el.landen_fill(par[P_M], par[P_M1], ks, kps)
-    return _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, True)
+    return _pi_pair(tau, par, ks, kps, lv, scale, fp, fm, True, par[P_PSI] > 0.5)

@@ -48,6 +48,15 @@ precession over one nutation period is
 ``Delta psi = (K_z - H) Pi(n_+ | m) / (A (1 - u1) tau')
 + (K_z + H) Pi(n_- | m) / (A (1 + u1) tau')``.
 
+**Precession to full relative precision.** ``psi = (sigma + delta) / 2`` cancels the
+parts ``+-H/A`` of ``sigma'``, ``delta'``: a fast top's slow ``psi ~ m g l t / H``
+would keep only ``ulp(r t)`` absolute. ``psi(t)`` is integrated directly instead, with
+``K_z - H u = (K_z - H u1) cn^2 + (K_z - H u2) sn^2`` and ``2 / (1 - u^2) = 1 / (1 - u)
++ 1 / (1 + u)``: small coefficients (``K_z - H u1,2 = A L - H x1,2`` from the initial
+state, ``0`` at a cusp) times the positive integrals ``int sn^2 / (1 - n sn^2)
+= s^3 R_J(c^2, d^2, 1, 1 - n s^2) / 3`` and ``int cn^2 / (1 - n sn^2)``; no
+cancellation unless ``psi'`` changes sign (loops).
+
 Degenerate cases are exact, not limits: regular precession (``u1 = u2``) and the
 sleeping top (``u = 1``) turn uniformly; where the band reaches a pole
 (``K_z = +-H``) ``sin(theta/2)`` (``cos``) is taken signed (``~ cn``, ``~ sn``) so
@@ -644,7 +653,8 @@ class LagrangeTop:
     ~1e-13 rad against 60-digit references, also released within 1e-8 rad of the
     upright, near the separatrix and for fast tops; the attitude of a very fast top
     carries ~30 ulps of the spin angle ``r t`` (7e-9 rad at ``r = 1e6`` rad/s,
-    ``t = 0.5`` s). Table and method: docs/heavy-top.md ("Numerical notes").
+    ``t = 0.5`` s), while ``psi(t)`` keeps full relative precision (4e-16 at
+    ``r = 1e6``, ``t = 7`` s). Table and method: docs/heavy-top.md ("Numerical notes").
 
     Examples
     --------
@@ -990,11 +1000,18 @@ class LagrangeTop:
         if y2 == 0.0 or y3 == 0.0:
             s.kmh = 0.0
         # near the pole the y-roots are the accurate ones (x2 > om by round-off was a
-        # root above the pole); elsewhere x keeps the band accurate relative to u0
+        # root above the pole); elsewhere x keeps the band accurate relative to u0, and
+        # y = om - x without cancellation: a fast top's y1, y2 are a nearly double root
+        # of P in y, ~1e-11 off (m1 = (y2 - y3) / (x3 - x1) then missed 1 - m by 3e-12:
+        # K(m), 1 - n+ and psi of a nutating top with r = 1e5 ~1e-8 off)
         if y2 < 0.5 * om:
             x2 = om - y2
+        else:
+            s.y2 = om - x2
         if -y3 < 0.5 * om:
             x3 = om - y3
+        else:
+            s.y3 = om - x3
         return x2, x3
 
     def _classify(self, s: _State) -> None:
@@ -1117,9 +1134,30 @@ class LagrangeTop:
             if par[kn.P_CM]
             else _EMPTY
         )
-        sn0, cn0, dn0, pip0, pim0 = kn.pi_at(tau0, par, s.fp, s.fm)
+        if not (sps or spc) and m1 > 0.0 and s.y2 > 0.0 and op1 > 0.0 and dx <= op1:
+            # psi without the cancellation of sigma and delta (kernel psi_sum), where no
+            # pole is reached (no jump of pi: js = jc = 0 in _angles) and 1 + u1 >=
+            # u2 - u1 (G- = r - (1 - n-) S- keeps its digits); K_z - H u1,2 =
+            # A L - H x1,2 from the initial state, exact at a cusp (from rest: L = x2 = 0)
+            par[kn.P_PSI] = 1.0
+            den = 2.0 * a * rate
+            n1 = (a * s.L - big_h * x1) / den
+            n2 = (a * s.L - big_h * x2) / den
+            par[kn.P_Q1P], par[kn.P_Q1M] = n1 / om1, n1 / op1
+            par[kn.P_Q2P], par[kn.P_Q2M] = n2 / om1, n2 / op1
+            np1, nm1 = par[kn.P_NP1], 1.0 - par[kn.P_NM]
+            sp = float(el.elliprj(0.0, m1, 1.0, np1)) / 3.0
+            sm = float(el.elliprj(0.0, m1, 1.0, nm1)) / 3.0
+            par[kn.P_FC] = (
+                par[kn.P_Q1P] * (kq - np1 * sp)
+                + par[kn.P_Q1M] * (kq - nm1 * sm)
+                + par[kn.P_Q2P] * sp
+                + par[kn.P_Q2M] * sm
+            )
+        sn0, cn0, dn0, pip0, pim0, f0 = kn.pi_at(tau0, par, s.fp, s.fm)
         par[kn.P_PIP0] = pip0
         par[kn.P_PIM0] = pim0
+        par[kn.P_F0] = f0
         # signed half-angle functions at t = 0 and the Cayley-Klein angles
         s_0 = math.sqrt(0.5 * om1) * cn0 if sps else math.sqrt(0.5 * (s.y2 + dx * cn0 * cn0))
         c_0 = (
@@ -1336,8 +1374,9 @@ class LagrangeTop:
     def _eval(
         self, t: np.ndarray, want_q: bool = True, want_w: bool = True, angles: bool = True
     ) -> tuple[Any, ...]:
-        """Flattened ``(q (n, 4), w (n, 3), s, c, psi_increment, phi_increment)`` in the
-        internal frame (``m g l >= 0``)."""
+        """Flattened ``(q (n, 4), w (n, 3), s, c, sigma_increment, delta_increment,
+        psi_increment)`` in the internal frame (``m g l >= 0``); ``psi_increment`` is
+        None where ``psi`` is to be taken from ``(sigma + delta) / 2``."""
         s = self._s
         ta = np.ascontiguousarray(np.asarray(t, dtype=float).reshape(-1))
         n = ta.shape[0]
@@ -1356,16 +1395,28 @@ class LagrangeTop:
             w[:, 0] = s.wps * np.sin(ph)
             w[:, 1] = s.wps * np.cos(ph)
             w[:, 2] = s.r
-            return q, w, np.full(n, sh), np.full(n, ch), sig - s.sig0, dlt - s.del0
+            # psi' = (K_z - H u0) / (A sin^2 theta0) = L / s2, not (sigma' + delta') / 2
+            # whose parts +-(H/C - H/A) cancel (a fast top's slow precession)
+            dpsi = (s.L / s.s2) * ta if s.s2 > 0 else None
+            return q, w, np.full(n, sh), np.full(n, ch), sig - s.sig0, dlt - s.del0, dpsi
         from . import _lagrange_numba as kn
 
+        direct = angles and s.par[kn.P_PSI] > 0.5
         q = np.empty((n if want_q else 0, 4))
         w = np.empty((n if want_w else 0, 3))
-        xs = np.empty((n, 4 if angles else 2))
+        xs = np.empty((n, (5 if direct else 4) if angles else 2))
         kn.motion(ta, s.par, s.fp, s.fm, want_q, want_w, q, w, xs)
         if not angles:
-            return q, w, xs[:, 0], xs[:, 1], None, None
-        return q, w, xs[:, 0], xs[:, 1], xs[:, 2] - s.par[kn.P_SIG0], xs[:, 3] - s.par[kn.P_DEL0]
+            return q, w, xs[:, 0], xs[:, 1], None, None, None
+        return (
+            q,
+            w,
+            xs[:, 0],
+            xs[:, 1],
+            xs[:, 2] - s.par[kn.P_SIG0],
+            xs[:, 3] - s.par[kn.P_DEL0],
+            xs[:, 4] if direct else None,
+        )
 
     def _times(self, t: ArrayLike) -> tuple[np.ndarray, tuple[int, ...]]:
         ta = as_float_array(t, "t")
@@ -1437,7 +1488,7 @@ class LagrangeTop:
         if s.double:
             th = np.full(ta.size, self._theta_of_x(0.0))
             return th.reshape(shape)
-        _, _, sh, ch, _, _ = self._eval(ta, False, False, angles=False)
+        sh, ch = self._eval(ta, False, False, angles=False)[2:4]
         th = 2.0 * np.arctan2(np.abs(sh), np.abs(ch))
         if self._flip:
             th = math.pi - th
@@ -1458,11 +1509,13 @@ class LagrangeTop:
                 self._psi0 + _wrap(0.5 * (sig + dlt) - psi_0),
                 self._phi0 + _wrap(0.5 * (sig - dlt) - phi_0),
             )
-        _, _, sh, ch, dsig, ddlt = self._eval(ta, False, False)
+        _, _, sh, ch, dsig, ddlt, direct = self._eval(ta, False, False)
         # a negative sin(theta/2) (cos) is the same attitude with delta (sigma) + 2 pi
         js = np.where(sh < 0, math.pi, 0.0) - (math.pi if s.sign0[0] < 0 else 0.0)
         jc = np.where(ch < 0, math.pi, 0.0) - (math.pi if s.sign0[1] < 0 else 0.0)
-        dpsi = 0.5 * (dsig + ddlt) + js + jc
+        # psi to full relative precision where the kernel integrates it directly (see
+        # _lagrange_numba.psi_sum); (sigma + delta) / 2 carries ulp(r t) absolute
+        dpsi = 0.5 * (dsig + ddlt) + js + jc if direct is None else direct + js + jc
         dphi = 0.5 * (dsig - ddlt) + jc - js
         if self._flip:
             dphi = -dphi
@@ -1471,10 +1524,16 @@ class LagrangeTop:
     def psi(self, t: ArrayLike) -> FloatArray:
         """Precession angle ``psi(t)`` (rad), z-x-z, from ``psi0`` at ``t = 0``.
 
-        Continuous (not wrapped): ``psi0 + (Delta sigma + Delta delta) / 2`` from the
-        exact Cayley-Klein angles; it jumps by ``pi`` where the axis passes through
-        the vertical (where the angle is undefined). For ``m g l = 0`` (free top) it
-        is taken from the attitude, within ``pi`` of ``psi0``.
+        Continuous (not wrapped), to full relative precision: the integral of
+        ``psi' = (K_z - H u) / (A (1 - u^2))`` with ``K_z - H u = (K_z - H u1) cn^2 +
+        (K_z - H u2) sn^2`` (incomplete integrals of the third kind with the small
+        coefficients of a fast top's slow precession ``~ m g l / (C r)``, docs/theory.md
+        §10), and ``L / sin^2(theta)`` for a regular precession; where the band reaches
+        a pole, or comes within its width of the lower one, ``psi0 + (Delta sigma +
+        Delta delta) / 2`` from the exact Cayley-Klein angles (``ulp(r t)`` absolute). It
+        jumps by ``pi`` where the axis passes through the vertical (where the angle is
+        undefined). For ``m g l = 0`` (free top) it is taken from the attitude, within
+        ``pi`` of ``psi0``.
 
         Examples
         --------
