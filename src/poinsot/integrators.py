@@ -22,7 +22,7 @@ Systems (what a method can integrate):
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from .errors import InvalidInputError, InvalidTypeError
@@ -283,7 +283,7 @@ def markdown_table() -> str:
     return "\n".join(rows)
 
 
-def check_options(method: str, given: dict[str, object], among: Iterable[str]) -> None:
+def check_options(method: str, given: Mapping[str, object], among: Iterable[str]) -> None:
     """Refuse an option that ``method`` does not take (its row's ``options``), naming the
     methods of ``among`` that take it; options given as ``None`` are not given.
 

@@ -1,7 +1,7 @@
 """poinsot's formulas on JAX: ``jit``-, ``vmap``- and ``grad``-able (``pip install poinsot[jax]``).
 
 The functions here are not new formulas: each runs the one source of
-:mod:`poinsot.rotations._scalar` (and :func:`poinsot.dynamics.euler_equations._rhs`)
+:mod:`poinsot.rotations._scalar` (and :func:`poinsot.dynamics.integrators._common._rhs`)
 re-bound to ``jax.numpy`` (:func:`poinsot._jit.rebind`). A branch on the data
 (``if f <= pi``, the largest square of a matrix) becomes a select: every path
 through the formula is traced once and each element takes the value of its own
@@ -474,7 +474,7 @@ def slerp(q0: Any, q1: Any, t: Any) -> Any:
 
 
 def _euler_rhs_source() -> Callable[..., Any]:
-    from .dynamics.euler_equations import _rhs
+    from .dynamics.integrators._common import _rhs
 
     return rebind(_rhs, "jax")
 

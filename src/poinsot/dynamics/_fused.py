@@ -512,7 +512,7 @@ def midpoint_body(
 ):  # pragma: no cover
     """The implicit Lie-Poisson midpoint rule of ``simulate(method="midpoint")`` for one
     body under a built-in torque that depends on the attitude (kinds 2-4): the NumPy
-    path's step (``euler_equations._midpoint_step_numpy``), the same operations per
+    path's step (``integrators.midpoint._midpoint_step_numpy``), the same operations per
     body, compiled. ``q`` (4,) unit, ``m = J w`` (3,); ``coef`` the composition
     coefficients. Newton on the midpoint momentum ``x``, the torque taken at the midpoint
     attitude ``L o cay(b)``, ``b`` the Gibbs vector of half the step's rotation, its

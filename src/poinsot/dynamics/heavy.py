@@ -191,7 +191,7 @@ class HeavyRigidBody:
         >>> top.euler_poisson([0.0, 0.0, 0.0], [0.0, 1.0, 0.0])[0]   # tipping about x
         array([2.5, 0. , 0. ])
         """
-        from .euler_equations import _rhs
+        from .integrators._common import _rhs
 
         w = as_vec3(omega, "omega")
         gam = as_vec3(gamma, "gamma")
@@ -214,7 +214,7 @@ class HeavyRigidBody:
         array([0., 0., 0., 1., 0., 0., 0.])
         """
         from .. import _quat
-        from .euler_equations import _rhs
+        from .integrators._common import _rhs
 
         y = as_float_array(state, "state")
         if y.shape[-1:] != (7,):
