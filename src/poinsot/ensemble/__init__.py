@@ -18,7 +18,15 @@ from .dispersion import (
     Uniform,
     UniformRotation,
 )
-from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, run, run_chunk
+from .engine import (
+    QUANTITIES,
+    EnsembleError,
+    EnsembleInterrupted,
+    EnsembleProblem,
+    EnsembleResult,
+    run,
+    run_chunk,
+)
 from .metrics import COMPONENTS, METRICS, Metric
 from .scenario import load_ensemble, problem_from_scenario, run_scenario_ensemble
 
@@ -28,6 +36,7 @@ __all__ = [
     "EnsembleProblem",
     "EnsembleResult",
     "EnsembleError",
+    "EnsembleInterrupted",
     "QUANTITIES",
     "Metric",
     "METRICS",

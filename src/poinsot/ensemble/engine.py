@@ -41,7 +41,15 @@ from ..errors import InvalidInputError, InvalidTypeError
 from .dispersion import Dispersion, SmallRotation, UniformRotation
 from .metrics import Metric, Motion
 
-__all__ = ["EnsembleProblem", "EnsembleResult", "EnsembleError", "run", "run_chunk", "QUANTITIES"]
+__all__ = [
+    "EnsembleProblem",
+    "EnsembleResult",
+    "EnsembleError",
+    "EnsembleInterrupted",
+    "run",
+    "run_chunk",
+    "QUANTITIES",
+]
 
 #: Quantities a ``[dispersion]`` table may name, with their units and shapes.
 QUANTITIES = {
@@ -65,6 +73,20 @@ MANIFEST = "ensemble.json"
 class EnsembleError(InvalidInputError):
     """An ensemble that cannot run as asked (bad options, a scheduler that does not
     answer, an output directory of another scenario)."""
+
+
+class EnsembleInterrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`run`: a ``KeyboardInterrupt`` that says what is kept.
+
+    ``kept`` chunks of ``total`` are written in ``out`` (``None``: no directory,
+    nothing kept); ``run(..., out=out, resume=True)`` with the same problem, sample
+    count, chunk size and seed completes the run.
+    """
+
+    def __init__(self, kept: int, total: int, out: Path | None) -> None:
+        self.kept, self.total, self.out = kept, total, out
+        where = f"kept in {out}" if out is not None else "computed, none kept (no `out`)"
+        super().__init__(f"interrupted: {kept} of {total} chunks {where}")
 
 
 @dataclass(frozen=True)
@@ -361,8 +383,12 @@ def _write_atomic_parquet(table: Any, path: Path) -> None:
     import pyarrow.parquet as pq
 
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    pq.write_table(table, tmp)
-    os.replace(tmp, path)
+    try:
+        pq.write_table(table, tmp)
+        os.replace(tmp, path)
+    except BaseException:  # Ctrl-C or a full disk: no half-written file left behind
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def _chunk_path(out: Path, index: int) -> Path:
@@ -484,10 +510,125 @@ def _client(scheduler: str | None, workers: int | None, timeout: float) -> tuple
     if scheduler is not None:
         return _connect(Client, scheduler, timeout), None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(
-        n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, host="127.0.0.1"
-    )
-    return Client(cluster), cluster
+
+    def start() -> tuple[Any, Any]:
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            host="127.0.0.1",
+            preload=["poinsot.ensemble._worker"],
+        )
+        return Client(cluster), cluster
+
+    return _start_ignoring_sigint(start, n)
+
+
+def _start_ignoring_sigint(start: Callable[[], tuple[Any, Any]], n: int) -> tuple[Any, Any]:
+    """``start()`` a local cluster of ``n`` worker processes that ignore Ctrl-C.
+
+    Ctrl-C reaches the whole process group, the workers too, and a Dask worker
+    process prints tracebacks on it (the preload makes a worker ignore it only once
+    Dask is imported there). So the workers are spawned while this process ignores
+    SIGINT, and inherit that; the cluster starts in a thread meanwhile and this
+    thread takes Ctrl-C back as soon as the ``n`` processes exist. A Ctrl-C before
+    the cluster is up stops it once it is (:func:`_stop`).
+    """
+    import multiprocessing
+    import signal
+    import threading
+    import time
+
+    if threading.current_thread() is not threading.main_thread():
+        return start()  # no signal handling to do outside the main thread
+    before = set(multiprocessing.active_children())
+    box: dict[str, Any] = {}
+
+    def target() -> None:
+        try:
+            box["result"] = start()
+        except BaseException as exc:  # for the caller
+            box["error"] = exc
+
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    thread = threading.Thread(target=target, name="poinsot-cluster-start", daemon=True)
+    try:
+        thread.start()
+        while thread.is_alive() and len(set(multiprocessing.active_children()) - before) < n:
+            time.sleep(0.01)
+    finally:
+        if handler is not None:
+            signal.signal(signal.SIGINT, handler)
+    try:
+        while thread.is_alive():
+            thread.join(0.05)
+    except KeyboardInterrupt:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            thread.join(120)
+            if "result" in box:
+                client, cluster = box["result"]
+                _stop(client, cluster, [])
+        finally:
+            if handler is not None:
+                signal.signal(signal.SIGINT, handler)
+        raise
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
+
+
+def _stop(client: Any, own: Any, futures: list[Any]) -> None:
+    """Stop the chunks of an interrupted or failed run at once, quietly.
+
+    A cluster of ours (``own``): its worker processes are killed (Dask's own close
+    waits up to 4 s for a running chunk, then kills them anyway), then it is closed.
+    A cluster not ours: our chunks are cancelled there; its workers go on. Dask's
+    loggers are silenced meanwhile (a cancelled task logs ``CancelledError``), and a
+    second Ctrl-C cannot cut this short (which would leave workers running).
+    """
+    import logging
+    import signal
+    import threading
+
+    loggers = [logging.getLogger(n) for n in ("distributed", "tornado", "asyncio")]
+    levels = [lg.level for lg in loggers]
+    main = threading.current_thread() is threading.main_thread()
+    handler = signal.getsignal(signal.SIGINT) if main else None
+    if main:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        for lg in loggers:
+            lg.setLevel(logging.CRITICAL + 1)
+        if own is None:
+            if futures:
+                client.cancel(futures, force=True)
+            return
+        kill = getattr(signal, "SIGKILL", signal.SIGTERM)
+        for nanny in list(own.workers.values()):
+            try:
+                # not restarted when it dies (a shutdown, as Dask's own close says it)
+                own.loop.add_callback(nanny.close_gracefully, "poinsot-interrupted")
+                pid = nanny.pid
+                if pid:
+                    os.kill(pid, kill)
+            except (OSError, AttributeError):  # gone already, or never started
+                pass
+        try:  # best effort: the exception being raised is the caller's
+            if client is not None:
+                client.close(timeout=2)
+        except Exception:
+            pass
+        try:
+            own.close(timeout=5)
+        except Exception:
+            pass
+    finally:
+        for lg, level in zip(loggers, levels, strict=True):
+            lg.setLevel(level)
+        if main and handler is not None:
+            signal.signal(signal.SIGINT, handler)
 
 
 def run(
@@ -534,10 +675,12 @@ def run(
         ``on_chunk(done, total)`` after each chunk arrives (chunk counts; the CLI's
         ``chunks i/n`` line).
 
-    Ctrl-C raises ``KeyboardInterrupt`` between chunks (serial) or at once (Dask):
-    the chunks still queued are cancelled and a cluster this call started is
-    stopped. Chunks already written to ``out`` stay: ``resume=True`` completes
-    the run.
+    Ctrl-C raises :class:`EnsembleInterrupted` (a ``KeyboardInterrupt`` that says
+    how many chunks are kept) within a step of the integrator (serial) or at once
+    (Dask): the chunks still queued are cancelled, and the worker processes of a
+    cluster this call started are killed and the cluster closed (well under a
+    second). Chunks already written to ``out`` stay valid: ``resume=True``
+    completes the run.
 
     Returns
     -------
@@ -630,73 +773,34 @@ def _run(
         done = _prepare(outp, digest, manifest, resume)
     todo = [i for i in range(n_chunks) if i not in done]
     tables: dict[int, Any] = {}
+    kept: list[int] = []  # chunks of this call written to `out` (or held in `tables`)
 
     def arrived(i: int, table: Any) -> None:
         if outp is not None:
             _write_atomic_parquet(table, _chunk_path(outp, i))
         else:
             tables[i] = table
-        count = len(done) + len(done_now)
+        kept.append(i)
+        count = len(done) + len(kept)
         if report is not None:
             report(count / n_chunks)
         if on_chunk is not None:
             on_chunk(count, n_chunks)
 
-    done_now: list[int] = []
-    if client == "serial":
-        for i in todo:
-            done_now.append(i)
-            arrived(i, _chunk_task(problem, i, sizes[i], seed, i * chunk_size, digest, 0))
-    elif todo:
-        if client is None:
-            client, own = _client(scheduler, workers, timeout)
-        try:
-            from dask.distributed import as_completed
-
-            futures: dict[Any, int] = {}
-            try:
-                # a fresh key: a hashed key may still be being released by a previous run
-                pf = client.scatter(problem, broadcast=True, hash=False)
-
-                def submit(i: int) -> Any:
-                    fut = client.submit(
-                        _chunk_task,
-                        pf,
-                        i,
-                        sizes[i],
-                        seed,
-                        i * chunk_size,
-                        digest,
-                        1,
-                        key=f"poinsot-chunk-{digest[:16]}-{i}",
-                        retries=3,
-                        pure=False,
-                    )
-                    futures[fut] = i
-                    return fut
-
-                # a window of chunks in flight, not all of them: the scheduler holds a
-                # few tasks per worker thread and Ctrl-C has little to cancel
-                threads = sum(client.nthreads().values()) or 1
-                queue = iter(todo)
-                first = itertools.islice(queue, 4 * threads + 4)
-                pending = as_completed([submit(i) for i in first])
-                for fut in pending:
-                    i = futures.pop(fut)
-                    done_now.append(i)
-                    arrived(i, fut.result())
-                    nxt = next(queue, None)
-                    if nxt is not None:
-                        pending.add(submit(nxt))
-            except BaseException:
-                # Ctrl-C (also while submitting) or a failed chunk: nothing queued may
-                # keep running for us
-                client.cancel(list(futures), force=True)
-                raise
-        finally:
-            if own is not None:  # a local cluster of ours (a remote client: closed by run)
-                client.close()
-                own.close()
+    try:
+        if client == "serial":
+            for i in todo:
+                arrived(i, _chunk_task(problem, i, sizes[i], seed, i * chunk_size, digest, 0))
+        elif todo:
+            if client is None:
+                client, own = _client(scheduler, workers, timeout)
+            _run_dask(client, own, problem, todo, sizes, seed, chunk_size, digest, arrived)
+    except KeyboardInterrupt:
+        # what is kept stays valid: every chunk file is whole (written under another
+        # name, then renamed) and carries the digest, so resume=True completes the run
+        raise EnsembleInterrupted(
+            len(done) + len(kept) if outp is not None else 0, n_chunks, outp
+        ) from None
     if outp is not None:
         import pyarrow.parquet as pq
 
@@ -706,3 +810,62 @@ def _run(
     table = pa.concat_tables([p.replace_schema_metadata(None) for p in parts])
     summary = _summary(problem, table, samples, seed, chunk_size)
     return EnsembleResult(table=table, summary=summary, out=outp)
+
+
+def _run_dask(
+    client: Any,
+    own: Any,
+    problem: EnsembleProblem,
+    todo: list[int],
+    sizes: list[int],
+    seed: int,
+    chunk_size: int,
+    digest: str,
+    arrived: Callable[[int, Any], None],
+) -> None:
+    """The chunks ``todo`` on Dask, each passed to ``arrived`` as it finishes; a
+    cluster of ours (``own``) is closed at the end, stopped at once on Ctrl-C."""
+    from dask.distributed import as_completed
+
+    futures: dict[Any, int] = {}
+    try:
+        # a fresh key: a hashed key may still be being released by a previous run
+        pf = client.scatter(problem, broadcast=True, hash=False)
+
+        def submit(i: int) -> Any:
+            fut = client.submit(
+                _chunk_task,
+                pf,
+                i,
+                sizes[i],
+                seed,
+                i * chunk_size,
+                digest,
+                1,
+                key=f"poinsot-chunk-{digest[:16]}-{i}",
+                retries=3,
+                pure=False,
+            )
+            futures[fut] = i
+            return fut
+
+        # a window of chunks in flight, not all of them: the scheduler holds a few
+        # tasks per worker thread and Ctrl-C has little to cancel
+        threads = sum(client.nthreads().values()) or 1
+        queue = iter(todo)
+        first = itertools.islice(queue, 4 * threads + 4)
+        pending = as_completed([submit(i) for i in first])
+        for fut in pending:
+            i = futures.pop(fut)
+            arrived(i, fut.result())
+            nxt = next(queue, None)
+            if nxt is not None:
+                pending.add(submit(nxt))
+    except BaseException:
+        # Ctrl-C (also while submitting) or a failed chunk: nothing queued may keep
+        # running for us, and nothing of Dask's shutdown is printed
+        _stop(client, own, list(futures))
+        raise
+    if own is not None:  # a local cluster of ours (a remote client: closed by run)
+        client.close()
+        own.close()
