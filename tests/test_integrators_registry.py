@@ -70,3 +70,38 @@ def test_check_method_messages():
     assert check_method("rk4", names("rigid"), "x") == "rk4"
     with pytest.raises(InvalidInputError, match="one of 'DOP853'"):
         check_method("nope", names("lagrangian"), "a Lagrangian system")
+
+
+def test_every_rigid_method_is_one_integrator_object_with_its_row():
+    """Issue 39: simulate runs RIGID[method] (one module per method); its facts are the
+    row of INTEGRATORS, and the names, the row and the class agree."""
+    from poinsot.dynamics.integrators import RIGID, RigidIntegrator
+
+    assert set(RIGID) == set(names("rigid")) - {"exact"}
+    for name, runner in RIGID.items():
+        assert isinstance(runner, RigidIntegrator) and runner.name == name
+        assert runner.facts is INTEGRATORS[name]
+        assert "rigid" in runner.facts.cost and runner.facts.cost["rigid"] > 0
+        assert "max_step" in runner.facts.options
+        assert ("rtol" in runner.facts.options) == runner.facts.adaptive
+
+
+@pytest.mark.parametrize("option", ["rtol", "atol", "solver", "order", "failures"])
+def test_option_refusals_follow_the_rows(option):
+    """Each method takes exactly the options of its row: given to another method, the
+    refusal names the methods that take it (read from the table, not written per method)."""
+    value = {"solver": "RK45", "order": 4, "failures": "mark"}.get(option, 1e-8)
+    t = np.linspace(0.0, 0.1, 3)
+    takers = [m for m in METHODS if option in INTEGRATORS.get(m).options]
+    assert takers  # someone takes it
+    for m in METHODS:
+        if m == "exact":
+            continue
+        if option in INTEGRATORS[m].options:
+            simulate([1.0, 2.0, 3.0], [1, 0, 0, 0], [0.1, 1.0, 0.1], t, method=m, **{option: value})
+        else:
+            with pytest.raises(InvalidInputError, match=f"`{option}` applies to method=") as e:
+                simulate(
+                    [1.0, 2.0, 3.0], [1, 0, 0, 0], [0.1, 1.0, 0.1], t, method=m, **{option: value}
+                )
+            assert all(repr(k) in str(e.value) for k in takers), str(e.value)

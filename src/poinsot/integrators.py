@@ -23,7 +23,7 @@ Systems (what a method can integrate):
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from .errors import InvalidInputError, InvalidTypeError
 
@@ -67,6 +67,9 @@ class Integrator:
     options : tuple of str
         The keyword options of :func:`poinsot.dynamics.simulate` it takes (beyond the
         problem): what :func:`check_options` lets through.
+    cost : mapping of str to float
+        Seconds per step (one body, one core) by system, for the cost estimates of
+        ``poinsot check``/``run`` (measured by ``benchmarks/bench_estimates.py``).
 
     Examples
     --------
@@ -82,6 +85,7 @@ class Integrator:
     implementation: str
     theory: str
     options: tuple[str, ...] = ()
+    cost: Mapping[str, float] = field(default_factory=dict, hash=False)
 
 
 def _scipy(name: str, what: str) -> Integrator:
@@ -108,6 +112,7 @@ INTEGRATORS: dict[str, Integrator] = {
             ("attitude", "rigid", "particle"),
             "closed form",
             "§5, §9, §10",
+            cost={"rigid": 6e-07},
         ),
         Integrator(
             "magnus4",
@@ -145,6 +150,7 @@ INTEGRATORS: dict[str, Integrator] = {
             "poinsot (compiled)",
             "§10",
             ("max_step", "order"),
+            cost={"rigid": 2.5e-06},
         ),
         Integrator(
             "splitting",
@@ -155,6 +161,7 @@ INTEGRATORS: dict[str, Integrator] = {
             "poinsot (compiled)",
             "§10",
             ("max_step", "order"),
+            cost={"rigid": 1e-06},
         ),
         Integrator(
             "rk4",
@@ -165,6 +172,7 @@ INTEGRATORS: dict[str, Integrator] = {
             "poinsot (compiled)",
             "§5, §10",
             ("max_step",),
+            cost={"rigid": 1e-06},
         ),
         Integrator(
             "dop853",
@@ -175,6 +183,7 @@ INTEGRATORS: dict[str, Integrator] = {
             "poinsot (compiled)",
             "§10",
             ("max_step", "rtol", "atol", "failures"),
+            cost={"rigid": 5e-07},
         ),
         Integrator(
             "adaptive",
@@ -185,6 +194,7 @@ INTEGRATORS: dict[str, Integrator] = {
             "scipy.integrate.solve_ivp",
             "§5, §9, §10",
             ("max_step", "rtol", "atol", "solver"),
+            cost={"rigid": 0.00015},
         ),
         _scipy("DOP853", "explicit Runge-Kutta of order 8"),
         _scipy("RK45", "explicit Runge-Kutta of order 5(4)"),

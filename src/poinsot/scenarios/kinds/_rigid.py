@@ -9,21 +9,15 @@ from typing import Any
 
 import numpy as np
 
+from ...integrators import INTEGRATORS
 from ..io import read_angular_velocity, read_body, read_torque
 
 TABLES = ("body", "angular_velocity", "torque")
 
-#: Seconds per step (and per run) of poinsot.dynamics.simulate / FreeRigidBody for the
-#: cost estimate, one core, measured by benchmarks/bench_estimates.py on the shipped
-#: examples (the tennis racket, the tumbling rock; the others scaled from the heavy top).
-SECONDS_PER_STEP = {
-    "exact": 6e-7,
-    "midpoint": 2.5e-6,
-    "splitting": 1e-6,
-    "rk4": 1e-6,
-    "dop853": 5e-7,
-    "adaptive": 1.5e-4,
-}
+#: Seconds per step of poinsot.dynamics.simulate / FreeRigidBody for the cost estimate,
+#: one core: each method's ``cost["rigid"]`` in poinsot.integrators.INTEGRATORS (measured
+#: by benchmarks/bench_estimates.py on the shipped examples), and per run.
+SECONDS_PER_STEP = {n: i.cost["rigid"] for n, i in INTEGRATORS.items() if "rigid" in i.cost}
 SECONDS_PER_RUN = {"exact": 5e-4}
 
 
