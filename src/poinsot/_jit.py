@@ -413,6 +413,13 @@ _COMPILE_TIME: dict[str, float] = {"total": 0.0}
 _COMPILE_START: dict[int, float] = {}
 
 
+#: 1 while the main thread compiles a numba kernel: read by the native SIGINT handler of
+#: poinsot._progress, which then also makes Python's KeyboardInterrupt pending (the
+#: compiler is Python code); never while a compiled kernel runs (numba's native code
+#: calls back into Python, e.g. to box its results, and must not find an exception set)
+MAIN_COMPILING = np.zeros(1, dtype=np.int64)
+
+
 def compile_seconds() -> float:
     """Seconds this process has spent compiling numba kernels so far (0 without numba):
     the difference over a call is its compile time (loads from the cache not counted)."""
@@ -469,6 +476,8 @@ def _install_compile_watch() -> None:
             _COMPILING[ident] = depth + 1
             if depth == 0:
                 _COMPILE_START[ident] = time.perf_counter()
+                if ident == threading.main_thread().ident:
+                    MAIN_COMPILING[0] = 1
                 disp = (ev.data or {}).get("dispatcher")
                 fn: Any = getattr(disp, "py_func", None)
                 module = getattr(fn, "__module__", None) or ""
@@ -484,6 +493,8 @@ def _install_compile_watch() -> None:
                 _COMPILING[ident] = depth
             else:
                 _COMPILING.pop(ident, None)
+                if ident == threading.main_thread().ident:
+                    MAIN_COMPILING[0] = 0
                 start = _COMPILE_START.pop(ident, None)
                 if start is not None:
                     _COMPILE_TIME["total"] += time.perf_counter() - start

@@ -58,7 +58,9 @@ __all__ = [
     "gravity_kick",
     "vertical",
     "midpoint_newton_step",
+    "midpoint_newton_done",
     "midpoint_momentum",
+    "MIDPOINT_MAXIT",
 ]
 
 # typed Any: numba's stubs want literal option values, a plain dict[str, str] matches none
@@ -324,6 +326,27 @@ def midpoint_newton_step(
     c22 = a00 * a11 - a01 * a10
     d2 = (c02 * r0 + c12 * r1 + c22 * r2) / det
     return d0, d1, d2
+
+
+#: The most Newton iterations of one implicit midpoint step before it is declared failed.
+MIDPOINT_MAXIT = 100
+_EPS = 2.220446049250313e-16
+
+
+@njit(**_INLINE)
+def midpoint_newton_done(rel, prev, it):  # pragma: no cover - compiled
+    """The stop rule of the midpoint rule's Newton iteration (every path: compiled and
+    NumPy): ``1`` converged, ``-1`` failed, ``0`` go on. ``rel`` is the update relative
+    to the iterate (``max |dx| / max |x|``), ``prev`` the previous one, ``it`` the
+    iterations done. Converged at round-off, or when the next update is predicted below
+    round-off (``rel^2 / prev``: valid for linear and quadratic convergence), or when
+    stagnating at ``<= 1e-12``; failed after :data:`MIDPOINT_MAXIT` iterations or when
+    the update does not shrink below the iterate (diverging)."""
+    if rel <= 2.0 * _EPS or (it >= 2 and (rel * rel <= _EPS * prev or 1e-12 >= rel >= prev / 2)):
+        return 1
+    if it >= MIDPOINT_MAXIT or not rel < 1.0:
+        return -1
+    return 0
 
 
 @njit(**_INLINE)

@@ -16,9 +16,9 @@ per step; :func:`run_compiled` raises it on Ctrl-C in one of two ways:
   ``poll`` seconds to report progress; on ``KeyboardInterrupt`` it raises the flag and
   waits for the worker to stop (one step: milliseconds).
 
-Ctrl-C while numba compiles the kernel (a cold cache) stops the call at once too: the
-native handler also makes Python's SIGINT pending, which the compiler's Python code
-raises; a worker thread that is compiling is not waited for (it finishes the
+Ctrl-C while numba compiles the kernel (a cold cache) stops the call at once too: while
+the main thread compiles, the native handler also makes Python's SIGINT pending, which
+the compiler's Python code raises; a worker thread that is compiling is not waited for (it finishes the
 compilation, which numba caches, and its kernel stops at the first step).
 
 Either way nothing partial is returned and no kernel is left running. The kernel's
@@ -214,17 +214,28 @@ class _SigintFlag:
         import llvmlite.binding as llvm
 
         self._slot = np.zeros(1, dtype=np.int64)  # the address of the current flag
-        # ... and Python's own SIGINT made pending (PyErr_SetInterruptEx is documented
-        # async-signal-safe): while numba compiles the kernel (Python code, minutes on a
-        # cold cache) KeyboardInterrupt is raised at once instead of after the compilation
+        # ... and, while the main thread compiles (poinsot._jit.MAIN_COMPILING: Python
+        # code, minutes on a cold cache), Python's own SIGINT made pending
+        # (PyErr_SetInterruptEx is documented async-signal-safe), so that the compiler
+        # raises KeyboardInterrupt at once; never while the kernel runs (its boxing calls
+        # into Python, which must not find an exception set)
+        from ._jit import MAIN_COMPILING
+
         interrupt = ctypes.cast(ctypes.pythonapi.PyErr_SetInterruptEx, ctypes.c_void_p).value
         ir = f"""
         define void @poinsot_sigint(i32 %sig) {{
           %slot = inttoptr i64 {self._slot.ctypes.data} to i64**
           %flag = load volatile i64*, i64** %slot
           store volatile i64 1, i64* %flag
-          %raise = inttoptr i64 {interrupt} to i32 (i32)*
-          %r = call i32 %raise(i32 %sig)
+          %cp = inttoptr i64 {MAIN_COMPILING.ctypes.data} to i64*
+          %c = load volatile i64, i64* %cp
+          %busy = icmp ne i64 %c, 0
+          br i1 %busy, label %raise, label %done
+        raise:
+          %fn = inttoptr i64 {interrupt} to i32 (i32)*
+          %r = call i32 %fn(i32 %sig)
+          br label %done
+        done:
           ret void
         }}
         """
@@ -277,10 +288,6 @@ class _Raising:
         if self._on:
             self._flag.restore()
         if self._cancel[0] != 0 and exc[0] is None:
-            # the handler made Python's SIGINT pending: the interpreter raises it at its
-            # next check (a backward jump), here, as one KeyboardInterrupt
-            for _ in range(4):
-                pass
             raise KeyboardInterrupt
 
 

@@ -29,12 +29,6 @@ from .._numba_cache import depends_on
 # the kernels inline helpers of another file: let their cache see its edits
 depends_on(__file__, nh)
 
-# Newton: once an update is below _NEAR * |x| one more iteration brings the
-# quadratically converging iterate to round-off.
-_NEAR = 1e-9
-_MAXIT = 60
-
-
 @njit(cache=True, nogil=True)
 def midpoint(q, m, W, M, t, nsub, coef, cancel, progress):
     """Implicit midpoint (Lie-Poisson) + Cayley attitude for N bodies.
@@ -94,14 +88,11 @@ def midpoint(q, m, W, M, t, nsub, coef, cancel, progress):
                 x0 = m0 + h2 * f0
                 x1 = m1 + h2 * f1
                 x2 = m2 + h2 * f2
-                # Newton's error obeys e+ <~ (h |w| / 2) e^2 / |m|: once an update is
-                # below 1e-8 |m| and h |w| / 2 <= 1, the next one would be below round-off
-                hw = h2 * max(abs(o0), abs(o1), abs(o2))
-                quick = hw <= 1.0
-                done = False
-                near = False
+                # Newton on the midpoint momentum, stopped by the one rule of every
+                # midpoint path (poinsot._numba_helpers.midpoint_newton_done)
+                prev = math.inf
                 it = 0
-                while it < _MAXIT:
+                while True:
                     it += 1
                     o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
                     # residual F(x) = x - m - h/2 (x cross W x + M)
@@ -120,15 +111,15 @@ def midpoint(q, m, W, M, t, nsub, coef, cancel, progress):
                     nx = max(abs(x0), abs(x1), abs(x2))
                     if not (nd == nd and nx == nx and nx < math.inf):
                         return Q, MO, 2, i, k, it
-                    if near or nd <= 1e-16 * nx or (quick and nd <= 1e-8 * nx):
-                        done = True
+                    rel = 0.0 if nd == 0.0 else nd / (nx if nx != 0.0 else 1.0)
+                    stop = nh.midpoint_newton_done(rel, prev, it)
+                    if stop > 0:
                         break
-                    if nd <= _NEAR * nx:
-                        near = True
+                    if stop < 0:
+                        return Q, MO, 1, i, k, it
+                    prev = rel
                 if it > worst:
                     worst = it
-                if not done:
-                    return Q, MO, 1, i, k, it
                 # midpoint angular velocity; a = h w / 2 is the Gibbs vector of the step
                 o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2)
                 a0 = h2 * o0

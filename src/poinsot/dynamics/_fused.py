@@ -502,10 +502,6 @@ def rk4_batch(y0, J, Ji, kind, par, t_out, nsub, oq, ow, failed, cancel, done): 
         )
 
 
-_EPS = np.finfo(np.float64).eps
-_MP_MAXIT = 100
-
-
 @njit(cache=True)
 def midpoint_body(
     q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, cancel, done
@@ -572,13 +568,10 @@ def midpoint_body(
                 if not (num == num and den == den and den < np.inf):
                     return 2, k, it
                 rel = 0.0 if num == 0.0 else num / (den if den != 0.0 else 1.0)
-                # at round-off, the next update predicted below round-off (rel^2 / prev,
-                # for linear and quadratic convergence), or stagnating
-                if rel <= 2 * _EPS or (
-                    it >= 2 and (rel * rel <= _EPS * prev or 1e-12 >= rel >= prev / 2)
-                ):
+                stop = nh.midpoint_newton_done(rel, prev, it)
+                if stop > 0:
                     break
-                if it >= _MP_MAXIT or not rel < 1.0:
+                if stop < 0:
                     return 1, k, it
                 prev = rel
             if it > worst:

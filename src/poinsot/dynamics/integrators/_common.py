@@ -126,8 +126,6 @@ _normalize = _quat.normalize
 _cayley_quat = _quat.from_gibbs
 _rotvec_quat = _quat.from_rotvec
 _axis_quat = _quat.axis_angle_principal
-_EPS = np.finfo(float).eps
-_MAXIT = 100
 
 
 def _rhs(

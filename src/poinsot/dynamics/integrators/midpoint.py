@@ -10,14 +10,14 @@ from typing import Any
 
 import numpy as np
 
+from ..._jit import source
+from ..._numba_helpers import midpoint_newton_done
 from ..._progress import _Report
 from ..._typing import FloatArray, IntArray
 from ..._vec import cross as _cross
 from ..._vec import hat as _hat
 from ...errors import IntegrationError
 from ._common import (
-    _EPS,
-    _MAXIT,
     RigidIntegrator,
     RigidProblem,
     RunOptions,
@@ -31,6 +31,9 @@ from ._common import (
     _stages,
     _substeps,
 )
+
+#: the stop rule of the compiled midpoint steps, run as plain Python here (no dispatch)
+_newton_done = source(midpoint_newton_done)
 
 
 def _run_midpoint(
@@ -151,11 +154,10 @@ def _midpoint_step_numpy(
         x = x - dx
         num, den = np.abs(dx).max(-1), np.abs(x).max(-1)
         rel = float(np.max(np.where(num == 0.0, 0.0, num / np.where(den == 0.0, 1.0, den))))
-        # converged: at round-off, the next update predicted below round-off
-        # (rel^2 / prev, valid for linear and quadratic convergence), or stagnating
-        if rel <= 2 * _EPS or (it >= 2 and (rel * rel <= _EPS * prev or 1e-12 >= rel >= prev / 2)):
+        stop = _newton_done(rel, prev, it)  # the compiled paths' own rule
+        if stop > 0:
             break
-        if it >= _MAXIT or not rel < 1.0:  # too slow, or diverging
+        if stop < 0:  # too slow, or diverging
             raise IntegrationError(
                 f"midpoint integration failed: the implicit step did not converge at "
                 f"t = {tn:.6g} (the torque's dependence on the state is too strong "
