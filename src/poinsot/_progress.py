@@ -18,8 +18,9 @@ per step; :func:`run_compiled` raises it on Ctrl-C in one of two ways:
 
 Ctrl-C while numba compiles the kernel (a cold cache) stops the call at once too: while
 the main thread compiles, the native handler also makes Python's SIGINT pending, which
-the compiler's Python code raises; a worker thread that is compiling is not waited for (it finishes the
-compilation, which numba caches, and its kernel stops at the first step).
+the compiler's Python code raises; a worker thread that is compiling is not waited for
+(it finishes the compilation, which numba caches, and its kernel stops at the first
+step).
 
 Either way nothing partial is returned and no kernel is left running. The kernel's
 arithmetic is untouched: results are bit-identical with or without it.
