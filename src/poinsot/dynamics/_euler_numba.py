@@ -29,6 +29,7 @@ from .._numba_cache import depends_on
 # the kernels inline helpers of another file: let their cache see its edits
 depends_on(__file__, nh)
 
+
 @njit(cache=True, nogil=True)
 def midpoint(q, m, W, M, t, nsub, coef, cancel, progress):
     """Implicit midpoint (Lie-Poisson) + Cayley attitude for N bodies.
