@@ -22,6 +22,8 @@ LAYERS: list[tuple[str, ...]] = [
         "_numba_cache",
         "_progress",
         "_scratch",
+        "_files",
+        "_drift",
         "_display",
         "__version__",
         "integrators",

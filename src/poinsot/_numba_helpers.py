@@ -261,16 +261,10 @@ def matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, x0, x1, x2):  # pragma: 
     )
 
 
-@njit(**_INLINE)
-def vertical(q0, q1, q2, q3):  # pragma: no cover - compiled
-    """``|L|^2 R^T e_z``: the third row of ``R(L)`` (theory §2) scaled by ``|L|^2``, the
-    upward vertical in body axes for a unit ``L``; :func:`qrot_inverse` of ``e_z``
-    without its products with zero."""
-    return (
-        2.0 * (q1 * q3 - q0 * q2),
-        2.0 * (q2 * q3 + q0 * q1),
-        q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3,
-    )
+#: ``|L|^2 R^T e_z``, the third row of ``R(L)`` times ``|L|^2``: the upward vertical in
+#: body axes for a unit ``L``; :func:`qrot_inverse` of ``e_z`` without its products with
+#: zero (the formula of :func:`poinsot.rotations._scalar.vertical`)
+vertical = njit(**_INLINE)(_S.vertical)
 
 
 @njit(**_INLINE)

@@ -13,7 +13,9 @@ like NumPy. The public, validated operations are in
 - :func:`axis_angle` ``(cos(f/2), sin(f/2) e)``; :func:`axis_angle_principal`
   the same about body axis ``i``;
 - :func:`from_gibbs` (Cayley map) ``(1, g) / sqrt(1 + g.g)`` for the Gibbs vector
-  ``g = tan(f/2) e``; :func:`from_rotvec` ``exp((0, v)/2)``.
+  ``g = tan(f/2) e``; :func:`from_rotvec` ``exp((0, v)/2)``;
+- :func:`attitude_distance` the angle of ``R_ref^-1 R``, ``2 atan2(|l|, |l0|)`` of
+  ``L_ref~ o L`` (accurate at every angle, unlike ``arccos``).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ __all__ = [
     "to_body",
     "up_body",
     "gravity_potential",
+    "attitude_distance",
 ]
 
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
@@ -155,3 +158,21 @@ def gravity_potential(quat: np.ndarray, moment: np.ndarray) -> np.ndarray:
     1.0
     """
     return np.einsum("...i,...i->...", up_body(quat), moment)
+
+
+def attitude_distance(q_ref: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Angle (rad, in ``[0, pi]``) of the rotation ``R_ref^-1 R`` between two attitudes.
+
+    ``2 atan2(|l|, |l0|)`` of the relative quaternion ``L_ref~ o L`` (theory §2, §4):
+    the geodesic distance ``|log(R_ref^-1 R)|``, accurate near 0 and near ``pi`` alike
+    (``arccos`` of the scalar part loses half the digits near 0, ``arccos`` of the
+    matrix trace near both). The same for ``L`` and ``-L``; a ratio of two parts of the
+    same quaternion, so it does not need unit quaternions. Arrays (..., 4), broadcast.
+
+    >>> q = np.array([np.cos(0.25), 0.0, 0.0, np.sin(0.25)])   # 0.5 rad about z
+    >>> round(float(attitude_distance(np.array([1.0, 0, 0, 0]), -2.0 * q)), 15)
+    0.5
+    """
+    from .rotations.rotvec import angle_from_quat
+
+    return angle_from_quat(mul(conj(q_ref), q))

@@ -38,7 +38,8 @@ from typing import Any
 import numpy as np
 
 from . import _display
-from ._quat import gravity_potential
+from ._drift import relative_drift
+from ._quat import attitude_distance, gravity_potential
 from ._typing import FloatArray
 from ._validate import as_float_array
 from .errors import InvalidInputError, InvalidTypeError
@@ -463,17 +464,13 @@ class Trajectory(Result):
 
         Absolute (``max_k |T_k - T_0|``) where ``T_0 = 0``, e.g. a body at rest.
         """
-        if self.energy is None:
-            return None
-        return _relative(np.abs(self.energy - self.energy[0]), np.abs(self.energy[0]))
+        return None if self.energy is None else relative_drift(self.energy)
 
     @property
     def momentum_drift(self) -> float | None:
         """``max_k ||K_k| - |K_0|| / |K_0|`` (relative drift of ``|K|``; absolute at 0)."""
         k = self.momentum_norm
-        if k is None:
-            return None
-        return _relative(np.abs(k - k[0]), k[0])
+        return None if k is None else relative_drift(k)
 
     def conserved_drifts(self) -> dict[str, float]:
         """Relative drift of each quantity the motion conserves, ``name -> drift``.
@@ -509,10 +506,11 @@ class Trajectory(Result):
                 v = self._potential_energy()
                 if v is not None:
                     scale = np.max(np.abs(self.energy), axis=0)
-                    value = _drift(self.energy + np.asarray(v, dtype=float), scale)
+                    total = self.energy + np.asarray(v, dtype=float)
+                    value = relative_drift(total, floor=scale)
             elif name == "momentum_z" and self.momentum is not None:
-                kz = self.momentum[..., 2]
-                value = _relative(np.abs(kz - kz[0]), np.linalg.norm(self.momentum[0], axis=-1))
+                k0 = np.linalg.norm(self.momentum[0], axis=-1)
+                value = relative_drift(self.momentum[..., 2], k0)
             if value is not None:
                 out[name] = value
         return out
@@ -538,10 +536,7 @@ class Trajectory(Result):
     @property
     def momentum_vector_drift(self) -> float | None:
         """``max_k |K_k - K_0| / |K_0|``: for a free body the space vector is constant."""
-        if self.momentum is None:
-            return None
-        d = np.linalg.norm(self.momentum - self.momentum[0], axis=-1)
-        return _relative(d, np.linalg.norm(self.momentum[0], axis=-1))
+        return None if self.momentum is None else relative_drift(self.momentum, vector=True)
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -577,13 +572,6 @@ class PoseTrajectory(Trajectory):
         ch = self.channels()
         rot = super().state_channels()
         return {"position": ch["position"], "velocity": ch["velocity"], **rot}
-
-
-def _relative(diff: FloatArray, ref: FloatArray) -> float:
-    """Largest ``diff / ref``, using ``diff`` itself where the reference is zero."""
-    ref = np.broadcast_to(ref, diff.shape)
-    scaled = np.divide(diff, ref, out=np.array(diff, dtype=float), where=ref != 0)
-    return float(np.max(scaled))
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -875,7 +863,7 @@ class CoordinateTrajectory(Result):
         """``max_t |E - E_0| / max(|E_0|, max_t T)`` over the batch (relative to the
         larger of the initial energy and the largest kinetic energy, so that an
         energy that starts at 0 is judged on the scale of the motion)."""
-        return _drift(self.energy, self._scale())
+        return None if self.energy is None else relative_drift(self.energy, floor=self._scale())
 
     def _drift_rows(self) -> list[tuple[str, float]]:
         # the Jacobi integral only where it is a first integral (autonomous system,
@@ -886,16 +874,7 @@ class CoordinateTrajectory(Result):
     @property
     def jacobi_drift(self) -> float | None:
         """``max_t |h - h_0| / max(|h_0|, max_t T)`` (as :attr:`energy_drift`), or None."""
-        return _drift(self.jacobi, self._scale())
-
-
-def _drift(x: FloatArray | None, scale: FloatArray | None = None) -> float | None:
-    if x is None:
-        return None
-    d = np.max(np.abs(x - x[0]), axis=0)
-    ref = np.abs(x[0]) if scale is None else np.maximum(np.abs(x[0]), scale)
-    rel = np.where(ref > 0, d / np.where(ref > 0, ref, 1.0), d)
-    return float(np.max(rel))
+        return None if self.jacobi is None else relative_drift(self.jacobi, floor=self._scale())
 
 
 # --------------------------------------------------------------------------- compare
@@ -1070,7 +1049,7 @@ def compare(a: Result, b: Result) -> Comparison:
             )
         if name == "attitude":
             ra, rb = a.rotation, b.rotation  # type: ignore[attr-defined]
-            d = np.asarray((rb.inv() * ra).magnitude(), dtype=float)
+            d = attitude_distance(rb.as_quat(), ra.as_quat())
             units, scale = "rad", float(np.pi)
         elif ca.components:
             d = np.linalg.norm(va - vb, axis=-1)

@@ -87,6 +87,7 @@ from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
 from ..errors import GimbalLockWarning, InvalidInputError
+from ..rotations._scalar import vertical
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 
@@ -861,8 +862,7 @@ class LagrangeTop:
         s.om = 2.0 * (q_1 * q_1 + q_2 * q_2)  # 1 - u0 = 2 sin^2(theta/2)
         s.op = 2.0 * (q_0 * q_0 + q_3 * q_3)  # 1 + u0
         s.u0 = 0.5 * (s.op - s.om)
-        gam1 = 2.0 * (q_1 * q_3 - q_0 * q_2)
-        gam2 = 2.0 * (q_2 * q_3 + q_0 * q_1)
+        gam1, gam2, _ = vertical(q_0, q_1, q_2, q_3)  # gamma_1, gamma_2 (R^T e_z)
         s.s2 = s.om * s.op  # sin^2(theta0)
         s.L = p * gam1 + qq * gam2  # psi' sin^2 theta
         s.V = gam1 * qq - gam2 * p  # u0'

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._drift import relative_change
 from .._typing import ArrayLike
 from ..errors import InvalidInputError, InvalidTypeError
 
@@ -305,8 +306,8 @@ def plot_invariant_drift(
     k = np.linalg.norm(trajectory.omega @ body.inertia_tensor.T, axis=-1)
     gam = np.linalg.norm(body.gamma(trajectory.rotation), axis=-1)
     tiny = 1e-17
-    ax.plot(t, np.abs(e - e[0]) / max(abs(e[0]), tiny) + tiny, label="|E - E0| / |E0|")
-    ax.plot(t, np.abs(kz - kz[0]) / max(float(k[0]), tiny) + tiny, label="|K_z - K_z0| / |K|")
+    ax.plot(t, np.abs(relative_change(e, floor=tiny)) + tiny, label="|E - E0| / |E0|")
+    ax.plot(t, np.abs(relative_change(kz, k[0], floor=tiny)) + tiny, label="|K_z - K_z0| / |K|")
     ax.plot(t, np.abs(gam - 1.0) + tiny, label="| |gamma| - 1 |")
     ax.set_yscale("log")
     ax.set_xlabel("t (s)")

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -43,6 +42,8 @@ from typing import Any
 
 import numpy as np
 
+from .._files import atomic_write
+from .._quat import attitude_distance
 from .._validate import as_float_array, is_integer
 from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Result, Trajectory
@@ -256,7 +257,7 @@ def write_report(
         max_frames=max_frames, max_frame_angle=max_frame_angle, sections=sections,
         series=series, drawing=drawing,
     )  # fmt: skip
-    _write_atomic(path, page)
+    atomic_write(path, lambda fh: fh.write(page))
     return path
 
 
@@ -662,7 +663,8 @@ def _angles_between(rot: Any) -> np.ndarray:
     """Turn (rad) between consecutive attitudes."""
     if len(rot) < 2:
         return np.zeros(0)
-    return np.asarray((rot[:-1].inv() * rot[1:]).magnitude(), dtype=float)
+    q = rot.as_quat()
+    return attitude_distance(q[:-1], q[1:])
 
 
 def _frame_indices(t: Any, turns: Any, max_frames: int, max_angle: float) -> Any:
@@ -876,7 +878,7 @@ def _panels(tr: Any, ref: Any, checks: Any, tq: Any, euler_seq: Any, free_body: 
                 )
             )
     if ref is not None and ref.t.shape == t.shape and np.allclose(ref.t, t):
-        err = (ref.rotation.inv() * tr.rotation).magnitude()
+        err = attitude_distance(ref.rotation.as_quat(), tr.rotation.as_quat())
         worst = float(np.max(err, initial=0.0))
         noise = "round-off only, " if worst < 1e-12 else ""  # 1e-12 rad: ~4e3 ulp of pi
         out.append(
@@ -1119,23 +1121,3 @@ def _build(
         f"{fmt_number(float(t[-1]))} s &middot; {frames_k.size} animation frames"
     )
     return payload, notes, meta
-
-
-# --------------------------------------------------------------------------- page
-
-
-def _write_atomic(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600; a report is meant to be shared
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise

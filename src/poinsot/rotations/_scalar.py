@@ -27,6 +27,7 @@ __all__ = [
     "hamilton",
     "rotate",
     "to_matrix",
+    "vertical",
     "matrix_residual",
     "matrix_check",
     "is_rotation_within",
@@ -107,6 +108,22 @@ def to_matrix(w: float, x: float, y: float, z: float) -> tuple[float, ...]:
         2.0 * (xz - wy),
         2.0 * (yz + wx),
         1.0 - 2.0 * (xx + yy),
+    )
+
+
+def vertical(w: float, x: float, y: float, z: float) -> tuple[float, float, float]:
+    """``|L|^2 R^T e_z``: the third row of :func:`to_matrix` written for any ``L`` (its
+    entries scaled by ``|L|^2``); for a unit ``L`` the vertical ``gamma`` in body axes,
+    whose entry ``i`` is the vertical component of body axis ``i`` (theory §2, §10).
+    Arithmetic only: also runs on NumPy arrays, element by element.
+
+    >>> vertical(1.0, 0.0, 0.0, 0.0)
+    (0.0, 0.0, 1.0)
+    """
+    return (
+        2.0 * (x * z - w * y),
+        2.0 * (y * z + w * x),
+        w * w - x * x - y * y + z * z,
     )
 
 

@@ -51,6 +51,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._drift import relative_change
+
 if TYPE_CHECKING:  # pragma: no cover
     from ._toml import Table
     from .schema import AttitudeSpec, Scenario
@@ -215,20 +217,11 @@ class Check:
     conserved: bool = True
     law: str = ""
 
-    def _scale(self) -> float:
-        if self.scale is not None:
-            return float(self.scale)
-        v0 = np.asarray(self.values[0], dtype=float)
-        return float(np.abs(v0) if v0.ndim == 0 else np.linalg.norm(v0))
-
     def relative_change(self) -> np.ndarray:
         """``(values - expected) / scale`` at each time, shape (n,) (the norm of the
         difference for vectors; signed for scalars)."""
         v = np.asarray(self.values, dtype=float)
-        e = v[:1] if self.expected is None else np.asarray(self.expected, dtype=float)
-        d = v - e if v.ndim == 1 else np.linalg.norm(v - e, axis=-1)
-        scale = self._scale()
-        return d / scale if scale > 0 else d
+        return relative_change(v, self.scale, expected=self.expected, vector=v.ndim > 1)
 
     @property
     def max_relative_deviation(self) -> float:

@@ -15,12 +15,12 @@ import json
 import os
 import shutil
 import tempfile
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .._files import atomic_write
 from ..errors import InvalidInputError
 from ..trajectory import Trajectory
 from .kind import Progress
@@ -80,25 +80,9 @@ def prepare_output_dir(out: str | os.PathLike[str], *, force: bool = False) -> P
     return out
 
 
-def _atomic(path: Path, write: Callable[[Any], None], mode: str = "w") -> Path:
-    """Write ``path`` through a temporary file in the same directory, then rename."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.partial")
-    try:
-        if mode == "w":
-            with open(tmp, "w", encoding="utf-8", newline="\n") as fh:
-                write(fh)
-                fh.flush()
-                os.fsync(fh.fileno())
-        else:
-            with open(tmp, "wb") as fh:
-                write(fh)
-                fh.flush()
-                os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
+#: the one atomic writer (:func:`poinsot._files.atomic_write`); the writers below call it
+#: by this name, which tests replace to simulate a full disk
+_atomic = atomic_write
 
 
 # ----------------------------------------------------------------------------- trajectory

@@ -270,8 +270,8 @@ def _compile(src: str) -> dict[str, Any]:
     across processes) or, if no cache directory is writable, in memory."""
     import hashlib
     import importlib.util
-    import os
 
+    from .._files import atomic_write
     from .._jit import NUMBA, njit
 
     with _COMPILE_LOCK:
@@ -290,9 +290,7 @@ def _compile(src: str) -> dict[str, Any]:
         name = f"poinsot_rhs_{digest}"
         path = folder / f"{name}.py"
         if not path.exists() or path.read_text() != text:
-            tmp = folder / f".{name}.{os.getpid()}.tmp"
-            tmp.write_text(text)
-            os.replace(tmp, path)
+            atomic_write(path, lambda fh: fh.write(text))
         import sys
 
         module = sys.modules.get(name)

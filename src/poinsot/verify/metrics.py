@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from .._drift import relative_drift
+from .._quat import attitude_distance
 from .cases import Case
 
 #: metric name -> (units, what it measures)
@@ -137,14 +139,6 @@ def integrals(case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray
     return {"energy": jacobi}
 
 
-def _drift(x: np.ndarray, scale: float) -> float:
-    if x.ndim == 1:
-        d = np.abs(x - x[0])
-    else:
-        d = np.linalg.norm(x - x[0], axis=-1)
-    return float(np.max(d) / scale) if scale > 0 else float(np.max(d))
-
-
 def event_signal(case: Case, states: dict[str, np.ndarray]) -> np.ndarray | None:
     """The signal whose level crossings are the case's events, or None.
 
@@ -219,15 +213,8 @@ def evaluate(
     values: dict[str, float] = {}
     errors: dict[str, np.ndarray] = {"t": case.t}
     if case.kind == "rigid":
-        q = np.asarray(states["quat"], dtype=float)
-        qe = exact["quat"]
-        # geodesic angle 2 atan2(|vec(qe* q)|, |w(qe* q)|), on unit quaternions
-        qn = q / np.linalg.norm(q, axis=-1, keepdims=True)
-        dot = np.abs(np.einsum("ni,ni->n", qn, qe))
-        cross = np.linalg.norm(
-            qe[:, :1] * qn[:, 1:] - qn[:, :1] * qe[:, 1:] - np.cross(qe[:, 1:], qn[:, 1:]), axis=-1
-        )
-        att = 2.0 * np.arctan2(cross, dot)
+        # geodesic angle 2 atan2(|vec(qe~ q)|, |w(qe~ q)|), whatever the norm of q
+        att = attitude_distance(exact["quat"], np.asarray(states["quat"], dtype=float))
         werr = np.linalg.norm(states["omega"] - exact["omega"], axis=-1)
         wscale = float(np.max(np.linalg.norm(exact["omega"], axis=-1)))
         errors.update(attitude=att, omega=werr / wscale)
@@ -248,13 +235,13 @@ def evaluate(
             values["events"] = math.inf
     else:
         got, ref = integrals(case, states), integrals(case, exact)
-        values["energy"] = _drift(got["energy"], abs(float(ref["energy"][0])))
+        values["energy"] = relative_drift(got["energy"], abs(float(ref["energy"][0])))
         if "momentum" in got:
             k = got["momentum"]
             k0 = float(np.linalg.norm(ref["momentum"][0]))
             if case.group == "heavy-top":
                 k = k[:, 2]  # only K_z is conserved under gravity
-            values["momentum"] = _drift(k, k0)
+            values["momentum"] = relative_drift(k, k0, vector=k.ndim > 1)
         if case.event is not None:
             level = float(case.event["level"])
             te = crossings(case.t, event_signal(case, exact), level)  # type: ignore[arg-type]

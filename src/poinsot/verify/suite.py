@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .._files import atomic_write
 from ..errors import InvalidInputError
 from .cases import CASES_VERSION, Case, cases
 from .engines import make, run
@@ -219,9 +220,8 @@ def write(verdict: Verdict, out: str | Path, *, pages: bool = True) -> list[Path
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     files = [out / "verify.json"]
-    files[0].write_text(
-        json.dumps(verdict.to_json(), indent=2, allow_nan=False, default=_json) + "\n"
-    )
+    text = json.dumps(verdict.to_json(), indent=2, allow_nan=False, default=_json) + "\n"
+    atomic_write(files[0], lambda fh: fh.write(text))
     links: dict[str, str] = {}
     if pages:
         (out / "cases").mkdir(exist_ok=True)
@@ -233,7 +233,8 @@ def write(verdict: Verdict, out: str | Path, *, pages: bool = True) -> list[Path
                 links[res.case] = f"cases/{p.name}"
                 files.append(p)
     page = out / "verify.html"
-    page.write_text(_index_page(verdict, links))
+    index = _index_page(verdict, links)
+    atomic_write(page, lambda fh: fh.write(index))
     files.append(page)
     return files
 
