@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from .._files import atomic_write
 from .._progress import Progress, as_progress
 from ..errors import InvalidInputError, InvalidTypeError
 from .dispersion import Dispersion, SmallRotation, UniformRotation
@@ -382,13 +383,8 @@ def _table(cols: dict[str, Any], first: int, digest: str, index: int) -> Any:
 def _write_atomic_parquet(table: Any, path: Path) -> None:
     import pyarrow.parquet as pq
 
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        pq.write_table(table, tmp)
-        os.replace(tmp, path)
-    except BaseException:  # Ctrl-C or a full disk: no half-written file left behind
-        tmp.unlink(missing_ok=True)
-        raise
+    # Ctrl-C or a full disk: no half-written file left behind (the one atomic writer)
+    atomic_write(path, lambda fh: pq.write_table(table, fh), mode="b")
 
 
 def _chunk_path(out: Path, index: int) -> Path:
@@ -417,9 +413,7 @@ def _prepare(out: Path, digest: str, manifest: dict[str, Any], resume: bool) -> 
     elif resume and (out / CHUNK_DIR).exists():
         raise EnsembleError(f"{out} has chunks but no {MANIFEST}: cannot resume safely.")
     (out / CHUNK_DIR).mkdir(parents=True, exist_ok=True)
-    tmp = mpath.with_name(f".{MANIFEST}.tmp")
-    tmp.write_text(json.dumps(manifest, indent=2))
-    os.replace(tmp, mpath)
+    atomic_write(mpath, lambda fh: fh.write(json.dumps(manifest, indent=2)))
     done = set()
     import pyarrow.parquet as pq
 

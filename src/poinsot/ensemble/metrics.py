@@ -33,7 +33,10 @@ from typing import Any
 
 import numpy as np
 
+from .._drift import relative_change
+from .._quat import attitude_distance
 from ..errors import InvalidInputError
+from ..rotations._scalar import vertical
 
 __all__ = ["Metric", "METRICS", "COMPONENTS", "Motion", "from_table"]
 
@@ -65,9 +68,8 @@ class Motion:
 
 def _nutation(quat: np.ndarray, axis: int = 2) -> np.ndarray:
     """Angle (deg) between body axis ``axis`` (R e_axis) and space ``e_z``."""
-    w, x, y, z = np.moveaxis(quat, -1, 0)
-    # z-component of the column ``axis`` of R (theory §2)
-    cz = (2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z)[axis]
+    # z-component of the column ``axis`` of R: the third row of R (theory §2)
+    cz = vertical(*np.moveaxis(quat, -1, 0))[axis]
     return np.degrees(np.arccos(np.clip(cz, -1.0, 1.0)))
 
 
@@ -156,15 +158,11 @@ class Metric:
             c = _component(m, self.component)
             return c.max(axis=0) if k == "max" else c.min(axis=0)
         if k == "final_attitude_error":
-            q = m.quat[-1]
-            p = m.nominal_final * np.where(q @ m.nominal_final < 0, -1.0, 1.0)[:, None]
-            # 4 atan(|q - p| / |q + p|): accurate for small and large angles alike
-            return np.degrees(
-                4 * np.arctan2(np.linalg.norm(q - p, axis=-1), np.linalg.norm(q + p, axis=-1))
-            )
-        e = m.energy
-        scale = np.maximum(np.abs(e[0]), np.finfo(float).tiny)
-        return np.abs(e - e[0]).max(axis=0) / scale
+            # the angle of the relative rotation (one definition: poinsot._quat)
+            return np.degrees(attitude_distance(m.nominal_final, m.quat[-1]))
+        # relative drift of T + V (one definition: poinsot._drift)
+        change = relative_change(m.energy, floor=np.finfo(float).tiny)
+        return np.max(np.abs(change), axis=0)
 
 
 def from_table(table: dict[str, Any], index: int) -> Metric:

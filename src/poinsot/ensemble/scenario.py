@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._files import atomic_write
 from .._progress import Progress
 from ..errors import InvalidInputError
 from . import dispersion as _disp
@@ -443,9 +444,7 @@ def _report(problem: EnsembleProblem, result: EnsembleResult, path: Path) -> Non
         summary=s,
         animated=False,
     )
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(page, encoding="utf-8")
-    os.replace(tmp, path)
+    atomic_write(path, lambda fh: fh.write(page))
 
 
 def run_scenario_ensemble(
@@ -492,7 +491,6 @@ def run_scenario_ensemble(
     )
     outp = Path(out)
     _report(problem, result, outp / "report.html")
-    tmp = outp / ".summary.json.tmp"
-    tmp.write_text(json.dumps(result.summary, indent=2, allow_nan=True))
-    os.replace(tmp, outp / "summary.json")
+    summary = json.dumps(result.summary, indent=2, allow_nan=True)
+    atomic_write(outp / "summary.json", lambda fh: fh.write(summary))
     return result
