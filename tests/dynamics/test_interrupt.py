@@ -133,6 +133,15 @@ def test_progress_must_be_a_bool_or_a_callable():
 # The compiled call in the calling thread (poinsot._progress, module notes): SIGINT goes
 # to a native handler that raises the kernel's cancel flag, and Python's handler is back
 # afterwards. `kernel` here is a Python stand-in that signals its own process.
+@pytest.fixture
+def sigint_default():
+    """Python's own SIGINT handler for the test: a run started in the background (make in
+    a non-interactive shell, as CI) inherits SIGINT ignored, and these tests would skip."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def _needs_native_flag():
     from poinsot._jit import NUMBA
 
@@ -142,7 +151,7 @@ def _needs_native_flag():
         pytest.skip("SIGINT does not have Python's default handler in this process")
 
 
-def test_ctrl_c_in_the_calling_thread_sets_the_flag_and_raises():
+def test_ctrl_c_in_the_calling_thread_sets_the_flag_and_raises(sigint_default):
     import threading
 
     from poinsot._progress import run_compiled
@@ -173,7 +182,7 @@ def test_ctrl_c_in_the_calling_thread_sets_the_flag_and_raises():
     assert run_compiled(lambda: int(cancel[0]), (), cancel=cancel, background=True) == 0
 
 
-def test_a_custom_sigint_handler_keeps_the_worker_thread():
+def test_a_custom_sigint_handler_keeps_the_worker_thread(sigint_default):
     """With the user's own handler in place the call runs in a worker thread (the user's
     handler, not ours, must see a Ctrl-C)."""
     import threading
@@ -208,7 +217,7 @@ def _numba_listener(on_start):
     return event.install_listener("numba:compile", Listener())
 
 
-def test_ctrl_c_while_numba_compiles_in_the_calling_thread_stops_the_compilation():
+def test_ctrl_c_while_numba_compiles_in_the_calling_thread_stops_the_compilation(sigint_default):
     """Issue 38: with an empty cache a Ctrl-C 15 s into `simulate(rtol=1e-10)` stopped
     95 s later (the native flag waited for the compilation, then for the kernel). Now the
     compilation itself is interrupted: the kernel is never compiled, nor run."""
@@ -244,6 +253,9 @@ def test_ctrl_c_while_a_worker_compiles_does_not_wait_for_the_compilation():
             time.sleep(8.0)
 
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    # Python's own handler for the test (a run started in the background, as CI's make,
+    # inherits SIGINT ignored)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     with _numba_listener(slow_compile):
         timer.start()
         t0 = time.monotonic()
@@ -255,6 +267,7 @@ def test_ctrl_c_while_a_worker_compiles_does_not_wait_for_the_compilation():
             waited = time.monotonic() - t0
         finally:
             timer.cancel()
+            signal.signal(signal.SIGINT, previous)
     assert waited < 4.0, waited  # not the 8 s compilation (before: 8 s and more)
 
 

@@ -37,6 +37,10 @@ def _command(out: Path, *extra: str) -> list[str]:
             "--out", str(out), *extra]  # fmt: skip
 
 
+def _sigint_default() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _env() -> dict[str, str]:
     return dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
 
@@ -77,6 +81,9 @@ def test_ctrl_c_exits_130_with_a_resume_hint_and_resume_completes_it(workers, tm
         text=True,
         env=_env(),
         start_new_session=True,  # its own process group, as a shell job
+        # Ctrl-C reaches a foreground job: a test run started in the background (make in a
+        # non-interactive shell, as CI) inherits SIGINT ignored, which Python then keeps
+        preexec_fn=_sigint_default,
     )
     pgid = proc.pid
     try:
