@@ -513,14 +513,12 @@ class ScenarioKind:
     def report(self, result: ScenarioResult) -> ReportSpec:
         """What ``report.html`` shows for ``result`` (a ScenarioResult).
 
-        The default draws a rigid body (``result.trajectory`` a Trajectory): its
-        shape, the fixed point under gravity, the torque and the Euler angles,
-        the reference's axes and attitude error (:func:`.kinds._rigid.rigid_report`).
-        Kinds of other motions override it.
+        The default shows the motion (``result.trajectory``) and the checks. The kinds
+        of a rigid body derive from :class:`.kinds._rigid.RigidKind`, whose report
+        draws the body (its shape, the fixed point under gravity, the torque, the Euler
+        angles, the reference's axes and attitude error); other kinds override it.
         """
-        from .kinds._rigid import rigid_report
-
-        return rigid_report(result)
+        return ReportSpec(motion=result.trajectory, checks=tuple(result.checks))
 
     def describe_scenario(self, scenario: Scenario) -> list[str]:
         """Phrases describing the scenario before it is run (``poinsot check``)."""

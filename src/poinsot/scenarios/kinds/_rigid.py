@@ -11,6 +11,7 @@ import numpy as np
 
 from ...integrators import INTEGRATORS
 from ..io import read_angular_velocity, read_body, read_torque
+from ..kind import BodyLayer, ReportSpec, ScenarioKind
 
 TABLES = ("body", "angular_velocity", "torque")
 
@@ -163,8 +164,6 @@ def rigid_report(result: Any, *, polhode: bool = False, sections: Any = ()) -> A
     and herpolhode when ``polhode`` (the torque-free body, docs/theory.md §10), the
     torque, Euler angles of the scenario's sequence (``"ZXZ"`` precession,
     nutation and spin under a torque, else ``"ZYX"``) and the reference run."""
-    from ..kind import BodyLayer, ReportSpec
-
     s = result.scenario
     tr = result.trajectory
     body = None
@@ -200,3 +199,12 @@ def rigid_report(result: Any, *, polhode: bool = False, sections: Any = ()) -> A
         checks=tuple(result.checks),
         sections=tuple(sections),
     )
+
+
+class RigidKind(ScenarioKind):
+    """The base of the kinds whose result is a rigid body's
+    :class:`~poinsot.trajectory.Trajectory`: their report draws the body
+    (:func:`rigid_report`)."""
+
+    def report(self, result: Any) -> ReportSpec:
+        return rigid_report(result)

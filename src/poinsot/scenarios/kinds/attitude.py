@@ -19,7 +19,7 @@ import numpy as np
 
 from ... import integrators
 from ..io import read_body, read_omega_profile
-from ..kind import Check, Entry, Facts, ScenarioKind
+from ..kind import Check, Entry, Facts
 from ..schema import KINEMATICS_METHODS
 from . import _rigid
 
@@ -42,7 +42,7 @@ def omega_function(profile: Any) -> Any:
     return sampled
 
 
-class Attitude(ScenarioKind):
+class Attitude(_rigid.RigidKind):
     name = "attitude"
     title = "attitude propagated from a prescribed angular velocity (Poisson's equation)"
     tables = ("body", "omega_profile")

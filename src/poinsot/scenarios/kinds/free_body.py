@@ -23,7 +23,7 @@ import numpy as np
 
 from ... import integrators
 from ..describe import fmt
-from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from ..kind import Check, Entry, Facts, FigureSpec
 from ..schema import DYNAMICS_METHODS
 from . import _rigid
 
@@ -110,7 +110,7 @@ class FreeBodyFacts(Facts):
         return lines
 
 
-class FreeBody(ScenarioKind):
+class FreeBody(_rigid.RigidKind):
     name = "free-body"
     title = "torque-free rigid body (Euler-Poinsot case)"
     tables = _rigid.TABLES

@@ -30,7 +30,7 @@ import numpy as np
 
 from ... import integrators
 from ..describe import fmt
-from ..kind import Check, Entry, Facts, FigureSpec, ScenarioKind
+from ..kind import Check, Entry, Facts, FigureSpec
 from ..schema import DYNAMICS_METHODS
 from . import _rigid
 
@@ -130,7 +130,7 @@ def _lagrange_facts(top: Any, scenario: Any) -> Facts:
     return Facts(e, lines)
 
 
-class HeavyTop(ScenarioKind):
+class HeavyTop(_rigid.RigidKind):
     name = "heavy-top"
     title = "heavy rigid body about a fixed point (Euler-Poisson; Lagrange, Kovalevskaya tops)"
     tables = _rigid.TABLES

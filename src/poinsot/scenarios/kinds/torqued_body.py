@@ -22,12 +22,12 @@ if TYPE_CHECKING:
 import numpy as np
 
 from ... import integrators
-from ..kind import Check, Entry, Facts, ScenarioKind
+from ..kind import Check, Entry, Facts
 from ..schema import DYNAMICS_METHODS
 from . import _rigid
 
 
-class TorquedBody(ScenarioKind):
+class TorquedBody(_rigid.RigidKind):
     name = "torqued-body"
     title = "rigid body under a torque (constant body or space torque, or gravity about a pin)"
     tables = _rigid.TABLES
