@@ -28,6 +28,19 @@ from .central import (
     kepler,
     power_law,
 )
+from .earth import (
+    EARTH_ROTATION_RATE,
+    PendulumForce,
+    UniformGravity,
+    earth_frame,
+    eastward_deflection,
+    foucault_frame,
+    foucault_pendulum,
+    foucault_period,
+    foucault_precession_rate,
+    normal_gravity,
+    swing_plane_angles,
+)
 from .euler_equations import (
     METHODS,
     euler_rhs,
@@ -43,39 +56,27 @@ from .free_body import (
     RegularPrecession,
 )
 from .free_motion import simulate_free_motion
-from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
-from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
-from .lagrange_top import (
-    MOTION_TYPES,
+from .gyroscope import (
     GyroscopicMoment,
-    LagrangeTop,
     critical_spin,
     gyroscope_precession_rate,
     gyroscopic_moment,
     regular_precession_rates,
     sleeping_top_stable,
 )
+from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
+from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
+from .lagrange_top import MOTION_TYPES, LagrangeTop
 from .particles import (
-    EARTH_ROTATION_RATE,
     PARTICLE_SOLVERS,
     BodyInertialForces,
     InertialForces,
     ParticleTrajectory,
-    PendulumForce,
-    UniformGravity,
     body_inertial_forces,
-    earth_frame,
-    eastward_deflection,
-    foucault_frame,
-    foucault_pendulum,
-    foucault_period,
-    foucault_precession_rate,
     inertial_forces,
     jacobi_integral,
-    normal_gravity,
     relative_motion,
     simulate_particle,
-    swing_plane_angles,
 )
 from .systems import (
     FORCE_KINDS,

@@ -299,7 +299,7 @@ def plot_swing_plane(
     >>> len(ax.lines)
     2
     """
-    from ..dynamics.particles import swing_plane_angles
+    from ..dynamics.earth import swing_plane_angles
 
     p = np.asarray(trajectory.position)
     v = np.asarray(trajectory.velocity)
