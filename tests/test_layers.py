@@ -24,6 +24,7 @@ LAYERS: list[tuple[str, ...]] = [
         "_scratch",
         "_files",
         "_drift",
+        "_deprecate",
         "_display",
         "__version__",
         "integrators",

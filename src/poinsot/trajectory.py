@@ -324,7 +324,11 @@ class Trajectory(Result):
     method : str
         Name of the method that produced the samples.
     energy : ndarray, shape (n,) or (n, N), optional
-        Rotational kinetic energy ``T = w^T J w / 2`` (J, theory §8).
+        Rotational kinetic energy ``T = w^T J w / 2`` (J, theory §8), for every
+        method, torque-free or not: never ``T + V`` (an exact heavy top's
+        ``T + V`` is ``info["total_energy"]``, ``V`` is ``info["potential_energy"]``).
+        For a :class:`PoseTrajectory` it also holds the translation (see there).
+        What ``energy`` means per result type: docs/conventions.md, "energy".
     momentum : ndarray, shape (n, 3) or (n, N, 3), optional
         Angular momentum ``K = R J w`` in space axes (kg m^2/s, theory §8, §10).
     info : mapping
@@ -549,6 +553,10 @@ class PoseTrajectory(Trajectory):
     (m/s), ``"attitude"`` (rad) and ``"omega"`` (rad/s). Returned by
     :func:`poinsot.dynamics.simulate_free_motion`.
 
+    ``energy`` is the whole kinetic energy ``T = m |v|^2 / 2 + w^T J w / 2``
+    (J: translation of the centre of mass plus rotation about it), never ``T + V``
+    (docs/conventions.md, "energy").
+
     Examples
     --------
     >>> import numpy as np, poinsot
@@ -599,7 +607,11 @@ class PointTrajectory(Result):
     acceleration : ndarray, shape (n, ..., 3), optional
         Acceleration (m/s^2) in the same axes.
     energy : ndarray, shape (n, ...), optional
-        Energy of the motion (J), as the method defines it.
+        Mechanical energy ``T + V = m |v|^2 / 2 + V(r)`` (J, inertial frame), given
+        where the motion has one potential (``CentralOrbit.trajectory``); None
+        otherwise (``simulate_particle``, ``foucault_pendulum``: relative to a
+        moving frame the conserved quantity is
+        :func:`~poinsot.dynamics.jacobi_integral`). docs/conventions.md, "energy".
     inertial_position, inertial_velocity : ndarray, shape (n, ..., 3), optional
         The same motion seen from the inertial frame (inertial axes, m and m/s).
     frame_rotation : Rotation, shape (n,), optional
@@ -736,7 +748,10 @@ class CoordinateTrajectory(Result):
     units : tuple of str
         The SI unit of each coordinate (``"rad"``, ``"m"``; ``""`` when unknown).
     energy : ndarray, shape (n, ...), optional
-        Mechanical energy ``T + P + V0`` (J in SI).
+        Mechanical energy ``T + P + V0`` (J in SI; ``P`` the potential,
+        ``V0`` the velocity-free part of the generalized potential), as
+        :meth:`~poinsot.symbolic.LagrangeSystem.energy`; the kinetic energy alone is
+        ``kinetic``. docs/conventions.md, "energy".
     kinetic : ndarray, shape (n, ...), optional
         Kinetic energy ``T`` (J in SI).
     jacobi : ndarray, shape (n, ...), optional

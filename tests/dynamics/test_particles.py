@@ -236,7 +236,7 @@ def test_inertial_output_of_rotating_frame_matches_rotation():
 @pytest.mark.parametrize(
     ("kwargs", "err", "match"),
     [
-        ({"r0": [np.nan, 0, 0]}, InvalidInputError, "r0"),
+        ({"position0": [np.nan, 0, 0]}, InvalidInputError, "position0"),
         ({"mass": -1.0}, InvalidInputError, "mass"),
         ({"mass": 0.0}, InvalidInputError, "mass"),
         ({"t": [0.0, 0.0]}, InvalidInputError, "increasing"),
@@ -245,15 +245,15 @@ def test_inertial_output_of_rotating_frame_matches_rotation():
         ({"frame": "rotating"}, InvalidTypeError, "frame"),
         ({"force": lambda t, r, v: [np.nan, 0, 0]}, IntegrationError, "non-finite"),
         ({"force": lambda t, r, v: [1.0, 0.0]}, InvalidInputError, "shape"),
-        ({"v0": [0, 0]}, InvalidInputError, "v0"),
+        ({"velocity0": [0, 0]}, InvalidInputError, "velocity0"),
     ],
 )
 def test_simulate_particle_bad_input(kwargs, err, match):
     args = {
         "frame": FrameMotion(omega=[0, 0, 1]),
         "force": None,
-        "r0": [1, 0, 0],
-        "v0": [0, 0, 0],
+        "position0": [1, 0, 0],
+        "velocity0": [0, 0, 0],
         "t": [0.0, 1.0],
     }
     args.update(kwargs)
@@ -261,8 +261,8 @@ def test_simulate_particle_bad_input(kwargs, err, match):
         simulate_particle(
             args.pop("frame"),
             args.pop("force"),
-            args.pop("r0"),
-            args.pop("v0"),
+            args.pop("position0"),
+            args.pop("velocity0"),
             args.pop("t"),
             **args,
         )

@@ -72,7 +72,7 @@ def test_errors_name_the_argument(f):
         f(0.0, np.ones(3))
     with pytest.raises(InvalidInputError, match="'mass'"):
         f(0.0, np.ones(4), {"mass": 1.0})
-    with pytest.raises(InvalidTypeError, match=r"params\['m'\]"):
+    with pytest.raises(InvalidTypeError, match=r"parameters\['m'\]"):
         f(0.0, np.ones(4), {"m": "heavy"})
     with pytest.raises(InvalidInputError, match=r"\['c', 'k', 'm'\]"):
         SYSTEM.to_numeric()(0.0, np.ones(4))

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import integrators
+from .._deprecate import renamed
 from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_float_array, as_times, as_vec3, batch_shape
@@ -536,11 +537,12 @@ def _tolerance(x: ArrayLike, name: str, strict: bool) -> float:
     return float(a)
 
 
+@renamed(r0="position0", v0="velocity0")
 def simulate_particle(
     frame: Any,  # a FrameMotion or frame(t) -> FrameMotion (checked below)
     force: ArrayLike | Callable[..., ArrayLike] | None,
-    r0: ArrayLike,
-    v0: ArrayLike,
+    position0: ArrayLike,
+    velocity0: ArrayLike,
     t: ArrayLike,
     *,
     mass: ArrayLike = 1.0,
@@ -567,7 +569,7 @@ def simulate_particle(
         The real force in N, frame axes: ``None`` (none), a constant vector
         (per particle if batched), or ``force(t, r, v) -> (3,)`` called with
         one particle's relative ``r`` and ``v_r`` (shape (3,)).
-    r0, v0 : array_like, shape (..., 3)
+    position0, velocity0 : array_like, shape (..., 3)
         Initial relative position (m) and velocity (m/s); leading dimensions
         are a batch of independent particles.
     t : array_like, shape (n,)
@@ -639,8 +641,8 @@ def simulate_particle(
             f"Expected `frame` to describe one frame (shape ()), got shape {frame.shape}; "
             "pass a callable frame(t) for a frame that changes with time."
         )
-    r0 = as_vec3(r0, "r0")
-    v0 = as_vec3(v0, "v0")
+    r0 = as_vec3(position0, "position0")
+    v0 = as_vec3(velocity0, "velocity0")
     m = as_float_array(mass, "mass")
     if np.any(m <= 0):
         raise InvalidInputError(
@@ -656,7 +658,7 @@ def simulate_particle(
     inertial = as_bool(inertial, "inertial")
     fmodel = _Force(force)
     fshape = (fmodel.const, 1) if fmodel.const is not None else ((), 0)
-    batch = batch_shape(r0=(r0, 1), v0=(v0, 1), mass=(m, 0), force=fshape)
+    batch = batch_shape(position0=(r0, 1), velocity0=(v0, 1), mass=(m, 0), force=fshape)
     nb = math.prod(batch)
     R0 = np.broadcast_to(r0, batch + (3,)).reshape(nb, 3)
     V0 = np.broadcast_to(v0, batch + (3,)).reshape(nb, 3)

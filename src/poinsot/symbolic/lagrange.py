@@ -683,7 +683,7 @@ class LagrangeSystem:
 
     # ---------------------------------------------------------------- numbers
     def to_numeric(self, parameters: Mapping[str, float] | None = None) -> NumericLagrangian:
-        """A compiled right-hand side ``f(t, y, params=None)``, ``y = [q, q']``.
+        """A compiled right-hand side ``f(t, y, parameters=None)``, ``y = [q, q']``.
 
         See :class:`poinsot.symbolic.NumericLagrangian`.
 
@@ -735,7 +735,7 @@ class LagrangeSystem:
         array([ 1.,  0., -1.])
         """
         num = self.to_numeric(parameters if isinstance(parameters, Mapping) else None)
-        return num.simulate(q0, qdot0, t, params=parameters, **options)
+        return num.simulate(q0, qdot0, t, parameters=parameters, **options)
 
     def _repr_latex_(self) -> str:
         """Jupyter: Lagrange's equations ``E_k L = Q*_k`` (theory §11), one per line, with

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 import numpy as np
 
 from .. import integrators
+from .._deprecate import renamed, take_renamed
 from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotError
@@ -348,9 +349,9 @@ def _framed(kind: str, message: str, subject: str = "a state") -> str:
 class NumericLagrangian:
     """Compiled right-hand side of a :class:`~poinsot.symbolic.LagrangeSystem`.
 
-    ``f(t, y, params=None) -> y'`` with the state ``y = [q, q']`` (shape
+    ``f(t, y, parameters=None) -> y'`` with the state ``y = [q, q']`` (shape
     ``(..., 2n)``, any leading batch shape), ``t`` a float or an array
-    broadcasting to the batch shape, and ``params`` a mapping from parameter
+    broadcasting to the batch shape, and ``parameters`` a mapping from parameter
     names to floats (overriding the defaults given to ``to_numeric``). The same
     calling convention as :func:`scipy.integrate.solve_ivp` expects for
     ``fun(t, y)`` with a 1-D ``y``.
@@ -379,7 +380,7 @@ class NumericLagrangian:
     >>> f = LagrangeSystem([x], x.diff() ** 2 / 2, k * x**2 / 2).to_numeric({"k": 4.0})
     >>> f(0.0, [1.0, 0.5])
     array([ 0.5, -4. ])
-    >>> f(0.0, np.ones((5, 3, 2)), params={"k": 1.0}).shape
+    >>> f(0.0, np.ones((5, 3, 2)), parameters={"k": 1.0}).shape
     (5, 3, 2)
     """
 
@@ -441,7 +442,10 @@ class NumericLagrangian:
         return dict(zip(self.parameters, self._defaults.tolist(), strict=True))
 
     def _param_vector(
-        self, params: Mapping[str, float] | ArrayLike | None, base: np.ndarray, name: str = "params"
+        self,
+        params: Mapping[str, float] | ArrayLike | None,
+        base: np.ndarray,
+        name: str = "parameters",
     ) -> np.ndarray:
         if not isinstance(params, Mapping):
             raise InvalidTypeError(
@@ -472,7 +476,7 @@ class NumericLagrangian:
         if np.isnan(p).any():
             missing = [nm for nm, v in zip(self.parameters, p, strict=True) if np.isnan(v)]
             raise InvalidInputError(
-                f"Expected values for the parameters {missing} (pass `params` or "
+                f"Expected values for the parameters {missing} (pass `parameters` or "
                 "`to_numeric(parameters)`)."
             )
         return p
@@ -649,11 +653,12 @@ class NumericLagrangian:
         text = found[1] if found is not None else f"the equations of motion raise {exc!r}"
         raise InvalidInputError(_framed("state", text)) from None
 
+    @renamed(params="parameters")
     def check_state(
         self,
         t: ArrayLike,
         y: ArrayLike,
-        params: Mapping[str, float] | ArrayLike | None = None,
+        parameters: Mapping[str, float] | ArrayLike | None = None,
         *,
         compiled: bool = True,
     ) -> None:
@@ -666,7 +671,7 @@ class NumericLagrangian:
             Times, broadcasting to the batch shape of ``y``.
         y : array_like, shape (..., 2n)
             States ``[q, q']``.
-        params : mapping, optional
+        parameters : mapping, optional
             Parameter values (override the defaults).
         compiled : bool, optional
             Evaluate with the compiled kernels (default) or run the same generated
@@ -691,7 +696,7 @@ class NumericLagrangian:
         ...
         poinsot.errors.InvalidInputError: Expected ... give NaN at t = 0, x = -1, x' = 0: ...
         """
-        p = self._params(params)
+        p = self._params(parameters)
         a = self._state(y)
         flat = np.ascontiguousarray(a.reshape(-1, 2 * self.n))
         tt = np.broadcast_to(np.asarray(t, dtype=float), a.shape[:-1]).reshape(-1)
@@ -722,17 +727,29 @@ class NumericLagrangian:
             )
         return out.reshape(a.shape), lam.reshape((*batch, self.n_constraints))
 
+    @renamed(params="parameters")
     def __call__(
-        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+        self,
+        t: ArrayLike,
+        y: ArrayLike,
+        parameters: Mapping[str, float] | ArrayLike | None = None,
+        **deprecated: Any,
     ) -> FloatArray:
         """``y' = [q', q'']`` at time ``t`` (shape of ``y``)."""
+        if deprecated:  # no wrapper on this hot path (see poinsot._deprecate)
+            parameters = take_renamed(
+                "NumericLagrangian.__call__",
+                deprecated,
+                {"parameters": parameters},
+                params="parameters",
+            )["parameters"]
         one = self._one
         if (
             one is not None
             and type(y) is np.ndarray
             and y.dtype is _F64
             and y.shape == self._shape1
-            and params is None
+            and parameters is None
             and (type(t) is float or type(t) is _NP_F64)
         ):
             # one state as solve_ivp passes it: numba's entry point compiled for exactly
@@ -743,9 +760,9 @@ class NumericLagrangian:
                 if one(t, y, self._work, out):
                     return out
             except _UNDEFINED as exc:
-                self._raise_undefined(exc, t, y, params)
+                self._raise_undefined(exc, t, y, parameters)
         if (
-            params is None
+            parameters is None
             and type(y) is np.ndarray
             and y.shape == (2 * self.n,)
             and y.dtype == np.float64
@@ -764,23 +781,25 @@ class NumericLagrangian:
                 if ns["_batch"](aux["t1"], y.reshape(1, -1), self._defaults, out, aux["lam1"]) < 0:
                     return out.reshape(-1)
             except _UNDEFINED as exc:
-                self._raise_undefined(exc, t, y, params)
-        return self._run(t, y, params)[0]
+                self._raise_undefined(exc, t, y, parameters)
+        return self._run(t, y, parameters)[0]
 
     rhs = __call__
 
+    @renamed(params="parameters")
     def multipliers(
-        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+        self, t: ArrayLike, y: ArrayLike, parameters: Mapping[str, float] | ArrayLike | None = None
     ) -> FloatArray:
         """The constraint multipliers ``lambda`` (shape ``(..., m)``) at the states ``y``."""
-        return self._run(t, y, params)[1]
+        return self._run(t, y, parameters)[1]
 
+    @renamed(params="parameters")
     def mass_matrix(
-        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+        self, t: ArrayLike, y: ArrayLike, parameters: Mapping[str, float] | ArrayLike | None = None
     ) -> FloatArray:
         """``M(q, t)`` (shape ``(..., n, n)``) at the states ``y``."""
         ns = self._kernels()
-        p = self._params(params)
+        p = self._params(parameters)
         a = self._state(y)
         flat = np.ascontiguousarray(a.reshape(-1, 2 * self.n))
         tt = np.broadcast_to(np.asarray(t, dtype=float), a.shape[:-1]).reshape(-1)
@@ -789,7 +808,7 @@ class NumericLagrangian:
         try:
             ns["_mass"](tt, flat, p, out)
         except _UNDEFINED as exc:
-            self._raise_undefined(exc, tt, flat, params)
+            self._raise_undefined(exc, tt, flat, parameters)
         return out.reshape((*a.shape[:-1], self.n, self.n))
 
     def _lambdified(self, which: str) -> Any:
@@ -820,23 +839,26 @@ class NumericLagrangian:
         val = fn(np.asarray(t, dtype=float), q, u, p)
         return np.broadcast_to(np.asarray(val, dtype=float), a.shape[:-1]).copy()
 
+    @renamed(params="parameters")
     def energy(
-        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+        self, t: ArrayLike, y: ArrayLike, parameters: Mapping[str, float] | ArrayLike | None = None
     ) -> FloatArray:
         """Mechanical energy ``T + P + V0`` at the states ``y`` (shape ``y.shape[:-1]``)."""
-        return self._scalar("energy", t, y, params)
+        return self._scalar("energy", t, y, parameters)
 
+    @renamed(params="parameters")
     def kinetic(
-        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+        self, t: ArrayLike, y: ArrayLike, parameters: Mapping[str, float] | ArrayLike | None = None
     ) -> FloatArray:
         """Kinetic energy ``T`` at the states ``y`` (shape ``y.shape[:-1]``)."""
-        return self._scalar("kinetic", t, y, params)
+        return self._scalar("kinetic", t, y, parameters)
 
+    @renamed(params="parameters")
     def jacobi(
-        self, t: ArrayLike, y: ArrayLike, params: Mapping[str, float] | ArrayLike | None = None
+        self, t: ArrayLike, y: ArrayLike, parameters: Mapping[str, float] | ArrayLike | None = None
     ) -> FloatArray:
         """Jacobi integral ``q' . dL/dq' - L`` at the states ``y``."""
-        return self._scalar("jacobi", t, y, params)
+        return self._scalar("jacobi", t, y, parameters)
 
     def _units(self, units: Mapping[str, str] | Sequence[str] | None) -> tuple[str, ...]:
         """The units of the coordinates: given, else guessed from their names."""
@@ -859,13 +881,14 @@ class NumericLagrangian:
             )
         return tuple(units)
 
+    @renamed(params="parameters")
     def simulate(
         self,
         q0: ArrayLike,
         qdot0: ArrayLike,
         t: ArrayLike,
         *,
-        params: Mapping[str, float] | ArrayLike | None = None,
+        parameters: Mapping[str, float] | ArrayLike | None = None,
         method: str = "DOP853",
         rtol: float = 1e-10,
         atol: float = 1e-12,
@@ -886,7 +909,7 @@ class NumericLagrangian:
             many initial states at once (one vectorised system).
         t : array_like, shape (k,)
             Output times, strictly increasing.
-        params : mapping, optional
+        parameters : mapping, optional
             Parameter values (override the defaults).
         method : str, optional
             A ``solve_ivp`` method (:data:`SOLVERS`), default ``"DOP853"``.
@@ -927,7 +950,7 @@ class NumericLagrangian:
 
         method = integrators.check_method(method, SOLVERS, "a Lagrangian system")
         tt = as_times(t, "t")
-        p = self._params(params)
+        p = self._params(parameters)
         pmap = dict(zip(self.parameters, p.tolist(), strict=True))
         from .._validate import as_float_array
 
