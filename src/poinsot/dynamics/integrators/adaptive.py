@@ -25,18 +25,10 @@ SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
 
 def _run_adaptive(
-    j: FloatArray,
-    j_inv: FloatArray,
-    q: FloatArray,
-    w: FloatArray,
-    t: FloatArray,
-    h_max: float,
-    m_const: Any,
-    tfn: Any,
-    rtol: float,
-    atol: float,
-    solver: str,
+    p: RigidProblem, rtol: float, atol: float, solver: str
 ) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+    j, j_inv, q, w = p.j, p.j_inv, p.q, p.omega0
+    t, h_max, m_const, tfn = p.t, p.h_max, p.m_const, p.tfn
     from scipy.integrate import solve_ivp
 
     nb = q.shape[0]
@@ -94,7 +86,4 @@ class Adaptive(RigidIntegrator):
     name = "adaptive"
 
     def run(self, p: RigidProblem, o: RunOptions) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
-        return _run_adaptive(
-            p.j, p.j_inv, p.q, p.omega0, p.t, p.h_max, p.m_const, p.tfn,
-            o.rtol, o.atol, o.solver,
-        )  # fmt: skip
+        return _run_adaptive(p, o.rtol, o.atol, o.solver)

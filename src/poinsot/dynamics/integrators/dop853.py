@@ -106,10 +106,7 @@ class DOP853(RigidIntegrator):
             principal=p.principal,
         )
         if fused is None:  # a Python torque: the slower, vectorised solve_ivp path
-            qs, ws, info = _run_adaptive(
-                p.j, p.j_inv, p.q, p.omega0, p.t, p.h_max, p.m_const, p.tfn,
-                o.rtol, o.atol, "DOP853",
-            )  # fmt: skip
+            qs, ws, info = _run_adaptive(p, o.rtol, o.atol, "DOP853")
             info["path"] = "solve_ivp DOP853 (torque is a Python callable)"
             return qs, ws, info
         return _fused_info(fused, p.t, o.rtol, o.atol, mark=o.failures == "mark")

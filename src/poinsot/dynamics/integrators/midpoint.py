@@ -12,7 +12,6 @@ import numpy as np
 
 from ..._jit import source
 from ..._numba_helpers import midpoint_newton_done
-from ..._progress import _Report
 from ..._typing import FloatArray, IntArray
 from ..._vec import cross as _cross
 from ..._vec import hat as _hat
@@ -36,18 +35,9 @@ from ._common import (
 _newton_done = source(midpoint_newton_done)
 
 
-def _run_midpoint(
-    j: FloatArray,
-    j_inv: FloatArray,
-    q: FloatArray,
-    w: FloatArray,
-    t: FloatArray,
-    h_max: float,
-    comp: Sequence[float],
-    m_const: Any,
-    tfn: Any,
-    report: _Report | None = None,
-) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+def _run_midpoint(p: RigidProblem) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+    j, j_inv, q, w, t, h_max = p.j, p.j_inv, p.q, p.omega0, p.t, p.h_max
+    comp, m_const, tfn, report = p.comp, p.m_const, p.tfn, p.report
     nsub = _substeps(t, h_max)
     m = np.einsum("...ij,...j->...i", j, w)
     info = _fixed_step_info(t, nsub, comp)
@@ -180,6 +170,4 @@ class Midpoint(RigidIntegrator):
     name = "midpoint"
 
     def run(self, p: RigidProblem, o: RunOptions) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
-        return _run_midpoint(
-            p.j, p.j_inv, p.q, p.omega0, p.t, p.h_max, p.comp, p.m_const, p.tfn, p.report
-        )
+        return _run_midpoint(p)

@@ -8,7 +8,6 @@ from typing import Any
 
 import numpy as np
 
-from ..._progress import _Report
 from ..._typing import FloatArray
 from ._common import (
     RigidIntegrator,
@@ -26,17 +25,10 @@ from ._common import (
 )
 
 
-def _run_rk4_compiled(
-    j: FloatArray,
-    q: FloatArray,
-    w: FloatArray,
-    t: FloatArray,
-    h_max: float,
-    model: Any,
-    report: _Report | None = None,
-) -> tuple[Any, Any, Any]:
+def _run_rk4_compiled(p: RigidProblem) -> tuple[Any, Any, Any]:
     """RK4 in one compiled loop per body (built-in torques); ``(None, None, None)``
     for a Python torque."""
+    j, q, w, t, h_max, model, report = p.j, p.q, p.omega0, p.t, p.h_max, p.model, p.report
     from .. import _fused  # numba, loaded on first use
 
     nsub = _substeps(t, h_max)
@@ -53,16 +45,9 @@ def _run_rk4_compiled(
     return qs, ws, info
 
 
-def _run_rk4(
-    j: FloatArray,
-    j_inv: FloatArray,
-    q: FloatArray,
-    w: FloatArray,
-    t: FloatArray,
-    h_max: float,
-    m_const: Any,
-    tfn: Any,
-) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+def _run_rk4(p: RigidProblem) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
+    j, j_inv, q, w = p.j, p.j_inv, p.q, p.omega0
+    t, h_max, m_const, tfn = p.t, p.h_max, p.m_const, p.tfn
     nsub = _substeps(t, h_max)
     n = t.shape[0]
     Q = np.empty((n,) + q.shape)
@@ -95,8 +80,8 @@ class RK4(RigidIntegrator):
     name = "rk4"
 
     def run(self, p: RigidProblem, o: RunOptions) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
-        qs, ws, info = _run_rk4_compiled(p.j, p.q, p.omega0, p.t, p.h_max, p.model, p.report)
+        qs, ws, info = _run_rk4_compiled(p)
         if qs is None:  # a Python torque: the NumPy stages, one batch step at a time
-            qs, ws, info = _run_rk4(p.j, p.j_inv, p.q, p.omega0, p.t, p.h_max, p.m_const, p.tfn)
+            qs, ws, info = _run_rk4(p)
             info["path"] = "NumPy (torque is a Python callable)"
         return qs, ws, info

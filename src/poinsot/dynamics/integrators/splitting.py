@@ -4,12 +4,10 @@ the space vector K to round-off, exact for a symmetric body."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
-from ..._progress import _Report
 from ..._typing import FloatArray
 from ._common import (
     RigidIntegrator,
@@ -30,16 +28,7 @@ from ._common import (
 
 
 def _run_splitting(
-    j: FloatArray,
-    q: FloatArray,
-    w: FloatArray,
-    t: FloatArray,
-    h_max: float,
-    comp: Sequence[float],
-    m_const: Any,
-    tfn: Any,
-    gravity: Any = None,
-    report: _Report | None = None,
+    p: RigidProblem, tfn: Any, gravity: Any = None
 ) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
     """Strang splitting of the free-body Hamiltonian, with the torque as kicks.
 
@@ -55,6 +44,9 @@ def _run_splitting(
     fixed point given to the compiled stepper, whose kicks ``h gamma x (m g c)``
     (``gamma = R^T e_z`` frozen) are the exact flow of the potential.
     """
+    j, q, w, t, h_max, comp = p.j, p.q, p.omega0, p.t, p.h_max, p.comp
+    m_const: Any = p.m_const
+    report = p.report
     from ...mass import principal_axes
 
     nsub = _substeps(t, h_max)
@@ -137,9 +129,5 @@ class Splitting(RigidIntegrator):
         if isinstance(model, GravityTorque) and model.moment.shape[:-1] in ((), p.batch):
             # gravity about a fixed point: exact kicks inside the compiled stepper
             grav = np.broadcast_to(model.moment, p.batch + (3,)).reshape(p.q.shape[0], 3)
-            return _run_splitting(
-                p.j, p.q, p.omega0, p.t, p.h_max, p.comp, p.m_const, None, grav, p.report
-            )
-        return _run_splitting(
-            p.j, p.q, p.omega0, p.t, p.h_max, p.comp, p.m_const, p.tfn, None, p.report
-        )
+            return _run_splitting(p, None, grav)
+        return _run_splitting(p, p.tfn)
