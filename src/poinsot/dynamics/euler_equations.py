@@ -78,7 +78,7 @@ from .._validate import (
     batch_shape,
     plain_vec3,
 )
-from .._vec import all_diagonal3, inverse3
+from .._vec import inverse3
 from ..errors import InvalidInputError
 from ..mass.tensor import _momentum, single_principal_moments
 from ..rotations.rotation import Rotation
@@ -95,7 +95,7 @@ from .integrators import (  # noqa: F401 - SOLVERS, FAILURE_REASONS: their old h
     RigidProblem,
     RunOptions,
 )
-from .integrators._common import _rhs, _TorqueCall
+from .integrators._common import _rhs
 from .invariants import _kinetic_space
 from .torques import ConstantBodyTorque, GravityTorque, as_torque
 
@@ -431,7 +431,6 @@ def simulate(
         h_max = float(h_arr)
         if not h_max > 0:
             raise InvalidInputError(f"Expected `max_step` to be positive, got {max_step!r}.")
-    n_body = math.prod(batch)
     # refusals from the methods' facts (integrators.INTEGRATORS[...].options)
     marked = None if failures == "raise" else failures
     opts = {"order": order, "rtol": rtol, "atol": atol, "solver": solver, "failures": marked}
@@ -443,43 +442,10 @@ def simulate(
     comp = COMPOSITIONS[as_int(order, "order", choices=tuple(COMPOSITIONS))]
     report = as_progress(progress, "simulate")
 
-    # flatten the batch to N bodies (the kernels take (N, 3), (N, 4), (N, 3, 3))
-    q = np.ascontiguousarray(np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4))
-    omega0_n = np.ascontiguousarray(np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3))
-    moments: FloatArray | None = None
-    tensor: FloatArray | None = None
-    if principal:
-        # principal moments (N, 3) (the usual batch): the diagonal forms of the kernels and
-        # of the invariants; the compiled DOP853 packs its own tensors, without a temporary
-        moments = np.ascontiguousarray(np.broadcast_to(j, batch + (3,)).reshape(n_body, 3))
-        diagonal = True
-    else:
-        if j.shape[:-2] == batch:
-            tensor = j.reshape(-1, 3, 3)
-        else:
-            tensor = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
-        diagonal = all_diagonal3(tensor)
-        if diagonal:
-            moments = np.diagonal(tensor, axis1=-2, axis2=-1)
-    mc = None
-    if m_const is not None:
-        mc = np.ascontiguousarray(np.broadcast_to(m_const, batch + (3,)).reshape(n_body, 3))
-    problem = RigidProblem(
-        q=q,
-        omega0=omega0_n,
-        t=tt,
-        h_max=h_max,
-        comp=comp,
-        moments=moments,
-        tensor=tensor,
-        principal=principal,
-        diagonal=diagonal,
-        model=model,
-        m_const=mc,
-        tfn=None if torque_fn is None else _TorqueCall(torque_fn, batch, method),
-        batch=batch,
-        report=report,
-    )
+    problem = RigidProblem.flatten(
+        j, principal, q0, omega0, tt, batch, h_max=h_max, comp=comp, model=model,
+        m_const=m_const, torque_fn=torque_fn, method=method, report=report,
+    )  # fmt: skip
     runner = RIGID[method]
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -501,8 +467,8 @@ def simulate(
     # tensor's off-diagonal terms add exact zeros)
     with hold() as scratch:  # J w is a temporary here: only T and K_s are kept
         k = scratch.empty("momentum_body", ws.shape)
-        if moments is not None:  # diagonal
-            k = _momentum(moments, True, ws, out=k)
+        if problem.moments is not None:  # diagonal
+            k = _momentum(problem.moments, True, ws, out=k)
         else:
             k = _momentum(problem.j, False, ws, out=k)
         energy, momentum = _kinetic_space(qs, ws, k)

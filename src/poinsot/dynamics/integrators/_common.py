@@ -22,8 +22,8 @@ import numpy as np
 from ... import _quat
 from ..._progress import _Report
 from ..._typing import ArrayLike, FloatArray, IntArray
+from ..._vec import all_diagonal3, diagonal3, inverse3
 from ..._vec import cross as _cross
-from ..._vec import diagonal3, inverse3
 from ...errors import IntegrationError, InvalidInputError
 from ...integrators import INTEGRATORS, Integrator
 from ...mass.tensor import _momentum
@@ -68,6 +68,57 @@ class RigidProblem:
         self.principal, self.diagonal = principal, diagonal
         self.model, self.m_const, self.tfn = model, m_const, tfn
         self.batch, self.report = batch, report
+
+    @classmethod
+    def flatten(
+        cls,
+        j: FloatArray,
+        principal: bool,
+        q0: FloatArray,
+        omega0: FloatArray,
+        t: FloatArray,
+        batch: tuple[int, ...],
+        *,
+        h_max: float,
+        comp: Sequence[float],
+        model: Any,
+        m_const: FloatArray | None,
+        torque_fn: Any,
+        method: str,
+        report: _Report | None,
+    ) -> RigidProblem:
+        """The problem of checked arguments broadcast to ``batch``, flattened to N bodies
+        (the kernels take (N, 3), (N, 4), (N, 3, 3)): ``j`` principal moments (...,
+        3) when ``principal``, else tensors (..., 3, 3); ``torque_fn`` a torque model
+        evaluated from Python (called by ``method``'s steps), or None."""
+        n_body = math.prod(batch)
+        q = np.ascontiguousarray(np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4))
+        w = np.ascontiguousarray(np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3))
+        moments: FloatArray | None = None
+        tensor: FloatArray | None = None
+        if principal:
+            # principal moments (N, 3) (the usual batch): the diagonal forms of the kernels
+            # and of the invariants; the compiled DOP853 packs its own tensors
+            moments = np.ascontiguousarray(np.broadcast_to(j, batch + (3,)).reshape(n_body, 3))
+            diagonal = True
+        else:
+            if j.shape[:-2] == batch:
+                tensor = j.reshape(-1, 3, 3)
+            else:
+                full = np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3)
+                tensor = np.ascontiguousarray(full)
+            diagonal = all_diagonal3(tensor)
+            if diagonal:
+                moments = np.diagonal(tensor, axis1=-2, axis2=-1)
+        mc = None
+        if m_const is not None:
+            mc = np.ascontiguousarray(np.broadcast_to(m_const, batch + (3,)).reshape(n_body, 3))
+        tfn = None if torque_fn is None else _TorqueCall(torque_fn, batch, method)
+        return cls(
+            q=q, omega0=w, t=t, h_max=h_max, comp=comp, moments=moments, tensor=tensor,
+            principal=principal, diagonal=diagonal, model=model, m_const=mc, tfn=tfn,
+            batch=batch, report=report,
+        )  # fmt: skip
 
     @cached_property
     def j(self) -> FloatArray:
