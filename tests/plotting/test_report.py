@@ -966,3 +966,56 @@ def test_euler_angles_wrapped_alike_and_law_legends_not_doubled(tmp_path):
     assert np.ptp(_named_series(P, "psi, precession (Z)")[1]) > 300  # 9 rad of yaw, wrapped
     names = list(_series(P))
     assert any(n.startswith("position vs Kepler's equation: max ") for n in names), names
+
+
+# ----------------------------------------------------------------- the spec (issue 39)
+
+
+def test_spec_and_keyword_forms_give_the_same_page(tmp_path, prec):
+    """``write_report(path, spec)`` and the keyword form read one ReportSpec: the same
+    page; ``show(spec)`` draws it too; the scenario kinds' names are the same classes."""
+    from poinsot import scenarios
+    from poinsot.plotting import BodyLayer, Chart, Drawing, ReportSpec, show
+
+    tr, _, J = prec
+    series = [("q", "rad", {"a": np.sin(tr.t), "b": np.cos(tr.t)}, ("b",))]
+    drawing = {"points": {"tip": np.ones((tr.t.size, 3))}, "trails": ["tip"]}
+    kw = dict(inertia=J, mass=2.0, fixed_point=True, free_body=False, euler_seq="ZXZ",
+              torque=np.zeros((tr.t.size, 3)), series=series, drawing=drawing,
+              title="t", summary={"a": 1}, max_frames=200)  # fmt: skip
+    spec = ReportSpec(
+        tr,
+        BodyLayer(inertia=J, mass=2.0, fixed_point=True),
+        torque=np.zeros((tr.t.size, 3)),
+        euler_seq="ZXZ",
+        charts=(Chart("q", "rad", series[0][2], ("b",)),),
+        drawing=Drawing({"tip": np.ones((tr.t.size, 3))}, trails=("tip",)),
+        title="t",
+        summary={"a": 1},
+        max_frames=200,
+    )
+    a = write_report(tmp_path / "a.html", spec).read_text()
+    b = write_report(tmp_path / "b.html", trajectory=tr, **kw).read_text()
+    assert a == b == report.report_html(spec) == report.report_html(trajectory=tr, **kw)
+    assert show(spec).html == a
+    for name in ("ReportSpec", "BodyLayer", "Drawing", "Chart"):
+        assert getattr(scenarios, name) is getattr(scenarios.kind, name)
+        assert getattr(scenarios, name).__module__ == "poinsot.plotting.spec"
+
+
+def test_spec_errors(tmp_path, prec):
+    from poinsot.plotting import ReportSpec, show
+
+    tr, _, _ = prec
+    spec = ReportSpec(tr)
+    with pytest.raises(InvalidTypeError, match="not both"):
+        write_report(tmp_path / "r.html", spec, title="x")
+    with pytest.raises(InvalidTypeError, match="`spec` to be a poinsot.plotting.ReportSpec"):
+        report.report_html(tr)
+    with pytest.raises(InvalidTypeError, match="each of `charts` to be a poinsot.plotting.Chart"):
+        report.report_html(ReportSpec(tr, charts=(("q", "rad", {}),)))
+    with pytest.raises(InvalidTypeError, match="`drawing` to be a poinsot.plotting.Drawing"):
+        report.report_html(ReportSpec(tr, drawing={"points": {}}))
+    with pytest.raises(InvalidTypeError, match="no options with a ReportSpec"):
+        show(spec, inertia=[1.0, 2.0, 3.0])
+    assert list(tmp_path.iterdir()) == []

@@ -1,4 +1,4 @@
-"""Figures (matplotlib) and the interactive HTML report (Plotly).
+"""Figures (matplotlib) and the interactive HTML report (its input: :class:`ReportSpec`).
 
 A leaf package: importing it loads matplotlib, so ``import poinsot`` never
 does. Every plot function takes ``ax=None`` and returns the axes it drew on.
@@ -39,6 +39,12 @@ from .scenario import (
     plot_angular_velocity,
     plot_relative_change,
 )
+from .spec import (
+    BodyLayer,
+    Chart,
+    Drawing,
+    ReportSpec,
+)
 
 __all__ = [
     "plot_acceleration_terms",
@@ -46,6 +52,10 @@ __all__ = [
     "plot_poinsot",
     "plot_omega",
     "write_report",
+    "ReportSpec",
+    "BodyLayer",
+    "Drawing",
+    "Chart",
     "show",
     "explore",
     "plot_angular_velocity",

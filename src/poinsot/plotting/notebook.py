@@ -1,9 +1,10 @@
 """poinsot in Jupyter: the report's viewer inside a cell, and live explorers.
 
-:func:`show` draws any result with the viewer of ``report.html`` (the same page,
-the same JavaScript: :func:`poinsot.plotting.report.report_html`) in an ``<iframe
-srcdoc>``: offline (the script and the data are inlined, nothing is fetched), and
-each cell's viewer is isolated from the others'. ``result.show()`` is a shorthand.
+:func:`show` draws any result (or a :class:`~poinsot.plotting.ReportSpec`) with the
+viewer of ``report.html`` (the same page, the same JavaScript:
+:func:`poinsot.plotting.report.report_html`) in an ``<iframe srcdoc>``: offline (the
+script and the data are inlined, nothing is fetched), and each cell's viewer is
+isolated from the others'. ``result.show()`` is a shorthand.
 
 :func:`explore` (needs ``pip install 'poinsot[notebook]'``: ipywidgets) puts sliders
 over one of five classical motions and redraws the viewer from the library's exact
@@ -14,6 +15,7 @@ Kepler orbit (docs/theory.md §9-§10).
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import math
 import time
@@ -27,6 +29,7 @@ import numpy as np
 from ..errors import InvalidInputError, InvalidTypeError, PoinsotError
 from ..trajectory import CoordinateTrajectory, PointTrajectory, Result, Trajectory
 from .report import report_html
+from .spec import BodyLayer, Drawing, ReportSpec
 
 PRESETS = ("racket", "symmetric-top", "lagrange-top", "foucault", "kepler")
 
@@ -81,20 +84,21 @@ class Viewer:
         return f"Viewer({len(self.html)} characters of HTML; shown in a notebook cell)"
 
 
-def show(result: Result, *, height: int = 640, **options: Any) -> Viewer:
+def show(result: Result | ReportSpec, *, height: int = 640, **options: Any) -> Viewer:
     """Draw a result with the report's viewer, inline in a notebook.
 
     Parameters
     ----------
-    result : Result
+    result : Result or ReportSpec
         Any poinsot result of ONE motion: a rigid body (:class:`~poinsot.Trajectory`,
         drawn as a turning body), a point (drawn as a path), a pose, or a system in
-        generalized coordinates (its coordinates and rates as charts).
+        generalized coordinates (its coordinates and rates as charts). Or a
+        :class:`~poinsot.plotting.ReportSpec`, drawn as it says (no ``options``).
     height : int, optional
         Height of the cell's frame in pixels (default 640).
     **options
-        Passed to :func:`poinsot.plotting.report.report_html` (``inertia``,
-        ``mass``, ``shape``, ``reference``, ``title``, ``euler_seq``...).
+        With a result: the keyword form of :func:`poinsot.plotting.report.report_html`
+        (``inertia``, ``mass``, ``shape``, ``reference``, ``title``, ``euler_seq``...).
 
     Returns
     -------
@@ -115,16 +119,27 @@ def show(result: Result, *, height: int = 640, **options: Any) -> Viewer:
     >>> v = show(body.trajectory(np.linspace(0, 5, 201)), inertia=[1.0, 2.0, 3.0], mass=1.0)
     >>> v._repr_html_().startswith('<iframe class="poinsot-viewer"'), "<script src=" in v.html
     (True, False)
+    >>> from poinsot.plotting import BodyLayer, ReportSpec
+    >>> tr = body.trajectory(np.linspace(0, 5, 201))
+    >>> "flip" in show(ReportSpec(tr, BodyLayer(inertia=[1.0, 2.0, 3.0]), title="flip")).html
+    True
     """
-    if not isinstance(result, Result):
+    if not isinstance(result, Result | ReportSpec):
         raise InvalidTypeError(
-            f"Expected `result` to be a poinsot result (Trajectory, PointTrajectory...), got "
-            f"{type(result).__name__}."
+            f"Expected `result` to be a poinsot result (Trajectory, PointTrajectory...) or a "
+            f"ReportSpec, got {type(result).__name__}."
         )
     if not (isinstance(height, int) and 100 <= height <= 4000):
         raise InvalidInputError(
             f"Expected `height` to be an integer in [100, 4000], got {height!r}."
         )
+    if isinstance(result, ReportSpec):
+        if options:
+            raise InvalidTypeError(
+                f"Expected no options with a ReportSpec, got {', '.join(sorted(options))} "
+                "(change the spec with dataclasses.replace)."
+            )
+        return Viewer(report_html(result), height)
     if isinstance(result, Trajectory) and result.rotation.shape[1:] != ():
         raise InvalidInputError(
             f"Expected one body, got a batch of shape {result.rotation.shape[1:]}: "
@@ -188,18 +203,18 @@ class Slider:
     step: float
 
 
-def _free_body(p: Mapping[str, float]) -> tuple[Result, dict[str, Any]]:
+def _free_body(p: Mapping[str, float]) -> ReportSpec:
     from ..dynamics import FreeRigidBody
 
     moments = [p["A"], p["B"], p["C"]]
     body = FreeRigidBody(moments, omega0=[p["w1"], p["w2"], p["w3"]])
     t = np.linspace(0.0, p["duration"], 601)
     caption = f"{body.regime} regime, period of omega {body.period:.4g} s"
-    return body.trajectory(t), {"inertia": moments, "mass": 1.0, "free_body": True,
-                                "title": caption}  # fmt: skip
+    return ReportSpec(body.trajectory(t), BodyLayer(inertia=moments, mass=1.0, polhode=True),
+                      title=caption)  # fmt: skip
 
 
-def _lagrange_top(p: Mapping[str, float]) -> tuple[Result, dict[str, Any]]:
+def _lagrange_top(p: Mapping[str, float]) -> ReportSpec:
     from ..dynamics import LagrangeTop
 
     m, g, l_ = 1.0, 9.80665, p["l"]
@@ -210,27 +225,25 @@ def _lagrange_top(p: Mapping[str, float]) -> tuple[Result, dict[str, Any]]:
     t = np.linspace(0.0, p["duration"], 801)
     tr = top.trajectory(t)
     axis = tr.rotation.apply(np.array([0.0, 0.0, 2.0 * l_]))
-    drawing = {"points": {"tip": axis, "O": np.zeros_like(axis)}, "links": [("O", "tip")],
-               "trails": ["tip"]}  # fmt: skip
+    drawing = Drawing({"tip": axis, "O": np.zeros_like(axis)}, (("O", "tip"),), ("tip",))
     caption = f"{top.motion_type}, nutation period {top.nutation_period:.4g} s"
-    return tr, {"inertia": [a_cm, a_cm, c], "mass": m, "center_of_mass": [0.0, 0.0, l_],
-                "fixed_point": True, "free_body": False, "euler_seq": "ZXZ",
-                "drawing": drawing, "title": caption}  # fmt: skip
+    body = BodyLayer(inertia=[a_cm, a_cm, c], mass=m, center_of_mass=[0.0, 0.0, l_],
+                     fixed_point=True)  # fmt: skip
+    return ReportSpec(tr, body, euler_seq="ZXZ", drawing=drawing, title=caption)
 
 
-def _foucault(p: Mapping[str, float]) -> tuple[Result, dict[str, Any]]:
+def _foucault(p: Mapping[str, float]) -> ReportSpec:
     from ..dynamics import foucault_pendulum, foucault_precession_rate
 
     t = np.linspace(0.0, p["duration"], 1201)
     tr = foucault_pendulum(p["length"], p["latitude"], t, omega=p["rate"], degrees=True,
                            amplitude=0.1 * p["length"])  # fmt: skip
     rate = float(foucault_precession_rate(p["latitude"], omega=p["rate"], degrees=True))
-    pos = np.asarray(tr.position)
-    drawing = {"points": {"bob": pos}, "trails": ["bob"]}
-    return tr, {"drawing": drawing, "title": f"swing plane turns at {rate:.4g} rad/s"}
+    drawing = Drawing({"bob": np.asarray(tr.position)}, trails=("bob",))
+    return ReportSpec(tr, drawing=drawing, title=f"swing plane turns at {rate:.4g} rad/s")
 
 
-def _kepler(p: Mapping[str, float]) -> tuple[Result, dict[str, Any]]:
+def _kepler(p: Mapping[str, float]) -> ReportSpec:
     from ..dynamics import CentralOrbit, kepler
 
     e = p["e"]
@@ -239,11 +252,11 @@ def _kepler(p: Mapping[str, float]) -> tuple[Result, dict[str, Any]]:
         kepler(1.0), [rp, 0.0, 0.0], [0.0, math.sqrt((1 + e) / rp), 0.0]
     )
     t = np.linspace(0.0, p["duration"], 1201)
-    return orbit.trajectory(t), {"title": f"e = {e:.3g}, period {orbit.radial_period:.4g} s"}
+    return ReportSpec(orbit.trajectory(t), title=f"e = {e:.3g}, period {orbit.radial_period:.4g} s")
 
 
-_PRESETS: dict[str, tuple[Callable[[Mapping[str, float]], tuple[Result, dict[str, Any]]],
-                          tuple[Slider, ...]]] = {
+#: preset -> (its report from the sliders' values, the sliders)
+_PRESETS: dict[str, tuple[Callable[[Mapping[str, float]], ReportSpec], tuple[Slider, ...]]] = {
     "racket": (_free_body, (
         Slider("A", "A (kg m^2)", 0.5, 3.0, 1.0, 0.05),
         Slider("B", "B (kg m^2)", 0.5, 3.0, 2.0, 0.05),
@@ -333,9 +346,9 @@ class Explorer:
         """Recompute the motion from the sliders and redraw the viewer."""
         t0 = time.perf_counter()
         try:
-            result, opts = self._compute(self.values())
-            title = opts.pop("title")
-            page = report_html(trajectory=result, title=f"{self.preset}: {title}", **opts)
+            spec = self._compute(self.values())
+            title = spec.title
+            page = report_html(dataclasses.replace(spec, title=f"{self.preset}: {title}"))
         except PoinsotError as exc:  # a slider combination outside the model: say so
             self.status.value = f"<span style='color:#b00'>{html.escape(str(exc))}</span>"
             return

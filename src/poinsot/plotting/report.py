@@ -26,9 +26,12 @@ fetched; typically 0.1-0.3 MB plus the kind's figures) holding
   not strobe); the page says the largest turn between frames;
 
 and the run's summary in sections (units on numbers, values in words, the raw
-JSON collapsible). The function is generic: it draws what it is given and never
-asks what kind of scenario produced it (``poinsot.scenarios.write_scenario_report``
-asks the scenario's kind what to draw, then calls it).
+JSON collapsible). What it draws is one :class:`~poinsot.plotting.ReportSpec`
+(:mod:`poinsot.plotting.spec`; ``write_report(path, spec)``), or its keyword form
+(``write_report(path, trajectory=..., inertia=...)``). The function is generic: it
+draws what it is given and never asks what kind of scenario produced it
+(``poinsot.scenarios.write_scenario_report`` asks the scenario's kind for its spec,
+then calls it).
 """
 
 from __future__ import annotations
@@ -46,9 +49,10 @@ from .._files import atomic_write
 from .._quat import attitude_distance
 from .._validate import as_float_array, is_integer
 from ..errors import InvalidInputError, InvalidTypeError
-from ..trajectory import Result, Trajectory
+from ..trajectory import Trajectory
 from . import _report_shapes as shapes
 from ._report_page import b64, chart, fmt_number, page_html
+from .spec import BodyLayer, Chart, Drawing, ReportSpec
 
 __all__ = ["write_report"]
 
@@ -73,115 +77,22 @@ _GUIDE_COLOURS = ("#2ca02c", "#9467bd", "#ff7f0e")
 
 
 def write_report(
-    path: str | os.PathLike[str],
-    *,
-    trajectory: Result,
-    summary: Mapping[str, Any] | None = None,
-    title: str = "poinsot report",
-    shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
-    inertia: Any = None,
-    mass: float | None = None,
-    center_of_mass: Any = None,
-    fixed_point: bool = False,
-    free_body: bool = True,
-    checks: Sequence[Any] = (),
-    torque: Any = None,
-    euler_seq: str = "ZYX",
-    reference: Trajectory | None = None,
-    max_frames: int = 1500,
-    max_frame_angle: float = 20.0,
-    sections: Sequence[tuple[str, str]] = (),
-    series: Sequence[tuple[Any, ...]] = (),
-    drawing: Mapping[str, Any] | None = None,
+    path: str | os.PathLike[str], spec: ReportSpec | None = None, **keywords: Any
 ) -> Path:
-    """Write a self-contained interactive HTML report of a trajectory.
+    """Write a self-contained interactive HTML report of a motion.
 
     Parameters
     ----------
     path : str or os.PathLike
         Output file (conventionally ``report.html``), written atomically (a
         temporary name in the same directory, then renamed). Its directory must exist.
-    trajectory : Trajectory, PointTrajectory or another poinsot result
-        The motion, on its times ``t`` of shape ``(n,)``. A
-        :class:`~poinsot.trajectory.Trajectory` of ONE body (``rotation`` of shape
-        ``(n,)``, ``omega`` ``(n, 3)`` in body axes, rad/s) is drawn as a turning
-        body, with its ``momentum`` (space axes) when present. A result with a
-        ``position`` of shape ``(n, 3)`` (m, e.g. a
-        :class:`~poinsot.trajectory.PointTrajectory`, in the axes its
-        ``frame_name`` names) is drawn as a path. Any other result (e.g. a
-        :class:`~poinsot.trajectory.CoordinateTrajectory`) has no scene: only
-        the charts of ``series`` and ``checks``.
-    summary : mapping, optional
-        The run's summary (e.g. ``summary.json``): top-level mappings are shown as
-        sections, each with its ``"units"`` mapping; the raw JSON is collapsible.
-    title : str, optional
-        Title of the page.
-    shape : mapping or sequence of mappings, optional
-        The solid(s) to draw, each ``{"kind": KIND, "dims": DIMS}`` with KIND in
-        :data:`SHAPES` (dimensions in m), and optionally ``"center"`` (its centre
-        of mass in body axes, m; default the origin) and ``"axes"`` (3x3 matrix
-        whose columns are the solid's own axes in body axes); ``{"kind": "point",
-        "dims": [0], "center": ...}`` for a point mass; or a triangle mesh
-        ``{"kind": "mesh", "vertices": (m, 3) in m, "faces": (k, 3) indices}``
-        (drawn at ``axes @ v + center``; decimated by vertex clustering to at most
-        3000 faces). Default: the uniform ellipsoid with ``mass`` and ``inertia``
-        at ``center_of_mass``.
-    inertia : array_like, shape (3,) or (3, 3), optional
-        Inertia tensor about the centre of mass in body axes (kg m^2).
-    mass : float, optional
-        Mass (kg); with ``inertia`` and no ``shape``, the equivalent uniform
-        ellipsoid is drawn in metres (without it, the inertia ellipsoid scaled to
-        a longest semi-axis of 1, and the axes say "scaled").
-    center_of_mass : array_like, shape (3,), optional
-        Centre of mass in body axes (m); default the origin of the body axes.
-    fixed_point : bool, optional
-        True if the origin of the body axes is fixed in space (a top's pin): it
-        is marked.
-    free_body : bool, optional
-        True (default) for a torque-free body: the polhode and herpolhode are
-        drawn (theory §10). Set False for torqued or prescribed motions.
-    checks : sequence of poinsot.scenarios.Check, optional
-        Quantities with a known behaviour: conserved ones are plotted as a
-        relative change (their maximum stated), the others as values with units.
-    torque : array_like, shape (n, 3), optional
-        Torque on the body in body axes (N m) at each sample: plotted, with the
-        energy balance ``T(t) - T(0) = int N . w dt`` when ``energy`` is known.
-    euler_seq : str, optional
-        Sequence of the attitude angles plotted (e.g. ``"ZXZ"`` precession,
-        nutation, spin; ``"ZYX"`` yaw, pitch, roll). Default ``"ZYX"``.
-    reference : Trajectory, optional
-        A second motion of a rigid body on the same times: its body axes are
-        drawn dashed, its ``w`` overlaid, and the attitude error
-        ``|log(R_ref^-1 R)|`` plotted (ignored for other results: give their
-        differences as ``series``).
-    max_frames : int, optional
-        Largest number of animation frames, in [2, 20000]. Default 1500.
-    max_frame_angle : float, optional
-        Largest turn of the body between two frames (degrees), in (0, 90]:
-        frames are added where the body turns fast, so that a spin never
-        strobes (a turn near 180 degrees per frame looks like no turn or a
-        reversal). If ``max_frames`` or the output samples do not allow it, the
-        page says the largest turn between frames. Default 20.
-    sections : sequence of (str, str), optional
-        Extra sections ``(heading, html)`` shown above the summary, e.g. a kind's
-        typeset equations as inline SVG (trusted HTML made by poinsot, not user text).
-    series : sequence of (str, str, mapping[, collection]), optional
-        Extra time-series charts ``(title, units, {label: values of shape (n,)})``
-        on the trajectory's times, e.g. the generalised coordinates ``q_i(t)`` of
-        a Lagrangian system (theory §11); an optional fourth item names the labels
-        drawn dashed in the colour of the series before them (a reference run).
-    drawing : mapping, optional
-        Points that move with the motion, drawn in the scene (space axes, m):
-        ``{"points": {name: (n, 3) positions}, "links": [(name, name), ...]``
-        (segments drawn between two points at every frame), ``"trails": [name,
-        ...]`` (the path of a point up to the frame's time, older parts fading),
-        ``"guides": {label: (n, 2, 3)}`` (a dashed segment per sample, e.g. the
-        direction of a pendulum's swing plane), ``"face_on": bool`` (a plane
-        drawing in the x-z plane: the view starts facing it)}. With a rigid body
-        the points are drawn with it (e.g. a top's stem and the trail of its
-        axis); without one, frames are chosen from the motion's own time scale
-        (at least 24 per period of the fastest back-and-forth of a point, see
-        Notes).
+    spec : ReportSpec
+        What the page shows (:class:`~poinsot.plotting.ReportSpec`): the motion, the
+        rigid body, the charts, the drawing, the checks, the title and summary.
+    **keywords
+        The keyword form instead of ``spec``: ``write_report(path, trajectory=tr,
+        inertia=..., mass=..., shape=..., reference=..., series=..., drawing=...)``,
+        read by :meth:`ReportSpec.from_keywords <poinsot.plotting.ReportSpec.from_keywords>`.
 
     Returns
     -------
@@ -191,8 +102,8 @@ def write_report(
     Raises
     ------
     InvalidTypeError
-        If ``trajectory`` is not a poinsot result (``reference``: not a
-        :class:`~poinsot.Trajectory`),
+        If ``spec`` is not a ReportSpec (or is given with keywords), its motion is
+        not a poinsot result (``reference``: not a :class:`~poinsot.Trajectory`),
         ``summary``/``shape`` of the wrong type, ``title``/``euler_seq`` not a
         string or ``max_frames`` not an integer.
     InvalidInputError
@@ -227,16 +138,19 @@ def write_report(
     Examples
     --------
     >>> import numpy as np, poinsot, tempfile, pathlib
-    >>> from poinsot.plotting.report import write_report
+    >>> from poinsot.plotting import BodyLayer, ReportSpec, write_report
     >>> t = np.linspace(0.0, 2.0, 21)
     >>> rot = poinsot.Rotation.from_rotvec(np.outer(t, [0.0, 0.0, 1.5]))
     >>> tr = poinsot.Trajectory(t, rot, np.tile([0.0, 0.0, 1.5], (21, 1)), "spin")
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "report.html"
-    >>> p = write_report(out, trajectory=tr, summary={"method": "spin"},
-    ...                  shape={"kind": "box", "dims": [1.0, 0.6, 0.2]})
+    >>> spec = ReportSpec(tr, BodyLayer({"kind": "box", "dims": [1.0, 0.6, 0.2]}),
+    ...                   summary={"method": "spin"})
+    >>> p = write_report(out, spec)
     >>> text = p.read_text()
     >>> p == out, "<script src=" in text, "plotly" in text  # nothing fetched, no library
     (True, False, False)
+    >>> p = write_report(out, trajectory=tr, summary={"method": "spin"},  # keyword form
+    ...                  shape={"kind": "box", "dims": [1.0, 0.6, 0.2]})
     """
     if not isinstance(path, str | os.PathLike):
         raise InvalidTypeError(
@@ -249,60 +163,46 @@ def write_report(
         )
     if path.is_dir():
         raise InvalidInputError(f"Expected `path` to name a file, got the directory {str(path)!r}.")
-
-    page = report_html(
-        trajectory=trajectory, summary=summary, title=title, shape=shape, inertia=inertia,
-        mass=mass, center_of_mass=center_of_mass, fixed_point=fixed_point, free_body=free_body,
-        checks=checks, torque=torque, euler_seq=euler_seq, reference=reference,
-        max_frames=max_frames, max_frame_angle=max_frame_angle, sections=sections,
-        series=series, drawing=drawing,
-    )  # fmt: skip
+    page = report_html(spec, **keywords)
     atomic_write(path, lambda fh: fh.write(page))
     return path
 
 
-def report_html(
-    *,
-    trajectory: Result,
-    summary: Mapping[str, Any] | None = None,
-    title: str = "poinsot report",
-    shape: Mapping[str, Any] | Sequence[Mapping[str, Any]] | None = None,
-    inertia: Any = None,
-    mass: float | None = None,
-    center_of_mass: Any = None,
-    fixed_point: bool = False,
-    free_body: bool = True,
-    checks: Sequence[Any] = (),
-    torque: Any = None,
-    euler_seq: str = "ZYX",
-    reference: Trajectory | None = None,
-    max_frames: int = 1500,
-    max_frame_angle: float = 20.0,
-    sections: Sequence[tuple[str, str]] = (),
-    series: Sequence[tuple[Any, ...]] = (),
-    drawing: Mapping[str, Any] | None = None,
-) -> str:
+def report_html(spec: ReportSpec | None = None, **keywords: Any) -> str:
     """The self-contained HTML page of :func:`write_report`, as a string.
 
-    Takes the same arguments as :func:`write_report` but ``path``; the page embeds
-    the viewer's JavaScript and the data (nothing is fetched). Used by
+    Takes the same arguments as :func:`write_report` but ``path``: a
+    :class:`~poinsot.plotting.ReportSpec`, or its keyword form. The page embeds the
+    viewer's JavaScript and the data (nothing is fetched). Used by
     :func:`poinsot.plotting.show` to draw the same viewer inside a notebook cell.
 
     Examples
     --------
     >>> import numpy as np, poinsot
+    >>> from poinsot.plotting import ReportSpec
     >>> from poinsot.plotting.report import report_html
     >>> t = np.linspace(0.0, 1.0, 11)
     >>> tr = poinsot.Trajectory(t, poinsot.Rotation.from_rotvec(np.outer(t, [0, 0, 1.0])),
     ...                         np.tile([0.0, 0.0, 1.0], (11, 1)), "spin")
-    >>> page = report_html(trajectory=tr, title="spin")
+    >>> page = report_html(ReportSpec(tr, title="spin"))
     >>> page.startswith("<!DOCTYPE html>"), "<script src=" in page
     (True, False)
+    >>> report_html(trajectory=tr, title="spin", free_body=False) == page  # keyword form
+    True
     """
-    tr = _check_trajectory(trajectory, "trajectory")
+    spec = _as_spec(spec, keywords)
+    body = BodyLayer() if spec.body is None else spec.body
+    if not isinstance(body, BodyLayer):
+        raise InvalidTypeError(
+            f"Expected `body` to be a poinsot.plotting.BodyLayer or None, got "
+            f"{type(body).__name__}."
+        )
+    tr = _check_trajectory(spec.motion, "trajectory")
     ref = None  # a rigid body's reference only (attitude error, dashed axes)
-    if reference is not None and isinstance(tr, Trajectory):
-        ref = _check_trajectory(reference, "reference", rigid=True)
+    if spec.reference is not None and isinstance(tr, Trajectory):
+        ref = _check_trajectory(spec.reference, "reference", rigid=True)
+    summary, title, euler_seq = spec.summary, spec.title, spec.euler_seq
+    max_frames = spec.max_frames
     if summary is not None and not isinstance(summary, Mapping):
         raise InvalidTypeError(
             f"Expected `summary` to be a mapping or None, got {type(summary).__name__}."
@@ -316,33 +216,36 @@ def report_html(
         )
     if not 2 <= max_frames <= 20000:
         raise InvalidInputError(f"Expected `max_frames` to be in [2, 20000], got {max_frames}.")
-    max_frame_angle = float(max_frame_angle)
+    max_frame_angle = float(spec.max_frame_angle)
     if not 0.0 < max_frame_angle <= 90.0:
         raise InvalidInputError(
             f"Expected `max_frame_angle` to be in (0, 90] degrees, got {max_frame_angle}."
         )
-    parts = _check_shape(shape)
-    J = _check_inertia(inertia)
+    parts = _check_shape(body.shapes)
+    J = _check_inertia(body.inertia)
+    mass = body.mass
     if mass is not None:
         mass = float(mass)
         if not (math.isfinite(mass) and mass > 0):
             raise InvalidInputError(f"Expected `mass` to be a positive number (kg), got {mass}.")
     com = (
-        np.zeros(3) if center_of_mass is None else as_float_array(center_of_mass, "center_of_mass")
+        np.zeros(3)
+        if body.center_of_mass is None
+        else as_float_array(body.center_of_mass, "center_of_mass")
     )
     if com.shape != (3,):
         raise InvalidInputError(f"Expected `center_of_mass` to have shape (3,), got {com.shape}.")
     tq = None
-    if torque is not None:
-        tq = as_float_array(torque, "torque")
+    if spec.torque is not None:
+        tq = as_float_array(spec.torque, "torque")
         if not isinstance(tr, Trajectory) or tq.shape != tr.omega.shape:
             wanted = tr.omega.shape if isinstance(tr, Trajectory) else "(no rigid body)"
             raise InvalidInputError(
                 f"Expected `torque` to have shape {wanted} (one body-axes torque per "
                 f"sample, N m), got {tq.shape}."
             )
-    extra = _check_series(series, tr.t.size)
-    draw = _check_drawing(drawing, tr.t.size)
+    extra = _check_series(spec.charts, tr.t.size)
+    draw = _check_drawing(spec.drawing, tr.t.size)
     with warnings.catch_warnings():  # gimbal lock of the plotted angles is not the user's
         warnings.simplefilter("ignore")
         payload, notes, meta = _build(
@@ -352,9 +255,9 @@ def report_html(
             J,
             mass,
             com,
-            bool(fixed_point),
-            bool(free_body),
-            tuple(checks),
+            bool(body.fixed_point),
+            bool(body.polhode),
+            tuple(spec.checks),
             tq,
             euler_seq,
             max_frames,
@@ -363,9 +266,27 @@ def report_html(
             draw,
         )
     page = page_html(
-        title=title, meta=meta, notes=notes, payload=payload, summary=summary, sections=sections
-    )
+        title=title, meta=meta, notes=notes, payload=payload, summary=summary,
+        sections=spec.sections,
+    )  # fmt: skip
     return page
+
+
+def _as_spec(spec: Any, keywords: Mapping[str, Any]) -> ReportSpec:
+    """The one spec of a call: ``spec``, or the spec of the keyword form."""
+    if spec is None:
+        return ReportSpec.from_keywords(**keywords)
+    if not isinstance(spec, ReportSpec):
+        raise InvalidTypeError(
+            "Expected `spec` to be a poinsot.plotting.ReportSpec (or the keywords "
+            f"trajectory=..., ...), got {type(spec).__name__}."
+        )
+    if keywords:
+        raise InvalidTypeError(
+            f"Expected a ReportSpec or keywords, not both; got {', '.join(sorted(keywords))} "
+            "with a spec (change the spec with dataclasses.replace)."
+        )
+    return spec
 
 
 # --------------------------------------------------------------------------- checks
@@ -489,33 +410,21 @@ def _check_mesh(s: Any) -> dict[str, Any]:
             "vertices": v, "faces": f}  # fmt: skip
 
 
-def _check_series(series: Any, n: int) -> list[Any]:
-    """Extra panels as ``(title, units, [(label, y, colour, dash)])``."""
-    if isinstance(series, str | Mapping) or not isinstance(series, Sequence):
-        raise InvalidTypeError(
-            "Expected `series` to be a sequence of (title, units, {label: values}), got "
-            f"{type(series).__name__}."
-        )
+def _check_series(charts: Any, n: int) -> list[Any]:
+    """The charts as panels ``(title, units, [(label, y, colour, dash)])``."""
     out = []
-    for item in series:
-        if (
-            not isinstance(item, Sequence)
-            or len(item) not in (3, 4)
-            or not isinstance(item[0], str)
-            or not isinstance(item[1], str)
-            or not isinstance(item[2], Mapping)
-        ):
+    for ch in charts:
+        if not isinstance(ch, Chart):
             raise InvalidTypeError(
-                "Expected each of `series` to be (title: str, units: str, {label: values}), "
-                f"got {item!r:.80}."
+                f"Expected each of `charts` to be a poinsot.plotting.Chart, got {ch!r:.80}."
             )
-        dashed = set(item[3]) if len(item) == 4 else set()
+        dashed = set(ch.dashed)
         lines: list[tuple[str, np.ndarray, str, str | None]] = []
-        for label, y in item[2].items():
-            y = as_float_array(y, f"series[{item[0]!r}][{label!r}]")
+        for label, y in ch.series.items():
+            y = as_float_array(y, f"series[{ch.title!r}][{label!r}]")
             if y.shape != (n,):
                 raise InvalidInputError(
-                    f"Expected `series` {item[0]!r} / {label!r} to have shape ({n},) (one value "
+                    f"Expected `series` {ch.title!r} / {label!r} to have shape ({n},) (one value "
                     f"per sample), got {y.shape}."
                 )
             if label in dashed and lines:  # drawn over the series before it, in its colour
@@ -524,7 +433,7 @@ def _check_series(series: Any, n: int) -> list[Any]:
             colour = _SERIES_COLOURS[len({c for _, _, c, _ in lines}) % len(_SERIES_COLOURS)]
             lines.append((str(label), y, colour, None))
         if lines:
-            out.append((item[0], item[1], lines))
+            out.append((ch.title, ch.units, lines))
     return out
 
 
@@ -532,17 +441,12 @@ def _check_drawing(drawing: Any, n: int) -> dict[str, Any] | None:
     """``drawing`` validated: points as float arrays (n, 3), links as index pairs."""
     if drawing is None:
         return None
-    if not isinstance(drawing, Mapping):
+    if not isinstance(drawing, Drawing):
         raise InvalidTypeError(
-            f"Expected `drawing` to be a mapping or None, got {type(drawing).__name__}."
+            f"Expected `drawing` to be a poinsot.plotting.Drawing or None, got "
+            f"{type(drawing).__name__}."
         )
-    unknown = set(drawing) - {"points", "links", "trails", "guides", "face_on"}
-    if unknown:
-        raise InvalidInputError(
-            "Expected `drawing` to have the keys 'points', 'links', 'trails', 'guides', "
-            f"'face_on', got {sorted(drawing)}."
-        )
-    raw = drawing.get("points") or {}
+    raw = drawing.points or {}
     if not isinstance(raw, Mapping):
         raise InvalidTypeError(
             f"Expected `drawing['points']` to be a mapping, got {type(raw).__name__}."
@@ -567,15 +471,15 @@ def _check_drawing(drawing: Any, n: int) -> dict[str, Any] | None:
         return names.index(name)
 
     links = []
-    for pair in drawing.get("links") or ():
+    for pair in drawing.links or ():
         if isinstance(pair, str) or not isinstance(pair, Sequence) or len(pair) != 2:
             raise InvalidInputError(
                 f"Expected each of `drawing['links']` to be a pair of point names, got {pair!r}."
             )
         links.append((index(pair[0], "links"), index(pair[1], "links")))
-    trails = [index(name, "trails") for name in drawing.get("trails") or ()]
+    trails = [index(name, "trails") for name in drawing.trails or ()]
     guides: dict[str, np.ndarray] = {}
-    for label, v in (drawing.get("guides") or {}).items():
+    for label, v in (drawing.guides or {}).items():
         a = as_float_array(v, f"drawing['guides'][{label!r}]")
         if a.shape != (n, 2, 3):
             raise InvalidInputError(
@@ -584,7 +488,7 @@ def _check_drawing(drawing: Any, n: int) -> dict[str, Any] | None:
             )
         guides[str(label)] = a
     return {"points": points, "links": links, "trails": trails, "guides": guides,
-            "face_on": bool(drawing.get("face_on", False))}  # fmt: skip
+            "face_on": bool(drawing.face_on)}  # fmt: skip
 
 
 def _time_scale(t: np.ndarray, tracks: Any) -> float | None:

@@ -22,7 +22,9 @@ in :data:`poinsot.scenarios.registry.KINDS`. The physics stays in the library
    :class:`FigureSpec`, drawn by functions of :mod:`poinsot.plotting`), and
 6. says what ``report.html`` shows (:meth:`ScenarioKind.report` -> a
    :class:`ReportSpec`: the scene, the charts, extra HTML sections), rendered by
-   the generic :func:`poinsot.plotting.write_report`.
+   the generic :func:`poinsot.plotting.write_report`. :class:`ReportSpec`,
+   :class:`BodyLayer`, :class:`Drawing` and :class:`Chart` are defined in
+   :mod:`poinsot.plotting.spec` (the renderer's input) and re-exported here.
 
 Everything else (times, overrides, cost limits, progress, the reference run, the
 comparison with it on the result's own state, :func:`poinsot.trajectory.compare`,
@@ -52,6 +54,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._drift import relative_change
+
+# what report.html shows: the plotting layer's spec, re-exported here for the kinds
+from ..plotting.spec import BodyLayer, Chart, Drawing, ReportSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from ._toml import Table
@@ -257,149 +262,6 @@ class FigureSpec:
     draw: Callable[[Any], Any]
     size: tuple[float, float] = (7.0, 3.6)
     projection: str | None = None
-
-
-@dataclass(frozen=True)
-class Chart:
-    """One chart of ``report.html``: named time series on the run's output times.
-
-    Attributes
-    ----------
-    title : str
-        Chart title (``"generalised coordinates q(t): angles"``).
-    units : str
-        Units of every series of the chart (``"rad"``; ``"relative"`` for ratios).
-    series : Mapping[str, ndarray]
-        Label -> values of shape (n,), one per output time.
-    dashed : tuple of str
-        Labels drawn dashed, in the colour of the series before them (e.g. a
-        reference run over the run).
-
-    Examples
-    --------
-    >>> Chart("position", "m", {"x": np.zeros(3)}).units
-    'm'
-    """
-
-    title: str
-    units: str
-    series: Mapping[str, np.ndarray]
-    dashed: tuple[str, ...] = ()
-
-
-@dataclass(frozen=True)
-class BodyLayer:
-    """A rigid body in the scene of ``report.html``, turned by the attitude of the
-    report's :class:`~poinsot.trajectory.Trajectory`.
-
-    Attributes
-    ----------
-    shapes : sequence of mapping or None
-        The solids in body axes, as :func:`poinsot.plotting.write_report` takes
-        them (``{"kind": "box", "dims": [...], "center": [...]}``, meshes...);
-        None: the uniform ellipsoid of the same ``mass`` and ``inertia``.
-    inertia : ndarray, shape (3, 3), or None
-        Inertia tensor about the centre of mass, body axes (kg m^2).
-    mass : float or None
-        Mass (kg).
-    center_of_mass : ndarray, shape (3,), or None
-        Centre of mass in body axes (m).
-    fixed_point : bool
-        The origin of the body axes is fixed in space (a top's pin): marked.
-    polhode : bool
-        Draw the polhode and herpolhode (a torque-free body only, docs/theory.md §10).
-    """
-
-    shapes: Sequence[Mapping[str, Any]] | None = None
-    inertia: np.ndarray | None = None
-    mass: float | None = None
-    center_of_mass: np.ndarray | None = None
-    fixed_point: bool = False
-    polhode: bool = False
-
-
-@dataclass(frozen=True)
-class Drawing:
-    """Points that move with the motion, drawn in the scene of ``report.html``
-    (space axes, m): a Lagrangian system's ``[draw]`` table, a top's stem and axis
-    tip, a pendulum's swing plane.
-
-    Attributes
-    ----------
-    points : Mapping[str, ndarray]
-        Name -> positions of shape (n, 3), one per output time.
-    links : tuple of (str, str)
-        Segments drawn between two points at every frame.
-    trails : tuple of str
-        Points whose path up to the frame's time is drawn, older parts fading.
-    guides : Mapping[str, ndarray]
-        Label -> the two ends of a dashed segment at each output time, shape
-        (n, 2, 3) (e.g. the direction of a pendulum's swing plane).
-    face_on : bool
-        A plane drawing in the x-z plane: the view starts facing it.
-
-    Examples
-    --------
-    >>> d = Drawing({"pivot": np.zeros((2, 3)), "bob": np.ones((2, 3))}, (("pivot", "bob"),))
-    >>> d.mapping()["links"]
-    [('pivot', 'bob')]
-    """
-
-    points: Mapping[str, np.ndarray] = field(default_factory=dict)
-    links: tuple[tuple[str, str], ...] = ()
-    trails: tuple[str, ...] = ()
-    guides: Mapping[str, np.ndarray] = field(default_factory=dict)
-    face_on: bool = False
-
-    def mapping(self) -> dict[str, Any]:
-        """As :func:`poinsot.plotting.write_report` takes it (``drawing=``)."""
-        return {"points": dict(self.points), "links": list(self.links),
-                "trails": list(self.trails), "guides": dict(self.guides),
-                "face_on": self.face_on}  # fmt: skip
-
-
-@dataclass(frozen=True)
-class ReportSpec:
-    """What ``report.html`` shows for a run: made by :meth:`ScenarioKind.report`,
-    rendered by :func:`poinsot.scenarios.write_scenario_report` through the
-    generic :func:`poinsot.plotting.write_report`.
-
-    Attributes
-    ----------
-    motion : Result
-        The result the page animates: a :class:`~poinsot.trajectory.Trajectory`
-        turns the ``body`` layer; a result with a ``position`` (a
-        :class:`~poinsot.trajectory.PointTrajectory`) is drawn as a point and its
-        path (in the axes of its ``frame``); any other result has no scene.
-    body : BodyLayer or None
-        The rigid body drawn (with a Trajectory ``motion``).
-    reference : Trajectory or None
-        A rigid body's reference run: its axes dashed, its ``w`` overlaid, the
-        attitude error plotted. Other kinds show their differences as ``charts``.
-    torque : ndarray, shape (n, 3), or None
-        Torque on a rigid body in body axes (N m): plotted with its energy balance.
-    euler_seq : str
-        Sequence of the attitude angles plotted for a rigid body.
-    charts : tuple of Chart
-        The kind's own charts, shown first.
-    checks : tuple of Check
-        Quantities with a known behaviour (conserved ones as relative changes).
-    sections : tuple of (str, str)
-        Extra ``(heading, html)`` sections (trusted HTML made by poinsot, e.g. a
-        kind's figures as inline SVG).
-    drawing : Drawing or None
-        Points, links, trails and guides drawn in the scene with the motion.
-    """
-
-    motion: Any
-    body: BodyLayer | None = None
-    reference: Any = None
-    torque: np.ndarray | None = None
-    euler_seq: str = "ZYX"
-    charts: tuple[Chart, ...] = ()
-    checks: tuple[Check, ...] = ()
-    sections: tuple[tuple[str, str], ...] = ()
-    drawing: Drawing | None = None
 
 
 class ScenarioKind:

@@ -3,15 +3,16 @@
 :func:`write_scenario_report` asks the scenario's kind for a
 :class:`~poinsot.scenarios.kind.ReportSpec` (:meth:`ScenarioKind.report
 <poinsot.scenarios.kind.ScenarioKind.report>`: the scene, the charts, extra
-sections), adds what every run shares (the accuracy warnings first, the
-differences from the reference run on the result's own state) and calls the
-generic renderer :func:`poinsot.plotting.write_report`, which never asks what kind
-of scenario it draws. The helpers here (:func:`unit_charts`,
+sections), adds what every run shares (the title, the summary with its accuracy
+warnings, the differences from the reference run on the result's own state) and
+passes that spec to the generic renderer :func:`poinsot.plotting.write_report`,
+which never asks what kind of scenario it draws. The helpers here (:func:`unit_charts`,
 :func:`difference_charts`, :func:`figure_sections`) are shared by the kinds.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import io
 import os
@@ -79,34 +80,15 @@ def write_scenario_report(
 
     s = result.scenario
     spec = s.adapter.report(result)
-    summary = result.summary if summary is None else summary
-    # the accuracy mark and warnings are in the page's header (from summary["accuracy"])
-    sections = list(spec.sections)
-    charts = list(spec.charts)
+    charts = tuple(spec.charts)
     if spec.reference is None:  # a rigid body's reference is drawn by the renderer
-        charts += difference_charts(result)
+        charts += tuple(difference_charts(result))
     if title is None:
         title = f"poinsot: {s.name}" + (f" ({s.description})" if s.description else "")
-    body = spec.body
-    return write_report(
-        path,
-        trajectory=spec.motion,
-        summary=summary,
-        title=title,
-        shape=None if body is None else body.shapes,
-        inertia=None if body is None else body.inertia,
-        mass=None if body is None else body.mass,
-        center_of_mass=None if body is None else body.center_of_mass,
-        fixed_point=False if body is None else body.fixed_point,
-        free_body=False if body is None else body.polhode,
-        checks=spec.checks,
-        torque=spec.torque,
-        euler_seq=spec.euler_seq,
-        reference=spec.reference,
-        sections=sections,
-        series=[(c.title, c.units, dict(c.series), c.dashed) for c in charts],
-        drawing=None if spec.drawing is None else spec.drawing.mapping(),
-    )
+    # the accuracy mark and warnings are in the page's header (from summary["accuracy"])
+    summary = result.summary if summary is None else summary
+    spec = dataclasses.replace(spec, charts=charts, title=title, summary=summary)
+    return write_report(path, spec)
 
 
 def unit_charts(columns: Mapping[str, tuple[np.ndarray, str]]) -> list[Chart]:
