@@ -241,8 +241,8 @@ def estimate_cost(
 #: Rough seconds to write a run's outputs: a fixed part, each figure (matplotlib draws
 #: it as a PNG and again in report.html: most of the time), and per sample the tables;
 #: measured on the shipped examples by benchmarks/bench_estimates.py.
-_OUTPUT_SECONDS = 1.0
-_SECONDS_PER_FIGURE = 0.9
+_OUTPUT_SECONDS = 0.2
+_SECONDS_PER_FIGURE = 0.6
 _OUTPUT_SECONDS_PER_SAMPLE = 2e-5
 _TYPICAL_FIGURES = 4
 
