@@ -25,6 +25,7 @@ so the formulas themselves are never written twice.
 from __future__ import annotations
 
 import functools
+import importlib.util
 import math
 import os
 import re
@@ -56,11 +57,12 @@ __all__ = [
 def _numba_wanted() -> bool:
     if os.environ.get("POINSOT_NUMBA", "1").strip().lower() in ("0", "false", "no", "off"):
         return False
+    # found, not imported: importing numba takes ~0.3 s, paid by the first kernel module
+    # (:func:`_load`), not by every module that asks which executor runs
     try:
-        import numba  # noqa: F401
-    except ImportError:
+        return importlib.util.find_spec("numba") is not None
+    except (ImportError, ValueError):  # a finder that refuses it, a broken install
         return False
-    return True
 
 
 #: Whether the kernels are compiled by numba (else run by the NumPy executor).
@@ -366,33 +368,67 @@ def _pick(cond: bool, a: Any, b: Any) -> Any:
     return a if cond else b
 
 
-# Any: the two executors' decorators have nothing in common but how they are called
+# Any: the two executors' decorators have nothing in common but how they are called.
+# Bound by :func:`_load` on first access (module ``__getattr__``): only the kernel
+# modules ask for them, so ``import poinsot.dynamics`` does not import numba.
 njit: Any
 guvectorize: Any
 prange: Any
 overload: Any
-if NUMBA:
-    import numba as _numba
-    from numba import extending as _extending
-
-    njit, guvectorize, prange = _numba.njit, _numba.guvectorize, _numba.prange
-    overload = _extending.overload
-else:
-    njit, guvectorize, prange, overload = _np_njit, _np_guvectorize, range, _np_overload
-
 #: ``while going(cond)``/``if not going(cond): break``: a converging iteration's test.
 #: Compiled and plain runs see ``cond``; a tracing library (``poinsot.jax``) re-binds
 #: ``going`` to "keep going" (always true), so a loop written ``for _ in range(N)`` with
 #: this exit test runs all ``N`` steps there: the loops that use it are written so that
 #: steps after convergence change nothing (beyond rounding).
-going: Any = njit(inline="always")(_going) if NUMBA else _going
+going: Any
 #: ``range(upto(n, nmax))``: ``n`` steps here, ``nmax`` on JAX (a static trip count;
 #: the table entries beyond ``n`` make the extra steps identities).
-upto: Any = njit(inline="always")(_upto) if NUMBA else _upto
+upto: Any
 #: ``pick(cond, a, b)``: ``a if cond else b`` where both are cheap and finite; a
 #: tracing library re-binds it to its select (``jnp.where``), which is not a branch
 #: (a branch doubles the paths a select executor traces).
-pick: Any = njit(inline="always")(_pick) if NUMBA else _pick
+pick: Any
+_EXECUTOR_NAMES = ("njit", "guvectorize", "prange", "overload", "going", "upto", "pick")
+
+
+def _load() -> None:
+    """Bind the executor's names: numba's (importing numba, installing the compile
+    watch) or the NumPy executor's. A numba that is installed but fails to import
+    (e.g. built for another NumPy) falls back to NumPy with a warning."""
+    global NUMBA
+    g = globals()
+    if NUMBA:
+        try:
+            import numba as _numba
+            from numba import extending as _extending
+        except ImportError as exc:
+            import warnings
+
+            from .errors import PoinsotWarning
+
+            NUMBA = False
+            warnings.warn(
+                f"numba is installed but does not import ({exc}); poinsot runs its kernels "
+                "on the NumPy executor (slower; docs/performance.md)",
+                PoinsotWarning,
+                stacklevel=3,
+            )
+    if NUMBA:
+        g.update(njit=_numba.njit, guvectorize=_numba.guvectorize, prange=_numba.prange)
+        g["overload"] = _extending.overload
+        for name, fn in (("going", _going), ("upto", _upto), ("pick", _pick)):
+            g[name] = _numba.njit(inline="always")(fn)
+        _install_compile_watch()
+    else:
+        g.update(njit=_np_njit, guvectorize=_np_guvectorize, prange=range, overload=_np_overload)
+        g.update(going=_going, upto=_upto, pick=_pick)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXECUTOR_NAMES:
+        _load()
+        return globals()[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # ------------------------------------------------------------ compilation watch
@@ -500,7 +536,3 @@ def _install_compile_watch() -> None:
                     _COMPILE_TIME["total"] += time.perf_counter() - start
 
     event.register("numba:compile", Watch())  # type: ignore[no-untyped-call]
-
-
-if NUMBA:
-    _install_compile_watch()

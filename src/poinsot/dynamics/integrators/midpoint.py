@@ -11,7 +11,6 @@ from typing import Any
 import numpy as np
 
 from ..._jit import source
-from ..._numba_helpers import midpoint_newton_done
 from ..._typing import FloatArray, IntArray
 from ..._vec import cross as _cross
 from ..._vec import hat as _hat
@@ -31,8 +30,13 @@ from ._common import (
     _substeps,
 )
 
-#: the stop rule of the compiled midpoint steps, run as plain Python here (no dispatch)
-_newton_done = source(midpoint_newton_done)
+
+def _newton_done(rel: float, prev: float, it: int) -> bool:
+    """The stop rule of the compiled midpoint steps, run as plain Python here (no
+    dispatch); its kernel module is loaded on first use (it imports numba)."""
+    from ... import _numba_helpers
+
+    return bool(source(_numba_helpers.midpoint_newton_done)(rel, prev, it))
 
 
 def _run_midpoint(p: RigidProblem) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
