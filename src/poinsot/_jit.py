@@ -35,6 +35,8 @@ from typing import Any
 
 import numpy as np
 
+from .errors import PoinsotWarning
+
 __all__ = [
     "NUMBA",
     "njit",
@@ -403,8 +405,6 @@ def _load() -> None:
             from numba import extending as _extending
         except ImportError as exc:
             import warnings
-
-            from .errors import PoinsotWarning
 
             NUMBA = False
             warnings.warn(

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from ._jit import MAIN_COMPILING, NUMBA, compiling
 from .errors import InvalidTypeError
 
 __all__ = ["as_progress", "run_compiled", "Progress", "in_chunks", "ivp_progress", "CHUNK"]
@@ -145,7 +146,6 @@ def run_compiled(
             with flag.raising(cancel):
                 return kernel(*args)
     out: dict[str, Any] = {}
-    from ._jit import NUMBA
 
     if NUMBA:
         import numba
@@ -175,7 +175,6 @@ def run_compiled(
                 progress(min(float(done.sum()) / total, 1.0))
     except KeyboardInterrupt:
         cancel[0] = 1
-        from ._jit import compiling
 
         if compiling(worker.ident):
             # numba is compiling the kernel (a cold cache: up to minutes) and cannot be
@@ -220,7 +219,6 @@ class _SigintFlag:
         # (PyErr_SetInterruptEx is documented async-signal-safe), so that the compiler
         # raises KeyboardInterrupt at once; never while the kernel runs (its boxing calls
         # into Python, which must not find an exception set)
-        from ._jit import MAIN_COMPILING
 
         interrupt = ctypes.cast(ctypes.pythonapi.PyErr_SetInterruptEx, ctypes.c_void_p).value
         ir = f"""
@@ -304,7 +302,6 @@ def _sigint_flag() -> _SigintFlag | None:
         or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
     ):
         return None
-    from ._jit import NUMBA
 
     if not NUMBA:  # the NumPy executor's kernels are Python: keep the worker thread
         return None

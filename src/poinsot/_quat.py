@@ -22,6 +22,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .rotations._lazy import kernels
+from .rotations.quaternion import conjugate_array
+from .rotations.rodrigues import quat_from_gibbs
+from .rotations.rotvec import angle_from_quat, quat_from_rotvec
+
 __all__ = [
     "pure",
     "conj",
@@ -59,14 +64,12 @@ def conj(q: np.ndarray) -> np.ndarray:
     >>> conj(np.array([1.0, 2.0, 3.0, 4.0]))
     array([ 1., -2., -3., -4.])
     """
-    from .rotations.quaternion import conjugate_array
 
     return conjugate_array(q)
 
 
 def mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Hamilton product ``P o Q`` (theory §1), compiled kernel, broadcasting."""
-    from .rotations._lazy import kernels
 
     out: np.ndarray = kernels().qmul(p, q)  # the lazily loaded kernel module is untyped
     return out
@@ -74,7 +77,6 @@ def mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``L o (0, v) o L~`` for unit ``L``: body components -> space components."""
-    from .rotations._lazy import kernels
 
     out: np.ndarray = kernels().qrot(q, v)
     return out
@@ -121,14 +123,12 @@ def from_gibbs(g: np.ndarray) -> np.ndarray:
     >>> from_gibbs(np.array([0.0, 0.0, 1.0])).round(6)
     array([0.707107, 0.      , 0.      , 0.707107])
     """
-    from .rotations.rodrigues import quat_from_gibbs
 
     return quat_from_gibbs(g)
 
 
 def from_rotvec(v: np.ndarray) -> np.ndarray:
     """``exp((0, v) / 2)``: the unit quaternion of rotation vectors ``v = f e`` (..., 3)."""
-    from .rotations.rotvec import quat_from_rotvec
 
     return quat_from_rotvec(v)
 
@@ -136,7 +136,6 @@ def from_rotvec(v: np.ndarray) -> np.ndarray:
 def to_body(quat: np.ndarray, v_space: np.ndarray) -> np.ndarray:
     """``R^T v``: space components -> body components, for unit ``quat`` (..., 4) and
     vectors (..., 3), broadcast."""
-    from .rotations._lazy import kernels
 
     shape = np.broadcast_shapes(quat.shape[:-1], v_space.shape[:-1])
     return kernels().qrot(
@@ -173,6 +172,5 @@ def attitude_distance(q_ref: np.ndarray, q: np.ndarray) -> np.ndarray:
     >>> round(float(attitude_distance(np.array([1.0, 0, 0, 0]), -2.0 * q)), 15)
     0.5
     """
-    from .rotations.rotvec import angle_from_quat
 
     return angle_from_quat(mul(conj(q_ref), q))

@@ -37,7 +37,20 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._jit import NAMESPACES, WRAP, math_namespace, rebind
+from ._validate import as_rotation_quat
+from .dynamics.free_body import _pow2, _snap_symmetric
+from .dynamics.integrators._common import _rhs
 from .errors import InvalidInputError
+from .kinematics.rates import (
+    _dcm_rate,
+    _euler_adjugate,
+    _euler_rates,
+    _omega_from_dcm_rate,
+    _omega_from_euler_rates,
+    _omega_from_quat_rate,
+    _quat_rate,
+)
+from .mass.tensor import check_principal_moments
 from .rotations import _scalar as S
 from .rotations.euler import parse_sequence
 
@@ -474,8 +487,6 @@ def slerp(q0: Any, q1: Any, t: Any) -> Any:
 
 
 def _euler_rhs_source() -> Callable[..., Any]:
-    from .dynamics.integrators._common import _rhs
-
     return rebind(_rhs, "jax")
 
 
@@ -612,7 +623,6 @@ def quat_rate(q: Any, omega: Any, *, frame: str = "body") -> Any:
     >>> quat_rate(jnp.array([1.0, 0, 0, 0]), jnp.array([0.0, 0, 2])).tolist()
     [0.0, 0.0, 0.0, 1.0]
     """
-    from .kinematics.rates import _quat_rate
 
     return rebind(_quat_rate, "jax")(q, jnp.asarray(omega, jnp.float64), frame)
 
@@ -625,7 +635,6 @@ def omega_from_quat_rate(q: Any, qdot: Any, *, frame: str = "body") -> Any:
     >>> omega_from_quat_rate(jnp.array([1.0, 0, 0, 0]), jnp.array([0.0, 0, 0, 1])).tolist()
     [0.0, 0.0, 2.0]
     """
-    from .kinematics.rates import _omega_from_quat_rate
 
     return rebind(_omega_from_quat_rate, "jax")(q, jnp.asarray(qdot, jnp.float64), frame)
 
@@ -639,7 +648,6 @@ def dcm_rate(C: Any, omega: Any, *, frame: str = "body") -> Any:
     >>> dcm_rate(jnp.eye(3), jnp.array([0.0, 0.0, 1.0])).tolist()[0]
     [0.0, -1.0, 0.0]
     """
-    from .kinematics.rates import _dcm_rate
 
     return rebind(_dcm_rate, "jax")(_mat3(C, "C"), _vec3(omega, "omega"), _frame(frame))
 
@@ -653,7 +661,6 @@ def omega_from_dcm_rate(C: Any, Cdot: Any, *, frame: str = "body") -> Any:
     >>> omega_from_dcm_rate(C, dcm_rate(C, jnp.array([1.0, 2.0, 3.0]))).tolist()
     [1.0, 2.0, 3.0]
     """
-    from .kinematics.rates import _omega_from_dcm_rate
 
     f = rebind(_omega_from_dcm_rate, "jax")
     return f(_mat3(C, "C"), _mat3(Cdot, "Cdot"), _frame(frame))
@@ -669,7 +676,6 @@ def omega_from_euler_rates(seq: str, angles: Any, rates: Any, *, frame: str = "b
     ... # doctest: +ELLIPSIS
     Array([0.        , 0.47942554, 0.87758256], dtype=float64)
     """
-    from .kinematics.rates import _omega_from_euler_rates
 
     f = rebind(_omega_from_euler_rates, "jax")
     return f(_euler_seq(seq), _vec3(angles, "angles"), _vec3(rates, "rates"), _frame(frame))
@@ -685,7 +691,6 @@ def euler_rates(seq: str, angles: Any, omega: Any, *, frame: str = "body") -> An
     >>> euler_rates("ZXZ", jnp.array([0.0, 0.5, 0.0]), jnp.array([0.0, 0.0, 1.0])).tolist()
     [0.0, 0.0, 1.0]
     """
-    from .kinematics.rates import _euler_adjugate, _euler_rates
 
     a, w = _vec3(angles, "angles"), _vec3(omega, "omega")
     adj, det = rebind(_euler_adjugate, "jax")(_euler_seq(seq), a, _frame(frame))
@@ -873,29 +878,21 @@ def free_body_exact(
     # concrete moments are checked like FreeRigidBody's (positive, A + B >= C); traced
     # ones (under an outer jit, vmap or grad) cannot be, a jitted function cannot raise
     if not isinstance(moments, jax.core.Tracer):
-        from .mass.tensor import check_principal_moments
-
         check_principal_moments(np.asarray(moments, dtype=float), "moments")
     if rotation0 is not None:
         if q0 is not None:
-            from .errors import InvalidInputError
-
             raise InvalidInputError(
                 "Give the initial attitude as `q0` or as `rotation0`, not both."
             )
         if isinstance(rotation0, jax.Array):  # traced or not: left to _quat4
             q0 = rotation0
         else:
-            from ._validate import as_rotation_quat
-
             q0 = as_rotation_quat(rotation0, "rotation0")
     return _free_body_exact(moments, omega0, q0)
 
 
 @jax.jit
 def _free_body_exact(moments: Any, omega0: Any, q0: Any) -> FreeBodyMotion:
-    from .dynamics.free_body import _pow2, _snap_symmetric
-
     j, w = _vec3(moments, "moments"), _vec3(omega0, "omega0")
     q = jnp.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else _quat4(q0, "q0")
     shape = jnp.broadcast_shapes(j.shape[:-1], w.shape[:-1], q.shape[:-1])

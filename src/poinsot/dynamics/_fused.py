@@ -56,6 +56,7 @@ from .._scratch import hold
 from .._vec import all_diagonal3, diagonal3, inverse3
 from ..rotations._lazy import threaded
 from . import _dop853_tableau as _tab
+from . import torques as _tq
 
 depends_on(__file__, nh)  # the cache sees edits of the inlined helpers
 
@@ -614,7 +615,6 @@ def torque_kernel(torque, batch: tuple[int, ...], par=None):
     callable) returns ``None``: the caller takes its slower path. ``par``: an array of
     that shape to fill (else a new one).
     """
-    from . import torques as _tq
 
     if par is None:
         par = np.zeros(batch + (4,))

@@ -42,6 +42,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validate import as_choice, as_float_array, as_vec3
 from .._vec import cross, dot
 from ..errors import AccuracyWarning, IntegrationError, InvalidInputError, InvalidTypeError
+from ..trajectory import PointTrajectory
 
 if TYPE_CHECKING:
     from ..trajectory import PointTrajectory
@@ -1279,8 +1280,6 @@ class CentralOrbit:
 def _trajectory(
     orbit: CentralOrbit, t: ArrayLike, method: str, rtol: float, progress: Progress = None
 ) -> PointTrajectory:
-    from ..trajectory import PointTrajectory
-
     t = as_float_array(t, "t")
     if t.ndim != 1:
         raise InvalidInputError(f"Expected `t` of shape (n,), got {t.shape}.")

@@ -80,7 +80,7 @@ from .._validate import (
 )
 from .._vec import inverse3
 from ..errors import InvalidInputError
-from ..mass.tensor import _momentum, single_principal_moments
+from ..mass.tensor import _momentum, as_inertia, single_principal_moments
 from ..rotations.rotation import Rotation
 
 if TYPE_CHECKING:
@@ -112,8 +112,6 @@ METHODS = integrators.names("rigid")
 
 
 def _as_inertia(inertia: object, name: str) -> tuple[np.ndarray, bool]:
-    from ..mass.tensor import as_inertia
-
     return as_inertia(inertia, name)
 
 

@@ -66,9 +66,12 @@ from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
 from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
+from ..mass import RigidBody, principal_axes
+from ..mass.tensor import _kinetic, _momentum, as_inertia
 from ..rotations import quaternion as _quaternion
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
+from .invariants import angular_momentum, invariants
 
 if TYPE_CHECKING:
     from ..mass.body import RigidBody
@@ -316,9 +319,6 @@ class FreeRigidBody:
         rotation0: Rotation | ArrayLike | None = None,
         omega0: ArrayLike,
     ) -> None:
-        from ..mass import RigidBody, principal_axes
-        from ..mass.tensor import as_inertia
-
         if isinstance(inertia, RigidBody):
             inertia = inertia.inertia  # about the centre of mass, in body axes
         j, principal = as_inertia(inertia, "inertia")
@@ -437,7 +437,6 @@ class FreeRigidBody:
                 SingularityWarning,
                 stacklevel=3,
             )
-        from ..mass.tensor import _kinetic, _momentum  # the one T and K (validated above)
 
         k_body = _momentum(self._moments, True, wp)
         self._energy = _kinetic(self._moments, True, wp)
@@ -709,7 +708,6 @@ class FreeRigidBody:
         >>> FreeRigidBody([1.0, 2.0, 3.0], omega0=[1.0, 1.0, 1.0]).momentum_body(0.0)
         array([1., 2., 3.])
         """
-        from .invariants import angular_momentum
 
         tf, tshape = self._times(t)
         w, _ = self._eval(tf, False)
@@ -780,7 +778,6 @@ class FreeRigidBody:
         of more than 65536 times is evaluated in chunks, between which Ctrl-C stops it
         (``KeyboardInterrupt``).
         """
-        from .invariants import invariants
 
         ta = as_float_array(t, "t")
         if ta.ndim != 1:

@@ -20,6 +20,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validate import as_rotation_quat, as_times, as_vec3
 from .._vec import cross, inverse3
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..mass import RigidBody
 from ..rotations.rotation import Rotation
 from ..trajectory import PoseTrajectory
 from .torques import as_torque
@@ -99,8 +100,6 @@ def simulate_free_motion(
     array([1.5    , 0.     , 0.77375])
     """
     from scipy.integrate import solve_ivp
-
-    from ..mass import RigidBody
 
     if not isinstance(body, RigidBody) or body.shape != ():
         raise InvalidTypeError(

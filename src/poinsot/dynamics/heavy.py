@@ -38,12 +38,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import integrators
+from .. import _quat, integrators
+from .._quat import up_body as _up_body
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape
 from .._vec import cross, diagonal3, inverse3
 from ..errors import InvalidInputError
+from ..mass import RigidBody
+from ..mass.tensor import as_inertia
 from ..trajectory import Trajectory
+from .euler_equations import simulate
+from .integrators._common import _rhs
+from .invariants import invariants
 from .torques import STANDARD_GRAVITY, GravityTorque
 
 if TYPE_CHECKING:
@@ -60,7 +66,6 @@ HEAVY_METHODS = integrators.names("rigid")
 
 def _upward(q: np.ndarray) -> np.ndarray:
     """``gamma = R^T e_z`` for unit quaternions ``q`` (..., 4) (the torque model's kernel)."""
-    from .._quat import up_body as _up_body
 
     return _up_body(q)
 
@@ -119,9 +124,6 @@ class HeavyRigidBody:
         *,
         g: float = STANDARD_GRAVITY,
     ) -> None:
-        from ..mass import RigidBody
-        from ..mass.tensor import as_inertia
-
         if isinstance(inertia, RigidBody):
             body = inertia
             if body.shape != ():
@@ -191,7 +193,6 @@ class HeavyRigidBody:
         >>> top.euler_poisson([0.0, 0.0, 0.0], [0.0, 1.0, 0.0])[0]   # tipping about x
         array([2.5, 0. , 0. ])
         """
-        from .integrators._common import _rhs
 
         w = as_vec3(omega, "omega")
         gam = as_vec3(gamma, "gamma")
@@ -213,8 +214,6 @@ class HeavyRigidBody:
         >>> top.rhs(0.0, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0])
         array([0., 0., 0., 1., 0., 0., 0.])
         """
-        from .. import _quat
-        from .integrators._common import _rhs
 
         y = as_float_array(state, "state")
         if y.shape[-1:] != (7,):
@@ -233,8 +232,6 @@ class HeavyRigidBody:
         return _upward(as_rotation_quat(rotation, "rotation"))
 
     def _inv(self, rotation: Rotation | ArrayLike, omega: ArrayLike) -> Invariants:
-        from .invariants import invariants
-
         return invariants(self.inertia_tensor, rotation, omega, torque=self.torque)
 
     def energy(self, rotation: Rotation | ArrayLike, omega: ArrayLike) -> FloatArray:
@@ -305,7 +302,6 @@ class HeavyRigidBody:
         >>> top.simulate(q0, [0.0, 0.0, 20.0], [0.0, 1.0], max_step=1e-3).omega.shape
         (2, 2, 3)
         """
-        from .euler_equations import simulate
 
         if method is None:  # tolerances ask for an adaptive method, as in simulate()
             method = "dop853" if (rtol is not None or atol is not None) else "splitting"

@@ -25,7 +25,10 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_rotation_quat, as_vec3, batch_shape, plain_vec3
-from ..mass.tensor import _kinetic, _momentum, single_principal_moments
+from .._vec import length
+from ..mass.tensor import _kinetic, _momentum, as_inertia, single_principal_moments
+from ..rotations._lazy import kernels
+from .torques import as_torque
 
 if TYPE_CHECKING:
     from ..rotations.rotation import Rotation
@@ -41,8 +44,6 @@ __all__ = ["kinetic_energy", "angular_momentum", "invariants", "Invariants"]
 
 
 def _inertia(inertia: object) -> tuple[np.ndarray, bool]:
-    from ..mass.tensor import as_inertia
-
     return as_inertia(inertia, "inertia")
 
 
@@ -157,7 +158,6 @@ class Invariants:
     @property
     def momentum_norm(self) -> np.ndarray:
         """``|K|`` (kg m^2/s), the same in both frames."""
-        from .._vec import length
 
         return length(self.momentum_body)
 
@@ -183,7 +183,6 @@ def _invariants(
 def _kinetic_space(q: np.ndarray, w: np.ndarray, k: np.ndarray) -> tuple[Any, np.ndarray]:
     """``T = w.K / 2`` and ``K_s = q K q~`` from the body momentum ``K = J w`` (theory §8):
     the free body's invariants, written once for :func:`_invariants` and ``simulate``."""
-    from ..rotations._lazy import kernels
 
     t = np.einsum("...i,...i->...", w, k)
     t *= 0.5  # in place: the same values as 0.5 * t, without a second array
@@ -237,7 +236,6 @@ def invariants(
     >>> float(inv.kinetic), float(inv.potential), float(inv.energy), float(inv.momentum_z)
     (25.0, 2.0, 27.0, 5.0)
     """
-    from .torques import as_torque
 
     j, principal = _inertia(inertia)
     q = as_rotation_quat(rotation, "rotation")

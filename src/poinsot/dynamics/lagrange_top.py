@@ -89,10 +89,12 @@ from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
 from ..errors import GimbalLockWarning, InvalidInputError
+from ..rotations import quaternion
 from ..rotations._scalar import vertical
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 from ._lagrange_roots import _cubic, _polish, _rtsafe
+from .free_body import FreeRigidBody
 from .gyroscope import (
     GyroscopicMoment,
     _angle,
@@ -102,6 +104,9 @@ from .gyroscope import (
     regular_precession_rates,
     sleeping_top_stable,
 )
+from .heavy import HeavyRigidBody
+from .invariants import invariants
+from .torques import GravityTorque
 
 if TYPE_CHECKING:
     from .free_body import FreeRigidBody
@@ -231,7 +236,6 @@ def _zxz_quat(psi: float, theta: float, phi: float) -> np.ndarray:
 
 def _flip(q: np.ndarray) -> np.ndarray:
     """``q o (0, 1, 0, 0)``: the attitude with the body axes ``e_2, e_3`` reversed."""
-    from ..rotations import quaternion
 
     return quaternion.multiply(q, _PI_X)
 
@@ -400,7 +404,6 @@ class LagrangeTop:
         >>> top.motion_type, round(top.H, 12)
         ('cusps', 20.0)
         """
-        from .heavy import HeavyRigidBody
 
         rtol = 1e-12
         if isinstance(body_or_moments, HeavyRigidBody):
@@ -690,8 +693,6 @@ class LagrangeTop:
         qf = s.q
         s.free = s.g == 0.0
         if s.free:
-            from .free_body import FreeRigidBody
-
             s.body = FreeRigidBody(
                 [a, a, c], omega0=self._w0, rotation0=Rotation.from_quat(self._q0)
             )
@@ -1192,8 +1193,6 @@ class LagrangeTop:
         receiving the fraction done, or None; a grid of more than 65536 times is evaluated
         in chunks, between which Ctrl-C stops it (``KeyboardInterrupt``).
         """
-        from .invariants import invariants
-        from .torques import GravityTorque
 
         ta = as_float_array(t, "t")
         if ta.ndim != 1:

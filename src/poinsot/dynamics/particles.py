@@ -39,7 +39,12 @@ from .._validate import as_bool, as_float_array, as_times, as_vec3, batch_shape
 from .._vec import cross, dot, hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..kinematics.fields import FrameMotion, _rivals_terms
-from ..trajectory import PointTrajectory
+from ..kinematics.rates import _quat_rate
+from ..mass import RigidBody
+from ..rotations.quaternion import rotate
+from ..rotations.rotation import Rotation
+from ..trajectory import PointTrajectory, Trajectory
+from . import earth
 from .systems import _call_force
 
 if TYPE_CHECKING:
@@ -66,7 +71,6 @@ def __getattr__(name: str) -> Any:
     # the applications on the rotating Earth moved to .earth (issue 39) and are still
     # reachable here; a module-level re-export would be an import circle (earth
     # integrates with simulate_particle), so they are looked up when first asked for
-    from . import earth
 
     if name in earth.__all__:
         return getattr(earth, name)
@@ -277,7 +281,6 @@ def body_inertial_forces(
     >>> f.transport_force + 0.0, f.transport_moment + 0.0
     (array([12.,  0.,  0.]), array([0., 0., 0.]))
     """
-    from ..mass import RigidBody
 
     if not isinstance(body, RigidBody) or body.shape != ():
         raise InvalidTypeError(
@@ -454,7 +457,6 @@ class ParticleTrajectory(PointTrajectory):
         relative motion with :func:`relative_motion`. ``method`` names the method
         in the result (default: the solver's name, e.g. ``"DOP853"``).
         """
-        from ..trajectory import Trajectory
 
         if (
             self.inertial_position is None
@@ -720,7 +722,6 @@ def simulate_particle(
     if inertial:
         rot, x0, vo = _frame_path(frame, t, rtol, atol, max_step)
         q = rot.as_quat()  # (n, 4)
-        from ..rotations.quaternion import rotate
 
         p = pos + 0.0
         wr = np.empty_like(p)
@@ -758,10 +759,6 @@ def _frame_path(
     ``q' = q o w / 2``, ``X0' = V0``, ``V0' = R W0`` are integrated (DOP853).
     """
     from scipy.integrate import solve_ivp
-
-    from ..kinematics.rates import _quat_rate
-    from ..rotations.quaternion import rotate
-    from ..rotations.rotation import Rotation
 
     fr0 = _frame_at(frame, t[0])
     dt = t - t[0]

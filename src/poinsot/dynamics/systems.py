@@ -30,6 +30,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_vec3
 from .._vec import cross, dot, length
 from ..errors import InvalidInputError, InvalidTypeError
+from ..kinematics.screw import reduce_motions
 
 __all__ = [
     "FORCE_KINDS",
@@ -624,7 +625,6 @@ def reduce_forces(
     >>> w.kind, w.central_axis.point + 0.0, float(w.central_axis.parameter)
     ('wrench', array([1., 0., 0.]), 0.5)
     """
-    from ..kinematics.screw import reduce_motions
 
     pairs = []
     for i, item in enumerate(_sequence(forces, "forces")):

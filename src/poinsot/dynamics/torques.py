@@ -44,6 +44,8 @@ from .._quat import up_body as _up_body
 from .._validate import as_choice, as_positive, as_vec3, batch_shape
 from .._vec import cross, diagonal3
 from ..errors import InvalidInputError, InvalidTypeError
+from ..mass.tensor import as_inertia
+from ..rotations.rotation import Rotation
 
 __all__ = [
     "TorqueModel",
@@ -281,8 +283,6 @@ class CallableTorque(TorqueModel):
         quat = np.asarray(quat, dtype=float)
         omega = np.asarray(omega, dtype=float)
         if self.attitude == "rotation":
-            from ..rotations.rotation import Rotation
-
             att: Rotation | np.ndarray = Rotation.from_quat(quat)
         else:
             att = quat
@@ -353,8 +353,6 @@ class GravityGradientTorque(TorqueModel):
     mu: float = 3.986004418e14
 
     def __post_init__(self) -> None:
-        from ..mass.tensor import as_inertia
-
         j, principal = as_inertia(self.inertia, "inertia")
         if principal:
             j = diagonal3(j)

@@ -45,6 +45,7 @@ from .rates import (
     FRAMES,
     _rotvec_coefficients,
     _rotvec_jacobian_apply,
+    _rotvec_rate,
 )
 
 __all__ = ["angular_velocity", "rotation_spline", "RotationSpline", "fornberg_weights"]
@@ -287,7 +288,6 @@ def _rotvec_accel_term(r: np.ndarray, rd: np.ndarray) -> np.ndarray:
 
 def _jr_inv_apply(r: np.ndarray, w: np.ndarray) -> np.ndarray:
     """``J_r(r)^-1 w`` (body frame rotation-vector rate)."""
-    from .rates import _rotvec_rate
 
     return _rotvec_rate(r, w, 1.0)
 

@@ -39,6 +39,7 @@ from ..rotations import quaternion as _quat
 from ..rotations.rotation import Rotation
 from ..rotations.rotvec import quat_from_rotvec
 from ..trajectory import Trajectory
+from .poisson_matrix import integrate_poisson_matrix
 
 __all__ = ["propagate"]
 
@@ -609,7 +610,6 @@ def _propagate_matrix(
     atol: float | None,
 ) -> Trajectory:
     """``propagate(..., representation="dcm" | "dcm6")``: Poisson's matrix equation."""
-    from .poisson_matrix import integrate_poisson_matrix
 
     if method != "adaptive":
         raise InvalidInputError(

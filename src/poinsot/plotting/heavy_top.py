@@ -19,6 +19,8 @@ import numpy as np
 
 from .._drift import relative_change
 from .._typing import ArrayLike
+from ..dynamics.heavy import HeavyRigidBody
+from ..dynamics.lagrange_top import LagrangeTop
 from ..errors import InvalidInputError, InvalidTypeError
 
 if TYPE_CHECKING:
@@ -38,8 +40,6 @@ __all__ = [
 
 
 def _top(top: object) -> Any:
-    from ..dynamics.lagrange_top import LagrangeTop
-
     if not isinstance(top, LagrangeTop):
         raise InvalidTypeError(
             f"Expected `top` to be a poinsot.dynamics.LagrangeTop, got {type(top).__name__}."
@@ -293,7 +293,6 @@ def plot_invariant_drift(
     >>> plot_invariant_drift(b, tr).get_yscale()
     'log'
     """
-    from ..dynamics.heavy import HeavyRigidBody
 
     if not isinstance(body, HeavyRigidBody):
         raise InvalidTypeError(

@@ -26,6 +26,14 @@ from typing import Any
 
 import numpy as np
 
+from ..dynamics import (
+    CentralOrbit,
+    FreeRigidBody,
+    LagrangeTop,
+    foucault_pendulum,
+    foucault_precession_rate,
+    kepler,
+)
 from ..errors import InvalidInputError, InvalidTypeError, PoinsotError
 from ..trajectory import CoordinateTrajectory, PointTrajectory, Result, Trajectory
 from .report import report_html
@@ -204,8 +212,6 @@ class Slider:
 
 
 def _free_body(p: Mapping[str, float]) -> ReportSpec:
-    from ..dynamics import FreeRigidBody
-
     moments = [p["A"], p["B"], p["C"]]
     body = FreeRigidBody(moments, omega0=[p["w1"], p["w2"], p["w3"]])
     t = np.linspace(0.0, p["duration"], 601)
@@ -215,8 +221,6 @@ def _free_body(p: Mapping[str, float]) -> ReportSpec:
 
 
 def _lagrange_top(p: Mapping[str, float]) -> ReportSpec:
-    from ..dynamics import LagrangeTop
-
     m, g, l_ = 1.0, 9.80665, p["l"]
     a_cm, c = p["A"], p["C"]
     a_o = a_cm + m * l_ * l_
@@ -233,8 +237,6 @@ def _lagrange_top(p: Mapping[str, float]) -> ReportSpec:
 
 
 def _foucault(p: Mapping[str, float]) -> ReportSpec:
-    from ..dynamics import foucault_pendulum, foucault_precession_rate
-
     t = np.linspace(0.0, p["duration"], 1201)
     tr = foucault_pendulum(p["length"], p["latitude"], t, omega=p["rate"], degrees=True,
                            amplitude=0.1 * p["length"])  # fmt: skip
@@ -244,8 +246,6 @@ def _foucault(p: Mapping[str, float]) -> ReportSpec:
 
 
 def _kepler(p: Mapping[str, float]) -> ReportSpec:
-    from ..dynamics import CentralOrbit, kepler
-
     e = p["e"]
     rp = 1.0 - e
     orbit = CentralOrbit.from_state(

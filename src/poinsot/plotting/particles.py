@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, SupportsFloat
 import numpy as np
 
 from .._typing import ArrayLike
+from ..dynamics.earth import swing_plane_angles
 from ..errors import InvalidInputError, InvalidTypeError
 
 if TYPE_CHECKING:
@@ -299,7 +300,6 @@ def plot_swing_plane(
     >>> len(ax.lines)
     2
     """
-    from ..dynamics.earth import swing_plane_angles
 
     p = np.asarray(trajectory.position)
     v = np.asarray(trajectory.velocity)

@@ -49,6 +49,7 @@ from .._files import atomic_write
 from .._quat import attitude_distance
 from .._validate import as_float_array, is_integer
 from ..errors import InvalidInputError, InvalidTypeError
+from ..errors import InvalidInputError as _Bad
 from ..trajectory import Trajectory
 from . import _report_shapes as shapes
 from ._report_page import b64, chart, fmt_number, page_html
@@ -649,7 +650,6 @@ def _law_label(check: Any) -> str:
 
 def _panels(tr: Any, ref: Any, checks: Any, tq: Any, euler_seq: Any, free_body: Any) -> Any:
     """Time-series panels: (title, y title, [(name, y, colour, dash)])."""
-    from ..errors import InvalidInputError as _Bad
 
     t = tr.t
     out: list[Any] = []

@@ -22,6 +22,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._jit import NUMBA
+from .._validate import as_int
+from ..errors import InvalidInputError
+
 if TYPE_CHECKING:
     from concurrent.futures import ThreadPoolExecutor
 
@@ -92,7 +96,6 @@ _FALLBACK_THREADS = [1]  # the NumPy executor runs on the calling thread
 def _numba() -> bool:
     """Whether the kernels are compiled by numba (:mod:`poinsot._jit`; imported here,
     not at ``import poinsot``)."""
-    from .._jit import NUMBA
 
     return NUMBA
 
@@ -116,7 +119,6 @@ def set_num_threads(n: int | None) -> None:
     >>> import numba; set_num_threads(numba.config.NUMBA_NUM_THREADS)
     >>> set_num_threads(None)      # back to the default: the idle cores
     """
-    from .._validate import as_int
 
     global _USER_THREADS
     if n is None:
@@ -133,8 +135,6 @@ def set_num_threads(n: int | None) -> None:
     # numba.config sets its NUMBA_* attributes at import: its stubs do not list them
     limit: int = config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
     if k > limit:
-        from ..errors import InvalidInputError
-
         raise InvalidInputError(
             f"Expected `n` to be at most NUMBA_NUM_THREADS = {limit}, got {n!r}."
         )

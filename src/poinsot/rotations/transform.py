@@ -21,6 +21,7 @@ from .._validate import as_bool, as_float_array, as_trailing, batch_shape
 from .._vec import cross, dot
 from ..errors import InvalidInputError, InvalidTypeError
 from ._lazy import big, flat, kernels, threaded
+from .quaternion import conjugate_array, multiply
 from .rotation import Rotation
 
 __all__ = ["RigidTransform", "FiniteScrew", "sclerp"]
@@ -232,7 +233,6 @@ class RigidTransform:
         >>> RigidTransform.from_dual_quat([1.0, 0, 0, 0, 0, 0.5, 0, 0]).as_components()[0]
         array([1., 0., 0.])
         """
-        from .quaternion import conjugate_array, multiply
 
         first = as_bool(scalar_first, "scalar_first")
         dq = as_trailing(dual_quat, "dual_quat", (8,))
@@ -318,7 +318,6 @@ class RigidTransform:
         >>> RigidTransform.from_translation([2.0, 0, 0]).as_dual_quat()
         array([1., 0., 0., 0., 0., 1., 0., 0.])
         """
-        from .quaternion import multiply
 
         first = as_bool(scalar_first, "scalar_first")
         q = self._rotation.as_quat()

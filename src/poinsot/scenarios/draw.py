@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..symbolic import ExpressionError, parse_expression
 from .kind import Drawing
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -80,8 +81,6 @@ def read_draw(top: Table, coordinates: tuple[str, ...], parameters: tuple[str, .
     """Read the ``[draw]`` table of ``top`` (None if absent). Formulas may use the
     ``coordinates``, the ``parameters`` and ``t``; errors name the file, line and key."""
     import sympy
-
-    from ..symbolic import ExpressionError, parse_expression
 
     t = top.table("draw")
     if t is None:

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from .kind import FigureSpec
+from ..plotting.scenario import plot_angular_velocity, plot_relative_change
+from .facts import FigureSpec
 
 if TYPE_CHECKING:
     from .summary import ScenarioResult
@@ -22,8 +23,6 @@ def omega_figure(result: ScenarioResult) -> FigureSpec:
     """``omega.png``: body angular velocity of the method (and the reference, dashed)."""
 
     def draw(ax: Any) -> Any:
-        from ..plotting.scenario import plot_angular_velocity
-
         return plot_angular_velocity(
             result.trajectory,
             result.reference,
@@ -41,8 +40,6 @@ def invariants_figure(result: ScenarioResult) -> FigureSpec | None:
     tr, ref = result.trajectory, result.reference
 
     def draw(ax: Any) -> Any:
-        from ..plotting.scenario import plot_relative_change
-
         curves = {f"{c.label} ({tr.method})": c.relative_change() for c in result.checks}
         dashed = set()
         if ref is not None:

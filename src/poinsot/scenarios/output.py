@@ -23,7 +23,8 @@ import numpy as np
 from .._files import atomic_write
 from ..errors import InvalidInputError
 from ..trajectory import Trajectory
-from .kind import Progress
+from .facts import Progress
+from .report import write_scenario_report
 from .schema import Scenario
 from .solve import _expect, check_cost, quiet_progress, simulate_scenario, span
 from .summary import CONVENTIONS, ScenarioResult, conventions_of, versions
@@ -230,8 +231,6 @@ def _figures(result: ScenarioResult, out: Path, notes: list[str]) -> list[Path]:
 def _report(
     result: ScenarioResult, summary: dict[str, Any], out: Path, notes: list[str]
 ) -> list[Path]:
-    from .report import write_scenario_report
-
     try:  # the kind says what to show (ScenarioKind.report); plotting draws it
         path = write_scenario_report(out / "report.html", result, summary)
     except ImportError as exc:  # the report needs only NumPy/SciPy: a broken install

@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
+from ..errors import InvalidInputError
 from .kind import ScenarioKind
 from .kinds import (
     attitude,
@@ -55,8 +56,6 @@ def get_kind(name: str) -> ScenarioKind:
     try:
         return KINDS[name]
     except KeyError:
-        from ..errors import InvalidInputError
-
         raise InvalidInputError(
             f"Expected a scenario kind, one of {', '.join(map(repr, KINDS))}; got {name!r}."
         ) from None

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..plotting import report as renderer
 from ..trajectory import quantity_label
 from .kind import Chart, FigureSpec
 
@@ -76,7 +77,6 @@ def write_scenario_report(
     >>> write_scenario_report(out, res).name
     'report.html'
     """
-    from ..plotting.report import write_report
 
     s = result.scenario
     spec = s.adapter.report(result)
@@ -88,7 +88,7 @@ def write_scenario_report(
     # the accuracy mark and warnings are in the page's header (from summary["accuracy"])
     summary = result.summary if summary is None else summary
     spec = dataclasses.replace(spec, charts=charts, title=title, summary=summary)
-    return write_report(path, spec)
+    return renderer.write_report(path, spec)
 
 
 def unit_charts(columns: Mapping[str, tuple[np.ndarray, str]]) -> list[Chart]:

@@ -24,6 +24,9 @@ import numpy as np
 
 from .. import integrators
 from ..dynamics.torques import STANDARD_GRAVITY  # the one value (m/s^2)
+from ..errors import InvalidInputError
+from ..mass import parallel_axis
+from ..rotations.rotation import Rotation
 
 if TYPE_CHECKING:
     from ..rotations.rotation import Rotation
@@ -120,7 +123,6 @@ class BodySpec:
     def inertia_about_origin(self) -> np.ndarray:
         """Inertia tensor about the origin of the body axes (Huygens-Steiner,
         docs/theory.md §8)."""
-        from ..mass import parallel_axis
 
         return np.asarray(parallel_axis(self.inertia, self.mass, self.center_of_mass))
 
@@ -142,8 +144,6 @@ class AttitudeSpec:
 
     @property
     def rotation(self) -> Rotation:
-        from ..rotations.rotation import Rotation
-
         return Rotation.from_quat(self.quat)
 
 
@@ -256,6 +256,33 @@ class SimulationSpec:
         return t
 
 
+#: Largest maximum relative drift of a conserved quantity accepted without a warning.
+DRIFT_THRESHOLD = 1e-6
+#: Largest attitude difference from the reference (rad) accepted without a warning.
+ATTITUDE_THRESHOLD = 1e-2
+#: Largest difference from the reference of any other state quantity accepted without
+#: a warning, relative to the quantity's scale (its largest magnitude along the
+#: reference run).
+AGREEMENT_THRESHOLD = 1e-2
+
+
+def agreement_thresholds(scenario: Scenario) -> tuple[float, float]:
+    """``(attitude_threshold (rad), agreement_threshold (relative))`` of a scenario:
+    its ``[simulation]`` values, else :data:`ATTITUDE_THRESHOLD` and
+    :data:`AGREEMENT_THRESHOLD`.
+
+    Examples
+    --------
+    >>> from poinsot.scenarios import demo_scenario
+    >>> agreement_thresholds(demo_scenario())
+    (0.01, 0.01)
+    """
+    sim = scenario.simulation
+    att = getattr(sim, "attitude_threshold", None) or ATTITUDE_THRESHOLD
+    rel = getattr(sim, "agreement_threshold", None) or AGREEMENT_THRESHOLD
+    return float(att), float(rel)
+
+
 @dataclass(frozen=True, eq=False)
 class Scenario:
     """A parsed scenario file.
@@ -281,10 +308,13 @@ class Scenario:
     data: dict[str, Any] = field(default_factory=dict)
     kind: str = "free-body"
     spec: Any = None
+    #: The :class:`~poinsot.scenarios.kind.ScenarioKind` that solves this scenario (the
+    #: reader sets it: :func:`~poinsot.scenarios.load_scenario`); its ``name`` is ``kind``.
+    adapter: Any = field(default=None, repr=False, compare=False)
 
-    @property
-    def adapter(self) -> Any:  # the ScenarioKind (its methods are typed loosely)
-        """The :class:`~poinsot.scenarios.kind.ScenarioKind` that solves this scenario."""
-        from .registry import get_kind
-
-        return get_kind(self.kind)
+    def __post_init__(self) -> None:
+        if self.adapter is not None and getattr(self.adapter, "name", self.kind) != self.kind:
+            raise InvalidInputError(
+                f"Expected `adapter` to solve kind {self.kind!r}, got one of kind "
+                f"{self.adapter.name!r}."
+            )

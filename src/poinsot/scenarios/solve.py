@@ -23,10 +23,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._jit import compile_seconds
 from ..errors import InvalidInputError, InvalidTypeError
+from ..integrators import INTEGRATORS
+from ..rotations.rotation import Rotation
 from ..trajectory import PER_SAMPLE_INFO, Trajectory
-from .kind import Progress
+from .facts import Progress
 from .schema import MAX_SAMPLES, Scenario
+from .summary import ScenarioResult
 
 if TYPE_CHECKING:
     from .summary import ScenarioResult
@@ -259,8 +263,6 @@ def _outputs_seconds(scenario: Scenario, samples: int, measure: bool) -> float:
 
 
 def _adaptive(method: str) -> bool:
-    from ..integrators import INTEGRATORS
-
     entry = INTEGRATORS.get(method)
     return bool(entry is not None and entry.adaptive)
 
@@ -274,7 +276,6 @@ def _measure(scenario: Scenario, method: str, guess: float) -> tuple[float, floa
     """``(seconds of the whole run, seconds compiling)`` of ``method`` from a run of a
     short first piece (after a tiny one that compiles and warms up), or None when the
     run is too short to need it."""
-    from .._jit import compile_seconds
 
     sim = scenario.simulation
     frac = min(_PIECE_FRACTION, _PIECE_SECONDS / max(guess, 1e-9))
@@ -354,7 +355,6 @@ def _concatenate(parts: list[Any]) -> Any:
     joined without the repeated samples, the others from the first chunk;
     ``info`` from the last, with ``chunks``, its counts (steps, evaluations...)
     summed over the chunks and its step sizes the extremes of all chunks."""
-    from ..rotations.rotation import Rotation
 
     first = parts[0]
     n0 = first.t.shape[0]
@@ -487,7 +487,6 @@ def simulate_scenario(
     >>> r.summary["results"]["energy"], r.summary["results"]["units"]["energy"]
     (1.5, 'J')
     """
-    from .summary import ScenarioResult
 
     _expect(scenario, Scenario, "scenario", "a Scenario (from load_scenario/parse_scenario)")
     cost = check_cost(scenario, duration=duration, allow_large=bool(allow_large))
@@ -496,7 +495,6 @@ def simulate_scenario(
     kind = scenario.adapter
     t = scenario.simulation.times()
     has_ref = scenario.simulation.reference is not None
-    from .._jit import compile_seconds
 
     # numba's compile time (a cold cache) is counted apart from each method's time
     c0 = compile_seconds()

@@ -53,6 +53,8 @@ from typing import Any
 
 import numpy as np
 
+from .. import __version__
+from ..mass import principal_axes
 from ..trajectory import (
     PER_SAMPLE_INFO,
     CoordinateTrajectory,
@@ -61,8 +63,15 @@ from ..trajectory import (
     compare,
     quantity_label,
 )
-from .kind import Check, Entry, Facts, jsonable, section
-from .schema import Scenario
+from .describe import describe
+from .facts import Check, Entry, Facts, jsonable, section
+from .schema import (
+    AGREEMENT_THRESHOLD,
+    ATTITUDE_THRESHOLD,
+    DRIFT_THRESHOLD,
+    Scenario,
+    agreement_thresholds,
+)
 
 __all__ = [
     "ScenarioResult",
@@ -123,33 +132,6 @@ def conventions_of(tr: Any) -> str:
     return MOTION_CONVENTIONS
 
 
-#: Largest maximum relative drift of a conserved quantity accepted without a warning.
-DRIFT_THRESHOLD = 1e-6
-#: Largest attitude difference from the reference (rad) accepted without a warning.
-ATTITUDE_THRESHOLD = 1e-2
-#: Largest difference from the reference of any other state quantity accepted without
-#: a warning, relative to the quantity's scale (its largest magnitude along the
-#: reference run).
-AGREEMENT_THRESHOLD = 1e-2
-
-
-def agreement_thresholds(scenario: Scenario) -> tuple[float, float]:
-    """``(attitude_threshold (rad), agreement_threshold (relative))`` of a scenario:
-    its ``[simulation]`` values, else :data:`ATTITUDE_THRESHOLD` and
-    :data:`AGREEMENT_THRESHOLD`.
-
-    Examples
-    --------
-    >>> from poinsot.scenarios import demo_scenario
-    >>> agreement_thresholds(demo_scenario())
-    (0.01, 0.01)
-    """
-    sim = scenario.simulation
-    att = getattr(sim, "attitude_threshold", None) or ATTITUDE_THRESHOLD
-    rel = getattr(sim, "agreement_threshold", None) or AGREEMENT_THRESHOLD
-    return float(att), float(rel)
-
-
 def versions() -> dict[str, Any]:
     """Versions of poinsot, Python, NumPy and SciPy (for ``summary.json``).
 
@@ -159,8 +141,6 @@ def versions() -> dict[str, Any]:
     ['numpy', 'poinsot', 'python', 'scipy']
     """
     import scipy
-
-    from .. import __version__
 
     return {
         "poinsot": __version__,
@@ -493,7 +473,6 @@ class ScenarioResult:
         s = self.scenario
         if s.body is None:
             return None
-        from ..mass import principal_axes
 
         b = s.body
         J = np.asarray(b.inertia, dtype=float)
@@ -529,7 +508,6 @@ class ScenarioResult:
     # ------------------------------------------------------------------ text, figures
     def describe(self, *, title: str = "poinsot") -> str:
         """A short human summary (printed by ``poinsot run`` and ``poinsot demo``)."""
-        from .describe import describe
 
         return describe(self, title=title)
 

@@ -13,6 +13,7 @@ from itertools import combinations
 from typing import Any
 
 from ..errors import InvalidInputError, InvalidTypeError
+from .lagrange import LagrangeSystem
 
 __all__ = [
     "generalized_forces",
@@ -346,7 +347,6 @@ def is_first_integral(
     -c*v**2
     """
     sp = _sympy()
-    from .lagrange import LagrangeSystem
 
     if time is None:
         from sympy.physics.mechanics import dynamicsymbols

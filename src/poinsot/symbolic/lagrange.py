@@ -31,8 +31,9 @@ from collections.abc import Mapping, Sequence
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
-from ..errors import InvalidInputError, InvalidTypeError
+from ..errors import InvalidInputError, InvalidTypeError, PoinsotWarning
 from ._symbols import Coordinates, as_coordinates
+from .numeric import NumericLagrangian
 
 if TYPE_CHECKING:
     from .._typing import ArrayLike
@@ -701,7 +702,6 @@ class LagrangeSystem:
         >>> f(0.0, np.array([np.pi / 2, 0.0]))
         array([ 0.  , -9.81])
         """
-        from .numeric import NumericLagrangian
 
         key = None
         if parameters is None or isinstance(parameters, Mapping):
@@ -828,8 +828,6 @@ def _eliminate(
     sol = sols[0]
     if len(sols) > 1:
         import warnings
-
-        from ..errors import PoinsotWarning
 
         warnings.warn(
             f"The holonomic constraints have {len(sols)} solutions for "

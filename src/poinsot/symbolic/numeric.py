@@ -31,11 +31,14 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
-from .. import integrators
+from .. import _jit, integrators
 from .._deprecate import renamed, take_renamed
+from .._files import atomic_write
 from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
+from .._validate import as_float_array, as_times
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotError
+from ._symbols import coordinate_unit
 
 if TYPE_CHECKING:
     from .lagrange import LagrangeSystem
@@ -64,9 +67,7 @@ def _solver() -> Any:
     """The compiled dense solver shared by every generated kernel (compiled once)."""
     global _SOLVER
     if _SOLVER is None:
-        from .._jit import njit
-
-        _SOLVER = njit(cache=True, nogil=True)(_solve_py)
+        _SOLVER = _jit.njit(cache=True, nogil=True)(_solve_py)
     return _SOLVER
 
 
@@ -272,13 +273,10 @@ def _compile(src: str) -> dict[str, Any]:
     import hashlib
     import importlib.util
 
-    from .._files import atomic_write
-    from .._jit import NUMBA, njit
-
     with _COMPILE_LOCK:
-        folder = _cache_dir() if NUMBA else None  # nothing to cache without numba
+        folder = _cache_dir() if _jit.NUMBA else None  # nothing to cache without numba
         if folder is None:
-            namespace: dict[str, Any] = {"np": np, "math": math, "njit": njit, "CACHE": False}
+            namespace: dict[str, Any] = {"np": np, "math": math, "njit": _jit.njit, "CACHE": False}
             namespace["_solve"] = _solver()
             exec(compile(src, "<poinsot.symbolic generated rhs>", "exec"), namespace)  # noqa: S102
             return namespace
@@ -490,13 +488,12 @@ class NumericLagrangian:
         """The one-state kernel compiled for ``(float64, float64 arrays)``: its entry
         point trusts its arguments, so :meth:`__call__` checks them first (``y`` a
         float64 ``(2n,)`` array, ``t`` a float; the other arrays are its own)."""
-        from .._jit import NUMBA
 
         ns = self._kernels()
         size = self.n + self.n_constraints
         # the parameters, then the scratch (see _one in the generated source)
         self._work = np.concatenate([self._defaults, np.empty((size + 1) * size)])
-        if not NUMBA:  # the NumPy executor: the plain Python function
+        if not _jit.NUMBA:  # the NumPy executor: the plain Python function
             self._one = ns["_one"]
             return self._one
         from numba import types
@@ -862,7 +859,6 @@ class NumericLagrangian:
 
     def _units(self, units: Mapping[str, str] | Sequence[str] | None) -> tuple[str, ...]:
         """The units of the coordinates: given, else guessed from their names."""
-        from ._symbols import coordinate_unit
 
         if units is None:
             units = {}
@@ -946,13 +942,10 @@ class NumericLagrangian:
         """
         from scipy.integrate import solve_ivp
 
-        from .._validate import as_times
-
         method = integrators.check_method(method, SOLVERS, "a Lagrangian system")
         tt = as_times(t, "t")
         p = self._params(parameters)
         pmap = dict(zip(self.parameters, p.tolist(), strict=True))
-        from .._validate import as_float_array
 
         q0a = as_float_array(q0, "q0", finite=False)
         u0a = as_float_array(qdot0, "qdot0", finite=False)

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ... import _quat
-from ..._progress import _Report
+from ..._progress import _Report, run_compiled
 from ..._typing import ArrayLike, FloatArray, IntArray
 from ..._vec import all_diagonal3, diagonal3, inverse3
 from ..._vec import cross as _cross
@@ -265,7 +265,6 @@ def _run_kernel(
 ) -> Any:
     """A compiled fixed-step kernel of :mod:`._euler_numba` through
     :func:`poinsot._progress.run_compiled`: progress, and Ctrl-C within one step."""
-    from ..._progress import run_compiled
 
     cancel = np.zeros(1, dtype=np.int64)
     done = np.zeros(1, dtype=np.int64)

@@ -15,6 +15,7 @@ from ._common import (
     RigidProblem,
     RunOptions,
 )
+from .adaptive import _run_adaptive
 
 #: Why a body of a compiled DOP853 batch failed (``info["failed"]`` with failures="mark").
 FAILURE_REASONS = {
@@ -90,7 +91,6 @@ class DOP853(RigidIntegrator):
 
     def run(self, p: RigidProblem, o: RunOptions) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
         from .. import _fused  # numba, loaded on first use
-        from .adaptive import _run_adaptive
 
         fused = _fused.integrate(
             p.moments if p.principal else p.j,

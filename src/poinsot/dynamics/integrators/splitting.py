@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 
 from ..._typing import FloatArray
+from ...mass import principal_axes
+from ..torques import GravityTorque
 from ._common import (
     RigidIntegrator,
     RigidProblem,
@@ -47,7 +49,6 @@ def _run_splitting(
     j, q, w, t, h_max, comp = p.j, p.q, p.omega0, p.t, p.h_max, p.comp
     m_const: Any = p.m_const
     report = p.report
-    from ...mass import principal_axes
 
     nsub = _substeps(t, h_max)
     moments, rot = principal_axes(j)  # J_b = S diag(I) S^T, S = C_bp, I ascending
@@ -123,8 +124,6 @@ class Splitting(RigidIntegrator):
     name = "splitting"
 
     def run(self, p: RigidProblem, o: RunOptions) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
-        from ..torques import GravityTorque
-
         model = p.model
         if isinstance(model, GravityTorque) and model.moment.shape[:-1] in ((), p.batch):
             # gravity about a fixed point: exact kicks inside the compiled stepper

@@ -9,9 +9,13 @@ from typing import Any
 
 import numpy as np
 
+from ...dynamics import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque, invariants, simulate
 from ...integrators import INTEGRATORS
-from ..io import read_angular_velocity, read_body, read_torque
-from ..kind import BodyLayer, ReportSpec, ScenarioKind
+from ...mass import solids
+from ...plotting._report_shapes import SOLIDS, axes_from_inertia, equivalent_ellipsoid
+from ..kind import BodyLayer, Drawing, ReportSpec, ScenarioKind
+from ..readers import read_angular_velocity, read_body, read_torque
+from ..solve import chunked
 
 TABLES = ("body", "angular_velocity", "torque")
 
@@ -41,8 +45,6 @@ def simulate_rigid(
     scenario: Any, inertia: Any, torque: Any, method: Any, t: Any, progress: Any
 ) -> Any:
     """Euler's equations with the attitude (docs/theory.md §10), in chunks."""
-    from ...dynamics import simulate
-    from ..solve import chunked
 
     return chunked(
         lambda rot, w, tt: simulate(
@@ -64,7 +66,6 @@ def simulate_rigid(
 
 def torque_model(scenario: Any) -> Any:
     """The scenario's ``[torque]`` as a :class:`poinsot.dynamics.TorqueModel` (or None)."""
-    from ...dynamics import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
 
     tq = scenario.torque
     if tq is None or tq.model == "none":
@@ -78,7 +79,6 @@ def torque_model(scenario: Any) -> Any:
 
 def invariants_of(inertia: Any, tr: Any, torque: Any = None) -> Any:
     """:func:`poinsot.dynamics.invariants` along a trajectory (docs/theory.md §8, §10)."""
-    from ...dynamics import invariants
 
     return invariants(inertia, tr.rotation, tr.omega, torque=torque)
 
@@ -96,8 +96,6 @@ def body_shapes(body: Any) -> list[dict[str, Any]] | None:
     """The solids of a scenario body (its shape, or its parts) in body axes, as
     :func:`poinsot.plotting.write_report` takes them (None: draw the equivalent
     ellipsoid)."""
-    from ...mass import solids
-    from ...plotting._report_shapes import SOLIDS, axes_from_inertia
 
     if body.shape == "mesh":  # vertices already in body axes
         return [{"kind": "mesh", "vertices": body.vertices, "faces": body.faces}]
@@ -147,7 +145,6 @@ def top_drawing(rotation: Any, center_of_mass: Any, reach: float = 1.5) -> Any:
     >>> d.points["axis tip"][0].round(3).tolist(), d.links, d.trails
     ([0.0, 0.0, 0.15], (('fixed point', 'centre of mass'),), ('axis tip',))
     """
-    from ..kind import Drawing
 
     com = np.asarray(center_of_mass, dtype=float)
     c = rotation.apply(com)
@@ -181,8 +178,6 @@ def rigid_report(result: Any, *, polhode: bool = False, sections: Any = ()) -> A
         torque = body_torque(s, tr)
     drawing = None
     if s.body is not None and body is not None and body.fixed_point:
-        from ...plotting._report_shapes import equivalent_ellipsoid
-
         # the tip beyond the body (its equivalent ellipsoid), so that its trail shows
         com = np.asarray(s.body.center_of_mass, dtype=float)
         semi, _ = equivalent_ellipsoid(float(s.body.mass), np.asarray(s.body.inertia))

@@ -10,6 +10,11 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from ...kinematics import coning_omega, propagate
+from ...rotations.rotation import Rotation
+from ...trajectory import Trajectory
+from ..solve import chunked
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Facts, Progress
@@ -18,8 +23,8 @@ if TYPE_CHECKING:
 import numpy as np
 
 from ... import integrators
-from ..io import read_body, read_omega_profile
 from ..kind import Check, Entry, Facts
+from ..readers import read_body, read_omega_profile
 from ..schema import KINEMATICS_METHODS
 from . import _rigid
 
@@ -30,8 +35,6 @@ def omega_function(profile: Any) -> Any:
         w = np.asarray(profile.vector)
         return lambda t: w
     if profile.kind == "coning":
-        from ...kinematics import coning_omega
-
         return lambda t: coning_omega(profile.half_angle, profile.rate, t)
     ts, ws = np.asarray(profile.t), np.asarray(profile.omega)
 
@@ -103,9 +106,6 @@ class Attitude(_rigid.RigidKind):
         return None
 
     def propagate(self, scenario: Any, method: Any, t: Any, progress: Any) -> Any:
-        from ...kinematics import propagate
-        from ..solve import chunked
-
         profile = scenario.omega_profile
         omega = omega_function(profile)
         return chunked(
@@ -127,8 +127,6 @@ class Attitude(_rigid.RigidKind):
     def exact(self, scenario: Any, t: Any) -> Any:
         """Constant ``w``: ``R(t) = R0 exp(t w^)`` (body axes) or ``exp(t w^) R0``
         (space axes), docs/theory.md §5."""
-        from ...rotations.rotation import Rotation
-        from ...trajectory import Trajectory
 
         p = scenario.omega_profile
         w = np.asarray(p.vector)

@@ -16,6 +16,12 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from ...dynamics import CentralOrbit, ParticleSystem, harmonic, inverse_square, kepler
+from ...errors import PoinsotError
+from ...plotting.particles import plot_effective_potential, plot_orbit
+from ..kind import ReportSpec
+from ..report import figure_sections, unit_charts
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
@@ -75,8 +81,6 @@ def apsides_line(t: np.ndarray, position: np.ndarray) -> np.ndarray | None:
 
 
 def _orbit(spec: Any) -> Any:
-    from ...dynamics import CentralOrbit, harmonic, inverse_square, kepler
-
     terms = []
     if spec.mu is not None:
         terms.append(kepler(spec.mu))
@@ -136,7 +140,6 @@ class CentralOrbitKind(ScenarioKind):
                 angular_momentum=t.number("angular_momentum", required=True),
             )
         t.finish(keys)
-        from ...errors import PoinsotError
 
         try:
             _orbit(spec)
@@ -201,8 +204,6 @@ class CentralOrbitKind(ScenarioKind):
         return Facts(entries, tuple(lines))
 
     def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
-        from ...dynamics import ParticleSystem
-
         orb = _orbit(scenario.spec)
         sys = ParticleSystem(
             np.full((tr.t.size, 1), orb.mass), tr.position[:, None], tr.velocity[:, None]
@@ -246,13 +247,9 @@ class CentralOrbitKind(ScenarioKind):
         orb = _orbit(result.scenario.spec)
 
         def orbit(ax: Any) -> Any:
-            from ...plotting.particles import plot_orbit
-
             return plot_orbit(orb, tr.t, ax=ax)
 
         def ueff(ax: Any) -> Any:
-            from ...plotting.particles import plot_effective_potential
-
             return plot_effective_potential(orb, ax=ax)
 
         figs = [
@@ -266,8 +263,6 @@ class CentralOrbitKind(ScenarioKind):
         """``report.html``: the point and its orbit in space, charts of the position
         and velocity components, the checks, and the orbit (apsides marked) and the
         effective potential as inline SVG."""
-        from ..kind import ReportSpec
-        from ..report import figure_sections, unit_charts
 
         tr = result.trajectory
         names = ("x", "y", "z")

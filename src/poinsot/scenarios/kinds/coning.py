@@ -11,6 +11,11 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
+from ...kinematics import coning_omega, coning_quat
+from ...rotations import quaternion as qa
+from ...rotations.rotation import Rotation
+from ...trajectory import Trajectory
+
 if TYPE_CHECKING:
     from ..kind import Facts
     from ..schema import Scenario
@@ -34,11 +39,6 @@ class Coning(Attitude):
         return isinstance(profile, dict) and profile.get("kind") == "coning"
 
     def exact(self, scenario: Any, t: Any) -> Any:
-        from ...kinematics import coning_omega, coning_quat
-        from ...rotations import quaternion as qa
-        from ...rotations.rotation import Rotation
-        from ...trajectory import Trajectory
-
         p = scenario.omega_profile
         qc = coning_quat(p.half_angle, p.rate, t)
         q = qa.multiply(qa.multiply(scenario.attitude.quat, qa.conjugate(qc[0])), qc)

@@ -11,6 +11,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from ...dynamics import FreeRigidBody
+from ...plotting.free_body import plot_maccullagh, plot_poinsot
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
@@ -29,8 +32,6 @@ from . import _rigid
 
 
 def _free_body(scenario: Any) -> Any:
-    from ...dynamics import FreeRigidBody
-
     return FreeRigidBody(
         np.asarray(scenario.body.inertia),
         omega0=np.asarray(scenario.angular_velocity.omega_body),
@@ -163,13 +164,9 @@ class FreeBody(_rigid.RigidKind):
         t = result.trajectory.t
 
         def maccullagh(ax: Any) -> Any:
-            from ...plotting.free_body import plot_maccullagh
-
             return plot_maccullagh(fb, ax=ax)
 
         def poinsot(ax: Any) -> Any:
-            from ...plotting.free_body import plot_poinsot
-
             return plot_poinsot(fb, t[:: max(1, t.size // 800)], ax=ax)
 
         figs.append(FigureSpec("maccullagh.png", maccullagh, (6.0, 6.0), "3d"))

@@ -18,6 +18,24 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from ...dynamics import (
+    HeavyRigidBody,
+    LagrangeTop,
+    critical_spin,
+    gyroscope_precession_rate,
+    regular_precession_rates,
+)
+from ...errors import InvalidInputError
+from ...plotting.heavy_top import (
+    plot_axis_track,
+    plot_cubic,
+    plot_invariant_drift,
+    plot_kovalevskaya,
+    plot_nutation,
+)
+from ..report import figure_sections
+from ..solve import chunked
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Entry, Facts, FigureSpec, Progress, ReportSpec
@@ -36,15 +54,11 @@ from . import _rigid
 
 
 def _heavy(body: Any, torque: Any) -> Any:
-    from ...dynamics import HeavyRigidBody
-
     return HeavyRigidBody(body.inertia_about_origin(), body.mass, body.center_of_mass, g=torque.g)
 
 
 def _lagrange(body: Any, torque: Any, rotation: Any = None, omega: Any = None) -> Any:
     """The scenario's LagrangeTop, or ``(None, reason)`` when the body is not one."""
-    from ...dynamics import LagrangeTop
-    from ...errors import InvalidInputError
 
     rot = rotation if rotation is not None else np.array([1.0, 0.0, 0.0, 0.0])
     w = omega if omega is not None else np.zeros(3)
@@ -69,9 +83,6 @@ def _kovalevskaya(body: Any) -> bool:
 
 
 def _lagrange_facts(top: Any, scenario: Any) -> Facts:
-    from ...dynamics import critical_spin, gyroscope_precession_rate, regular_precession_rates
-    from ...errors import InvalidInputError
-
     body = scenario.body
     lo, hi = top.nutation_bounds
     p_min, p_max = top.psi_rate_at_bounds()
@@ -191,7 +202,6 @@ class HeavyTop(_rigid.RigidKind):
             tr = top.trajectory(t)
             progress(1.0, "exact solution")
             return tr
-        from ..solve import chunked
 
         body = _heavy(scenario.body, scenario.torque)
         return chunked(
@@ -279,18 +289,12 @@ class HeavyTop(_rigid.RigidKind):
         if top is not None:
 
             def track(ax: Any) -> Any:
-                from ...plotting.heavy_top import plot_axis_track
-
                 return plot_axis_track(top, tr.t[:: max(1, tr.t.size // 1500)], ax=ax)
 
             def cubic(ax: Any) -> Any:
-                from ...plotting.heavy_top import plot_cubic
-
                 return plot_cubic(top, ax=ax)
 
             def nutation(ax: Any) -> Any:
-                from ...plotting.heavy_top import plot_nutation
-
                 numerical = tr if tr.method != "exact" else result.reference
                 return plot_nutation(top, numerical, ax=ax)
 
@@ -302,16 +306,12 @@ class HeavyTop(_rigid.RigidKind):
         if numerical is not None:
 
             def drift(ax: Any) -> Any:
-                from ...plotting.heavy_top import plot_invariant_drift
-
                 return plot_invariant_drift(body, numerical, ax=ax)
 
             figs.append(FigureSpec("heavy_invariants.png", drift))
         if top is None and _kovalevskaya(scenario.body):
 
             def kova(ax: Any) -> Any:
-                from ...plotting.heavy_top import plot_kovalevskaya
-
                 return plot_kovalevskaya([(f"{tr.method}", body, tr)], ax=ax)
 
             figs.append(FigureSpec("kovalevskaya.png", kova))
@@ -321,7 +321,6 @@ class HeavyTop(_rigid.RigidKind):
         """A rigid body's report (the top on its pin, the gravity torque, ZXZ angles)
         with the heavy-top figures (axis track, P(u), theta(t), invariants) as
         inline SVG."""
-        from ..report import figure_sections
 
         titles = {
             "axis_track.png": "Track of the symmetry axis on the unit sphere (docs/theory.md §10)",

@@ -25,6 +25,16 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from ...errors import InvalidInputError
+from ...plotting.lagrange import plot_coordinates, plot_equations, plot_phase
+from ...symbolic import FUNCTIONS, ExpressionError, LagrangeSystem, parse_expression
+from ...symbolic._symbols import coordinate_unit as guess
+from ...symbolic.numeric import _framed
+from ..draw import read_draw
+from ..figures import invariants_figure
+from ..kind import Chart, ReportSpec
+from ..report import figure_sections
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
@@ -77,7 +87,6 @@ def coordinate_unit(name: str) -> str:
     >>> [coordinate_unit(n) for n in ("theta1", "phi", "x", "rho", "z_2", "q")]
     ['rad', 'rad', 'm', 'm', 'm', '']
     """
-    from ...symbolic._symbols import coordinate_unit as guess  # SymPy-free, loaded late
 
     return guess(name)
 
@@ -124,8 +133,6 @@ def _strings(t: Any, key: Any, n: Any = None) -> Any:
 
 
 def _parse_formula(t: Any, key: Any, text: Any, symbols: Any) -> Any:
-    from ...symbolic import ExpressionError, parse_expression
-
     try:
         return parse_expression(text, symbols)
     except ExpressionError as exc:
@@ -136,9 +143,6 @@ def _build(t: Any, coords: Any, params: Any, formulas: Any) -> Any:
     """Parse every formula (errors name file, key, token) and build the system."""
     import sympy
     from sympy.physics.mechanics import dynamicsymbols
-
-    from ...errors import InvalidInputError
-    from ...symbolic import LagrangeSystem
 
     time = dynamicsymbols._t
     funcs = [sympy.Function(c)(time) for c in coords]
@@ -196,8 +200,6 @@ def _check_system(t: Any, system: Any, params: Any, q0: Any, qdot0: Any) -> None
     y0 = np.ascontiguousarray([[*q0, *qdot0]], dtype=float)
     problem = f._start_problem(np.zeros(1), y0, f._params(None), f._interpreted(), "_dot")
     if problem is not None:
-        from ...symbolic.numeric import _framed
-
         kind, text = problem
         message = _framed(kind, text, "an initial state (`q0`, `qdot0`)")
         key = "kinetic" if kind == "kinetic" else "q0"
@@ -235,7 +237,6 @@ class Lagrangian(ScenarioKind):
         ):
             raise t.expected("coordinates", "a non-empty list of names", raw)
         coords = tuple(raw)
-        from ...symbolic import FUNCTIONS
 
         reserved = {"t", "pi", *FUNCTIONS}
         pt = t.table("parameters")
@@ -280,7 +281,6 @@ class Lagrangian(ScenarioKind):
         _check_system(t, system, params, q0, qdot0)
         units = self._units(t, kept)
         t.finish(_KEYS)
-        from ..draw import read_draw
 
         draw = read_draw(top, tuple(kept), tuple(p for p, _ in params))
         spec = LagrangianSpec(coords, tuple(params), tuple(formulas), q0, qdot0, rtol, atol,
@@ -391,24 +391,16 @@ class Lagrangian(ScenarioKind):
         return tuple(out)
 
     def figures(self, result: ScenarioResult) -> list[FigureSpec]:
-        from ..figures import invariants_figure
-
         lt = result.trajectory
         system = result.scenario.spec.system
 
         def coords(ax: Any, lt: Any = lt) -> Any:
-            from ...plotting.lagrange import plot_coordinates
-
             return plot_coordinates(lt, ax=ax, title=f"{result.scenario.name}: coordinates")
 
         def phase(ax: Any, lt: Any = lt) -> Any:
-            from ...plotting.lagrange import plot_phase
-
             return plot_phase(lt, ax=ax)
 
         def eqs(ax: Any, system: Any = system) -> Any:
-            from ...plotting.lagrange import plot_equations
-
             return plot_equations(system, ax=ax)
 
         n = len(system.coordinates) + len(system.multipliers)
@@ -426,8 +418,6 @@ class Lagrangian(ScenarioKind):
         (the reference run's dashed beside them), the constraint multipliers, the
         checks, and the equations, coordinates and phase portraits as inline SVG
         (offline)."""
-        from ..kind import Chart, ReportSpec
-        from ..report import figure_sections
 
         lt = result.trajectory
         ref = result.reference
@@ -466,8 +456,6 @@ class Lagrangian(ScenarioKind):
         n = len(system.coordinates)
 
         def eqs(ax: Any) -> Any:
-            from ...plotting.lagrange import plot_equations
-
             return plot_equations(system, ax=ax)
 
         titles = {

@@ -28,6 +28,24 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from ...dynamics import (
+    EARTH_ROTATION_RATE,
+    STANDARD_GRAVITY,
+    PendulumForce,
+    UniformGravity,
+    earth_frame,
+    eastward_deflection,
+    foucault_frame,
+    foucault_pendulum,
+    foucault_period,
+    foucault_precession_rate,
+    jacobi_integral,
+    simulate_particle,
+)
+from ...plotting.particles import plot_path, plot_swing_plane
+from ..kind import ReportSpec
+from ..report import figure_sections, unit_charts
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Facts, FigureSpec, Progress, ReportSpec
@@ -60,8 +78,6 @@ class EarthSpec:
 
 
 def _read_common(t: Any, extra: Any) -> Any:
-    from ...dynamics import EARTH_ROTATION_RATE, STANDARD_GRAVITY
-
     keys = ("latitude", "degrees", "g", "omega", "mass", *extra)
     t.known(keys)
     degrees = t.boolean("degrees", True)
@@ -96,8 +112,6 @@ class _EarthKind(ScenarioKind):
         return out
 
     def _jacobi(self, scenario: Any, tr: Any, frame: Any, potential: Any) -> Any:
-        from ...dynamics import jacobi_integral
-
         r, v = tr.position, tr.velocity
         h = jacobi_integral(frame, r, v, mass=scenario.spec.mass, potential=potential(r))
         return Check(
@@ -113,8 +127,6 @@ class _EarthKind(ScenarioKind):
         north, up), charts of its position and velocity components, the checks,
         and the kind's figures (the path in the Earth's frame and in space, the
         swing plane) as inline SVG."""
-        from ..kind import ReportSpec
-        from ..report import figure_sections, unit_charts
 
         tr = result.trajectory
         specs = [f for f in self.figures(result) if f.name != "invariants.png"]
@@ -134,8 +146,6 @@ class _EarthKind(ScenarioKind):
         tr = result.trajectory
 
         def relative(ax: Any) -> Any:
-            from ...plotting.particles import plot_path
-
             return plot_path(
                 tr.position,
                 components=components,
@@ -145,8 +155,6 @@ class _EarthKind(ScenarioKind):
             )
 
         def inertial(ax: Any) -> Any:
-            from ...plotting.particles import plot_path
-
             return plot_path(
                 tr.inertial_position,
                 components=components,
@@ -191,8 +199,6 @@ class FreeFall(_EarthKind):
         return None
 
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
-        from ...dynamics import UniformGravity, earth_frame, simulate_particle
-
         sp = scenario.spec
         progress(0.0, "adaptive (DOP853)")
         tr = simulate_particle(
@@ -211,8 +217,6 @@ class FreeFall(_EarthKind):
         return dataclasses.replace(tr, method=method, frame_name="the Earth's east, north, up")
 
     def facts(self, scenario: Scenario) -> Facts:
-        from ...dynamics import eastward_deflection
-
         sp = scenario.spec
         fall = float(np.sqrt(2 * sp.height / sp.g))
         d = float(eastward_deflection(sp.height, sp.latitude, sp.g, sp.omega))
@@ -233,8 +237,6 @@ class FreeFall(_EarthKind):
         )
 
     def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
-        from ...dynamics import UniformGravity, earth_frame, eastward_deflection
-
         sp = scenario.spec
         frame = earth_frame(sp.latitude, sp.omega)
         jac = self._jacobi(scenario, tr, frame, UniformGravity(sp.mass, sp.g).potential)
@@ -282,8 +284,6 @@ class Foucault(_EarthKind):
         return {"spec": spec}
 
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
-        from ...dynamics import foucault_pendulum
-
         sp = scenario.spec
         progress(0.0, "adaptive (DOP853)")
         tr = foucault_pendulum(
@@ -303,8 +303,6 @@ class Foucault(_EarthKind):
         return dataclasses.replace(tr, method=method, frame_name="the Earth's east, north, up")
 
     def facts(self, scenario: Scenario) -> Facts:
-        from ...dynamics import foucault_period, foucault_precession_rate
-
         sp = scenario.spec
         rate = float(foucault_precession_rate(sp.latitude, sp.omega))
         period = float(foucault_period(sp.latitude, sp.omega))
@@ -324,8 +322,6 @@ class Foucault(_EarthKind):
         )
 
     def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
-        from ...dynamics import PendulumForce, foucault_frame
-
         sp = scenario.spec
         force = PendulumForce(sp.mass, sp.g, sp.length)
         return (self._jacobi(scenario, tr, foucault_frame(sp.latitude, sp.omega), force.potential),)
@@ -336,9 +332,6 @@ class Foucault(_EarthKind):
         sp = result.scenario.spec
 
         def plane(ax: Any) -> Any:
-            from ...dynamics import foucault_precession_rate
-            from ...plotting.particles import plot_swing_plane
-
             return plot_swing_plane(tr, rate=foucault_precession_rate(sp.latitude, sp.omega), ax=ax)
 
         figs.append(FigureSpec("swing_plane.png", plane))
@@ -348,7 +341,6 @@ class Foucault(_EarthKind):
     def report(self, result: ScenarioResult) -> ReportSpec:
         """The Earth kinds' report, with the swing plane drawn turning at
         ``-Omega sin(lat)`` from the release direction (docs/theory.md §9)."""
-        from ...dynamics import foucault_precession_rate
 
         spec = super().report(result)
         tr = result.trajectory

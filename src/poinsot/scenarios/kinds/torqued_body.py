@@ -14,6 +14,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from .heavy_top import KIND as HEAVY
+
 if TYPE_CHECKING:
     from .._toml import Table
     from ..kind import Check, Entry, Facts, Progress
@@ -92,15 +94,11 @@ class TorquedBody(_rigid.RigidKind):
 
     def facts(self, scenario: Scenario) -> Facts:
         if scenario.torque.model == "gravity":  # the heavy body (kind "heavy-top") knows it
-            from .heavy_top import KIND as HEAVY
-
             return HEAVY.facts(scenario)
         return Facts()
 
     def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         if scenario.torque.model == "gravity":
-            from .heavy_top import KIND as HEAVY
-
             return HEAVY.checks(scenario, tr)
         model = _rigid.torque_model(scenario)
         inv = _rigid.invariants_of(self.motion_inertia(scenario), tr, model)
