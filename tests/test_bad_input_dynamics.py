@@ -106,19 +106,19 @@ def test_cli_overflow_exit_code_2(argv, match, capsys):
 def test_cli_convert_guards_non_finite_results(monkeypatch, capsys):
     """A conversion that overflows in the core (it did for MRP/Gibbs 1e200 before the
     core was fixed) ends with exit code 2 and a message, never "nan" on stdout."""
-    import poinsot.cli as cli
+    import poinsot.cli.convert as cli_convert
 
     class Broken:
         def as_quat(self, **kwargs):
             return np.array([np.nan, 0.0, 0.0, 0.0])
 
-    monkeypatch.setattr(cli, "_from", lambda *a: Broken())
+    monkeypatch.setattr(cli_convert, "_from", lambda *a: Broken())
     assert main(["convert", "mrp", "quat", "1e200", "0", "0"]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and "out of the range" in captured.err
 
-    monkeypatch.setattr(cli, "_from", lambda *a: __import__("poinsot").Rotation.identity())
-    monkeypatch.setattr(cli, "_to", lambda *a: np.array([np.nan, 0.0, 0.0]))
+    monkeypatch.setattr(cli_convert, "_from", lambda *a: __import__("poinsot").Rotation.identity())
+    monkeypatch.setattr(cli_convert, "_to", lambda *a: np.array([np.nan, 0.0, 0.0]))
     assert main(["convert", "mrp", "rotvec", "0", "0", "0"]) == 2
     assert "overflowed" in capsys.readouterr().err
 

@@ -22,6 +22,27 @@ COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
 _STYLE = "border-collapse:collapse;font-size:12px;font-family:system-ui,sans-serif;margin:2px 0"
 
 
+#: Relative size below which a component is round-off noise and printed as 0.
+NOISE = 1e-12
+
+
+def clean(values: Any, scale: float | None = None) -> np.ndarray:
+    """``values`` with the entries smaller than ``NOISE * scale`` set to 0
+    (``scale``: the largest ``|value|`` by default); ``-0.0`` becomes ``0.0``.
+
+    Examples
+    --------
+    >>> clean([1.0, 2.2e-16, -0.0]).tolist()
+    [1.0, 0.0, 0.0]
+    """
+    a = np.array(values, dtype=float, copy=True)
+    if scale is None:
+        finite = a[np.isfinite(a)]
+        scale = float(np.max(np.abs(finite), initial=0.0))
+    a[np.abs(a) < NOISE * scale] = 0.0
+    return a + 0.0
+
+
 def esc(x: object) -> str:
     """HTML-escaped ``str(x)``."""
     return html.escape(str(x), quote=True)

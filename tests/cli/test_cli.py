@@ -303,12 +303,12 @@ def test_demo(capsys, tmp_path, monkeypatch):
 
 
 def test_unexpected_failure_exit_1(capsys, monkeypatch):
-    import poinsot.cli as cli
+    import poinsot.cli.check as cli_check
 
     def boom(args):
         raise RuntimeError("kaboom")
 
-    monkeypatch.setattr(cli, "_cmd_check", boom)
+    monkeypatch.setattr(cli_check, "_cmd_check", boom)
     code, _, err = run(capsys, "check", "x.toml")
     assert code == 1
     assert "unexpected failure: RuntimeError: kaboom" in err and "--debug" in err
@@ -351,13 +351,13 @@ def test_progress_bar_only_on_terminal_after_delay():
 
 
 def test_integration_failure_exit_2_with_advice(capsys, monkeypatch):
-    import poinsot.cli as cli
+    import poinsot.cli.check as cli_check
     from poinsot import IntegrationError
 
     def fail(args):
         raise IntegrationError("midpoint integration diverged: reduce `max_step`.")
 
-    monkeypatch.setattr(cli, "_cmd_check", fail)
+    monkeypatch.setattr(cli_check, "_cmd_check", fail)
     code, _, err = run(capsys, "check", "x.toml")
     assert code == 2 and "the integration failed: midpoint integration diverged" in err
     assert "max_step" in err and "adaptive" in err  # advice
@@ -367,7 +367,7 @@ def test_integration_failure_exit_2_with_advice(capsys, monkeypatch):
 def test_library_warning_printed_once(capsys, monkeypatch):
     import warnings
 
-    import poinsot.cli as cli
+    import poinsot.cli.check as cli_check
     from poinsot import SingularityWarning
 
     def warn(args):
@@ -375,18 +375,18 @@ def test_library_warning_printed_once(capsys, monkeypatch):
             warnings.warn("near the separatrix", SingularityWarning, stacklevel=1)
         return 0
 
-    monkeypatch.setattr(cli, "_cmd_check", warn)
+    monkeypatch.setattr(cli_check, "_cmd_check", warn)
     code, _, err = run(capsys, "check", "x.toml")
     assert code == 0 and err.count("poinsot: warning: near the separatrix") == 1
 
 
 def test_keyboard_interrupt_exit_130(capsys, monkeypatch):
-    import poinsot.cli as cli
+    import poinsot.cli.check as cli_check
 
     def interrupted(args):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli, "_cmd_check", interrupted)
+    monkeypatch.setattr(cli_check, "_cmd_check", interrupted)
     code, _, err = run(capsys, "check", "x.toml")
     assert code == 130 and "interrupted" in err
 

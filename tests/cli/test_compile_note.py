@@ -6,12 +6,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from poinsot import cli
+from poinsot.cli import _runs
 
 
 def test_a_compilation_is_announced_once(capsys, monkeypatch):
-    monkeypatch.setattr(cli._compile_note, "said", False)
-    with cli._compile_note(quiet=False):
+    monkeypatch.setattr(_runs._compile_note, "said", False)
+    with _runs._compile_note(quiet=False):
         njit(lambda x: x + 1.0)(1.0)  # a new function: numba compiles it
         njit(lambda x: x * 2.0)(np.ones(2))
     err = capsys.readouterr().err
@@ -19,16 +19,16 @@ def test_a_compilation_is_announced_once(capsys, monkeypatch):
 
 
 def test_no_compilation_no_word(capsys, monkeypatch):
-    monkeypatch.setattr(cli._compile_note, "said", False)
+    monkeypatch.setattr(_runs._compile_note, "said", False)
     f = njit(lambda x: x - 1.0)
     f(1.0)  # compiled before the run
-    with cli._compile_note(quiet=False):
+    with _runs._compile_note(quiet=False):
         f(2.0)
     assert "compiling" not in capsys.readouterr().err
 
 
 def test_quiet_says_nothing(capsys, monkeypatch):
-    monkeypatch.setattr(cli._compile_note, "said", False)
-    with cli._compile_note(quiet=True):
+    monkeypatch.setattr(_runs._compile_note, "said", False)
+    with _runs._compile_note(quiet=True):
         njit(lambda x: x + 3.0)(1.0)
     assert "compiling" not in capsys.readouterr().err

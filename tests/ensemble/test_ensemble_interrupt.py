@@ -195,7 +195,7 @@ def test_failed_samples_within_max_failed_are_listed_with_reasons(tmp_path, caps
 
 
 def test_failure_reasons_are_capped():
-    from poinsot.cli import _failure_reasons
+    from poinsot.cli.ensemble import _failure_reasons
 
     reasons = {f"reason {i}": i for i in range(1, 9)}
     text = _failure_reasons(reasons)

@@ -41,6 +41,21 @@ from ..errors import InvalidInputError
 
 __all__ = ["box", "sphere", "cylinder", "cone", "ellipsoid", "rod", "disc", "ring"]
 
+#: Solids accepted by a scenario's ``shape =`` and by ``poinsot inertia``, and the meaning
+#: of their ``dims`` (m), in order. Axisymmetric solids have their axis along body ``z``;
+#: a rod lies along ``z``. (A scenario's ``shape = "mesh"`` is read by
+#: ``poinsot.scenarios``.)
+SHAPES: dict[str, tuple[str, ...]] = {
+    "box": ("length along x", "width along y", "height along z"),
+    "sphere": ("radius",),
+    "cylinder": ("radius", "height"),
+    "cone": ("base radius", "height"),
+    "ellipsoid": ("semi-axis a along x", "semi-axis b along y", "semi-axis c along z"),
+    "rod": ("length",),
+    "disc": ("radius",),
+    "ring": ("radius",),
+}
+
 _P = ParamSpec("_P")
 
 

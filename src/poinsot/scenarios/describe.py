@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._display import NOISE, clean
 from ..trajectory import quantity_label
 from .schema import Scenario
 
@@ -26,26 +27,6 @@ __all__ = [
     "fmt_vector",
     "NOISE",
 ]
-
-#: Relative size below which a component is round-off noise and printed as 0.
-NOISE = 1e-12
-
-
-def clean(values: Any, scale: float | None = None) -> np.ndarray:
-    """``values`` with the entries smaller than ``NOISE * scale`` set to 0
-    (``scale``: the largest ``|value|`` by default); ``-0.0`` becomes ``0.0``.
-
-    Examples
-    --------
-    >>> clean([1.0, 2.2e-16, -0.0]).tolist()
-    [1.0, 0.0, 0.0]
-    """
-    a = np.array(values, dtype=float, copy=True)
-    if scale is None:
-        finite = a[np.isfinite(a)]
-        scale = float(np.max(np.abs(finite), initial=0.0))
-    a[np.abs(a) < NOISE * scale] = 0.0
-    return a + 0.0
 
 
 def fmt(x: Any, digits: int = 4) -> str:

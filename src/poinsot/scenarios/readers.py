@@ -14,8 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import AccuracyWarning, PoinsotError
+from ..errors import PoinsotError
 from ..mass import RigidBody, check_inertia, combine, mesh, read_mesh, solids
+from ..mass.solids import SHAPES
+from ..rotations._from_matrix import MATRIX_TOLERANCE, rotation_from_matrix
 from ..rotations.euler import parse_sequence
 from ..rotations.rotation import Rotation
 from ._toml import ScenarioError, Table
@@ -42,19 +44,6 @@ __all__ = [
     "read_omega_profile",
 ]
 
-#: Solids accepted by ``shape =`` and the meaning of their ``dims`` (m), in order.
-#: Axisymmetric solids have their axis along body ``z``; a rod lies along ``z``.
-#: ``shape = "mesh"`` (no ``dims``: ``file`` or ``vertices``/``faces``) is read by ``_mesh``.
-SHAPES: dict[str, tuple[str, ...]] = {
-    "box": ("length along x", "width along y", "height along z"),
-    "sphere": ("radius",),
-    "cylinder": ("radius", "height"),
-    "cone": ("base radius", "height"),
-    "ellipsoid": ("semi-axis a along x", "semi-axis b along y", "semi-axis c along z"),
-    "rod": ("length",),
-    "disc": ("radius",),
-    "ring": ("radius",),
-}
 
 _ATTITUDE_KEYS = ("quat", "matrix", "rotvec", "axis", "euler", "gibbs", "mrp")
 _EVERY_ATTITUDE_KEY = (
@@ -373,57 +362,6 @@ def read_attitude(t: Table | None, top: Table) -> AttitudeSpec:
     }[rep]
     _finish_rep(t, rep, allowed)
     return AttitudeSpec(rep, values, r.as_quat(), sequence=seq, degrees=deg, scalar_first=sf)
-
-
-#: Default of ``[attitude] tolerance``: the largest ``max |A^T A - E|`` of a matrix that
-#: is accepted (and projected onto the nearest rotation).
-MATRIX_TOLERANCE = 1e-6
-#: A projection that moves an entry by more than this is reported with a warning.
-PROJECTION_WARN = 1e-12
-
-
-def rotation_from_matrix(
-    values: Any,
-    tolerance: float = MATRIX_TOLERANCE,
-    *,
-    where: str = "matrix",
-    knob: str = "`tolerance`",
-) -> Any:
-    """A rotation from a nearly orthogonal matrix, projected onto the nearest rotation
-    (SVD) when it is not orthogonal to round-off, with an
-    :class:`~poinsot.errors.AccuracyWarning` saying by how much it moved.
-
-    ``tolerance`` bounds ``max |A^T A - E|`` (the matrix is refused above it, with a
-    message naming ``knob``, the setting that raises it); ``where`` starts the warning.
-
-    Examples
-    --------
-    >>> import warnings
-    >>> with warnings.catch_warnings(record=True) as w:
-    ...     warnings.simplefilter("always")
-    ...     r = rotation_from_matrix([[0, -1, 0], [1, 0, 0.0001], [0, 0, 1]], 1e-3)
-    >>> "projected" in str(w[0].message)
-    True
-    """
-    import warnings
-
-    m = np.asarray(values, dtype=float)
-    try:
-        r = Rotation.from_matrix(m, atol=tolerance)
-    except PoinsotError as exc:
-        msg = str(exc)
-        if "orthogonal within" in msg:
-            msg += f" Raise {knob} to accept it (it is then projected)."
-        raise type(exc)(msg.replace("`matrix`", "the matrix")) from None
-    moved = float(np.max(np.abs(r.as_matrix() - m)))
-    if moved > PROJECTION_WARN:
-        warnings.warn(
-            f"{where}: the matrix is not orthogonal (tolerance {tolerance:g}); it was "
-            f"projected onto the nearest rotation, which moved an entry by up to {moved:.3g}.",
-            AccuracyWarning,
-            stacklevel=2,
-        )
-    return r
 
 
 def _finish_rep(t: Table, rep: str, allowed: Any) -> None:
