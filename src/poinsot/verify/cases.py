@@ -130,6 +130,18 @@ class Case:
                 v.setflags(write=False)
         return dict(cache)
 
+    def reference(self) -> Any:
+        """The exact motion on :attr:`t` as a poinsot result (computed once, then cached):
+        a :class:`poinsot.Trajectory` for a rigid body, a :class:`poinsot.PointTrajectory`
+        for a point, ``method="exact"``; the states of :meth:`exact`, bit for bit."""
+        ref = self.__dict__.get("_reference")
+        if ref is None:
+            from .engines import as_result
+
+            ref = as_result(self, self.exact(), "exact")
+            self.__dict__["_reference"] = ref
+        return ref
+
     def model(self) -> Any:
         """The poinsot exact-solution object of this case (FreeRigidBody, LagrangeTop,
         CentralOrbit), or None for the frame case (closed form, :func:`_foucault_exact`)."""

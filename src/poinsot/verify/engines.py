@@ -1,15 +1,20 @@
 """Engine adapters of ``poinsot verify``: run a case, return its states on the case's grid.
 
-An engine has a ``name``, a ``label`` (the settings, e.g. ``"scipy DOP853 rtol=1e-12"``),
-``skip_reason(case)`` (None when it can run the case, else why the case is outside
-what the engine models: the case is *skipped*) and ``run(case) -> (states, work)``:
-the states as :func:`poinsot.verify.metrics.evaluate` reads them (scalar-first
-body -> space quaternions and body-axes angular velocity, or positions and
-velocities), and the engine's own count of work. Optionally ``missing_reason(case)``:
-why an engine that should have given the case's states did not (e.g. no file): the
-case is *missing*, which fails the verdict unless allowed (docs/verify.md). The
-states may carry ``"defects"``, a list of findings that fail the case whatever its
-metrics (e.g. an attitude and angular velocity that are not one motion).
+An engine follows the :class:`Engine` protocol: a ``name``, a ``label`` (the
+settings, e.g. ``"scipy DOP853 rtol=1e-12"``), ``skip_reason(case)`` (None when it can
+run the case, else why the case is outside what the engine models: the case is
+*skipped*) and ``run(case) -> (result, work)``: the motion as a poinsot result on the
+case's grid ``case.t`` -- a :class:`poinsot.Trajectory` for a rigid body (attitude
+body -> space, angular velocity in body axes) or a :class:`poinsot.PointTrajectory`
+for a point (position, velocity), docs/theory.md §2 -- and the engine's own count of
+work (or None). Optionally ``missing_reason(case)``: why an engine that should have
+given the case's states did not (e.g. no file): the case is *missing*, which fails
+the verdict unless allowed (docs/verify.md). An engine with findings that fail the
+case whatever its metrics (e.g. an attitude and angular velocity that are not one
+motion) returns them third: ``(result, work, defects)``, a list of strings.
+:func:`poinsot.verify.metrics.evaluate` scores the result. (A ``run`` that returns
+the former dict of arrays ``{"quat", "omega"}`` / ``{"position", "velocity"}``, with
+``"defects"`` among them, still works for one release, with a DeprecationWarning.)
 
 - :class:`SciPyEngine`: ``scipy.integrate.solve_ivp`` (any method, any tolerance) on
   the Euler(-Poisson) equations ``J_O w' + w x J_O w = m c x (R^T g)`` with
@@ -30,15 +35,74 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from ..rotations.rotation import Rotation
+from ..trajectory import PointTrajectory, Result, Trajectory
 from .cases import Case
 
 ENGINES = ("scipy", "poinsot", "mujoco", "file")
+
+
+@runtime_checkable
+class Engine(Protocol):
+    """What ``poinsot verify`` runs a case in (see the module docstring, docs/verify.md).
+
+    ``run(case)`` returns ``(result, work)`` -- or ``(result, work, defects)`` -- with
+    ``result`` a :class:`poinsot.Trajectory` (rigid cases) or
+    :class:`poinsot.PointTrajectory` (point cases) on ``case.t``. An engine may also
+    define ``missing_reason(case)`` (None, or why the case's states are missing).
+    """
+
+    name: str
+    label: str
+
+    def skip_reason(self, case: Case) -> str | None: ...
+
+    def run(self, case: Case) -> tuple[Any, ...]: ...
+
+
+def rigid_result(case: Case, quat: Any, omega: Any, method: str) -> Trajectory:
+    """A :class:`poinsot.Trajectory` of ``case`` on its grid from scalar-first
+    quaternions (body -> space) and body-axes angular velocities, the quaternions
+    kept as given (bit for bit: the metrics see exactly the engine's numbers)."""
+    q = np.ascontiguousarray(quat, dtype=float)
+    return Trajectory(case.t, Rotation._wrap(q), np.asarray(omega, dtype=float), method)
+
+
+def point_result(case: Case, position: Any, velocity: Any, method: str) -> PointTrajectory:
+    """A :class:`poinsot.PointTrajectory` of ``case`` on its grid (m, m/s)."""
+    return PointTrajectory(case.t, position, velocity, method)
+
+
+def as_result(case: Case, states: Any, method: str = "") -> Result:
+    """``states`` as a result: a result as it is, a dict of arrays (the form of
+    poinsot 1.x engines, deprecated) converted."""
+    if isinstance(states, Result):
+        return states
+    if not isinstance(states, dict):
+        raise InvalidTypeError(
+            "Expected an engine's states to be a poinsot Trajectory or PointTrajectory, got "
+            f"{type(states).__name__}."
+        )
+    if "quat" in states:
+        return rigid_result(case, states["quat"], states["omega"], method)
+    return point_result(case, states["position"], states["velocity"], method)
+
+
+def _deprecated_states() -> None:
+    warnings.warn(
+        "A dict of states is deprecated: an engine's run(case) returns a poinsot "
+        "Trajectory (rigid cases) or PointTrajectory (point cases) on case.t, and "
+        "evaluate() reads one (docs/verify.md).",
+        DeprecationWarning,
+        stacklevel=3,
+    )
 
 
 def _quat_unit(q: np.ndarray) -> np.ndarray:
@@ -64,8 +128,8 @@ class SciPyEngine:
     --------
     >>> from poinsot.verify import cases, engines, evaluate
     >>> case = cases("free-symmetric")[0]
-    >>> states, work = engines.SciPyEngine(rtol=1e-12).run(case)
-    >>> evaluate(case, states).status
+    >>> result, work = engines.SciPyEngine(rtol=1e-12).run(case)
+    >>> evaluate(case, result).status
     'pass'
     """
 
@@ -88,15 +152,15 @@ class SciPyEngine:
     def skip_reason(self, case: Case) -> str | None:
         return None
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
+    def run(self, case: Case) -> tuple[Result, int]:
         from scipy.integrate import solve_ivp
 
         rhs, y0, unpack = _equations(case)
         sol = solve_ivp(rhs, (case.t[0], case.t[-1]), y0, method=self.method, t_eval=case.t,
                         rtol=self.rtol, atol=self.atol)  # fmt: skip
         if sol.status != 0 or sol.y.shape[1] != case.t.size:
-            return _nan_states(case), int(sol.nfev)
-        return unpack(sol.y.T), int(sol.nfev)
+            return _nan_result(case, self.label), int(sol.nfev)
+        return as_result(case, unpack(sol.y.T), self.label), int(sol.nfev)
 
 
 def _equations(case: Case) -> tuple[Any, np.ndarray, Any]:
@@ -210,7 +274,7 @@ class PoinsotEngine:
             return f"method {self.method!r} integrates rigid bodies, not points"
         return None
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
+    def run(self, case: Case) -> tuple[Result, int | None]:
         i = case.inputs
         tol: dict[str, Any] = {}
         if case.kind == "rigid":
@@ -233,7 +297,7 @@ class PoinsotEngine:
                 tr = simulate(i["inertia"], i["q0"], i["omega0"], case.t, **opts)
             steps = tr.info.get("evaluations", tr.info.get("steps"))
             work = int(np.sum(steps)) if steps is not None else None
-            return {"quat": _quat_unit(tr.quat), "omega": np.asarray(tr.omega)}, work  # type: ignore[return-value]
+            return rigid_result(case, _quat_unit(tr.quat), tr.omega, self.label), work
         from ..dynamics import PendulumForce, kepler, simulate_particle
         from ..kinematics import FrameMotion
 
@@ -256,9 +320,9 @@ class PoinsotEngine:
             pt = simulate_particle(frame, spring, i["position0"], i["velocity0"], case.t, **opts)
         nfev = pt.info.get("evaluations")
         return (
-            {"position": np.asarray(pt.position), "velocity": np.asarray(pt.velocity)},
+            point_result(case, pt.position, pt.velocity, self.label),
             None if nfev is None else int(np.sum(nfev)),
-        )  # type: ignore[return-value]
+        )
 
 
 class MuJoCoEngine:
@@ -310,7 +374,7 @@ class MuJoCoEngine:
             return f"the mujoco package is not installed: pip install 'poinsot[verify]' ({exc})"
         return None
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
+    def run(self, case: Case) -> tuple[Result, int]:
         from ._mujoco import run_mujoco
 
         i = case.inputs
@@ -323,7 +387,7 @@ class MuJoCoEngine:
 
         whole, frac = sampling(case.t, self.timestep)
         steps = int(whole[-1]) + int(np.count_nonzero(frac))  # whole and shorter steps
-        return {"quat": _quat_unit(q), "omega": np.asarray(w, dtype=float)}, steps
+        return rigid_result(case, _quat_unit(q), w, self.label), steps
 
 
 def _nan_states(case: Case) -> dict[str, np.ndarray]:
@@ -331,6 +395,11 @@ def _nan_states(case: Case) -> dict[str, np.ndarray]:
     if case.kind == "rigid":
         return {"quat": np.full((n, 4), np.nan), "omega": np.full((n, 3), np.nan)}
     return {"position": np.full((n, 3), np.nan), "velocity": np.full((n, 3), np.nan)}
+
+
+def _nan_result(case: Case, method: str) -> Result:
+    """The result of a diverged engine: NaN states, which fail every metric."""
+    return as_result(case, _nan_states(case), method)
 
 
 def _positive(x: Any, name: str) -> float:
@@ -358,12 +427,18 @@ def run(engine: Any, case: Case) -> Any:
     reason = missing(case) if missing is not None else None
     if reason:
         return CaseResult(case=case.name, group=case.group, status="missing", reason=reason)
-    case.exact()  # outside the engine's timing
+    case.reference()  # outside the engine's timing
     t0 = time.perf_counter()
-    states, work = engine.run(case)
-    states = dict(states)
-    defects = list(states.pop("defects", None) or ())
-    return evaluate(case, states, seconds=time.perf_counter() - t0, work=work, defects=defects)
+    out = engine.run(case)
+    seconds = time.perf_counter() - t0
+    result, work, *rest = out
+    defects = list(rest[0] or ()) if rest else []
+    if isinstance(result, dict):  # an engine of the former protocol
+        _deprecated_states()
+        result = dict(result)
+        defects += list(result.pop("defects", None) or ())
+        result = as_result(case, result, getattr(engine, "label", ""))
+    return evaluate(case, result, seconds=seconds, work=work, defects=defects)
 
 
 def make(name: str, **options: Any) -> Any:

@@ -23,15 +23,24 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from ..trajectory import Result
 from .cases import CASES_VERSION, Case, cases, describe
+from .engines import as_result, point_result
 
 RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
 MATRIX_COLUMNS = tuple(f"r{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
 POINT_COLUMNS = ("t", "x", "y", "z", "vx", "vy", "vz")
 
 
-def state_table(case: Case, states: dict[str, np.ndarray]) -> tuple[tuple[str, ...], np.ndarray]:
-    """``(columns, (n, k) array)`` of ``states`` on the case's grid, as exported."""
+def state_table(
+    case: Case, states: Result | dict[str, np.ndarray]
+) -> tuple[tuple[str, ...], np.ndarray]:
+    """``(columns, (n, k) array)`` of ``states`` (a result, or a dict of arrays) on the
+    case's grid, as exported."""
+    if isinstance(states, Result):
+        from .metrics import _arrays
+
+        states = _arrays(states)
     if case.kind == "rigid":
         return RIGID_COLUMNS, np.column_stack([case.t, states["quat"], states["omega"]])
     return POINT_COLUMNS, np.column_stack([case.t, states["position"], states["velocity"]])
@@ -237,7 +246,7 @@ class FileEngine:
             None if self._file(case) else f"no file {case.name}.csv or .parquet in {self.directory}"
         )
 
-    def run(self, case: Case) -> tuple[dict[str, Any], None]:
+    def run(self, case: Case) -> tuple[Result, None, list[str]]:
         path = self._file(case)
         assert path is not None
         cols = read_table(path)
@@ -265,11 +274,14 @@ class FileEngine:
                 raise InvalidInputError(
                     f"{path}: expected columns {', '.join(need)}; missing {', '.join(missing)}."
                 )
-            return {"position": np.column_stack([cols[c] for c in need[:3]]),
-                    "velocity": np.column_stack([cols[c] for c in need[3:]])}, None  # fmt: skip
-        return _rigid_from_columns(
+            pos = np.column_stack([cols[c] for c in need[:3]])
+            vel = np.column_stack([cols[c] for c in need[3:]])
+            return point_result(case, pos, vel, self.label), None, []
+        states = _rigid_from_columns(
             path, case, cols, self.quat_order, self.omega_frame, self.degrees
-        ), None
+        )
+        defects = list(states.pop("defects"))
+        return as_result(case, states, self.label), None, defects
 
 
 def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], order: str | None,
