@@ -26,10 +26,9 @@ from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Result
 from .cases import CASES_VERSION, Case, cases, describe
 from .engines import as_result, point_result
+from .groups import POINT_COLUMNS, PointGroup, quat_unit
 
-RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
 MATRIX_COLUMNS = tuple(f"r{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
-POINT_COLUMNS = ("t", "x", "y", "z", "vx", "vy", "vz")
 
 
 def state_table(
@@ -37,13 +36,10 @@ def state_table(
 ) -> tuple[tuple[str, ...], np.ndarray]:
     """``(columns, (n, k) array)`` of ``states`` (a result, or a dict of arrays) on the
     case's grid, as exported."""
+    spec = case.spec
     if isinstance(states, Result):
-        from .metrics import _arrays
-
-        states = _arrays(states)
-    if case.kind == "rigid":
-        return RIGID_COLUMNS, np.column_stack([case.t, states["quat"], states["omega"]])
-    return POINT_COLUMNS, np.column_stack([case.t, states["position"], states["velocity"]])
+        states = spec.arrays(states)
+    return spec.columns, np.column_stack([case.t, *(states[k] for k in spec.states)])
 
 
 def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
@@ -267,7 +263,7 @@ class FileEngine:
                 f"{k + 1} where the grid has {float(case.t[k])!r} s ({bad.size} samples off by "
                 "more than 1e-9 s)."
             )
-        if case.kind == "point":
+        if isinstance(case.spec, PointGroup):
             need = POINT_COLUMNS[1:]
             missing = [c for c in need if c not in cols]
             if missing:
@@ -361,17 +357,13 @@ def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], ord
         w = np.radians(w)
     if frame == "space":
         w = np.asarray(Rotation.from_quat(q).inv().apply(w), dtype=float)
-    from .engines import _quat_unit
-
-    return {"quat": _quat_unit(q), "omega": w, "defects": defects}
+    return {"quat": quat_unit(q), "omega": w, "defects": defects}
 
 
 def _diverged(path: Path, case: Case, cols: dict[str, np.ndarray]) -> dict[str, Any]:
     """States of a file with non-finite values: NaN states that fail every metric."""
-    from .engines import _nan_states
-
     bad = [c for c, v in cols.items() if c != "t" and not np.all(np.isfinite(v))]
-    out: dict[str, Any] = _nan_states(case)
+    out: dict[str, Any] = case.spec.nan_states(case)
     out["defects"] = [f"non-finite values in column(s) {', '.join(bad)} of {path.name}"]
     return out
 

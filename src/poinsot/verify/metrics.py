@@ -24,7 +24,7 @@ import numpy as np
 
 from .._drift import relative_drift
 from .._quat import attitude_distance
-from ..trajectory import PointTrajectory, Result, Trajectory, compare
+from ..trajectory import Result, compare
 from .cases import Case
 from .engines import as_result
 
@@ -99,50 +99,13 @@ def _finite(x: float) -> float | str:
     return float(x) if math.isfinite(x) else "inf" if x > 0 else "nan"
 
 
-def _quat_rotation(q: np.ndarray) -> Any:
-    from ..rotations.rotation import Rotation
-
-    return Rotation.from_quat(q)
-
-
-def _rotation_matrices(q: np.ndarray) -> np.ndarray:
-    return np.asarray(_quat_rotation(q).as_matrix(), dtype=float)
-
-
 def integrals(case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The first integrals of the case along ``states`` (see the module docstring).
 
     Returns ``{"energy": (n,), "momentum": (n, 3) or (n,)}`` (J or J/kg, kg m^2/s or
     m^2/s); ``momentum`` is absent where none is conserved (the turning frame).
     """
-    i = case.inputs
-    if case.kind == "rigid":
-        jo = case.inertia_about_origin
-        w = states["omega"]
-        rmat = _rotation_matrices(states["quat"])
-        kb = w @ jo.T
-        energy = 0.5 * np.einsum("ni,ni->n", w, kb)
-        if np.any(i["gravity"]):
-            # V = -m g . (R c): the weight's potential with c from the fixed point
-            energy = energy - i["mass"] * np.einsum("nij,j,i->n", rmat, i["com"], i["gravity"])
-        k_space = np.einsum("nij,nj->ni", rmat, kb)
-        return {"energy": energy, "momentum": k_space}
-    r, v = states["position"], states["velocity"]
-    if case.group == "orbit":
-        from ..dynamics import kepler
-
-        rn = np.linalg.norm(r, axis=-1)
-        energy = 0.5 * np.einsum("ni,ni->n", v, v) + kepler(i["mu"])(rn)
-        return {"energy": energy, "momentum": np.cross(r, v)}
-    om = np.asarray(i["frame_rate"], dtype=float)
-    w0sq = i["g"] / i["length"]
-    horiz = r[:, :2]
-    jacobi = (
-        0.5 * np.einsum("ni,ni->n", v, v)
-        + 0.5 * w0sq * np.einsum("ni,ni->n", horiz, horiz)
-        - 0.5 * np.sum(np.cross(om, r) ** 2, axis=-1)
-    )
-    return {"energy": jacobi}
+    return case.spec.integrals(case, states)
 
 
 def event_signal(case: Case, states: dict[str, np.ndarray]) -> np.ndarray | None:
@@ -231,26 +194,24 @@ def evaluate(
     result = as_result(case, result)
     reference = case.reference()
     exact = case.exact()
-    states = _arrays(result)
+    states = case.spec.arrays(result)
     diff = compare(result, reference)
     values: dict[str, float] = {}
     errors: dict[str, np.ndarray] = {"t": case.t}
-    if case.kind == "rigid":
-        # geodesic angle 2 atan2(|vec(qe~ q)|, |w(qe~ q)|), whatever the norm of q
-        att = attitude_distance(exact["quat"], states["quat"])
-        werr = np.linalg.norm(states["omega"] - exact["omega"], axis=-1)
-        errors.update(attitude=att, omega=werr / diff["omega"].scale)
-        values["attitude"] = _max(diff["attitude"].max)
-        values["omega"] = _max(diff["omega"].max) / diff["omega"].scale
-    else:
-        for key in ("position", "velocity"):
-            e = np.linalg.norm(states[key] - exact[key], axis=-1)
-            errors[key] = e / diff[key].scale
-            values[key] = _max(diff[key].max) / diff[key].scale
+    spec = case.spec
+    for name, key in zip(spec.errors, spec.states, strict=True):
+        d = diff[name]
+        if name == "attitude":
+            # geodesic angle 2 atan2(|vec(qe~ q)|, |w(qe~ q)|), whatever the norm of q
+            errors[name] = attitude_distance(exact[key], states[key])
+            values[name] = _max(d.max)
+        else:  # relative to the largest exact magnitude
+            errors[name] = np.linalg.norm(states[key] - exact[key], axis=-1) / d.scale
+            values[name] = _max(d.max) / d.scale
     finite = all(np.all(np.isfinite(np.asarray(v, dtype=float))) for v in states.values())
     if not finite:  # a diverged engine: no integral or event to measure, every one fails
         values["energy"] = math.inf
-        if case.kind == "rigid" or case.group == "orbit":
+        if spec.has_momentum:
             values["momentum"] = math.inf
         if case.event is not None:
             values["events"] = math.inf
@@ -260,8 +221,7 @@ def evaluate(
         if "momentum" in got:
             k = got["momentum"]
             k0 = float(np.linalg.norm(ref["momentum"][0]))
-            if case.group == "heavy-top":
-                k = k[:, 2]  # only K_z is conserved under gravity
+            k = spec.conserved_momentum(k)  # K_z only for a top
             values["momentum"] = relative_drift(k, k0, vector=k.ndim > 1)
         if case.event is not None:
             level = float(case.event["level"])
@@ -297,17 +257,6 @@ def evaluate(
         states=states,
         result=result,
     )
-
-
-def _arrays(result: Result | dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """The state arrays of a result: ``quat``, ``omega`` (rigid) or ``position``,
-    ``velocity`` (point)."""
-    if isinstance(result, dict):
-        return {k: np.asarray(v, dtype=float) for k, v in result.items() if k != "defects"}
-    if isinstance(result, Trajectory):
-        return {"quat": result.quat, "omega": np.asarray(result.omega)}
-    assert isinstance(result, PointTrajectory)
-    return {"position": np.asarray(result.position), "velocity": np.asarray(result.velocity)}
 
 
 def _max(x: float) -> float:

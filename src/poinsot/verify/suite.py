@@ -257,16 +257,8 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
     summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
                "thresholds": {k: v["threshold"] for k, v in res.metrics.items()}}  # fmt: skip
     got = dataclasses.replace(res.result, method=verdict.label)  # type: ignore[type-var]
-    if case.kind == "rigid":
-        i = case.inputs
-        return write_report(path, trajectory=got, reference=case.reference(), title=title,
-                            summary=summary, inertia=i["inertia"], mass=i["mass"],
-                            center_of_mass=i["com"], fixed_point=bool(i["fixed_point"]),
-                            free_body=case.group == "free-body",
-                            euler_seq="ZXZ" if case.group == "heavy-top" else "ZYX")  # fmt: skip
-    errs = {k: np.asarray(res.errors[k]) for k in ("position", "velocity")}
     return write_report(path, trajectory=got, title=title, summary=summary,
-                        series=[("error vs the exact solution", "1 (relative)", errs)])  # fmt: skip
+                        **case.spec.report_options(case, res.errors))  # fmt: skip
 
 
 def _thresholds(results: list[CaseResult], name: str) -> str:
