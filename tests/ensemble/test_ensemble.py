@@ -548,3 +548,26 @@ def test_file_without_spread_is_refused_not_run_as_identical_samples(tmp_path, c
     _, problem = load_ensemble(EXAMPLES / "tennis_racket_ensemble.toml")
     drawn = _draw(problem, np.random.default_rng(1), 2)
     assert np.ptp(drawn["omega0"], axis=0).max() > 0
+
+
+def test_metrics_read_a_trajectory_and_a_deprecated_motion_alike():
+    """Issue 39: a chunk's motion is a poinsot Trajectory (time first, then samples);
+    T + V comes from it (its kinetic energy and its gravity moment); the former
+    Motion gives the same values, with a DeprecationWarning."""
+    from poinsot.dynamics import GravityTorque, simulate
+    from poinsot.ensemble.metrics import COMPONENTS, METRICS, Metric, Motion, total_energy
+
+    t = np.linspace(0.0, 1.0, 51)
+    model = GravityTorque([1.0, 1.2], [[0.0, 0.0, 0.1], [0.0, 0.01, 0.1]])
+    q0 = [[1.0, 0, 0, 0], [0.99, 0.1, 0, 0]]
+    w0 = [[0.0, 0.5, 40.0], [0.1, 0.0, 30.0]]
+    tr = simulate(np.diag([0.05, 0.05, 0.02]), q0, w0, t, torque=model, method="dop853")
+    total = total_energy(tr)
+    np.testing.assert_array_equal(total, tr.energy + model.potential(tr.quat))
+    old = Motion(t, tr.quat, np.asarray(tr.omega), tr.energy, total, tr.quat[-1, 0])
+    for kind in METRICS:
+        for comp in COMPONENTS if kind in ("max", "min", "first_time") else (None,):
+            m = Metric("m", kind, comp, below=0.5 if kind == "first_time" else None)
+            with pytest.warns(DeprecationWarning, match="Motion is deprecated"):
+                expected = m.evaluate(old)
+            np.testing.assert_array_equal(m.evaluate(tr, tr.quat[-1, 0]), expected)

@@ -66,7 +66,7 @@ def test_racket_flip_period_is_half_the_omega_period():
 
 @pytest.mark.parametrize("case", ALL, ids=lambda c: c.name)
 def test_exact_states_score_zero(case):
-    res = evaluate(case, case.exact())
+    res = evaluate(case, case.reference())
     assert res.status == "pass"
     for name in ("omega", "position", "velocity", "events"):
         if name in res.metrics:
@@ -110,11 +110,50 @@ def test_perturbed_states_are_measured():
     ex = case.exact()
     tilt = Rotation.from_rotvec([0.0, 0.0, 3e-4])
     q = (tilt * Rotation.from_quat(ex["quat"])).as_quat()
-    res = evaluate(case, {"quat": q, "omega": ex["omega"] + [0.0, 1e-5, 0.0]})
+    got = engines.rigid_result(case, q, ex["omega"] + [0.0, 1e-5, 0.0], "perturbed")
+    res = evaluate(case, got)
     assert res.metrics["attitude"]["value"] == pytest.approx(3e-4, rel=1e-9)
     scale = np.max(np.linalg.norm(ex["omega"], axis=-1))
     assert res.metrics["omega"]["value"] == pytest.approx(1e-5 / scale, rel=1e-9)
     assert res.status == "fail"
+
+
+def test_engines_return_results_and_dicts_are_deprecated():
+    """Issue 39: an engine's run gives a poinsot result on the case's grid; the former
+    dict of arrays (from an engine or to evaluate) still scores the same, with a warning."""
+    from poinsot import PointTrajectory, Trajectory
+    from poinsot.verify.engines import Engine
+
+    eng = engines.SciPyEngine(rtol=1e-10)
+    assert isinstance(eng, Engine)
+    for name, kind in (("free-symmetric", Trajectory), ("kepler-e0.5", PointTrajectory)):
+        case = cases(name)[0]
+        result, work = eng.run(case)
+        assert isinstance(result, kind) and np.array_equal(result.t, case.t) and work > 0
+        new = evaluate(case, result)
+        arrays = dict(new.states)
+        with pytest.warns(DeprecationWarning, match="dict of states"):
+            old = evaluate(case, arrays)
+        assert old.metrics == new.metrics
+
+        class OldEngine:
+            name, label = "old", "old"
+
+            def __init__(self, arrays):
+                self.arrays = arrays
+
+            def skip_reason(self, case):
+                return None
+
+            def run(self, case):
+                return {**self.arrays, "defects": ["a finding"]}, 1
+
+        with pytest.warns(DeprecationWarning, match="dict of states"):
+            res = run(OldEngine(arrays), case)
+        assert res.status == "fail" and res.reason.endswith("a finding")
+        assert {k: v["value"] for k, v in res.metrics.items()} == {
+            k: v["value"] for k, v in new.metrics.items()
+        }
 
 
 def test_export_round_trip(tmp_path):

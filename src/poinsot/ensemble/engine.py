@@ -39,8 +39,10 @@ import numpy as np
 from .._files import atomic_write
 from .._progress import Progress, as_progress
 from ..errors import InvalidInputError, InvalidTypeError
+from ..rotations.rotation import Rotation
+from ..trajectory import Trajectory
 from .dispersion import Dispersion, SmallRotation, UniformRotation
-from .metrics import Metric, Motion
+from .metrics import Metric
 
 __all__ = [
     "EnsembleProblem",
@@ -297,16 +299,18 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
             quat[:, failed_int] = quat[:, :1]
             omega[:, failed_int] = omega[:, :1]
             kinetic[:, failed_int] = kinetic[:, :1]
-        potential = None if model is None else model.potential(quat)
-        energy = kinetic if potential is None else kinetic + potential
-        motion = Motion(
-            t=problem.t,
-            quat=quat[:, 1:],
-            omega=omega[:, 1:],
-            kinetic=kinetic[:, 1:],
-            energy=energy[:, 1:],
-            nominal_final=quat[-1, 0],
+        # the samples' motion (time first, then samples; the nominal body 0 apart) with
+        # what gives its V (gravity: m g c per sample): T + V from the Trajectory
+        info = {k: np.asarray(tr.info[k])[1:] for k in ("gravity_moment",) if k in tr.info}
+        motion = Trajectory(
+            problem.t,
+            Rotation._wrap(quat[:, 1:]),
+            omega[:, 1:],
+            tr.method,
+            energy=kinetic[:, 1:],
+            info=info,
         )
+        nominal_final = quat[-1, 0]
         failed = reason != ""
         cols: dict[str, Any] = {
             "sample": np.arange(size, dtype=np.int64),
@@ -315,7 +319,7 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
         for name, _d in problem.dispersions:
             cols.update(_columns_of(name, inputs[name]))
         for metric in problem.metrics:
-            v = np.asarray(metric.evaluate(motion), dtype=float)
+            v = np.asarray(metric.evaluate(motion, nominal_final), dtype=float)
             cols[metric.name] = np.where(failed, np.nan, v)
     cols["failed"] = failed
     cols["reason"] = reason.astype(str)

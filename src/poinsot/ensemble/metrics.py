@@ -1,9 +1,12 @@
 """Metrics: what an ensemble records per sample, from its integrated motion.
 
-Each metric reads the batch of motions of one chunk (``t`` (n,), body
-angular velocity ``omega`` (n, M, 3) in rad/s, attitude quaternions ``quat``
-(n, M, 4) scalar first, body -> space) and returns one value per sample
-(``NaN`` where the event never happens within the run, documented per metric).
+Each metric reads the batch of motions of one chunk, a :class:`poinsot.Trajectory`
+with time first and the samples after it (``t`` (n,), attitude ``rotation`` (n, M)
+body -> space, body angular velocity ``omega`` (n, M, 3) in rad/s, the kinetic
+energy ``energy`` (n, M) and, for a torque with a potential, ``V`` in its ``info``
+(``"potential_energy"`` or ``"gravity_moment"``, docs/theory.md §8, §10)), and
+returns one value per sample (``NaN`` where the event never happens within the run,
+documented per metric).
 
 =========================  ===================================================
 ``first_flip_time``        first time (s) the body component ``component``
@@ -28,6 +31,7 @@ Components: ``omega_x``, ``omega_y``, ``omega_z`` (rad/s, body axes),
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,8 +39,9 @@ import numpy as np
 
 from .._drift import relative_change
 from .._quat import attitude_distance
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, InvalidTypeError
 from ..rotations._scalar import vertical
+from ..trajectory import Trajectory
 
 __all__ = ["Metric", "METRICS", "COMPONENTS", "Motion", "from_table"]
 
@@ -56,7 +61,11 @@ _AXES = {"x": 0, "y": 1, "z": 2}
 
 @dataclass(frozen=True)
 class Motion:
-    """The integrated motion of one chunk (time first, then samples)."""
+    """Deprecated: the integrated motion of one chunk (time first, then samples).
+
+    :meth:`Metric.evaluate` reads a :class:`poinsot.Trajectory` (and the nominal
+    final quaternion) instead; a Motion is still read, with a DeprecationWarning.
+    """
 
     t: np.ndarray  # (n,)
     quat: np.ndarray  # (n, M, 4)
@@ -66,6 +75,46 @@ class Motion:
     nominal_final: np.ndarray  # (4,): final quaternion of the nominal sample
 
 
+@dataclass(frozen=True)
+class _Series:
+    """What the metrics read of a chunk's motion (from a Trajectory or a Motion)."""
+
+    t: np.ndarray
+    quat: np.ndarray
+    omega: np.ndarray
+    kinetic: np.ndarray
+    total: Any  # () -> T + V (n, M), computed only when a metric asks
+    nominal_final: np.ndarray | None
+
+
+def _series(motion: Trajectory | Motion, nominal_final: Any) -> _Series:
+    if isinstance(motion, Motion):
+        warnings.warn(
+            "poinsot.ensemble.metrics.Motion is deprecated: pass a poinsot.Trajectory "
+            "(time first, then samples) and nominal_final to Metric.evaluate.",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+        e = motion.energy
+        return _Series(motion.t, motion.quat, motion.omega, motion.kinetic, lambda: e,
+                       motion.nominal_final)  # fmt: skip
+    if not isinstance(motion, Trajectory) or motion.energy is None:
+        raise InvalidTypeError(
+            "Expected a poinsot.Trajectory with its kinetic energy (time first, then samples), "
+            f"got {type(motion).__name__}."
+        )
+    return _Series(motion.t, motion.quat, np.asarray(motion.omega), motion.energy,
+                   lambda: total_energy(motion), nominal_final)  # fmt: skip
+
+
+def total_energy(tr: Trajectory) -> np.ndarray:
+    """``T + V`` along ``tr`` (J): its kinetic energy plus the potential of its
+    ``info`` (docs/theory.md §8, §10); ``T`` alone for a torque without a potential."""
+    v = tr._potential_energy()
+    assert tr.energy is not None
+    return tr.energy if v is None else tr.energy + v
+
+
 def _nutation(quat: np.ndarray, axis: int = 2) -> np.ndarray:
     """Angle (deg) between body axis ``axis`` (R e_axis) and space ``e_z``."""
     # z-component of the column ``axis`` of R: the third row of R (theory §2)
@@ -73,7 +122,7 @@ def _nutation(quat: np.ndarray, axis: int = 2) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cz, -1.0, 1.0)))
 
 
-def _component(motion: Motion, name: str | None) -> np.ndarray:
+def _component(motion: _Series, name: str | None) -> np.ndarray:
     if name is None:  # __post_init__ requires a component for the kinds that read one
         raise InvalidInputError(f"Expected a component, one of {', '.join(COMPONENTS)}.")
     if name.startswith("omega_") and name[-1] in _AXES and len(name) == 7:
@@ -142,8 +191,21 @@ class Metric:
             return "1"
         return {"nutation": "deg", "kinetic_energy": "J"}.get(self.component or "", "rad/s")
 
-    def evaluate(self, m: Motion) -> np.ndarray:
-        """One value per sample, shape (M,)."""
+    def evaluate(
+        self, motion: Trajectory | Motion, nominal_final: np.ndarray | None = None
+    ) -> np.ndarray:
+        """One value per sample, shape (M,).
+
+        Parameters
+        ----------
+        motion : Trajectory
+            The chunk's motion, time first, then the M samples, with its kinetic
+            energy (and ``V`` in ``info`` for a conservative torque).
+        nominal_final : ndarray, shape (4,), optional
+            The final quaternion of the nominal (undispersed) sample; needed by
+            ``final_attitude_error``.
+        """
+        m = _series(motion, nominal_final)
         k = self.kind
         if k == "first_flip_time":
             c = _component(m, self.component or "omega_y")
@@ -159,9 +221,13 @@ class Metric:
             return c.max(axis=0) if k == "max" else c.min(axis=0)
         if k == "final_attitude_error":
             # the angle of the relative rotation (one definition: poinsot._quat)
+            if m.nominal_final is None:
+                raise InvalidInputError(
+                    f"Metric {self.name!r} (final_attitude_error) needs `nominal_final`."
+                )
             return np.degrees(attitude_distance(m.nominal_final, m.quat[-1]))
         # relative drift of T + V (one definition: poinsot._drift)
-        change = relative_change(m.energy, floor=np.finfo(float).tiny)
+        change = relative_change(m.total(), floor=np.finfo(float).tiny)
         return np.max(np.abs(change), axis=0)
 
 

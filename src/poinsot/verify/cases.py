@@ -23,19 +23,21 @@ positions and velocities in the case's own frame (m, m/s). Times start at 0 s.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from .groups import GROUP_TABLE, Group
 
 #: version of the set of cases: bumped whenever a case's inputs, grid or thresholds change
 CASES_VERSION = "1"
 
-#: groups of cases (``--cases`` accepts a group or a case name)
-GROUPS = ("free-body", "heavy-top", "orbit", "frame")
+#: groups of cases (``--cases`` accepts a group or a case name); each is one object of
+#: :data:`poinsot.verify.groups.GROUP_TABLE`
+GROUPS = tuple(GROUP_TABLE)
 
 #: default thresholds: attitude (rad, geodesic), angular velocity and velocity
 #: (relative to the case's scale), position (relative to the case's length scale),
@@ -125,91 +127,34 @@ class Case:
         """
         cache = self.__dict__.setdefault("_exact", {})
         if not cache:
-            cache.update(_EXACT[self.group](self))
+            cache.update(self.spec.exact(self))
             for v in cache.values():
                 v.setflags(write=False)
         return dict(cache)
 
+    def reference(self) -> Any:
+        """The exact motion on :attr:`t` as a poinsot result (computed once, then cached):
+        a :class:`poinsot.Trajectory` for a rigid body, a :class:`poinsot.PointTrajectory`
+        for a point, ``method="exact"``; the states of :meth:`exact`, bit for bit."""
+        ref = self.__dict__.get("_reference")
+        if ref is None:
+            ex = self.exact()
+            a, b = (ex[k] for k in self.spec.states)
+            ref = self.spec.result(self, a, b, "exact")
+            self.__dict__["_reference"] = ref
+        return ref
+
     def model(self) -> Any:
         """The poinsot exact-solution object of this case (FreeRigidBody, LagrangeTop,
-        CentralOrbit), or None for the frame case (closed form, :func:`_foucault_exact`)."""
-        return _MODEL[self.group](self)
+        CentralOrbit), or None for the frame case (closed form,
+        :meth:`poinsot.verify.groups.Frame.exact`)."""
+        return self.spec.model(self)
 
-
-def _free_model(case: Case) -> Any:
-    from ..dynamics import FreeRigidBody
-
-    i = case.inputs
-    return FreeRigidBody(i["inertia"], rotation0=i["q0"], omega0=i["omega0"])
-
-
-def _top_model(case: Case) -> Any:
-    from ..dynamics import HeavyRigidBody, LagrangeTop
-
-    i = case.inputs
-    g = -float(i["gravity"][2])
-    body = HeavyRigidBody(case.inertia_about_origin, i["mass"], i["com"], g=g)
-    return LagrangeTop.from_state(body, rotation=i["q0"], omega=i["omega0"])
-
-
-def _orbit_model(case: Case) -> Any:
-    from ..dynamics import CentralOrbit, kepler
-
-    i = case.inputs
-    return CentralOrbit.from_state(kepler(i["mu"]), i["position0"], i["velocity0"])
-
-
-def _rigid_states(case: Case) -> dict[str, np.ndarray]:
-    from ..kinematics.attitude_history import _make_continuous
-
-    omega, rot = case.model().state(case.t)
-    q = _make_continuous(np.asarray(rot.as_quat(), dtype=float))
-    return {"t": case.t.copy(), "quat": q, "omega": np.asarray(omega, dtype=float)}
-
-
-def _orbit_states(case: Case) -> dict[str, np.ndarray]:
-    r, v = case.model().state(case.t)
-    return {"t": case.t.copy(), "position": np.asarray(r), "velocity": np.asarray(v)}
-
-
-def _foucault_exact(case: Case) -> dict[str, np.ndarray]:
-    """The linear Foucault pendulum in its frame, exactly (docs/theory.md §9).
-
-    In the inertial frame the bob is a plane isotropic oscillator,
-    ``x_in(t) = x0 cos(w0 t) + (v0_in / w0) sin(w0 t)``, ``w0 = sqrt(g / l)``, with the
-    inertial velocity ``v0_in = v0 + Omega x x0``; the frame turns at ``Omega`` about
-    the vertical, so ``x(t) = R_z(-Omega t) x_in(t)`` and
-    ``v(t) = R_z(-Omega t) (v_in(t) - Omega x x_in(t))``.
-    """
-    i = case.inputs
-    w0 = math.sqrt(i["g"] / i["length"])
-    om = np.asarray(i["frame_rate"], dtype=float)
-    x0 = np.asarray(i["position0"], dtype=float)
-    v0 = np.asarray(i["velocity0"], dtype=float) + np.cross(om, x0)
-    t = case.t[:, None]
-    x_in = x0 * np.cos(w0 * t) + v0 / w0 * np.sin(w0 * t)
-    v_in = -x0 * w0 * np.sin(w0 * t) + v0 * np.cos(w0 * t)
-    v_rel_in = v_in - np.cross(om, x_in)
-    c, s = np.cos(om[2] * case.t), np.sin(om[2] * case.t)
-
-    def back(u: np.ndarray) -> np.ndarray:  # R_z(-Omega t) u
-        return np.stack([c * u[:, 0] + s * u[:, 1], -s * u[:, 0] + c * u[:, 1], u[:, 2]], -1)
-
-    return {"t": case.t.copy(), "position": back(x_in), "velocity": back(v_rel_in)}
-
-
-_EXACT = {
-    "free-body": _rigid_states,
-    "heavy-top": _rigid_states,
-    "orbit": _orbit_states,
-    "frame": _foucault_exact,
-}
-_MODEL: dict[str, Callable[[Case], Any]] = {
-    "free-body": _free_model,
-    "heavy-top": _top_model,
-    "orbit": _orbit_model,
-    "frame": lambda case: None,  # the closed form of _foucault_exact
-}
+    @property
+    def spec(self) -> Group:
+        """The object of the case's group (:mod:`poinsot.verify.groups`): its model,
+        exact states, units, adapter hooks and integrals."""
+        return GROUP_TABLE[self.group]
 
 
 def _grid(duration: float, dt: float) -> np.ndarray:
@@ -345,38 +290,8 @@ def _frame_case() -> Case:
 
 def _finish(case: Case) -> Case:
     """Fill in what needs the model: regular precession rates, event levels, facts."""
-    i = case.inputs
-    if case.group == "heavy-top" and not np.isfinite(i["omega0"][1]):
-        from ..dynamics import regular_precession_rates
-
-        ct = 1.0 - 2.0 * float(np.sum(i["q0"][1:3] ** 2))
-        theta = math.acos(ct)
-        jo = case.inertia_about_origin
-        mgl = float(i["mass"] * -i["gravity"][2] * i["com"][2])
-        rates = regular_precession_rates(jo[0, 0], jo[2, 2], mgl, theta, i["omega0"][2])
-        slow = float(np.asarray(rates).flat[int(np.argmin(np.abs(np.asarray(rates))))])
-        i["omega0"] = np.array([0.0, slow * math.sin(theta), i["omega0"][2]])
-    facts: dict[str, Any] = {}
-    model = case.model()
-    if case.group == "free-body":
-        facts = {"regime": str(model.regime), "period_s": float(model.period)}
-        if case.event is not None:
-            facts["flip_period_s"] = float(model.period) / 2.0
-    elif case.group == "heavy-top":
-        lo, hi = model.nutation_bounds
-        facts = {
-            "motion_type": model.motion_type,
-            "nutation_period_s": float(model.nutation_period),
-            "nutation_bounds_rad": [float(lo), float(hi)],
-        }
-        if case.event is not None:
-            case.event["level"] = 0.5 * (math.cos(lo) + math.cos(hi))
-    elif case.group == "orbit":
-        facts = {"eccentricity": float(model.conic.e), "period_s": float(model.radial_period)}
-    else:
-        w0 = math.sqrt(i["g"] / i["length"])
-        facts = {"swing_frequency_rad_per_s": w0,
-                 "plane_rate_rad_per_s": -float(i["frame_rate"][2])}  # fmt: skip
+    case.spec.prepare(case)
+    facts = case.spec.facts(case, case.model())
     case.facts.update(facts)
     return case
 
@@ -429,7 +344,11 @@ def cases(select: str | Iterable[str] | None = None) -> list[Case]:
     chosen: list[Case] = []
     for s in items:
         found = (
-            [c for c in _CACHE if c.group == s] if s in GROUPS else [names[s]] if s in names else []
+            [c for c in _CACHE if c.spec is GROUP_TABLE[s]]
+            if s in GROUP_TABLE
+            else [names[s]]
+            if s in names
+            else []
         )
         if not found:
             raise InvalidInputError(
@@ -461,17 +380,13 @@ def describe(case: Case) -> Mapping[str, Any]:
         "thresholds": dict(case.thresholds),
         "event": None if case.event is None else dict(case.event),
         "facts": dict(case.facts),
-        "units": UNITS[case.kind],
+        "units": case.spec.units,
         "conventions": CONVENTIONS,
     }
 
 
-UNITS = {
-    "rigid": {"t": "s", "qw,qx,qy,qz": "1", "wx,wy,wz": "rad/s", "inertia": "kg m^2",
-              "mass": "kg", "com": "m", "gravity": "m/s^2"},
-    "point": {"t": "s", "x,y,z": "m", "vx,vy,vz": "m/s", "mu": "m^3/s^2",
-              "frame_rate": "rad/s", "length": "m", "g": "m/s^2"},
-}  # fmt: skip
+#: the units of each kind of case, ``kind -> {column or input: units}``
+UNITS = {g.kind: g.units for g in GROUP_TABLE.values()}
 
 CONVENTIONS = (
     "quaternions scalar first (w, x, y, z), Hamilton product, attitude body -> space "

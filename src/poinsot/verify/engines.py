@@ -1,15 +1,20 @@
 """Engine adapters of ``poinsot verify``: run a case, return its states on the case's grid.
 
-An engine has a ``name``, a ``label`` (the settings, e.g. ``"scipy DOP853 rtol=1e-12"``),
-``skip_reason(case)`` (None when it can run the case, else why the case is outside
-what the engine models: the case is *skipped*) and ``run(case) -> (states, work)``:
-the states as :func:`poinsot.verify.metrics.evaluate` reads them (scalar-first
-body -> space quaternions and body-axes angular velocity, or positions and
-velocities), and the engine's own count of work. Optionally ``missing_reason(case)``:
-why an engine that should have given the case's states did not (e.g. no file): the
-case is *missing*, which fails the verdict unless allowed (docs/verify.md). The
-states may carry ``"defects"``, a list of findings that fail the case whatever its
-metrics (e.g. an attitude and angular velocity that are not one motion).
+An engine follows the :class:`Engine` protocol: a ``name``, a ``label`` (the
+settings, e.g. ``"scipy DOP853 rtol=1e-12"``), ``skip_reason(case)`` (None when it can
+run the case, else why the case is outside what the engine models: the case is
+*skipped*) and ``run(case) -> (result, work)``: the motion as a poinsot result on the
+case's grid ``case.t`` -- a :class:`poinsot.Trajectory` for a rigid body (attitude
+body -> space, angular velocity in body axes) or a :class:`poinsot.PointTrajectory`
+for a point (position, velocity), docs/theory.md §2 -- and the engine's own count of
+work (or None). Optionally ``missing_reason(case)``: why an engine that should have
+given the case's states did not (e.g. no file): the case is *missing*, which fails
+the verdict unless allowed (docs/verify.md). An engine with findings that fail the
+case whatever its metrics (e.g. an attitude and angular velocity that are not one
+motion) returns them third: ``(result, work, defects)``, a list of strings.
+:func:`poinsot.verify.metrics.evaluate` scores the result. (A ``run`` that returns
+the former dict of arrays ``{"quat", "omega"}`` / ``{"position", "velocity"}``, with
+``"defects"`` among them, still works for one release, with a DeprecationWarning.)
 
 - :class:`SciPyEngine`: ``scipy.integrate.solve_ivp`` (any method, any tolerance) on
   the Euler(-Poisson) equations ``J_O w' + w x J_O w = m c x (R^T g)`` with
@@ -30,22 +35,78 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..dynamics import METHODS, PARTICLE_SOLVERS
 from ..errors import InvalidInputError, InvalidTypeError
+from ..trajectory import Result
 from .cases import Case
+from .groups import point_result, quat_unit, rigid_result
+
+__all__ = [
+    "ENGINES",
+    "Engine",
+    "SciPyEngine",
+    "PoinsotEngine",
+    "MuJoCoEngine",
+    "as_result",
+    "make",
+    "point_result",
+    "rigid_result",
+    "run",
+]
 
 ENGINES = ("scipy", "poinsot", "mujoco", "file")
 
 
-def _quat_unit(q: np.ndarray) -> np.ndarray:
-    from ..kinematics.attitude_history import _make_continuous
+@runtime_checkable
+class Engine(Protocol):
+    """What ``poinsot verify`` runs a case in (see the module docstring, docs/verify.md).
 
-    q = np.asarray(q, dtype=float)
-    return _make_continuous(q / np.linalg.norm(q, axis=-1, keepdims=True))
+    ``run(case)`` returns ``(result, work)`` -- or ``(result, work, defects)`` -- with
+    ``result`` a :class:`poinsot.Trajectory` (rigid cases) or
+    :class:`poinsot.PointTrajectory` (point cases) on ``case.t``. An engine may also
+    define ``missing_reason(case)`` (None, or why the case's states are missing).
+    """
+
+    name: str
+    label: str
+
+    def skip_reason(self, case: Case) -> str | None: ...
+
+    def run(self, case: Case) -> tuple[Any, ...]: ...
+
+
+def as_result(case: Case, states: Any, method: str = "") -> Result:
+    """``states`` as a result: a result as it is, a dict of arrays (the form of
+    poinsot 1.x engines, deprecated) converted."""
+    if isinstance(states, Result):
+        return states
+    if not isinstance(states, dict):
+        raise InvalidTypeError(
+            "Expected an engine's states to be a poinsot Trajectory or PointTrajectory, got "
+            f"{type(states).__name__}."
+        )
+    spec = case.spec
+    a, b = (states[k] for k in spec.states)
+    return spec.result(case, a, b, method)
+
+
+def _deprecated_states() -> None:
+    warnings.warn(
+        "A dict of states is deprecated: an engine's run(case) returns a poinsot "
+        "Trajectory (rigid cases) or PointTrajectory (point cases) on case.t, and "
+        "evaluate() reads one (docs/verify.md).",
+        DeprecationWarning,
+        stacklevel=3,
+    )
+
+
+_quat_unit = quat_unit  # the former private name (poinsot.verify.files used it)
 
 
 class SciPyEngine:
@@ -64,15 +125,14 @@ class SciPyEngine:
     --------
     >>> from poinsot.verify import cases, engines, evaluate
     >>> case = cases("free-symmetric")[0]
-    >>> states, work = engines.SciPyEngine(rtol=1e-12).run(case)
-    >>> evaluate(case, states).status
+    >>> result, work = engines.SciPyEngine(rtol=1e-12).run(case)
+    >>> evaluate(case, result).status
     'pass'
     """
 
     name = "scipy"
 
     def __init__(self, method: str = "DOP853", rtol: float = 1e-12, atol: float | None = None):
-        from ..dynamics import PARTICLE_SOLVERS
 
         solvers = tuple(s for s in PARTICLE_SOLVERS if s != "adaptive")
         if not isinstance(method, str) or method not in solvers:
@@ -88,63 +148,15 @@ class SciPyEngine:
     def skip_reason(self, case: Case) -> str | None:
         return None
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
+    def run(self, case: Case) -> tuple[Result, int]:
         from scipy.integrate import solve_ivp
 
-        rhs, y0, unpack = _equations(case)
+        rhs, y0, unpack = case.spec.equations(case)
         sol = solve_ivp(rhs, (case.t[0], case.t[-1]), y0, method=self.method, t_eval=case.t,
                         rtol=self.rtol, atol=self.atol)  # fmt: skip
         if sol.status != 0 or sol.y.shape[1] != case.t.size:
-            return _nan_states(case), int(sol.nfev)
-        return unpack(sol.y.T), int(sol.nfev)
-
-
-def _equations(case: Case) -> tuple[Any, np.ndarray, Any]:
-    """``(rhs(t, y), y0, unpack(y) -> states)`` of the case for a generic ODE solver."""
-    i = case.inputs
-    if case.kind == "rigid":
-        from ..dynamics import GravityTorque, euler_rhs
-        from ..kinematics import quat_rate
-
-        jo = case.inertia_about_origin
-        g = -float(i["gravity"][2])
-        torque = GravityTorque(i["mass"], i["com"], g) if i["fixed_point"] and g else None
-
-        def rhs(t: float, y: np.ndarray) -> np.ndarray:
-            q, w = y[:4], y[4:]
-            m = None if torque is None else torque.body_torque(t, q[None], w[None])[0]
-            return np.concatenate([quat_rate(q, w), euler_rhs(jo, w, m)])
-
-        def unpack(y: np.ndarray) -> dict[str, np.ndarray]:
-            return {"quat": _quat_unit(y[:, :4]), "omega": y[:, 4:].copy()}
-
-        return rhs, np.concatenate([i["q0"], i["omega0"]]), unpack
-    if case.group == "orbit":
-        from ..dynamics import kepler
-
-        pot = kepler(i["mu"])
-
-        def rhs(t: float, y: np.ndarray) -> np.ndarray:
-            r = y[:3]
-            rn = math.sqrt(float(r @ r))
-            return np.concatenate([y[3:], -float(pot.derivative(rn)) * r / rn])
-
-    else:
-        from ..dynamics import PendulumForce, inertial_forces
-        from ..kinematics import FrameMotion
-
-        frame = FrameMotion(omega=i["frame_rate"])
-        spring = PendulumForce(1.0, i["g"], i["length"])
-
-        def rhs(t: float, y: np.ndarray) -> np.ndarray:
-            r, v = y[:3], y[3:]
-            f = inertial_forces(frame, r, v)
-            return np.concatenate([v, spring(t, r, v) + f.transport + f.coriolis])
-
-    def unpack_point(y: np.ndarray) -> dict[str, np.ndarray]:
-        return {"position": y[:, :3].copy(), "velocity": y[:, 3:].copy()}
-
-    return rhs, np.concatenate([i["position0"], i["velocity0"]]), unpack_point
+            return _nan_result(case, self.label), int(sol.nfev)
+        return unpack(sol.y.T, self.label), int(sol.nfev)
 
 
 class PoinsotEngine:
@@ -170,7 +182,6 @@ class PoinsotEngine:
 
     def __init__(self, method: str | None = None, step: float | None = None,
                  rtol: float | None = None, order: int | None = None):  # fmt: skip
-        from ..dynamics import METHODS, PARTICLE_SOLVERS
 
         if method is not None and method not in METHODS and method not in PARTICLE_SOLVERS:
             raise InvalidInputError(
@@ -187,78 +198,15 @@ class PoinsotEngine:
         parts += [f"order={order}"] if order else []
         self.label = " ".join(parts)
 
-    def _rigid_method(self) -> str | None:
-        from ..dynamics import METHODS
-
-        if self.method is None:
-            return "dop853"
-        return self.method if self.method in METHODS else None
-
-    def _point_method(self) -> str | None:
-        from ..dynamics import PARTICLE_SOLVERS
-
-        if self.method is None:
-            return "DOP853"
-        return (
-            self.method if self.method in PARTICLE_SOLVERS and self.method != "adaptive" else None
-        )
-
     def skip_reason(self, case: Case) -> str | None:
-        if case.kind == "rigid" and self._rigid_method() is None:
-            return f"method {self.method!r} integrates points, not rigid bodies"
-        if case.kind == "point" and self._point_method() is None:
-            return f"method {self.method!r} integrates rigid bodies, not points"
+        if case.spec.poinsot_method(self.method) is None:
+            return f"method {self.method!r} integrates {case.spec.poinsot_other}"
         return None
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
-        i = case.inputs
-        tol: dict[str, Any] = {}
-        if case.kind == "rigid":
-            from ..dynamics import HeavyRigidBody, simulate
-
-            method = self._rigid_method()
-            if self.rtol is not None:
-                tol = {"rtol": self.rtol, "atol": self.rtol * 1e-3}
-            opts: dict[str, Any] = {
-                "method": method,
-                "max_step": self.step,
-                "order": self.order,
-                **tol,
-            }
-            if i["fixed_point"]:
-                body = HeavyRigidBody(case.inertia_about_origin, i["mass"], i["com"],
-                                      g=-float(i["gravity"][2]))  # fmt: skip
-                tr = body.simulate(i["q0"], i["omega0"], case.t, **opts)
-            else:
-                tr = simulate(i["inertia"], i["q0"], i["omega0"], case.t, **opts)
-            steps = tr.info.get("evaluations", tr.info.get("steps"))
-            work = int(np.sum(steps)) if steps is not None else None
-            return {"quat": _quat_unit(tr.quat), "omega": np.asarray(tr.omega)}, work  # type: ignore[return-value]
-        from ..dynamics import PendulumForce, kepler, simulate_particle
-        from ..kinematics import FrameMotion
-
-        rtol = 1e-12 if self.rtol is None else self.rtol
-        opts = {"method": self._point_method(), "rtol": rtol, "atol": rtol * 1e-3}
-        if self.step is not None:
-            opts["max_step"] = self.step
-        if case.group == "orbit":
-            pot = kepler(i["mu"])
-
-            def gravity(t: float, r: np.ndarray, v: np.ndarray) -> np.ndarray:
-                rn = math.sqrt(float(r @ r))
-                return -float(pot.derivative(rn)) * r / rn
-
-            pt = simulate_particle(FrameMotion(), gravity, i["position0"], i["velocity0"],
-                                   case.t, **opts)  # fmt: skip
-        else:
-            frame = FrameMotion(omega=i["frame_rate"])
-            spring = PendulumForce(1.0, i["g"], i["length"])
-            pt = simulate_particle(frame, spring, i["position0"], i["velocity0"], case.t, **opts)
-        nfev = pt.info.get("evaluations")
-        return (
-            {"position": np.asarray(pt.position), "velocity": np.asarray(pt.velocity)},
-            None if nfev is None else int(np.sum(nfev)),
-        )  # type: ignore[return-value]
+    def run(self, case: Case) -> tuple[Result, int | None]:
+        method = case.spec.poinsot_method(self.method)
+        assert method is not None
+        return case.spec.poinsot_run(case, method, self.step, self.rtol, self.order, self.label)
 
 
 class MuJoCoEngine:
@@ -296,21 +244,20 @@ class MuJoCoEngine:
         from ._mujoco import sampling
         from .cases import cases
 
-        grids = {float(c.t[1]) for c in cases() if c.kind == "rigid"}
+        grids = {float(c.t[1]) for c in cases() if c.spec.mujoco_skip is None}
         if any(np.any(sampling(np.array([g]), self.timestep)[1]) for g in grids):
             self.label += " (times between steps: one shorter step from the last whole step)"
 
     def skip_reason(self, case: Case) -> str | None:
-        if case.kind != "rigid":
-            return "MuJoCo models rigid bodies with joints; a point in a central field or a " \
-                   "turning frame is not expressed by this adapter"  # fmt: skip
+        if case.spec.mujoco_skip is not None:
+            return case.spec.mujoco_skip
         try:
             import mujoco  # noqa: F401
         except ImportError as exc:
             return f"the mujoco package is not installed: pip install 'poinsot[verify]' ({exc})"
         return None
 
-    def run(self, case: Case) -> tuple[dict[str, np.ndarray], int]:
+    def run(self, case: Case) -> tuple[Result, int]:
         from ._mujoco import run_mujoco
 
         i = case.inputs
@@ -323,14 +270,12 @@ class MuJoCoEngine:
 
         whole, frac = sampling(case.t, self.timestep)
         steps = int(whole[-1]) + int(np.count_nonzero(frac))  # whole and shorter steps
-        return {"quat": _quat_unit(q), "omega": np.asarray(w, dtype=float)}, steps
+        return rigid_result(case, quat_unit(q), w, self.label), steps
 
 
-def _nan_states(case: Case) -> dict[str, np.ndarray]:
-    n = case.t.size
-    if case.kind == "rigid":
-        return {"quat": np.full((n, 4), np.nan), "omega": np.full((n, 3), np.nan)}
-    return {"position": np.full((n, 3), np.nan), "velocity": np.full((n, 3), np.nan)}
+def _nan_result(case: Case, method: str) -> Result:
+    """The result of a diverged engine: NaN states, which fail every metric."""
+    return case.spec.nan_result(case, method)
 
 
 def _positive(x: Any, name: str) -> float:
@@ -358,12 +303,18 @@ def run(engine: Any, case: Case) -> Any:
     reason = missing(case) if missing is not None else None
     if reason:
         return CaseResult(case=case.name, group=case.group, status="missing", reason=reason)
-    case.exact()  # outside the engine's timing
+    case.reference()  # outside the engine's timing
     t0 = time.perf_counter()
-    states, work = engine.run(case)
-    states = dict(states)
-    defects = list(states.pop("defects", None) or ())
-    return evaluate(case, states, seconds=time.perf_counter() - t0, work=work, defects=defects)
+    out = engine.run(case)
+    seconds = time.perf_counter() - t0
+    result, work, *rest = out
+    defects = list(rest[0] or ()) if rest else []
+    if isinstance(result, dict):  # an engine of the former protocol
+        _deprecated_states()
+        result = dict(result)
+        defects += list(result.pop("defects", None) or ())
+        result = as_result(case, result, getattr(engine, "label", ""))
+    return evaluate(case, result, seconds=seconds, work=work, defects=defects)
 
 
 def make(name: str, **options: Any) -> Any:

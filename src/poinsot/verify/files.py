@@ -23,18 +23,23 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from ..trajectory import Result
 from .cases import CASES_VERSION, Case, cases, describe
+from .engines import as_result, point_result
+from .groups import POINT_COLUMNS, PointGroup, quat_unit
 
-RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
 MATRIX_COLUMNS = tuple(f"r{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
-POINT_COLUMNS = ("t", "x", "y", "z", "vx", "vy", "vz")
 
 
-def state_table(case: Case, states: dict[str, np.ndarray]) -> tuple[tuple[str, ...], np.ndarray]:
-    """``(columns, (n, k) array)`` of ``states`` on the case's grid, as exported."""
-    if case.kind == "rigid":
-        return RIGID_COLUMNS, np.column_stack([case.t, states["quat"], states["omega"]])
-    return POINT_COLUMNS, np.column_stack([case.t, states["position"], states["velocity"]])
+def state_table(
+    case: Case, states: Result | dict[str, np.ndarray]
+) -> tuple[tuple[str, ...], np.ndarray]:
+    """``(columns, (n, k) array)`` of ``states`` (a result, or a dict of arrays) on the
+    case's grid, as exported."""
+    spec = case.spec
+    if isinstance(states, Result):
+        states = spec.arrays(states)
+    return spec.columns, np.column_stack([case.t, *(states[k] for k in spec.states)])
 
 
 def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
@@ -237,7 +242,7 @@ class FileEngine:
             None if self._file(case) else f"no file {case.name}.csv or .parquet in {self.directory}"
         )
 
-    def run(self, case: Case) -> tuple[dict[str, Any], None]:
+    def run(self, case: Case) -> tuple[Result, None, list[str]]:
         path = self._file(case)
         assert path is not None
         cols = read_table(path)
@@ -258,18 +263,21 @@ class FileEngine:
                 f"{k + 1} where the grid has {float(case.t[k])!r} s ({bad.size} samples off by "
                 "more than 1e-9 s)."
             )
-        if case.kind == "point":
+        if isinstance(case.spec, PointGroup):
             need = POINT_COLUMNS[1:]
             missing = [c for c in need if c not in cols]
             if missing:
                 raise InvalidInputError(
                     f"{path}: expected columns {', '.join(need)}; missing {', '.join(missing)}."
                 )
-            return {"position": np.column_stack([cols[c] for c in need[:3]]),
-                    "velocity": np.column_stack([cols[c] for c in need[3:]])}, None  # fmt: skip
-        return _rigid_from_columns(
+            pos = np.column_stack([cols[c] for c in need[:3]])
+            vel = np.column_stack([cols[c] for c in need[3:]])
+            return point_result(case, pos, vel, self.label), None, []
+        states = _rigid_from_columns(
             path, case, cols, self.quat_order, self.omega_frame, self.degrees
-        ), None
+        )
+        defects = list(states.pop("defects"))
+        return as_result(case, states, self.label), None, defects
 
 
 def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], order: str | None,
@@ -349,17 +357,13 @@ def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], ord
         w = np.radians(w)
     if frame == "space":
         w = np.asarray(Rotation.from_quat(q).inv().apply(w), dtype=float)
-    from .engines import _quat_unit
-
-    return {"quat": _quat_unit(q), "omega": w, "defects": defects}
+    return {"quat": quat_unit(q), "omega": w, "defects": defects}
 
 
 def _diverged(path: Path, case: Case, cols: dict[str, np.ndarray]) -> dict[str, Any]:
     """States of a file with non-finite values: NaN states that fail every metric."""
-    from .engines import _nan_states
-
     bad = [c for c, v in cols.items() if c != "t" and not np.all(np.isfinite(v))]
-    out: dict[str, Any] = _nan_states(case)
+    out: dict[str, Any] = case.spec.nan_states(case)
     out["defects"] = [f"non-finite values in column(s) {', '.join(bad)} of {path.name}"]
     return out
 

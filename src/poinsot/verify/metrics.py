@@ -24,7 +24,9 @@ import numpy as np
 
 from .._drift import relative_drift
 from .._quat import attitude_distance
+from ..trajectory import Result, compare
 from .cases import Case
+from .engines import as_result
 
 #: metric name -> (units, what it measures)
 METRICS: dict[str, tuple[str, str]] = {
@@ -63,7 +65,10 @@ class CaseResult:
     work : int or None
         The engine's own count of work (right-hand-side evaluations or steps).
     states : dict
-        The engine's states as scored (for the case pages).
+        The engine's state arrays as scored (``quat``, ``omega`` or ``position``,
+        ``velocity``).
+    result : Trajectory, PointTrajectory or None
+        The engine's motion as scored (for the case pages).
     """
 
     case: str
@@ -75,6 +80,7 @@ class CaseResult:
     seconds: float = 0.0
     work: int | None = None
     states: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    result: Result | None = field(default=None, repr=False)
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-ready dict (without the per-sample errors)."""
@@ -93,50 +99,13 @@ def _finite(x: float) -> float | str:
     return float(x) if math.isfinite(x) else "inf" if x > 0 else "nan"
 
 
-def _quat_rotation(q: np.ndarray) -> Any:
-    from ..rotations.rotation import Rotation
-
-    return Rotation.from_quat(q)
-
-
-def _rotation_matrices(q: np.ndarray) -> np.ndarray:
-    return np.asarray(_quat_rotation(q).as_matrix(), dtype=float)
-
-
 def integrals(case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The first integrals of the case along ``states`` (see the module docstring).
 
     Returns ``{"energy": (n,), "momentum": (n, 3) or (n,)}`` (J or J/kg, kg m^2/s or
     m^2/s); ``momentum`` is absent where none is conserved (the turning frame).
     """
-    i = case.inputs
-    if case.kind == "rigid":
-        jo = case.inertia_about_origin
-        w = states["omega"]
-        rmat = _rotation_matrices(states["quat"])
-        kb = w @ jo.T
-        energy = 0.5 * np.einsum("ni,ni->n", w, kb)
-        if np.any(i["gravity"]):
-            # V = -m g . (R c): the weight's potential with c from the fixed point
-            energy = energy - i["mass"] * np.einsum("nij,j,i->n", rmat, i["com"], i["gravity"])
-        k_space = np.einsum("nij,nj->ni", rmat, kb)
-        return {"energy": energy, "momentum": k_space}
-    r, v = states["position"], states["velocity"]
-    if case.group == "orbit":
-        from ..dynamics import kepler
-
-        rn = np.linalg.norm(r, axis=-1)
-        energy = 0.5 * np.einsum("ni,ni->n", v, v) + kepler(i["mu"])(rn)
-        return {"energy": energy, "momentum": np.cross(r, v)}
-    om = np.asarray(i["frame_rate"], dtype=float)
-    w0sq = i["g"] / i["length"]
-    horiz = r[:, :2]
-    jacobi = (
-        0.5 * np.einsum("ni,ni->n", v, v)
-        + 0.5 * w0sq * np.einsum("ni,ni->n", horiz, horiz)
-        - 0.5 * np.sum(np.cross(om, r) ** 2, axis=-1)
-    )
-    return {"energy": jacobi}
+    return case.spec.integrals(case, states)
 
 
 def event_signal(case: Case, states: dict[str, np.ndarray]) -> np.ndarray | None:
@@ -173,21 +142,23 @@ def crossings(t: np.ndarray, s: np.ndarray, level: float) -> np.ndarray:
 
 def evaluate(
     case: Case,
-    states: dict[str, np.ndarray],
+    result: Result | dict[str, np.ndarray],
     *,
     seconds: float = 0.0,
     work: int | None = None,
     defects: list[str] | None = None,
 ) -> CaseResult:
-    """Compare an engine's states with the exact ones and give the verdict.
+    """Compare an engine's motion with the exact one and give the verdict.
 
     Parameters
     ----------
     case : Case
-    states : dict
-        The engine's states on ``case.t``: ``quat`` (n, 4) scalar-first body ->
-        space and ``omega`` (n, 3) body axes (rad/s) for a rigid body;
-        ``position``, ``velocity`` (n, 3) for a point.
+    result : Trajectory or PointTrajectory
+        The engine's motion on ``case.t``: a :class:`poinsot.Trajectory` (attitude
+        body -> space, angular velocity in body axes, rad/s) for a rigid body, a
+        :class:`poinsot.PointTrajectory` (m, m/s) for a point. The former dict of
+        arrays (``quat`` (n, 4) scalar first and ``omega`` (n, 3), or ``position``
+        and ``velocity`` (n, 3)) is still read, with a DeprecationWarning.
     seconds, work : optional
         The engine's wall time (s) and work count, reported as given.
     defects : list of str, optional
@@ -200,36 +171,47 @@ def evaluate(
         ``status`` ``"pass"`` when every metric is within its threshold (a
         non-finite value never passes) and there is no defect.
 
+    Notes
+    -----
+    The errors are those of :func:`poinsot.compare` against :meth:`Case.reference`
+    (the attitude distance of :func:`poinsot._quat.attitude_distance`, docs/theory.md
+    §4; the vector differences relative to the exact scale), a non-finite one
+    counting as infinite; the drifts those of :func:`poinsot._drift.relative_drift`.
+
     Examples
     --------
     >>> from poinsot.verify import cases
     >>> from poinsot.verify.metrics import evaluate
     >>> case = cases("kepler-e0.5")[0]
-    >>> res = evaluate(case, case.exact())
+    >>> res = evaluate(case, case.reference())
     >>> res.status, res.metrics["position"]["value"]
     ('pass', 0.0)
     """
+    if isinstance(result, dict):
+        from .engines import _deprecated_states
+
+        _deprecated_states()
+    result = as_result(case, result)
+    reference = case.reference()
     exact = case.exact()
+    states = case.spec.arrays(result)
+    diff = compare(result, reference)
     values: dict[str, float] = {}
     errors: dict[str, np.ndarray] = {"t": case.t}
-    if case.kind == "rigid":
-        # geodesic angle 2 atan2(|vec(qe~ q)|, |w(qe~ q)|), whatever the norm of q
-        att = attitude_distance(exact["quat"], np.asarray(states["quat"], dtype=float))
-        werr = np.linalg.norm(states["omega"] - exact["omega"], axis=-1)
-        wscale = float(np.max(np.linalg.norm(exact["omega"], axis=-1)))
-        errors.update(attitude=att, omega=werr / wscale)
-        values["attitude"] = _max(att)
-        values["omega"] = _max(werr) / wscale
-    else:
-        for key in ("position", "velocity"):
-            e = np.linalg.norm(states[key] - exact[key], axis=-1)
-            scale = float(np.max(np.linalg.norm(exact[key], axis=-1)))
-            errors[key] = e / scale
-            values[key] = _max(e) / scale
+    spec = case.spec
+    for name, key in zip(spec.errors, spec.states, strict=True):
+        d = diff[name]
+        if name == "attitude":
+            # geodesic angle 2 atan2(|vec(qe~ q)|, |w(qe~ q)|), whatever the norm of q
+            errors[name] = attitude_distance(exact[key], states[key])
+            values[name] = _max(d.max)
+        else:  # relative to the largest exact magnitude
+            errors[name] = np.linalg.norm(states[key] - exact[key], axis=-1) / d.scale
+            values[name] = _max(d.max) / d.scale
     finite = all(np.all(np.isfinite(np.asarray(v, dtype=float))) for v in states.values())
     if not finite:  # a diverged engine: no integral or event to measure, every one fails
         values["energy"] = math.inf
-        if case.kind == "rigid" or case.group == "orbit":
+        if spec.has_momentum:
             values["momentum"] = math.inf
         if case.event is not None:
             values["events"] = math.inf
@@ -239,8 +221,7 @@ def evaluate(
         if "momentum" in got:
             k = got["momentum"]
             k0 = float(np.linalg.norm(ref["momentum"][0]))
-            if case.group == "heavy-top":
-                k = k[:, 2]  # only K_z is conserved under gravity
+            k = spec.conserved_momentum(k)  # K_z only for a top
             values["momentum"] = relative_drift(k, k0, vector=k.ndim > 1)
         if case.event is not None:
             level = float(case.event["level"])
@@ -273,9 +254,11 @@ def evaluate(
         errors=errors,
         seconds=seconds,
         work=work,
-        states=dict(states),
+        states=states,
+        result=result,
     )
 
 
-def _max(x: np.ndarray) -> float:
-    return float(np.max(x)) if np.all(np.isfinite(x)) else math.inf
+def _max(x: float) -> float:
+    """A largest error, infinite when it is not finite (NaN states never pass)."""
+    return float(x) if math.isfinite(x) else math.inf

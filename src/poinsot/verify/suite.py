@@ -9,6 +9,7 @@ axes) and the error over time.
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import json
 import math
@@ -247,29 +248,17 @@ def _json(x: Any) -> Any:
 
 def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
     from ..plotting.report import write_report
-    from ..rotations.rotation import Rotation
-    from ..trajectory import PointTrajectory, Trajectory
 
     case = cases(res.case)[0]
     states = res.states
     if not states or not all(np.all(np.isfinite(v)) for v in states.values()):
         return None  # nothing to draw (a diverged engine): the index page has its figures
-    ex = case.exact()
     title = f"poinsot verify: {case.name} in {verdict.label}"
     summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
                "thresholds": {k: v["threshold"] for k, v in res.metrics.items()}}  # fmt: skip
-    if case.kind == "rigid":
-        tr = Trajectory(case.t, Rotation.from_quat(states["quat"]), states["omega"], verdict.label)
-        ref = Trajectory(case.t, Rotation.from_quat(ex["quat"]), ex["omega"], "exact")
-        i = case.inputs
-        return write_report(path, trajectory=tr, reference=ref, title=title, summary=summary,
-                            inertia=i["inertia"], mass=i["mass"], center_of_mass=i["com"],
-                            fixed_point=bool(i["fixed_point"]), free_body=case.group == "free-body",
-                            euler_seq="ZXZ" if case.group == "heavy-top" else "ZYX")  # fmt: skip
-    pt = PointTrajectory(case.t, states["position"], states["velocity"], verdict.label)
-    errs = {k: np.asarray(res.errors[k]) for k in ("position", "velocity")}
-    return write_report(path, trajectory=pt, title=title, summary=summary,
-                        series=[("error vs the exact solution", "1 (relative)", errs)])  # fmt: skip
+    got = dataclasses.replace(res.result, method=verdict.label)  # type: ignore[type-var]
+    return write_report(path, trajectory=got, title=title, summary=summary,
+                        **case.spec.report_options(case, res.errors))  # fmt: skip
 
 
 def _thresholds(results: list[CaseResult], name: str) -> str:

@@ -1,0 +1,463 @@
+"""The groups of ``poinsot verify``'s cases: one object per group, the one place for
+what differs between them (docs/verify.md).
+
+Each :class:`Group` holds, for its cases: the kind of motion (a rigid body, result
+:class:`poinsot.Trajectory`, or a point, :class:`poinsot.PointTrajectory`), the
+exact model and states (docs/theory.md §9, §10), the characteristic facts, the
+units and file columns, the adapter hooks (the equations a generic ODE solver
+integrates, poinsot's own integrator, whether MuJoCo's adapter expresses it), the
+first integrals and which of them the metrics read, and the report's options.
+:data:`GROUP_TABLE` maps the names of :data:`poinsot.verify.GROUPS` to them;
+``case.spec`` is the group object of a case. Nothing else branches on a case's
+group or kind.
+
+- :class:`FreeBody` (``free-body``): Euler-Poinsot motion (:class:`FreeRigidBody`);
+- :class:`HeavyTop` (``heavy-top``): the Lagrange top (:class:`LagrangeTop`), only
+  ``K_z`` conserved;
+- :class:`Orbit` (``orbit``): Kepler orbits (:class:`CentralOrbit`);
+- :class:`Frame` (``frame``): the Foucault pendulum in its turning frame (closed
+  form, the Jacobi integral conserved).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..dynamics import (
+    METHODS,
+    PARTICLE_SOLVERS,
+    CentralOrbit,
+    FreeRigidBody,
+    GravityTorque,
+    HeavyRigidBody,
+    LagrangeTop,
+    PendulumForce,
+    euler_rhs,
+    inertial_forces,
+    kepler,
+    regular_precession_rates,
+    simulate,
+    simulate_particle,
+)
+from ..kinematics import FrameMotion, quat_rate
+from ..kinematics.attitude_history import _make_continuous
+from ..rotations.rotation import Rotation
+from ..trajectory import PointTrajectory, Result, Trajectory
+
+if TYPE_CHECKING:
+    from .cases import Case
+
+RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
+POINT_COLUMNS = ("t", "x", "y", "z", "vx", "vy", "vz")
+
+Equations = tuple[Callable[[float, np.ndarray], np.ndarray], np.ndarray,
+                  Callable[[np.ndarray, str], Result]]  # fmt: skip
+
+
+def quat_unit(q: np.ndarray) -> np.ndarray:
+    """Unit, sign-continuous quaternions (the form every engine's attitude is scored in)."""
+    q = np.asarray(q, dtype=float)
+    return _make_continuous(q / np.linalg.norm(q, axis=-1, keepdims=True))
+
+
+def rigid_result(case: Case, quat: Any, omega: Any, method: str) -> Trajectory:
+    """A :class:`poinsot.Trajectory` of ``case`` on its grid from scalar-first
+    quaternions (body -> space) and body-axes angular velocities, the quaternions
+    kept as given (bit for bit: the metrics see exactly the engine's numbers)."""
+    q = np.ascontiguousarray(quat, dtype=float)
+    return Trajectory(case.t, Rotation._wrap(q), np.asarray(omega, dtype=float), method)
+
+
+def point_result(case: Case, position: Any, velocity: Any, method: str) -> PointTrajectory:
+    """A :class:`poinsot.PointTrajectory` of ``case`` on its grid (m, m/s)."""
+    return PointTrajectory(case.t, position, velocity, method)
+
+
+class Group:
+    """What the cases of one group share (see the module docstring)."""
+
+    #: the group's name, one of :data:`poinsot.verify.GROUPS`
+    name = ""
+    #: ``"rigid"`` or ``"point"`` (the ``kind`` of its cases)
+    kind = ""
+    #: the state arrays of its results, in file order
+    states: tuple[str, str] = ("", "")
+    #: the columns of its files (:func:`poinsot.verify.files.export`)
+    columns: tuple[str, ...] = ()
+    #: the units of its files and inputs (:func:`poinsot.verify.cases.describe`)
+    units: dict[str, str] = {}
+    #: the error metrics of its state (:data:`poinsot.verify.METRICS`)
+    errors: tuple[str, str] = ("", "")
+    #: whether a first integral besides the energy is conserved (``"momentum"``)
+    has_momentum = True
+    #: why MuJoCo's adapter cannot run its cases, or None
+    mujoco_skip: str | None = None
+    #: what poinsot's engine integrates when its method skips this group
+    poinsot_other = ""
+
+    def model(self, case: Case) -> Any:
+        """The poinsot exact-solution object of the case, or None."""
+        return None
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        """The exact states on ``case.t``, ``{"t", *states}``."""
+        raise NotImplementedError
+
+    def prepare(self, case: Case) -> None:
+        """Fill in the inputs that need the model (before :meth:`facts`)."""
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        """Exact characteristic figures (and the event level where it needs the model)."""
+        raise NotImplementedError
+
+    def result(self, case: Case, a: Any, b: Any, method: str) -> Result:
+        """The result of the two state arrays (:attr:`states`) on ``case.t``."""
+        raise NotImplementedError
+
+    def nan_states(self, case: Case) -> dict[str, np.ndarray]:
+        """NaN state arrays on ``case.t`` (a diverged engine)."""
+        shapes = {"quat": 4, "omega": 3, "position": 3, "velocity": 3}
+        return {s: np.full((case.t.size, shapes[s]), np.nan) for s in self.states}
+
+    def arrays(self, result: Result) -> dict[str, np.ndarray]:
+        """The state arrays of a result, ``name -> array`` (:attr:`states`)."""
+        raise NotImplementedError
+
+    def nan_result(self, case: Case, method: str) -> Result:
+        """The result of a diverged engine: NaN states, which fail every metric."""
+        a, b = self.nan_states(case).values()
+        return self.result(case, a, b, method)
+
+    def equations(self, case: Case) -> Equations:
+        """``(rhs(t, y), y0, unpack(y, method) -> result)`` for a generic ODE solver."""
+        raise NotImplementedError
+
+    def poinsot_method(self, method: str | None) -> str | None:
+        """The method of poinsot's engine for this group (None: it integrates the
+        other kind)."""
+        raise NotImplementedError
+
+    def poinsot_run(self, case: Case, method: str, step: float | None, rtol: float | None,
+                    order: int | None, label: str) -> tuple[Any, Any]:  # fmt: skip
+        """poinsot's integrator on the case: ``(poinsot result, evaluations or steps)``."""
+        raise NotImplementedError
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The first integrals along ``states`` (:func:`poinsot.verify.metrics.integrals`)."""
+        raise NotImplementedError
+
+    def conserved_momentum(self, k: np.ndarray) -> np.ndarray:
+        """The part of the momentum integral that is conserved."""
+        return k
+
+    def report_options(self, case: Case, errors: dict[str, np.ndarray]) -> dict[str, Any]:
+        """Options of the case page's report (:func:`poinsot.plotting.report.write_report`)
+        beyond the trajectory, title and summary; ``errors`` the per-sample errors."""
+        raise NotImplementedError
+
+
+class RigidGroup(Group):
+    """A rigid body: attitude and body angular velocity (docs/theory.md §5, §10)."""
+
+    kind, states, errors = "rigid", ("quat", "omega"), ("attitude", "omega")
+    columns, poinsot_other = RIGID_COLUMNS, "points, not rigid bodies"
+    units = {"t": "s", "qw,qx,qy,qz": "1", "wx,wy,wz": "rad/s", "inertia": "kg m^2",
+             "mass": "kg", "com": "m", "gravity": "m/s^2"}  # fmt: skip
+    euler_seq = "ZYX"
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        omega, rot = case.model().state(case.t)
+        q = _make_continuous(np.asarray(rot.as_quat(), dtype=float))
+        return {"t": case.t.copy(), "quat": q, "omega": np.asarray(omega, dtype=float)}
+
+    def result(self, case: Case, a: Any, b: Any, method: str) -> Result:
+        return rigid_result(case, a, b, method)
+
+    def arrays(self, result: Result) -> dict[str, np.ndarray]:
+        assert isinstance(result, Trajectory)
+        return {"quat": result.quat, "omega": np.asarray(result.omega)}
+
+    def equations(self, case: Case) -> Equations:
+        i = case.inputs
+        jo = case.inertia_about_origin
+        g = -float(i["gravity"][2])
+        torque = GravityTorque(i["mass"], i["com"], g) if i["fixed_point"] and g else None
+
+        def rhs(t: float, y: np.ndarray) -> np.ndarray:
+            q, w = y[:4], y[4:]
+            m = None if torque is None else torque.body_torque(t, q[None], w[None])[0]
+            return np.concatenate([quat_rate(q, w), euler_rhs(jo, w, m)])
+
+        def unpack(y: np.ndarray, method: str) -> Result:
+            return rigid_result(case, quat_unit(y[:, :4]), y[:, 4:].copy(), method)
+
+        return rhs, np.concatenate([i["q0"], i["omega0"]]), unpack
+
+    def poinsot_method(self, method: str | None) -> str | None:
+        if method is None:
+            return "dop853"
+        return method if method in METHODS else None
+
+    def poinsot_run(self, case: Case, method: str, step: float | None, rtol: float | None,
+                    order: int | None, label: str) -> tuple[Any, Any]:  # fmt: skip
+        i = case.inputs
+        tol = {} if rtol is None else {"rtol": rtol, "atol": rtol * 1e-3}
+        opts: dict[str, Any] = {"method": method, "max_step": step, "order": order, **tol}
+        if i["fixed_point"]:
+            body = HeavyRigidBody(case.inertia_about_origin, i["mass"], i["com"],
+                                  g=-float(i["gravity"][2]))  # fmt: skip
+            tr = body.simulate(i["q0"], i["omega0"], case.t, **opts)
+        else:
+            tr = simulate(i["inertia"], i["q0"], i["omega0"], case.t, **opts)
+        steps = tr.info.get("evaluations", tr.info.get("steps"))
+        work = int(np.sum(steps)) if steps is not None else None
+        return rigid_result(case, quat_unit(tr.quat), tr.omega, label), work
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        i = case.inputs
+        jo = case.inertia_about_origin
+        w = states["omega"]
+        rmat = np.asarray(Rotation.from_quat(states["quat"]).as_matrix(), dtype=float)
+        kb = w @ jo.T
+        energy = 0.5 * np.einsum("ni,ni->n", w, kb)
+        if np.any(i["gravity"]):
+            # V = -m g . (R c): the weight's potential with c from the fixed point
+            energy = energy - i["mass"] * np.einsum("nij,j,i->n", rmat, i["com"], i["gravity"])
+        k_space = np.einsum("nij,nj->ni", rmat, kb)
+        return {"energy": energy, "momentum": k_space}
+
+    def report_options(self, case: Case, errors: dict[str, np.ndarray]) -> dict[str, Any]:
+        i = case.inputs
+        return {"reference": case.reference(), "inertia": i["inertia"], "mass": i["mass"],
+                "center_of_mass": i["com"], "fixed_point": bool(i["fixed_point"]),
+                "free_body": isinstance(self, FreeBody), "euler_seq": self.euler_seq}  # fmt: skip
+
+
+class FreeBody(RigidGroup):
+    """Euler-Poinsot motion: a free rigid body (docs/theory.md §10)."""
+
+    name = "free-body"
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        return FreeRigidBody(i["inertia"], rotation0=i["q0"], omega0=i["omega0"])
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        facts = {"regime": str(model.regime), "period_s": float(model.period)}
+        if case.event is not None:
+            facts["flip_period_s"] = float(model.period) / 2.0
+        return facts
+
+
+class HeavyTop(RigidGroup):
+    """The Lagrange top about its fixed point (docs/theory.md §10): ``K_z`` conserved."""
+
+    name = "heavy-top"
+    euler_seq = "ZXZ"
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        g = -float(i["gravity"][2])
+        body = HeavyRigidBody(case.inertia_about_origin, i["mass"], i["com"], g=g)
+        return LagrangeTop.from_state(body, rotation=i["q0"], omega=i["omega0"])
+
+    def prepare(self, case: Case) -> None:
+        """A NaN precession rate becomes the slow regular-precession rate."""
+        i = case.inputs
+        if np.isfinite(i["omega0"][1]):
+            return
+        ct = 1.0 - 2.0 * float(np.sum(i["q0"][1:3] ** 2))
+        theta = math.acos(ct)
+        jo = case.inertia_about_origin
+        mgl = float(i["mass"] * -i["gravity"][2] * i["com"][2])
+        rates = regular_precession_rates(jo[0, 0], jo[2, 2], mgl, theta, i["omega0"][2])
+        slow = float(np.asarray(rates).flat[int(np.argmin(np.abs(np.asarray(rates))))])
+        i["omega0"] = np.array([0.0, slow * math.sin(theta), i["omega0"][2]])
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        lo, hi = model.nutation_bounds
+        facts = {
+            "motion_type": model.motion_type,
+            "nutation_period_s": float(model.nutation_period),
+            "nutation_bounds_rad": [float(lo), float(hi)],
+        }
+        if case.event is not None:
+            case.event["level"] = 0.5 * (math.cos(lo) + math.cos(hi))
+        return facts
+
+    def conserved_momentum(self, k: np.ndarray) -> np.ndarray:
+        return k[:, 2]  # only K_z is conserved under gravity
+
+
+class PointGroup(Group):
+    """A point: position and velocity (docs/theory.md §7, §9)."""
+
+    kind, states, errors = "point", ("position", "velocity"), ("position", "velocity")
+    columns, poinsot_other = POINT_COLUMNS, "rigid bodies, not points"
+    units = {"t": "s", "x,y,z": "m", "vx,vy,vz": "m/s", "mu": "m^3/s^2",
+             "frame_rate": "rad/s", "length": "m", "g": "m/s^2"}  # fmt: skip
+    mujoco_skip = ("MuJoCo models rigid bodies with joints; a point in a central field or a "
+                   "turning frame is not expressed by this adapter")  # fmt: skip
+
+    def result(self, case: Case, a: Any, b: Any, method: str) -> Result:
+        return point_result(case, a, b, method)
+
+    def arrays(self, result: Result) -> dict[str, np.ndarray]:
+        assert isinstance(result, PointTrajectory)
+        return {"position": np.asarray(result.position), "velocity": np.asarray(result.velocity)}
+
+    def acceleration(self, case: Case) -> tuple[Any, Callable[..., np.ndarray]]:
+        """``(frame, force(t, r, v))`` of the motion (force per unit mass)."""
+        raise NotImplementedError
+
+    def equations(self, case: Case) -> Equations:
+        i = case.inputs
+        rhs = self._rhs(case)
+
+        def unpack_point(y: np.ndarray, method: str) -> Result:
+            return point_result(case, y[:, :3].copy(), y[:, 3:].copy(), method)
+
+        return rhs, np.concatenate([i["position0"], i["velocity0"]]), unpack_point
+
+    def _rhs(self, case: Case) -> Callable[[float, np.ndarray], np.ndarray]:
+        raise NotImplementedError
+
+    def poinsot_method(self, method: str | None) -> str | None:
+        if method is None:
+            return "DOP853"
+        return method if method in PARTICLE_SOLVERS and method != "adaptive" else None
+
+    def poinsot_run(self, case: Case, method: str, step: float | None, rtol: float | None,
+                    order: int | None, label: str) -> tuple[Any, Any]:  # fmt: skip
+        i = case.inputs
+        rtol = 1e-12 if rtol is None else rtol
+        opts: dict[str, Any] = {"method": method, "rtol": rtol, "atol": rtol * 1e-3}
+        if step is not None:
+            opts["max_step"] = step
+        frame, force = self.acceleration(case)
+        pt = simulate_particle(frame, force, i["position0"], i["velocity0"], case.t, **opts)
+        nfev = pt.info.get("evaluations")
+        return (
+            point_result(case, pt.position, pt.velocity, label),
+            None if nfev is None else int(np.sum(nfev)),
+        )
+
+    def report_options(self, case: Case, errors: dict[str, np.ndarray]) -> dict[str, Any]:
+        errs = {k: np.asarray(errors[k]) for k in self.errors}
+        return {"series": [("error vs the exact solution", "1 (relative)", errs)]}
+
+
+class Orbit(PointGroup):
+    """Kepler orbits (docs/theory.md §9): energy and angular momentum conserved."""
+
+    name = "orbit"
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        return CentralOrbit.from_state(kepler(i["mu"]), i["position0"], i["velocity0"])
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        r, v = case.model().state(case.t)
+        return {"t": case.t.copy(), "position": np.asarray(r), "velocity": np.asarray(v)}
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        return {"eccentricity": float(model.conic.e), "period_s": float(model.radial_period)}
+
+    def _rhs(self, case: Case) -> Callable[[float, np.ndarray], np.ndarray]:
+        pot = kepler(case.inputs["mu"])
+
+        def rhs(t: float, y: np.ndarray) -> np.ndarray:
+            r = y[:3]
+            rn = math.sqrt(float(r @ r))
+            return np.concatenate([y[3:], -float(pot.derivative(rn)) * r / rn])
+
+        return rhs
+
+    def acceleration(self, case: Case) -> tuple[Any, Callable[..., np.ndarray]]:
+        pot = kepler(case.inputs["mu"])
+
+        def gravity(t: float, r: np.ndarray, v: np.ndarray) -> np.ndarray:
+            rn = math.sqrt(float(r @ r))
+            return -float(pot.derivative(rn)) * r / rn
+
+        return FrameMotion(), gravity
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        r, v = states["position"], states["velocity"]
+        rn = np.linalg.norm(r, axis=-1)
+        energy = 0.5 * np.einsum("ni,ni->n", v, v) + kepler(case.inputs["mu"])(rn)
+        return {"energy": energy, "momentum": np.cross(r, v)}
+
+
+class Frame(PointGroup):
+    """The linear Foucault pendulum in its turning frame (docs/theory.md §9): the
+    Jacobi integral conserved."""
+
+    name = "frame"
+    has_momentum = False
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        """The linear Foucault pendulum in its frame, exactly (docs/theory.md §9).
+
+        In the inertial frame the bob is a plane isotropic oscillator,
+        ``x_in(t) = x0 cos(w0 t) + (v0_in / w0) sin(w0 t)``, ``w0 = sqrt(g / l)``, with
+        the inertial velocity ``v0_in = v0 + Omega x x0``; the frame turns at ``Omega``
+        about the vertical, so ``x(t) = R_z(-Omega t) x_in(t)`` and
+        ``v(t) = R_z(-Omega t) (v_in(t) - Omega x x_in(t))``.
+        """
+        i = case.inputs
+        w0 = math.sqrt(i["g"] / i["length"])
+        om = np.asarray(i["frame_rate"], dtype=float)
+        x0 = np.asarray(i["position0"], dtype=float)
+        v0 = np.asarray(i["velocity0"], dtype=float) + np.cross(om, x0)
+        t = case.t[:, None]
+        x_in = x0 * np.cos(w0 * t) + v0 / w0 * np.sin(w0 * t)
+        v_in = -x0 * w0 * np.sin(w0 * t) + v0 * np.cos(w0 * t)
+        v_rel_in = v_in - np.cross(om, x_in)
+        c, s = np.cos(om[2] * case.t), np.sin(om[2] * case.t)
+
+        def back(u: np.ndarray) -> np.ndarray:  # R_z(-Omega t) u
+            return np.stack([c * u[:, 0] + s * u[:, 1], -s * u[:, 0] + c * u[:, 1], u[:, 2]], -1)
+
+        return {"t": case.t.copy(), "position": back(x_in), "velocity": back(v_rel_in)}
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        i = case.inputs
+        w0 = math.sqrt(i["g"] / i["length"])
+        return {"swing_frequency_rad_per_s": w0,
+                "plane_rate_rad_per_s": -float(i["frame_rate"][2])}  # fmt: skip
+
+    def _rhs(self, case: Case) -> Callable[[float, np.ndarray], np.ndarray]:
+        frame, spring = self.acceleration(case)
+
+        def rhs(t: float, y: np.ndarray) -> np.ndarray:
+            r, v = y[:3], y[3:]
+            f = inertial_forces(frame, r, v)
+            return np.concatenate([v, spring(t, r, v) + f.transport + f.coriolis])
+
+        return rhs
+
+    def acceleration(self, case: Case) -> tuple[Any, Callable[..., np.ndarray]]:
+        i = case.inputs
+        return FrameMotion(omega=i["frame_rate"]), PendulumForce(1.0, i["g"], i["length"])
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        i = case.inputs
+        r, v = states["position"], states["velocity"]
+        om = np.asarray(i["frame_rate"], dtype=float)
+        w0sq = i["g"] / i["length"]
+        horiz = r[:, :2]
+        jacobi = (
+            0.5 * np.einsum("ni,ni->n", v, v)
+            + 0.5 * w0sq * np.einsum("ni,ni->n", horiz, horiz)
+            - 0.5 * np.sum(np.cross(om, r) ** 2, axis=-1)
+        )
+        return {"energy": jacobi}
+
+
+#: group name -> its object (the order of :data:`poinsot.verify.GROUPS`)
+GROUP_TABLE: dict[str, Group] = {g.name: g for g in (FreeBody(), HeavyTop(), Orbit(), Frame())}
