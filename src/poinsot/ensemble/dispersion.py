@@ -37,6 +37,7 @@ import numpy as np
 from .._typing import ArrayLike
 from .._validate import as_float_array
 from ..errors import InvalidInputError, InvalidTypeError
+from ..rotations import quaternion as qa
 
 __all__ = [
     "Dispersion",
@@ -239,8 +240,6 @@ class SmallRotation(Dispersion):
     sigma: Any
 
     def sample(self, nominal: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
-        from ..rotations import quaternion as qa
-
         sigma = float(_nonneg(self.sigma, "sigma"))
         phi = np.deg2rad(sigma) * rng.standard_normal((n, 3))
         return qa.multiply(qa.exp(np.concatenate([np.zeros((n, 1)), phi / 2], axis=1)), nominal)

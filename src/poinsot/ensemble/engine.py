@@ -37,8 +37,13 @@ from typing import Any
 import numpy as np
 
 from .._files import atomic_write
+from .._jit import NUMBA
 from .._progress import Progress, as_progress
+from .._validate import as_rotation_quat
+from ..dynamics import simulate
+from ..dynamics.torques import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
 from ..errors import InvalidInputError, InvalidTypeError
+from ..mass import parallel_axis
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 from .dispersion import Dispersion, SmallRotation, UniformRotation
@@ -121,8 +126,6 @@ class EnsembleProblem:
     metrics: tuple[Metric, ...] = ()
 
     def __post_init__(self) -> None:
-        from .._validate import as_rotation_quat
-
         q = as_rotation_quat(self.rotation0, "rotation0")
         if q.shape != (4,):
             raise InvalidInputError(f"Expected one `rotation0`, got shape {q.shape[:-1]}.")
@@ -243,9 +246,6 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
     The ``sample`` column counts from 0 within the chunk (:func:`run` adds the
     chunk's first sample number); ``size`` is the chunk's true size.
     """
-    from ..dynamics import simulate
-    from ..dynamics.torques import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
-    from ..mass import parallel_axis
 
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
     inputs = _draw(problem, rng, size)
@@ -437,8 +437,6 @@ def _chunk_task(
     digest: str,
     threads: int,
 ) -> Any:
-    from .._jit import NUMBA
-
     if threads and NUMBA:
         import numba
 

@@ -40,9 +40,14 @@ import numpy as np
 from .._files import atomic_write
 from .._progress import Progress
 from ..errors import InvalidInputError
+from ..plotting._report_page import chart, page_html
+from ..rotations.rotation import Rotation
+from ..scenarios import load_scenario
+from ..scenarios._toml import locate_keys
+from ..scenarios.solve import MAX_MEMORY_BYTES, _bytes, _seconds, estimate_cost
 from . import dispersion as _disp
 from . import metrics as _metrics
-from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, run
+from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, _draw, _nominal, run
 
 if TYPE_CHECKING:
     from ..scenarios.schema import Scenario
@@ -151,7 +156,6 @@ def problem_from_scenario(
     except InvalidInputError as exc:
         raise EnsembleError(f"{where}: {exc}") from None
     # every dispersion is drawn once here, so bad parameters fail before any work
-    from .engine import _draw
 
     for name, d in disps:
         try:
@@ -193,8 +197,6 @@ def ensemble_problems(
     is free where ``out`` goes.
     """
     import shutil
-
-    from ..scenarios.solve import MAX_MEMORY_BYTES, _bytes, _seconds, estimate_cost
 
     if samples > MAX_ENSEMBLE_SAMPLES:
         return [f"{samples:.3g} samples exceed the limit of {MAX_ENSEMBLE_SAMPLES:.3g}"]
@@ -239,14 +241,11 @@ def ensemble_problems(
 
 
 def _nominal_of(problem: EnsembleProblem, name: str) -> Any:
-    from .engine import _nominal
-
     return _nominal(problem, name)
 
 
 def _key_lines(source: str) -> dict[str, int]:
     """Lines of the keys of the scenario file ``source`` (empty if it is not a file)."""
-    from ..scenarios._toml import locate_keys
 
     try:
         return locate_keys(Path(source).read_text(encoding="utf-8-sig"))
@@ -258,7 +257,6 @@ def load_ensemble(
     path: str | os.PathLike[str], *, allow_paths: bool = False
 ) -> tuple[Scenario, EnsembleProblem]:
     """``(scenario, problem)`` of a scenario file with ``[dispersion]`` and ``[[metric]]``."""
-    from ..scenarios import load_scenario
 
     scenario = load_scenario(path, allow_paths=allow_paths)
     return scenario, problem_from_scenario(scenario)
@@ -273,7 +271,6 @@ def physical_inputs(problem: EnsembleProblem, result: EnsembleResult) -> dict[st
     the attitude as ``attitude_offset``, the rotation angle (deg) from the nominal
     attitude, ``|log(R_nominal^-1 R)|``, not as quaternion components. Only inputs
     that vary are listed."""
-    from ..rotations.rotation import Rotation
 
     out: dict[str, Any] = {}
     for name, _d in problem.dispersions:
@@ -321,7 +318,6 @@ def sensitivity(
 
 def _dispersion_rows(problem: EnsembleProblem, inputs: dict[str, Any]) -> str:
     """HTML rows: each input's distribution as given and its spread over the samples."""
-    from .engine import _nominal
 
     given = {}
     for name, d in problem.dispersions:
@@ -354,7 +350,6 @@ def _charts(
 ) -> list[dict[str, Any]]:
     """Charts of the report viewer: a histogram of every metric and every metric
     against every dispersed physical input (:func:`physical_inputs`)."""
-    from ..plotting._report_page import chart
 
     failed = result.column("failed")
     inputs = physical_inputs(problem, result) if inputs is None else inputs
@@ -390,7 +385,6 @@ def _charts(
 def _report(problem: EnsembleProblem, result: EnsembleResult, path: Path) -> None:
     """``report.html``: the metrics table, the charts (drawn by the report viewer of
     poinsot.plotting, offline) and the summary in sections with the raw JSON."""
-    from ..plotting._report_page import page_html
 
     rows = []
     for name, s in result.summary["metrics"].items():

@@ -30,6 +30,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from ..mass.tensor import parallel_axis
+from ..rotations.rotation import Rotation
 from .groups import GROUP_TABLE, Group
 
 #: version of the set of cases: bumped whenever a case's inputs, grid or thresholds change
@@ -110,7 +112,6 @@ class Case:
         The parallel-axis theorem (docs/theory.md §8); equal to ``inertia`` for a
         free body (``c = 0``).
         """
-        from ..mass.tensor import parallel_axis
 
         i = self.inputs
         return np.asarray(parallel_axis(i["inertia"], i["mass"], i["com"]), dtype=float)
@@ -163,8 +164,6 @@ def _grid(duration: float, dt: float) -> np.ndarray:
 
 
 def _zxz(psi: float, theta: float, phi: float) -> np.ndarray:
-    from ..rotations.rotation import Rotation
-
     return np.asarray(Rotation.from_euler("ZXZ", [psi, theta, phi]).as_quat(), dtype=float)
 
 

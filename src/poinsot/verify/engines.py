@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
@@ -44,8 +43,11 @@ import numpy as np
 from ..dynamics import METHODS, PARTICLE_SOLVERS
 from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Result
-from .cases import Case
-from .groups import point_result, quat_unit, rigid_result
+from ._mujoco import run_mujoco, sampling
+from .cases import Case, cases
+from .files import FileEngine
+from .groups import _deprecated_states, as_result, point_result, quat_unit, rigid_result
+from .metrics import CaseResult, evaluate
 
 __all__ = [
     "ENGINES",
@@ -79,31 +81,6 @@ class Engine(Protocol):
     def skip_reason(self, case: Case) -> str | None: ...
 
     def run(self, case: Case) -> tuple[Any, ...]: ...
-
-
-def as_result(case: Case, states: Any, method: str = "") -> Result:
-    """``states`` as a result: a result as it is, a dict of arrays (the form of
-    poinsot 1.x engines, deprecated) converted."""
-    if isinstance(states, Result):
-        return states
-    if not isinstance(states, dict):
-        raise InvalidTypeError(
-            "Expected an engine's states to be a poinsot Trajectory or PointTrajectory, got "
-            f"{type(states).__name__}."
-        )
-    spec = case.spec
-    a, b = (states[k] for k in spec.states)
-    return spec.result(case, a, b, method)
-
-
-def _deprecated_states() -> None:
-    warnings.warn(
-        "A dict of states is deprecated: an engine's run(case) returns a poinsot "
-        "Trajectory (rigid cases) or PointTrajectory (point cases) on case.t, and "
-        "evaluate() reads one (docs/verify.md).",
-        DeprecationWarning,
-        stacklevel=3,
-    )
 
 
 _quat_unit = quat_unit  # the former private name (poinsot.verify.files used it)
@@ -241,8 +218,6 @@ class MuJoCoEngine:
         self.integrator = integrator
         self.timestep = _positive(timestep, "timestep")
         self.label = f"mujoco {integrator} timestep={self.timestep:g} s"
-        from ._mujoco import sampling
-        from .cases import cases
 
         grids = {float(c.t[1]) for c in cases() if c.spec.mujoco_skip is None}
         if any(np.any(sampling(np.array([g]), self.timestep)[1]) for g in grids):
@@ -258,15 +233,12 @@ class MuJoCoEngine:
         return None
 
     def run(self, case: Case) -> tuple[Result, int]:
-        from ._mujoco import run_mujoco
-
         i = case.inputs
         q, w = run_mujoco(
             inertia=i["inertia"], mass=i["mass"], com=i["com"], q0=i["q0"], omega0=i["omega0"],
             gravity=i["gravity"], fixed_point=i["fixed_point"], t=case.t,
             integrator=self.integrator, timestep=self.timestep,
         )  # fmt: skip
-        from ._mujoco import sampling
 
         whole, frac = sampling(case.t, self.timestep)
         steps = int(whole[-1]) + int(np.count_nonzero(frac))  # whole and shorter steps
@@ -294,7 +266,6 @@ def run(engine: Any, case: Case) -> Any:
 
     Returns a :class:`poinsot.verify.metrics.CaseResult`.
     """
-    from .metrics import CaseResult, evaluate
 
     reason = engine.skip_reason(case)
     if reason:
@@ -319,7 +290,6 @@ def run(engine: Any, case: Case) -> Any:
 
 def make(name: str, **options: Any) -> Any:
     """The engine ``name`` (:data:`ENGINES`) with its options (None values dropped)."""
-    from .files import FileEngine
 
     opts = {k: v for k, v in options.items() if v is not None}
     classes = {"scipy": SciPyEngine, "poinsot": PoinsotEngine, "mujoco": MuJoCoEngine,

@@ -23,10 +23,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from ..kinematics import quat_rate
+from ..kinematics.attitude_history import _make_continuous
+from ..rotations.rotation import Rotation
 from ..trajectory import Result
 from .cases import CASES_VERSION, Case, cases, describe
-from .engines import as_result, point_result
-from .groups import POINT_COLUMNS, PointGroup, quat_unit
+from .groups import POINT_COLUMNS, PointGroup, as_result, point_result, quat_unit
 
 MATRIX_COLUMNS = tuple(f"r{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
 
@@ -282,8 +284,6 @@ class FileEngine:
 
 def _rigid_from_columns(path: Path, case: Case, cols: dict[str, np.ndarray], order: str | None,
                         frame: str, degrees: bool) -> dict[str, Any]:  # fmt: skip
-    from ..rotations.rotation import Rotation
-
     wcols = ("wx", "wy", "wz")
     if any(c not in cols for c in wcols):
         raise InvalidInputError(f"{path}: expected the angular velocity columns wx, wy, wz.")
@@ -372,8 +372,6 @@ def _kinematic_residual(
     t: np.ndarray, q: np.ndarray, w: np.ndarray, frame: str, degrees: bool
 ) -> float:
     """``max |q'_fd - q_rate(q, w)| / max |q_rate|`` by 4th-order central differences."""
-    from ..kinematics import quat_rate
-    from ..kinematics.attitude_history import _make_continuous
 
     if t.size < 5:
         return 0.0

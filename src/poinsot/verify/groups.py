@@ -22,6 +22,7 @@ group or kind.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -43,6 +44,7 @@ from ..dynamics import (
     simulate,
     simulate_particle,
 )
+from ..errors import InvalidTypeError
 from ..kinematics import FrameMotion, quat_rate
 from ..kinematics.attitude_history import _make_continuous
 from ..rotations.rotation import Rotation
@@ -461,3 +463,28 @@ class Frame(PointGroup):
 
 #: group name -> its object (the order of :data:`poinsot.verify.GROUPS`)
 GROUP_TABLE: dict[str, Group] = {g.name: g for g in (FreeBody(), HeavyTop(), Orbit(), Frame())}
+
+
+def as_result(case: Any, states: Any, method: str = "") -> Result:
+    """``states`` as a result: a result as it is, a dict of arrays (the form of
+    poinsot 1.x engines, deprecated) converted."""
+    if isinstance(states, Result):
+        return states
+    if not isinstance(states, dict):
+        raise InvalidTypeError(
+            "Expected an engine's states to be a poinsot Trajectory or PointTrajectory, got "
+            f"{type(states).__name__}."
+        )
+    spec = case.spec
+    a, b = (states[k] for k in spec.states)
+    return spec.result(case, a, b, method)
+
+
+def _deprecated_states() -> None:
+    warnings.warn(
+        "A dict of states is deprecated: an engine's run(case) returns a poinsot "
+        "Trajectory (rigid cases) or PointTrajectory (point cases) on case.t, and "
+        "evaluate() reads one (docs/verify.md).",
+        DeprecationWarning,
+        stacklevel=3,
+    )

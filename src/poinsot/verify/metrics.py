@@ -26,7 +26,7 @@ from .._drift import relative_drift
 from .._quat import attitude_distance
 from ..trajectory import Result, compare
 from .cases import Case
-from .engines import as_result
+from .groups import _deprecated_states, as_result
 
 #: metric name -> (units, what it measures)
 METRICS: dict[str, tuple[str, str]] = {
@@ -188,8 +188,6 @@ def evaluate(
     ('pass', 0.0)
     """
     if isinstance(result, dict):
-        from .engines import _deprecated_states
-
         _deprecated_states()
     result = as_result(case, result)
     reference = case.reference()

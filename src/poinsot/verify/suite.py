@@ -24,6 +24,7 @@ import numpy as np
 
 from .._files import atomic_write
 from ..errors import InvalidInputError
+from ..plotting.report import write_report
 from .cases import CASES_VERSION, Case, cases
 from .engines import make, run
 from .metrics import METRICS, CaseResult
@@ -247,8 +248,6 @@ def _json(x: Any) -> Any:
 
 
 def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
-    from ..plotting.report import write_report
-
     case = cases(res.case)[0]
     states = res.states
     if not states or not all(np.all(np.isfinite(v)) for v in states.values()):
