@@ -491,14 +491,14 @@ def _integrators(moments, quat, omega, torque, mgc):
     runs["poinsot dop853 (1 thread)"] = one_thread
 
     def scalar_kernel(rtol: float, base=base) -> np.ndarray:
-        from poinsot.dynamics import _fused
+        from poinsot.dynamics import _fused_run
 
         set_threads(1)
-        _fused.LANES = False
+        _fused_run.LANES = False
         try:
             return base(rtol)
         finally:
-            _fused.LANES = True
+            _fused_run.LANES = True
             set_threads(None)
 
     # the kernel before the lanes: one body per loop iteration (the same results)

@@ -99,7 +99,7 @@ def _control(moments, quat, omega, repeat):
 
     from poinsot.dynamics import GravityTorque
     from poinsot.dynamics import _fused_lanes as FL
-    from poinsot.dynamics._fused import _flat_problem
+    from poinsot.dynamics._fused_run import _flat_problem
 
     @intrinsic
     def cycles(typingctx):

@@ -105,3 +105,169 @@ def test_plotting_never_imports_scenarios():
         f"{p}:{n}" for m, t, p, n in _edges() if _part(m) == "plotting" and _part(t) == "scenarios"
     ]
     assert not bad, bad
+
+
+# ------------------------------------------------- function-level imports and circles
+def _module_name(path: Path) -> str:
+    rel = path.relative_to(SRC.parent).with_suffix("")
+    return ".".join(rel.parts[:-1] if rel.name == "__init__" else rel.parts)
+
+
+MODULES = {_module_name(p): p for p in sorted(SRC.rglob("*.py"))}
+
+
+def _resolve(module: str, path: Path, node: ast.ImportFrom, modules: dict[str, Path]) -> list[str]:
+    """The poinsot modules an ``ImportFrom`` loads: ``from pkg import sub`` -> ``pkg.sub``."""
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    if node.level:
+        base = package.split(".")[: len(package.split(".")) - node.level + 1]
+        target = ".".join(base + ([node.module] if node.module else []))
+    else:
+        target = node.module or ""
+    if not target.startswith("poinsot"):
+        return []
+    return [f"{target}.{a.name}" if f"{target}.{a.name}" in modules else target for a in node.names]
+
+
+def _imports(module: str, modules: dict[str, Path]) -> list[tuple[str, bool, int]]:
+    """``(target, inside a function, line)`` of every poinsot import of ``module``
+    (not those under ``if TYPE_CHECKING``: they never run)."""
+    path = modules[module]
+    tree = ast.parse(path.read_text(), str(path))
+    typing_only = {
+        id(n)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+        for n in ast.walk(node)
+    }
+    inner = {
+        id(n)
+        for fn in ast.walk(tree)
+        if isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef)
+        for n in ast.walk(fn)
+    }
+    out = []
+    for node in ast.walk(tree):
+        if id(node) in typing_only:
+            continue
+        if isinstance(node, ast.ImportFrom):
+            targets = _resolve(module, path, node, modules)
+        elif isinstance(node, ast.Import):
+            targets = [a.name for a in node.names if a.name.startswith("poinsot")]
+        else:
+            continue
+        out += [(t, id(node) in inner, node.lineno) for t in targets]
+    return out
+
+
+def _loads_numba(modules: dict[str, Path]) -> set[str]:
+    """The kernel modules: loading one compiles (or loads from numba's cache) kernels,
+    because it takes ``njit``/``guvectorize``/``prange`` from ``poinsot._jit`` at module
+    level, or imports such a module at module level."""
+    kernels = set()
+    for module, path in modules.items():
+        for node in ast.parse(path.read_text()).body:
+            if isinstance(node, ast.ImportFrom) and (node.module or "").endswith("_jit"):
+                if {a.name for a in node.names} & {"njit", "guvectorize", "prange"}:
+                    kernels.add(module)
+    grew = True
+    while grew:
+        grew = False
+        for module in modules:
+            top = {t for t, inner, _ in _imports(module, modules) if not inner}
+            if module not in kernels and top & kernels:
+                kernels.add(module)
+                grew = True
+    return kernels
+
+
+#: Function-level imports of poinsot modules that are not kernel modules, each with its
+#: reason (issue 39: fewer than 40; every other import is at module level, where a
+#: circle it closes shows). Optional third-party dependencies are not counted.
+LAZY_ALLOWED = {
+    ("poinsot.trajectory", "poinsot.plotting.notebook"): "Result.show(): the viewer on demand",
+    ("poinsot.dynamics.particles", "poinsot.dynamics.earth"): "the old home of the Earth "
+    "applications (names looked up on first use; earth imports particles)",
+}
+
+
+def _lazy(modules: dict[str, Path]) -> list[tuple[str, str, int]]:
+    kernels = _loads_numba(modules)
+    return [
+        (m, t, line)
+        for m in modules
+        for t, inner, line in _imports(m, modules)
+        if inner and t not in kernels and t != m
+    ]
+
+
+def _circles(modules: dict[str, Path]) -> list[list[str]]:
+    """Every import (module level and inside functions, except :data:`LAZY_ALLOWED`) as an
+    arrow; the strongly connected components with more than one module (Tarjan)."""
+    edges = {
+        m: {t for t, _, _ in _imports(m, modules) if t in modules and t != m}
+        - {t for (a, t) in LAZY_ALLOWED if a == m}
+        for m in modules
+    }
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    circles = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in edges[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                circles.append(sorted(comp))
+
+    for v in modules:
+        if v not in index:
+            visit(v)
+    return circles
+
+
+def test_function_level_imports_are_kernels_or_listed():
+    kernels = _loads_numba(MODULES)
+    assert {"poinsot.dynamics._euler_numba", "poinsot.dynamics._fused_run"} <= kernels
+    assert not kernels & {"poinsot.dynamics.heavy", "poinsot._jit", "poinsot.dynamics"}
+    lazy = _lazy(MODULES)
+    unlisted = [f"{MODULES[m]}:{n}: {m} -> {t}" for m, t, n in lazy if (m, t) not in LAZY_ALLOWED]
+    assert not unlisted, "import at module level (or list with a reason):\n" + "\n".join(unlisted)
+    assert len(lazy) < 40
+
+
+def test_the_house_has_no_import_circle():
+    assert not _circles(MODULES)
+
+
+def test_the_checks_see_a_circle_and_a_lazy_import(tmp_path):
+    """The two checks above on a made-up package: they find what they should."""
+    pkg = tmp_path / "poinsot"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "_jit.py").write_text("")
+    (pkg / "sub" / "__init__.py").write_text("")
+    (pkg / "sub" / "a.py").write_text("from . import b\n")
+    (pkg / "sub" / "b.py").write_text("def f():\n    from . import a\n")
+    (pkg / "sub" / "k.py").write_text("from .._jit import njit\n")
+    (pkg / "sub" / "c.py").write_text("def f():\n    from . import k\n")
+    rel = {".".join(p.relative_to(tmp_path).with_suffix("").parts).removesuffix(".__init__"): p
+           for p in pkg.rglob("*.py")}  # fmt: skip
+    assert [(m, t) for m, t, _ in _lazy(rel)] == [("poinsot.sub.b", "poinsot.sub.a")]
+    assert _circles(rel) == [["poinsot.sub.a", "poinsot.sub.b"]]

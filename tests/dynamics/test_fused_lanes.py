@@ -29,7 +29,7 @@ from poinsot._jit import NUMBA  # noqa: E402
 if not NUMBA:  # the NumPy executor runs the one-body kernel only
     pytest.skip("the lane kernels are numba's", allow_module_level=True)
 
-from poinsot.dynamics import _fused, _fused_lanes  # noqa: E402
+from poinsot.dynamics import _fused, _fused_lanes, _fused_run  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -44,14 +44,14 @@ def _bodies(n, seed=2):
 
 
 def _both(*args, **kw):
-    """``_fused.integrate`` with the lanes and with one body per iteration."""
+    """``_fused_run.integrate`` with the lanes and with one body per iteration."""
     out = []
     for lanes in (True, False):
-        _fused.LANES = lanes
+        _fused_run.LANES = lanes
         try:
-            out.append(_fused.integrate(*args, **kw))
+            out.append(_fused_run.integrate(*args, **kw))
         finally:
-            _fused.LANES = True
+            _fused_run.LANES = True
     return out
 
 
@@ -116,7 +116,7 @@ def test_diagonal_form_equals_the_full_products(kind):
     n = 2 * _fused_lanes.L + 3
     moments, quat, omega = _bodies(n, seed=8)
     torque = None if kind == 0 else GravityTorque(2.0, [0.01, -0.02, 0.1])
-    _, k, par, jj, ji, y0 = _fused._flat_problem(moments, quat, omega, torque)
+    _, k, par, jj, ji, y0 = _fused_run._flat_problem(moments, quat, omega, torque)
     assert k == kind
     t = np.linspace(0.0, 2.0, 5)
     out = []
@@ -211,11 +211,11 @@ def test_simulate_uses_the_lanes_and_marks_failures():
     t = np.linspace(0.0, 1.0, 5)
     tr = simulate(moments, quat, omega, t, method="dop853", failures="mark")
     assert tr.info["failed"][2] and not tr.info["failed"][0]
-    _fused.LANES = False
+    _fused_run.LANES = False
     try:
         ref = simulate(moments, quat, omega, t, method="dop853", failures="mark")
     finally:
-        _fused.LANES = True
+        _fused_run.LANES = True
     np.testing.assert_array_equal(tr.quat, ref.quat)
     np.testing.assert_array_equal(tr.omega, ref.omega)
 
@@ -231,7 +231,7 @@ def test_first_steps_of_the_lanes_are_the_one_body_initial_step(kind):
     omega[5] = 3e3  # fast: the step from d2
     omega[6] = np.nan  # non-finite: NaN steps, as one body's
     torque = None if kind % _fused.DIAGONAL == 0 else GravityTorque(2.0, [0.01, -0.02, 0.1])
-    _, k, par, jj, ji, y0 = _fused._flat_problem(moments, quat, omega, torque)
+    _, k, par, jj, ji, y0 = _fused_run._flat_problem(moments, quat, omega, torque)
     assert k == kind % _fused.DIAGONAL
     cases = [  # (span, max_step, rtol, atol): h0 or h1 cut by the span, by max_step
         (10.0, np.inf, 1e-7, 1e-9),
@@ -260,7 +260,7 @@ def test_zero_atol_with_an_exact_zero_in_the_state_is_an_integration_error(lanes
     # SystemError), and the message names atol = 0 as the cause
     from poinsot import IntegrationError
 
-    _fused.LANES = lanes
+    _fused_run.LANES = lanes
     try:
         with pytest.raises(IntegrationError, match=r"below round-off.*`atol=0`"):
             simulate([1.0, 2.0, 3.0], [1.0, 0.0, 0.0, 0.0], [0.1, 0.2, 0.3], [0.0, 1.0],
@@ -271,4 +271,4 @@ def test_zero_atol_with_an_exact_zero_in_the_state_is_an_integration_error(lanes
         simulate([1.0, 2.0, 3.0], [0.7, 0.1, 0.5, 0.5], [0.1, 0.2, 0.3], [0.0, 1.0],
                  rtol=1e-8, atol=0.0)  # fmt: skip
     finally:
-        _fused.LANES = True
+        _fused_run.LANES = True

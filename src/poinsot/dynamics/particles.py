@@ -44,7 +44,6 @@ from ..mass import RigidBody
 from ..rotations.quaternion import rotate
 from ..rotations.rotation import Rotation
 from ..trajectory import PointTrajectory, Trajectory
-from . import earth
 from .systems import _call_force
 
 if TYPE_CHECKING:
@@ -71,6 +70,7 @@ def __getattr__(name: str) -> Any:
     # the applications on the rotating Earth moved to .earth (issue 39) and are still
     # reachable here; a module-level re-export would be an import circle (earth
     # integrates with simulate_particle), so they are looked up when first asked for
+    from . import earth
 
     if name in earth.__all__:
         return getattr(earth, name)

@@ -90,9 +90,9 @@ class DOP853(RigidIntegrator):
     name = "dop853"
 
     def run(self, p: RigidProblem, o: RunOptions) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
-        from .. import _fused  # numba, loaded on first use
+        from .. import _fused_run  # numba, loaded on first use
 
-        fused = _fused.integrate(
+        fused = _fused_run.integrate(
             p.moments if p.principal else p.j,
             p.q,
             p.omega0,

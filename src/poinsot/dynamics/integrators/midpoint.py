@@ -60,9 +60,9 @@ def _run_midpoint(p: RigidProblem) -> tuple[FloatArray, FloatArray, dict[str, An
             )
         info["max_newton_iterations"] = int(it)
     else:
-        from .. import _fused  # numba, loaded on first use
+        from .. import _fused_run  # numba, loaded on first use
 
-        out = _fused.midpoint(j, j_inv, q, m, t, nsub, comp, tfn.model, tfn.batch, report)
+        out = _fused_run.midpoint(j, j_inv, q, m, t, nsub, comp, tfn.model, tfn.batch, report)
         if out is None:  # a Python torque: the NumPy step, vectorised over the batch
             Q, MO, it = _midpoint_numpy(j_inv, q, m, t, nsub, comp, tfn)
             info["path"] = "NumPy (torque is a Python callable)"

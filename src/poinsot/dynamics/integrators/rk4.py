@@ -29,10 +29,10 @@ def _run_rk4_compiled(p: RigidProblem) -> tuple[Any, Any, Any]:
     """RK4 in one compiled loop per body (built-in torques); ``(None, None, None)``
     for a Python torque."""
     j, q, w, t, h_max, model, report = p.j, p.q, p.omega0, p.t, p.h_max, p.model, p.report
-    from .. import _fused  # numba, loaded on first use
+    from .. import _fused_run  # numba, loaded on first use
 
     nsub = _substeps(t, h_max)
-    out = _fused.rk4(j, q, w, t, nsub, model, progress=report)
+    out = _fused_run.rk4(j, q, w, t, nsub, model, progress=report)
     if out is None:
         return None, None, None
     qs, ws, failed = out

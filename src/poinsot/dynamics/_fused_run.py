@@ -1,0 +1,270 @@
+"""The Python driver of the fused compiled kernels (private): from validated arrays to
+a kernel call and back.
+
+:mod:`._fused` holds the per-body kernels (DOP853, RK4, midpoint) and
+:mod:`._fused_lanes` the lane-blocked DOP853 (eight bodies stepped together, SIMD
+across bodies); this module flattens a problem for them (:func:`torque_kernel`,
+:func:`_flat_problem`), chooses the kernel and runs it threaded with progress and
+Ctrl-C (:func:`poinsot._progress.run_compiled`). Loading it loads numba (both kernel
+modules): the integrators import it when they first run.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from .._jit import NUMBA
+from .._progress import run_compiled
+from .._scratch import hold
+from .._vec import all_diagonal3, diagonal3, inverse3
+from ..rotations._lazy import threaded
+from . import _fused_lanes
+from . import torques as _tq
+from ._fused import (
+    DIAGONAL,
+    integrate_batch,
+    midpoint_batch,
+    rk4_batch,
+)
+
+#: Whether :func:`integrate` runs the lane-blocked kernels (:mod:`._fused_lanes`, the same
+#: results bit for bit) rather than :func:`integrate_batch`'s one body per iteration;
+#: the benchmarks and tests switch it to time and check one against the other.
+LANES = True
+
+
+def torque_kernel(torque, batch: tuple[int, ...], par=None):
+    """``(kind, par (batch + (4,)))`` for a built-in torque model, else ``None``.
+
+    ``None`` (no torque) is kind 0. A torque the kernel does not know (a Python
+    callable) returns ``None``: the caller takes its slower path. ``par``: an array of
+    that shape to fill (else a new one).
+    """
+
+    if par is None:
+        par = np.zeros(batch + (4,))
+    else:
+        par.fill(0.0)
+    if torque is None:
+        return 0, par
+    if isinstance(torque, _tq.ConstantBodyTorque | _tq.ConstantSpaceTorque):
+        par[..., :3] = torque.torque
+        return (1 if isinstance(torque, _tq.ConstantBodyTorque) else 2), par
+    if isinstance(torque, _tq.GravityTorque):
+        par[..., 0] = 1.0
+        par[..., 1:] = torque.moment
+        return 3, par
+    gradient = getattr(_tq, "GravityGradientTorque", None)
+    if gradient is not None and isinstance(torque, gradient):
+        par[..., 0] = torque.coefficient
+        par[..., 1:] = torque.direction
+        return 4, par
+    return None
+
+
+def _flat_problem(j, q0, omega0, torque, diagonal=None, scratch=None, principal=None):
+    """``(batch, kind, par, J, J^-1, y0)`` flattened to ``N`` bodies, or ``None`` when
+    the torque is not built in (``diagonal``: whether every ``J`` is, if known;
+    ``scratch``: a :func:`poinsot._scratch.hold` block for the packed arrays, which then
+    live as long as it; ``principal``: whether ``j`` holds principal moments (..., 3)
+    rather than tensors, ``None``: from its shape)."""
+    j = np.asarray(j, dtype=float)
+    if j.shape[-2:] != (3, 3) if principal is None else principal:
+        out = None if scratch is None else scratch.empty("j", j.shape[:-1] + (3, 3))
+        j = diagonal3(j, out=out)
+    batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], omega0.shape[:-1])
+    n_body = int(np.prod(batch, dtype=np.int64))
+    kp = torque_kernel(
+        torque, batch, None if scratch is None else scratch.empty("par", batch + (4,))
+    )
+    if kp is None:
+        return None
+    kind, par = kp
+    jj = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
+    if scratch is None:
+        ji = inverse3(jj, diagonal)
+        y0 = np.empty((n_body, 7))
+    else:
+        ji = inverse3(jj, diagonal, out=scratch.empty("ji", (n_body, 3, 3)))
+        y0 = scratch.empty("y0", (n_body, 7))
+    y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
+    y0[:, 4:] = np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3)
+    par = np.ascontiguousarray(par.reshape(n_body, 4))
+    return batch, kind, par, jj, ji, y0
+
+
+def _long(y0, t, steps=0):
+    """Whether a run may last long enough (~> 10 ms) to be worth making interruptible by
+    Ctrl-C (:func:`poinsot._progress.run_compiled`): many bodies times outputs, many
+    fixed steps, or many turns (an adaptive step takes a fraction of a turn)."""
+    w = y0[:, 4:]  # max |w| without a temporary |w| array
+    w_max = max(float(w.max(initial=0.0)), -float(w.min(initial=0.0)))
+    turns = w_max * float(t[-1] - t[0]) / (2.0 * np.pi)
+    return y0.shape[0] * max(t.size, steps, 50.0 * turns) > 20_000
+
+
+def rk4(j, q0, w0, t, nsub, torque, progress=None):
+    """Run the compiled RK4 on validated arrays (``nsub`` (n - 1,) steps per output
+    interval). Returns ``(quat (n, ..., 4), omega (n, ..., 3), failed (...))`` with
+    ``failed`` the first output interval whose end is non-finite (-1: none), or
+    ``None`` when the torque is not built in."""
+    flat = _flat_problem(j, q0, w0, torque)
+    if flat is None:
+        return None
+    batch, kind, par, jj, ji, y0 = flat
+    t = np.ascontiguousarray(t, dtype=float)
+    oq = np.empty((t.size, y0.shape[0], 4))
+    ow = np.empty((t.size, y0.shape[0], 3))
+    failed = np.empty(y0.shape[0], dtype=np.int64)
+    nsub = np.ascontiguousarray(nsub, dtype=np.int64)
+    cancel = np.zeros(1, dtype=np.int64)
+    done = np.zeros(y0.shape[0], dtype=np.int64)
+    run_compiled(
+        functools.partial(threaded, rk4_batch),
+        (y0, jj, ji, kind, par, t, nsub, oq, ow, failed, cancel, done),
+        cancel=cancel,
+        done=done,
+        total=max(y0.shape[0] * (t.size - 1), 1),
+        progress=progress,
+        background=_long(y0, t, int(nsub.sum())),
+    )
+    return (
+        oq.reshape((t.size,) + batch + (4,)),
+        ow.reshape((t.size,) + batch + (3,)),
+        failed.reshape(batch),
+    )
+
+
+def integrate(
+    j,
+    q0,
+    omega0,
+    t,
+    torque,
+    *,
+    rtol,
+    atol,
+    max_step,
+    max_steps=10**6,
+    progress=None,
+    diagonal=None,
+    principal=None,
+):
+    """Run the fused kernel on validated arrays.
+
+    ``j`` (..., 3, 3) inertia tensor (or (..., 3) principal moments) in body
+    axes, ``q0`` (..., 4) unit quaternions, ``omega0`` (..., 3) rad/s, ``t`` (n,)
+    increasing output times; ``torque`` ``None`` or a built-in model of
+    :mod:`poinsot.dynamics.torques`; ``diagonal`` whether every ``j`` is diagonal, if
+    the caller knows (``None``: checked here); ``principal`` whether ``j`` holds principal
+    moments (``None``: from its shape, ambiguous for three bodies). Returns ``(quat (n,
+    ..., 4), omega (n, ..., 3), stats (..., 4))`` or ``None`` when the torque is not built
+    in.
+    """
+    j = np.asarray(j, dtype=float)
+    if principal is None:
+        principal = j.shape[-2:] != (3, 3)
+    if diagonal is None:  # (moments (..., 3) are made diagonal tensors below)
+        diagonal = True if principal else all_diagonal3(j)
+    with hold() as scratch:
+        flat = _flat_problem(j, q0, omega0, torque, diagonal, scratch, principal)
+        return _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scratch)
+
+
+def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scratch):
+    """:func:`integrate` on the flattened problem, inside its scratch block."""
+    if flat is None:
+        return None
+    batch, kind, par, jj, ji, y0 = flat
+    n_body = y0.shape[0]
+    t = np.ascontiguousarray(t, dtype=float)
+    oq = np.empty((t.size, n_body, 4))
+    ow = np.empty((t.size, n_body, 3))
+    stats = np.zeros((n_body, 4), dtype=np.int64)
+    cancel = np.zeros(1, dtype=np.int64)
+    done = scratch.zeros("done", (n_body,), dtype=np.int64)
+    if kind in (0, 3) and diagonal:  # the lane kernel's diagonal forms
+        kind += DIAGONAL
+    if NUMBA and LANES:  # L bodies at a time, SIMD across bodies (_fused_lanes)
+        kernel = _fused_lanes.integrate_batch
+    else:  # one body per loop iteration (and the NumPy executor, as Python)
+        kernel = integrate_batch
+    run_compiled(
+        functools.partial(threaded, kernel),
+        (
+            y0,
+            jj,
+            ji,
+            kind,
+            par,
+            t,
+            float(rtol),
+            float(atol),
+            float(np.inf if max_step is None else max_step),
+            int(max_steps),
+            oq,
+            ow,
+            stats,
+            cancel,
+            done,
+        ),
+        cancel=cancel,
+        done=done,
+        total=max(n_body * (t.size - 1), 1),
+        progress=progress,
+        background=_long(y0, t),
+    )
+    return (
+        oq.reshape((t.size,) + batch + (4,)),
+        ow.reshape((t.size,) + batch + (3,)),
+        stats.reshape(batch + (4,)),
+    )
+
+
+def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch, progress=None):
+    """Run the compiled midpoint rule on validated, flattened arrays (``j``, ``j_inv``
+    (N, 3, 3), ``q`` (N, 4), ``m`` (N, 3) body momenta) under a built-in torque model
+    given for the batch shape ``batch``. Returns ``(quat (n, N, 4), momentum (n, N, 3),
+    res (N, 3))`` (see :func:`midpoint_batch`), or ``None`` when the torque is not built
+    in."""
+    kp = torque_kernel(torque, batch)
+    if kp is None:
+        return None
+    kind, par = kp
+    n_body = q.shape[0]
+    par = np.ascontiguousarray(np.broadcast_to(par, batch + (4,)).reshape(n_body, 4))
+    t = np.ascontiguousarray(t, dtype=float)
+    oq = np.empty((t.size, n_body, 4))
+    om = np.empty((t.size, n_body, 3))
+    res = np.empty((n_body, 3), dtype=np.int64)
+    c = np.ascontiguousarray
+    cancel = np.zeros(1, dtype=np.int64)
+    done = np.zeros(n_body, dtype=np.int64)
+    args = (
+        c(q, dtype=float),
+        c(m, dtype=float),
+        c(np.broadcast_to(j, (n_body, 3, 3)), dtype=float),
+        c(np.broadcast_to(j_inv, (n_body, 3, 3)), dtype=float),
+        kind,
+        par,
+        t,
+        c(nsub, dtype=np.int64),
+        c(comp, dtype=float),
+        oq,
+        om,
+        res,
+        cancel,
+        done,
+    )
+    run_compiled(
+        functools.partial(threaded, midpoint_batch),
+        args,
+        cancel=cancel,
+        done=done,
+        total=max(n_body * (t.size - 1), 1),
+        progress=progress,
+        background=n_body * int(np.sum(nsub)) * len(comp) > 20_000,
+    )
+    return oq, om, res
