@@ -53,7 +53,7 @@ NOT_INITIAL_STATE = {
 
 #: a time with a default that stays positional (reordering it would silently change
 #: what existing positional calls mean): docs/conventions.md, "Names"
-T_POSITIONAL_WITH_DEFAULT = {"inertial_forces"}
+T_POSITIONAL_WITH_DEFAULT: set[str] = set()
 
 #: every rename: qualified name -> {old: new}
 RENAMES = {
@@ -303,3 +303,23 @@ def test_every_result_type_has_its_energy():
         and getattr(poinsot, n).__name__ == n
     }
     assert kinds == set(ENERGY)
+
+
+def test_inertial_forces_positional_t_is_deprecated_and_means_the_same():
+    import warnings
+
+    from poinsot.dynamics import inertial_forces
+    from poinsot.kinematics import FrameMotion
+
+    def frame(t):  # a frame whose spin grows with time: t changes the answer
+        return FrameMotion(omega=[0.0, 0.0, 1.0 + t])
+
+    new = inertial_forces(frame, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 2.0, t=0.5)
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        old = inertial_forces(frame, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 2.0, 0.5)
+    assert any(issubclass(x.category, DeprecationWarning) and "t=" in str(x.message) for x in w)
+    np.testing.assert_array_equal(old.coriolis, new.coriolis)
+    assert new.centrifugal[0] == pytest.approx(2.0 * 1.5**2)  # -m w x (w x r) = m w^2 r, w = 1 + t
+    with pytest.raises(InvalidTypeError, match="4 positional"):
+        inertial_forces(frame, [1.0, 0, 0], [0, 1.0, 0], 2.0, 0.5, 0.6)

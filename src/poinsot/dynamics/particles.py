@@ -25,6 +25,7 @@ origin with the frame's origin.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -138,7 +139,12 @@ class InertialForces:
 
 
 def inertial_forces(
-    frame: FrameMotion, r: ArrayLike, v: ArrayLike, mass: ArrayLike = 1.0, t: float = 0.0
+    frame: FrameMotion,
+    r: ArrayLike,
+    v: ArrayLike,
+    mass: ArrayLike = 1.0,
+    *legacy: float,
+    t: float = 0.0,
 ) -> InertialForces:
     """Every inertial force on a particle moving in a moving frame (theory §9).
 
@@ -153,8 +159,9 @@ def inertial_forces(
         Velocity relative to the frame, ``v_r`` (m/s).
     mass : array_like, shape (...), optional
         Mass ``m`` (kg, >= 0), default 1.
-    t : float, optional
-        Time (s) at which a callable ``frame`` is evaluated; default 0.
+    t : float, optional, keyword-only
+        Time (s) at which a callable ``frame`` is evaluated; default 0. (Passing it as
+        the fifth positional argument still works, with a ``DeprecationWarning``.)
 
     Returns
     -------
@@ -181,6 +188,19 @@ def inertial_forces(
     >>> f.centrifugal + 0.0, f.coriolis + 0.0
     (array([9., 0., 0.]), array([  0., -12.,   0.]))
     """
+    if legacy:  # the former positional `t` (docs/conventions.md, "Names")
+        if len(legacy) > 1:
+            raise InvalidTypeError(
+                f"inertial_forces takes 4 positional arguments (frame, r, v, mass) and "
+                f"`t` by keyword; got {4 + len(legacy)} positional arguments."
+            )
+        warnings.warn(
+            "inertial_forces(frame, r, v, mass, t): pass the time by keyword, t=...; "
+            "a positional t is deprecated (a time with a default is keyword-only).",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        t = legacy[0]
     frame = _frame_at(frame, t)
     r = as_vec3(r, "r")
     v = as_vec3(v, "v")
@@ -489,7 +509,7 @@ class ParticleTrajectory(PointTrajectory):
         if isinstance(frame, FrameMotion):
             return inertial_forces(frame, self.position, self.velocity, mass)
         parts = [
-            inertial_forces(frame, self.position[k], self.velocity[k], mass, tk)
+            inertial_forces(frame, self.position[k], self.velocity[k], mass, t=tk)
             for k, tk in enumerate(self.t)
         ]
         return InertialForces(
