@@ -5,8 +5,8 @@ code of commit 269301c (before ``dynamics/integrators/``, the executors' table a
 import moves) on the machine and numba build recorded in the file. On that machine and
 build the outputs must be **bit-identical**; elsewhere (another CPU, numba's generic
 target, the NumPy executor, other library versions) floating-point contraction and
-evaluation order may differ in the last bits, so they must agree to a relative 1e-9
-(observed: see the module's test notes).
+evaluation order may differ in the last bits, so they must agree to a relative 1e-9.
+The outputs changed on purpose are listed in :data:`CHANGED` with the reason.
 """
 
 from __future__ import annotations
@@ -19,6 +19,15 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).parents[1]
+#: outputs changed on purpose since the saved release, with why: they must agree to the
+#: stated relative tolerance instead of bit for bit
+CHANGED = {
+    "simulate/free/midpoint": "c07c347: the midpoint rule's Newton iteration stops by one "
+    "rule everywhere (the compiled kernel without torque or with a body torque stopped by "
+    "its own); the steps agree to the iteration's tolerance (observed 1.3e-13)",
+    "simulate/body/midpoint": "the same",
+}
+CHANGED_RTOL = 1e-11
 SAVED = ROOT / "tests" / "data" / "golden_outputs.npz"
 
 
@@ -48,7 +57,9 @@ def test_every_saved_output_is_recomputed_and_matches(outputs):
     for name in names:
         a, b = outputs[name], saved[name]
         assert a.shape == b.shape, name
-        if exact:
+        if name.rsplit("/", 1)[0] in CHANGED:
+            np.testing.assert_allclose(a, b, rtol=CHANGED_RTOL, atol=CHANGED_RTOL, err_msg=name)
+        elif exact:
             np.testing.assert_array_equal(a, b, err_msg=name)
         else:
             worst = max(worst, float(np.max(np.abs(a - b))))
