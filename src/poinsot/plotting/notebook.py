@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from .._files import atomic_write
 from ..dynamics import (
     CentralOrbit,
     FreeRigidBody,
@@ -84,9 +85,7 @@ class Viewer:
 
     def save(self, path: str | Path) -> Path:
         """Write the page to ``path`` (an HTML file that opens in any browser)."""
-        p = Path(path)
-        p.write_text(self.html, encoding="utf-8")
-        return p
+        return atomic_write(Path(path), lambda fh: fh.write(self.html))
 
     def __repr__(self) -> str:
         return f"Viewer({len(self.html)} characters of HTML; shown in a notebook cell)"

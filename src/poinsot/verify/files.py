@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .._files import atomic_write
 from ..errors import InvalidInputError, InvalidTypeError
 from ..kinematics import quat_rate
 from ..kinematics.attitude_history import _make_continuous
@@ -87,21 +88,27 @@ def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
     for case in chosen:
         columns, table = state_table(case, case.exact())
         csv = out / f"{case.name}.csv"
-        np.savetxt(csv, table, delimiter=",", header=",".join(columns), comments="", fmt="%.17g")
+        head = ",".join(columns)
+        atomic_write(csv, lambda fh, table=table, head=head: np.savetxt(
+            fh, table, delimiter=",", header=head, comments="", fmt="%.17g"))  # fmt: skip
         written.append(csv)
         if format == "parquet":
             import pyarrow as pa
             import pyarrow.parquet as pq
 
-            pq.write_table(pa.table({c: table[:, k] for k, c in enumerate(columns)}),
-                           out / f"{case.name}.parquet")  # fmt: skip
+            arrow = pa.table({c: table[:, k] for k, c in enumerate(columns)})
+            atomic_write(
+                out / f"{case.name}.parquet", lambda fh, a=arrow: pq.write_table(a, fh), "b"
+            )
             written.append(out / f"{case.name}.parquet")
         desc = out / f"{case.name}.json"
-        desc.write_text(json.dumps(describe(case), indent=2) + "\n")
+        text = json.dumps(describe(case), indent=2) + "\n"
+        atomic_write(desc, lambda fh, text=text: fh.write(text))
         written.append(desc)
     index = out / "index.json"
-    index.write_text(json.dumps({"cases_version": CASES_VERSION, "cases": [c.name for c in chosen],
-                                 "docs": "docs/verify.md"}, indent=2) + "\n")  # fmt: skip
+    listing = json.dumps({"cases_version": CASES_VERSION, "cases": [c.name for c in chosen],
+                          "docs": "docs/verify.md"}, indent=2) + "\n"  # fmt: skip
+    atomic_write(index, lambda fh: fh.write(listing))
     written.append(index)
     return sorted(written)
 
