@@ -20,6 +20,15 @@ points is that of the scalar formula, and the cost is a few vectorised passes
 (one per distinct path taken in the batch). ``math`` (and ``max``/``min``) are
 re-bound to NumPy in the globals of the executed functions (:func:`numpy_fn`),
 so the formulas themselves are never written twice.
+
+**The executors, in one table.** :data:`EXECUTORS` holds one :class:`Executor` per
+way the formula source runs (``"numba"``, ``"numpy"``, and ``"jax"`` once
+:mod:`poinsot.jax` is imported): the globals it replaces (``math``, ``np``,
+``max``, ``min``), the implementations it gives to the declared
+:func:`primitive` functions (matched by the function, never by the name a caller
+imported it under), how it wraps the poinsot functions a formula calls, and how it
+runs data branches and converging loops. What a formula may call: ``docs/conventions.md``,
+"Writing a formula" (checked by ``tests/test_formulas.py``).
 """
 
 from __future__ import annotations
@@ -30,7 +39,8 @@ import math
 import os
 import re
 import types as _pytypes
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -46,7 +56,13 @@ __all__ = [
     "lanes",
     "numpy_fn",
     "rebind",
+    "EXECUTORS",
+    "Executor",
+    "primitive",
+    "PRIMITIVES",
     "NAMESPACES",
+    "WRAP",
+    "INPLACE",
     "going",
     "upto",
     "pick",
@@ -141,30 +157,123 @@ def math_namespace(lib: Any) -> Any:
 
 _NPMATH = math_namespace(np)
 
+# ------------------------------------------------------------ the executors
+#: qualified name (``module.qualname``) -> function, for every function declared a
+#: :func:`primitive`
+PRIMITIVES: dict[str, Callable[..., Any]] = {}
+
+
+def primitive_name(fn: Any) -> str | None:
+    """The key of ``fn`` in :data:`PRIMITIVES` (of its Python source: a numba dispatcher
+    or a NumPy-executor wrapper counts as its function), or ``None`` if it is none."""
+    f = source(fn)
+    if not isinstance(f, _pytypes.FunctionType):
+        return None
+    key = f"{f.__module__}.{f.__qualname__}"
+    return key if PRIMITIVES.get(key) is f else None
+
+
+def primitive(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """Declare ``fn`` a primitive: an executor may replace the whole function by its own
+    implementation (:attr:`Executor.primitives`, keyed by ``module.qualname``) instead of
+    running its body, e.g. ``poinsot.jax`` runs ``jnp.cross`` for :func:`poinsot._vec.cross`
+    (whose body writes into an array). Returns ``fn`` itself; an executor without an
+    implementation runs ``fn`` as a formula."""
+    PRIMITIVES[f"{fn.__module__}.{fn.__qualname__}"] = fn
+    return fn
+
+
+@dataclass
+class Executor:
+    """One way the formula source runs (an entry of :data:`EXECUTORS`)."""
+
+    #: the key in :data:`EXECUTORS`
+    name: str
+    #: globals replaced in the formulas it re-binds (:func:`rebind`): ``math``, ``max``,
+    #: ``min`` (and ``np`` for a library other than NumPy); empty for numba, which
+    #: compiles the source as it is
+    namespace: dict[str, Any]
+    #: ``module.qualname`` of a :func:`primitive` -> the function run in its place
+    primitives: dict[str, Callable[..., Any]] = field(default_factory=dict)
+    #: how a re-bound formula's poinsot callees are wrapped (``None``: re-bound as they
+    #: are, running inside their caller); the functions of :data:`INPLACE` never are
+    wrap: Callable[[Callable[..., Any]], Callable[..., Any]] | None = None
+    #: what ``if cond:`` on data becomes
+    branches: str = ""
+    #: what ``while going(cond)``, ``range(upto(n, nmax))`` and ``pick`` become
+    loops: str = ""
+
+
+#: name -> executor: every way the one formula source runs (``"jax"`` is added by
+#: importing :mod:`poinsot.jax`)
+EXECUTORS: dict[str, Executor] = {
+    "numba": Executor(
+        "numba",
+        {},
+        branches="compiled branches: each element takes its own",
+        loops="compiled loops: going(cond) is cond, upto(n, nmax) is n, pick a branch",
+    ),
+    "numpy": Executor(
+        "numpy",
+        {"math": _NPMATH, "max": _vmax, "min": _vmin},
+        branches="lanes split where they disagree, each subset re-run, results merged (lanes)",
+        loops="as numba (going(cond) is cond: all lanes must agree, else they split)",
+    ),
+}
+
+
+class _View(Mapping[str, Any]):
+    """A read-only view of one field of :data:`EXECUTORS` (the executors that set it)."""
+
+    def __init__(self, attr: str) -> None:
+        self._attr = attr
+
+    def __getitem__(self, name: str) -> Any:
+        value = getattr(EXECUTORS[name], self._attr)
+        if value is None:
+            raise KeyError(name)
+        return value
+
+    def __iter__(self) -> Iterator[str]:
+        return (k for k, e in EXECUTORS.items() if getattr(e, self._attr) is not None)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
+#: name -> the globals replaced for each executor (:attr:`Executor.namespace`; a view)
+NAMESPACES: Mapping[str, dict[str, Any]] = _View("namespace")
+#: name -> how that executor wraps a formula's poinsot callees (:attr:`Executor.wrap`;
+#: a view: ``poinsot.jax`` wraps them as selects, so each one's branches are merged
+#: where it returns instead of multiplying the paths of its caller)
+WRAP: Mapping[str, Callable[[Callable[..., Any]], Callable[..., Any]]] = _View("wrap")
+#: Functions that write into their array arguments (tables): never wrapped (a wrapper
+#: would hand them copies), they run inside their caller's paths.
+INPLACE = {"poinsot.dynamics._elliptic.landen_fill"}
+
 _REBOUND: dict[tuple[Any, str], Any] = {}
 _GLOBALS: dict[tuple[int, str], dict[str, Any]] = {}
-#: name -> the globals replaced for each array library the formulas run on (``math``
-#: and ``max``/``min`` always; ``np`` too for a library other than NumPy)
-NAMESPACES: dict[str, dict[str, Any]] = {"numpy": {"math": _NPMATH, "max": _vmax, "min": _vmin}}
 
 
 def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
     new = _GLOBALS.get((id(g), ns))
     if new is None:
+        ex = EXECUTORS[ns]
         new = dict(g)
         _GLOBALS[(id(g), ns)] = new  # before filling: functions of one module call each other
-        subs = NAMESPACES[ns]
-        new.update(subs)
+        new.update(ex.namespace)
         for k, v in g.items():
-            if k in subs:  # the library's own primitive
+            if k in ex.namespace:
                 continue
-            if _is_formula(v):
-                wrap = WRAP.get(ns)
+            prim = primitive_name(v)
+            if prim is not None and prim in ex.primitives:  # the executor's own
+                new[k] = ex.primitives[prim]
+            elif _is_formula(v):
                 f = source(v)
-                if wrap is None or f"{f.__module__}.{f.__name__}" in INPLACE:
+                if ex.wrap is None or f"{f.__module__}.{f.__name__}" in INPLACE:
                     new[k] = rebind(v, ns)
                 else:
-                    new[k] = wrap(v)
+                    new[k] = ex.wrap(v)
     return new
 
 
@@ -186,20 +295,13 @@ def _is_formula(v: Any) -> bool:
     return isinstance(v, _pytypes.FunctionType) and v.__module__.startswith("poinsot")
 
 
-#: name -> how the globals of a formula run on that library wrap the poinsot functions
-#: it calls (``poinsot.jax`` wraps them as selects, so each one's branches are merged
-#: where it returns instead of multiplying the paths of its caller)
-WRAP: dict[str, Callable[[Callable[..., Any]], Callable[..., Any]]] = {}
-#: Functions that write into their array arguments (tables): never wrapped (a wrapper
-#: would hand them copies), they run inside their caller's paths.
-INPLACE = {"poinsot.dynamics._elliptic.landen_fill"}
-
-
 def rebind(fn: Callable[..., Any], ns: str) -> Callable[..., Any]:
     """``fn`` re-bound to globals where ``math``, ``max``, ``min`` (and ``np``) are those
-    of the array library ``ns`` (a key of :data:`NAMESPACES`), and the poinsot functions it
-    calls re-bound too: the same code, run on that library's arrays. ``fn`` may be
-    compiled by :func:`njit` (its Python source is re-bound)."""
+    of the executor ``ns`` (a key of :data:`EXECUTORS`), the :func:`primitive` functions
+    it calls are the executor's implementations and the other poinsot functions it calls
+    are re-bound too (or wrapped: :attr:`Executor.wrap`): the same code, run on that
+    library's arrays. ``fn`` may be compiled by :func:`njit` (its Python source is
+    re-bound)."""
     fn = source(fn)
     out = _REBOUND.get((fn, ns))
     if out is None:
@@ -355,16 +457,19 @@ def _np_overload(fn: Any, **kwargs: Any) -> Callable[..., Any]:
 
 
 # ------------------------------------------------------- bounded loops for tracing
+@primitive
 def _going(cond: bool) -> bool:
     """The exit test of an iteration: ``cond`` itself here (numba, NumPy, plain Python)."""
     return cond
 
 
+@primitive
 def _upto(n: int, nmax: int) -> int:
     """The trip count of a loop over a table: ``n`` here (``nmax`` on JAX)."""
     return n
 
 
+@primitive
 def _pick(cond: bool, a: Any, b: Any) -> Any:
     """``a if cond else b`` for two cheap values that are both defined (no branch on JAX)."""
     return a if cond else b

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._jit import primitive
+
 __all__ = ["all_diagonal3", "cross", "diagonal3", "dot", "hat", "inverse3", "length", "unit"]
 
 # Squared lengths outside [_N2_LO, _N2_HI] may have under/overflowed: recompute them scaled.
@@ -20,6 +22,7 @@ def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
+@primitive  # written into an empty array: an executor of immutable arrays runs its own
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a x b`` over the last axis (broadcasting)."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]

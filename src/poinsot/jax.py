@@ -10,9 +10,22 @@ points are those of the scalar formula. Gradients are those of the path taken;
 exactly *at* a branch point whose other path divides by zero (a zero rotation
 vector, a zero quaternion vector part) the gradient may be NaN.
 
-**float64.** Importing this module turns on ``jax_enable_x64``: poinsot's results
-are float64 (the numba path's precision, 1e-13 parity), and float32 (JAX's
-default) would lose 8 digits in the elliptic and rotation formulas.
+**float64.** Importing this module turns on ``jax_enable_x64``, process-wide, and
+it is the only place in poinsot that does: poinsot's results are float64 (the
+numba path's precision, 1e-13 parity), and float32 (JAX's default) would lose 8
+digits in the elliptic and rotation formulas. It cannot be scoped to poinsot's calls
+(``jax.experimental.enable_x64()`` around them): the caller's arrays, made before
+the call, would be float32 already, and a jitted function traced once under one
+mode would not be re-traced under the other.
+
+**The executor.** This module adds the ``"jax"`` entry of
+:data:`poinsot._jit.EXECUTORS`: ``math``/``np``/``max``/``min`` become
+``jax.numpy``'s, the declared primitives (:func:`poinsot._jit.primitive`: the array
+cross product, the quaternion product and conjugate, ``going``/``upto``/``pick``)
+become JAX implementations, and the poinsot functions a formula calls are wrapped as
+merged selects (:func:`_nested`). Branches are explored with the truth value of a
+tracer patched only inside :func:`_deciding` (a context manager, restored on exit,
+also on an exception).
 
 Conventions as in ``docs/conventions.md``: Hamilton quaternions scalar first
 ``(w, x, y, z)``, angles in radians, leading axes are batch axes (theory §1-§3).
@@ -26,9 +39,9 @@ Conventions as in ``docs/conventions.md``: Hamilton quaternions scalar first
 
 from __future__ import annotations
 
+import contextlib
 import functools
-import types
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,7 +49,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._jit import NAMESPACES, WRAP, math_namespace, rebind
+from . import _vec
+from ._jit import EXECUTORS, Executor, _going, _pick, _upto, math_namespace, rebind
 from ._validate import as_rotation_quat
 from .dynamics.free_body import _pow2, _snap_symmetric
 from .dynamics.integrators._common import _rhs
@@ -52,6 +66,7 @@ from .kinematics.rates import (
 )
 from .mass.tensor import check_principal_moments
 from .rotations import _scalar as S
+from .rotations import quaternion as _quaternion
 from .rotations.euler import parse_sequence
 
 jax.config.update("jax_enable_x64", True)  # type: ignore[no-untyped-call]  # float64: notes
@@ -88,13 +103,35 @@ __all__ = [
     "free_body_state_exact",
 ]
 
-NAMESPACES["jax"] = {
-    "math": math_namespace(jnp),
-    "np": jnp,
-    "max": lambda *a: functools.reduce(jnp.maximum, a),
-    "min": lambda *a: functools.reduce(jnp.minimum, a),
-    "_cross": jnp.cross,  # the array cross product is a primitive of the library
-}
+
+def _primitives() -> dict[str, Callable[..., Any]]:
+    """The JAX implementations of poinsot's declared primitives, keyed by the function."""
+    impls: dict[Callable[..., Any], Callable[..., Any]] = {
+        _vec.cross: jnp.cross,
+        # the quaternion product and conjugate the kinematic rates call (defined below)
+        _quaternion.multiply: lambda p, q: quat_multiply(p, q),
+        _quaternion.conjugate: lambda q: quat_inverse(q),
+        # a converging loop runs all its steps; a table loop its static maximum
+        _going: lambda cond: True,
+        _upto: lambda n, nmax: nmax,
+        _pick: jnp.where,
+    }
+    return {f"{f.__module__}.{f.__qualname__}": impl for f, impl in impls.items()}
+
+
+EXECUTORS["jax"] = Executor(
+    "jax",
+    {
+        "math": math_namespace(jnp),
+        "np": jnp,
+        "max": lambda *a: functools.reduce(jnp.maximum, a),
+        "min": lambda *a: functools.reduce(jnp.minimum, a),
+    },
+    _primitives(),
+    wrap=None,  # _nested, once defined below
+    branches="every path traced once, merged by jnp.where on its conditions (selects)",
+    loops="going(cond) is True (all N steps), upto(n, nmax) is nmax, pick is jnp.where",
+)
 
 
 # ------------------------------------------------------------ branches as selects
@@ -133,19 +170,31 @@ def _tracer_bool(self: Any) -> bool:
     return paths.decide(self)
 
 
-def _run(
-    fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool], memo: dict[Any, Any]
-) -> Any:
-    # The truth value of a tracer is JAX's error everywhere except inside this call
-    # (restored after it, also when nested); tracing is not meant to be shared by threads.
-    paths, outer = _Paths(prefix, memo), _Paths.active
-    _Paths.active, jax.core.Tracer.__bool__ = paths, _tracer_bool  # type: ignore[method-assign]
+@contextlib.contextmanager
+def _deciding(paths: _Paths) -> Iterator[_Paths]:
+    """``with _deciding(paths):`` the truth value of a tracer is ``paths``' decision
+    (:meth:`_Paths.decide`); JAX's own (an error) everywhere else. The patch of
+    ``jax.core.Tracer.__bool__`` is made on entering the outermost block and undone on
+    leaving it, also on an exception; nested blocks (a formula's callees) only swap
+    :attr:`_Paths.active`. The only place the patch is made; tracing is not meant to be
+    shared by threads."""
+    outer = _Paths.active
+    _Paths.active = paths
+    if outer is None:
+        jax.core.Tracer.__bool__ = _tracer_bool  # type: ignore[method-assign]
     try:
-        out = fn(*args)
+        yield paths
     finally:
         _Paths.active = outer
         if outer is None:
             jax.core.Tracer.__bool__ = _TRACER_BOOL  # type: ignore[method-assign]
+
+
+def _run(
+    fn: Callable[..., Any], args: tuple[Any, ...], prefix: list[bool], memo: dict[Any, Any]
+) -> Any:
+    with _deciding(_Paths(prefix, memo)) as paths:
+        out = fn(*args)
     return out, paths.met
 
 
@@ -197,7 +246,7 @@ def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
     paths merged by the selects); the tangent of a result is their sum weighted by the
     argument tangents, a map without the untaken paths, so reverse mode sees no
     ``0 * inf`` from them either. The poinsot functions ``fn`` calls are merged
-    selects too (:func:`_nested`, :data:`poinsot._jit.WRAP`).
+    selects too (:func:`_nested`, :attr:`poinsot._jit.Executor.wrap`).
     """
     g = rebind(fn, "jax")
     merged = _merged(g)
@@ -300,8 +349,7 @@ class _Vec(list):  # type: ignore[type-arg]
 
 jax.tree_util.register_pytree_node(_Vec, lambda v: (list(v), None), lambda _, c: _Vec(c))
 
-WRAP["jax"] = _nested
-NAMESPACES["jax"].update(going=lambda cond: True, upto=lambda n, nmax: nmax, pick=jnp.where)
+EXECUTORS["jax"].wrap = _nested
 
 
 def _cols(a: Any, k: int) -> list[Any]:
@@ -608,11 +656,6 @@ def _euler_seq(seq: Any) -> str:
     if len(axes) != 3:
         raise InvalidInputError(f"Expected `seq` to have 3 axes, got {seq!r}.")
     return str(seq)
-
-
-# The quaternion product the kinematic rates call, on JAX (rebind's globals for "jax"
-# take these in place of the NumPy-facing modules' functions).
-NAMESPACES["jax"]["_quat"] = types.SimpleNamespace(multiply=quat_multiply, conjugate=quat_inverse)
 
 
 @functools.partial(jax.jit, static_argnames="frame")

@@ -52,10 +52,11 @@ from .._vec import dot as _dot
 from .._vec import hat as _hat
 from ..errors import GimbalLockWarning, InvalidInputError, InvalidTypeError, SingularityWarning
 from ..rotations import _scalar as S
-from ..rotations import quaternion as _quat
 from ..rotations._lazy import kernels
 from ..rotations.dcm import ORTHOGONALITY_ATOL
 from ..rotations.euler import parse_sequence
+from ..rotations.quaternion import conjugate as _qconjugate
+from ..rotations.quaternion import multiply as _qmultiply
 from ..rotations.rotation import Rotation, _seq, _unit4
 
 __all__ = [
@@ -189,14 +190,14 @@ def _quat_arg(q: Any, name: str) -> np.ndarray:
 # --------------------------------------------------------------------------
 def _quat_rate(q: np.ndarray, omega: np.ndarray, frame: str) -> np.ndarray:
     if frame == "body":
-        return 0.5 * _quat.multiply(q, _pure(omega))
-    return 0.5 * _quat.multiply(_pure(omega), q)
+        return 0.5 * _qmultiply(q, _pure(omega))
+    return 0.5 * _qmultiply(_pure(omega), q)
 
 
 def _omega_from_quat_rate(q: np.ndarray, qdot: np.ndarray, frame: str) -> np.ndarray:
     if frame == "body":
-        return 2.0 * _quat.multiply(_quat.conjugate(q), qdot)[..., 1:]
-    return 2.0 * _quat.multiply(qdot, _quat.conjugate(q))[..., 1:]
+        return 2.0 * _qmultiply(_qconjugate(q), qdot)[..., 1:]
+    return 2.0 * _qmultiply(qdot, _qconjugate(q))[..., 1:]
 
 
 def quat_rate(q: Rotation | ArrayLike, omega: ArrayLike, *, frame: str = "body") -> FloatArray:

@@ -21,6 +21,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .._jit import primitive
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_trailing, as_vec3
 from .._vec import length as length_array
@@ -85,6 +86,7 @@ def _broadcast(name_a: str, a: np.ndarray, name_b: str, b: np.ndarray) -> None:
         ) from None
 
 
+@primitive  # validates, then a compiled kernel: poinsot.jax runs its own product
 def multiply(p: ArrayLike, q: ArrayLike) -> FloatArray:
     """Hamilton product ``P o Q``.
 
@@ -114,6 +116,7 @@ def multiply(p: ArrayLike, q: ArrayLike) -> FloatArray:
     return _checked(kernels().qmul, "the product of `p` and `q`", p, q)
 
 
+@primitive  # writes into its result: poinsot.jax runs its own
 def conjugate(q: ArrayLike) -> FloatArray:
     """Conjugate ``L~ = l0 - l`` (theory §1).
 
