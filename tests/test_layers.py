@@ -271,3 +271,49 @@ def test_the_checks_see_a_circle_and_a_lazy_import(tmp_path):
            for p in pkg.rglob("*.py")}  # fmt: skip
     assert [(m, t) for m, t, _ in _lazy(rel)] == [("poinsot.sub.b", "poinsot.sub.a")]
     assert _circles(rel) == [["poinsot.sub.a", "poinsot.sub.b"]]
+
+
+#: The layers inside a package, lowest first (docs/conventions.md, "Layout"); a module
+#: imports only modules of its own package listed before it (or in its own group).
+INNER = {
+    "poinsot.scenarios": [
+        ("_toml",),
+        ("facts",),
+        ("schema",),
+        ("readers", "figures", "describe"),
+        ("kind",),
+        ("summary",),
+        ("solve", "report", "draw"),
+        ("kinds",),
+        ("registry",),
+        ("io",),
+        ("output",),
+    ],
+    "poinsot.verify": [
+        ("_mujoco", "groups"),
+        ("cases",),
+        ("metrics", "files"),
+        ("engines",),
+        ("suite",),
+    ],
+}
+
+
+@pytest.mark.parametrize("package", sorted(INNER))
+def test_imports_inside_a_package_flow_downward(package):
+    rank = {name: k for k, names in enumerate(INNER[package]) for name in names}
+    bad = []
+    for module in MODULES:
+        if not module.startswith(package + ".") or module == package:
+            continue
+        src = module[len(package) + 1 :].split(".")[0]
+        for target, _, line in _imports(module, MODULES):
+            if not target.startswith(package + ".") or target == package:
+                continue
+            dst = target[len(package) + 1 :].split(".")[0]
+            if src == dst:
+                continue
+            assert src in rank and dst in rank, (module, target)
+            if rank[dst] > rank[src]:
+                bad.append(f"{MODULES[module]}:{line}: {module} imports {target} (above it)")
+    assert not bad, "\n".join(bad)
