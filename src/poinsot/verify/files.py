@@ -15,8 +15,9 @@ holds the exact states to the last bit.
 
 from __future__ import annotations
 
+import functools
 import json
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +44,21 @@ def state_table(
     if isinstance(states, Result):
         states = spec.arrays(states)
     return spec.columns, np.column_stack([case.t, *(states[k] for k in spec.states)])
+
+
+def _text_writer(text: str) -> Callable[[Any], object]:
+    return lambda fh: fh.write(text)
+
+
+def _csv_writer(table: np.ndarray, header: str) -> Callable[[Any], object]:
+    def write(fh: Any) -> None:
+        np.savetxt(fh, table, delimiter=",", header=header, comments="", fmt="%.17g")
+
+    return write
+
+
+def _parquet(pq: Any, table: Any, fh: Any) -> None:
+    pq.write_table(table, fh)
 
 
 def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
@@ -88,27 +104,22 @@ def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
     for case in chosen:
         columns, table = state_table(case, case.exact())
         csv = out / f"{case.name}.csv"
-        head = ",".join(columns)
-        atomic_write(csv, lambda fh, table=table, head=head: np.savetxt(
-            fh, table, delimiter=",", header=head, comments="", fmt="%.17g"))  # fmt: skip
+        atomic_write(csv, _csv_writer(table, ",".join(columns)))
         written.append(csv)
         if format == "parquet":
             import pyarrow as pa
             import pyarrow.parquet as pq
 
             arrow = pa.table({c: table[:, k] for k, c in enumerate(columns)})
-            atomic_write(
-                out / f"{case.name}.parquet", lambda fh, a=arrow: pq.write_table(a, fh), "b"
-            )
+            atomic_write(out / f"{case.name}.parquet", functools.partial(_parquet, pq, arrow), "b")
             written.append(out / f"{case.name}.parquet")
         desc = out / f"{case.name}.json"
-        text = json.dumps(describe(case), indent=2) + "\n"
-        atomic_write(desc, lambda fh, text=text: fh.write(text))
+        atomic_write(desc, _text_writer(json.dumps(describe(case), indent=2) + "\n"))
         written.append(desc)
     index = out / "index.json"
     listing = json.dumps({"cases_version": CASES_VERSION, "cases": [c.name for c in chosen],
                           "docs": "docs/verify.md"}, indent=2) + "\n"  # fmt: skip
-    atomic_write(index, lambda fh: fh.write(listing))
+    atomic_write(index, _text_writer(listing))
     written.append(index)
     return sorted(written)
 
