@@ -31,12 +31,12 @@ from ._common import (
 )
 
 
-def _newton_done(rel: float, prev: float, it: int) -> bool:
+def _newton_done(rel: float, prev: float, it: int) -> int:
     """The stop rule of the compiled midpoint steps, run as plain Python here (no
     dispatch); its kernel module is loaded on first use (it imports numba)."""
     from ... import _numba_helpers
 
-    return bool(source(_numba_helpers.midpoint_newton_done)(rel, prev, it))
+    return int(source(_numba_helpers.midpoint_newton_done)(rel, prev, it))
 
 
 def _run_midpoint(p: RigidProblem) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
