@@ -4,3 +4,11 @@ import importlib.util
 
 # poinsot.jax needs the extra poinsot[jax]: without JAX its doctests cannot be collected
 collect_ignore = [] if importlib.util.find_spec("jax") else ["src/poinsot/jax.py"]
+
+import os  # noqa: E402
+
+# The suite tests the compiled kernels and their compilation (notices, Ctrl-C, the
+# cache): a first call compiles as it did before issue 40, and no background build is
+# started; tests/test_cold_start.py turns interpreting on where it tests it.
+os.environ.setdefault("POINSOT_INTERPRET_FIRST", "0")
+os.environ.setdefault("POINSOT_BACKGROUND_BUILD", "0")

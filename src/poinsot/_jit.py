@@ -69,6 +69,14 @@ __all__ = [
     "compiling",
     "compile_seconds",
     "mute_compile_notice",
+    "first_call",
+    "ready",
+    "interpret_first",
+    "interpreted_seconds",
+    "is_warm",
+    "mark_warm",
+    "build_in_background",
+    "numpy_twin",
 ]
 
 
@@ -202,6 +210,9 @@ class Executor:
     branches: str = ""
     #: what ``while going(cond)``, ``range(upto(n, nmax))`` and ``pick`` become
     loops: str = ""
+    #: whether the poinsot modules a formula reaches as names (``nh.fma``) are re-bound
+    #: too (the plain-Python executor: a compiled module's functions are dispatchers)
+    modules: bool = False
 
 
 #: name -> executor: every way the one formula source runs (``"jax"`` is added by
@@ -218,6 +229,15 @@ EXECUTORS: dict[str, Executor] = {
         {"math": _NPMATH, "max": _vmax, "min": _vmin},
         branches="lanes split where they disagree, each subset re-run, results merged (lanes)",
         loops="as numba (going(cond) is cond: all lanes must agree, else they split)",
+    ),
+    # the compiled kernels' own source run by the interpreter on scalars: the first call
+    # of a kernel that is neither compiled nor in numba's cache (:func:`first_call`)
+    "python": Executor(
+        "python",
+        {},
+        branches="Python's own, element by element (as compiled)",
+        loops="Python's own (going(cond) is cond, upto(n, nmax) is n)",
+        modules=True,
     ),
 }
 
@@ -268,6 +288,10 @@ def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
             prim = primitive_name(v)
             if prim is not None and prim in ex.primitives:  # the executor's own
                 new[k] = ex.primitives[prim]
+            elif ex.modules and isinstance(v, _pytypes.ModuleType) and _is_poinsot(v):
+                new[k] = _ModuleView(v, ns)
+            elif ex.modules and id(v) in TWINS:
+                new[k] = TWINS[id(v)]
             elif _is_formula(v):
                 f = source(v)
                 if ex.wrap is None or f"{f.__module__}.{f.__name__}" in INPLACE:
@@ -275,6 +299,35 @@ def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
                 else:
                     new[k] = ex.wrap(v)
     return new
+
+
+def _is_poinsot(module: _pytypes.ModuleType) -> bool:
+    return module.__name__ == "poinsot" or module.__name__.startswith("poinsot.")
+
+
+#: id of a numba-only object (an ``@intrinsic``) -> the plain function the interpreter
+#: runs in its place (:func:`twin`)
+TWINS: dict[int, Callable[..., Any]] = {}
+
+
+def twin(compiled: Any, plain: Callable[..., Any]) -> None:
+    """Declare ``plain`` the Python form of ``compiled``, a numba-only object (an
+    ``@intrinsic`` has no Python body): the plain-Python executor calls it instead."""
+    TWINS[id(compiled)] = plain
+
+
+class _ModuleView:
+    """A poinsot module as a formula re-bound for executor ``ns`` sees it: its functions
+    re-bound (:func:`rebind`), everything else as it is."""
+
+    def __init__(self, module: _pytypes.ModuleType, ns: str) -> None:
+        self._module, self._ns = module, ns
+
+    def __getattr__(self, name: str) -> Any:
+        v = getattr(self._module, name)
+        out = TWINS.get(id(v)) or (rebind(v, self._ns) if _is_formula(v) else v)
+        setattr(self, name, out)  # looked up once
+        return out
 
 
 def source(fn: Any) -> Any:
@@ -534,6 +587,174 @@ def __getattr__(name: str) -> Any:
         _load()
         return globals()[name]
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+# --------------------------------------------------------------- first calls
+#: The interpreter answers a call whose kernel is neither compiled in this process nor
+#: in numba's cache when its estimated time stays under this (s): compiling a kernel
+#: takes 10-60 s, running a small problem in Python a fraction of a second.
+INTERPRET_MAX_S = 2.0
+#: ... and while the time this process has spent interpreting that kernel stays under
+#: this (s): the rent-or-buy rule (after that much interpreting, compiling pays).
+INTERPRET_TOTAL_S = 20.0
+#: kernel name -> seconds this process spent interpreting it
+_INTERPRETED: dict[str, float] = {}
+
+
+def interpret_first() -> bool:
+    """Whether first calls may be interpreted: numba in use and ``POINSOT_INTERPRET_FIRST``
+    not ``0`` (docs/performance.md, "Cold start")."""
+    flag = os.environ.get("POINSOT_INTERPRET_FIRST", "1").strip().lower()
+    return NUMBA and flag not in ("0", "false", "no", "off")
+
+
+def ready(fn: Any) -> bool:
+    """Whether calling the compiled kernel ``fn`` now compiles nothing: it is compiled in
+    this process, or numba's cache holds a fresh compilation of it (its index matches
+    the source). True for anything that is not a numba dispatcher."""
+    if getattr(fn, "overloads", None):
+        return True
+    cache = getattr(fn, "_cache", None)
+    if cache is None or not hasattr(fn, "py_func"):
+        return True
+    try:
+        return bool(cache._cache_file._load_index())
+    except Exception:  # an unreadable index: numba recompiles, so it is not ready
+        return False
+
+
+def first_call(fn: Any, seconds: float) -> Any:
+    """The kernel to call: ``fn`` itself when that compiles nothing (:func:`ready`), or
+    when interpreting is off or would take long; else ``fn``'s own source run by the
+    interpreter (the ``"python"`` executor: the same operations, results equal to the
+    compiled ones up to the rounding of fused multiply-adds), when the estimated
+    ``seconds`` of the interpreted call stay under :data:`INTERPRET_MAX_S` and this
+    process's interpreting of ``fn`` under :data:`INTERPRET_TOTAL_S`."""
+    if not interpret_first() or ready(fn):
+        return fn
+    key = f"{source(fn).__module__}.{source(fn).__qualname__}"
+    if seconds > INTERPRET_MAX_S or _INTERPRETED.get(key, 0.0) + seconds > INTERPRET_TOTAL_S:
+        return fn
+    plain = rebind(fn, "python")
+    build_in_background()
+
+    def interpreted(*args: Any) -> Any:
+        import time
+
+        t0 = time.perf_counter()
+        try:
+            return plain(*args)
+        finally:
+            _INTERPRETED[key] = _INTERPRETED.get(key, 0.0) + time.perf_counter() - t0
+
+    interpreted.interpreted = True  # type: ignore[attr-defined]
+    return interpreted
+
+
+# ------------------------------------------------- the cache, warm or cold, and its build
+def _marker() -> Any:
+    """The file that says this install's kernels are all in numba's cache: in
+    ``NUMBA_CACHE_DIR`` (else the package's ``__pycache__``), named by what a cached
+    kernel depends on (poinsot's sources, numba's version, the CPU numba targets)."""
+    import hashlib
+    from pathlib import Path
+
+    import numba
+    from llvmlite import binding as llvm
+
+    root = Path(__file__).parent
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*.py")):
+        st = f.stat()
+        h.update(f"{f.relative_to(root)}:{st.st_size}:{st.st_mtime_ns}".encode())
+    cpu = os.environ.get("NUMBA_CPU_NAME") or llvm.get_host_cpu_name()
+    h.update(f"{numba.__version__}:{cpu}".encode())
+    folder = Path(os.environ.get("NUMBA_CACHE_DIR") or root / "__pycache__")
+    return folder / f"poinsot-warm-{h.hexdigest()[:16]}"
+
+
+def is_warm() -> bool:
+    """Whether ``poinsot warmup`` has filled numba's cache for this install (its marker
+    is there): a kernel's first call then loads it instead of compiling."""
+    try:
+        return bool(_marker().exists())
+    except OSError:
+        return False
+
+
+def mark_warm() -> None:
+    """Write the marker of :func:`is_warm` (``poinsot warmup`` does, once it compiled all)."""
+    m = _marker()
+    m.parent.mkdir(parents=True, exist_ok=True)
+    m.write_text("numba's cache holds every poinsot kernel for this install\n")
+
+
+_BUILDING: dict[str, Any] = {}
+
+
+def build_in_background() -> None:
+    """Start ``poinsot warmup --background`` once per process (unless the cache is warm,
+    or ``POINSOT_BACKGROUND_BUILD=0``): a detached, low-priority process that compiles
+    every kernel into numba's cache while this one answers on the interpreter, so that
+    the next process starts warm. A lock file keeps to one such build per cache."""
+    import subprocess
+    import sys
+
+    if _BUILDING or os.environ.get("POINSOT_BACKGROUND_BUILD", "1").strip() in ("0", "no"):
+        return
+    _BUILDING["started"] = True
+    try:
+        if is_warm():
+            return
+        env = dict(os.environ, POINSOT_INTERPRET_FIRST="0", POINSOT_COMPILE_NOTICE="0")
+        _BUILDING["process"] = subprocess.Popen(
+            [sys.executable, "-m", "poinsot.cli", "warmup", "--background", "--quiet"],
+            env=env,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,  # not stopped by this terminal's Ctrl-C
+        )
+    except OSError:  # no process to spare: the next call compiles in the foreground
+        pass
+
+
+def numpy_twin(name: str) -> Any:
+    """The kernel module ``name`` executed again with the NumPy executor's ``njit``,
+    ``guvectorize``, ``prange``, ``overload`` (as under ``POINSOT_NUMBA=0``): its kernels
+    run at once, compiling nothing (a cold cache's first calls)."""
+    import importlib
+    import importlib.util
+    import sys
+
+    # the helpers it imports are loaded first, as they are (compiled): only the twin's
+    # own decorators are the NumPy executor's
+    for helper in ("poinsot._numba_helpers", "poinsot._numba_cache"):
+        importlib.import_module(helper)
+    spec = importlib.util.find_spec(name)
+    assert spec is not None and spec.origin is not None
+    twin = importlib.util.spec_from_file_location(name + "_interpreted", spec.origin)
+    assert twin is not None and twin.loader is not None
+    mod = importlib.util.module_from_spec(twin)
+    mod.__package__ = name.rpartition(".")[0]
+    g = globals()
+    names = ("NUMBA", "njit", "guvectorize", "prange", "overload", "going", "upto", "pick")
+    saved = {k: g[k] for k in names if k in g}
+    g.update(NUMBA=False, njit=_np_njit, guvectorize=_np_guvectorize, prange=range)
+    g.update(overload=_np_overload, going=_going, upto=_upto, pick=_pick)
+    try:
+        sys.modules[twin.name] = mod
+        twin.loader.exec_module(mod)
+    finally:
+        for k in names:
+            g.pop(k, None)
+        g.update(saved)
+    return mod
+
+
+def interpreted_seconds() -> float:
+    """Seconds this process has spent interpreting first calls (:func:`first_call`)."""
+    return sum(_INTERPRETED.values())
 
 
 # ------------------------------------------------------------ compilation watch

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ._jit import NUMBA, njit
+from ._jit import NUMBA, njit, twin
 from .rotations import _scalar as _S
 
 #: Files these helpers are built from: :func:`poinsot._numba_cache.depends_on` adds
@@ -65,6 +65,30 @@ __all__ = [
 
 # typed Any: numba's stubs want literal option values, a plain dict[str, str] matches none
 _INLINE: dict[str, Any] = {"inline": "always"}
+
+
+# the plain-Python forms of the intrinsics below (NumPy executor, and the interpreter's
+# first calls: poinsot._jit.first_call): one rounding more than the compiled fma
+
+
+def _fma_numpy(a: Any, b: Any, c: Any) -> Any:
+    return a * b + c
+
+
+def _store_numpy(a: Any, i: Any, v: Any) -> None:
+    a[i] = v
+
+
+def _fence_numpy() -> None:
+    pass
+
+
+def _prefetch_numpy(a: Any, i: Any) -> None:
+    pass
+
+
+def _cancelled_numpy(a: Any) -> bool:
+    return bool(a[0] != 0)
 
 
 fma: Any
@@ -181,23 +205,15 @@ if NUMBA:
     fence = _fence
     prefetch = _prefetch
     cancelled = _cancelled
+    for compiled, plain in (
+        (_fma, _fma_numpy),
+        (_store_nt, _store_numpy),
+        (_fence, _fence_numpy),
+        (_prefetch, _prefetch_numpy),
+        (_cancelled, _cancelled_numpy),
+    ):
+        twin(compiled, plain)  # what the plain-Python executor runs in their place
 else:  # the NumPy executor: one rounding more (its results are not numba's bit for bit)
-
-    def _fma_numpy(a: Any, b: Any, c: Any) -> Any:
-        return a * b + c
-
-    def _store_numpy(a: Any, i: Any, v: Any) -> None:
-        a[i] = v
-
-    def _fence_numpy() -> None:
-        pass
-
-    def _prefetch_numpy(a: Any, i: Any) -> None:
-        pass
-
-    def _cancelled_numpy(a: Any) -> bool:
-        return bool(a[0] != 0)
-
     fma = _fma_numpy
     cancelled = _cancelled_numpy
     store_nt = _store_numpy

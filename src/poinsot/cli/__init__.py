@@ -50,6 +50,7 @@ COMMANDS: dict[str, str] = {
     "inertia": "inertia tensor and principal axes of a solid",
     "ensemble": "Monte-Carlo ensemble of a dispersed scenario (Dask)",
     "verify": "check a physics engine against exact solutions",
+    "warmup": "compile every kernel into numba's cache (once per install)",
 }
 
 

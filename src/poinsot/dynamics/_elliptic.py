@@ -73,7 +73,7 @@ import math
 
 import numpy as np
 
-from .._jit import going, njit, upto
+from .._jit import first_call, going, njit, upto
 from .._typing import ArrayLike, FloatArray
 
 __all__ = [
@@ -619,7 +619,7 @@ def ellipj(
     m, m1 = _m_m1(m, m1)
     shape, (u, m, m1) = _flat(u, m, m1)
     sn, cn, dn, am = (np.empty(u.shape[0]) for _ in range(4))
-    _ellipj_loop(u, m, m1, sn, cn, dn, am)
+    first_call(_ellipj_loop, u.shape[0] * 1e-4)(u, m, m1, sn, cn, dn, am)
     return _out(shape, sn, cn, dn, am)
 
 
@@ -627,7 +627,7 @@ def _complete(kind, n, m, m1):
     m, m1 = _m_m1(m, m1)
     shape, (n, m, m1) = _flat(n, m, m1)
     out = np.empty(m.shape[0])
-    _complete_loop(kind, n, m, m1, out)
+    first_call(_complete_loop, m.shape[0] * 1e-4)(kind, n, m, m1, out)
     return _out(shape, out)
 
 
@@ -665,7 +665,7 @@ def _incomplete(kind, n, phi, m, m1):
     m, m1 = _m_m1(m, m1)
     shape, (n, phi, m, m1) = _flat(n, phi, m, m1)
     out = np.empty(m.shape[0])
-    _incomplete_loop(kind, n, phi, m, m1, out)
+    first_call(_incomplete_loop, out.shape[0] * 1e-4)(kind, n, phi, m, m1, out)
     return _out(shape, out)
 
 
@@ -708,7 +708,7 @@ def ellippiinc(
 def _carlson(kind, x, y, z, p):
     shape, (x, y, z, p) = _flat(x, y, z, p)
     out = np.empty(x.shape[0])
-    _carlson_loop(kind, x, y, z, p, out)
+    first_call(_carlson_loop, out.shape[0] * 1e-4)(kind, x, y, z, p, out)
     return _out(shape, out)
 
 

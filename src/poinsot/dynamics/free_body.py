@@ -62,6 +62,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _display
+from .._jit import first_call
 from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_vec3, batch_shape, is_integer
@@ -400,7 +401,7 @@ class FreeRigidBody:
         self._ks = np.zeros((n, kern.LMAX))
         self._kps = np.zeros((n, kern.LMAX))
         self._info = np.zeros((n, 5))
-        kern.setup(
+        first_call(kern.setup, n * 2e-3)(
             mom_s,
             w_s,
             np.ascontiguousarray(qp0),
@@ -645,7 +646,7 @@ class FreeRigidBody:
         w = np.empty((self._n, nt, 3))
         q = np.empty((self._n, nt if want_q else 0, 4))
         qv = np.broadcast_to(_IDENTITY, (self._n, 4)).copy() if principal else self._qv
-        kern.evaluate(
+        first_call(kern.evaluate, self._n * nt * 1e-4)(
             np.ascontiguousarray(t, dtype=np.float64),
             self._par,
             self._idx,

@@ -85,6 +85,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _display
+from .._jit import first_call
 from .._progress import Progress, in_chunks
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_float_array, as_rotation_quat, as_vec3
@@ -787,7 +788,7 @@ class LagrangeTop:
                 + par[kn.P_Q2P] * sp
                 + par[kn.P_Q2M] * sm
             )
-        sn0, cn0, dn0, pip0, pim0, f0 = kn.pi_at(tau0, par, s.fp, s.fm)
+        sn0, cn0, dn0, pip0, pim0, f0 = first_call(kn.pi_at, 1e-3)(tau0, par, s.fp, s.fm)
         par[kn.P_PIP0] = pip0
         par[kn.P_PIM0] = pim0
         par[kn.P_F0] = f0
@@ -1038,7 +1039,7 @@ class LagrangeTop:
         q = np.empty((n if want_q else 0, 4))
         w = np.empty((n if want_w else 0, 3))
         xs = np.empty((n, (5 if direct else 4) if angles else 2))
-        kn.motion(ta, s.par, s.fp, s.fm, want_q, want_w, q, w, xs)
+        first_call(kn.motion, n * 2e-4)(ta, s.par, s.fp, s.fm, want_q, want_w, q, w, xs)
         if not angles:
             return q, w, xs[:, 0], xs[:, 1], None, None, None
         return (

@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import importlib
 import os
+import sys
 from collections.abc import Callable
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import _jit
 from .._jit import NUMBA
 from .._validate import as_int
 from ..errors import InvalidInputError
@@ -36,11 +38,24 @@ _USER_THREADS = False  # set_num_threads was called: use numba's count as it is
 PARALLEL_MIN_SIZE = 20_000
 
 
+#: Whether this process runs the rotation kernels on the NumPy executor because numba's
+#: cache was cold at their first use (:func:`kernels`).
+_TWIN = False
+
+
 def kernels() -> ModuleType:
-    """Return :mod:`poinsot.rotations._kernels`, importing (and compiling) it once."""
-    global _MODULE
+    """Return :mod:`poinsot.rotations._kernels`, importing (and compiling) it once; on a
+    cold cache (no ``poinsot warmup`` yet, :func:`poinsot._jit.is_warm`), its NumPy-executor
+    twin (:func:`poinsot._jit.numpy_twin`), which compiles nothing, while a background
+    process fills the cache for the next one (docs/performance.md, "Cold start")."""
+    global _MODULE, _TWIN
     if _MODULE is None:
-        _MODULE = importlib.import_module("poinsot.rotations._kernels")
+        name = "poinsot.rotations._kernels"
+        if _jit.interpret_first() and name not in sys.modules and not _jit.is_warm():
+            _MODULE, _TWIN = _jit.numpy_twin(name), True
+            _jit.build_in_background()
+        else:
+            _MODULE = importlib.import_module(name)
     return _MODULE
 
 
@@ -95,9 +110,9 @@ _FALLBACK_THREADS = [1]  # the NumPy executor runs on the calling thread
 
 def _numba() -> bool:
     """Whether the kernels are compiled by numba (:mod:`poinsot._jit`; imported here,
-    not at ``import poinsot``)."""
-
-    return NUMBA
+    not at ``import poinsot``): not when this process runs their NumPy-executor twin."""
+    kernels()
+    return NUMBA and not _TWIN
 
 
 def set_num_threads(n: int | None) -> None:
@@ -176,7 +191,7 @@ def thread_count() -> int:
 
 def threaded(kernel: Callable[..., Any], *args: Any) -> Any:
     """Call a threaded flat kernel with the thread count described in the module notes."""
-    if _USER_THREADS or not _numba():  # the NumPy executor runs on the calling thread
+    if _USER_THREADS or not NUMBA:  # the NumPy executor runs on the calling thread
         return kernel(*args)
     from numba import get_num_threads as _get
     from numba import set_num_threads as _set

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ... import _quat
+from ..._jit import first_call
 from ..._progress import _Report, run_compiled
 from ..._typing import ArrayLike, FloatArray, IntArray
 from ..._vec import all_diagonal3, diagonal3, inverse3
@@ -269,6 +270,9 @@ def _run_kernel(
     cancel = np.zeros(1, dtype=np.int64)
     done = np.zeros(1, dtype=np.int64)
     n_body, n_int = q.shape[0], t.shape[0] - 1
+    # a first call on a cold cache runs in the interpreter when that is quicker than
+    # compiling (poinsot._jit.first_call: ~0.5 ms a step and body, taken high)
+    kernel = first_call(kernel, n_body * float(np.sum(nsub)) * 1e-3)
     return run_compiled(
         kernel,
         (*args, cancel, done, *extra),

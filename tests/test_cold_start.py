@@ -1,0 +1,160 @@
+"""First calls on a cold numba cache (issue 40): small problems are answered by the
+interpreter running the kernels' own source (rotations by their NumPy-executor twin),
+with the compiled results to round-off, compiling nothing; large ones compile; a
+background ``poinsot warmup`` fills the cache once per install.
+
+Each cold case runs in a fresh process with an empty ``NUMBA_CACHE_DIR``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from poinsot import _jit
+
+pytestmark = pytest.mark.skipif(not _jit.NUMBA, reason="the cold cache is numba's")
+
+
+def _cold(code: str, cache, **env: str) -> dict:
+    """Run ``code`` (which sets ``out``, a JSON-able dict) in a fresh process with the
+    empty cache ``cache`` and interpreting on; returns ``out`` plus the seconds compiled
+    and interpreted there."""
+    full = (
+        "import json, numpy as np\nfrom poinsot import _jit\n" + code + "\n"
+        "out['compiled_s'] = _jit.compile_seconds()\n"
+        "out['interpreted_s'] = _jit.interpreted_seconds()\n"
+        "print(json.dumps(out))\n"
+    )
+    env = dict(
+        os.environ,
+        NUMBA_CACHE_DIR=str(cache),
+        POINSOT_INTERPRET_FIRST="1",
+        POINSOT_BACKGROUND_BUILD="0",
+        POINSOT_COMPILE_NOTICE="0",
+        **env,
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", full], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert res.returncode == 0, res.stderr[-3000:]
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+SIMULATE = """
+from poinsot.dynamics import simulate
+tr = simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 2.0, 0.1], np.linspace(0, 10, 51), {kw})
+out = {{'quat': tr.rotation.as_quat(scalar_first=True).tolist(), 'omega': tr.omega.tolist()}}
+"""
+
+
+@pytest.mark.parametrize(
+    "kw", ["rtol=1e-10", "method='midpoint', max_step=0.01", "method='rk4', max_step=0.01"]
+)
+def test_a_small_first_simulate_is_interpreted_and_equals_the_compiled(tmp_path, kw):
+    out = _cold(SIMULATE.format(kw=kw), tmp_path)
+    assert out["compiled_s"] == 0.0 and out["interpreted_s"] > 0.0
+    from poinsot.dynamics import simulate  # compiled here (interpreting off in the suite)
+
+    tr = simulate([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 2.0, 0.1], np.linspace(0, 10, 51),
+                  **eval(f"dict({kw})"))  # fmt: skip
+    # the same operations; a fused multiply-add of the compiled kernel is two roundings
+    # here (observed <= 3.4e-13 over 10 s of a tumbling body)
+    np.testing.assert_allclose(out["omega"], tr.omega, rtol=0, atol=1e-11)
+    np.testing.assert_allclose(out["quat"], tr.rotation.as_quat(scalar_first=True), atol=1e-11)
+
+
+def test_a_cold_free_body_and_rotations_compile_nothing(tmp_path):
+    code = """
+from poinsot import Rotation
+from poinsot.dynamics import FreeRigidBody
+from poinsot.rotations import _lazy
+tr = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 2.0, 0.1]).trajectory(np.linspace(0, 10, 101))
+e = np.random.default_rng(0).uniform(-3, 3, (500, 3))
+r = Rotation.from_euler('ZXZ', e)
+out = {'omega': tr.omega.tolist(), 'euler': r.as_euler('ZXZ').tolist(),
+       'matrix': r.as_matrix().tolist(), 'twin': _lazy._TWIN}
+"""
+    out = _cold(code, tmp_path)
+    assert out["compiled_s"] == 0.0 and out["twin"] is True
+    from poinsot import Rotation
+    from poinsot.dynamics import FreeRigidBody
+
+    tr = FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 2.0, 0.1]).trajectory(np.linspace(0, 10, 101))
+    np.testing.assert_allclose(out["omega"], tr.omega, rtol=0, atol=1e-13)
+    r = Rotation.from_euler("ZXZ", np.random.default_rng(0).uniform(-3, 3, (500, 3)))
+    np.testing.assert_allclose(out["matrix"], r.as_matrix(), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(out["euler"], r.as_euler("ZXZ"), rtol=0, atol=1e-13)
+
+
+def test_first_call_interprets_small_calls_then_compiles(monkeypatch):
+    from numba import njit
+
+    @njit(cache=False)
+    def kernel(x):  # a kernel no cache holds
+        return 2.0 * x + 1.0
+
+    monkeypatch.setenv("POINSOT_INTERPRET_FIRST", "1")
+    monkeypatch.setenv("POINSOT_BACKGROUND_BUILD", "0")
+    monkeypatch.setattr(_jit, "_INTERPRETED", {})
+    assert not _jit.ready(kernel)
+    assert _jit.first_call(kernel, seconds=_jit.INTERPRET_MAX_S * 2) is kernel  # too long
+    f = _jit.first_call(kernel, seconds=0.01)
+    assert f is not kernel and getattr(f, "interpreted", False) and f(3.0) == 7.0
+    assert not kernel.signatures  # the interpreter compiled nothing
+    (key,) = _jit._INTERPRETED  # the seconds interpreted, per kernel
+    _jit._INTERPRETED[key] = _jit.INTERPRET_TOTAL_S
+    assert _jit.first_call(kernel, seconds=0.01) is kernel  # rent-or-buy: now compile
+    assert kernel(3.0) == 7.0 and _jit.ready(kernel)  # compiled: ready from now on
+    monkeypatch.setenv("POINSOT_INTERPRET_FIRST", "0")
+    assert _jit.first_call(kernel, seconds=0.0) is kernel
+
+
+def test_warm_marker_and_the_build_lock(tmp_path, monkeypatch):
+    from poinsot.cli import warmup
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    assert not _jit.is_warm()
+    _jit.mark_warm()
+    assert _jit.is_warm() and _jit._marker().parent == tmp_path
+    lock = warmup._lock(_jit._marker())
+    assert lock is not None and lock.exists()
+    assert warmup._lock(_jit._marker()) is None  # one build at a time
+    old = time.time() - warmup.LOCK_S - 1
+    os.utime(lock, (old, old))
+    assert warmup._lock(_jit._marker()) is not None  # a stale lock is taken over
+
+
+def test_the_background_build_is_a_detached_warmup_started_once(tmp_path, monkeypatch):
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("POINSOT_BACKGROUND_BUILD", "1")
+    monkeypatch.setattr(_jit, "_BUILDING", {})
+    _jit.build_in_background()
+    proc = _jit._BUILDING.get("process")
+    try:
+        assert proc is not None and proc.args[-3:] == ["warmup", "--background", "--quiet"]
+        assert os.getsid(proc.pid) == proc.pid  # its own session: the terminal's Ctrl-C
+        _jit.build_in_background()  # once per process
+        assert _jit._BUILDING["process"] is proc
+    finally:
+        if proc is not None:
+            os.killpg(proc.pid, signal.SIGTERM)
+            proc.wait(30)
+    monkeypatch.setattr(_jit, "_BUILDING", {})
+    _jit.mark_warm()  # a warm cache starts no build
+    _jit.build_in_background()
+    assert "process" not in _jit._BUILDING
+
+
+def test_warmup_without_numba_says_so(tmp_path):
+    env = dict(os.environ, POINSOT_NUMBA="0")
+    res = subprocess.run([sys.executable, "-m", "poinsot.cli", "warmup"], env=env,
+                         capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert res.returncode == 0 and "nothing to compile" in res.stdout
