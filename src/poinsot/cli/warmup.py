@@ -15,6 +15,20 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
+from .. import _jit
+from ..dynamics import (
+    ConstantBodyTorque,
+    FreeRigidBody,
+    GravityTorque,
+    HeavyRigidBody,
+    LagrangeTop,
+    simulate,
+)
+from ..rotations import PARALLEL_MIN_SIZE
+from ..rotations.rotation import Rotation
+
 DESCRIPTION = (
     "Compile every poinsot kernel for this machine into numba's cache (NUMBA_CACHE_DIR, "
     "else the package's __pycache__), so that no first call compiles or is interpreted."
@@ -45,18 +59,6 @@ def exercise() -> None:
     call): rotations (small and threaded batches), simulate with each method and
     built-in torque (one body, and a batch wide enough for the SIMD lanes), the heavy
     top, the exact free body and the Lagrange top."""
-    import numpy as np
-
-    from .. import Rotation
-    from ..dynamics import (
-        ConstantBodyTorque,
-        FreeRigidBody,
-        GravityTorque,
-        HeavyRigidBody,
-        LagrangeTop,
-        simulate,
-    )
-    from ..rotations import PARALLEL_MIN_SIZE
 
     rng = np.random.default_rng(0)
     for n in (3, PARALLEL_MIN_SIZE):
@@ -104,8 +106,6 @@ def _lock(marker: Path) -> Path | None:
 
 def _cmd_warmup(args: argparse.Namespace) -> int:
     os.environ["POINSOT_INTERPRET_FIRST"] = "0"  # compile, never interpret, here
-    from .. import _jit
-
     if not _jit.NUMBA:
         if not args.quiet:
             print("poinsot warmup: numba is not in use (POINSOT_NUMBA=0 or not installed); "
