@@ -33,14 +33,14 @@ def _cold(code: str, cache, **env: str) -> dict:
         "out['interpreted_s'] = _jit.interpreted_seconds()\n"
         "print(json.dumps(out))\n"
     )
-    env = dict(
-        os.environ,
-        NUMBA_CACHE_DIR=str(cache),
-        POINSOT_INTERPRET_FIRST="1",
-        POINSOT_BACKGROUND_BUILD="0",
-        POINSOT_COMPILE_NOTICE="0",
+    env = {
+        **os.environ,
+        "NUMBA_CACHE_DIR": str(cache),
+        "POINSOT_INTERPRET_FIRST": "1",
+        "POINSOT_BACKGROUND_BUILD": "0",
+        "POINSOT_COMPILE_NOTICE": "0",
         **env,
-    )
+    }
     res = subprocess.run(
         [sys.executable, "-c", full], env=env, capture_output=True, text=True, timeout=300
     )
@@ -158,3 +158,37 @@ def test_warmup_without_numba_says_so(tmp_path):
     res = subprocess.run([sys.executable, "-m", "poinsot.cli", "warmup"], env=env,
                          capture_output=True, text=True, timeout=120)  # fmt: skip
     assert res.returncode == 0 and "nothing to compile" in res.stdout
+
+
+def test_a_large_rotation_batch_leaves_the_twin_for_the_compiled_kernels(tmp_path):
+    code = """
+from poinsot import Rotation
+from poinsot.rotations import PARALLEL_MIN_SIZE, _lazy
+r = Rotation.from_euler('ZXZ', np.random.default_rng(1).uniform(-3, 3, (100, 3)))
+small = _lazy._TWIN
+big = Rotation.from_euler('ZXZ', np.random.default_rng(1).uniform(-3, 3, (PARALLEL_MIN_SIZE, 3)))
+out = {'small_twin': small, 'twin_after': _lazy._TWIN, 'm': big.as_matrix()[:50].tolist()}
+"""
+    out = _cold(code, tmp_path)
+    assert out["small_twin"] is True and out["twin_after"] is False
+    assert out["compiled_s"] > 0.0  # rent or buy: the large batch paid for compiling
+    from poinsot import Rotation
+    from poinsot.rotations import PARALLEL_MIN_SIZE
+
+    e = np.random.default_rng(1).uniform(-3, 3, (PARALLEL_MIN_SIZE, 3))
+    np.testing.assert_allclose(out["m"], Rotation.from_euler("ZXZ", e).as_matrix()[:50], atol=1e-15)
+
+
+def test_a_cache_that_holds_the_rotation_kernels_is_used_without_the_marker(tmp_path):
+    """A cache filled by ordinary use (no ``poinsot warmup`` marker) is warm for the
+    rotations: the compiled kernels load, the twin is not used."""
+    code = """
+from poinsot import Rotation
+from poinsot.rotations import _lazy
+Rotation.from_euler('ZXZ', [[0.1, 0.2, 0.3]] * 3).as_matrix()
+out = {'twin': _lazy._TWIN}
+"""
+    fill = _cold(code, tmp_path, POINSOT_INTERPRET_FIRST="0")  # compiles into the cache
+    assert fill["twin"] is False
+    again = _cold(code, tmp_path)
+    assert again["twin"] is False and again["compiled_s"] == 0.0

@@ -50,13 +50,52 @@ def kernels() -> ModuleType:
     process fills the cache for the next one (docs/performance.md, "Cold start")."""
     global _MODULE, _TWIN
     if _MODULE is None:
-        name = "poinsot.rotations._kernels"
-        if _jit.interpret_first() and name not in sys.modules and not _jit.is_warm():
-            _MODULE, _TWIN = _jit.numpy_twin(name), True
+        cold = _jit.interpret_first() and _KERNELS not in sys.modules
+        if cold and not _jit.is_warm() and not _cached(_KERNELS):
+            _MODULE, _TWIN = _jit.numpy_twin(_KERNELS), True
             _jit.build_in_background()
         else:
-            _MODULE = importlib.import_module(name)
+            _MODULE = importlib.import_module(_KERNELS)
     return _MODULE
+
+
+_KERNELS = "poinsot.rotations._kernels"
+
+
+def _compiled() -> None:
+    """Leave the twin for the compiled kernels (a batch large enough to pay for them)."""
+    global _MODULE, _TWIN
+    _MODULE, _TWIN = importlib.import_module(_KERNELS), False
+
+
+def _cached(name: str) -> bool:
+    """Whether numba's cache holds compilations of the kernel module ``name``: its index
+    files where the first of numba's locators that applies puts them (as numba looks
+    them up). True when that cannot be told: the module then loads (or compiles) as
+    it always did."""
+    try:
+        import importlib.util
+        from pathlib import Path
+
+        from numba.core import caching
+
+        impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # type: ignore[attr-defined]
+        spec = importlib.util.find_spec(name)
+        if spec is None or spec.origin is None:
+            return True
+        path = spec.origin
+        ns: dict[str, Any] = {}
+        exec(compile("def probe():\n    pass\n", path, "exec"), ns)  # a function of that file
+        for cls in impl._locator_classes:
+            try:
+                loc = cls.from_function(ns["probe"], path)
+            except Exception:  # a locator that does not apply to this file
+                continue
+            if loc is not None:
+                return any(Path(loc.get_cache_path()).glob(Path(path).stem + ".*.nbi"))
+    except Exception:
+        return True
+    return True
 
 
 class _OneRotation:
@@ -259,9 +298,11 @@ def flat(a: np.ndarray, k: int) -> np.ndarray:
 def big(shape: tuple[int, ...]) -> bool:
     """Whether a batch of this leading shape takes the threaded flat kernels (never
     under the NumPy executor: its broadcasting kernels are already vectorised)."""
-    if not _numba():
-        return False
     n = 1
     for d in shape:
         n *= d
+    if n >= PARALLEL_MIN_SIZE and _TWIN and NUMBA:
+        _compiled()  # rent or buy: a batch this large pays for compiling the kernels
+    if not _numba():
+        return False
     return n >= PARALLEL_MIN_SIZE
