@@ -5,6 +5,7 @@ layer or a lower one. Read with ``ast`` from the source files (nothing imported)
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -129,11 +130,16 @@ def _resolve(module: str, path: Path, node: ast.ImportFrom, modules: dict[str, P
     return [f"{target}.{a.name}" if f"{target}.{a.name}" in modules else target for a in node.names]
 
 
+@functools.cache
+def _tree(path: Path) -> ast.Module:
+    return ast.parse(path.read_text(), str(path))
+
+
 def _imports(module: str, modules: dict[str, Path]) -> list[tuple[str, bool, int]]:
     """``(target, inside a function, line)`` of every poinsot import of ``module``
     (not those under ``if TYPE_CHECKING``: they never run)."""
     path = modules[module]
-    tree = ast.parse(path.read_text(), str(path))
+    tree = _tree(path)
     typing_only = {
         id(n)
         for node in ast.walk(tree)
@@ -166,16 +172,16 @@ def _loads_numba(modules: dict[str, Path]) -> set[str]:
     level, or imports such a module at module level."""
     kernels = set()
     for module, path in modules.items():
-        for node in ast.parse(path.read_text()).body:
+        for node in _tree(path).body:
             if isinstance(node, ast.ImportFrom) and (node.module or "").endswith("_jit"):
                 if {a.name for a in node.names} & {"njit", "guvectorize", "prange"}:
                     kernels.add(module)
+    tops = {m: {t for t, inner, _ in _imports(m, modules) if not inner} for m in modules}
     grew = True
     while grew:
         grew = False
         for module in modules:
-            top = {t for t, inner, _ in _imports(module, modules) if not inner}
-            if module not in kernels and top & kernels:
+            if module not in kernels and tops[module] & kernels:
                 kernels.add(module)
                 grew = True
     return kernels
