@@ -21,11 +21,16 @@ demo: venv
 browser:
 	bash tools/install_browser.sh
 
+# Two pytest-xdist workers (the machines this runs on have two cores): the tests of one
+# file on one worker, so that a cold numba cache compiles each file's kernels once, and
+# every XLA-compiling file on the same worker (conftest.py). `make test XDIST=` runs serially.
+XDIST ?= -n 2 --dist loadgroup
+
 test: venv browser
 	$(PY) -m ruff check src tests benchmarks
 	$(PY) -m ruff format --check src tests benchmarks tools
 	$(PY) -m mypy src/poinsot
-	$(PY) -m pytest --durations=30
+	$(PY) -m pytest $(XDIST) --durations=30
 	$(MAKE) test-nonumba
 
 # Tests marked slow (minutes of XLA compiling each: the JAX exact free body's forward-
@@ -44,7 +49,7 @@ NONUMBA_TESTS := tests/rotations tests/kinematics tests/test_nonumba.py tests/sy
 	tests/dynamics/test_elliptic.py tests/dynamics/test_lagrange_top.py \
 	--ignore tests/rotations/test_single_batch_threads.py
 test-nonumba: venv
-	POINSOT_NUMBA=0 $(PY) -m pytest -p no:cacheprovider $(NONUMBA_TESTS) \
+	POINSOT_NUMBA=0 $(PY) -m pytest $(XDIST) -p no:cacheprovider $(NONUMBA_TESTS) \
 		-k "not kernel_cache and not mixed_regimes_equals_single"
 
 # The suite again with NumPy, SciPy and numba at the lowest versions pyproject.toml
@@ -77,7 +82,7 @@ min-versions-banner:
 	@$(PY_MIN) -c "import numpy, scipy, numba; print('minimum versions: numpy', numpy.__version__, 'scipy', scipy.__version__, 'numba', numba.__version__)"
 
 test-min-core: $(STAMP_MIN_CORE) min-versions-banner
-	$(PY_MIN) -m pytest $(CORE_TESTS)
+	$(PY_MIN) -m pytest $(XDIST) $(CORE_TESTS)
 
 test-min: $(STAMP_MIN) browser min-versions-banner
 	$(PY_MIN) -m pytest
