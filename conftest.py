@@ -31,7 +31,12 @@ def pytest_collection_modifyitems(config, items):
     """Under pytest-xdist (`make test` runs `-n 2 --dist loadgroup`): the tests of one
     file run on one worker, so the numba kernels a file needs compile once, in one
     process (not once in each worker on a cold cache), and the XLA files share one
-    worker. Without xdist the marks change nothing."""
+    worker. The XLA group is moved to the front: it is the longest (minutes of XLA
+    compiling), and a group is given to a worker in the order of the collection, so it
+    starts first and the other worker takes the rest. Without xdist the marks change
+    nothing."""
+    if config.pluginmanager.hasplugin("xdist") and getattr(config.option, "numprocesses", None):
+        items.sort(key=lambda item: item.nodeid.split("::")[0] not in _XLA_FILES)
     for item in items:
         path = item.nodeid.split("::")[0]
         group = "xla" if path in _XLA_FILES else path
