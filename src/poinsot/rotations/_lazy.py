@@ -302,8 +302,9 @@ def big(shape: tuple[int, ...]) -> bool:
     n = 1
     for d in shape:
         n *= d
+    if _numba():  # resolves the kernels first: on a cold cache, their twin
+        return n >= PARALLEL_MIN_SIZE
     if n >= PARALLEL_MIN_SIZE and _TWIN and NUMBA:
         _compiled()  # rent or buy: a batch this large pays for compiling the kernels
-    if not _numba():
-        return False
-    return n >= PARALLEL_MIN_SIZE
+        return True
+    return False

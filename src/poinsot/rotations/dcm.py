@@ -48,9 +48,10 @@ def matrix_from_quat(q: np.ndarray, out: np.ndarray | None = None) -> np.ndarray
         m = np.empty((f.shape[0], 9)) if out is None else out.reshape(-1, 9)
         threaded(kernels().to_matrix_flat, f, _NO_T, m)
         return m.reshape(q.shape[:-1] + (3, 3)) if out is None else out
+    m = kernels().quat_to_matrix(q, _D3)  # C order from numba; the NumPy executor's is not
     if out is None:
-        return kernels().quat_to_matrix(q, _D3)
-    out[...] = kernels().quat_to_matrix(q, _D3)
+        return np.ascontiguousarray(m)  # so that np.empty_like(result) is a valid out
+    out[...] = m
     return out
 
 
