@@ -132,16 +132,24 @@ def rotations(n: int) -> None:
     # (a fresh result array, its pages faulted in as any new NumPy result's are), times
     # the bytes each operation must read and write; timed in each row's rounds.
     f8 = 8 * n
+    into = np.empty_like(m)  # as_matrix(out=into): a result array reused from call to call
+    into_copy = np.empty_like(m)
+    # Euler angles: roll, pitch, yaw about the fixed x, y, z (extrinsic "xyz"), jaxlie's
+    # as_rpy_radians; numpy-quaternion and quaternionic offer only z-y-z (marked †)
     ops: list[tuple[str, int, Callable[[], object], Callable[[], object]]] = [
         ("matrix -> quaternion", f8 * 13, lambda: Rotation.from_matrix(m), lambda: None),
         ("inverse", f8 * 8, lambda: r.inv(), lambda: None),
         ("quaternion -> matrix", f8 * 13, lambda: r.as_matrix(), lambda: None),
+        ("quaternion -> matrix, out=", f8 * 13, lambda: r.as_matrix(out=into), lambda: None),
+        ("quaternion -> Euler xyz", f8 * 7, lambda: r.as_euler("xyz"), lambda: None),
     ]
     peers: dict[str, list[Callable[[], object] | None]] = {
         "SciPy": [
             lambda: SciPyRotation.from_matrix(m),
             lambda: s.inv(),
             lambda: s.as_matrix(),
+            lambda: s.as_matrix(),
+            lambda: s.as_euler("xyz"),
         ]
     }
     try:
@@ -155,11 +163,15 @@ def rotations(n: int) -> None:
         f_m2q = jax.jit(lambda a: jaxlie.SO3.from_matrix(a).wxyz)
         f_inv = jax.jit(lambda a: jaxlie.SO3(a).inverse().wxyz)
         f_q2m = jax.jit(lambda a: jaxlie.SO3(a).as_matrix())
+        f_rpy = jax.jit(lambda a: jnp.stack(jaxlie.SO3(a).as_rpy_radians(), axis=-1))
         assert np.allclose(np.abs(np.sum(np.asarray(f_m2q(jm)) * q, axis=1)), 1.0, atol=1e-12)
+        assert np.allclose(np.asarray(f_rpy(jq)), s.as_euler("xyz"), rtol=0, atol=1e-12)
         peers["jaxlie (XLA)"] = [
             lambda: f_m2q(jm).block_until_ready(),
             lambda: f_inv(jq).block_until_ready(),
             lambda: f_q2m(jq).block_until_ready(),
+            lambda: f_q2m(jq).block_until_ready(),
+            lambda: f_rpy(jq).block_until_ready(),
         ]
     except ImportError as e:
         missing("jaxlie", e)
@@ -171,6 +183,8 @@ def rotations(n: int) -> None:
             lambda: npq.from_rotation_matrix(m_small),
             lambda: np.reciprocal(qq),
             lambda: npq.as_rotation_matrix(qq),
+            lambda: npq.as_rotation_matrix(qq),
+            lambda: npq.as_euler_angles(qq),
         ]
     except ImportError as e:
         missing("numpy-quaternion", e)
@@ -182,6 +196,8 @@ def rotations(n: int) -> None:
             lambda: quaternionic.array.from_rotation_matrix(m_small),
             lambda: qa.inverse,
             lambda: qa.to_rotation_matrix,
+            lambda: qa.to_rotation_matrix,
+            lambda: qa.to_euler_angles,
         ]
     except ImportError as e:
         missing("quaternionic", e)
@@ -198,6 +214,8 @@ def rotations(n: int) -> None:
         before = {"auto": lambda: set_threads(cores), "one": lambda: set_threads(1)}
         if name == "quaternion -> matrix":  # what bounds it: writing its result alone
             fns["write"], before["write"] = lambda: write_fresh(m.size), before["auto"]
+        if name.endswith("out="):  # the floor of a reused result: copying into one
+            fns["copyto"] = lambda: np.copyto(into_copy, m)
         t = interleaved(fns, before=before)
         set_threads(None)
         t_auto, t_one = t["auto"], t["one"]
@@ -212,18 +230,25 @@ def rotations(n: int) -> None:
                 continue
             slow = k == 0 and pname in ("numpy-quaternion", "quaternionic")
             tp = t[pname] * (n / SMALL if slow else 1.0)
-            row.append(f"{1e9 * tp / n:.1f}" + ("*" if slow else ""))
+            zyz = name.endswith("Euler xyz") and pname in ("numpy-quaternion", "quaternionic")
+            row.append(f"{1e9 * tp / n:.1f}" + ("*" if slow else "") + ("†" if zyz else ""))
             if pname != "SciPy" and tp < best_peer:
                 best_peer, best_name = tp, pname
         row += [f"{best_peer / t_auto:.2f}x ({best_name})", f"{t_auto / floor:.2f}x"]
         rows.append(row)
         if "write" in t:
             t_write, floor_q2m = t["write"], floor
+        if "copyto" in t:
+            t_copyto, t_out = t["copyto"] * nbytes / (2 * m.nbytes), t_auto
     head = [f"N = {n:.0e}, ns per rotation", f"poinsot ({cores} thr)", "poinsot 1 thr"]
     head.append("copy floor")
     head += list(peers) + ["best non-SciPy peer / poinsot", "poinsot / floor"]
     print(table(rows, head))
-    print(f"  (* timed on {SMALL} rotations)")
+    print(
+        f"  (* timed on {SMALL} rotations; † their only Euler sequence, z-y-z; the out= row "
+        "writes into one (N, 3, 3) array reused from call to call, the peers (none offers "
+        "out=) their fresh result)"
+    )
     print(
         f"  (poinsot's default would take {_threads()} thread(s) now: the idle cores; copy floor = "
         f"{1e-9 / max(per_bytes):.1f}-{1e-9 / min(per_bytes):.1f} GB/s from copying the (N, 3, 3) "
@@ -235,6 +260,11 @@ def rotations(n: int) -> None:
         f"  (writing a fresh (N, 3, 3) result alone, streaming stores of one value on "
         f"{cores} threads, in the quaternion -> matrix rounds: {1e9 * t_write / n:.1f} ns "
         f"per rotation, {t_write / floor_q2m:.2f}x the floor)"
+    )
+    print(
+        f"  (the floor of a reused result: copying the (N, 3, 3) batch into an existing array, "
+        f"times the bytes of quaternion -> matrix, {1e9 * t_copyto / n:.1f} ns per rotation; "
+        f"out= takes {t_out / t_copyto:.2f}x that)"
     )
 
 

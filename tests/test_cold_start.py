@@ -179,6 +179,23 @@ out = {'small_twin': small, 'twin_after': _lazy._TWIN, 'm': big.as_matrix()[:50]
     np.testing.assert_allclose(out["m"], Rotation.from_euler("ZXZ", e).as_matrix()[:50], atol=1e-15)
 
 
+def test_a_large_batch_as_the_very_first_use_takes_the_compiled_kernels(tmp_path):
+    # the large batch is the first call that needs the kernels: it used to be decided
+    # before the kernels were resolved (and so ran on the twin, its result in the twin's
+    # F order, which as_matrix(out=np.empty_like(result)) refuses)
+    code = """
+from poinsot import Rotation
+from poinsot.rotations import PARALLEL_MIN_SIZE, _lazy
+r = Rotation.from_quat(np.random.default_rng(2).standard_normal((PARALLEL_MIN_SIZE, 4)))
+m = r.as_matrix()
+same = r.as_matrix(out=np.empty_like(m)).tolist() == m.tolist()
+out = {'twin': _lazy._TWIN, 'c': bool(m.flags.c_contiguous), 'same': same}
+"""
+    out = _cold(code, tmp_path)
+    assert out["twin"] is False and out["c"] is True and out["same"] is True
+    assert out["compiled_s"] > 0.0
+
+
 def test_a_cache_that_holds_the_rotation_kernels_is_used_without_the_marker(tmp_path):
     """A cache filled by ordinary use (no ``poinsot warmup`` marker) is warm for the
     rotations: the compiled kernels load, the twin is not used."""

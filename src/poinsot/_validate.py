@@ -23,6 +23,7 @@ from .errors import InvalidInputError, InvalidTypeError
 __all__ = [
     "as_float_array",
     "as_trailing",
+    "as_out",
     "as_quat",
     "as_vec3",
     "as_matrix3",
@@ -84,6 +85,35 @@ def as_trailing(
             f"Expected `{name}` to have shape {_shape_str(tail)}, got {a.shape}."
         )
     return a
+
+
+def as_out(out: object, name: str, shape: tuple[int, ...]) -> FloatArray:
+    """An ``out=`` argument (NumPy's convention): a float64 array of exactly ``shape``,
+    C-contiguous, aligned and writeable, which the result is written into.
+
+    >>> import numpy as np
+    >>> as_out(np.empty((2, 3, 3)), "out", (2, 3, 3)).shape
+    (2, 3, 3)
+    >>> as_out(np.empty((3, 3), dtype=np.float32), "out", (3, 3))
+    Traceback (most recent call last):
+    ...
+    poinsot.errors.InvalidTypeError: Expected `out` to be a float64 array, got dtype float32.
+    """
+    if not isinstance(out, np.ndarray):
+        raise InvalidTypeError(f"Expected `{name}` to be a NumPy array, got {type(out).__name__}.")
+    if out.dtype != np.float64:
+        raise InvalidTypeError(f"Expected `{name}` to be a float64 array, got dtype {out.dtype}.")
+    if out.shape != shape:
+        raise InvalidInputError(f"Expected `{name}` to have shape {shape}, got {out.shape}.")
+    flags = out.flags
+    for ok, what in (
+        (flags.c_contiguous, "C-contiguous"),
+        (flags.aligned, "aligned"),
+        (flags.writeable, "writeable"),
+    ):
+        if not ok:
+            raise InvalidInputError(f"Expected `{name}` to be a {what} array, got one that is not.")
+    return out
 
 
 def as_quat(q: object, name: str = "quat", *, normalize: bool = True) -> FloatArray:

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation as SciPyRotation
 
-from poinsot import InvalidInputError, Rotation
+from poinsot import InvalidInputError, InvalidTypeError, Rotation
 from poinsot.rotations import PARALLEL_MIN_SIZE
 
 N_BIG = PARALLEL_MIN_SIZE + 77
@@ -163,3 +163,69 @@ def test_one_bad_matrix_in_a_streamed_batch_is_found(where):
     m[:] = np.eye(3)
     q = Rotation.from_matrix(m, atol=0.0).as_quat()
     assert q.tobytes() == np.broadcast_to([1.0, 0.0, 0.0, 0.0], q.shape).tobytes()
+
+
+# ------------------------------------------------------- as_matrix(out=...) (issue 40)
+@pytest.mark.parametrize("shape", [(), (7,), (5, 3), (N_BIG,), (2, N_BIG // 2)])
+def test_as_matrix_into_out_returns_out_with_the_fresh_result(shape):
+    r = Rotation.random(shape, rng=4)
+    want = r.as_matrix()
+    out = np.full(shape + (3, 3), np.nan)
+    got = r.as_matrix(out=out)
+    assert got is out
+    np.testing.assert_array_equal(out, want)
+    # reused: overwritten, not accumulated
+    r2 = Rotation.random(shape, rng=5)
+    assert r2.as_matrix(out=out) is out
+    np.testing.assert_array_equal(out, r2.as_matrix())
+
+
+def test_as_matrix_into_out_streamed_batch():
+    # a result of at least STREAM_MIN_BYTES is written with streaming stores
+    m, _ = _streamed_batch()
+    r = Rotation.from_matrix(m)
+    out = np.empty(m.shape)
+    assert r.as_matrix(out=out) is out
+    assert out.tobytes() == r.as_matrix().tobytes()
+
+
+@pytest.mark.parametrize(
+    "out, error, match",
+    [
+        (
+            np.empty((4, 3, 3)),
+            InvalidInputError,
+            r"`out` to have shape \(3, 3, 3\), got \(4, 3, 3\)",
+        ),
+        (np.empty((3, 9)), InvalidInputError, r"`out` to have shape \(3, 3, 3\), got \(3, 9\)"),
+        (
+            np.empty((3, 3, 3), np.float32),
+            InvalidTypeError,
+            "`out` to be a float64 array, got dtype float32",
+        ),
+        (
+            np.empty((3, 3, 3), np.int64),
+            InvalidTypeError,
+            "`out` to be a float64 array, got dtype int64",
+        ),
+        (np.empty((3, 3, 6))[..., ::2], InvalidInputError, "`out` to be a C-contiguous array"),
+        (
+            np.empty((3, 3, 3)).transpose(0, 2, 1),
+            InvalidInputError,
+            "`out` to be a C-contiguous array",
+        ),
+        ([[0.0] * 3] * 3, InvalidTypeError, "`out` to be a NumPy array, got list"),
+    ],
+)
+def test_as_matrix_rejects_a_wrong_out(out, error, match):
+    with pytest.raises(error, match=match):
+        Rotation.random(3, rng=0).as_matrix(out=out)
+
+
+def test_as_matrix_rejects_a_read_only_out_and_a_wrong_single_out():
+    out = np.empty((3, 3, 3))
+    out.setflags(write=False)
+    with pytest.raises(InvalidInputError, match="`out` to be a writeable array"):
+        Rotation.random(3, rng=0).as_matrix(out=out)
+    with pytest.raises(InvalidInputError, match=r"`out` to have shape \(3, 3\), got \(1, 3, 3\)"):
+        Rotation.identity().as_matrix(out=np.empty((1, 3, 3)))

@@ -61,6 +61,8 @@ for _fn in (
     S.matrix_residual,
     S.angle_atan2_args,
     S.euler_atan2_args,
+    S.euler_axes,
+    S.euler_args,
     S.euler_from_atan2,
     S.rotvec_angle,
     S.from_rotvec_tan,
@@ -81,8 +83,10 @@ _from_mrp = _inline(S.from_mrp)
 _angle = _inline(S.angle)
 _euler_quat = _inline(S.from_euler)
 _to_euler = _inline(S.to_euler)
-_euler_atan2_args = _inline(S.euler_atan2_args)
+_euler_axes = _inline(S.euler_axes)
+_euler_args = _inline(S.euler_args)
 _euler_from_atan2 = _inline(S.euler_from_atan2)
+_atan2_poly = _inline(S.atan2_poly)
 _rotvec_angle = _inline(S.rotvec_angle)
 _angle_atan2_args = _inline(S.angle_atan2_args)
 _from_rotvec_tan = _inline(S.from_rotvec_tan)
@@ -164,7 +168,7 @@ def quat_to_euler_serial(q, seq, angles, singular):  # pragma: no cover - compil
     # q (N, 4) unit; seq = (i, j, k, extrinsic) with i, j, k the axes in *extrinsic*
     # order (the caller reverses intrinsic sequences). A plain loop (not a gufunc):
     # per-element gufunc overhead doubled its cost. Small batches only: large ones
-    # take euler_atan2_args_flat / NumPy's atan2 / euler_from_atan2_flat.
+    # take to_euler_flat.
     i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3] != 0
     eps = 1e-7  # documented gimbal-lock threshold (rad)
     for n in range(q.shape[0]):
@@ -370,6 +374,52 @@ def from_matrix_flat(a, q, err, det, bad, tol):  # pragma: no cover - compiled
         bad[p] = count
 
 
+@njit(cache=True, nogil=True, error_model="numpy")
+def to_euler_flat(q, seq, angles):  # pragma: no cover - compiled
+    # The Euler angles of _scalar.to_euler in one pass, SIMD across rotations: each
+    # block's quaternion components (w and those of the sequence's axes, picked once
+    # per sequence) are first copied into a (4, block) buffer, on whose unit-stride rows
+    # LLVM vectorises the formula with _scalar.atan2_poly in place of libm's atan2
+    # (which does not vectorise: 3 calls of ~20 ns per rotation); the angles go back to
+    # the (N, 3) rows through a (3, block) buffer. seq as quat_to_euler_serial's.
+    # Returns how many rotations are in gimbal lock. Each rotation runs the same
+    # operations whatever the block: the caller splits a batch over its threads
+    # (_lazy.chunked: no OpenMP, safe in a forked child) with the same bits.
+    i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3] != 0
+    kk, sign, symmetric = _euler_axes(i, j, k)
+    n = q.shape[0]
+    buf = np.empty((4, _BLOCK))
+    out = np.empty((3, _BLOCK))
+    count = 0
+    for lo in range(0, n, _BLOCK):
+        m = min(lo + _BLOCK, n) - lo
+        for t in range(m):
+            buf[0, t] = q[lo + t, 0]
+            buf[1, t] = q[lo + t, 1 + i]
+            buf[2, t] = q[lo + t, 1 + j]
+            buf[3, t] = q[lo + t, 1 + kk]
+        for t in range(m):
+            y1, x1, y2, x2, y3, x3 = _euler_args(
+                buf[0, t], buf[1, t], buf[2, t], buf[3, t], sign, symmetric
+            )
+            a, c, d, s = _euler_from_atan2(
+                _atan2_poly(y1, x1),
+                _atan2_poly(y2, x2),
+                _atan2_poly(y3, x3),
+                i,
+                j,
+                k,
+                extrinsic,
+                1e-7,
+            )
+            out[0, t], out[1, t], out[2, t] = a, c, d
+            count += s
+        for t in range(m):
+            angles[lo + t, 0], angles[lo + t, 1] = out[0, t], out[1, t]
+            angles[lo + t, 2] = out[2, t]
+    return count
+
+
 @njit(**_PAR)
 def outer_sums_flat(q, w, chunk, out):  # pragma: no cover - compiled
     # out[k, c] = the 10 entries (upper triangle, row by row) of sum w_i q_i q_i^T over
@@ -442,25 +492,6 @@ def euler_to_quat_flat(axes, angles, q):  # pragma: no cover - compiled
 # For large batches (rotations._lazy.chunked): chunks of a few thousand rotations,
 # the arguments of the trig functions into a small buffer, NumPy's SIMD atan2/tan
 # over it (~2 ns instead of ~20 ns per libm call), then the rest of the formula.
-@njit(cache=True, nogil=True)
-def euler_atan2_args_flat(q, seq, buf):  # pragma: no cover - compiled
-    # buf (6, m): the y of the three atan2 in rows 0-2, their x in rows 3-5
-    i, j, k = seq[0], seq[1], seq[2]
-    for n in range(q.shape[0]):
-        buf[0, n], buf[3, n], buf[1, n], buf[4, n], buf[2, n], buf[5, n] = _euler_atan2_args(
-            q[n, 0], q[n, 1], q[n, 2], q[n, 3], i, j, k
-        )
-
-
-@njit(cache=True, nogil=True)
-def euler_from_atan2_flat(h, seq, angles, singular):  # pragma: no cover - compiled
-    i, j, k, extrinsic = seq[0], seq[1], seq[2], seq[3] != 0
-    for n in range(angles.shape[0]):
-        a, b, c, s = _euler_from_atan2(h[0, n], h[1, n], h[2, n], i, j, k, extrinsic, 1e-7)
-        angles[n, 0], angles[n, 1], angles[n, 2] = a, b, c
-        singular[n] = s
-
-
 @njit(cache=True, nogil=True)
 def angle_atan2_args_flat(q, buf):  # pragma: no cover - compiled
     # buf (2, m): the y = |l| and x = |l0| of 2 atan2(y, x)

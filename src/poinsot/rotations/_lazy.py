@@ -251,20 +251,21 @@ CHUNK = 4096
 _POOL: tuple[int, ThreadPoolExecutor] | None = None
 
 
-def chunked(step: Callable[[int, int], object], n: int) -> None:
-    """Call ``step(lo, hi)`` on the chunks ``[lo, hi)`` of :data:`CHUNK` rotations
+def chunked(step: Callable[[int, int], object], n: int, chunk: int = CHUNK) -> None:
+    """Call ``step(lo, hi)`` on the chunks ``[lo, hi)`` of ``chunk`` rotations
     covering ``range(n)``, spread over :func:`thread_count` threads.
 
-    For the conversions whose compiled halves run around one of NumPy's vectorised
-    trig loops (both release the GIL). The chunk boundaries do not depend on the
-    thread count, so neither do the results.
+    For the conversions whose compiled parts release the GIL (their halves around
+    one of NumPy's vectorised trig loops, or ``nogil`` kernels): Python threads, not
+    numba's OpenMP, so also in a forked child. The chunk boundaries do not depend on
+    the thread count, so neither do the results.
     """
     global _POOL
-    starts = range(0, n, CHUNK)
+    starts = range(0, n, chunk)
     threads = min(thread_count(), len(starts))
     if threads <= 1:
         for lo in starts:
-            step(lo, min(lo + CHUNK, n))
+            step(lo, min(lo + chunk, n))
         return
     if _POOL is None or _POOL[0] != os.getpid():  # a forked child needs its own threads
         from concurrent.futures import ThreadPoolExecutor
@@ -281,7 +282,7 @@ def chunked(step: Callable[[int, int], object], n: int) -> None:
 
     def run(part: range) -> None:
         for lo in part:
-            step(lo, min(lo + CHUNK, n))
+            step(lo, min(lo + chunk, n))
 
     parts = [starts[t::threads] for t in range(threads)]
     futures = [_POOL[1].submit(run, part) for part in parts[1:]]
@@ -301,8 +302,9 @@ def big(shape: tuple[int, ...]) -> bool:
     n = 1
     for d in shape:
         n *= d
+    if _numba():  # resolves the kernels first: on a cold cache, their twin
+        return n >= PARALLEL_MIN_SIZE
     if n >= PARALLEL_MIN_SIZE and _TWIN and NUMBA:
         _compiled()  # rent or buy: a batch this large pays for compiling the kernels
-    if not _numba():
-        return False
-    return n >= PARALLEL_MIN_SIZE
+        return True
+    return False

@@ -39,14 +39,20 @@ _PARTS = 64
 _NO_T = np.empty((0, 3))
 
 
-def matrix_from_quat(q: np.ndarray) -> np.ndarray:
-    """``A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T`` for unit ``q`` (..., 4) -> (..., 3, 3)."""
+def matrix_from_quat(q: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """``A = (2 l0^2 - 1) E + 2 l0 l^ + 2 l l^T`` for unit ``q`` (..., 4) -> (..., 3, 3),
+    written into ``out`` when given (trusted: a C-contiguous float64 array of that shape).
+    """
     if big(q.shape[:-1]):
         f = flat(q, 4)
-        m = np.empty((f.shape[0], 9))
+        m = np.empty((f.shape[0], 9)) if out is None else out.reshape(-1, 9)
         threaded(kernels().to_matrix_flat, f, _NO_T, m)
-        return m.reshape(q.shape[:-1] + (3, 3))
-    return kernels().quat_to_matrix(q, _D3)
+        return m.reshape(q.shape[:-1] + (3, 3)) if out is None else out
+    m = kernels().quat_to_matrix(q, _D3)  # C order from numba; the NumPy executor's is not
+    if out is None:
+        return np.ascontiguousarray(m)  # so that np.empty_like(result) is a valid out
+    out[...] = m
+    return out
 
 
 def _to_quat(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

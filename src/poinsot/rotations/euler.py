@@ -66,6 +66,9 @@ PRESET_SIGNS = {"ship": (-1.0, 1.0, 1.0)}
 GIMBAL_LOCK_ATOL = 1e-7
 
 _D4 = np.zeros(4)
+#: Rotations per chunk of a large batch for ``to_euler_flat`` (spread over the threads by
+#: ``chunked``; each rotation's angles do not depend on the chunks).
+_CHUNK = 1 << 16
 _SEQ = re.compile(r"^([xyz]{1,3}|[XYZ]{1,3})$")
 
 
@@ -125,20 +128,20 @@ def euler_from_quat(seq: str, q: np.ndarray, *, warn: bool = True) -> np.ndarray
     code = np.array([*ext, 0 if intrinsic else 1], dtype=np.int64)
     f = flat(q, 4)
     angles = np.empty((f.shape[0], 3))
-    singular = np.empty(f.shape[0], dtype=np.bool_)
     k = kernels()
     if big(q.shape[:-1]):
+        counts = np.zeros(-(-f.shape[0] // _CHUNK), dtype=np.int64)
 
         def step(lo: int, hi: int) -> None:
-            buf = np.empty((6, hi - lo))
-            k.euler_atan2_args_flat(f[lo:hi], code, buf)
-            np.arctan2(buf[:3], buf[3:], out=buf[:3])
-            k.euler_from_atan2_flat(buf, code, angles[lo:hi], singular[lo:hi])
+            counts[lo // _CHUNK] = k.to_euler_flat(f[lo:hi], code, angles[lo:hi])
 
-        chunked(step, f.shape[0])
+        chunked(step, f.shape[0], _CHUNK)
+        locked = bool(counts.any())
     else:
+        singular = np.empty(f.shape[0], dtype=np.bool_)
         k.quat_to_euler_serial(f, code, angles, singular)
-    if warn and np.any(singular):
+        locked = bool(singular.any())
+    if warn and locked:
         warn_gimbal_lock(seq, stacklevel=3)
     return angles.reshape(q.shape[:-1] + (3,))
 
