@@ -54,18 +54,24 @@ test-nonumba: venv
 
 # The suite again with NumPy, SciPy and numba at the lowest versions pyproject.toml
 # allows (tools/min_versions.py pins them), in a second venv `.venv-min`.
-# `test-min-core` (run by CI after `test`): the numerical core only (rotations,
-# kinematics, dynamics, mass, symbolic and their doctests), ~2.5 min with the install.
+# `test-min-core` (run by CI after `test`): the numerical core (CORE_TESTS below).
 # `test-min`: the whole suite (every extra installed at versions that fit the pins).
 VENV_MIN := .venv-min
 PY_MIN := $(VENV_MIN)/bin/python
 STAMP_MIN_CORE := $(VENV_MIN)/.installed-core
 STAMP_MIN := $(VENV_MIN)/.installed
-CORE_TESTS := tests/rotations tests/kinematics tests/dynamics tests/mass tests/symbolic tests/peers \
-	tests/test_bad_input_dynamics.py tests/test_bad_input_kinematics.py tests/test_bad_input_mass.py \
-	tests/test_numba_helpers.py tests/test_trajectory.py \
-	src/poinsot/rotations src/poinsot/kinematics src/poinsot/dynamics src/poinsot/mass \
-	src/poinsot/symbolic
+# Every compiled kernel family and every version-sensitive API once (rotations, the
+# fused DOP853 kernels and lanes, the exact free body and Lagrange top, the midpoint
+# rule, SymPy -> numba code generation, the numba cache); the edge sweeps, interrupt and
+# mpmath-heavy files run in `make test` (current versions) and `make test-min` (all).
+CORE_TESTS := tests/rotations tests/kinematics tests/mass \
+	tests/dynamics/test_fused.py tests/dynamics/test_fused_lanes.py \
+	tests/dynamics/test_free_body.py tests/dynamics/test_euler_rhs.py \
+	tests/dynamics/test_elliptic.py tests/dynamics/test_lagrange_top.py \
+	tests/dynamics/test_heavy.py tests/dynamics/test_midpoint_compiled.py \
+	tests/dynamics/test_simulate.py tests/symbolic/test_numeric.py \
+	tests/peers/test_scipy_free_body.py tests/test_numba_helpers.py tests/test_numba_cache.py \
+	tests/test_trajectory.py src/poinsot/rotations src/poinsot/dynamics
 
 $(STAMP_MIN_CORE): pyproject.toml tools/min_versions.py
 	test -x $(PY_MIN) || $(PYTHON) -m venv $(VENV_MIN)
