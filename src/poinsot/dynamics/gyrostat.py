@@ -80,7 +80,6 @@ from ..rotations.euler import quat_from_euler
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 from .integrators._common import _rhs
-from .invariants import invariants
 
 __all__ = ["gyrostat_rhs", "gyrostat_spin_stable", "FreeGyrostat", "GYROSTAT_REGIMES"]
 
@@ -357,18 +356,16 @@ class _Plan:
         from . import _elliptic
 
         u = self.lam * t + self.u0
-        sn, cn, dn, _ = _elliptic.ellipj(u, self.m, m1=self.m1)
+        sn, cn, dn, _ = _elliptic.ellipj(u, np.full_like(u, self.m), m1=np.full_like(u, self.m1))
         sn, cn, dn = (np.atleast_1d(np.asarray(x, dtype=np.float64)) for x in (sn, cn, dn))
         if self.kind == 4:
-            d1, d2, d3, _ = self.y
+            d1, d2, d3 = self.y[0], self.y[1], self.y[2]
             den = (d1 - d3) + (d2 - d1) * cn * cn
             delta = d1 + (d2 - d1) * (d1 - d3) * sn * sn / den
             phis = (sn, cn, np.ones_like(sn), dn)
-            mm = [
-                self.amp[k] * phis[self.fac[k][0]] * phis[self.fac[k][1]] / den for k in range(2)
-            ]
+            mm = [self.amp[k] * phis[self.fac[k][0]] * phis[self.fac[k][1]] / den for k in range(2)]
         else:
-            d1, d2 = self.y
+            d1, d2 = self.y[0], self.y[1]
             a, b = self.ab
             one_p, one_m = _one_minus_cos_pair(cn, sn)
             den = a * one_p + b * one_m
@@ -388,7 +385,7 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
     """The closed form of one body: moments (3,), rotor momentum ``h e3``, ``w0`` (3,)."""
     i1, i2, i3 = (float(x) for x in moments)
     p0, q0, r0 = (float(x) for x in w0)
-    base = {"moments": np.array([i1, i2, i3]), "h": h, "w0": np.array([p0, q0, r0])}
+    base: dict[str, Any] = {"moments": np.array([i1, i2, i3]), "h": h, "w0": np.array([p0, q0, r0])}
     m10, m20, z0 = i1 * p0, i2 * q0, i3 * r0 + h
     if p0 == 0.0 and q0 == 0.0 and r0 == 0.0:
         return _Plan("rest", **base)
@@ -396,7 +393,9 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
         return _Plan("permanent", **base)  # spin about the rotor axis
     if i1 == i2:
         rate = ((i3 - i1) * r0 + h) / i1
-        per = 2.0 * math.pi / abs(rate) if rate != 0.0 else math.inf
+        if rate == 0.0:
+            return _Plan("permanent", **base)
+        per = 2.0 * math.pi / abs(rate)
         return _Plan("axisymmetric", omega_rate=rate, period=per, z0=z0, **base)
     if i3 == i1 or i3 == i2:
         return _Plan("numeric", **base)
@@ -448,7 +447,9 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
             (d2 - d3) * (d1 - d4),
         )
         fac = [[k for k in range(4) if owner[k] == ax] for ax in (0, 1)]
-        mag = [math.sqrt(max(quads[ax][2] * kap[fac[ax][0]] * kap[fac[ax][1]], 0.0)) for ax in (0, 1)]
+        mag = [
+            math.sqrt(max(quads[ax][2] * kap[fac[ax][0]] * kap[fac[ax][1]], 0.0)) for ax in (0, 1)
+        ]
         s0 = max((d2 - d3) * (-d1) / ((d2 - d1) * (-d3)), 0.0)
         c0 = max((d3 - d1) * (-d2) / ((d2 - d1) * (-d3)), 0.0)
         phi0 = math.atan2(math.sqrt(s0), math.sqrt(c0))
@@ -498,24 +499,558 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
     v1, v2 = wv[0] * i1, wv[1] * i2
     e1 = _sign(m10 * v1) if m10 != 0.0 and v1 != 0.0 else 0.0
     e2 = _sign(m20 * v2) if m20 != 0.0 and v2 != 0.0 else 0.0
-    # the product m1 m2 of the formulas has a fixed sign relative to -z'/dd:
-    t_probe = np.array([0.37 * (plan.period if math.isfinite(plan.period) else 1.0 / lam)])
-    wp = plan.omega(t_probe)[0]
-    u = lam * t_probe[0] + plan.u0
-    sn, cn, dn, _ = (float(np.asarray(x)) for x in _elliptic.ellipj(u, k2, m1=m1c))
-    if plan.kind == 4:
-        d1, d2, d3, _ = plan.y
-        den = (d1 - d3) + (d2 - d1) * cn * cn
-        dzdu = (d2 - d1) * (d1 - d3) * (d2 - d3) * 2.0 * sn * cn * dn / (den * den)
-    else:
-        d1, d2 = plan.y
-        a, b = plan.ab
-        den = a * (1.0 + cn) + b * (1.0 - cn)
-        dzdu = 2.0 * a * b * (d2 - d1) * sn * dn / (den * den)
-    prod_sign = _sign(-(lam * dzdu) / dd) * _sign(wp[0] * i1 * wp[1] * i2)
+    # the product m1 m2 of the formulas has a fixed sign relative to -z' / (1/I1 - 1/I2)
+    # (dz/du is written without its positive denominator D^2)
+    ys: tuple[float, ...] = plan.y
+    prod_sign = 1.0
+    for frac in (0.37, 0.61, 0.23, 0.83):
+        t_probe = np.array([frac * (plan.period if math.isfinite(plan.period) else 1.0 / lam)])
+        wp = plan.omega(t_probe)[0]
+        u = lam * t_probe[0] + plan.u0
+        sn, cn, dn, _ = (float(np.asarray(x)) for x in _elliptic.ellipj(u, k2, m1=m1c))
+        if plan.kind == 4:
+            dzdu = (ys[1] - ys[0]) * (ys[0] - ys[2]) * (ys[1] - ys[2]) * 2.0 * sn * cn * dn
+        else:
+            a, b = plan.ab
+            dzdu = 2.0 * a * b * (ys[1] - ys[0]) * sn * dn
+        prod = wp[0] * wp[1] * dzdu
+        if prod != 0.0:
+            prod_sign = _sign(-(lam * dzdu) / dd) * _sign(wp[0] * i1 * wp[1] * i2)
+            break
     if e1 == 0.0:
         e1 = e2 * prod_sign
     if e2 == 0.0:
         e2 = e1 * prod_sign
     plan.amp = (e1 * mag[0], e2 * mag[1])
     return plan
+
+
+# ---------------------------------------------------------------------------
+# Attitude of one body (closed-form omega, numeric precession angle)
+# ---------------------------------------------------------------------------
+
+
+def _perm_quat(tidx: tuple[int, ...]) -> np.ndarray:
+    """Quaternion of ``C`` with ``(C v)[k] = v[tidx[k]]`` (a cyclic permutation)."""
+    c = np.zeros((3, 3))
+    c[np.arange(3), list(tidx)] = 1.0
+    return Rotation.from_matrix(c).as_quat()
+
+
+class _Body:
+    """One gyrostat: closed form (``plan``) or the numeric fallback, in user axes."""
+
+    def __init__(
+        self, j: np.ndarray, principal: bool, h: np.ndarray, w0: np.ndarray, q0: np.ndarray
+    ):
+        self.j, self.principal, self.hv, self.w0, self.q0 = j, principal, h, w0, q0
+        moments = j if principal else np.diagonal(j).copy()
+        diagonal = principal or bool(np.all(j == np.diag(moments)))
+        nz = np.flatnonzero(h != 0.0)
+        self.plan: _Plan | None = None
+        if diagonal and nz.size <= 1:
+            a = int(nz[0]) if nz.size else 2
+            self.idx = ((a + 1) % 3, (a + 2) % 3, a)
+            plan = _plan(moments[list(self.idx)], float(h[a]), w0[list(self.idx)])
+            if plan.regime != "numeric":
+                self.plan = plan
+        self.regime = "numeric" if self.plan is None else self.plan.regime
+        self.period = math.inf if self.plan is None else self.plan.period
+        if self.plan is not None and self.regime not in ("rest", "permanent"):
+            self._attitude_setup()
+
+    # -- closed form ---------------------------------------------------------
+    def _internal_omega(self, t: np.ndarray) -> np.ndarray:
+        assert self.plan is not None
+        return self.plan.omega(t)
+
+    def _m_int(self, w: np.ndarray) -> np.ndarray:
+        assert self.plan is not None
+        m = w * self.plan.moments
+        m[..., 2] += self.plan.h
+        return m
+
+    def _window(self) -> float:
+        assert self.plan is not None
+        if math.isfinite(self.period):
+            return self.period
+        return 20.0 / self.plan.lam
+
+    def _attitude_setup(self) -> None:
+        plan = self.plan
+        assert plan is not None
+        ts = np.linspace(0.0, self._window(), 65)
+        m = self._m_int(self._internal_omega(ts))
+        self.kmom = float(np.linalg.norm(self._m_int(plan.w0[None, :])[0]))
+        # the reference axis: the body axis farthest from m over the motion
+        jref = int(np.argmax(np.min(self.kmom**2 - m**2, axis=0)))
+        self.pj = ((jref + 1) % 3, (jref + 2) % 3, jref)
+        tidx = tuple(self.idx[k] for k in self.pj)
+        q_c = _perm_quat(tidx)  # user body axes -> xyz
+        m0 = self._m_int(plan.w0[None, :])[0][list(self.pj)]
+        e0 = quat_from_euler("ZXZ", np.array([0.0, *self._angles(m0[None, :])[0]]))
+        self.q_c = q_c
+        self.q_s = _quaternion.multiply(
+            self.q0, _quaternion.conjugate(_quaternion.multiply(e0, q_c))
+        )
+        width = self._window() / _PANELS
+        if plan.lam > 0.0:
+            width = min(width, 0.5 / plan.lam)
+        self.npan = max(int(math.ceil(self._window() / width)), 1)
+        if math.isfinite(self.period):
+            self.wpan = self.period / self.npan
+            self.cum = self._cumulative(self.npan, self.wpan, 1.0)
+            self.dpsi = float(self.cum[-1])
+        else:
+            self.wpan = 0.5 / plan.lam
+
+    def _angles(self, m_xyz: np.ndarray) -> np.ndarray:
+        """``(theta, phi)`` (..., 2) of ``m = K (sin th sin ph, sin th cos ph, cos th)``."""
+        th = np.arctan2(np.hypot(m_xyz[..., 0], m_xyz[..., 1]), m_xyz[..., 2])
+        ph = np.arctan2(m_xyz[..., 0], m_xyz[..., 1])
+        return np.stack([th, ph], -1)
+
+    def _psidot(self, t: np.ndarray) -> np.ndarray:
+        w = self._internal_omega(t)
+        m = self._m_int(w)
+        x, y = self.pj[0], self.pj[1]
+        num = w[:, x] * m[:, x] + w[:, y] * m[:, y]
+        return self.kmom * num / (m[:, x] ** 2 + m[:, y] ** 2)
+
+    def _cumulative(self, n: int, width: float, sign: float) -> np.ndarray:
+        """psi at the breakpoints ``sign * k * width``, k = 0..n."""
+        nodes = sign * width * (np.arange(n)[:, None] + _GL_X[None, :])
+        vals = self._psidot(nodes.reshape(-1)).reshape(n, -1)
+        return np.concatenate([[0.0], np.cumsum(sign * width * (vals @ _GL_W))])
+
+    def _psi(self, t: np.ndarray) -> np.ndarray:
+        if math.isfinite(self.period):
+            nper = np.floor(t / self.period)
+            tau = t - nper * self.period
+            k = np.minimum(np.floor(tau / self.wpan), self.npan - 1).astype(np.int64)
+            k = np.maximum(k, 0)
+            base = nper * self.dpsi + self.cum[k]
+            start = k * self.wpan
+            offset = nper * self.period
+        else:  # separatrix: panels from 0 out to the largest |t|
+            base = np.zeros_like(t)
+            start = np.zeros_like(t)
+            for sign in (1.0, -1.0):
+                sel = sign * t > 0.0
+                if not np.any(sel):
+                    continue
+                n = int(math.ceil(float(np.max(sign * t[sel])) / self.wpan)) + 1
+                cum = self._cumulative(n, self.wpan, sign)
+                k = np.floor(sign * t[sel] / self.wpan).astype(np.int64)
+                base[sel] = cum[k]
+                start[sel] = sign * k * self.wpan
+            offset = np.zeros_like(t)
+        span = t - offset - start
+        nodes = start[:, None] + span[:, None] * _GL_X[None, :]
+        vals = self._psidot(nodes.reshape(-1)).reshape(t.shape[0], -1)
+        return base + span * (vals @ _GL_W)
+
+    def _closed_state(self, t: np.ndarray, want_q: bool) -> tuple[np.ndarray, np.ndarray]:
+        plan = self.plan
+        assert plan is not None
+        w_int = self._internal_omega(t)
+        w = np.empty_like(w_int)
+        w[:, list(self.idx)] = w_int
+        if not want_q:
+            return w, np.empty((t.shape[0], 0))
+        if self.regime in ("rest", "permanent"):
+            rot = Rotation.from_rotvec(self.w0[None, :] * t[:, None]).as_quat()
+            return w, _quaternion.multiply(self.q0, rot)
+        m_xyz = self._m_int(w_int)[:, list(self.pj)]
+        ang = np.concatenate([self._psi(t)[:, None], self._angles(m_xyz)], -1)
+        e = quat_from_euler("ZXZ", ang)
+        q = _quaternion.multiply(self.q_s, _quaternion.multiply(e, self.q_c))
+        return w, q
+
+    # -- numeric fallback ------------------------------------------------------
+    def _numeric_state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        from scipy.integrate import solve_ivp
+
+        j, principal = self.j, self.principal
+        j_inv = None if principal else inverse3(j)
+        scale = max(float(np.linalg.norm(self.w0)), 1e-300)
+
+        def f(_: float, y: np.ndarray) -> np.ndarray:
+            w, q = y[:3], y[3:]
+            dw = _gyro_rhs(j, j_inv, w, self.hv, None, None, principal)
+            return np.concatenate([dw, _quat_rate(q, w, "body")])
+
+        y0 = np.concatenate([self.w0, self.q0])
+        atol = np.array([scale] * 3 + [1.0] * 4) * 1e-2 * FALLBACK_RTOL
+        out = np.empty((t.shape[0], 7))
+        for sign in (1.0, -1.0):
+            sel = np.flatnonzero(sign * t > 0.0)
+            if sel.size == 0:
+                continue
+            order = sel[np.argsort(sign * t[sel])]
+            sol = solve_ivp(
+                f, (0.0, float(t[order[-1]])), y0, method="DOP853", rtol=FALLBACK_RTOL,
+                atol=atol, t_eval=t[order],
+            )  # fmt: skip
+            out[order] = sol.y.T
+        out[t == 0.0] = y0
+        q = out[:, 3:] / np.linalg.norm(out[:, 3:], axis=-1, keepdims=True)
+        return out[:, :3].copy(), q
+
+    def state(self, t: np.ndarray, want_q: bool) -> tuple[np.ndarray, np.ndarray]:
+        if self.plan is None:
+            return self._numeric_state(t)
+        return self._closed_state(t, want_q)
+
+
+# ---------------------------------------------------------------------------
+# Public class
+# ---------------------------------------------------------------------------
+
+
+class FreeGyrostat:
+    """Torque-free motion of a gyrostat (or a batch) with constant rotor momentum.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (..., 3) or (..., 3, 3), or RigidBody
+        Principal moments ``(I1, I2, I3)`` of the whole gyrostat (rotors included;
+        body axes then principal axes) or its inertia tensor in body axes (a
+        non-diagonal one takes the numeric fallback), or a
+        :class:`poinsot.mass.RigidBody` (its inertia about the centre of mass).
+    h : array_like, shape (..., 3)
+        Angular momentum of the rotors relative to the body, in body axes
+        (kg m^2/s), constant. Along a principal axis (or zero) for the closed form.
+    rotation0 : Rotation, SciPy Rotation or array_like (..., 4), optional
+        Attitude (body -> space) at ``t = 0``; identity by default.
+    omega0 : array_like, shape (..., 3)
+        Angular velocity of the body at ``t = 0`` in body axes (rad/s). Keyword only.
+
+    Attributes
+    ----------
+    shape : tuple
+        Batch shape (the broadcast leading shape of the inputs; ``()`` for one body).
+
+    Raises
+    ------
+    InvalidInputError
+        For a non-physical inertia, a non-finite or wrongly shaped ``h`` or
+        ``omega0``, or batch shapes that do not broadcast.
+    InvalidTypeError
+        If ``rotation0`` is not a rotation or an array of quaternions.
+
+    Notes
+    -----
+    Euler-Zhukovsky equations ``J w' + w x (J w + h) = 0`` (docs/theory.md §10, "The
+    gyrostat"); integrals ``T = w . J w / 2`` and ``K = R (J w + h)`` (constant in
+    space). For ``h`` along a principal axis ``omega(t)`` is exact (Jacobi elliptic
+    functions of a Moebius transformation of the roots of the quartic
+    ``z'^2 = (1/I1 - 1/I2)^2 f1(z) f2(z)``, module notes); the attitude is exact up
+    to the precession angle about ``K``, a numerical quadrature (Gauss-Legendre,
+    ~1e-15 relative per period). Other cases: ``solve_ivp`` DOP853 at
+    ``rtol = 1e-12`` (``regime == "numeric"``). Each body of a batch is set up and
+    evaluated in its own NumPy pass (no compiled batch loop).
+
+    **Convention:** ``rotation(t)`` maps body to space components; ``omega`` and
+    ``h`` in body axes (rad/s, kg m^2/s); ``momentum`` in space axes; quaternions
+    scalar first.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import FreeGyrostat
+    >>> g = FreeGyrostat([1.0, 2.0, 3.0], [0.0, 0.5, 0.0], omega0=[0.1, 1.0, 0.1])
+    >>> g.regime, round(g.period, 6)
+    ('four_roots', 8.589226)
+    >>> w = g.omega([0.0, g.period])
+    >>> bool(np.allclose(w[0], w[1]))
+    True
+    >>> K = g.rotation(2.5).apply(g.momentum_body(2.5))
+    >>> bool(np.allclose(K, g.momentum))
+    True
+    """
+
+    def __init__(
+        self,
+        inertia: ArrayLike | RigidBody,
+        h: ArrayLike,
+        *,
+        rotation0: Rotation | ArrayLike | None = None,
+        omega0: ArrayLike,
+    ) -> None:
+        if isinstance(inertia, RigidBody):
+            inertia = inertia.inertia
+        j, principal = as_inertia(inertia, "inertia")
+        hv = as_vec3(h, "h")
+        w0 = as_vec3(omega0, "omega0")
+        q0 = _IDENTITY if rotation0 is None else as_rotation_quat(rotation0, "rotation0")
+        core = 1 if principal else 2
+        shape = batch_shape(inertia=(j, core), h=(hv, 1), rotation0=(q0, 1), omega0=(w0, 1))
+        n = math.prod(shape)
+        jb = np.broadcast_to(j, shape + j.shape[j.ndim - core :]).reshape(
+            (n,) + j.shape[j.ndim - core :]
+        )
+        self._shape = shape
+        self._n = n
+        self._principal = principal
+        self._j = np.ascontiguousarray(jb)
+        self._h = np.broadcast_to(hv, shape + (3,)).reshape(n, 3).copy()
+        self._omega0 = np.broadcast_to(w0, shape + (3,)).reshape(n, 3).copy()
+        self._q0 = np.broadcast_to(q0, shape + (4,)).reshape(n, 4).copy()
+        self._bodies = [
+            _Body(self._j[i], principal, self._h[i], self._omega0[i], self._q0[i]) for i in range(n)
+        ]
+        mb = _momentum(self._j, principal, self._omega0) + self._h
+        self._energy = _kinetic(self._j, principal, self._omega0)
+        self._momentum = _quaternion.rotate(self._q0, mb)
+        self._kmom = np.linalg.norm(mb, axis=-1)
+
+    # -- helpers ------------------------------------------------------------
+    def _out(self, x: np.ndarray) -> Any:
+        x = np.asarray(x).reshape(self._shape)
+        return x.item() if self._shape == () else x
+
+    def _eval(self, t: np.ndarray, want_q: bool) -> tuple[np.ndarray, np.ndarray]:
+        """``w`` (n, nt, 3), ``q`` (n, nt, 4) at flat times ``t``."""
+        nt = t.shape[0]
+        w = np.empty((self._n, nt, 3))
+        q = np.empty((self._n, nt if want_q else 0, 4))
+        for i, body in enumerate(self._bodies):
+            wi, qi = body.state(t, want_q)
+            w[i] = wi
+            if want_q:
+                q[i] = qi
+        return w, q
+
+    def _times(self, t: ArrayLike) -> tuple[np.ndarray, tuple[int, ...]]:
+        ta = as_float_array(t, "t")
+        return ta.reshape(-1), ta.shape
+
+    # -- properties -----------------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Batch shape (``()`` for one body)."""
+        return self._shape
+
+    @property
+    def inertia(self) -> np.ndarray:
+        """Principal moments ``(..., 3)`` or the tensor ``(..., 3, 3)`` as given (kg m^2)."""
+        return self._j.reshape(self._shape + self._j.shape[1:]).copy()
+
+    @property
+    def h(self) -> np.ndarray:
+        """Rotor momentum relative to the body, body axes (kg m^2/s; constant), ``(..., 3)``."""
+        return self._h.reshape(self._shape + (3,)).copy()
+
+    @property
+    def omega0(self) -> np.ndarray:
+        """Initial body angular velocity (rad/s), ``(..., 3)``."""
+        return self._omega0.reshape(self._shape + (3,)).copy()
+
+    @property
+    def rotation0(self) -> Rotation:
+        """Initial attitude (body -> space), shape :attr:`shape`."""
+        return Rotation.from_quat(self._q0.reshape(self._shape + (4,)))
+
+    @property
+    def energy(self) -> float | FloatArray:
+        """Kinetic energy of the carrier motion ``T = w . J w / 2`` (J; constant)."""
+        return self._out(self._energy)
+
+    @property
+    def momentum(self) -> np.ndarray:
+        """Total angular momentum ``K = R (J w + h)`` in space axes (kg m^2/s; constant)."""
+        return self._momentum.reshape(self._shape + (3,)).copy()
+
+    @property
+    def momentum_norm(self) -> float | FloatArray:
+        """``|K| = |J w + h|`` (kg m^2/s; constant)."""
+        return self._out(self._kmom)
+
+    @property
+    def regime(self) -> str | np.ndarray:
+        """One of :data:`GYROSTAT_REGIMES`; a str, or an array of str for a batch."""
+        names = np.array([b.regime for b in self._bodies])
+        return str(names[0]) if self._shape == () else names.reshape(self._shape)
+
+    @property
+    def period(self) -> float | FloatArray:
+        """Period of ``omega(t)`` (s): ``4 K(k^2) / lam`` (``2 K / lam`` when one momentum
+        component is ``~ sn cn``), ``2 pi I1 / |(I3 - I1) r + h|`` (axisymmetric);
+        ``inf`` on a separatrix, for a permanent rotation, at rest, and ``nan`` for the
+        numeric fallback."""
+        vals = [math.nan if b.regime == "numeric" else b.period for b in self._bodies]
+        return self._out(np.array(vals))
+
+    @property
+    def precession_per_period(self) -> float | FloatArray:
+        """Angle (rad) the body turns about ``K`` per period of ``omega``:
+        ``R(t + period) = Rot(K, angle) R(t)`` (``nan`` where the period is not finite)."""
+        vals = [
+            b.dpsi if b.plan is not None and hasattr(b, "dpsi") else math.nan for b in self._bodies
+        ]
+        return self._out(np.array(vals))
+
+    # -- evaluation -------------------------------------------------------------
+    def omega(self, t: ArrayLike) -> FloatArray:
+        """Body angular velocity at times ``t`` (rad/s), shape ``shape + t.shape + (3,)``.
+
+        Notes
+        -----
+        Jacobi elliptic closed form of the module notes (docs/theory.md §10, "The
+        gyrostat"); the DOP853 fallback where it does not apply.
+
+        **Convention:** body axes, rad/s.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeGyrostat
+        >>> g = FreeGyrostat([2.0, 2.0, 1.0], [0.0, 0.0, 1.0], omega0=[1.0, 0.0, 2.0])
+        >>> g.omega([0.0, 1.0]).round(6)   # (p + i q) turns at ((I3 - I1) r + h) / I1 = -0.5
+        array([[ 1.      ,  0.      ,  2.      ],
+               [ 0.877583, -0.479426,  2.      ]])
+        """
+        tf, tshape = self._times(t)
+        w, _ = self._eval(tf, False)
+        return w.reshape(self._shape + tshape + (3,))
+
+    def momentum_body(self, t: ArrayLike) -> FloatArray:
+        """Total angular momentum ``J w(t) + h`` in body axes, ``shape + t.shape + (3,)``.
+
+        **Convention:** body axes (kg m^2/s); ``|J w + h| = |K|`` at every time.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeGyrostat
+        >>> g = FreeGyrostat([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], omega0=[1.0, 1.0, 1.0])
+        >>> g.momentum_body(0.0)
+        array([1., 2., 4.])
+        """
+        tf, tshape = self._times(t)
+        w, _ = self._eval(tf, False)
+        jj = self._j.reshape((self._n, 1) + self._j.shape[1:])
+        k = _momentum(jj, self._principal, w) + self._h[:, None, :]
+        return k.reshape(self._shape + tshape + (3,))
+
+    def _state(self, t: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        tf, tshape = self._times(t)
+        w, q = self._eval(tf, True)
+        return w.reshape(self._shape + tshape + (3,)), q.reshape(self._shape + tshape + (4,))
+
+    def rotation(self, t: ArrayLike) -> Rotation:
+        """Attitude (body -> space) at times ``t``, a Rotation of shape ``shape + t.shape``.
+
+        Notes
+        -----
+        ``R(t) = S Rz(psi) Rx(theta) Rz(phi) P`` (module notes, docs/theory.md §10):
+        ``theta, phi`` from the body momentum in closed form, ``psi`` by quadrature;
+        ``R(t) (J w + h) = K`` at every time.
+
+        **Convention:** ``v_space = R(t) v_body``; ``R(0) = rotation0``.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeGyrostat
+        >>> g = FreeGyrostat([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], omega0=[0.0, 0.0, 1.0])
+        >>> g.regime, g.rotation(1.0).as_rotvec().round(12) + 0.0
+        ('permanent', array([0., 0., 1.]))
+        """
+        return Rotation.from_quat(self._state(t)[1])
+
+    def state(self, t: ArrayLike) -> tuple[FloatArray, Rotation]:
+        """``(omega(t), rotation(t))`` in one pass.
+
+        **Convention:** as :meth:`omega` and :meth:`rotation`.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeGyrostat
+        >>> g = FreeGyrostat([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], omega0=[1.0, 0.5, 0.2])
+        >>> w, r = g.state([0.0, 1.0])
+        >>> w.shape, r.shape
+        ((2, 3), (2,))
+        """
+        w, q = self._state(t)
+        return w, Rotation.from_quat(q)
+
+    def trajectory(self, t: ArrayLike) -> Trajectory:
+        """The motion sampled at 1-D times ``t`` as a :class:`~poinsot.Trajectory`.
+
+        Time is the first axis. ``energy`` (``T = w . J w / 2``) and ``momentum``
+        (``K = R (J w + h)``, space axes) are evaluated from the samples, so their
+        drifts measure the error. ``info``: ``regime``, ``closed_form``
+        (``"jacobi"`` or ``"none"``), ``path``, ``torque`` (``"none"``), ``conserved``.
+
+        **Convention:** as :class:`~poinsot.Trajectory`.
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import FreeGyrostat
+        >>> g = FreeGyrostat([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], omega0=[1.0, 0.5, 0.2])
+        >>> tr = g.trajectory([0.0, 5.0, 10.0])
+        >>> tr.method, tr.energy_drift < 1e-13
+        ('exact', True)
+        """
+        ta = as_float_array(t, "t")
+        if ta.ndim != 1:
+            raise InvalidInputError(f"Expected `t` to have shape (n,), got {ta.shape}.")
+        w, q = self._eval(ta, True)
+        w = np.moveaxis(w, 1, 0)
+        q = np.moveaxis(q, 1, 0)
+        jj = self._j.reshape((1, self._n) + self._j.shape[1:])
+        energy = _kinetic(jj, self._principal, w)
+        momentum = _quaternion.rotate(q, _momentum(jj, self._principal, w) + self._h[None])
+        lead = (ta.shape[0],) + self._shape
+        regimes = [b.regime for b in self._bodies]
+        regime = regimes[0] if self._shape == () else tuple(regimes)
+        numeric = any(r == "numeric" for r in regimes)
+        return Trajectory(
+            ta,
+            Rotation.from_quat(q.reshape(lead + (4,))),
+            w.reshape(lead + (3,)),
+            "exact" if not numeric else "adaptive",
+            energy=energy.reshape(lead),
+            momentum=momentum.reshape(lead + (3,)),
+            info={
+                "regime": regime,
+                "closed_form": "none" if numeric else "jacobi",
+                "path": "solve_ivp DOP853 fallback" if numeric else "closed form",
+                "torque": "none",
+                "conserved": ("energy", "momentum"),
+            },
+        )
+
+    def __getitem__(self, key: int | slice | tuple[Any, ...]) -> FreeGyrostat:
+        """One gyrostat (or a sub-batch) of a batch.
+
+        >>> from poinsot.dynamics import FreeGyrostat
+        >>> moments = [[1.0, 2.0, 3.0], [2.0, 2.0, 1.0]]
+        >>> g = FreeGyrostat(moments, [0.0, 0.0, 2.0], omega0=[0.3, 0.2, 1.0])
+        >>> g[1].regime
+        'axisymmetric'
+        """
+        if self._shape == ():
+            raise InvalidTypeError("Expected a batch of gyrostats to index, got a single one.")
+        sel = np.arange(self._n).reshape(self._shape)[key]
+        flat = np.asarray(sel).reshape(-1)
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new._shape = np.shape(sel)
+        new._n = flat.size
+        for name in ("_j", "_h", "_omega0", "_q0", "_energy", "_momentum", "_kmom"):
+            setattr(new, name, np.ascontiguousarray(getattr(self, name)[flat]))
+        new._bodies = [self._bodies[i] for i in flat]
+        return new
+
+    def __len__(self) -> int:
+        if self._shape == ():
+            raise InvalidTypeError("Expected a batch of gyrostats for len(), got a single one.")
+        return self._shape[0]
+
+    def __repr__(self) -> str:
+        if self._shape != ():
+            return f"FreeGyrostat(shape={self._shape})"
+        return (
+            f"FreeGyrostat(inertia={self._j[0].tolist()}, h={self._h[0].tolist()}, "
+            f"omega0={self._omega0[0].tolist()}, regime={self.regime!r})"
+        )
