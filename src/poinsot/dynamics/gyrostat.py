@@ -184,8 +184,8 @@ def gyrostat_rhs(
     Examples
     --------
     >>> from poinsot.dynamics import gyrostat_rhs
-    >>> gyrostat_rhs([1.0, 2.0, 3.0], [1.0, 0.0, 0.0], [0.0, 0.0, 2.0])   # -(w x h) / J
-    array([ 0.,  1.,  0.])
+    >>> gyrostat_rhs([1.0, 2.0, 3.0], [1.0, 0.0, 0.0], [0.0, 0.0, 2.0]) + 0.0  # -(w x h) / J
+    array([0., 1., 0.])
     """
     j, principal = as_inertia(inertia, "inertia")
     w = as_vec3(omega, "omega")
@@ -501,7 +501,7 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
     e2 = _sign(m20 * v2) if m20 != 0.0 and v2 != 0.0 else 0.0
     # the product m1 m2 of the formulas has a fixed sign relative to -z' / (1/I1 - 1/I2)
     # (dz/du is written without its positive denominator D^2)
-    ys: tuple[float, ...] = plan.y
+    yv: tuple[float, ...] = plan.y
     prod_sign = 1.0
     for frac in (0.37, 0.61, 0.23, 0.83):
         t_probe = np.array([frac * (plan.period if math.isfinite(plan.period) else 1.0 / lam)])
@@ -509,10 +509,10 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
         u = lam * t_probe[0] + plan.u0
         sn, cn, dn, _ = (float(np.asarray(x)) for x in _elliptic.ellipj(u, k2, m1=m1c))
         if plan.kind == 4:
-            dzdu = (ys[1] - ys[0]) * (ys[0] - ys[2]) * (ys[1] - ys[2]) * 2.0 * sn * cn * dn
+            dzdu = (yv[1] - yv[0]) * (yv[0] - yv[2]) * (yv[1] - yv[2]) * 2.0 * sn * cn * dn
         else:
             a, b = plan.ab
-            dzdu = 2.0 * a * b * (ys[1] - ys[0]) * sn * dn
+            dzdu = 2.0 * a * b * (yv[1] - yv[0]) * sn * dn
         prod = wp[0] * wp[1] * dzdu
         if prod != 0.0:
             prod_sign = _sign(-(lam * dzdu) / dd) * _sign(wp[0] * i1 * wp[1] * i2)
@@ -761,7 +761,7 @@ class FreeGyrostat:
     >>> from poinsot.dynamics import FreeGyrostat
     >>> g = FreeGyrostat([1.0, 2.0, 3.0], [0.0, 0.5, 0.0], omega0=[0.1, 1.0, 0.1])
     >>> g.regime, round(g.period, 6)
-    ('four_roots', 8.589226)
+    ('four_roots', 25.357711)
     >>> w = g.omega([0.0, g.period])
     >>> bool(np.allclose(w[0], w[1]))
     True
