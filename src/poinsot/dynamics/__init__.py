@@ -123,7 +123,7 @@ __all__ = [
     "simulate",
     "METHODS",
     "FreeRigidBody",
-    # the gyrostat (theory §10, "The gyrostat")
+    # the gyrostat (theory §10.1)
     "FreeGyrostat",
     "gyrostat_rhs",
     "gyrostat_spin_stable",

@@ -1,10 +1,9 @@
-"""The gyrostat: a rigid body carrying rotors of constant relative momentum (theory §10).
+"""The gyrostat: a rigid body carrying rotors of constant relative momentum (theory §10.1).
 
 A gyrostat is a rigid body with rotors (wheels) that spin relative to it about axes
 fixed in it, without changing its mass distribution. With ``h`` the rotors' angular
 momentum relative to the body (body axes) and ``J`` the inertia of the whole system
-with the rotors locked, the Euler-Zhukovsky equations (docs/theory.md §10, "The
-gyrostat") are
+with the rotors locked, the Euler-Zhukovsky equations (docs/theory.md §10.1) are
 
     J w' + w x (J w + h) = M - h'.
 
@@ -175,7 +174,7 @@ def gyrostat_rhs(
 
     Notes
     -----
-    docs/theory.md §10, "The gyrostat": the body-frame derivative of the total
+    docs/theory.md §10.1: the body-frame derivative of the total
     angular momentum ``K = J w + h`` is ``K' + w x K = M``. With ``h = 0`` this is
     :func:`~poinsot.dynamics.euler_rhs`.
 
@@ -234,7 +233,7 @@ def gyrostat_spin_stable(inertia: ArrayLike, h: ArrayLike, omega: ArrayLike) -> 
 
     Notes
     -----
-    docs/theory.md §10, "The gyrostat". For a spin ``W`` about axis 3 with
+    docs/theory.md §10.1. For a spin ``W`` about axis 3 with
     ``h = h e3`` (``m3 = I3 W + h``), small ``p, q`` obey
     ``I1 p' = -(m3 - I2 W) q``, ``I2 q' = (m3 - I1 W) p``: stable iff
     ``(m3 - I1 W)(m3 - I2 W) > 0``, i.e. the effective moment ``I3 + h / W`` is the
@@ -741,8 +740,8 @@ class FreeGyrostat:
 
     Notes
     -----
-    Euler-Zhukovsky equations ``J w' + w x (J w + h) = 0`` (docs/theory.md §10, "The
-    gyrostat"); integrals ``T = w . J w / 2`` and ``K = R (J w + h)`` (constant in
+    Euler-Zhukovsky equations ``J w' + w x (J w + h) = 0`` (docs/theory.md §10.1);
+    integrals ``T = w . J w / 2`` and ``K = R (J w + h)`` (constant in
     space). For ``h`` along a principal axis ``omega(t)`` is exact (Jacobi elliptic
     functions of a Moebius transformation of the roots of the quartic
     ``z'^2 = (1/I1 - 1/I2)^2 f1(z) f2(z)``, module notes); the attitude is exact up
@@ -897,8 +896,8 @@ class FreeGyrostat:
 
         Notes
         -----
-        Jacobi elliptic closed form of the module notes (docs/theory.md §10, "The
-        gyrostat"); the DOP853 fallback where it does not apply.
+        Jacobi elliptic closed form of the module notes (docs/theory.md §10.1);
+        the DOP853 fallback where it does not apply.
 
         **Convention:** body axes, rad/s.
 
@@ -942,7 +941,7 @@ class FreeGyrostat:
 
         Notes
         -----
-        ``R(t) = S Rz(psi) Rx(theta) Rz(phi) P`` (module notes, docs/theory.md §10):
+        ``R(t) = S Rz(psi) Rx(theta) Rz(phi) P`` (module notes, docs/theory.md §10.1):
         ``theta, phi`` from the body momentum in closed form, ``psi`` by quadrature;
         ``R(t) (J w + h) = K`` at every time.
 

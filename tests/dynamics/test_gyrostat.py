@@ -1,0 +1,305 @@
+"""Tests of the gyrostat (docs/theory.md §10.1): the Euler-Zhukovsky
+right-hand side, the exact dual-spin solution and its numeric fallback.
+
+Oracles: a 40-digit mpmath integration (``mpmath.odefun``, Taylor series, ``mp.dps =
+40``) of ``J w' = (J w + h) x w`` (and of ``q' = q o w / 2`` for the attitude) from the
+same double inputs; :class:`poinsot.dynamics.FreeRigidBody` for ``h = 0``; the
+eigenvalues of the finite-difference Jacobian of :func:`gyrostat_rhs` for the
+stability of permanent rotations (Wittenburg, *Dynamics of Multibody Systems*, ch. 4;
+Cochran, Shu & Rew 1982). Every tolerance is >= 10x the error observed (noted at each).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from poinsot import InvalidInputError, InvalidTypeError, Rotation
+from poinsot.dynamics import (
+    FreeGyrostat,
+    FreeRigidBody,
+    euler_rhs,
+    gyrostat_rhs,
+    gyrostat_spin_stable,
+)
+
+mpmath = pytest.importorskip("mpmath")
+
+#: omega against 40-digit mpmath, max |w - w_ref| / max |w_ref|: observed <= 1.1e-14
+#: (random cases) and <= 1.2e-14 near a separatrix (1 - k^2 down to 4e-9).
+TOL_MP_W = 1e-12
+#: attitude against mpmath (angle of R_ref^T R, rad): observed <= 3e-14.
+TOL_MP_R = 1e-12
+
+
+def _mp_reference(inertia, h, w0, q0, ts, attitude=False):
+    """omega (and quaternions) at ``ts`` by mpmath.odefun at 40 digits from the double inputs."""
+    with mpmath.workdps(40):
+        i = [mpmath.mpf(float(x)) for x in inertia]
+        hv = [mpmath.mpf(float(x)) for x in h]
+
+        def f(_, y):
+            w = y[:3]
+            m = [i[k] * w[k] + hv[k] for k in range(3)]
+            dw = [
+                (m[1] * w[2] - m[2] * w[1]) / i[0],
+                (m[2] * w[0] - m[0] * w[2]) / i[1],
+                (m[0] * w[1] - m[1] * w[0]) / i[2],
+            ]
+            if not attitude:
+                return dw
+            q = y[3:]
+            dq = [
+                -(q[1] * w[0] + q[2] * w[1] + q[3] * w[2]) / 2,
+                (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]) / 2,
+                (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]) / 2,
+                (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]) / 2,
+            ]
+            return dw + dq
+
+        y0 = [mpmath.mpf(float(x)) for x in w0]
+        if attitude:
+            y0 += [mpmath.mpf(float(x)) for x in q0]
+        sol = mpmath.odefun(f, 0, y0)
+        out = np.array([[float(v) for v in sol(mpmath.mpf(float(t)))] for t in ts])
+    return out
+
+
+def _rel(w, ref):
+    return float(np.max(np.abs(w - ref)) / np.max(np.abs(ref)))
+
+
+def _random_cases(n, seed):
+    rng = np.random.default_rng(seed)
+    cases = []
+    while len(cases) < n:
+        inertia = rng.uniform(0.5, 3.0, 3)
+        if 2.0 * inertia.max() > inertia.sum():
+            continue
+        h = np.zeros(3)
+        h[rng.integers(3)] = rng.normal() * rng.choice([0.2, 1.0, 3.0])
+        cases.append((inertia, h, rng.normal(size=3)))
+    return cases
+
+
+@pytest.mark.parametrize("case", _random_cases(6, 41), ids=lambda c: "")
+def test_omega_matches_mpmath_random(case):
+    inertia, h, w0 = case
+    g = FreeGyrostat(inertia, h, omega0=w0)
+    assert g.regime in ("four_roots", "two_roots")
+    t = np.linspace(0.0, 6.0, 7)
+    err = _rel(g.omega(t), _mp_reference(inertia, h, w0, None, t))
+    assert err < TOL_MP_W, (g.regime, err)
+
+
+#: spins about axis 3 of moments (1, 3, 2) (axis 3 intermediate) with h e3: unstable for
+#: |h| < |W| (the double root of the quartic at z = I3 W + h moves with h); a small
+#: transverse omega then starts the motion next to the separatrix.
+SEPARATRIX_CASES = [(0.5, 1e-2), (0.8, 1e-3), (0.2, 1e-4)]
+
+
+@pytest.mark.parametrize(("h", "eps"), SEPARATRIX_CASES)
+def test_omega_matches_mpmath_near_separatrix(h, eps):
+    inertia, hv, w0 = [1.0, 3.0, 2.0], [0.0, 0.0, h], [eps, eps, 1.0]
+    g = FreeGyrostat(inertia, hv, omega0=w0)
+    m1 = g._bodies[0].plan.m1
+    assert 0.0 < m1 < 1e-3  # next to the separatrix: 1 - k^2 small
+    t = np.linspace(0.0, 1.2 * g.period, 9)
+    err = _rel(g.omega(t), _mp_reference(inertia, hv, w0, None, t))
+    assert err < TOL_MP_W, (m1, err)
+
+
+@pytest.mark.parametrize("case", _random_cases(2, 7), ids=lambda c: "")
+def test_attitude_matches_mpmath(case):
+    inertia, h, w0 = case
+    q0 = Rotation.from_rotvec([0.3, -0.2, 0.5]).as_quat()
+    g = FreeGyrostat(inertia, h, rotation0=q0, omega0=w0)
+    t = np.linspace(0.0, 1.5 * g.period, 6)
+    ref = _mp_reference(inertia, h, w0, q0, t, attitude=True)
+    w, r = g.state(t)
+    assert _rel(w, ref[:, :3]) < TOL_MP_W
+    angle = (r.inv() * Rotation.from_quat(ref[:, 3:])).magnitude()
+    assert float(np.max(angle)) < TOL_MP_R
+
+
+def test_integrals_are_conserved():
+    cases = _random_cases(8, 3)
+    for inertia, h, w0 in cases:
+        g = FreeGyrostat(inertia, h, rotation0=Rotation.from_rotvec([1.0, 2.0, 0.5]), omega0=w0)
+        tr = g.trajectory(np.linspace(-20.0, 40.0, 301))
+        e = tr.energy
+        assert np.max(np.abs(e - g.energy)) < 1e-13 * g.energy  # observed <= 2e-15
+        k = tr.momentum
+        assert np.max(np.abs(k - g.momentum)) < 1e-12 * g.momentum_norm  # observed ~1e-14
+        mb = g.momentum_body(tr.t)
+        assert np.allclose(np.linalg.norm(mb, axis=-1), g.momentum_norm, rtol=1e-14, atol=0)
+        assert tr.info["conserved"] == ("energy", "momentum")
+
+
+def test_h_zero_is_the_free_rigid_body():
+    for inertia, _, w0 in _random_cases(6, 11):
+        q0 = Rotation.from_rotvec([0.2, 0.1, -0.4])
+        g = FreeGyrostat(inertia, [0.0, 0.0, 0.0], rotation0=q0, omega0=w0)
+        b = FreeRigidBody(inertia, rotation0=q0, omega0=w0)
+        t = np.linspace(-5.0, 15.0, 41)
+        wg, rg = g.state(t)
+        wb, rb = b.state(t)
+        assert _rel(wg, wb) < 1e-13  # observed <= 5e-15
+        assert float(np.max((rg.inv() * rb).magnitude())) < 1e-12  # observed <= 4e-14
+        assert math.isclose(g.period, b.period, rel_tol=1e-13)
+        assert math.isclose(g.energy, b.energy, rel_tol=1e-15)
+
+
+def _jacobian(inertia, h, w, step=1e-6):
+    cols = []
+    for k in range(3):
+        d = np.zeros(3)
+        d[k] = step
+        cols.append(
+            (gyrostat_rhs(inertia, w + d, h) - gyrostat_rhs(inertia, w - d, h)) / (2 * step)
+        )
+    return np.stack(cols, -1)
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+@pytest.mark.parametrize("h", [-3.0, -1.2, -0.8, -0.3, 0.0, 0.3, 0.8, 1.2, 3.0])
+def test_spin_stability_against_linearised_rhs(axis, h):
+    """Stable iff the Jacobian at the permanent rotation has no eigenvalue with a
+    positive real part (the others are purely imaginary pairs and a zero)."""
+    inertia = np.array([1.0, 2.0, 3.0])
+    w = np.zeros(3)
+    w[axis] = 1.0
+    hv = np.zeros(3)
+    hv[axis] = h
+    assert np.allclose(gyrostat_rhs(inertia, w, hv), 0.0)  # a permanent rotation
+    ev = np.linalg.eigvals(_jacobian(inertia, hv, w))
+    unstable = np.max(ev.real) > 1e-6
+    assert gyrostat_spin_stable(inertia, hv, w) == (not unstable)
+    g = FreeGyrostat(inertia, hv, omega0=w)
+    assert g.regime == "permanent"
+    assert np.allclose(g.omega([0.0, 3.0]), w, rtol=0, atol=0)
+
+
+def test_intermediate_axis_is_stabilised_by_the_rotor():
+    """Dual spin: spin W = 1 about the intermediate axis of (1, 2, 3): unstable for
+    -1 < h < 1 ((m - I1 W)(m - I3 W) < 0 with m = 2 + h), stable beyond."""
+    inertia, w = [1.0, 2.0, 3.0], [0.0, 1.0, 0.0]
+    hs = np.array([-1.5, -0.99, 0.0, 0.99, 1.5])
+    got = gyrostat_spin_stable(inertia, np.outer(hs, [0.0, 1.0, 0.0]), w)
+    assert got.tolist() == [True, False, False, False, True]
+    # the perturbed motion stays close (stable) or leaves (unstable)
+    for h, bounded in ((1.5, True), (0.5, False)):
+        g = FreeGyrostat(inertia, [0.0, h, 0.0], omega0=[1e-4, 1.0, 1e-4])
+        dev = np.max(np.abs(g.omega(np.linspace(0.0, 60.0, 601))[:, [0, 2]]))
+        assert (dev < 1e-3) == bounded
+
+
+def test_rhs_reduces_to_euler_and_has_the_rotor_terms():
+    rng = np.random.default_rng(5)
+    w = rng.normal(size=(4, 3))
+    jt = np.array([[2.0, 0.1, 0.0], [0.1, 3.0, 0.2], [0.0, 0.2, 4.0]])
+    m = rng.normal(size=3)
+    assert np.allclose(gyrostat_rhs(jt, w, np.zeros(3), m), euler_rhs(jt, w, m), rtol=1e-15)
+    h, hd = rng.normal(size=3), rng.normal(size=3)
+    lhs = jt @ gyrostat_rhs(jt, w[0], h, m, h_rate=hd) + np.cross(w[0], jt @ w[0] + h)
+    assert np.allclose(lhs, m - hd, rtol=1e-14, atol=1e-14)
+
+
+def test_regimes_and_fallback():
+    # rotor along the symmetry axis: r constant, (p + i q) turns at ((I3 - I1) r + h) / I1
+    g = FreeGyrostat([2.0, 2.0, 1.0], [0.0, 0.0, 2.0], omega0=[0.3, 0.4, 1.0])
+    assert g.regime == "axisymmetric"
+    t = np.linspace(0.0, 10.0, 11)
+    ang = 0.5 * t
+    w = g.omega(t)
+    assert np.allclose(w[:, 0], 0.3 * np.cos(ang) - 0.4 * np.sin(ang), rtol=0, atol=1e-15)
+    assert np.allclose(w[:, 2], 1.0, rtol=0, atol=0)
+    r = g.rotation(t)
+    assert np.allclose(r.apply(g.momentum_body(t)), g.momentum, rtol=0, atol=1e-14)
+    assert FreeGyrostat([1.0, 2.0, 3.0], [0.0, 1.0, 0.0], omega0=[0.0, 0.0, 0.0]).regime == "rest"
+    # h off the principal axes, a full tensor, a rotor on a symmetric body's equator
+    for inertia, h in (
+        ([1.0, 2.0, 3.0], [0.3, 0.0, 0.4]),
+        ([[2.0, 0.1, 0.0], [0.1, 3.0, 0.0], [0.0, 0.0, 4.0]], [0.0, 0.0, 0.5]),
+        ([1.0, 2.0, 2.0], [0.0, 0.0, 0.5]),
+    ):
+        g = FreeGyrostat(inertia, h, omega0=[0.3, 0.5, 0.7])
+        assert g.regime == "numeric" and math.isnan(g.period)
+        if np.ndim(inertia) == 1:
+            t = np.array([0.0, 1.5, 3.0])
+            ref = _mp_reference(inertia, h, [0.3, 0.5, 0.7], None, t)
+            assert _rel(g.omega(t), ref) < 1e-9  # DOP853 at rtol 1e-12; observed ~1e-12
+            # backwards in time: the forward run from the state reached at t = -2
+            back = g.omega([-2.0])[0]
+            fwd = FreeGyrostat(inertia, h, omega0=back).omega([2.0])[0]
+            assert np.allclose(fwd, [0.3, 0.5, 0.7], rtol=0, atol=1e-10)
+        tr = g.trajectory(np.linspace(0.0, 5.0, 11))
+        assert tr.info["path"] == "solve_ivp DOP853 fallback"
+        assert np.max(np.abs(tr.momentum - g.momentum)) < 1e-9
+
+
+def test_batches_index_and_shapes():
+    g = FreeGyrostat(
+        [[1.0, 2.0, 3.0], [2.0, 2.0, 1.0]], [0.0, 0.0, 2.0], omega0=[[0.3, 0.2, 1.0]] * 2
+    )
+    assert g.shape == (2,) and len(g) == 2
+    assert g.regime.tolist() == ["four_roots", "axisymmetric"]
+    assert g.omega(np.zeros((4, 5))).shape == (2, 4, 5, 3)
+    assert g.rotation([0.0, 1.0]).shape == (2, 2)
+    w1 = g[1].omega([0.5, 1.5])
+    assert np.array_equal(w1, g.omega([0.5, 1.5])[1])
+    tr = g.trajectory([0.0, 1.0, 2.0])
+    assert tr.omega.shape == (3, 2, 3)
+    assert "FreeGyrostat" in repr(g) and "FreeGyrostat" in repr(g[0])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "err", "match"),
+    [
+        ({"inertia": [1.0, 1.0, 3.0]}, InvalidInputError, "triangle inequality"),
+        ({"inertia": [1.0, 2.0]}, InvalidInputError, r"`inertia` to have shape"),
+        ({"h": [0.0, 1.0]}, InvalidInputError, r"`h` to have shape \(\.\.\., 3\)"),
+        ({"h": [0.0, np.nan, 1.0]}, InvalidInputError, "`h` to contain only finite"),
+        ({"h": "abc"}, InvalidTypeError, "`h` to be array-like"),
+        ({"omega0": [1.0, 2.0]}, InvalidInputError, r"`omega0` to have shape"),
+        ({"omega0": [np.inf, 0, 0]}, InvalidInputError, "`omega0` to contain only finite"),
+        ({"rotation0": {"w": 1}}, InvalidTypeError, "`rotation0` to be a poinsot Rotation"),
+        ({"h": np.zeros((3, 3))}, InvalidInputError, r"batch \(leading\) shapes"),
+    ],
+)
+def test_bad_inputs(kwargs, err, match):
+    args = {"inertia": [1.0, 2.0, 3.0], "h": [0.0, 0.0, 1.0], "omega0": [0.0, 0.0, 1.0]}
+    args.update(kwargs)
+    inertia, h = args.pop("inertia"), args.pop("h")
+    if kwargs.get("h") is not None and np.shape(kwargs["h"]) == (3, 3):
+        args["omega0"] = np.zeros((2, 3))
+    with pytest.raises(err, match=match):
+        FreeGyrostat(inertia, h, **args)
+
+
+def test_bad_inputs_of_the_functions():
+    with pytest.raises(TypeError, match="positional"):
+        FreeGyrostat([1, 2, 3], [0, 0, 1], [1, 2, 3])  # omega0 is keyword-only
+    with pytest.raises(InvalidInputError, match="`h_rate` to have shape"):
+        gyrostat_rhs([1, 2, 3], [1, 2, 3], [0, 0, 1], h_rate=[1, 2])
+    with pytest.raises(InvalidInputError, match="`torque` to contain only finite"):
+        gyrostat_rhs([1, 2, 3], [1, 2, 3], [0, 0, 1], [np.nan, 0, 0])
+    with pytest.raises(InvalidInputError, match="`h` to be along one principal axis"):
+        gyrostat_spin_stable([1, 2, 3], [1, 1, 0], [1, 0, 0])
+    with pytest.raises(InvalidInputError, match="`omega` to be along one principal axis"):
+        gyrostat_spin_stable([1, 2, 3], [1, 0, 0], [1, 1, 0])
+    with pytest.raises(InvalidInputError, match="same principal axis"):
+        gyrostat_spin_stable([1, 2, 3], [0, 1, 0], [1, 0, 0])
+    with pytest.raises(InvalidInputError, match="principal moments of shape"):
+        gyrostat_spin_stable(np.eye(3), [0, 1, 0], [0, 1, 0])
+    g = FreeGyrostat([1, 2, 3], [0, 0, 1], omega0=[1, 2, 3])
+    with pytest.raises(InvalidInputError, match="`t` to contain only finite"):
+        g.omega([0.0, np.inf])
+    with pytest.raises(InvalidInputError, match=r"`t` to have shape \(n,\)"):
+        g.trajectory([[0.0, 1.0]])
+    with pytest.raises(InvalidTypeError, match="a single one"):
+        g[0]
+    with pytest.raises(InvalidTypeError, match="a single one"):
+        len(g)
