@@ -405,6 +405,8 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
     dd = 1.0 / i1 - 1.0 / i2
     lead = dd * dd * a1 * a2
     quads = ((m10 * m10, g1, a1), (m20 * m20, g2, a2))
+    if (m10 == 0.0 and g1 == 0.0) or (m20 == 0.0 and g2 == 0.0):
+        return _Plan("permanent", **base)  # z0 a double root: m1 (or m2) and z' stay 0
     real: list[tuple[float, int]] = []
     cplx: tuple[complex, int] | None = None
     for k, (c0, c1, c2) in enumerate(quads):
