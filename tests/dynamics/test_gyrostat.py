@@ -1,17 +1,27 @@
 """Tests of the gyrostat (docs/theory.md §10.1): the Euler-Zhukovsky
 right-hand side, the exact dual-spin solution and its numeric fallback.
 
-Oracles: a 40-digit mpmath integration (``mpmath.odefun``, Taylor series, ``mp.dps =
-40``) of ``J w' = (J w + h) x w`` (and of ``q' = q o w / 2`` for the attitude) from the
-same double inputs; :class:`poinsot.dynamics.FreeRigidBody` for ``h = 0``; the
-eigenvalues of the finite-difference Jacobian of :func:`gyrostat_rhs` for the
-stability of permanent rotations (Wittenburg, *Dynamics of Multibody Systems*, ch. 4;
-Cochran, Shu & Rew 1982). Every tolerance is >= 10x the error observed (noted at each).
+Oracles: a Taylor-series integration of ``J w' = (J w + h) x w`` (and of
+``q' = q o w / 2`` for the attitude) from the same double inputs, with the series
+coefficients from the exact Cauchy-product recurrence of these quadratic equations in
+112-bit fixed point (Python integers, order 40, each step shortened until its last
+two terms are below 2^-106): :func:`_taylor`. It is checked against 30-digit
+``mpmath.odefun`` (to 1e-28) and against itself at 150 bits and order 56 on the
+hardest case (:func:`test_reference_is_converged`), so its error is far below every
+tolerance here; each reference is computed once (:func:`_reference`, cached) and shared
+by the tests that use it. Further oracles: :class:`poinsot.dynamics.FreeRigidBody` for
+``h = 0``; the eigenvalues of the finite-difference Jacobian of
+:func:`gyrostat_rhs` for the stability of permanent rotations (Wittenburg,
+*Dynamics of Multibody Systems*, ch. 4; Cochran, Shu & Rew 1982). Every tolerance is
+>= 10x the error observed (noted at each).
 """
 
 from __future__ import annotations
 
+import functools
 import math
+from fractions import Fraction
+from operator import mul
 
 import numpy as np
 import pytest
@@ -27,48 +37,111 @@ from poinsot.dynamics import (
 
 mpmath = pytest.importorskip("mpmath")
 
-#: omega against 40-digit mpmath, max |w - w_ref| / max |w_ref|: observed <= 2.0e-15
-#: (random cases) and 4.9e-14, 1.3e-14 next to a separatrix (1 - k^2 = 4.4e-9, 3.7e-6).
-TOL_MP_W = 1e-12
+#: omega against the reference, max |w - w_ref| / max |w_ref|: observed <= 9.3e-16
+#: (random cases, t in [-3, 6]) and 4.9e-14, 1.3e-14 next to a separatrix
+#: (1 - k^2 = 4.4e-9, 3.7e-6).
+TOL_REF_W = 1e-12
 #: Closer to some separatrices the rounding of the quadratics' coefficients (double, not
 #: double-double as in FreeRigidBody) shows: 1.6e-12 at 1 - k^2 = 1.3e-9 (h = 0.2),
 #: 2.1e-13 at 3.6e-7 (h = 0.5, eps = 0.03). Known limitation, tolerance 10x that.
-TOL_MP_W_SEPARATRIX = 2e-11
-#: attitude against mpmath (angle of R_ref^T R, rad) over 1.5 periods: observed <= 1.6e-14.
-TOL_MP_R = 1e-12
+TOL_REF_W_SEPARATRIX = 2e-11
+#: attitude against the reference (angle of R_ref^T R, rad) over 1.5 periods:
+#: observed <= 1.6e-14.
+TOL_REF_R = 1e-12
+
+_CROSS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
 
 
-def _mp_reference(inertia, h, w0, q0, ts, attitude=False):
-    """omega (and quaternions) at ``ts`` by mpmath.odefun at 40 digits from the double inputs."""
-    with mpmath.workdps(40):
-        i = [mpmath.mpf(float(x)) for x in inertia]
-        hv = [mpmath.mpf(float(x)) for x in h]
+def _taylor(inertia, h, w0, q0, ts, *, bits=112, order=40, exact=False):
+    """``w`` (and ``q`` if ``q0`` is given) at times ``ts`` (any signs): Taylor series of
+    ``J w' = (J w + h) x w``, ``q' = q o (0, w) / 2`` in ``bits``-bit fixed point.
 
-        def f(_, y):
-            w = y[:3]
-            m = [i[k] * w[k] + hv[k] for k in range(3)]
-            dw = [
-                (m[1] * w[2] - m[2] * w[1]) / i[0],
-                (m[2] * w[0] - m[0] * w[2]) / i[1],
-                (m[0] * w[1] - m[1] * w[0]) / i[2],
-            ]
-            if not attitude:
-                return dw
-            q = y[3:]
-            dq = [
-                -(q[1] * w[0] + q[2] * w[1] + q[3] * w[2]) / 2,
-                (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]) / 2,
-                (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]) / 2,
-                (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]) / 2,
-            ]
-            return dw + dq
+    With ``W_n = w_n s^n`` the scaled coefficients of a step ``s`` and
+    ``M_n = J W_n (+ h for n = 0)``: ``W_{n+1} = s / ((n + 1) J) sum_j M_j x W_{n-j}``,
+    ``Q_{n+1} = s / (2 (n + 1)) sum_j Q_j o (0, W_{n-j})``, exact integer Cauchy
+    products rounded once per coefficient. The step shrinks (x 3/4) until the last two
+    coefficients are below ``2^(6 - bits)`` and grows (x 5/4) when far below. Returns
+    floats (n, 3 or 7), or with ``exact`` the fixed-point integers and the scale."""
+    one = 1 << bits
+    inv = [Fraction(float(x)) for x in inertia]
+    i_fx = [round(x * one) for x in inv]
+    h_fx = [round(Fraction(float(x)) * one) for x in h]
+    att = q0 is not None
+    y0 = [round(Fraction(float(x)) * one) for x in (list(w0) + (list(q0) if att else []))]
+    tq = [Fraction(float(t)) for t in ts]
+    out = [list(y0) if t == 0 else None for t in tq]
+    tail_tol = 1 << 6
+    for sign in (1, -1):
+        todo = sorted((i for i, t in enumerate(tq) if sign * t > 0), key=lambda i: sign * tq[i])
+        y, tc, step, pos = list(y0), Fraction(0), Fraction(1, 8), 0
+        while pos < len(todo):
+            while True:
+                s = sign * step
+                ser = [[v] for v in y]  # 3 (+ 4) coefficient lists
+                mm = [[(i_fx[k] * y[k] >> bits) + h_fx[k]] for k in range(3)]
+                for n in range(order):
+                    ww = ser[:3]
+                    new = []
+                    for k, a, b in _CROSS:
+                        acc = sum(map(mul, mm[a], reversed(ww[b])))
+                        acc -= sum(map(mul, mm[b], reversed(ww[a])))
+                        new.append(acc * round(one * s / ((n + 1) * inv[k])) >> 2 * bits)
+                    if att:
+                        rw = [ww[k][::-1] for k in range(3)]
+                        qq = ser[3:]
 
-        y0 = [mpmath.mpf(float(x)) for x in w0]
-        if attitude:
-            y0 += [mpmath.mpf(float(x)) for x in q0]
-        sol = mpmath.odefun(f, 0, y0)
-        out = np.array([[float(v) for v in sol(mpmath.mpf(float(t)))] for t in ts])
-    return out
+                        def cp(x, k, qq=qq, rw=rw):
+                            return sum(map(mul, qq[x], rw[k]))
+
+                        dq = (
+                            -(cp(1, 0) + cp(2, 1) + cp(3, 2)),
+                            cp(0, 0) + cp(2, 2) - cp(3, 1),
+                            cp(0, 1) + cp(3, 0) - cp(1, 2),
+                            cp(0, 2) + cp(1, 1) - cp(2, 0),
+                        )
+                        cq = round(one * s / (2 * (n + 1)))
+                        for x in range(4):
+                            qq[x].append(dq[x] * cq >> 2 * bits)
+                    for k in range(3):
+                        ww[k].append(new[k])
+                        mm[k].append(i_fx[k] * new[k] >> bits)
+                tail = max(abs(c[j]) for c in ser for j in (-1, -2))
+                if tail < tail_tol:
+                    break
+                step = step * 3 / 4
+            tn = tc + s
+            while pos < len(todo) and sign * tq[todo[pos]] <= sign * tn:
+                th = round((tq[todo[pos]] - tc) / s * one)
+                vals = []
+                for c in ser:
+                    acc = 0
+                    for coef in reversed(c):
+                        acc = (acc * th >> bits) + coef
+                    vals.append(acc)
+                out[todo[pos]] = vals
+                pos += 1
+            y, tc = [sum(c) for c in ser], tn
+            if tail < tail_tol >> 8:
+                step = step * 5 / 4
+    if exact:
+        return out, one
+    return np.array([[v / one for v in row] for row in out])
+
+
+@functools.cache
+def _cached(inertia, h, w0, q0, ts):
+    ref = _taylor(inertia, h, w0, q0, ts)
+    ref.flags.writeable = False
+    return ref
+
+
+def _reference(inertia, h, w0, q0, ts):
+    """The Taylor reference, computed once per distinct case and shared."""
+
+    def key(x):
+        return None if x is None else tuple(float(v) for v in np.ravel(x))
+
+    return _cached(key(inertia), key(h), key(w0), key(q0), key(ts))
 
 
 def _rel(w, ref):
@@ -89,43 +162,47 @@ def _random_cases(n, seed):
 
 
 @pytest.mark.parametrize("case", _random_cases(4, 41), ids=lambda c: "")
-def test_omega_matches_mpmath_random(case):
+def test_omega_matches_reference_random(case):
     inertia, h, w0 = case
     g = FreeGyrostat(inertia, h, omega0=w0)
     assert g.regime in ("four_roots", "two_roots")
-    t = np.linspace(0.0, 6.0, 7)
-    err = _rel(g.omega(t), _mp_reference(inertia, h, w0, None, t))
-    assert err < TOL_MP_W, (g.regime, err)
+    t = np.linspace(-3.0, 6.0, 10)
+    err = _rel(g.omega(t), _reference(inertia, h, w0, None, t))
+    assert err < TOL_REF_W, (g.regime, err)
 
 
 #: spins about axis 3 of moments (1, 3, 2) (axis 3 intermediate) with h e3: unstable for
 #: |h| < |W| (the double root of the quartic at z = I3 W + h moves with h); a small
 #: transverse omega then starts the motion next to the separatrix.
-SEPARATRIX_CASES = [(0.5, 1e-2, TOL_MP_W), (0.8, 1e-3, TOL_MP_W), (0.2, 1e-4, TOL_MP_W_SEPARATRIX)]
+SEPARATRIX_CASES = [
+    (0.5, 1e-2, TOL_REF_W),
+    (0.8, 1e-3, TOL_REF_W),
+    (0.2, 1e-4, TOL_REF_W_SEPARATRIX),
+]
 
 
 @pytest.mark.parametrize(("h", "eps", "tol"), SEPARATRIX_CASES)
-def test_omega_matches_mpmath_near_separatrix(h, eps, tol):
+def test_omega_matches_reference_near_separatrix(h, eps, tol):
     inertia, hv, w0 = [1.0, 3.0, 2.0], [0.0, 0.0, h], [eps, eps, 1.0]
     g = FreeGyrostat(inertia, hv, omega0=w0)
     m1 = g._bodies[0].plan.m1
     assert 0.0 < m1 < 1e-3  # next to the separatrix: 1 - k^2 small
     t = np.linspace(0.0, 1.2 * g.period, 9)
-    err = _rel(g.omega(t), _mp_reference(inertia, hv, w0, None, t))
+    err = _rel(g.omega(t), _reference(inertia, hv, w0, None, t))
     assert err < tol, (m1, err)
 
 
 @pytest.mark.parametrize("case", _random_cases(2, 7), ids=lambda c: "")
-def test_attitude_matches_mpmath(case):
+def test_attitude_matches_reference(case):
     inertia, h, w0 = case
     q0 = Rotation.from_rotvec([0.3, -0.2, 0.5]).as_quat()
     g = FreeGyrostat(inertia, h, rotation0=q0, omega0=w0)
     t = np.linspace(0.0, 1.5 * g.period, 6)
-    ref = _mp_reference(inertia, h, w0, q0, t, attitude=True)
+    ref = _reference(inertia, h, w0, q0, t)
     w, r = g.state(t)
-    assert _rel(w, ref[:, :3]) < TOL_MP_W
+    assert _rel(w, ref[:, :3]) < TOL_REF_W
     angle = (r.inv() * Rotation.from_quat(ref[:, 3:])).magnitude()
-    assert float(np.max(angle)) < TOL_MP_R
+    assert float(np.max(angle)) < TOL_REF_R
 
 
 def test_integrals_are_conserved():
@@ -233,7 +310,7 @@ def test_regimes_and_fallback():
         assert g.regime == "numeric" and math.isnan(g.period)
         if np.ndim(inertia) == 1:
             t = np.array([0.0, 1.5, 3.0])
-            ref = _mp_reference(inertia, h, [0.3, 0.5, 0.7], None, t)
+            ref = _reference(inertia, h, [0.3, 0.5, 0.7], None, t)
             assert _rel(g.omega(t), ref) < 1e-9  # DOP853 at rtol 1e-12; observed <= 1.4e-13
             # backwards in time: the forward run from the state reached at t = -2
             back = g.omega([-2.0])[0]
@@ -307,3 +384,59 @@ def test_bad_inputs_of_the_functions():
         g[0]
     with pytest.raises(InvalidTypeError, match="a single one"):
         len(g)
+
+
+def _exact_diff(a, b):
+    """max |a - b| of two exact ``_taylor`` outputs (rows of fixed-point integers)."""
+    (ra, oa), (rb, ob) = a, b
+    return max(
+        abs(Fraction(x, oa) - Fraction(y, ob))
+        for row_a, row_b in zip(ra, rb, strict=True)
+        for x, y in zip(row_a, row_b, strict=True)
+    )
+
+
+def test_reference_is_converged():
+    """The Taylor reference (a) against 30-digit ``mpmath.odefun`` with the attitude at
+    t = 0.5, 1: observed 9.9e-32; (b) for t < 0 by time reversal, ``w(-t; h, w0) =
+    -w(t; -h, -w0)``: observed 1.9e-31; (c) against itself at 150 bits and order 56 over
+    1.2 periods of the case nearest a separatrix (where integration errors are amplified
+    by ~1 / (1 - k^2)): observed 1.3e-24 (|w| ~ 1)."""
+    inertia, h, w0 = [1.3, 2.1, 2.9], [0.0, 0.7, 0.0], [0.4, -0.6, 0.9]
+    q0 = Rotation.from_rotvec([0.3, -0.2, 0.5]).as_quat()
+    ts = [0.5, 1.0]
+    rows, one = _taylor(inertia, h, w0, q0, ts, exact=True)
+    with mpmath.workdps(30):
+        i = [mpmath.mpf(float(x)) for x in inertia]
+        hv = [mpmath.mpf(float(x)) for x in h]
+
+        def f(_, y):
+            w, q = y[:3], y[3:]
+            m = [i[k] * w[k] + hv[k] for k in range(3)]
+            dw = [(m[a] * w[b] - m[b] * w[a]) / i[k] for k, a, b in _CROSS]
+            dq = [
+                -(q[1] * w[0] + q[2] * w[1] + q[3] * w[2]) / 2,
+                (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]) / 2,
+                (q[0] * w[1] + q[3] * w[0] - q[1] * w[2]) / 2,
+                (q[0] * w[2] + q[1] * w[1] - q[2] * w[0]) / 2,
+            ]
+            return dw + dq
+
+        sol = mpmath.odefun(f, 0, [mpmath.mpf(float(x)) for x in [*w0, *q0]])
+        for t, row in zip(ts, rows, strict=True):
+            ref = sol(mpmath.mpf(t))
+            err = max(abs(mpmath.mpf(v) / one - r) for v, r in zip(row, ref, strict=True))
+            assert err < 1e-28, err
+    # (b) negative times
+    back = _taylor(inertia, h, w0, None, [-0.7, -2.5], exact=True)
+    fwd = _taylor(inertia, [-x for x in h], [-x for x in w0], None, [0.7, 2.5], exact=True)
+    fwd = ([[-v for v in row] for row in fwd[0]], fwd[1])
+    assert _exact_diff(back, fwd) < 1e-28
+    # (c) the reference's own error next to a separatrix
+    h_s, eps = SEPARATRIX_CASES[-1][:2]
+    inertia, hv, w0 = [1.0, 3.0, 2.0], [0.0, 0.0, h_s], [eps, eps, 1.0]
+    g = FreeGyrostat(inertia, hv, omega0=w0)
+    ts = np.linspace(0.0, 1.2 * g.period, 9)
+    lo = _taylor(inertia, hv, w0, None, ts, exact=True)
+    hi = _taylor(inertia, hv, w0, None, ts, bits=150, order=56, exact=True)
+    assert _exact_diff(lo, hi) < 1e-20
