@@ -40,8 +40,17 @@ between two adjacent real roots ``y1, y2`` (where ``f1 >= 0`` and ``f2 >= 0``):
 with ``u = lam t + u0`` (Byrd & Friedman 1971, 257-259; the case analysis of
 Cochran, Shu & Rew 1982 and Wittenburg, *Dynamics of Multibody Systems*, ch. 4).
 A double root at an end of the interval is a separatrix (``k = 1``, infinite
-period); a double root at ``z0`` a permanent rotation. ``I1 = I2`` (the rotor
-along the symmetry axis): ``r`` is constant and ``(p + i q)`` turns at
+period); a double root at ``z0`` a permanent rotation. **Next to a separatrix**
+``1 - k^2`` is a small difference of roots: of a near-double root of one quadratic
+(whose discriminant can be ``~ (1 - k^2)^2``, beyond double-double) or of near-common
+roots of the two.
+The quadratics (from the exact double inputs), their roots and every difference of
+roots are therefore formed in exact rational arithmetic (square roots to 2^-128) and
+rounded once, and ``u0 = F(phi0 | k^2)`` is evaluated from ``sn^2 u0, cn u0`` by
+Carlson's ``R_F`` rather than through ``phi0`` (steep near ``pi/2``): omega to ~1e-14
+relative at ``1 - k^2 = 1e-12`` (tests/dynamics/test_gyrostat.py).
+
+``I1 = I2`` (the rotor along the symmetry axis): ``r`` is constant and ``(p + i q)`` turns at
 ``((I3 - I1) r + h) / I1``.
 
 **Attitude.** As for the free body, ``R(t) = S Rz(psi) Rx(theta) Rz(phi) P`` with
@@ -63,6 +72,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -291,16 +301,28 @@ def gyrostat_spin_stable(inertia: ArrayLike, h: ArrayLike, omega: ArrayLike) -> 
 # ---------------------------------------------------------------------------
 
 
-def _roots(c0: float, c1: float, c2: float) -> tuple[list[float], complex | None]:
-    """Roots of ``c0 + c1 d + c2 d^2`` (``c2 != 0``): the real ones (stable formula) or
-    ``([], zeta)`` with ``zeta`` one of the complex pair."""
-    disc = c1 * c1 - 4.0 * c2 * c0
-    if disc < 0.0:
-        return [], complex(-c1 / (2.0 * c2), math.sqrt(-disc) / (2.0 * abs(c2)))
-    sq = math.sqrt(disc)
-    qq = -0.5 * (c1 + math.copysign(sq, c1))
-    if qq == 0.0:
-        return [0.0, 0.0], None
+def _fsqrt(x: Fraction, bits: int = 128) -> Fraction:
+    """``sqrt(x)`` of an exact ``x >= 0`` to a relative ``2^-bits`` (integer square root)."""
+    if x <= 0:
+        return Fraction(0)
+    n, d = x.numerator, x.denominator
+    shift = max(0, 2 * bits + 2 - (n.bit_length() - d.bit_length()))
+    shift += shift & 1
+    return Fraction(math.isqrt((n << shift) // d), 1 << (shift // 2))
+
+
+def _roots(
+    c0: Fraction, c1: Fraction, c2: Fraction
+) -> tuple[list[Fraction], tuple[Fraction, Fraction] | None]:
+    """Roots of ``c0 + c1 d + c2 d^2`` (``c2 != 0``, exact coefficients): the real ones
+    (stable formula, square root to 2^-128) or ``([], (re, im^2))`` of the complex pair."""
+    disc = c1 * c1 - 4 * c2 * c0
+    if disc < 0:
+        return [], (-c1 / (2 * c2), -disc / (4 * c2 * c2))
+    sq = _fsqrt(disc)
+    qq = -(c1 + sq) / 2 if c1 >= 0 else -(c1 - sq) / 2
+    if qq == 0:
+        return [Fraction(0), Fraction(0)], None
     return sorted([qq / c2, c0 / qq]), None
 
 
@@ -337,6 +359,7 @@ class _Plan:
     amp: tuple[float, float] = (0.0, 0.0)  # signed amplitudes of m1, m2
     fac: tuple[tuple[int, int], tuple[int, int]] = ((0, 0), (0, 0))
     ab: tuple[float, float] = (0.0, 0.0)  # (A, B) of the two-roots case
+    diffs: tuple[float, float] = (0.0, 0.0)  # (d1 - d3, d2 - d1) of the four-roots case
     omega_rate: float = 0.0  # axisymmetric: rate of (p + i q)
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -358,9 +381,10 @@ class _Plan:
         sn, cn, dn, _ = _elliptic.ellipj(u, np.full_like(u, self.m), m1=np.full_like(u, self.m1))
         sn, cn, dn = (np.atleast_1d(np.asarray(x, dtype=np.float64)) for x in (sn, cn, dn))
         if self.kind == 4:
-            d1, d2, d3 = self.y[0], self.y[1], self.y[2]
-            den = (d1 - d3) + (d2 - d1) * cn * cn
-            delta = d1 + (d2 - d1) * (d1 - d3) * sn * sn / den
+            d1 = self.y[0]
+            e13, e21 = self.diffs  # d1 - d3, d2 - d1 (rounded once from exact values)
+            den = e13 + e21 * cn * cn
+            delta = d1 + e21 * e13 * sn * sn / den
             phis = (sn, cn, np.ones_like(sn), dn)
             mm = [self.amp[k] * phis[self.fac[k][0]] * phis[self.fac[k][1]] / den for k in range(2)]
         else:
@@ -398,25 +422,34 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
         return _Plan("axisymmetric", omega_rate=rate, period=per, z0=z0, **base)
     if i3 == i1 or i3 == i2:
         return _Plan("numeric", **base)
-    a1 = i1 * (i3 - i2) / (i3 * (i2 - i1))
-    a2 = i2 * (i1 - i3) / (i3 * (i2 - i1))
-    g1 = 2.0 * i1 * ((i3 - i2) * r0 + h) / (i2 - i1)
-    g2 = -2.0 * z0 - g1
-    dd = 1.0 / i1 - 1.0 / i2
-    lead = dd * dd * a1 * a2
-    quads = ((m10 * m10, g1, a1), (m20 * m20, g2, a2))
-    if (m10 == 0.0 and g1 == 0.0) or (m20 == 0.0 and g2 == 0.0):
+    # The quadratics, their roots and every difference of roots in exact rational
+    # arithmetic on the double inputs (square roots to 2^-128 relative), rounded once:
+    # next to a separatrix 1 - k^2 is a small difference of roots (a double root of one
+    # quadratic, where the discriminant is ~ (1 - k^2)^2, or a near-common root of both),
+    # which double or double-double arithmetic leaves with too few correct digits.
+    fi1, fi2, fi3, fh = Fraction(i1), Fraction(i2), Fraction(i3), Fraction(h)
+    fr0 = Fraction(r0)
+    fm10, fm20 = fi1 * Fraction(p0), fi2 * Fraction(q0)
+    a1 = fi1 * (fi3 - fi2) / (fi3 * (fi2 - fi1))
+    a2 = -1 - a1
+    g1 = 2 * fi1 * ((fi3 - fi2) * fr0 + fh) / (fi2 - fi1)
+    g2 = -2 * (fi3 * fr0 + fh) - g1
+    ddf = 1 / fi1 - 1 / fi2
+    dd = float(ddf)
+    lead = ddf * ddf * a1 * a2
+    quads = ((fm10 * fm10, g1, a1), (fm20 * fm20, g2, a2))
+    if (m10 == 0.0 and g1 == 0) or (m20 == 0.0 and g2 == 0):
         return _Plan("permanent", **base)  # z0 a double root: m1 (or m2) and z' stay 0
-    real: list[tuple[float, int]] = []
-    cplx: tuple[complex, int] | None = None
+    real: list[tuple[Fraction, int]] = []
+    cplx: tuple[Fraction, Fraction, int] | None = None
     for k, (c0, c1, c2) in enumerate(quads):
         rr, zeta = _roots(c0, c1, c2)
         real += [(x, k) for x in rr]
         if zeta is not None:
-            cplx = (zeta, k)
+            cplx = (*zeta, k)
     real.sort()
 
-    def f(k: int, d: float) -> float:
+    def f(k: int, d: Fraction) -> Fraction:
         c0, c1, c2 = quads[k]
         return c0 + d * (c1 + d * c2)
 
@@ -424,9 +457,9 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
     pick = None
     for i in range(len(real) - 1):
         lo, hi = real[i][0], real[i + 1][0]
-        if lo <= 0.0 <= hi and lo < hi:
-            mid = 0.5 * (lo + hi)
-            if f(0, mid) > 0.0 and f(1, mid) > 0.0:
+        if lo <= 0 <= hi and lo < hi:
+            mid = (lo + hi) / 2
+            if f(0, mid) > 0 and f(1, mid) > 0:
                 pick = i
                 break
     if pick is None:
@@ -438,9 +471,9 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
         ys = [real[k][0] for k in order]
         owner = [real[k][1] for k in order]
         d1, d2, d3, d4 = ys
-        k2 = (d2 - d1) * (d4 - d3) / ((d2 - d3) * (d4 - d1))
-        m1c = (d2 - d4) * (d1 - d3) / ((d2 - d3) * (d1 - d4))
-        lam = math.sqrt(-lead * (d1 - d4) * (d2 - d3) / 4.0)
+        k2x = (d2 - d1) * (d4 - d3) / ((d2 - d3) * (d4 - d1))
+        m1x = (d2 - d4) * (d1 - d3) / ((d2 - d3) * (d1 - d4))
+        lam = math.sqrt(float(-lead * (d1 - d4) * (d2 - d3) / 4))
         kap = (
             (d2 - d1) * (d1 - d3),
             (d2 - d3) * (d1 - d2),
@@ -449,51 +482,60 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
         )
         fac = [[k for k in range(4) if owner[k] == ax] for ax in (0, 1)]
         mag = [
-            math.sqrt(max(quads[ax][2] * kap[fac[ax][0]] * kap[fac[ax][1]], 0.0)) for ax in (0, 1)
+            math.sqrt(max(float(quads[ax][2] * kap[fac[ax][0]] * kap[fac[ax][1]]), 0.0))
+            for ax in (0, 1)
         ]
-        s0 = max((d2 - d3) * (-d1) / ((d2 - d1) * (-d3)), 0.0)
-        c0 = max((d3 - d1) * (-d2) / ((d2 - d1) * (-d3)), 0.0)
-        phi0 = math.atan2(math.sqrt(s0), math.sqrt(c0))
-        up = zdot0 == 0.0 or _sign(zdot0) == _sign(d2 - d1)
-        plan.kind, plan.y = 4, (d1, d2, d3, d4)
+        # sn^2 u0 and cn^2 u0 of the Moebius substitution at z = z0 (d = 0)
+        s2 = (d2 - d3) * (-d1) / ((d2 - d1) * (-d3))
+        c2 = (d3 - d1) * (-d2) / ((d2 - d1) * (-d3))
+        cos0 = _fsqrt(max(c2, Fraction(0)))
+        up = zdot0 == 0.0 or _sign(zdot0) == _sign(float(d2 - d1))
+        plan.kind, plan.y = 4, tuple(float(x) for x in ys)
+        plan.diffs = (float(d1 - d3), float(d2 - d1))
         plan.fac = ((fac[0][0], fac[0][1]), (fac[1][0], fac[1][1]))
         per_factor = 2.0 if set(fac[0]) in ({0, 1}, {2, 3}) else 4.0
     else:
         assert cplx is not None
-        zeta, kc = cplx
+        zr, zi2, kc = cplx  # zeta = zr + i sqrt(zi2)
         kr = 1 - kc
         d1, d2 = real[0][0], real[1][0]
-        a = abs(d2 - zeta)
-        b = abs(d1 - zeta)
-        zr, zi2 = zeta.real, zeta.imag**2
-        # A + B - (d2 - d1) without cancellation
-        ea = zi2 / (a + (d2 - zr)) if d2 - zr > 0.0 else a + (zr - d2)
-        eb = zi2 / (b + (zr - d1)) if zr - d1 > 0.0 else b + (d1 - zr)
-        m1c = (ea + eb) * ((a + b) + (d2 - d1)) / (4.0 * a * b)
-        k2 = ((d2 - d1) - (a - b)) * ((d2 - d1) + (a - b)) / (4.0 * a * b)
-        lam = math.sqrt(-lead * a * b)
-        amp_r = math.sqrt(-quads[kr][2] * a * b) * (d2 - d1)
-        amp_c = math.sqrt(quads[kc][2]) * 2.0 * a * b
+        a = _fsqrt((d2 - zr) ** 2 + zi2)
+        b = _fsqrt((d1 - zr) ** 2 + zi2)
+        m1x = ((a + b) - (d2 - d1)) * ((a + b) + (d2 - d1)) / (4 * a * b)
+        k2x = ((d2 - d1) - (a - b)) * ((d2 - d1) + (a - b)) / (4 * a * b)
+        lam = math.sqrt(float(-lead * a * b))
+        amp_r = math.sqrt(float(-quads[kr][2] * a * b)) * float(d2 - d1)
+        amp_c = math.sqrt(float(quads[kc][2])) * float(2 * a * b)
         mag = [0.0, 0.0]
         mag[kr], mag[kc] = amp_r, amp_c
-        phi0 = math.atan2(2.0 * math.sqrt(max(a * b * d2 * (-d1), 0.0)), d2 * b + d1 * a)
+        # cn u0 = (d2 B + d1 A) / (d2 B - d1 A) at d = 0, sn^2 u0 = 1 - cn^2 u0
+        cos0 = (d2 * b + d1 * a) / (d2 * b - d1 * a)
+        s2 = -4 * d1 * d2 * a * b / (d2 * b - d1 * a) ** 2
         up = zdot0 >= 0.0
-        plan.kind, plan.y, plan.ab = 2, (d1, d2), (a, b)
+        plan.kind, plan.y, plan.ab = 2, (float(d1), float(d2)), (float(a), float(b))
         plan.fac = ((kr, kr), (kr, kr))
         per_factor = 4.0
         plan.regime = "two_roots"
     from . import _elliptic
 
-    m1c = min(max(m1c, 0.0), 1.0)
-    k2 = 1.0 - m1c if m1c > 0.5 else min(max(k2, 0.0), 1.0)
-    uabs = float(_elliptic.ellipkinc(phi0, k2, m1=m1c))
+    m1c = min(max(float(m1x), 0.0), 1.0)
+    k2 = min(max(float(k2x), 0.0), 1.0)
+    # u0 = F(phi0 | k^2) from sn^2, cn of phi0 directly (no phi0: near a separatrix phi0
+    # is close to pi/2 and F steep there): sin R_F(cos^2, 1 - k^2 sin^2, 1), reflected
+    # about K when cos < 0
+    s2f = min(max(float(s2), 0.0), 1.0)
+    dn2 = float(cos0 * cos0 + max(m1x, Fraction(0)) * max(s2, Fraction(0)))
+    uabs = math.sqrt(s2f) * float(_elliptic.elliprf(float(cos0 * cos0), dn2, 1.0))
+    kq = float(_elliptic.ellipk(k2, m1=m1c)) if m1c > 0.0 else math.inf
+    if cos0 < 0:
+        uabs = 2.0 * kq - uabs
     plan.lam, plan.m, plan.m1 = lam, k2, m1c
     plan.u0 = uabs if up else -uabs
     if m1c == 0.0:
         plan.regime = "separatrix"
         plan.period = math.inf
     else:
-        plan.period = per_factor * float(_elliptic.ellipk(k2, m1=m1c)) / lam
+        plan.period = per_factor * kq / lam
     # signs of m1, m2 from the initial values (a zero one from z' = -(1/I1 - 1/I2) m1 m2)
     plan.amp = (mag[0], mag[1])
     wv = plan.omega(np.zeros(1))[0]
@@ -510,10 +552,11 @@ def _plan(moments: np.ndarray, h: float, w0: np.ndarray) -> _Plan:
         u = lam * t_probe[0] + plan.u0
         sn, cn, dn, _ = (float(np.asarray(x)) for x in _elliptic.ellipj(u, k2, m1=m1c))
         if plan.kind == 4:
-            dzdu = (yv[1] - yv[0]) * (yv[0] - yv[2]) * (yv[1] - yv[2]) * 2.0 * sn * cn * dn
+            e13, e21 = plan.diffs
+            dzdu = e21 * e13 * (e21 + e13) * 2.0 * sn * cn * dn
         else:
-            a, b = plan.ab
-            dzdu = 2.0 * a * b * (yv[1] - yv[0]) * sn * dn
+            fa, fb = plan.ab
+            dzdu = 2.0 * fa * fb * (yv[1] - yv[0]) * sn * dn
         prod = wp[0] * wp[1] * dzdu
         if prod != 0.0:
             prod_sign = _sign(-(lam * dzdu) / dd) * _sign(wp[0] * i1 * wp[1] * i2)
