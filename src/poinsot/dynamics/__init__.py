@@ -1,5 +1,5 @@
 """Dynamics (theory §8-§10): Euler's equations and their integrators, torque models
-and invariants, exact solutions (free body, Lagrange top), the heavy body, particles
+and invariants, exact solutions (free body, gyrostat, Lagrange top), the heavy body, particles
 in moving frames and central forces.
 
 A new kind of motion is one module here plus one scenario adapter
@@ -64,6 +64,7 @@ from .gyroscope import (
     regular_precession_rates,
     sleeping_top_stable,
 )
+from .gyrostat import GYROSTAT_REGIMES, FreeGyrostat, gyrostat_rhs, gyrostat_spin_stable
 from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
 from .lagrange_top import MOTION_TYPES, LagrangeTop
@@ -122,6 +123,11 @@ __all__ = [
     "simulate",
     "METHODS",
     "FreeRigidBody",
+    # the gyrostat (theory §10.1)
+    "FreeGyrostat",
+    "gyrostat_rhs",
+    "gyrostat_spin_stable",
+    "GYROSTAT_REGIMES",
     "RegularPrecession",
     "MacCullaghGeometry",
     "PoinsotGeometry",
