@@ -57,13 +57,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import _quat
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_choice, as_float_array, as_rotation_quat, as_times, as_vec3
 from .._vec import diagonal3, inverse3
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
-from ..kinematics.rates import _quat_rate
 from ..mass.tensor import _kinetic
-from ..rotations import quaternion as _quaternion
 from ..rotations.rotation import Rotation
 from ..trajectory import Channel, Trajectory, _readonly
 from .euler_equations import _body_inertia, _max_step, _tolerances
@@ -82,7 +81,7 @@ AXIS_ATOL = 1e-6
 
 def _along(axes: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``sum_i x_i a_i`` (body axes) for per-wheel scalars ``x`` (..., N)."""
-    return np.einsum("...i,ij->...j", x, axes)
+    return x @ axes
 
 
 def _per_wheel(x: object, name: str, n: int, *, positive: bool, finite: bool) -> np.ndarray:
@@ -502,8 +501,8 @@ class _WheelSystem:
         self.n = wheels.n
         self.outer = wheels.inertia[:, None, None] * np.einsum(
             "ij,ik->ijk", wheels.axes, wheels.axes
-        )
-        self.j_free = j - self.outer.sum(axis=0)
+        )  # I_i a_i a_i^T, summed: ReactionWheels.axial_inertia
+        self.j_free = j - wheels.axial_inertia
         self.j_free_inv = inverse3(self.j_free)
 
     def motor(self, t: float, q: np.ndarray, w: np.ndarray, om: np.ndarray) -> np.ndarray:
@@ -573,7 +572,7 @@ class _WheelSystem:
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
         q, w, om = y[:4], y[4:7], y[7:]
         wdot, omdot, _ = self.motion(t, q, w, om)
-        return np.concatenate([_quat_rate(q, w, "body"), wdot, omdot])
+        return np.concatenate([0.5 * _quat.mul(q, _quat.pure(w)), wdot, omdot])  # theory §5
 
 
 def _run_dop853(
@@ -767,13 +766,14 @@ def simulate_wheels(
     model = as_torque(torque)
     h_max = _max_step(max_step)
     rt, at = _tolerances(1e-10 if rtol is None else rtol, 1e-12 if atol is None else atol)
-    sys_ = _WheelSystem(j, wheels, command, model)
-    if np.any(np.linalg.eigvalsh(sys_.j_free) <= 0.0):
+    eig = np.linalg.eigvalsh(j - wheels.axial_inertia)
+    if np.any(eig <= 0.0):
         raise InvalidInputError(
             "Expected `inertia` to contain the wheels locked: J - sum_i I_i a_i a_i^T must be "
-            f"positive definite, got eigenvalues {np.linalg.eigvalsh(sys_.j_free)!r} (`wheels` "
-            "inertia too large for `inertia`?)."
+            f"positive definite, got eigenvalues {eig.tolist()} (`wheels` inertia too large "
+            "for `inertia`?)."
         )
+    sys_ = _WheelSystem(j, wheels, command, model)
     y0 = np.concatenate([q0, w0, om0])
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         if method == "dop853":
@@ -784,7 +784,7 @@ def simulate_wheels(
     w, om = ys[:, 4:7], np.ascontiguousarray(ys[:, 7:])
     u = np.array([sys_.motion(float(tk), q[k], w[k], om[k])[2] for k, tk in enumerate(tt)])
     h = _along(wheels.axes, wheels.inertia * om)
-    k_space = _quaternion.rotate(q, np.einsum("ij,nj->ni", j, w) + h)
+    k_space = _quat.rotate(q, np.einsum("ij,nj->ni", j, w) + h)
     info.update(_conserved(model, command, wheels))
     return WheelTrajectory(
         tt,
