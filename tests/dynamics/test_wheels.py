@@ -85,7 +85,7 @@ def test_momentum_conserved_with_saturation_and_friction(saturating):
 
 
 def test_momentum_conserved_rk4():
-    """The fixed-step RK4 on the same kind of run: order 4, observed K drift 2.1e-11
+    """The fixed-step RK4 on the same kind of run: order 4, observed K drift 2.9e-12
     (relative) with steps of 0.05 s over 10 s."""
     rw = pyramid(BETA, 0.01, max_torque=0.02, viscous=1e-5)
     t = np.linspace(0.0, 10.0, 51)
@@ -140,7 +140,7 @@ def test_energy_changes_by_motor_and_friction_work():
 
 def test_energy_conserved_without_motors_or_friction():
     """No command, no friction, no limit: ``T`` and ``K`` are both conserved (and
-    ``info["conserved"]`` says so). Observed relative drifts 1e-13 and 2e-13."""
+    ``info["conserved"]`` says so). Observed relative drifts 3.9e-14 and 1.9e-13."""
     rw = pyramid(BETA, 0.02)
     t = np.linspace(0.0, 10.0, 21)
     tr = simulate_wheels(_inertia(), rw, [1.0, 0, 0, 0], [0.3, -0.2, 0.1], [30.0, 0, -10, 5], t)
@@ -242,8 +242,9 @@ def test_spin_up_to_the_limit_then_cut():
     """One wheel on the spin axis 3 of a body spinning about it, commanded far beyond
     its torque limit: it accelerates at ``Omega' = u_max J3 / (I_w (J3 - I_w))`` until
     ``max_speed``, where the torque is cut to zero (nothing else drives the wheel) and the
-    body's rate stays constant. Observed: speed 50 + 1.1e-8 rad/s at most, rate error
-    4e-13 rad/s."""
+    body's rate stays constant. Observed: speed 50 + 1.9e-7 rad/s at most (3.7e-9
+    relative: the adaptive step that crosses the limit), speed before it 2.1e-14 rad/s,
+    rate after it 3.7e-10 rad/s, K drift 8.9e-16."""
     j3, iw, umax, smax = 5.0, 0.01, 0.05, 50.0
     rw = ReactionWheels([[0.0, 0.0, 1.0]], iw, max_torque=umax, max_speed=smax)
     t = np.linspace(0.0, 15.0, 151)
@@ -255,13 +256,13 @@ def test_spin_up_to_the_limit_then_cut():
     rate = umax * j3 / (iw * (j3 - iw))
     t_full = smax / rate
     before = t < t_full
-    assert np.max(om) < smax * (1.0 + 1e-8) and np.max(om) > smax * (1.0 - 1e-12)
+    assert np.max(om) < smax * (1.0 + 1e-7) and np.max(om) > smax * (1.0 - 1e-12)
     assert np.max(np.abs(om[before] - rate * t[before])) < 1e-9
     assert np.all(tr.motor_torque[before] == umax)
     assert np.all(tr.motor_torque[t > t_full + 0.1] == 0.0)
     # body rate: J_f3 w3' = -u until t_full, then constant
     w_end = 1.0 - umax * t_full / (j3 - iw)
-    assert np.max(np.abs(tr.omega[t > t_full, 2] - w_end)) < 1e-9
+    assert np.max(np.abs(tr.omega[t > t_full, 2] - w_end)) < 5e-9
     assert _kdrift(tr) < 1e-11
 
 
