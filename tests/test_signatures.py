@@ -40,7 +40,7 @@ NAMESPACES = (
 )
 
 #: the initial-state names (docs/conventions.md, "Names")
-INITIAL_STATE = {"rotation0", "omega0", "position0", "velocity0", "q0", "qdot0"}
+INITIAL_STATE = {"rotation0", "omega0", "position0", "velocity0", "q0", "qdot0", "wheel_speed0"}
 
 #: ``0``-names that are no initial state: (function, name) -> what it is
 NOT_INITIAL_STATE = {

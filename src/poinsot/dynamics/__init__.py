@@ -100,6 +100,7 @@ from .torques import (
     TorqueModel,
     as_torque,
 )
+from .wheels import WHEEL_METHODS, ReactionWheels, WheelTrajectory, pyramid, simulate_wheels
 
 __all__ = [
     "simulate_free_motion",
@@ -128,6 +129,12 @@ __all__ = [
     "gyrostat_rhs",
     "gyrostat_spin_stable",
     "GYROSTAT_REGIMES",
+    # reaction wheels (theory §10.1)
+    "ReactionWheels",
+    "pyramid",
+    "simulate_wheels",
+    "WheelTrajectory",
+    "WHEEL_METHODS",
     "RegularPrecession",
     "MacCullaghGeometry",
     "PoinsotGeometry",

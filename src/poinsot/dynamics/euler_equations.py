@@ -245,6 +245,19 @@ def _tolerances(rtol: ArrayLike, atol: ArrayLike) -> tuple[float, float]:
     return out[0], out[1]
 
 
+def _max_step(max_step: ArrayLike | None) -> float:
+    """``max_step`` as a positive float (``inf`` for ``None``: no limit)."""
+    if max_step is None:
+        return math.inf
+    h_arr = as_float_array(max_step, "max_step")
+    if h_arr.ndim != 0:
+        raise InvalidInputError(f"Expected `max_step` to be a scalar, got shape {h_arr.shape}.")
+    h_max = float(h_arr)
+    if not h_max > 0:
+        raise InvalidInputError(f"Expected `max_step` to be positive, got {max_step!r}.")
+    return h_max
+
+
 def simulate(
     body: RigidBody | ArrayLike,
     rotation0: Rotation | ArrayLike,
@@ -420,15 +433,7 @@ def simulate(
     elif model is not None:
         torque_fn = model
     batch = batch_shape(**named)
-    if max_step is None:
-        h_max = math.inf
-    else:
-        h_arr = as_float_array(max_step, "max_step")
-        if h_arr.ndim != 0:
-            raise InvalidInputError(f"Expected `max_step` to be a scalar, got shape {h_arr.shape}.")
-        h_max = float(h_arr)
-        if not h_max > 0:
-            raise InvalidInputError(f"Expected `max_step` to be positive, got {max_step!r}.")
+    h_max = _max_step(max_step)
     # refusals from the methods' facts (integrators.INTEGRATORS[...].options)
     marked = None if failures == "raise" else failures
     opts = {"order": order, "rtol": rtol, "atol": atol, "solver": solver, "failures": marked}
