@@ -11,6 +11,9 @@ from .free_body import (
     plot_omega,
     plot_poinsot,
 )
+from .gyrostat import (
+    plot_gyrostat_polhodes,
+)
 from .heavy_top import (
     plot_axis_track,
     plot_cubic,
@@ -51,6 +54,7 @@ __all__ = [
     "plot_maccullagh",
     "plot_poinsot",
     "plot_omega",
+    "plot_gyrostat_polhodes",
     "write_report",
     "ReportSpec",
     "BodyLayer",
