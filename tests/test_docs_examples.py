@@ -24,6 +24,7 @@ PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "integrators.md",
     "lagrange.md",
     "free-body.md",
+    "gyrostat.md",
     "heavy-top.md",
     "kinematics-fields.md",
     "kinematics-rates.md",
