@@ -223,6 +223,57 @@ def _rotor_wheel(inertia: np.ndarray, h: np.ndarray) -> tuple[Any, np.ndarray, A
     return wheels, np.array([speed]), WheelCommand((0.0,), ((1e300,),))
 
 
+def _run_wheels(
+    j: np.ndarray, wheels: Any, rotation0: Any, omega0: Any, speed0: Any, t: np.ndarray,
+    command: WheelCommand | None, method: str, max_step: float | None,
+) -> Any:  # fmt: skip
+    """:func:`poinsot.dynamics.simulate_wheels` on ``t``, one call per piece of a
+    piecewise-constant command (each continuing from the state where the last ended),
+    so that no integration step straddles a jump of the motor torques; the pieces'
+    samples joined in one :class:`poinsot.dynamics.WheelTrajectory` (at a jump, the
+    sample is the next piece's first: the command is right-continuous)."""
+    from ...dynamics import WheelTrajectory, simulate_wheels
+    from ...rotations.rotation import Rotation
+
+    cuts = [] if command is None else [c for c in command.times[1:] if t[0] < c < t[-1]]
+    edges = [float(t[0]), *cuts, float(t[-1])]
+    state = (rotation0, omega0, speed0)
+    parts = []
+    info: dict[str, Any] = {}
+    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
+        last = k == len(edges) - 2
+        sel = t[(t >= a) & ((t <= b) if last else (t < b))]
+        tt = np.union1d(sel, [a, b])
+        piece = None
+        if command is not None:  # the torques of this piece, constant over it
+            piece = WheelCommand((0.0,), (tuple(command(a, None, None, None)),))
+        seg = simulate_wheels(
+            j, wheels, state[0], state[1], state[2], tt, command=piece, method=method,
+            max_step=max_step,
+        )  # fmt: skip
+        keep = np.isin(tt, sel)
+        parts.append((seg, keep))
+        # a held wheel may end a piece above its limit by the step's error (~1e-9
+        # relative, simulate_wheels' notes): the next piece starts at the limit
+        speed = np.clip(np.asarray(seg.wheel_speed)[-1], -wheels.max_speed, wheels.max_speed)
+        state = (seg.quat[-1], seg.omega[-1], speed)
+        for key, v in seg.info.items():
+            summed = key in ("evaluations", "steps") and key in info
+            info[key] = info[key] + v if summed else v
+    if len(parts) == 1 and bool(np.all(parts[0][1])):
+        return parts[0][0]
+    info["pieces"] = len(parts)
+
+    def cat(name: str) -> np.ndarray:
+        return np.concatenate([np.asarray(getattr(s, name))[m] for s, m in parts])
+
+    return WheelTrajectory(
+        cat("t"), Rotation.from_quat(cat("quat")), cat("omega"), method, energy=cat("energy"),
+        momentum=cat("momentum"), info=info, wheel_speed=cat("wheel_speed"),
+        wheel_momentum=cat("wheel_momentum"), motor_torque=cat("motor_torque"),
+    )  # fmt: skip
+
+
 def _tensor(scenario: Any) -> np.ndarray:
     return np.asarray(scenario.body.inertia, dtype=float)
 
@@ -337,7 +388,6 @@ class Gyrostat(_rigid.RigidKind):
         return None
 
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
-        from ...dynamics import simulate_wheels
         from ...trajectory import Trajectory
 
         spec = scenario.spec
@@ -352,16 +402,16 @@ class Gyrostat(_rigid.RigidKind):
         else:
             wheels, speed0, command = _wheels(spec), spec.speed0, spec.command
         progress(0.0, f"integrating ({method})")
-        tr = simulate_wheels(
+        tr = _run_wheels(
             j,
             wheels,
-            scenario.attitude.rotation,
+            scenario.attitude.quat,
             np.asarray(scenario.angular_velocity.omega_body),
             speed0,
             t,
-            command=command,
-            method=method,
-            max_step=scenario.simulation.max_step,
+            command,
+            method,
+            scenario.simulation.max_step,
         )
         progress(1.0, f"integrating ({method})")
         if not spec.rotor:
@@ -458,6 +508,20 @@ class Gyrostat(_rigid.RigidKind):
                 0, Check("energy", "kinetic energy (body and wheels)", "J", tr.energy,
                          conserved=False)
             )  # fmt: skip
+        return out
+
+    def series(self, scenario: Scenario, tr: Any) -> dict[str, tuple[np.ndarray, str]]:
+        """With wheels, the columns ``wheel_speed_i`` (rad/s), ``motor_torque_i`` (N m)
+        and ``hx, hy, hz`` (the wheels' momentum relative to the body, body axes,
+        kg m^2/s) of the :class:`poinsot.dynamics.WheelTrajectory` (docs/theory.md §10.1)."""
+        if scenario.spec.rotor or getattr(tr, "wheel_speed", None) is None:
+            return {}
+        out: dict[str, tuple[np.ndarray, str]] = {}
+        for i in range(tr.wheel_speed.shape[-1]):
+            out[f"wheel_speed_{i}"] = (tr.wheel_speed[:, i], "rad/s")
+            out[f"motor_torque_{i}"] = (tr.motor_torque[:, i], "N m")
+        for c, name in enumerate("xyz"):
+            out[f"h{name}"] = (tr.wheel_momentum[:, c], "kg m^2/s")
         return out
 
     def describe_scenario(self, scenario: Scenario) -> list[str]:
