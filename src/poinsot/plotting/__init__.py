@@ -11,6 +11,10 @@ from .free_body import (
     plot_omega,
     plot_poinsot,
 )
+from .gyrostat import (
+    plot_momentum_exchange,
+    plot_wheel_speeds,
+)
 from .heavy_top import (
     plot_axis_track,
     plot_cubic,
@@ -70,6 +74,8 @@ __all__ = [
     "plot_nutation",
     "plot_invariant_drift",
     "plot_kovalevskaya",
+    "plot_momentum_exchange",
+    "plot_wheel_speeds",
 ]
 
 

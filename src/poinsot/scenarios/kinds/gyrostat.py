@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..describe import fmt
-from ..kind import Chart, Check, Entry, Facts
+from ..kind import Chart, Check, Entry, Facts, FigureSpec
 from ..readers import read_angular_velocity, read_body
 from ..schema import OMEGA_UNITS
 from . import _rigid
@@ -274,6 +274,17 @@ def _run_wheels(
     )  # fmt: skip
 
 
+def _exchange(scenario: Any, tr: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``(J w, h)`` along ``tr``, body axes (kg m^2/s): the body's momentum from
+    :func:`poinsot.dynamics.invariants`, the rotor's constant ``h`` or the wheels'
+    ``wheel_momentum`` of the :class:`poinsot.dynamics.WheelTrajectory`."""
+    jw = _rigid.invariants_of(_tensor(scenario), tr).momentum_body
+    spec = scenario.spec
+    if spec.rotor:
+        return jw, np.array(np.broadcast_to(spec.h, jw.shape))
+    return jw, np.asarray(tr.wheel_momentum)
+
+
 def _tensor(scenario: Any) -> np.ndarray:
     return np.asarray(scenario.body.inertia, dtype=float)
 
@@ -510,6 +521,30 @@ class Gyrostat(_rigid.RigidKind):
             )  # fmt: skip
         return out
 
+    def figures(self, result: ScenarioResult) -> list[FigureSpec]:
+        """The shared figures, ``momentum.png`` (``J w``, ``h``, ``J w + h`` in body
+        axes) and, with wheels, ``wheel_speed.png`` (speeds against ``+-max_speed``),
+        drawn by :mod:`poinsot.plotting.gyrostat` (docs/theory.md §10.1)."""
+        figs = super().figures(result)
+        s, tr = result.scenario, result.trajectory
+
+        def momentum(ax: Any) -> Any:
+            from ...plotting.gyrostat import plot_momentum_exchange
+
+            jw, h = _exchange(s, tr)
+            return plot_momentum_exchange(tr.t, jw, h, ax=ax)
+
+        figs.append(FigureSpec("momentum.png", momentum))
+        if not s.spec.rotor:
+
+            def speeds(ax: Any) -> Any:
+                from ...plotting.gyrostat import plot_wheel_speeds
+
+                return plot_wheel_speeds(tr.t, tr.wheel_speed, s.spec.max_speed, ax=ax)
+
+            figs.append(FigureSpec("wheel_speed.png", speeds))
+        return figs
+
     def series(self, scenario: Scenario, tr: Any) -> dict[str, tuple[np.ndarray, str]]:
         """With wheels, the columns ``wheel_speed_i`` (rad/s), ``motor_torque_i`` (N m)
         and ``hx, hy, hz`` (the wheels' momentum relative to the body, body axes,
@@ -537,10 +572,8 @@ class Gyrostat(_rigid.RigidKind):
         ``+-max_speed`` (rad/s) and the motor torques (N m)."""
         s, tr = result.scenario, result.trajectory
         spec = s.spec
-        j = _tensor(s)
-        jw = _rigid.invariants_of(j, tr).momentum_body
         n = tr.t.size
-        h = np.broadcast_to(spec.h, (n, 3)) if spec.rotor else np.asarray(tr.wheel_momentum)
+        jw, h = _exchange(s, tr)
         charts = []
         for c, name in enumerate("xyz"):
             charts.append(
