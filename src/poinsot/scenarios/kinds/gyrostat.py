@@ -285,6 +285,11 @@ def _exchange(scenario: Any, tr: Any) -> tuple[np.ndarray, np.ndarray]:
     return jw, np.asarray(tr.wheel_momentum)
 
 
+def _vec(x: Any) -> str:
+    """``[a, b, c]`` with :func:`~poinsot.scenarios.describe.fmt` numbers (text)."""
+    return "[" + ", ".join(fmt(float(v)) for v in x) + "]"
+
+
 def _tensor(scenario: Any) -> np.ndarray:
     return np.asarray(scenario.body.inertia, dtype=float)
 
@@ -463,10 +468,10 @@ class Gyrostat(_rigid.RigidKind):
                 lines.append(
                     "motor command: "
                     + "; ".join(
-                        f"from t = {fmt(tk)} s: {[fmt(u) for u in row]} N m"
+                        f"from t = {fmt(tk)} s: {_vec(row)} N m"
                         for tk, row in zip(spec.command.times, spec.command.torques, strict=True)
                     )
-                    + f" (clipped at max_torque {[fmt(u) for u in spec.max_torque]} N m)"
+                    + f" (clipped at max_torque {_vec(spec.max_torque)} N m)"
                 )
             return Facts(entries, tuple(lines))
         g = _gyrostat(scenario)
@@ -483,13 +488,14 @@ class Gyrostat(_rigid.RigidKind):
             "regime": Entry(g.regime, ""),
             "period": Entry(g.period, "s"),
         }
-        per = (
-            f"omega periodic with period {fmt(g.period)} s"
-            if np.isfinite(g.period)
-            else "omega not periodic"
-        )
+        if g.regime == "numeric":
+            per = "no closed form (h not along a principal axis): DOP853 at rtol 1e-12"
+        elif np.isfinite(g.period):
+            per = f"omega periodic with period {fmt(g.period)} s"
+        else:
+            per = "omega not periodic"
         lines = [
-            f"gyrostat with constant rotor momentum h = {[fmt(x) for x in spec.h]} kg m^2/s "
+            f"gyrostat with constant rotor momentum h = {_vec(spec.h)} kg m^2/s "
             f"(docs/theory.md §10.1): regime {g.regime}, T = {fmt(g.energy)} J, "
             f"|K| = {fmt(g.momentum_norm)} kg m^2/s, {per}"
         ]
@@ -562,7 +568,7 @@ class Gyrostat(_rigid.RigidKind):
     def describe_scenario(self, scenario: Scenario) -> list[str]:
         spec = scenario.spec
         if spec.rotor:
-            return [f"{self.title}: rotor h = {[fmt(x) for x in spec.h]} kg m^2/s"]
+            return [f"{self.title}: rotor h = {_vec(spec.h)} kg m^2/s"]
         return [f"{self.title}: {spec.axes.shape[0]} wheel(s)"]
 
     def report(self, result: ScenarioResult) -> ReportSpec:
