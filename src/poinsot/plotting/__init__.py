@@ -13,6 +13,8 @@ from .free_body import (
 )
 from .gyrostat import (
     plot_gyrostat_polhodes,
+    plot_momentum_exchange,
+    plot_wheel_speeds,
 )
 from .heavy_top import (
     plot_axis_track,
@@ -74,6 +76,8 @@ __all__ = [
     "plot_nutation",
     "plot_invariant_drift",
     "plot_kovalevskaya",
+    "plot_momentum_exchange",
+    "plot_wheel_speeds",
 ]
 
 

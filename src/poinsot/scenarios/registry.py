@@ -18,6 +18,7 @@ from .kinds import (
     central_orbit,
     coning,
     free_body,
+    gyrostat,
     heavy_top,
     lagrangian,
     rotating_frame,
@@ -37,6 +38,7 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
             central_orbit.KIND,  # [orbit]
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]
+            gyrostat.KIND,  # [rotor] or [wheels]: a body with a rotor or reaction wheels
             heavy_top.KIND,  # [torque] model = "gravity" (a body about a fixed point)
             torqued_body.KIND,  # [torque] with a model other than "none"
             free_body.KIND,  # a [body] with an [angular_velocity] (the default)
