@@ -33,6 +33,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ...dynamics import (
+    FreeGyrostat,
+    ReactionWheels,
+    WheelTrajectory,
+    gyrostat_spin_stable,
+    simulate_wheels,
+)
+from ...plotting.gyrostat import plot_momentum_exchange, plot_wheel_speeds
+from ...rotations.rotation import Rotation
+from ...trajectory import Trajectory
 from ..describe import fmt
 from ..kind import Chart, Check, Entry, Facts, FigureSpec
 from ..readers import read_angular_velocity, read_body
@@ -195,7 +205,6 @@ def _read_wheels(w: Table) -> GyrostatSpec:
 
 def _wheels(spec: GyrostatSpec) -> Any:
     """The :class:`poinsot.dynamics.ReactionWheels` of a ``[wheels]`` spec."""
-    from ...dynamics import ReactionWheels
 
     return ReactionWheels(
         spec.axes,
@@ -213,7 +222,6 @@ def _rotor_wheel(inertia: np.ndarray, h: np.ndarray) -> tuple[Any, np.ndarray, A
     hold locks it (``Omega`` and ``h`` constant; the result does not depend on the
     wheel's axial inertia, a thousandth of the smallest principal moment here).
     Returns ``(wheels, speed0, command)``."""
-    from ...dynamics import ReactionWheels
 
     norm = float(np.linalg.norm(h))
     axis = h / norm
@@ -232,8 +240,6 @@ def _run_wheels(
     so that no integration step straddles a jump of the motor torques; the pieces'
     samples joined in one :class:`poinsot.dynamics.WheelTrajectory` (at a jump, the
     sample is the next piece's first: the command is right-continuous)."""
-    from ...dynamics import WheelTrajectory, simulate_wheels
-    from ...rotations.rotation import Rotation
 
     cuts = [] if command is None else [c for c in command.times[1:] if t[0] < c < t[-1]]
     edges = [float(t[0]), *cuts, float(t[-1])]
@@ -302,7 +308,6 @@ def _principal(j: np.ndarray) -> np.ndarray | None:
 
 def _gyrostat(scenario: Any) -> Any:
     """The :class:`poinsot.dynamics.FreeGyrostat` of a ``[rotor]`` scenario."""
-    from ...dynamics import FreeGyrostat
 
     return FreeGyrostat(
         _tensor(scenario),
@@ -327,7 +332,6 @@ def spin_stability(inertia: Any, h: Any, omega: Any) -> tuple[str, float, bool, 
     >>> spin_stability(np.diag([300.0, 200.0, 100.0]), [0.0, 150.0, 0.0], [0.01, 1.0, 0.0])
     ('y', 1.0, True, False)
     """
-    from ...dynamics import gyrostat_spin_stable
 
     moments = _principal(np.asarray(inertia, dtype=float))
     hv = np.asarray(h, dtype=float)
@@ -404,7 +408,6 @@ class Gyrostat(_rigid.RigidKind):
         return None
 
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
-        from ...trajectory import Trajectory
 
         spec = scenario.spec
         if method == "exact":
@@ -535,7 +538,6 @@ class Gyrostat(_rigid.RigidKind):
         s, tr = result.scenario, result.trajectory
 
         def momentum(ax: Any) -> Any:
-            from ...plotting.gyrostat import plot_momentum_exchange
 
             jw, h = _exchange(s, tr)
             return plot_momentum_exchange(tr.t, jw, h, ax=ax)
@@ -544,7 +546,6 @@ class Gyrostat(_rigid.RigidKind):
         if not s.spec.rotor:
 
             def speeds(ax: Any) -> Any:
-                from ...plotting.gyrostat import plot_wheel_speeds
 
                 return plot_wheel_speeds(tr.t, tr.wheel_speed, s.spec.max_speed, ax=ax)
 
