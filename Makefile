@@ -21,10 +21,12 @@ demo: venv
 browser:
 	bash tools/install_browser.sh
 
-# Two pytest-xdist workers (the machines this runs on have two cores): the tests of one
-# file on one worker, so that a cold numba cache compiles each file's kernels once, and
-# every XLA-compiling file on the same worker (conftest.py). `make test XDIST=` runs serially.
-XDIST ?= -n 2 --dist loadgroup
+# Two pytest-xdist workers (the machines this runs on have two cores), a test file per
+# worker (--dist loadfile): on a cold numba cache a file's kernels compile in one
+# process, and its module fixtures are made once. (--dist loadgroup would also keep the
+# XLA-compiling files on one worker, but with pytest 9 and xdist 3.8 it ignores its
+# groups and splits every file.) `make test XDIST=` runs serially.
+XDIST ?= -n 2 --dist loadfile
 
 test: venv browser
 	$(PY) -m ruff check src tests benchmarks
