@@ -116,3 +116,95 @@ def test_editing_a_shared_helper_invalidates_the_kernel_cache(tmp_path):
     assert third["plain"][0] == (6.5 if NUMBA < (0, 61) else 4.0)
     fourth = _run(root, cache)
     assert fourth["dep"] == [6.5, 1]  # and the new entry is cached again
+
+
+# ----------------------------------------------- one cold cache filled by two processes
+def _interleaved_saves(save, path):
+    """Two "processes" (threads with their own cache-file objects) save two signatures
+    of one function into an empty cache in the interleaving that broke pytest-xdist's
+    workers: both read the index before either writes it, B's index is written
+    before A's, and B's data file lands last. Returns what a third reader loads for
+    each key of the final index."""
+    import threading
+
+    from numba.core import caching
+
+    def cache_file():
+        return caching.IndexDataCacheFile(
+            cache_path=str(path), filename_base="kernels.f-1", source_stamp=("stamp",)
+        )
+
+    a, b, reader = cache_file(), cache_file(), cache_file()
+    both_read = threading.Barrier(2, timeout=0.5)
+    a_done, b_indexed = threading.Event(), threading.Event()
+
+    def hooked(obj, delay_data):
+        load_index, save_data, save_index = obj._load_index, obj._save_data, obj._save_index
+
+        def _load_index():
+            out = load_index()
+            try:
+                both_read.wait()
+            except threading.BrokenBarrierError:  # the other one is not reading now
+                pass
+            return out
+
+        def _save_data(name, data):
+            if delay_data:
+                a_done.wait(5.0)
+            save_data(name, data)
+
+        def _save_index(overloads):
+            if not delay_data:
+                b_indexed.wait(0.5)  # A's index write after B's, when B writes one first
+            save_index(overloads)
+            if delay_data:
+                b_indexed.set()
+
+        obj._load_index, obj._save_data, obj._save_index = _load_index, _save_data, _save_index
+
+    hooked(a, False)
+    hooked(b, True)
+
+    def run_a():
+        save(a, "sig-a", "code of sig-a")
+        a_done.set()
+
+    threads = [
+        threading.Thread(target=run_a),
+        threading.Thread(target=save, args=(b, "sig-b", "code of sig-b")),
+    ]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(10.0)
+    index = reader._load_index()
+    return {key: reader.load(key) for key in index}
+
+
+def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path):
+    """numba names a new data file by the first free number of the index it read and
+    writes the index first: in the interleaving above its index maps sig-a to the
+    file that holds sig-b's code (a segfault when run on sig-a's argument types; the
+    crash of the CI run of 2026-11-29). poinsot's save (``install_safe_saves``) names
+    the file by the key: every key it indexes loads its own code."""
+    from numba.core import caching
+
+    from poinsot import _jit
+    from poinsot._numba_cache import _PACKAGE, install_safe_saves
+
+    _jit._load()
+    install_safe_saves()
+    ours = tmp_path / _PACKAGE  # a cache path of poinsot's kernels
+    ours.mkdir(parents=True)
+    theirs = tmp_path / "other"  # another package's: numba's own save
+    theirs.mkdir()
+
+    numba_save = caching.IndexDataCacheFile.save.__wrapped__
+    swapped = _interleaved_saves(numba_save, theirs)
+    assert swapped == {"sig-a": "code of sig-b"}  # the race is real (numba's save)
+
+    loaded = _interleaved_saves(caching.IndexDataCacheFile.save, ours)
+    # both entries survive here (B re-reads the index after A wrote it); a lost one
+    # would only be compiled again
+    assert loaded == {"sig-a": "code of sig-a", "sig-b": "code of sig-b"}

@@ -577,6 +577,9 @@ def _load() -> None:
         for name, fn in (("going", _going), ("upto", _upto), ("pick", _pick)):
             g[name] = _numba.njit(inline="always")(fn)
         _install_compile_watch()
+        from ._numba_cache import install_safe_saves
+
+        install_safe_saves()
     else:
         g.update(njit=_np_njit, guvectorize=_np_guvectorize, prange=range, overload=_np_overload)
         g.update(going=_going, upto=_upto, pick=_pick)

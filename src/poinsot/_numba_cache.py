@@ -32,7 +32,7 @@ from typing import Any
 
 from ._jit import NUMBA
 
-__all__ = ["depends_on"]
+__all__ = ["depends_on", "install_safe_saves"]
 
 if NUMBA:
     from numba.core import caching
@@ -123,3 +123,52 @@ def depends_on(kernel_file: str, *helpers: ModuleType | str) -> None:
     classes = _IMPL._locator_classes
     if _DependentLocator not in classes:
         classes.insert(0, _DependentLocator)
+
+
+# ------------------------------------------------------- saves safe across processes
+#: the package directory, as it appears inside every cache path of its kernels (in the
+#: tree, or mirrored under NUMBA_CACHE_DIR or the user-wide cache)
+_PACKAGE = os.path.splitdrive(os.path.dirname(os.path.abspath(__file__)))[1].strip(os.sep)
+_SAVES_SAFE = False
+
+
+def _safe_save(self: Any, key: Any, data: Any) -> None:
+    """numba's ``IndexDataCacheFile.save`` for poinsot's caches, safe when several
+    processes fill one cold cache at once (pytest-xdist workers, a process pool).
+
+    numba names a new data file by the first number its index does not use, and
+    writes the index before the data. Two processes that read the index at the same
+    time give *different* signatures the same data file, and the index then points
+    one signature to the other's machine code: a later load runs it on the wrong
+    argument types and segfaults (the crash this replaces). Here a data file is named
+    by a hash of its index key, so it can only ever hold that key's code; it is
+    written before the index entry that points to it, and the index is read again
+    just before it is written, so a concurrent entry is rarely lost (a lost one is
+    compiled again, never wrong)."""
+
+    digest = hashlib.sha256(repr(key).encode()).hexdigest()[:20]
+    data_name = self._data_name_pattern.replace("{number:d}", "k" + digest)
+    self._save_data(data_name, data)
+    overloads = self._load_index()
+    if overloads.get(key) != data_name:
+        overloads[key] = data_name
+        self._save_index(overloads)
+
+
+def install_safe_saves() -> None:
+    """Route numba's cache saves of poinsot's kernels through :func:`_safe_save`
+    (other packages' caches keep numba's own save). Idempotent."""
+    global _SAVES_SAFE
+    if _SAVES_SAFE or not NUMBA:
+        return
+    original = caching.IndexDataCacheFile.save
+
+    @functools.wraps(original)
+    def save(self: Any, key: Any, data: Any) -> None:
+        if _PACKAGE in str(getattr(self, "_cache_path", "")):
+            _safe_save(self, key, data)
+        else:
+            original(self, key, data)
+
+    caching.IndexDataCacheFile.save = save  # type: ignore[method-assign]
+    _SAVES_SAFE = True
