@@ -182,7 +182,7 @@ def _interleaved_saves(save, path):
     return {key: reader.load(key) for key in index}
 
 
-def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path):
+def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path, monkeypatch):
     """numba names a new data file by the first free number of the index it read and
     writes the index first: in the interleaving above its index maps sig-a to the
     file that holds sig-b's code (a segfault when run on sig-a's argument types; the
@@ -191,12 +191,18 @@ def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path):
     from numba.core import caching
 
     from poinsot import _jit
-    from poinsot._numba_cache import _PACKAGE, install_safe_saves
+    from poinsot._numba_cache import _our_cache_paths, install_safe_saves
 
     _jit._load()
     install_safe_saves()
-    ours = tmp_path / _PACKAGE  # a cache path of poinsot's kernels
-    ours.mkdir(parents=True)
+    from poinsot.dynamics import _euler_numba
+
+    # the folder of a real kernel's cache counts as poinsot's
+    kernel = _euler_numba.midpoint
+    assert os.path.normpath(kernel._cache._cache_path) in _our_cache_paths()
+    ours = tmp_path / "ours"  # and here, a stand-in for it
+    ours.mkdir()
+    monkeypatch.setattr("poinsot._numba_cache._our_cache_paths", lambda: {os.path.normpath(ours)})
     theirs = tmp_path / "other"  # another package's: numba's own save
     theirs.mkdir()
 
@@ -208,3 +214,46 @@ def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path):
     # both entries survive here (B re-reads the index after A wrote it); a lost one
     # would only be compiled again
     assert loaded == {"sig-a": "code of sig-a", "sig-b": "code of sig-b"}
+
+
+HOLD = """
+import sys, time
+from poinsot import _jit
+with _jit.compile_lock("rotations"):
+    print("held", flush=True)
+    time.sleep(float(sys.argv[1]))
+    released = time.time()
+print(released, flush=True)
+"""
+
+IMPORT = """
+import time
+from poinsot.rotations import _lazy
+_lazy.kernels()
+assert not _lazy._TWIN
+print(time.time(), flush=True)
+"""
+
+
+def test_gufunc_module_imports_wait_for_another_process_compiling_it():
+    """numba caches a gufunc as a kernel file and a wrapper file that calls the kernel
+    by a symbol numbered in compile order: the kernel of one process with the wrapper
+    of another segfaults the next process that loads them (the CI run of 2026-11-29;
+    reproduced by hand by mixing two caches' files). So the rotation kernels import
+    under ``_jit.compile_lock``: a process importing them while another holds the
+    lock (compiles them) waits for it."""
+    env = dict(os.environ, POINSOT_INTERPRET_FIRST="0", POINSOT_BACKGROUND_BUILD="0")
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLD, "3"], env=env, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        out = subprocess.run(
+            [sys.executable, "-c", IMPORT], env=env, capture_output=True, text=True, timeout=600
+        )
+        assert out.returncode == 0, out.stderr
+        released = float(holder.stdout.readline())
+    finally:
+        holder.kill()
+        holder.wait()
+    assert float(out.stdout.split()[-1]) >= released

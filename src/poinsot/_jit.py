@@ -33,6 +33,7 @@ runs data branches and converging loops. What a formula may call: ``docs/convent
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import importlib.util
 import math
@@ -690,6 +691,48 @@ def mark_warm() -> None:
     m = _marker()
     m.parent.mkdir(parents=True, exist_ok=True)
     m.write_text("numba's cache holds every poinsot kernel for this install\n")
+
+
+@contextlib.contextmanager
+def compile_lock(name: str) -> Iterator[None]:
+    """Hold an inter-process lock named ``name`` (a file lock next to numba's cache).
+
+    numba caches a gufunc as two files, the kernel and the wrapper that calls it by a
+    symbol name numbered in the order of the process's compilations. Two processes
+    that compile one gufunc module at once (pytest-xdist workers on a cold cache; a
+    program and its background ``poinsot warmup``) can leave the kernel of one and
+    the wrapper of the other, and the next process to load them segfaults. Importing
+    such a module under this lock makes the second process wait and then load both
+    files of the first. Without ``fcntl`` (Windows) or a writable folder, no lock."""
+    import hashlib
+    import tempfile
+    from pathlib import Path
+
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows
+        yield
+        return
+    here = Path(__file__).parent
+    folders = [Path(os.environ.get("NUMBA_CACHE_DIR") or here / "__pycache__")]
+    tag = hashlib.sha256(str(here).encode()).hexdigest()[:12]
+    folders.append(Path(tempfile.gettempdir()) / f"poinsot-locks-{tag}")
+    for folder in folders:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            fh = open(folder / f"poinsot-compile-{name}.lock", "a+")  # noqa: SIM115
+            break
+        except OSError:
+            continue
+    else:  # pragma: no cover - no writable folder at all
+        yield
+        return
+    with fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 _BUILDING: dict[str, Any] = {}

@@ -126,9 +126,33 @@ def depends_on(kernel_file: str, *helpers: ModuleType | str) -> None:
 
 
 # ------------------------------------------------------- saves safe across processes
-#: the package directory, as it appears inside every cache path of its kernels (in the
-#: tree, or mirrored under NUMBA_CACHE_DIR or the user-wide cache)
-_PACKAGE = os.path.splitdrive(os.path.dirname(os.path.abspath(__file__)))[1].strip(os.sep)
+@functools.cache
+def _our_cache_paths() -> frozenset[str]:
+    """Where numba's locators put the caches of poinsot's kernel files (one folder per
+    source folder: in the tree, under NUMBA_CACHE_DIR, or in the user-wide cache)."""
+    root = os.path.dirname(os.path.abspath(__file__))
+    out = set()
+
+    def probe() -> None:
+        pass
+
+    for folder, _dirs, files in os.walk(root):
+        py = [f for f in files if f.endswith(".py")]
+        if not py:
+            continue
+        for cls in _IMPL._locator_classes:
+            if cls is _DependentLocator:
+                continue
+            try:
+                loc = cls.from_function(probe, os.path.join(folder, py[0]))
+            except Exception:  # a locator that does not apply here
+                continue
+            if loc is not None:
+                out.add(os.path.normpath(loc.get_cache_path()))
+                break
+    return frozenset(out)
+
+
 _SAVES_SAFE = False
 
 
@@ -165,7 +189,7 @@ def install_safe_saves() -> None:
 
     @functools.wraps(original)
     def save(self: Any, key: Any, data: Any) -> None:
-        if _PACKAGE in str(getattr(self, "_cache_path", "")):
+        if os.path.normpath(str(getattr(self, "_cache_path", ""))) in _our_cache_paths():
             _safe_save(self, key, data)
         else:
             original(self, key, data)

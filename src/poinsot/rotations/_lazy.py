@@ -55,8 +55,16 @@ def kernels() -> ModuleType:
             _MODULE, _TWIN = _jit.numpy_twin(_KERNELS), True
             _jit.build_in_background()
         else:
-            _MODULE = importlib.import_module(_KERNELS)
+            _MODULE = _import_kernels()
     return _MODULE
+
+
+def _import_kernels() -> ModuleType:
+    # its gufuncs compile (or load) at import: under the lock of _jit.compile_lock
+    if _KERNELS in sys.modules or not NUMBA:
+        return importlib.import_module(_KERNELS)
+    with _jit.compile_lock("rotations"):
+        return importlib.import_module(_KERNELS)
 
 
 _KERNELS = "poinsot.rotations._kernels"
@@ -65,7 +73,7 @@ _KERNELS = "poinsot.rotations._kernels"
 def _compiled() -> None:
     """Leave the twin for the compiled kernels (a batch large enough to pay for them)."""
     global _MODULE, _TWIN
-    _MODULE, _TWIN = importlib.import_module(_KERNELS), False
+    _MODULE, _TWIN = _import_kernels(), False
 
 
 def _cached(name: str) -> bool:
