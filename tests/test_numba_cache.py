@@ -191,7 +191,7 @@ def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path, 
     from numba.core import caching
 
     from poinsot import _jit
-    from poinsot._numba_cache import _our_cache_paths, install_safe_saves
+    from poinsot._jit import _our_cache_paths, install_safe_saves
 
     _jit._load()
     install_safe_saves()
@@ -202,7 +202,7 @@ def test_two_processes_filling_one_cold_cache_never_swap_machine_code(tmp_path, 
     assert os.path.normpath(kernel._cache._cache_path) in _our_cache_paths()
     ours = tmp_path / "ours"  # and here, a stand-in for it
     ours.mkdir()
-    monkeypatch.setattr("poinsot._numba_cache._our_cache_paths", lambda: {os.path.normpath(ours)})
+    monkeypatch.setattr("poinsot._jit._our_cache_paths", lambda: {os.path.normpath(ours)})
     theirs = tmp_path / "other"  # another package's: numba's own save
     theirs.mkdir()
 

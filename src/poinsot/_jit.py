@@ -578,8 +578,6 @@ def _load() -> None:
         for name, fn in (("going", _going), ("upto", _upto), ("pick", _pick)):
             g[name] = _numba.njit(inline="always")(fn)
         _install_compile_watch()
-        from ._numba_cache import install_safe_saves
-
         install_safe_saves()
     else:
         g.update(njit=_np_njit, guvectorize=_np_guvectorize, prange=range, overload=_np_overload)
@@ -908,3 +906,81 @@ def _install_compile_watch() -> None:
                     _COMPILE_TIME["total"] += time.perf_counter() - start
 
     event.register("numba:compile", Watch())  # type: ignore[no-untyped-call]
+
+
+# ------------------------------------------------------- saves safe across processes
+@functools.cache
+def _our_cache_paths() -> frozenset[str]:
+    """Where numba's locators put the caches of poinsot's kernel files (one folder per
+    source folder: in the tree, under NUMBA_CACHE_DIR, or in the user-wide cache)."""
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # type: ignore[attr-defined]
+    root = os.path.dirname(os.path.abspath(__file__))
+    out = set()
+
+    def probe() -> None:
+        pass
+
+    for folder, _dirs, files in os.walk(root):
+        py = [f for f in files if f.endswith(".py")]
+        if not py:
+            continue
+        for cls in impl._locator_classes:
+            try:
+                loc = cls.from_function(probe, os.path.join(folder, py[0]))
+            except Exception:  # a locator that does not apply here
+                continue
+            if loc is not None:
+                out.add(os.path.normpath(loc.get_cache_path()))
+                break
+    return frozenset(out)
+
+
+_SAVES_SAFE = False
+
+
+def _safe_save(self: Any, key: Any, data: Any) -> None:
+    """numba's ``IndexDataCacheFile.save`` for poinsot's caches, safe when several
+    processes fill one cold cache at once (pytest-xdist workers, a process pool).
+
+    numba names a new data file by the first number its index does not use, and
+    writes the index before the data. Two processes that read the index at the same
+    time give *different* signatures the same data file, and the index then points
+    one signature to the other's machine code: a later load runs it on the wrong
+    argument types and segfaults (the crash this replaces). Here a data file is named
+    by a hash of its index key, so it can only ever hold that key's code; it is
+    written before the index entry that points to it, and the index is read again
+    just before it is written, so a concurrent entry is rarely lost (a lost one is
+    compiled again, never wrong)."""
+
+    import hashlib
+
+    digest = hashlib.sha256(repr(key).encode()).hexdigest()[:20]
+    data_name = self._data_name_pattern.replace("{number:d}", "k" + digest)
+    self._save_data(data_name, data)
+    overloads = self._load_index()
+    if overloads.get(key) != data_name:
+        overloads[key] = data_name
+        self._save_index(overloads)
+
+
+def install_safe_saves() -> None:
+    """Route numba's cache saves of poinsot's kernels through :func:`_safe_save`
+    (other packages' caches keep numba's own save). Idempotent."""
+    global _SAVES_SAFE
+    if _SAVES_SAFE or not NUMBA:
+        return
+    from numba.core import caching
+
+    original = caching.IndexDataCacheFile.save
+
+    @functools.wraps(original)
+    def save(self: Any, key: Any, data: Any) -> None:
+        if os.path.normpath(str(getattr(self, "_cache_path", ""))) in _our_cache_paths():
+            _safe_save(self, key, data)
+        else:
+            original(self, key, data)  # type: ignore[no-untyped-call]
+
+    caching.IndexDataCacheFile.save = save  # type: ignore[method-assign]
+    _SAVES_SAFE = True

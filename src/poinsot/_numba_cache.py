@@ -32,7 +32,7 @@ from typing import Any
 
 from ._jit import NUMBA
 
-__all__ = ["depends_on", "install_safe_saves"]
+__all__ = ["depends_on"]
 
 if NUMBA:
     from numba.core import caching
@@ -123,76 +123,3 @@ def depends_on(kernel_file: str, *helpers: ModuleType | str) -> None:
     classes = _IMPL._locator_classes
     if _DependentLocator not in classes:
         classes.insert(0, _DependentLocator)
-
-
-# ------------------------------------------------------- saves safe across processes
-@functools.cache
-def _our_cache_paths() -> frozenset[str]:
-    """Where numba's locators put the caches of poinsot's kernel files (one folder per
-    source folder: in the tree, under NUMBA_CACHE_DIR, or in the user-wide cache)."""
-    root = os.path.dirname(os.path.abspath(__file__))
-    out = set()
-
-    def probe() -> None:
-        pass
-
-    for folder, _dirs, files in os.walk(root):
-        py = [f for f in files if f.endswith(".py")]
-        if not py:
-            continue
-        for cls in _IMPL._locator_classes:
-            if cls is _DependentLocator:
-                continue
-            try:
-                loc = cls.from_function(probe, os.path.join(folder, py[0]))
-            except Exception:  # a locator that does not apply here
-                continue
-            if loc is not None:
-                out.add(os.path.normpath(loc.get_cache_path()))
-                break
-    return frozenset(out)
-
-
-_SAVES_SAFE = False
-
-
-def _safe_save(self: Any, key: Any, data: Any) -> None:
-    """numba's ``IndexDataCacheFile.save`` for poinsot's caches, safe when several
-    processes fill one cold cache at once (pytest-xdist workers, a process pool).
-
-    numba names a new data file by the first number its index does not use, and
-    writes the index before the data. Two processes that read the index at the same
-    time give *different* signatures the same data file, and the index then points
-    one signature to the other's machine code: a later load runs it on the wrong
-    argument types and segfaults (the crash this replaces). Here a data file is named
-    by a hash of its index key, so it can only ever hold that key's code; it is
-    written before the index entry that points to it, and the index is read again
-    just before it is written, so a concurrent entry is rarely lost (a lost one is
-    compiled again, never wrong)."""
-
-    digest = hashlib.sha256(repr(key).encode()).hexdigest()[:20]
-    data_name = self._data_name_pattern.replace("{number:d}", "k" + digest)
-    self._save_data(data_name, data)
-    overloads = self._load_index()
-    if overloads.get(key) != data_name:
-        overloads[key] = data_name
-        self._save_index(overloads)
-
-
-def install_safe_saves() -> None:
-    """Route numba's cache saves of poinsot's kernels through :func:`_safe_save`
-    (other packages' caches keep numba's own save). Idempotent."""
-    global _SAVES_SAFE
-    if _SAVES_SAFE or not NUMBA:
-        return
-    original = caching.IndexDataCacheFile.save
-
-    @functools.wraps(original)
-    def save(self: Any, key: Any, data: Any) -> None:
-        if os.path.normpath(str(getattr(self, "_cache_path", ""))) in _our_cache_paths():
-            _safe_save(self, key, data)
-        else:
-            original(self, key, data)
-
-    caching.IndexDataCacheFile.save = save  # type: ignore[method-assign]
-    _SAVES_SAFE = True

@@ -218,3 +218,44 @@ def test_bad_torque_models():
         ConstantBodyTorque("x")
     with pytest.raises(InvalidInputError, match=r"`torque` to return shape"):
         CallableTorque(lambda t, q, w: [1.0, 2.0]).body_torque(0.0, [1.0, 0, 0, 0], [0, 0, 1.0])
+
+
+def test_torque_sum_adds_parts_and_their_potentials():
+    """``a + b`` is the TorqueSum whose torque is the sum of the parts' (evaluated
+    separately here) and whose potential is the sum when every part has one; a sum
+    flattens (``(a + b) + c`` has three parts); simulate under a sum equals simulate
+    under a CallableTorque of the same total."""
+    from poinsot.dynamics import (
+        CallableTorque,
+        ConstantBodyTorque,
+        GravityGradientTorque,
+        GravityTorque,
+        TorqueSum,
+        simulate,
+    )
+
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=(5, 4))
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    w = rng.normal(size=(5, 3))
+    a = GravityTorque(2.0, [0.0, 0.1, 0.5])
+    b = GravityGradientTorque([1.0, 2.0, 3.0], 7.0e6, [1.0, 0.0, 0.0])
+    c = ConstantBodyTorque([0.0, 0.0, 0.1])
+    ab = a + b
+    assert isinstance(ab, TorqueSum) and ab.conservative
+    np.testing.assert_allclose(
+        ab.body_torque(0.0, q, w), a.body_torque(0.0, q, w) + b.body_torque(0.0, q, w), rtol=1e-15
+    )
+    np.testing.assert_allclose(ab.potential(q), a.potential(q) + b.potential(q), rtol=1e-15)
+    abc = ab + c
+    assert len(abc.parts) == 3 and not abc.conservative and abc.potential(q) is None
+    t = np.linspace(0.0, 2.0, 5)
+    j = [1.0, 2.0, 3.0]
+    by_sum = simulate(j, q[0], w[0], t, torque=abc, rtol=1e-11)
+    total = CallableTorque(lambda tt, qq, ww: sum(m.body_torque(tt, qq, ww) for m in (a, b, c)))
+    by_call = simulate(j, q[0], w[0], t, torque=total, rtol=1e-11)
+    np.testing.assert_allclose(by_sum.omega, by_call.omega, rtol=0, atol=1e-12)
+    with pytest.raises(InvalidTypeError, match="`parts`"):
+        TorqueSum(())
+    with pytest.raises(TypeError):
+        a + 1.0

@@ -98,6 +98,7 @@ from .torques import (
     GravityGradientTorque,
     GravityTorque,
     TorqueModel,
+    TorqueSum,
     as_torque,
 )
 from .wheels import WHEEL_METHODS, ReactionWheels, WheelTrajectory, pyramid, simulate_wheels
@@ -151,6 +152,7 @@ __all__ = [
     "GravityTorque",
     "GravityGradientTorque",
     "CallableTorque",
+    "TorqueSum",
     "as_torque",
     "STANDARD_GRAVITY",
     # particles in moving frames (theory §9)

@@ -18,6 +18,8 @@ Models
     turning about a fixed point ``O``, with centre of mass at ``c`` (body axes,
     from ``O``). With ``gamma = R^T e_z`` the upward vertical in body axes,
     ``M_b = m g (gamma x c)`` and ``V = m g (R c)_z = m g c . gamma``.
+:class:`TorqueSum`
+    Several models at once, written ``a + b``.
 :class:`CallableTorque`
     Any function ``function(t, quat, omega) -> (..., 3)``, in body or space axes.
 
@@ -54,6 +56,7 @@ __all__ = [
     "GravityTorque",
     "GravityGradientTorque",
     "CallableTorque",
+    "TorqueSum",
     "as_torque",
     "STANDARD_GRAVITY",
 ]
@@ -101,6 +104,15 @@ class TorqueModel:
     def conservative(self) -> bool:
         """Whether the torque derives from a potential of the attitude."""
         return type(self).potential is not TorqueModel.potential
+
+    def __add__(self, other: object) -> TorqueSum:
+        """``a + b``: the :class:`TorqueSum` of two models (the torques add)."""
+        if not isinstance(other, TorqueModel):
+            return NotImplemented
+        parts: list[TorqueModel] = []
+        for m in (self, other):
+            parts.extend(m.parts if isinstance(m, TorqueSum) else (m,))
+        return TorqueSum(tuple(parts))
 
 
 @dataclass(frozen=True, eq=False)
@@ -223,6 +235,61 @@ class GravityTorque(TorqueModel):
 
     def potential(self, quat: np.ndarray) -> np.ndarray:
         return gravity_potential(np.asarray(quat, dtype=float), self.moment)
+
+
+@dataclass(frozen=True, eq=False)
+class TorqueSum(TorqueModel):
+    """Several torque models acting together: ``M_b = sum_k M_b,k`` (theory §9, §10).
+
+    Written ``a + b + c`` with models ``a, b, c`` (environment torques and a control
+    law, say). The potential is the sum of the parts' potentials when every part
+    has one, else ``None``.
+
+    Parameters
+    ----------
+    parts : tuple of TorqueModel
+        The models (at least one).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import ConstantBodyTorque, GravityTorque
+    >>> both = ConstantBodyTorque([0.0, 0.0, 0.1]) + GravityTorque(2.0, [0.0, 0.0, 0.5])
+    >>> q = np.array([np.cos(0.25), np.sin(0.25), 0.0, 0.0])   # tilted 0.5 rad about x
+    >>> both.body_torque(0.0, q, np.zeros(3)).round(6)  # m g (gamma x c) + (0, 0, 0.1)
+    array([4.701558, 0.      , 0.1     ])
+    >>> both.conservative
+    False
+    """
+
+    parts: tuple[TorqueModel, ...]
+
+    def __post_init__(self) -> None:
+        parts = tuple(self.parts) if isinstance(self.parts, list | tuple) else None
+        if not parts or not all(isinstance(p, TorqueModel) for p in parts):
+            raise InvalidTypeError(
+                "Expected `parts` to be a non-empty tuple of TorqueModel, got "
+                f"{type(self.parts).__name__}."
+            )
+        object.__setattr__(self, "parts", parts)
+
+    @property
+    def conservative(self) -> bool:
+        return all(p.conservative for p in self.parts)
+
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        total = self.parts[0].body_torque(t, quat, omega)
+        for p in self.parts[1:]:
+            total = total + p.body_torque(t, quat, omega)
+        return total
+
+    def potential(self, quat: np.ndarray) -> np.ndarray | None:
+        if not self.conservative:
+            return None
+        total = np.zeros(())
+        for p in self.parts:
+            total = total + np.asarray(p.potential(quat))
+        return total
 
 
 @dataclass(frozen=True, eq=False)
