@@ -41,7 +41,7 @@ def test_quaternion_pd_rest_to_rest_lyapunov_and_convergence():
     """Wie, Weiss & Arapostathis (1989): V = w.Jw/2 + 2 kp (1 - |dq0|), V' = -kd |w|^2,
     from a 170 deg error (the short way) with a large initial rate."""
     target = Rotation.from_rotvec([0.3, -1.0, 0.5])
-    q0 = (target * Rotation.from_rotvec(np.radians(170.0) * np.array([1.0, 2.0, -1.0]) / 6**0.5))
+    q0 = target * Rotation.from_rotvec(np.radians(170.0) * np.array([1.0, 2.0, -1.0]) / 6**0.5)
     law = QuaternionPD(4.0, 8.0, target=target)
     t = np.linspace(0.0, 60.0, 601)
     tr = simulate(J_TENSOR, q0, [0.2, -0.1, 0.15], t, torque=law, **TIGHT)

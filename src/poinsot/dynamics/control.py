@@ -601,7 +601,7 @@ class EigenaxisSlew(_ControlLaw):
         """
         p = self.profile(float(t))
         th = float(p.angle)
-        q_r = _quat.mul(self.rotation0, _quat.axis_angle(self.axis, np.float64(th)))
+        q_r = _quat.mul(self.rotation0, _quat.axis_angle(self.axis, np.asarray(th)))
         return q_r, float(p.rate) * self.axis, float(p.acceleration) * self.axis
 
     def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
@@ -690,9 +690,8 @@ class BDot(TorqueModel):
         if self.field_rate is not None:
             return b, self._vec(self.field_rate, t, "field_rate")
         h = self.step
-        return b, (self._vec(self.field, t + h, "field") - self._vec(self.field, t - h, "field")) / (
-            2.0 * h
-        )
+        ahead = self._vec(self.field, t + h, "field")
+        return b, (ahead - self._vec(self.field, t - h, "field")) / (2.0 * h)
 
     @staticmethod
     def _vec(f: Callable[[float], Any], t: float, name: str) -> np.ndarray:
