@@ -276,17 +276,22 @@ class QuaternionPD(_ControlLaw):
             torque = torque + _feedforward(self.inertia, np.asarray(omega, float), w_rb, a_rb)
         return torque
 
-    def lyapunov(self, t: float, quat: np.ndarray, omega: np.ndarray, inertia: object) -> Any:
+    def lyapunov(
+        self, t: float, quat: np.ndarray, omega: np.ndarray, inertia: object = None
+    ) -> Any:
         """``V = 1/2 dw . J dw + 2 kp (1 - |dq0|)`` (J), non-increasing in closed loop.
 
-        ``inertia`` is the body's ``J`` (kg m^2). Shape of the state's batch.
+        ``inertia`` is the body's ``J`` (kg m^2); default the law's ``inertia``. Shape
+        of the state's batch.
 
         >>> from poinsot.dynamics import QuaternionPD
         >>> law = QuaternionPD(2.0, 1.0, target=[1.0, 0, 0, 0])
         >>> float(law.lyapunov(0.0, [0.0, 1.0, 0, 0], [0.0, 0, 0], [1.0, 1, 1]))
         4.0
         """
-        j = _inertia3(inertia)
+        if inertia is None and self.inertia is None:
+            raise InvalidInputError("Expected `inertia` (the law has none), got None.")
+        j = self.inertia if inertia is None else _inertia3(inertia)
         dq, dw, _, _ = _errors(self.target, t, quat, omega)
         return 0.5 * np.einsum("...i,...i->...", dw, _matvec(j, dw)) + 2.0 * self.kp * (
             1.0 - dq[..., 0]
