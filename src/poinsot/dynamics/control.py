@@ -678,10 +678,12 @@ class BDot(TorqueModel):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "gain", _scalar(self.gain, "gain"))
-        m = as_positive(self.max_dipole, "max_dipole") if self.max_dipole != math.inf else None
-        if m is not None and m.ndim != 0:
+        m = as_float_array(self.max_dipole, "max_dipole", finite=False)
+        if m.ndim != 0:
             raise InvalidInputError(f"Expected `max_dipole` to be a scalar, got {m.shape}.")
-        object.__setattr__(self, "max_dipole", math.inf if m is None else float(m))
+        if not m > 0.0:  # NaN too
+            raise InvalidInputError(f"Expected `max_dipole` to be positive, got {float(m)!r}.")
+        object.__setattr__(self, "max_dipole", float(m))
         object.__setattr__(self, "step", _scalar(self.step, "step"))
         for name in ("field", "field_rate"):
             f = getattr(self, name)
