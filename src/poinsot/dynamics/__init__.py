@@ -28,6 +28,7 @@ from .central import (
     kepler,
     power_law,
 )
+from .control import BDot, EigenaxisSlew, MRPFeedback, QuaternionPD, SlewProfile
 from .earth import (
     EARTH_ROTATION_RATE,
     PendulumForce,
@@ -136,6 +137,12 @@ __all__ = [
     "simulate_wheels",
     "WheelTrajectory",
     "WHEEL_METHODS",
+    # attitude control laws (theory §10.3)
+    "QuaternionPD",
+    "MRPFeedback",
+    "EigenaxisSlew",
+    "SlewProfile",
+    "BDot",
     "RegularPrecession",
     "MacCullaghGeometry",
     "PoinsotGeometry",
