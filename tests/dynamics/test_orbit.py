@@ -43,8 +43,11 @@ def test_kepler_equation_converges_to_a_few_ulp(e):
     assert np.max(resid) <= 4 * np.spacing(np.pi)  # observed <= 1 ulp(pi)
 
 
-@pytest.mark.parametrize(("e", "tol"), [(0.0, 1e-10), (0.3, 1e-10), (0.9, 2e-10), (0.99, 1e-8)])
-def test_orbit_agrees_with_a_tight_integration(e, tol):
+@pytest.mark.parametrize(
+    ("e", "tol_r", "tol_v"),
+    [(0.0, 1e-10, 1e-10), (0.3, 1e-10, 1e-10), (0.9, 2e-10, 1e-9), (0.99, 1e-8, 5e-7)],
+)
+def test_orbit_agrees_with_a_tight_integration(e, tol_r, tol_v):
     """r'' = -mu r / |r|^3 by DOP853 at rtol 1e-13 over two periods; the difference is
     the integration's (it shrinks with rtol: e = 0.99 gives 3e-9, 7e-10, 6e-10 at rtol
     1e-12, 1e-13, 3e-14)."""
@@ -61,7 +64,9 @@ def test_orbit_agrees_with_a_tight_integration(e, tol):
     r, v = orbit.state(t)
     err_r = np.max(np.abs(r - sol.y[:3].T)) / orbit.a
     err_v = np.max(np.abs(v - sol.y[3:].T)) / np.max(np.linalg.norm(v, axis=-1))
-    assert err_r < tol and err_v < tol  # observed 1e-11 (e <= 0.9), 7e-10 (e = 0.99)
+    # observed: r 1e-11 (e <= 0.9), 7e-10 (e = 0.99); v (relative to the largest |v|)
+    # up to 5e-8 at e = 0.99, where the integration's time error meets the periapsis
+    assert err_r < tol_r and err_v < tol_v
 
 
 def test_energy_and_angular_momentum_are_conserved():
@@ -257,13 +262,13 @@ def test_orbit_gravity_gradient_matches_the_fixed_direction_model():
 def test_gravity_gradient_by_hand():
     """Independent formula: M = 3 mu / r^3 n_b x J n_b written out with numpy."""
     orbit = KeplerOrbit(7.3e6, 0.1, 0.5, 0.1, 0.2, 0.3)
-    j = np.diag([1.0, 2.0, 3.5])
+    j = np.diag([1.0, 2.0, 2.5])
     rot = Rotation.from_rotvec([0.3, -0.2, 0.9])
     t = 55.0
     r = orbit.position(t)
     nb = rot.as_matrix().T @ (r / np.linalg.norm(r))
     want = 3 * MU / np.linalg.norm(r) ** 3 * np.cross(nb, j @ nb)
-    got = OrbitGravityGradientTorque([1.0, 2.0, 3.5], orbit).body_torque(t, rot.as_quat(), 0.0)
+    got = OrbitGravityGradientTorque([1.0, 2.0, 2.5], orbit).body_torque(t, rot.as_quat(), 0.0)
     np.testing.assert_allclose(got, want, rtol=1e-13)
 
 
@@ -322,7 +327,7 @@ def test_pitch_libration_against_mpmath(inertia, theta0, rate0):
 def test_pitch_libration_period_and_small_oscillation():
     """Period = 4 K(k^2) / w0 (mpmath) and -> 2 pi / w0 for small amplitudes."""
     n = 1e-3
-    for theta0, rate0 in [(0.5, 0.0), (0.0, 1e-3), (1e-6, 0.0)]:
+    for theta0, rate0 in [(0.5, 0.0), (0.0, 5e-4), (1e-6, 0.0)]:
         lib = PitchLibration([2.0, 3.0, 1.0], n, theta0=theta0, rate0=rate0)
         w0 = math.sqrt(3 * n * n * (2.0 - 1.0) / 3.0)
         m = (2 * rate0 / (2 * w0)) ** 2 + math.sin(theta0) ** 2
@@ -378,7 +383,7 @@ def test_pitch_libration_errors():
     with pytest.raises(InvalidInputError, match="`mean_motion`"):
         PitchLibration([2.0, 3.0, 1.0], -1.0, theta0=0.0, rate0=0.0)
     with pytest.raises(InvalidInputError, match="products of inertia"):
-        PitchLibration(np.diag([2.0, 3.0, 1.0]) + 0.1 * (1 - np.eye(3)), 1e-3, theta0=0, rate0=0)
+        PitchLibration(np.diag([2.0, 3.0, 1.5]) + 0.1 * (1 - np.eye(3)), 1e-3, theta0=0, rate0=0)
     assert PitchLibration([2.0, 3.0, 2.0], 1e-3, theta0=0.1, rate0=1e-4).regime == "uniform"
 
 

@@ -234,8 +234,10 @@ class KeplerOrbit:
             )
         a = 1.0 / (2.0 / rn - float(dot(vv, vv)) / m)
         w = h / hn
-        if ecc > 0.0:
-            p = ev / ecc
+        p = ev - float(dot(ev, w)) * w  # in the plane (a round-off e of a circle is not)
+        pn = float(length(p))
+        if pn > 0.0:
+            p = p / pn
         else:  # circular: the periapsis at the ascending node (or inertial x)
             node = np.array([-w[1], w[0], 0.0])
             if float(length(node)) < 1e-12:
