@@ -82,9 +82,13 @@ def test_energy_and_angular_momentum_are_conserved():
 
 @pytest.mark.parametrize(
     "elements",
-    [(7.0e6, 0.2, 0.5, 0.3, 1.2, 2.0), (9.0e6, 0.0, 0.9, 2.0, 0.0, -2.5),
-     (7.5e6, 0.6, 0.0, 0.0, 0.7, 1.0), (7.5e6, 0.01, math.pi, 0.0, 0.7, 0.4),
-     (4.2e7, 0.95, 1.2, -2.0, 3.0, 3.1)],  # fmt: skip
+    [
+        (7.0e6, 0.2, 0.5, 0.3, 1.2, 2.0),
+        (9.0e6, 0.0, 0.9, 2.0, 0.0, -2.5),
+        (7.5e6, 0.6, 0.0, 0.0, 0.7, 1.0),
+        (7.5e6, 0.01, math.pi, 0.0, 0.7, 0.4),
+        (4.2e7, 0.95, 1.2, -2.0, 3.0, 3.1),
+    ],  # fmt: skip
 )
 def test_from_state_round_trip(elements):
     orbit = KeplerOrbit(*elements, epoch=5.0)
@@ -110,10 +114,15 @@ def test_kepler_degrees_and_shapes():
 
 @pytest.mark.parametrize(
     ("kwargs", "exc", "match"),
-    [({"e": 1.0}, InvalidInputError, "`e`"), ({"e": -0.1}, InvalidInputError, "`e`"),
-     ({"a": -1.0}, InvalidInputError, "`a`"), ({"a": [1.0, 2.0]}, InvalidInputError, "`a`"),
-     ({"raan": "x"}, InvalidTypeError, "`raan`"), ({"degrees": 1}, InvalidTypeError, "degrees"),
-     ({"mu": 0.0}, InvalidInputError, "`mu`")],  # fmt: skip
+    [
+        ({"e": 1.0}, InvalidInputError, "`e`"),
+        ({"e": -0.1}, InvalidInputError, "`e`"),
+        ({"a": -1.0}, InvalidInputError, "`a`"),
+        ({"a": [1.0, 2.0]}, InvalidInputError, "`a`"),
+        ({"raan": "x"}, InvalidTypeError, "`raan`"),
+        ({"degrees": 1}, InvalidTypeError, "degrees"),
+        ({"mu": 0.0}, InvalidInputError, "`mu`"),
+    ],  # fmt: skip
 )
 def test_kepler_errors(kwargs, exc, match):
     args = {"a": 7e6, "e": 0.1, "inclination": 0.0, "raan": 0.0, "argp": 0.0, "anomaly0": 0.0}

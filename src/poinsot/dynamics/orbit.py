@@ -622,9 +622,7 @@ class PitchLibration:
         else:  # sn(u0) = s / k, cn(u0) >= 0 (psi' >= 0)
             x = min(max(s / k, -1.0), 1.0)
             self._u0 = float(ellipkinc(math.asin(x), m, m1=max(m1, 0.0)))
-        self.period = (
-            4.0 * float(ellipk(m, m1=m1)) / w if self.regime == "libration" else math.inf
-        )
+        self.period = 4.0 * float(ellipk(m, m1=m1)) / w if self.regime == "libration" else math.inf
 
     def __repr__(self) -> str:
         return (
@@ -646,10 +644,10 @@ class PitchLibration:
         if self.regime == "circulation":
             m = 1.0 / self._m
             _, _, dn, am = ellipj(self._k * w * t + self._u0, m, m1=-self._m1 * m)
-            return 2.0 * am, 2.0 * self._k * w * dn
+            return np.asarray(2.0 * am), np.asarray(2.0 * self._k * w * dn)
         sn, cn, dn, _ = ellipj(w * t + self._u0, self._m, m1=max(self._m1, 0.0))
         psi = 2.0 * np.arctan2(self._k * sn, dn) + self._turns
-        return psi, 2.0 * self._k * w * cn
+        return np.asarray(psi), np.asarray(2.0 * self._k * w * cn)
 
     def theta(self, t: ArrayLike) -> FloatArray:
         """The pitch angle ``theta(t)`` (rad), continuous, shape of ``t``."""

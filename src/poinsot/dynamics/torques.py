@@ -399,7 +399,6 @@ class GravityGradientTorque(TorqueModel):
         return 0.5 * self.coefficient * np.einsum("...i,...i->...", nb, jn)
 
 
-
 def _orbit_position(orbit: Any, t: float) -> np.ndarray:
     r = np.asarray(orbit.position(t), dtype=float)
     if r.shape[-1:] != (3,):
@@ -460,7 +459,7 @@ class OrbitGravityGradientTorque(TorqueModel):
 
     inertia: Any
     orbit: Any
-    mu: float | None = None
+    mu: Any = None
 
     def __post_init__(self) -> None:
         j, principal = as_inertia(self.inertia, "inertia")
@@ -470,7 +469,9 @@ class OrbitGravityGradientTorque(TorqueModel):
         mu = self.mu if self.mu is not None else getattr(self.orbit, "mu", 3.986004418e14)
         mu = as_positive(mu, "mu")
         if mu.ndim != 0:
-            raise InvalidInputError(f"Expected `mu` to be a scalar (m^3/s^2), got shape {mu.shape}.")
+            raise InvalidInputError(
+                f"Expected `mu` to be a scalar (m^3/s^2), got shape {mu.shape}."
+            )
         object.__setattr__(self, "inertia", _readonly(j))
         object.__setattr__(self, "mu", float(mu))
 

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._validate import as_int
 from ..dynamics.orbit import gravity_gradient_stability
 from .scenario import _new_axes
 
@@ -54,8 +55,6 @@ def plot_gravity_gradient_stability(*, ax: Axes | None = None, resolution: int =
     'k1 = (I2 - I3) / I1'
     """
     from matplotlib.colors import ListedColormap
-
-    from .._validate import as_int
 
     n = as_int(resolution, "resolution", minimum=3)
     ax = _new_axes(ax, (5.5, 5.0))
