@@ -292,6 +292,18 @@ def test_magnetic_torque_by_hand():
     np.testing.assert_allclose(got, want, rtol=1e-13)
 
 
+def test_orbit_torques_batch_over_bodies():
+    orbit = KeplerOrbit(7.0e6, 0.05, 1.0, 0.1, 0.2, 0.3)
+    q = Rotation.random((4, 2), rng=3).as_quat()
+    dipoles = np.arange(24.0).reshape(4, 2, 3) - 10.0
+    got = MagneticTorque(dipoles, orbit).body_torque(10.0, q[0, 0], np.zeros(3))
+    assert got.shape == (4, 2, 3)
+    one = MagneticTorque(dipoles[2, 1], orbit).body_torque(10.0, q[0, 0], np.zeros(3))
+    np.testing.assert_allclose(got[2, 1], one, rtol=1e-15)
+    gg = OrbitGravityGradientTorque([1.0, 2.0, 2.5], orbit).body_torque(10.0, q, np.zeros(3))
+    assert gg.shape == (4, 2, 3)
+
+
 def test_torque_errors():
     with pytest.raises(InvalidTypeError, match="`orbit`"):
         OrbitGravityGradientTorque([1.0, 2.0, 3.0], 7e6)

@@ -536,7 +536,7 @@ class MagneticTorque(TorqueModel):
         r = _orbit_position(self.orbit, t)
         b = np.asarray(field(t, r), dtype=float)
         bb = _to_body(np.asarray(quat, dtype=float), b)
-        return cross(np.broadcast_to(self.dipole, bb.shape), bb)
+        return cross(self.dipole, bb)
 
 
 def as_torque(torque: object) -> TorqueModel | None:
