@@ -40,7 +40,18 @@ NAMESPACES = (
 )
 
 #: the initial-state names (docs/conventions.md, "Names")
-INITIAL_STATE = {"rotation0", "omega0", "position0", "velocity0", "q0", "qdot0", "wheel_speed0"}
+INITIAL_STATE = {
+    "rotation0",
+    "omega0",
+    "position0",
+    "velocity0",
+    "q0",
+    "qdot0",
+    "wheel_speed0",
+    "anomaly0",  # KeplerOrbit: the true anomaly at the epoch
+    "theta0",  # PitchLibration: the pitch angle at t = 0
+    "rate0",  # PitchLibration: the pitch rate at t = 0
+}
 
 #: ``0``-names that are no initial state: (function, name) -> what it is
 NOT_INITIAL_STATE = {

@@ -69,6 +69,20 @@ from .gyrostat import GYROSTAT_REGIMES, FreeGyrostat, gyrostat_rhs, gyrostat_spi
 from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
 from .lagrange_top import MOTION_TYPES, LagrangeTop
+from .orbit import (
+    EARTH_MAGNETIC_RADIUS,
+    EARTH_MU,
+    IGRF2020_DIPOLE,
+    ORBIT_FRAMES,
+    GravityGradientStability,
+    KeplerOrbit,
+    PitchLibration,
+    dipole_field,
+    gravity_gradient_stability,
+    linearized_gravity_gradient,
+    orbit_frame,
+    orbit_frame_rates,
+)
 from .particles import (
     PARTICLE_SOLVERS,
     BodyInertialForces,
@@ -98,6 +112,8 @@ from .torques import (
     ConstantSpaceTorque,
     GravityGradientTorque,
     GravityTorque,
+    MagneticTorque,
+    OrbitGravityGradientTorque,
     TorqueModel,
     TorqueSum,
     as_torque,
@@ -161,6 +177,21 @@ __all__ = [
     "CallableTorque",
     "TorqueSum",
     "as_torque",
+    # attitude in orbit (theory §10.2)
+    "OrbitGravityGradientTorque",
+    "MagneticTorque",
+    "KeplerOrbit",
+    "orbit_frame",
+    "orbit_frame_rates",
+    "dipole_field",
+    "PitchLibration",
+    "GravityGradientStability",
+    "gravity_gradient_stability",
+    "linearized_gravity_gradient",
+    "ORBIT_FRAMES",
+    "EARTH_MU",
+    "EARTH_MAGNETIC_RADIUS",
+    "IGRF2020_DIPOLE",
     "STANDARD_GRAVITY",
     # particles in moving frames (theory §9)
     "inertial_forces",

@@ -20,6 +20,12 @@ Models
     ``M_b = m g (gamma x c)`` and ``V = m g (R c)_z = m g c . gamma``.
 :class:`TorqueSum`
     Several models at once, written ``a + b``.
+:class:`OrbitGravityGradientTorque`
+    The gravity gradient ``(3 mu / r^3) n_b x J n_b`` along an orbit,
+    ``r = orbit.position(t)`` (theory §10.2). No potential (the field turns).
+:class:`MagneticTorque`
+    ``m_b x B_b`` of a constant body dipole in a field ``B(t, r)`` along an orbit,
+    by default the Earth's tilted dipole (theory §10.2). No potential.
 :class:`CallableTorque`
     Any function ``function(t, quat, omega) -> (..., 3)``, in body or space axes.
 
@@ -48,6 +54,7 @@ from .._vec import cross, diagonal3
 from ..errors import InvalidInputError, InvalidTypeError
 from ..mass.tensor import as_inertia
 from ..rotations.rotation import Rotation
+from .orbit import dipole_field
 
 __all__ = [
     "TorqueModel",
@@ -55,6 +62,8 @@ __all__ = [
     "ConstantSpaceTorque",
     "GravityTorque",
     "GravityGradientTorque",
+    "OrbitGravityGradientTorque",
+    "MagneticTorque",
     "CallableTorque",
     "TorqueSum",
     "as_torque",
@@ -376,6 +385,14 @@ class CallableTorque(TorqueModel):
         return np.asarray(self.potential_function(np.asarray(quat, dtype=float)), dtype=float)
 
 
+def _gravity_gradient(inertia: np.ndarray, nb: np.ndarray, coefficient: Any) -> np.ndarray:
+    """The ONE gravity-gradient formula ``M_b = k n_b x J n_b`` (N m), ``k = 3 mu / R^3``
+    (1/s^2, shape (...)), ``n_b`` the unit direction from the field's centre in body
+    axes (..., 3), ``J`` (..., 3, 3) about the centre of mass (theory §10, §10.2)."""
+    jn = np.einsum("...ij,...j->...i", inertia, nb)
+    return np.asarray(coefficient)[..., None] * cross(nb, jn)
+
+
 @dataclass(frozen=True, eq=False)
 class GravityGradientTorque(TorqueModel):
     """Gravity-gradient torque on a body in a central field (theory §10, §9).
@@ -441,13 +458,152 @@ class GravityGradientTorque(TorqueModel):
 
     def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
         nb = _to_body(np.asarray(quat, dtype=float), self.direction)
-        jn = np.einsum("...ij,...j->...i", self.inertia, nb)
-        return self.coefficient[..., None] * cross(nb, jn)
+        return _gravity_gradient(self.inertia, nb, self.coefficient)
 
     def potential(self, quat: np.ndarray) -> np.ndarray:
         nb = _to_body(np.asarray(quat, dtype=float), self.direction)
         jn = np.einsum("...ij,...j->...i", self.inertia, nb)
         return 0.5 * self.coefficient * np.einsum("...i,...i->...", nb, jn)
+
+
+def _orbit_position(orbit: Any, t: float) -> np.ndarray:
+    r = np.asarray(orbit.position(t), dtype=float)
+    if r.shape[-1:] != (3,):
+        raise InvalidInputError(
+            f"Expected `orbit.position(t)` to return shape (..., 3), got {r.shape}."
+        )
+    return r
+
+
+def _check_orbit(orbit: object) -> None:
+    if not callable(getattr(orbit, "position", None)):
+        raise InvalidTypeError(
+            "Expected `orbit` to be a KeplerOrbit or an object with a position(t) method, "
+            f"got {type(orbit).__name__}."
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class OrbitGravityGradientTorque(TorqueModel):
+    """Gravity-gradient torque on a body moving along an orbit (theory §10.2).
+
+    The same formula as :class:`GravityGradientTorque` with the body's position
+    taken from the orbit at each time, ``r = orbit.position(t)`` (inertial axes):
+
+    ``M_b = (3 mu / |r|^3) n_b x J n_b``,  ``n_b = R^T r / |r|``.
+
+    The field turns with the orbit, so the torque has no potential of the attitude
+    alone (``potential`` is ``None``).
+
+    Parameters
+    ----------
+    inertia : array_like, shape (3,) or (3, 3)
+        Principal moments or tensor about the centre of mass, body axes (kg m^2).
+    orbit : KeplerOrbit or object with ``position(t)``
+        ``position(t) -> (3,)`` (m, inertial axes) at a float time ``t`` (s).
+    mu : float, optional
+        Gravitational parameter (m^3/s^2); default ``orbit.mu`` if the orbit has
+        one, else the Earth's ``3.986004418e14``.
+
+    Notes
+    -----
+    **Convention:** attitude body -> inertial; torque in body axes (N m); see
+    ``docs/theory.md`` §10.2.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot import Rotation
+    >>> from poinsot.dynamics import KeplerOrbit, OrbitGravityGradientTorque
+    >>> orbit = KeplerOrbit(7.0e6, 0.0, 0.0, 0.0, 0.0, 0.0)   # at +x at t = 0
+    >>> gg = OrbitGravityGradientTorque([1.0, 2.0, 3.0], orbit)
+    >>> q = Rotation.from_euler("z", 30, degrees=True).as_quat()
+    >>> m = gg.body_torque(0.0, q, np.zeros(3))
+    >>> k = 3 * 3.986004418e14 / 7.0e6**3
+    >>> bool(np.isclose(m[2], -k * (2.0 - 1.0) * np.sin(np.pi / 6) * np.cos(np.pi / 6)))
+    True
+    """
+
+    inertia: Any
+    orbit: Any
+    mu: Any = None
+
+    def __post_init__(self) -> None:
+        j, principal = as_inertia(self.inertia, "inertia")
+        if principal:
+            j = diagonal3(j)
+        _check_orbit(self.orbit)
+        mu = self.mu if self.mu is not None else getattr(self.orbit, "mu", 3.986004418e14)
+        mu = as_positive(mu, "mu")
+        if mu.ndim != 0:
+            raise InvalidInputError(
+                f"Expected `mu` to be a scalar (m^3/s^2), got shape {mu.shape}."
+            )
+        object.__setattr__(self, "inertia", _readonly(j))
+        object.__setattr__(self, "mu", float(mu))
+
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        r = _orbit_position(self.orbit, t)
+        rn = np.linalg.norm(r, axis=-1)
+        nb = _to_body(np.asarray(quat, dtype=float), r / rn[..., None])
+        return _gravity_gradient(self.inertia, nb, 3.0 * self.mu / rn**3)
+
+
+@dataclass(frozen=True, eq=False)
+class MagneticTorque(TorqueModel):
+    """Torque of a magnetic field on a constant body dipole (theory §10.2).
+
+    ``M_b = m_b x B_b``,  ``B_b = R^T B(t, r(t))``, ``r(t) = orbit.position(t)``,
+
+    with ``m_b`` the body's magnetic dipole moment (A m^2, body axes) and ``B`` the
+    field (T, inertial axes), by default the Earth's tilted dipole
+    :func:`poinsot.dynamics.dipole_field`.
+
+    Parameters
+    ----------
+    dipole : array_like, shape (..., 3)
+        ``m_b`` (A m^2), body axes.
+    orbit : KeplerOrbit or object with ``position(t)``
+        The body's position (m, inertial axes) at a float time (s).
+    field : callable, optional
+        ``field(t, r) -> (..., 3)`` in tesla, inertial axes; default ``dipole_field``.
+
+    Notes
+    -----
+    **Convention:** attitude body -> inertial; torque in body axes (N m); see
+    ``docs/theory.md`` §10.2.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import KeplerOrbit, MagneticTorque
+    >>> orbit = KeplerOrbit(7.0e6, 0.0, 0.0, 0.0, 0.0, 0.0)
+    >>> north = lambda t, r: np.array([0.0, 0.0, 3e-5])       # a uniform field, T
+    >>> MagneticTorque([1.0, 0.0, 0.0], orbit, field=north).body_torque(
+    ...     0.0, [1.0, 0, 0, 0], np.zeros(3))
+    array([ 0.e+00, -3.e-05,  0.e+00])
+    """
+
+    dipole: Any
+    orbit: Any
+    field: Callable[..., Any] | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "dipole", _readonly(as_vec3(self.dipole, "dipole")))
+        _check_orbit(self.orbit)
+        if self.field is None:
+            object.__setattr__(self, "field", dipole_field)
+        elif not callable(self.field):
+            raise InvalidTypeError(
+                f"Expected `field` to be callable, got {type(self.field).__name__}."
+            )
+
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        field = self.field if self.field is not None else dipole_field
+        r = _orbit_position(self.orbit, t)
+        b = np.asarray(field(t, r), dtype=float)
+        bb = _to_body(np.asarray(quat, dtype=float), b)
+        return cross(self.dipole, bb)
 
 
 def as_torque(torque: object) -> TorqueModel | None:

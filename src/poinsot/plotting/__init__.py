@@ -30,6 +30,9 @@ from .notebook import (
     explore,
     show,
 )
+from .orbit import (
+    plot_gravity_gradient_stability,
+)
 from .particles import (
     plot_effective_potential,
     plot_orbit,
@@ -78,6 +81,7 @@ __all__ = [
     "plot_kovalevskaya",
     "plot_momentum_exchange",
     "plot_wheel_speeds",
+    "plot_gravity_gradient_stability",
 ]
 
 
