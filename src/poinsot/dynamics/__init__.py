@@ -94,6 +94,7 @@ from .particles import (
     relative_motion,
     simulate_particle,
 )
+from .spacecraft import Spacecraft
 from .systems import (
     FORCE_KINDS,
     ForceClassification,
@@ -181,6 +182,7 @@ __all__ = [
     "OrbitGravityGradientTorque",
     "MagneticTorque",
     "KeplerOrbit",
+    "Spacecraft",
     "orbit_frame",
     "orbit_frame_rates",
     "dipole_field",

@@ -33,8 +33,8 @@ from ..mass.tensor import as_inertia
 from ..rotations.rotation import Rotation
 from ..trajectory import Trajectory
 from .control import BDot
-from .orbit import ORBIT_FRAMES, orbit_frame, orbit_frame_rates
 from .euler_equations import simulate
+from .orbit import ORBIT_FRAMES, orbit_frame, orbit_frame_rates
 from .torques import MagneticTorque, OrbitGravityGradientTorque, TorqueModel
 from .wheels import ReactionWheels, WheelTrajectory, simulate_wheels
 

@@ -22,6 +22,7 @@ from .kinds import (
     heavy_top,
     lagrangian,
     rotating_frame,
+    spacecraft,
     torqued_body,
 )
 
@@ -35,6 +36,7 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
             lagrangian.KIND,  # [lagrangian]: generalized coordinates, T and P as formulas
             rotating_frame.FREE_FALL,  # [free_fall]
             rotating_frame.FOUCAULT,  # [foucault]
+            spacecraft.KIND,  # [orbit] with a [body] and its [angular_velocity]: attitude
             central_orbit.KIND,  # [orbit]
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]

@@ -187,7 +187,8 @@ class SpacecraftKind(_rigid.RigidKind):
     seconds_per_step = {"dop853": 1.5e-3, "rk4": 6e-4}
 
     def claims(self, data: Mapping[str, Any]) -> bool:
-        return "orbit" in data
+        # a point on a central orbit (kind "central-orbit") has no attitude
+        return "orbit" in data and "body" in data and "angular_velocity" in data
 
     def parse(self, top: Table, attitude: AttitudeSpec) -> dict[str, Any]:
         orbit, frame = _read_orbit(top.table("orbit", required=True))
@@ -325,7 +326,7 @@ class SpacecraftKind(_rigid.RigidKind):
             dashed = []
             for i in range(tr.wheel_speed.shape[-1]):
                 speeds[f"Omega_{i}"] = tr.wheel_speed[:, i]
-                lim = spec.wheels.max_speed[i]
+                lim = np.asarray(spec.wheels.max_speed)[i]
                 if np.isfinite(lim):
                     for sign, label in ((1.0, f"+max_speed {i}"), (-1.0, f"-max_speed {i}")):
                         speeds[label] = np.full(n, sign * lim)
