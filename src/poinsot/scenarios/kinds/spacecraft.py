@@ -113,6 +113,10 @@ def _read_control(c: Table | None) -> dict[str, Any]:
     c.known(_CONTROL_KEYS)
     law = c.string("law", "none", choices=LAWS)
     need = {"none": (), "pd": ("kp", "kd"), "mrp": ("K", "P"), "bdot": ("gain", "max_dipole")}
+    for other, keys in need.items():
+        for k in keys:
+            if other != law and c.has(k) and k not in need[law]:
+                raise c.error(k, f'`{k}` is a parameter of law "{other}", not of law "{law}".')
     gains = {k: c.number(k, positive=True, required=True) for k in need[law]}
     feedforward = c.boolean("feedforward", False)
     target = c.string("target", "orbit", choices=("orbit", "inertial"))
@@ -264,8 +268,12 @@ class SpacecraftKind(_rigid.RigidKind):
 
     def checks(self, scenario: Scenario, tr: Any) -> Sequence[Check]:
         sat = spacecraft_of(scenario)
-        out = [Check("pointing_error", "angle from the target attitude", "rad",
-                     _pointing(scenario, sat, tr), conserved=False)]  # fmt: skip
+        rate = Check("rate", "|w| (body rate)", "rad/s", np.linalg.norm(tr.omega, axis=-1),
+                     conserved=False)  # fmt: skip
+        pointing = Check("pointing_error", "angle from the target attitude", "rad",
+                         _pointing(scenario, sat, tr), conserved=False)  # fmt: skip
+        # detumbling has no target attitude: its measure is the rate
+        out = [rate] if scenario.spec.law == "bdot" else [pointing]
         lib = libration(scenario)
         if lib is not None:
             theta = sat.relative(tr).as_euler("YXZ")[:, 0]
