@@ -25,6 +25,7 @@ PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "lagrange.md",
     "free-body.md",
     "gyrostat.md",
+    "spacecraft.md",
     "heavy-top.md",
     "kinematics-fields.md",
     "kinematics-rates.md",
