@@ -222,6 +222,8 @@ def _unit_quats(n, seed):
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
+@pytest.mark.slow  # 1-4 min of XLA compiling (every regime's attitude): `make test-slow`;
+# `make test` keeps the attitude's doctests (FreeBodyMotion.attitude, free_body_state_exact)
 def test_attitude_equals_the_numba_path():
     # every regime, a random initial attitude; the same formulas, so the same sign
     j = np.array([c[0] for c in CASES])
