@@ -470,6 +470,12 @@ def test_classification_agrees_with_the_eigenvalues():
                 continue  # on a boundary: marginal, not classified
             assert bool(s.pitch_stable) == pitch_ok, (k1, k3)
             assert bool(s.roll_yaw_stable) == ry_ok, (k1, k3)
+            # linearly stable in every axis: the Lagrange region (k3 > 0, a minimum of the
+            # potential) or the DeBra-Delp region (k1 < 0: gyroscopic stability)
+            want = "unstable"
+            if pitch_ok and ry_ok:
+                want = "lagrange" if k3 > 0 else "debra-delp"
+            assert str(s.region) == want, (k1, k3)
             checked[str(s.region)] += 1
             if pitch_ok:  # the pitch frequency sqrt(3 k2) n
                 assert abs(np.max(ev_p.imag) / (math.sqrt(3 * s.k2) * n) - 1) < 1e-12

@@ -679,9 +679,11 @@ class GravityGradientStability:
     roll_yaw_stable : ndarray of bool
         ``k1 k3 > 0`` and ``1 + 3 k1 + k1 k3 > 4 sqrt(k1 k3)``.
     region : ndarray of str
-        ``"lagrange"`` (``k1 > k3 > 0``: all stable), ``"debra-delp"`` (roll-yaw
-        stable with ``k1, k3 < 0``: pitch unstable), ``"unstable"`` otherwise
-        (boundaries, where motions are marginal, included).
+        Where every axis is linearly stable: ``"lagrange"`` (``k1 > k3 > 0``, the
+        aligned attitude a minimum of the potential) or ``"debra-delp"``
+        (``0 > k1 > k3`` with the roll-yaw condition: stable by gyroscopic coupling,
+        not a minimum); ``"unstable"`` otherwise (boundaries, where motions are
+        marginal, included).
     """
 
     k1: Any
@@ -702,8 +704,9 @@ def gravity_gradient_stability(
     polynomial ``s^4 + n^2 (1 + 3 k1 + k1 k3) s^2 + 4 n^4 k1 k3``. Pitch is stable
     iff ``k1 > k3`` (``k2 > 0``); roll-yaw iff ``k1 k3 > 0`` and
     ``1 + 3 k1 + k1 k3 > 4 sqrt(k1 k3)``. Both hold in the Lagrange region
-    ``k1 > k3 > 0`` (``I2 > I1 > I3``); roll-yaw alone in the DeBra-Delp region
-    (``k1, k3 < 0`` above the curve).
+    ``k1 > k3 > 0`` (``I2 > I1 > I3``) and in the small DeBra-Delp region
+    ``0 > k1 > k3`` beyond the roll-yaw curve (stable by gyroscopic coupling: the
+    aligned attitude is not a minimum of the potential there).
 
     Parameters
     ----------
@@ -756,7 +759,7 @@ def gravity_gradient_stability(
     region = np.where(
         pitch & roll_yaw & (a3 > 0),
         "lagrange",
-        np.where(roll_yaw & (a1 < 0), "debra-delp", "unstable"),
+        np.where(pitch & roll_yaw & (a1 < 0), "debra-delp", "unstable"),
     )
     return GravityGradientStability(a1, a2, a3, pitch, roll_yaw, region)
 

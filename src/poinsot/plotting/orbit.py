@@ -26,7 +26,8 @@ def plot_gravity_gradient_stability(*, ax: Axes | None = None, resolution: int =
     the orbit normal, yaw 3 radial). Pitch is stable for
     ``k1 > k3``; roll-yaw for ``k1 k3 > 0`` and ``1 + 3 k1 + k1 k3 > 4 sqrt(k1 k3)``
     (:func:`poinsot.dynamics.gravity_gradient_stability`). Green: Lagrange region
-    (both); orange: DeBra-Delp region (roll-yaw only); the dashed line ``k1 = k3`` and
+    (all stable, a potential minimum); orange: DeBra-Delp region (all stable by
+    gyroscopic coupling, ``0 > k1 > k3``); the dashed line ``k1 = k3`` and
     the boundary curve of roll-yaw stability are drawn.
 
     Parameters

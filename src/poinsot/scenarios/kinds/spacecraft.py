@@ -50,6 +50,7 @@ from ...dynamics import (
     dipole_field,
     gravity_gradient_stability,
 )
+from ...plotting.spec import Drawing
 from ...rotations.rotation import Rotation
 from ..describe import fmt
 from ..kind import Chart, Check, Entry, Facts
@@ -310,8 +311,6 @@ class SpacecraftKind(_rigid.RigidKind):
         Earth is that way), the pointing error (deg), the attitude relative to the
         orbit frame (deg), the torques acting (N m) and, with wheels, their speeds
         against their limits (rad/s) (docs/theory.md §10.2, §10.3)."""
-        from ...plotting.spec import Drawing
-
         s, tr = result.scenario, result.trajectory
         sat = spacecraft_of(s)
         spec: SpacecraftSpec = s.spec
