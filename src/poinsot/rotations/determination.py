@@ -38,7 +38,7 @@ ATTITUDE_METHODS = ("quest", "svd", "q-method", "esoq2", "triad")
 PARALLEL_RTOL = 1e-12
 
 #: QUEST rotates the reference frame when the solved ``|l0|`` is below this.
-QUEST_ROTATION_THRESHOLD = 0.1
+QUEST_ROTATION_THRESHOLD = 0.3
 
 #: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
 _NEWTON_TOL = 1e-15
@@ -78,9 +78,9 @@ class AttitudeSolution:
     Examples
     --------
     >>> from poinsot.rotations import determine_attitude
-    >>> sol = determine_attitude([[0, 1, 0], [0, 0, 1]], [[1, 0, 0], [0, 0, 1]])
-    >>> sol.rotation.apply([0.0, 1.0, 0.0]).round(12) + 0.0
-    array([1., 0., 0.])
+    >>> sol = determine_attitude([[1, 0, 0], [0, 0, 1]], [[0, 1, 0], [0, 0, 1]])
+    >>> sol.rotation.apply([1.0, 0.0, 0.0]).round(12) + 0.0
+    array([0., 1., 0.])
     >>> sol
     AttitudeSolution(method='quest', shape=())
     """
@@ -182,8 +182,9 @@ def _kappa(s: np.ndarray) -> np.ndarray:
     return out
 
 
-def _lambda_max(b: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue of ``K`` by Newton on its characteristic polynomial from 1.
+def _lambda_max(b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Largest eigenvalue of ``K`` by Newton on its characteristic polynomial from 1,
+    and ``f'(lambda_max) = prod_(j != max) (lambda_max - lambda_j)``.
 
     ``f(l) = (l^2 - a)(l^2 - b) - c l + c sigma - d`` with ``a = sigma^2 - kappa``,
     ``b = sigma^2 + z.z``, ``c = Delta + z.S z``, ``d = z.S^2 z``, ``kappa = tr adj S``,
@@ -206,7 +207,8 @@ def _lambda_max(b: np.ndarray) -> np.ndarray:
         lam = lam - step
         if not np.any(np.abs(step) > _NEWTON_TOL):
             break
-    return lam
+    l2 = lam * lam
+    return lam, 2.0 * lam * (2.0 * l2 - a - bb) - c
 
 
 def _quest_raw(b: np.ndarray, lam: np.ndarray) -> np.ndarray:
@@ -238,9 +240,12 @@ def _rotated_back(q_rot: np.ndarray, k: np.ndarray) -> np.ndarray:
 
 
 def _quest(b: np.ndarray) -> np.ndarray:
-    lam = _lambda_max(b)
-    q = _normalised(_quest_raw(b, lam))
-    bad = np.abs(q[..., 0]) < QUEST_ROTATION_THRESHOLD
+    lam, fp = _lambda_max(b)
+    raw = _quest_raw(b, lam)
+    # (gamma, x) = adj(lambda E - K) e_0 = f'(lambda) l0 L: the Gibbs denominator is
+    # gamma = f'(lambda) l0^2, so l0^2 = gamma / f' even when (gamma, x) is round-off
+    bad = ~(raw[..., 0] >= QUEST_ROTATION_THRESHOLD**2 * fp)
+    q = _normalised(np.where(bad[..., None], 1.0, raw))
     if np.any(bad):  # sequential rotations: B' = B D_k for the best half-turn k
         bk = b[bad]
         diag = np.diagonal(_k_matrix(bk), axis1=-2, axis2=-1)[..., 1:]
@@ -251,7 +256,7 @@ def _quest(b: np.ndarray) -> np.ndarray:
 
 
 def _esoq2(b: np.ndarray) -> np.ndarray:
-    lam = _lambda_max(b)
+    lam, _ = _lambda_max(b)
     # frame turned so that the rotation is far from identity: the smallest diagonal of K
     k4 = np.argmin(np.diagonal(_k_matrix(b), axis1=-2, axis2=-1), axis=-1)
     turns = np.concatenate([_EYE[None], _HALF_TURNS])
@@ -332,7 +337,8 @@ def determine_attitude(
         SVD of :meth:`poinsot.Rotation.align_vectors`, batched). ``"q-method"``:
         Davenport's eigenvector of ``K`` (``numpy.linalg.eigh``). ``"quest"``
         (Shuster): Newton's iteration on the characteristic polynomial of ``K`` from
-        ``lambda0``, then the Gibbs vector ``x / gamma``; where ``|l0| < 0.1`` the
+        ``lambda0``, then the Gibbs vector ``x / gamma``; where ``|l0| < 0.3`` (read
+        from the Gibbs denominator, ``gamma = f'(lambda_max) l0^2``) the
         reference frame is turned by a half-turn about x, y or z (the one with the
         largest diagonal entry of ``K``: Shuster's method of sequential rotations) and
         the quaternion turned back, so rotations near 180 deg lose nothing.
@@ -380,19 +386,19 @@ def determine_attitude(
 
     Examples
     --------
-    SciPy's ``align_vectors`` example: ``b = (0, 1, 0)`` and ``(0, 0, 1)`` seen in
-    body axes are ``(1, 0, 0)`` and ``(0, 0, 1)`` in the reference frame, a quarter
-    turn about z (body -> reference):
+    SciPy's ``align_vectors`` example: ``(1, 0, 0)`` and ``(0, 0, 1)`` seen in body
+    axes are ``(0, 1, 0)`` and ``(0, 0, 1)`` in the reference frame: a quarter turn
+    about z (body -> reference), ``L = (1, 0, 0, 1)/sqrt(2)``:
 
     >>> import numpy as np
     >>> from poinsot.rotations import determine_attitude
-    >>> b = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    >>> r = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    >>> b = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    >>> r = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
     >>> sol = determine_attitude(b, r, method="quest")
     >>> sol.quat.round(12) + 0.0
-    array([ 0.70710678,  0.        ,  0.        , -0.70710678])
+    array([0.70710678, 0.        , 0.        , 0.70710678])
     >>> float(sol.loss) < 1e-30, np.diag(sol.covariance).round(12) + 0.0
-    (True, array([1., 1., 0.5]))
+    (True, array([1. , 0.5, 1. ]))
     """
     method = as_choice(method, "method", ATTITUDE_METHODS)
     ob = as_trailing(observed, "observed", (None, 3))
