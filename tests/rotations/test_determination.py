@@ -36,7 +36,11 @@ def _problem(shape, n=4, *, seed=0, noise=0.0, rotvec=None):
     """True quaternions (body -> reference), references r and body observations b = C^T r."""
     rng = np.random.default_rng(seed)
     m = int(np.prod(shape, dtype=int))
-    truth = SciRotation.random(m, random_state=seed) if rotvec is None else SciRotation.from_rotvec(rotvec)
+    truth = (
+        SciRotation.random(m, random_state=seed)
+        if rotvec is None
+        else SciRotation.from_rotvec(rotvec)
+    )
     r = _unit(rng.normal(size=(m, n, 3)))
     b = np.einsum("mji,mkj->mki", truth.as_matrix(), r)  # b_i = C^T r_i
     if noise:
@@ -73,7 +77,11 @@ def test_noisy_weighted_sets_match_scipy_svd(shape, method):
     flat_b, flat_r, flat_w = b.reshape(-1, 4, 3), r.reshape(-1, 4, 3), w.reshape(-1, 4)
     want = np.array(
         [
-            _canon(SciRotation.align_vectors(flat_r[k], flat_b[k], flat_w[k])[0].as_quat(scalar_first=True))
+            _canon(
+                SciRotation.align_vectors(flat_r[k], flat_b[k], flat_w[k])[0].as_quat(
+                    scalar_first=True
+                )
+            )
             for k in range(len(flat_b))
         ]
     ).reshape(shape + (4,))
@@ -122,7 +130,9 @@ def test_triad_is_the_exact_two_vector_construction():
     np.testing.assert_allclose(np.einsum("mij,mj->mi", c, b[:, 0]), r[:, 0], atol=1e-15)
     want = np.array(
         [
-            _canon(SciRotation.align_vectors(r[k], b[k], [np.inf, 1.0])[0].as_quat(scalar_first=True))
+            _canon(
+                SciRotation.align_vectors(r[k], b[k], [np.inf, 1.0])[0].as_quat(scalar_first=True)
+            )
             for k in range(200)
         ]
     )
@@ -168,7 +178,9 @@ def test_covariance_matches_monte_carlo():
     err = (SciRotation.from_quat(q_true, scalar_first=True).inv()
            * SciRotation.from_quat(sol.quat, scalar_first=True)).as_rotvec()  # fmt: skip
     sample = np.cov(err.T)
-    p_exact = np.linalg.inv(sum((np.eye(3) - np.outer(v, v)) / s**2 for v, s in zip(b_true, sig)))
+    p_exact = np.linalg.inv(
+        sum((np.eye(3) - np.outer(v, v)) / s**2 for v, s in zip(b_true, sig, strict=True))
+    )
     # P from the measured b_i: equal to first order (relative ~ the noise, 1e-3 rad)
     np.testing.assert_allclose(sol.covariance, np.broadcast_to(p_exact, (m, 3, 3)), rtol=0,
                                atol=0.03 * p_exact.diagonal().max())  # fmt: skip

@@ -374,9 +374,9 @@ def determine_attitude(
     gives the same rotation. docs/theory.md §2.4, docs/conventions.md.
 
     All methods are vectorised over the batch (no Python loop over it). Measured on
-    1e5 sets of three observations (one core, NumPy): svd 4.9e5 solves/s,
-    q-method 8.3e5, quest 7.9e5, esoq2 7.0e5, triad 1.3e6 (``benchmarks``-style
-    timing, including validation and the covariance).
+    1e5 sets of three observations (two observations for TRIAD), NumPy on a shared
+    2-core machine, validation, loss and covariance included: svd 1.0e5 solves/s,
+    q-method 1.2e5, quest 1.6e5, esoq2 1.7e5, triad 1.9e5.
 
     References
     ----------
