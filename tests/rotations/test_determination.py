@@ -5,6 +5,7 @@ SciPy's documented example."""
 
 from __future__ import annotations
 
+import importlib
 import pickle
 
 import numpy as np
@@ -207,6 +208,9 @@ def test_solution_object():
     np.testing.assert_allclose(sol.rotation.apply(b[:, 0]), r[:, 0], atol=1e-14)
     with pytest.raises(ValueError, match="read-only"):
         sol.quat[0, 0] = 2.0
+    # the module as pickle finds it (a --doctest-modules run may import it a second time)
+    mod = importlib.import_module("poinsot.rotations.determination")
+    sol = mod.determine_attitude(b, r, method="esoq2")
     back = pickle.loads(pickle.dumps(sol))
     np.testing.assert_array_equal(back.quat, sol.quat)
 
