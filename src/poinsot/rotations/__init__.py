@@ -8,6 +8,7 @@ from it (``dcm``, ``rotvec``, ``euler``, ``rodrigues``, ``frames``), and
 
 from . import quaternion
 from ._lazy import PARALLEL_MIN_SIZE, get_num_threads, set_num_threads
+from .determination import ATTITUDE_METHODS, AttitudeSolution, determine_attitude
 from .lie import (
     RotationEigen,
     expm_so3,
@@ -22,12 +23,15 @@ from .rotation import Rotation, compose, slerp
 from .transform import FiniteScrew, RigidTransform, sclerp
 
 __all__ = [
+    "ATTITUDE_METHODS",
+    "AttitudeSolution",
     "PARALLEL_MIN_SIZE",
     "FiniteScrew",
     "RigidTransform",
     "Rotation",
     "RotationEigen",
     "compose",
+    "determine_attitude",
     "expm_so3",
     "hat",
     "logm_so3",

@@ -62,6 +62,26 @@ def quat_from_basis(
     return np.where(best[..., :1] < 0, -best, best)
 
 
+def _svd_rotation(bmat: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rotation ``C = U diag(1, 1, d) V^T`` maximising ``tr(C^T B)``, batched.
+
+    The ONE SVD solution of Wahba's problem (theory §2.4), shared by
+    :func:`align_vectors` and :func:`poinsot.rotations.determine_attitude`: for
+    ``B = U diag(s) V^T`` (..., 3, 3), ``d = sign det(U V^T)``. Returns ``(C, s, d)``
+    (trusted input, no checks).
+
+    >>> c, s, d = _svd_rotation(np.diag([2.0, 1.0, 0.5]))
+    >>> c.round(12) + 0.0, d
+    (array([[1., 0., 0.],
+           [0., 1., 0.],
+           [0., 0., 1.]]), np.float64(1.0))
+    """
+    u, sv, vt = np.linalg.svd(bmat)
+    d = np.sign(np.linalg.det(u @ vt))
+    c = (u * np.stack(np.broadcast_arrays(1.0, 1.0, d), axis=-1)[..., None, :]) @ vt
+    return c, sv, d
+
+
 def align_vectors(
     a: ArrayLike,
     b: ArrayLike,
@@ -111,11 +131,9 @@ def align_vectors(
         raise degenerate
     a_s, b_s, w_s = a / sa, b / sb, w / sw
     bmat = np.einsum("i,ij,ik->jk", w_s, a_s, b_s)
-    u, sv, vt = np.linalg.svd(bmat)
+    c, sv, d = _svd_rotation(bmat)
     if sv[1] <= 1e-12 * sv[0]:
         raise degenerate
-    d = np.sign(np.linalg.det(u @ vt))
-    c = u @ np.diag([1.0, 1.0, d]) @ vt
     s = max(sa, sb)
     resid = a / s - (b / s) @ c.T
     with np.errstate(over="ignore"):  # inf only if the true RSSD exceeds float64
