@@ -34,7 +34,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("kinematics", "trajectory"),
     ("dynamics",),
     ("symbolic", "plotting", "jax"),  # leaves: nothing below imports them
-    ("scenarios", "verify"),  # verify: exact solutions + plotting, for engines
+    ("scenarios", "verify", "exercises"),  # exercises: generated problems; verify: exact solutions + plotting, for engines
     ("ensemble",),
     ("cli", ""),  # "" is the package poinsot itself (its __init__)
 ]

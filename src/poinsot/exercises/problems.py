@@ -706,8 +706,8 @@ def gyroscope(rng: np.random.Generator) -> Draft:
 # ------------------------------------------------------------------ (10) Kepler
 @problem("kepler", "Kepler orbit: period and apsides from energy and angular momentum (§9)")
 def kepler_orbit(rng: np.random.Generator) -> Draft:
-    mu = float(rng.integers(1, 5))
-    a = float(rng.integers(2, 7))
+    mu = float(rng.choice([2, 4, 6, 8]))
+    a = float(rng.choice([2, 4, 5]))  # E = -mu / (2 a) a terminating decimal
     e = float(rng.choice([0.2, 0.25, 0.4, 0.5, 0.6, 0.75, 0.8]))
     E = -mu / (2 * a)
     K2 = mu * a * (1 - e * e)
