@@ -105,16 +105,18 @@ def _moodle(exs: list[Exercise]) -> str:
             "    <defaultgrade>1</defaultgrade>",
             "    <penalty>0.3333333</penalty>",
             "    <hidden>0</hidden>",
-            f'    <answer fraction="100" format="moodle_auto_format"><text>{ex.answer[k]!r}</text>',
+            f'    <answer fraction="100" format="moodle_auto_format"><text>{float(ex.answer[k])!r}</text>',
             f"      <tolerance>{ex.tolerance!r}</tolerance>",
             '      <feedback format="html"><text>Correct.</text></feedback>',
             "    </answer>",
         ]
+        shown = [float(ex.answer[k])]
         for name, wrong in ex.mistakes.items():
-            if abs(wrong[k] - ex.answer[k]) <= 4 * ex.tolerance:
-                continue  # this component does not show the mistake
+            if any(abs(wrong[k] - v) <= 4 * ex.tolerance for v in shown):
+                continue  # this component does not tell the mistake apart
+            shown.append(float(wrong[k]))
             out += [
-                f'    <answer fraction="0" format="moodle_auto_format"><text>{wrong[k]!r}</text>',
+                f'    <answer fraction="0" format="moodle_auto_format"><text>{float(wrong[k])!r}</text>',
                 f"      <tolerance>{ex.tolerance!r}</tolerance>",
                 f'      <feedback format="html"><text>{escape(f"Typical mistake: {name}.")}'
                 "</text></feedback>",
