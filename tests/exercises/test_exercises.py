@@ -192,7 +192,9 @@ def test_moodle_xml_parses_and_follows_the_format(kind):
     for q, ex in zip(root.findall("question"), exs, strict=True):
         right = [a for a in q.findall("answer") if a.get("fraction") == "100"]
         assert float(right[0].findtext("text")) == ex.answer[ex.quiz_index]
-        wrong = {a.findtext("feedback/text") for a in q.findall("answer") if a.get("fraction") == "0"}
+        wrong = {
+            a.findtext("feedback/text") for a in q.findall("answer") if a.get("fraction") == "0"
+        }
         for text in wrong:
             name = text.removeprefix("Typical mistake: ").removesuffix(".")
             assert name in ex.mistakes

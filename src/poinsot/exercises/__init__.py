@@ -25,7 +25,16 @@ from . import problems as _problems  # noqa: F401 - registers the problem types
 from .core import EXERCISE_TYPES, Exercise, Step, Verdict, check, generate
 from .render import FORMATS, render
 
-__all__ = ["EXERCISE_TYPES", "FORMATS", "Exercise", "Step", "Verdict", "check", "generate", "render"]
+__all__ = [
+    "EXERCISE_TYPES",
+    "FORMATS",
+    "Exercise",
+    "Step",
+    "Verdict",
+    "check",
+    "generate",
+    "render",
+]
 
 
 def __dir__() -> list[str]:

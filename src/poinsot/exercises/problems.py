@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -102,7 +105,7 @@ def angle15(rng: np.random.Generator, low: int, high: int, *, nonzero: bool = Tr
     return int(rng.choice(choices))
 
 
-def quiet(fn, *args, **kwargs):  # type: ignore[no-untyped-def]
+def quiet(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> Any:
     """Call the API without its warnings (a gimbal-lock variant warns by design)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -137,9 +140,7 @@ def composition(rng: np.random.Generator) -> Draft:
         if body
         else "Fixed axes (one point of view): C = B A, the later rotation on the left."
     )
-    deg_as_rad = (
-        matmul(rot(ax1, a1), rot(ax2, a2)) if body else matmul(rot(ax2, a2), rot(ax1, a1))
-    )
+    deg_as_rad = matmul(rot(ax1, a1), rot(ax2, a2)) if body else matmul(rot(ax2, a2), rot(ax1, a1))
     steps = [
         Step(f"Matrix A of {a1} deg about {ax1}: A = {mat(A)}.", "§2", np.array(A)),
         Step(f"Matrix B of {a2} deg about {ax2}: B = {mat(B)}.", "§2", np.array(B)),
@@ -219,9 +220,7 @@ def euler_angles(rng: np.random.Generator) -> Draft:
     back = matmul(
         matmul(rot("z", answer[0] * D2R), rot("x", answer[1] * D2R)), rot("z", answer[2] * D2R)
     )
-    steps.append(
-        Step(f"Back: A_psi A_theta A_phi = {mat(back)} = C.", "§3", np.array(back))
-    )
+    steps.append(Step(f"Back: A_psi A_theta A_phi = {mat(back)} = C.", "§3", np.array(back)))
     return Draft(
         statement,
         steps,
@@ -376,7 +375,9 @@ def rigid_point(rng: np.random.Generator) -> Draft:
         f"acceleration of the body point P with OP = {vec(rho)} m."
     )
     steps = [
-        Step(f"w x OP = {vec(cross(w, rho))}; v_P = v_O + w x OP = {vec(v)} m/s.", "§6", np.array(v)),
+        Step(
+            f"w x OP = {vec(cross(w, rho))}; v_P = v_O + w x OP = {vec(v)} m/s.", "§6", np.array(v)
+        ),
         Step(f"Rotational acceleration eps x OP = {vec(rot_t)}.", "§6", np.array(rot_t)),
         Step(f"Centripetal acceleration w x (w x OP) = {vec(cen)}.", "§6", np.array(cen)),
         Step(f"a_P = a_O + eps x OP + w x (w x OP) = {vec(a)} m/s^2.", "§6", np.array(a)),
@@ -417,7 +418,9 @@ def coriolis(rng: np.random.Generator) -> Draft:
         "its Coriolis acceleration and its absolute acceleration."
     )
     steps = [
-        Step(f"Transport (centripetal) acceleration w x (w x s) = {vec(cen)}.", "§6", np.array(cen)),
+        Step(
+            f"Transport (centripetal) acceleration w x (w x s) = {vec(cen)}.", "§6", np.array(cen)
+        ),
         Step(f"Coriolis acceleration a_c = 2 w x v_r = {vec(cor)} m/s^2.", "§6", np.array(cor)),
         Step(f"a = w x (w x s) + 2 w x v_r + a_r = {vec(a)} m/s^2.", "§6", np.array(a)),
     ]
@@ -438,24 +441,36 @@ def coriolis(rng: np.random.Generator) -> Draft:
 
 
 # --------------------------------------------------------- (7) composite inertia
-def _part(rng: np.random.Generator) -> dict[str, object]:
+@dataclass(frozen=True)
+class Part:
+    """A point mass, a thin rod (length ``size`` along ``axis``) or a thin disc (radius
+    ``size``, its axis along ``axis``) of mass ``m`` centred at ``c``."""
+
+    kind: str
+    m: float
+    size: float
+    axis: str
+    c: list[float]
+
+
+def _part(rng: np.random.Generator) -> Part:
     kind = str(rng.choice(["point", "rod", "disc"]))
-    return {
-        "kind": kind,
-        "m": float(rng.integers(1, 5)),
-        "size": float(rng.integers(1, 4)) * (3.0 if kind == "rod" else 2.0),
-        "axis": str(rng.choice(list(AXES))),
-        "c": ints(rng, 3, -2, 2),
-    }
+    return Part(
+        kind,
+        float(rng.integers(1, 5)),
+        float(rng.integers(1, 4)) * (3.0 if kind == "rod" else 2.0),
+        str(rng.choice(list(AXES))),
+        ints(rng, 3, -2, 2),
+    )
 
 
-def _own_central(p: dict[str, object]) -> list[list[float]]:
+def _own_central(p: Part) -> list[list[float]]:
     """Inertia about the part's own centre (axes of the problem), §8."""
-    m, size, axis = float(p["m"]), float(p["size"]), str(p["axis"])  # type: ignore[arg-type]
+    m, size, axis = p.m, p.size, p.axis
     k = AXES.index(axis)
-    if p["kind"] == "point":
+    if p.kind == "point":
         d = [0.0, 0.0, 0.0]
-    elif p["kind"] == "rod":  # m L^2 / 12 about the transverse axes, 0 along the rod
+    elif p.kind == "rod":  # m L^2 / 12 about the transverse axes, 0 along the rod
         d = [m * size**2 / 12.0] * 3
         d[k] = 0.0
     else:  # disc: m R^2 / 2 about its axis, m R^2 / 4 about the diameters
@@ -464,7 +479,9 @@ def _own_central(p: dict[str, object]) -> list[list[float]]:
     return [[d[i] if i == j else 0.0 for j in range(3)] for i in range(3)]
 
 
-def steiner(m: float, a: list[float], sign: float = 1.0, products: bool = True) -> list[list[float]]:
+def steiner(
+    m: float, a: list[float], sign: float = 1.0, products: bool = True
+) -> list[list[float]]:
     """``m (a.a E - a a^T)``, written out (§8)."""
     aa = sum(x * x for x in a)
     return [
@@ -505,32 +522,29 @@ def eig3(J: list[list[float]]) -> list[float]:
 def composite_inertia(rng: np.random.Generator) -> Draft:
     while True:
         parts = [_part(rng) for _ in range(int(rng.integers(2, 4)))]
-        total = sum(float(p["m"]) for p in parts)  # type: ignore[arg-type]
-        cm = [sum(float(p["m"]) * p["c"][i] for p in parts) / total for i in range(3)]  # type: ignore[arg-type,index]
-        J = madd(*[madd(_own_central(p), steiner(float(p["m"]), p["c"])) for p in parts])  # type: ignore[arg-type]
+        total = sum(p.m for p in parts)
+        cm = [sum(p.m * p.c[i] for p in parts) / total for i in range(3)]
+        J = madd(*[madd(_own_central(p), steiner(p.m, p.c)) for p in parts])
         lam = eig3(J)
         if lam[0] > 0.5 and lam[1] - lam[0] > 0.5 and lam[2] - lam[1] > 0.5:
             break
     answer = [J[i][j] for i in range(3) for j in range(3)] + lam
-    J_api = sum(
-        parallel_axis(_api_central(p), float(p["m"]), p["c"])  # type: ignore[arg-type]
-        for p in parts
-    )
+    J_api = np.sum([parallel_axis(_api_central(p), p.m, p.c) for p in parts], axis=0)
     api = np.concatenate([np.asarray(J_api).reshape(-1), principal_axes(J_api)[0]])
     desc = []
     for p in parts:
-        where = vec(p["c"])
-        if p["kind"] == "point":
-            desc.append(f"a point mass {num(p['m'])} kg at {where}")  # type: ignore[arg-type]
-        elif p["kind"] == "rod":
+        where = vec(p.c)
+        if p.kind == "point":
+            desc.append(f"a point mass {num(p.m)} kg at {where}")
+        elif p.kind == "rod":
             desc.append(
-                f"a thin rod of mass {num(p['m'])} kg and length {num(p['size'])} m along "  # type: ignore[arg-type]
-                f"the {p['axis']} axis, centred at {where}"
+                f"a thin rod of mass {num(p.m)} kg and length {num(p.size)} m along "
+                f"the {p.axis} axis, centred at {where}"
             )
         else:
             desc.append(
-                f"a thin disc of mass {num(p['m'])} kg and radius {num(p['size'])} m, its "  # type: ignore[arg-type]
-                f"axis along {p['axis']}, centred at {where}"
+                f"a thin disc of mass {num(p.m)} kg and radius {num(p.size)} m, its "
+                f"axis along {p.axis}, centred at {where}"
             )
     statement = (
         "A rigid body is made of " + "; ".join(desc) + " (coordinates in m). Find its inertia "
@@ -540,10 +554,10 @@ def composite_inertia(rng: np.random.Generator) -> Draft:
     steps = []
     for p in parts:
         Jc = _own_central(p)
-        St = steiner(float(p["m"]), p["c"])  # type: ignore[arg-type]
+        St = steiner(p.m, p.c)
         steps.append(
             Step(
-                f"{str(p['kind']).capitalize()} at {vec(p['c'])}: own J_C = {mat(Jc)}; Steiner "
+                f"{str(p.kind).capitalize()} at {vec(p.c)}: own J_C = {mat(Jc)}; Steiner "
                 f"term m (a.a E - a a^T) = {mat(St)}.",
                 "§8",
                 np.array(madd(Jc, St)),
@@ -558,15 +572,12 @@ def composite_inertia(rng: np.random.Generator) -> Draft:
         ),
     ]
 
-    def variant(**kw: object) -> list[float]:
-        Jm = madd(*[madd(_own_central(p), steiner(float(p["m"]), p["c"], **kw)) for p in parts])  # type: ignore[arg-type]
+    def variant(sign: float = 1.0, products: bool = True) -> list[float]:
+        Jm = madd(*[madd(_own_central(p), steiner(p.m, p.c, sign, products)) for p in parts])
         return [Jm[i][j] for i in range(3) for j in range(3)] + eig3(Jm)
 
     wrong_point = madd(
-        *[
-            madd(_own_central(p), steiner(float(p["m"]), [p["c"][i] - cm[i] for i in range(3)]))  # type: ignore[arg-type,index]
-            for p in parts
-        ]
+        *[madd(_own_central(p), steiner(p.m, [p.c[i] - cm[i] for i in range(3)])) for p in parts]
     )
     return Draft(
         statement,
@@ -586,12 +597,12 @@ def composite_inertia(rng: np.random.Generator) -> Draft:
     )
 
 
-def _api_central(p: dict[str, object]) -> np.ndarray:
+def _api_central(p: Part) -> np.ndarray:
     """The part's central inertia from poinsot's solids (symmetry axis z, then permuted)."""
-    m, size, axis = float(p["m"]), float(p["size"]), str(p["axis"])  # type: ignore[arg-type]
-    if p["kind"] == "point":
+    m, size, axis = p.m, p.size, p.axis
+    if p.kind == "point":
         return np.zeros((3, 3))
-    J = rod(m, size) if p["kind"] == "rod" else disc(m, size)
+    J = rod(m, size) if p.kind == "rod" else disc(m, size)
     # the problem's axis k is the solid's symmetry axis z
     d = np.diag(J)
     new = np.empty(3)
@@ -686,7 +697,11 @@ def gyroscope(rng: np.random.Generator) -> Draft:
             "vertical, so K' = w_prec x K has magnitude C w_spin w_prec sin theta.",
             "§10",
         ),
-        Step(f"M = {num(C)} * {num(spin)} * {num(prec)} * sin {theta} deg = {num(M)} N m.", "§10", np.array([M])),
+        Step(
+            f"M = {num(C)} * {num(spin)} * {num(prec)} * sin {theta} deg = {num(M)} N m.",
+            "§10",
+            np.array([M]),
+        ),
     ]
     return Draft(
         statement,
@@ -734,7 +749,11 @@ def kepler_orbit(rng: np.random.Generator) -> Draft:
             "§9",
             np.array([p, ecc]),
         ),
-        Step(f"r_p = p / (1 + e) = {num(rp)}, r_a = p / (1 - e) = {num(ra)}.", "§9", np.array([rp, ra])),
+        Step(
+            f"r_p = p / (1 + e) = {num(rp)}, r_a = p / (1 - e) = {num(ra)}.",
+            "§9",
+            np.array([rp, ra]),
+        ),
     ]
     e_bad = math.sqrt(max(0.0, 1 + E * K2 / mu**2))
     a_bad = -mu / E
@@ -761,9 +780,7 @@ def kepler_orbit(rng: np.random.Generator) -> Draft:
 # ------------------------------------------------------------------ (11) Foucault
 @problem("foucault", "Foucault pendulum: turning rate and period of the swing plane (§9)")
 def foucault(rng: np.random.Generator) -> Draft:
-    lat = int(rng.choice([10, 15, 20, 30, 40, 45, 50, 60, 70, 75, 80])) * int(
-        rng.choice([-1, 1])
-    )
+    lat = int(rng.choice([10, 15, 20, 30, 40, 45, 50, 60, 70, 75, 80])) * int(rng.choice([-1, 1]))
     omega = 7.2921159e-5  # the sidereal rotation rate of the Earth, rad/s
     rate = omega * abs(math.sin(lat * D2R))
     hours = 2 * math.pi / rate / 3600.0
@@ -785,7 +802,9 @@ def foucault(rng: np.random.Generator) -> Draft:
         Step(f"Period 2 pi / (Omega |sin phi|) = {num(hours)} h.", "§9", np.array([hours])),
     ]
     mistakes = {
-        "cos of the latitude instead of sin": [2 * math.pi / (omega * abs(math.cos(lat * D2R))) / 3600.0],
+        "cos of the latitude instead of sin": [
+            2 * math.pi / (omega * abs(math.cos(lat * D2R))) / 3600.0
+        ],
         "solar day (24 h) instead of the sidereal rate": [
             2 * math.pi / (solar * abs(math.sin(lat * D2R))) / 3600.0
         ],

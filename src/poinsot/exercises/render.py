@@ -19,14 +19,17 @@ FORMATS = ("md", "html", "tex", "moodle")
 def _answer(ex: Exercise) -> str:
     if ex.answer.size == 1:
         return f"{ex.labels[0]} = {num(ex.answer[0])} {ex.units}"
-    return ", ".join(f"{k} = {num(v)}" for k, v in zip(ex.labels, ex.answer)) + f" ({ex.units})"
+    return (
+        ", ".join(f"{k} = {num(v)}" for k, v in zip(ex.labels, ex.answer, strict=True))
+        + f" ({ex.units})"
+    )
 
 
 def _math(ex: Exercise) -> str:
     """The answer as TeX math: ``\\psi = 30,\\ \\theta = 45``."""
     greek = {"psi", "theta", "phi"}
     names = [("\\" + k if k in greek else k) for k in ex.labels]
-    return ",\\ ".join(f"{k} = {num(v)}" for k, v in zip(names, ex.answer))
+    return ",\\ ".join(f"{k} = {num(v)}" for k, v in zip(names, ex.answer, strict=True))
 
 
 def _md(exs: list[Exercise]) -> str:
@@ -47,7 +50,9 @@ def _html(exs: list[Exercise]) -> str:
     body = []
     for n, ex in enumerate(exs, 1):
         e = html.escape
-        steps = "".join(f"<li>{e(s.text)} <small>(theory {e(s.section)})</small></li>" for s in ex.steps)
+        steps = "".join(
+            f"<li>{e(s.text)} <small>(theory {e(s.section)})</small></li>" for s in ex.steps
+        )
         wrong = "".join(f"<li>{e(k)}: gives {e(vec(w))}</li>" for k, w in ex.mistakes.items())
         body.append(
             f"<section><h2>Exercise {n}: {e(ex.type)} (seed {ex.seed})</h2>"
@@ -65,14 +70,20 @@ def _html(exs: list[Exercise]) -> str:
     )
 
 
+def t(s: str) -> str:
+    """Plain text as LaTeX (special characters escaped, § as \\S)."""
+    return s.translate(_TEX).replace("§", r"\S")
+
+
 _TEX = str.maketrans({"&": r"\&", "%": r"\%", "#": r"\#", "_": r"\_", "^": r"\^{}", "~": r"\~{}"})
 
 
 def _tex(exs: list[Exercise]) -> str:
     out = []
     for n, ex in enumerate(exs, 1):
-        t = lambda s: s.translate(_TEX).replace("§", r"\S")  # noqa: E731
-        out.append(f"\\subsection*{{Exercise {n}: {t(ex.type)} (seed {ex.seed})}}\n{t(ex.statement)}\n")
+        out.append(
+            f"\\subsection*{{Exercise {n}: {t(ex.type)} (seed {ex.seed})}}\n{t(ex.statement)}\n"
+        )
         out.append("\\paragraph{Solution.}\n\\begin{enumerate}")
         out += [f"  \\item {t(s.text)} (theory {t(s.section)})" for s in ex.steps]
         out.append("\\end{enumerate}")
@@ -92,9 +103,11 @@ def _moodle(exs: list[Exercise]) -> str:
         ask = ex.statement + (
             f" Give {label} ({ex.units})." if ex.answer.size > 1 else f" Give it in {ex.units}."
         )
-        feedback = "<ol>" + "".join(
-            f"<li>{escape(s.text)} (theory {escape(s.section)})</li>" for s in ex.steps
-        ) + f"</ol><p>Answer: {escape(_answer(ex))}</p>"
+        feedback = (
+            "<ol>"
+            + "".join(f"<li>{escape(s.text)} (theory {escape(s.section)})</li>" for s in ex.steps)
+            + f"</ol><p>Answer: {escape(_answer(ex))}</p>"
+        )
         out += [
             '  <question type="numerical">',
             f"    <name><text>{escape(ex.type)} {ex.seed} ({n})</text></name>",
@@ -105,7 +118,8 @@ def _moodle(exs: list[Exercise]) -> str:
             "    <defaultgrade>1</defaultgrade>",
             "    <penalty>0.3333333</penalty>",
             "    <hidden>0</hidden>",
-            f'    <answer fraction="100" format="moodle_auto_format"><text>{float(ex.answer[k])!r}</text>',
+            f'    <answer fraction="100" format="moodle_auto_format">'
+            f"<text>{float(ex.answer[k])!r}</text>",
             f"      <tolerance>{ex.tolerance!r}</tolerance>",
             '      <feedback format="html"><text>Correct.</text></feedback>',
             "    </answer>",
@@ -116,7 +130,8 @@ def _moodle(exs: list[Exercise]) -> str:
                 continue  # this component does not tell the mistake apart
             shown.append(float(wrong[k]))
             out += [
-                f'    <answer fraction="0" format="moodle_auto_format"><text>{float(wrong[k])!r}</text>',
+                f'    <answer fraction="0" format="moodle_auto_format">'
+                f"<text>{float(wrong[k])!r}</text>",
                 f"      <tolerance>{ex.tolerance!r}</tolerance>",
                 f'      <feedback format="html"><text>{escape(f"Typical mistake: {name}.")}'
                 "</text></feedback>",
