@@ -233,3 +233,13 @@ def test_cli_errors_exit_2_naming_the_argument(capsys, argv, match):
     assert main(argv) == 2
     captured = capsys.readouterr()
     assert match in captured.err and captured.out == "" and "Traceback" not in captured.err
+
+
+def test_docs_page_shows_what_its_block_prints_today():
+    """docs/exercises.md: the worked examples between its markers are the output of its
+    code block (seed 0 of every type)."""
+    page = (Path(__file__).resolve().parents[2] / "docs" / "exercises.md").read_text()
+    shown = page.split("<!-- generated: begin -->\n")[1].split("\n<!-- generated: end -->")[0]
+    assert shown == render([generate(kind, seed=0) for kind in TYPES], "md")
+    for kind in TYPES:
+        assert f"`{kind}`" in page
