@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..exercises import EXERCISE_TYPES, generate, render
 from ._common import _Usage
 
 DESCRIPTION = (
@@ -44,8 +45,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _cmd_exercise(args: argparse.Namespace) -> int:
-    from ..exercises import EXERCISE_TYPES, generate, render
-
     if args.list:
         width = max(len(k) for k in EXERCISE_TYPES)
         for name, what in EXERCISE_TYPES.items():
