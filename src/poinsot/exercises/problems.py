@@ -649,7 +649,7 @@ def stability(rng: np.random.Generator) -> Draft:
             f"moment is stable, about the middle one unstable. Here x, y, z stable: "
             f"{tuple(bool(s) for s in stable)}; the spin axis {name} is stable.",
             "§10",
-            np.array([1.0, 0.0, 1.0]),
+            np.array(stable, dtype=float),
         ),
         Step(
             "Linearised Euler equations about w = w0 e_k: the transverse components obey "
