@@ -34,7 +34,8 @@ LAYERS: list[tuple[str, ...]] = [
     ("kinematics", "trajectory"),
     ("dynamics",),
     ("symbolic", "plotting", "jax"),  # leaves: nothing below imports them
-    ("scenarios", "verify"),  # verify: exact solutions + plotting, for engines
+    # verify: exact solutions + plotting, for engines; exercises: generated problems
+    ("scenarios", "verify", "exercises"),
     ("ensemble",),
     ("cli", ""),  # "" is the package poinsot itself (its __init__)
 ]

@@ -21,6 +21,7 @@ SUBPACKAGES = [
     "poinsot.mass",
     "poinsot.dynamics",
     "poinsot.symbolic",
+    "poinsot.exercises",
 ]
 
 

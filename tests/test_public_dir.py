@@ -14,6 +14,7 @@ PACKAGES = [
     "poinsot.scenarios",
     "poinsot.plotting",
     "poinsot.ensemble",
+    "poinsot.exercises",
 ]
 
 

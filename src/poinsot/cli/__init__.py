@@ -3,7 +3,8 @@
 Subcommands: ``run`` (a scenario file), ``demo`` (the embedded tennis-racket flip),
 ``check`` (validate a scenario and estimate its cost), ``convert`` (between rotation
 representations), ``inertia`` (inertia tensor of a solid), ``ensemble`` (a Monte-Carlo
-ensemble), ``verify`` (an engine against exact solutions). Exit codes: 0 success,
+ensemble), ``verify`` (an engine against exact solutions), ``exercise`` (exercises with worked
+solutions). Exit codes: 0 success,
 2 invalid input, a run refused by its limits or a diverging integration (a
 one-line message with advice, no traceback), 1 a failure: a verdict of failure with
 its outputs written (``verify`` FAIL; ``ensemble``: more than ``--max-failed`` of the
@@ -51,6 +52,7 @@ COMMANDS: dict[str, str] = {
     "ensemble": "Monte-Carlo ensemble of a dispersed scenario (Dask)",
     "verify": "check a physics engine against exact solutions",
     "warmup": "compile every kernel into numba's cache (once per install)",
+    "exercise": "exercises with worked solutions (md, html, tex, Moodle XML)",
 }
 
 
