@@ -16,19 +16,24 @@ import numpy as np
 from ..dynamics import (
     CentralOrbit,
     FreeRigidBody,
+    LagrangeTop,
     foucault_period,
     gyroscopic_moment,
+    inertial_forces,
     kepler,
+    regular_precession_rates,
 )
 from ..kinematics import (
     FrameMotion,
     acceleration_field,
     omega_from_euler_rates,
     point_motion,
+    velocity_center,
     velocity_field,
 )
 from ..mass import disc, parallel_axis, principal_axes, rod
 from ..rotations.rotation import Rotation
+from ..rotations.transform import RigidTransform
 from .core import Draft, Step, problem
 
 __all__: list[str] = []
@@ -812,3 +817,343 @@ def foucault(rng: np.random.Generator) -> Draft:
     }
     # a tight tolerance: the solar and the sidereal day differ by 0.27 %
     return Draft(statement, steps, [hours], [api], ("T",), "h", mistakes, tolerance=1e-4 * hours)
+
+
+# ------------------------------------------------------------ (12) instant centre
+def kxv(w: float, r: list[float]) -> list[float]:
+    """``w k x r`` for plane vectors: ``w (-r_y, r_x)``."""
+    return [-w * r[1], w * r[0]]
+
+
+@problem("instant-centre", "wheel rolling without slipping: instant centre, point velocity (§6)")
+def instant_centre(rng: np.random.Generator) -> Draft:
+    R = float(rng.integers(1, 4))
+    xc = float(rng.integers(-3, 4))
+    vc = float(rng.choice([-4, -3, -2, -1, 1, 2, 3, 4]))
+    alpha = int(rng.choice([a for a in range(-165, 181, 15) if a != -90]))
+    C = [xc, R]
+    M = [xc + R * math.cos(alpha * D2R), R + R * math.sin(alpha * D2R)]
+    w = -vc / R  # rolling to the right (v_C > 0) turns clockwise (omega < 0)
+    P = [xc, 0.0]  # the contact point: the wheel's point at rest
+    PM = [M[0] - P[0], M[1] - P[1]]
+    vM = kxv(w, PM)
+    answer = [w, P[0], P[1], vM[0], vM[1]]
+    Papi = velocity_center(C, [vc, 0.0], w)
+    vapi = velocity_field([vc, 0.0, 0.0], [0.0, 0.0, w], [M[0] - C[0], M[1] - C[1], 0.0])
+    api = [w, float(Papi[0]), float(Papi[1]), float(vapi[0]), float(vapi[1])]
+    statement = (
+        f"A wheel of radius R = {num(R)} m rolls without slipping along the x axis (the "
+        f"ground y = 0) in the plane x y; its centre C = {vec(C)} m moves with velocity "
+        f"v_C = ({num(vc)}, 0) m/s. Find the wheel's angular velocity omega (about z, "
+        "counterclockwise positive), its instantaneous centre of velocities P and the "
+        f"velocity of the rim point M at the polar angle {alpha} deg from the centre, "
+        f"M = {vec(M)} m."
+    )
+    steps = [
+        Step(
+            "Rolling without slipping: the contact point has zero velocity, so v_C = omega "
+            f"k x (C - P) with C - P = (0, R); omega = -v_C / R = {num(w)} rad/s.",
+            "§6",
+            np.array([w]),
+        ),
+        Step(
+            f"Instant centre P = C + k x v_C / omega = {vec(P)} m: the contact point.",
+            "§6",
+            np.array(P),
+        ),
+        Step(
+            f"PM = M - P = {vec(PM)} m; v_M = omega k x PM = omega (-PM_y, PM_x) = "
+            f"{vec(vM)} m/s (perpendicular to PM, |v_M| = |omega| |PM|).",
+            "§6",
+            np.array(vM),
+        ),
+    ]
+    about_c = kxv(w, [M[0] - C[0], M[1] - C[1]])
+    P_bad = [xc, 2 * R]  # C - k x v_C / omega: the top of the wheel
+    v_bad = kxv(w, [M[0] - P_bad[0], M[1] - P_bad[1]])
+    return Draft(
+        statement,
+        steps,
+        answer,
+        api,
+        ("omega", "P_x", "P_y", "v_x", "v_y"),
+        "rad/s, m, m/s",
+        {
+            "rolling taken as pure rotation about the centre": [w, xc, R] + about_c,
+            "cross product order reversed (PM x w)": [w, P[0], P[1], -vM[0], -vM[1]],
+            "wrong sign in P = C + k x v_C / omega (the top point)": [w] + P_bad + v_bad,
+            "wrong sense of rotation (omega = +v_C / R)": [-w, P[0], P[1], -vM[0], -vM[1]],
+        },
+    )
+
+
+# --------------------------------------------------------- (13) finite screw
+@problem("screw", "finite displacement as a screw: axis point, angle, slide (Chasles, §6)")
+def screw(rng: np.random.Generator) -> Draft:
+    ax = str(rng.choice(list(AXES)))
+    sign = float(rng.choice([-1, 1]))
+    e = scale(sign, list(UNIT[ax]))
+    f = angle15(rng, 30, 165)
+    a = ints(rng, 3, -2, 2)
+    t = ints(rng, 3)
+    while not any(cross(e, t)) and not any(cross(e, a)):
+        t = ints(rng, 3)
+    a[AXES.index(ax)] = 0.0  # the axis point in the plane through O normal to e
+    fr = f * D2R
+    Rm = rot(ax, sign * fr)
+    Ra = matvec(Rm, a)
+    tt = add(a, scale(-1, Ra), t)  # x -> R (x - a) + a + t = R x + (E - R) a + t
+    d = sum(e[i] * tt[i] for i in range(3))
+    tn = add(tt, scale(-d, e))
+    cot = math.cos(fr / 2) / math.sin(fr / 2)
+    p = scale(0.5, add(tn, scale(cot, cross(e, tn))))
+    answer = p + [fr, d]
+    rot_api = Rotation.from_axis_angle(e, fr)
+    T = (
+        RigidTransform.from_translation(np.add(a, t))
+        * RigidTransform.from_rotation(rot_api)
+        * RigidTransform.from_translation(np.negative(a))
+    )
+    sc = T.screw()
+    api = np.concatenate([sc.point, [float(sc.angle), float(sc.slide)]])
+    e_txt = ("-" if sign < 0 else "") + ax
+    statement = (
+        f"A body is turned by {f} deg (right-handed) about the line through a = {vec(a)} m "
+        f"with direction e = {vec(e)} (the {e_txt} direction), then translated by "
+        f"t = {vec(t)} m. By Chasles' theorem the displacement is a screw: a rotation about "
+        "an axis of direction e and a slide along it. Find the point p of the screw axis "
+        "closest to the origin, the rotation angle (rad) and the slide d along e (m)."
+    )
+    steps = [
+        Step(
+            f"As x -> R x + t': R = rotation by {f} deg about e = {mat(Rm)}; "
+            f"t' = (E - R) a + t = {vec(tt)} m.",
+            "§6",
+            np.array(tt),
+        ),
+        Step(
+            f"Slide d = e . t' = {num(d)} m (the same for every point; (E - R) a has no e "
+            f"component, so d = e . t); angle f = {f} deg = {num(fr)} rad.",
+            "§6",
+            np.array([d, fr]),
+        ),
+        Step(
+            f"Normal part t_n = t' - d e = {vec(tn)}; cot(f/2) = {num(cot)}; e x t_n = "
+            f"{vec(cross(e, tn))}.",
+            "§6",
+            np.array(tn),
+        ),
+        Step(
+            f"p = (t_n + cot(f/2) e x t_n) / 2 = {vec(p)} m (solves (E - R) p = t_n, "
+            "p . e = 0).",
+            "§6",
+            np.array(p),
+        ),
+    ]
+
+    def point(tv: list[float], c: float) -> list[float]:
+        return scale(0.5, add(tv, scale(c, cross(e, tv))))
+
+    tlen = math.sqrt(sum(x * x for x in t))
+    cot_f = math.cos(fr) / math.sin(fr)
+    return Draft(
+        statement,
+        steps,
+        answer,
+        api,
+        ("p_x", "p_y", "p_z", "angle", "slide"),
+        "m, rad",
+        {
+            "slide taken as |t|": point(add(tt, scale(-tlen, e)), cot) + [fr, tlen],
+            "axis point without the projection (t' for t_n)": point(tt, cot) + [fr, d],
+            "angle in degrees": p + [float(f), d],
+            "cot(f) instead of cot(f/2)": point(tn, cot_f) + [fr, d],
+        },
+    )
+
+
+# ---------------------------------------------------- (14) heavy top: regular precession
+@problem(
+    "regular-precession",
+    "heavy symmetric top: slow and fast regular precession, sleeping-top stability (§10)",
+)
+def regular_precession(rng: np.random.Generator) -> Draft:
+    g = 9.8
+    while True:
+        A = float(rng.integers(1, 5))
+        C = float(rng.integers(1, 2 * int(A) + 1))
+        m = float(rng.integers(1, 5))
+        ell = float(rng.choice([0.1, 0.2, 0.25, 0.5]))
+        r = float(rng.integers(2, 21))
+        theta = angle15(rng, 15, 75)
+        mgl = m * g * ell
+        H = C * r
+        ct = math.cos(theta * D2R)
+        D = H * H - 4 * A * mgl * ct
+        if A != C and D > 0.05 * H * H:
+            break
+
+    def rates(a: float, h: float, k: float, c: float, four: float = 4.0) -> list[float]:
+        disc_ = h * h - four * a * k * c
+        if disc_ < 0:
+            return [math.nan, math.nan]
+        root = math.sqrt(disc_)
+        return [(h - root) / (2 * a * c), (h + root) / (2 * a * c)]
+
+    slow, fast = rates(A, H, mgl, ct)
+    ratio = H * H / (4 * A * mgl)
+    answer = [slow, fast, ratio]
+    s_api, f_api = regular_precession_rates(A, C, mgl, theta, r, degrees=True)
+    top = LagrangeTop(A, C, mgl, theta=0.0, spin=r)
+    api = [float(s_api), float(f_api), float(top.maievskii_ratio)]
+    verdict = "stable" if ratio > 1 else "unstable"
+    statement = (
+        f"A heavy symmetric top (moments about its fixed point: equatorial A = {num(A)}, "
+        f"axial C = {num(C)} kg m^2; mass m = {num(m)} kg, centre of mass l = {num(ell)} m "
+        f"above the point on the axis; g = {num(g)} m/s^2) spins at r = {num(r)} rad/s "
+        f"about its axis. Find the slow and the fast rates psi' of regular precession with "
+        f"the axis at theta = {theta} deg from the upward vertical, and Maievskii's ratio "
+        "C^2 r^2 / (4 A m g l): is the sleeping (upright) top with this spin stable?"
+    )
+    steps = [
+        Step(
+            f"H = C r = {num(H)} kg m^2/s, m g l = {num(mgl)} N m.",
+            "§10",
+            np.array([H, mgl]),
+        ),
+        Step(
+            "theta constant: A psi'^2 cos theta - H psi' + m g l = 0, discriminant "
+            f"H^2 - 4 A m g l cos theta = {num(D)} > 0.",
+            "§10",
+            np.array([D]),
+        ),
+        Step(
+            f"psi' = (H -+ sqrt(D)) / (2 A cos theta): slow {num(slow)} rad/s, fast "
+            f"{num(fast)} rad/s.",
+            "§10",
+            np.array([slow, fast]),
+        ),
+        Step(
+            f"Maievskii: C^2 r^2 / (4 A m g l) = {num(ratio)}, so the sleeping top is "
+            f"{verdict}.",
+            "§10",
+            np.array([ratio]),
+        ),
+    ]
+    sw = rates(C, A * r, mgl, ct)
+    no4 = rates(A, H, mgl, ct, four=1.0)
+    no_l = rates(A, H, m * g, ct)
+    no_cos = rates(A, H, mgl, 1.0)
+    return Draft(
+        statement,
+        steps,
+        answer,
+        api,
+        ("slow", "fast", "ratio"),
+        "rad/s, 1",
+        {
+            "A and C swapped": sw + [(A * r) ** 2 / (4 * C * mgl)],
+            "missing factor 4": no4 + [H * H / (A * mgl)],
+            "l forgotten (m g instead of m g l)": no_l + [H * H / (4 * A * m * g)],
+            "cos theta forgotten in the quadratic": no_cos + [ratio],
+        },
+    )
+
+
+# ------------------------------------------------------------- (15) bead on a hoop
+@problem("bead-on-hoop", "bead on a spinning hoop: Lagrange equation, stable equilibrium (§11)")
+def bead_on_hoop(rng: np.random.Generator) -> Draft:
+    g = 9.8
+    while True:
+        R = float(rng.choice([0.2, 0.25, 0.4, 0.5, 0.8, 1.0]))
+        w = float(rng.integers(2, 11))
+        x = g / (R * w * w)  # the critical ratio: > 1 slow hoop, < 1 fast hoop
+        if abs(x - 1) > 0.15:
+            break
+    fast = x < 1
+    if fast:
+        th = math.acos(x)
+        Om = w * math.sin(th)  # w^2 - g^2/(R^2 w^2) = w^2 sin^2 theta*
+    else:
+        th = 0.0
+        Om = math.sqrt(g / R - w * w)
+    answer = [th / D2R, Om]
+
+    # the API: the centrifugal force of the rotating frame (poinsot's inertial_forces)
+    frame = FrameMotion(omega=[0.0, 0.0, w])
+    grav = np.array([0.0, 0.0, -g])
+
+    def pos(t: float) -> np.ndarray:
+        return R * np.array([math.sin(t), 0.0, -math.cos(t)])
+
+    def dpos(t: float) -> np.ndarray:
+        return R * np.array([math.cos(t), 0.0, math.sin(t)])
+
+    def cf(s: np.ndarray) -> np.ndarray:
+        return inertial_forces(frame, s, np.zeros(3)).centrifugal
+
+    def Q(t: float) -> float:  # generalized force per unit mass: (g + F_cf) . ds/dtheta
+        return float((grav + cf(pos(t))) @ dpos(t))
+
+    def dQ(t: float) -> float:  # F_cf linear in s; d^2 s / dtheta^2 = -s
+        return float(cf(dpos(t)) @ dpos(t) - (grav + cf(pos(t))) @ pos(t))
+
+    cands = [0.0, math.pi]
+    lo, hi = 1e-9, math.pi / 2
+    if Q(lo) > 0:  # a root between the bottom and the equator
+        while True:
+            mid = 0.5 * (lo + hi)
+            if mid in (lo, hi):
+                break
+            lo, hi = (mid, hi) if Q(mid) > 0 else (lo, mid)
+        cands.append(0.5 * (lo + hi))
+    stable = [c for c in cands if dQ(c) < 0]
+    t_api = stable[0]
+    api = [t_api / D2R, math.sqrt(-dQ(t_api) / R**2)]
+
+    statement = (
+        f"A bead slides without friction on a circular hoop of radius R = {num(R)} m that "
+        f"turns at the constant rate w = {num(w)} rad/s about its vertical diameter "
+        f"(g = {num(g)} m/s^2). With theta the angle of the bead from the lowest point, "
+        "write Lagrange's equation, find the equilibria and their stability, and give the "
+        "stable equilibrium theta* (deg, in [0, 90]) and the angular frequency of small "
+        "oscillations about it."
+    )
+    ratio_txt = f"g / (R w^2) = {num(x)}"
+    eq_txt = (
+        f"{ratio_txt} < 1: theta = 0 and 180 deg and cos theta* = g / (R w^2), theta* = "
+        f"{num(th / D2R)} deg; the bottom is unstable, theta* is stable."
+        if fast
+        else f"{ratio_txt} >= 1: only theta = 0 (stable) and theta = 180 deg (unstable)."
+    )
+    freq_txt = (
+        f"Linearise about theta*: Omega^2 = w^2 sin^2 theta* = w^2 - g^2/(R^2 w^2), "
+        f"Omega = {num(Om)} rad/s."
+        if fast
+        else f"Linearise about 0: Omega^2 = g/R - w^2, Omega = {num(Om)} rad/s."
+    )
+    steps = [
+        Step(
+            "T = m R^2 (theta'^2 + w^2 sin^2 theta) / 2, P = -m g R cos theta; "
+            "Lagrange: theta'' = (w^2 cos theta - g / R) sin theta.",
+            "§11",
+        ),
+        Step(eq_txt, "§11", np.array([th / D2R])),
+        Step(freq_txt, "§11", np.array([Om])),
+    ]
+    mistakes: dict[str, Any] = {
+        # theta'' = -(w^2 cos theta + g/R) sin theta: the bottom is always stable
+        "sign of the centrifugal term": [0.0, math.sqrt(g / R + w * w)],
+        # theta'' = (w^2 - g/R) sin theta
+        "cos theta missing in the centrifugal term": [180.0, math.sqrt(w * w - g / R)]
+        if fast
+        else [0.0, math.sqrt(g / R - w * w)],
+        "the unstable equilibrium": [0.0, math.sqrt(w * w - g / R)]
+        if fast
+        else [180.0, math.sqrt(g / R + w * w)],
+    }
+    if fast:
+        mistakes["Omega = w (sin theta* forgotten)"] = [th / D2R, w]
+    return Draft(
+        statement, steps, answer, api, ("theta*", "Omega"), "deg, rad/s", mistakes, tolerance=0.01
+    )
