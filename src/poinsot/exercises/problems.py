@@ -21,6 +21,7 @@ from ..dynamics import (
     gyroscopic_moment,
     inertial_forces,
     kepler,
+    reduce_forces,
     regular_precession_rates,
 )
 from ..kinematics import (
@@ -944,8 +945,7 @@ def screw(rng: np.random.Generator) -> Draft:
             np.array(tn),
         ),
         Step(
-            f"p = (t_n + cot(f/2) e x t_n) / 2 = {vec(p)} m (solves (E - R) p = t_n, "
-            "p . e = 0).",
+            f"p = (t_n + cot(f/2) e x t_n) / 2 = {vec(p)} m (solves (E - R) p = t_n, p . e = 0).",
             "§6",
             np.array(p),
         ),
@@ -1034,8 +1034,7 @@ def regular_precession(rng: np.random.Generator) -> Draft:
             np.array([slow, fast]),
         ),
         Step(
-            f"Maievskii: C^2 r^2 / (4 A m g l) = {num(ratio)}, so the sleeping top is "
-            f"{verdict}.",
+            f"Maievskii: C^2 r^2 / (4 A m g l) = {num(ratio)}, so the sleeping top is {verdict}.",
             "§10",
             np.array([ratio]),
         ),
@@ -1155,5 +1154,81 @@ def bead_on_hoop(rng: np.random.Generator) -> Draft:
     if fast:
         mistakes["Omega = w (sin theta* forgotten)"] = [th / D2R, w]
     return Draft(
-        statement, steps, answer, api, ("theta*", "Omega"), "deg, rad/s", mistakes, tolerance=0.01
+        statement, steps, answer, api, ("theta", "Omega"), "deg, rad/s", mistakes, tolerance=0.01
+    )
+
+
+# ------------------------------------------------------------- (16) virtual work
+@problem("virtual-work", "ladder against a wall: generalized force by virtual work (§11)")
+def virtual_work(rng: np.random.Generator) -> Draft:
+    g = 9.8
+    L = float(rng.integers(2, 7))
+    m = float(rng.integers(1, 6))
+    F = float(rng.integers(1, 9)) * 5.0
+    theta = angle15(rng, 15, 75)
+    th = theta * D2R
+    s, c = math.sin(th), math.cos(th)
+    W = m * g
+
+    def q_and_f(sign_a: float = 1.0, arm: float = 0.5, swap: bool = False) -> list[float]:
+        """Q_theta = sign_a F L sin - arm m g L cos (sin and cos swapped if asked) and
+        the F that makes it vanish."""
+        sa, ca = (c, s) if swap else (s, c)
+        return [sign_a * F * L * sa - arm * W * L * ca, sign_a * arm * W * ca / sa]
+
+    Q, Feq = q_and_f()
+    answer = [Q, Feq]
+    # the API: the forces reduced at A; the power of a force system is R . v_A + M_A . w
+    A = [L * c, 0.0, 0.0]
+    G = [L * c / 2, L * s / 2, 0.0]
+    vA = [-L * s, 0.0, 0.0]  # dA/dtheta
+    w = [0.0, 0.0, -1.0]  # the rod's angle to the floor grows: it turns clockwise
+    red = reduce_forces([([-F, 0.0, 0.0], A), ([0.0, -W, 0.0], G)], pole=A)
+    Q_api = float(np.dot(red.resultant, vA) + np.dot(red.moment, w))
+    red1 = reduce_forces([([-1.0, 0.0, 0.0], A)], pole=A)
+    q1 = float(np.dot(red1.resultant, vA) + np.dot(red1.moment, w))  # per newton of F
+    api = [Q_api, F - Q_api / q1]
+    statement = (
+        f"A uniform ladder AB (length L = {num(L)} m, mass m = {num(m)} kg, g = {num(g)} "
+        "m/s^2) stands with its foot A on the smooth floor y = 0 and its top B against the "
+        "smooth wall x = 0; theta is its angle with the floor, so A = (L cos theta, 0) and "
+        f"B = (0, L sin theta). A horizontal force of {num(F)} N pushes the foot A towards "
+        f"the wall. At theta = {theta} deg find the generalized force Q_theta (the virtual "
+        "work is Q_theta dtheta; the smooth constraints do no work) and the pushing "
+        "force F that would hold the ladder in equilibrium at this angle."
+    )
+    steps = [
+        Step(
+            "Virtual displacements at frozen constraints: dx_A = -L sin theta dtheta, "
+            "dy_G = (L / 2) cos theta dtheta (G the middle of the ladder); the wall and "
+            "floor reactions are normal to them (ideal constraints).",
+            "§11",
+            np.array([-L * s, L * c / 2]),
+        ),
+        Step(
+            "Q_theta = (-F)(-L sin theta) + (-m g)(L / 2) cos theta = "
+            f"{num(F * L * s)} - {num(W * L * c / 2)} = {num(Q)} N m.",
+            "§11",
+            np.array([Q]),
+        ),
+        Step(
+            f"Equilibrium: Q_theta = 0, F = m g cot(theta) / 2 = {num(Feq)} N.",
+            "§11",
+            np.array([Feq]),
+        ),
+    ]
+    wrong_w = [F * L * s + W * L * c / 2, -W * c / (2 * s)]
+    return Draft(
+        statement,
+        steps,
+        answer,
+        api,
+        ("Q", "F"),
+        "N m, N",
+        {
+            "sign of the virtual displacement of A": q_and_f(sign_a=-1.0),
+            "weight at the top (L instead of L / 2)": q_and_f(arm=1.0),
+            "sin and cos swapped": q_and_f(swap=True),
+            "work of the weight with the wrong sign": wrong_w,
+        },
     )

@@ -27,7 +27,7 @@ def _answer(ex: Exercise) -> str:
 
 def _math(ex: Exercise) -> str:
     """The answer as TeX math: ``\\psi = 30,\\ \\theta = 45``."""
-    greek = {"psi", "theta", "phi"}
+    greek = {"psi", "theta", "phi", "omega", "Omega"}
     names = [("\\" + k if k in greek else k) for k in ex.labels]
     return ",\\ ".join(f"{k} = {num(v)}" for k, v in zip(names, ex.answer, strict=True))
 
