@@ -228,7 +228,7 @@ class Gyro:
         object.__setattr__(self, "kind", as_choice(self.kind, "kind", GYRO_KINDS))
         object.__setattr__(self, "arw", _sigma(self.arw, "arw"))
         object.__setattr__(self, "rrw", _sigma(self.rrw, "rrw"))
-        b = as_trailing(self.bias0, "bias0", (3,))
+        b = as_float_array(self.bias0, "bias0")
         if b.shape != (3,):
             raise InvalidInputError(f"Expected `bias0` to have shape (3,), got {b.shape}.")
         b.setflags(write=False)
@@ -432,7 +432,7 @@ class VectorSensor:
     def __post_init__(self) -> None:
         object.__setattr__(self, "sigma", _sigma(self.sigma, "sigma"))
         if not callable(self.reference):
-            r = as_trailing(self.reference, "reference", (3,))
+            r = as_float_array(self.reference, "reference")
             n = float(np.linalg.norm(r)) if r.shape == (3,) else 0.0
             if r.shape != (3,) or n == 0.0:
                 raise InvalidInputError(
