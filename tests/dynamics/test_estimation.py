@@ -132,8 +132,11 @@ def test_star_tracker_and_vector_sensor_noise_statistics():
     st = StarTracker(1e-4, boresight_sigma=6e-4).sample(truth, rng=5)
     err = attitude_error(st.quat, st.true_quat)
     assert np.std(err, axis=0) == pytest.approx([1e-4, 1e-4, 6e-4], rel=0.03)
-    field = lambda t: dipole_field(t, np.stack([7e6 * np.cos(t / 900), 7e6 * np.sin(t / 900),
-                                                np.zeros_like(t)], -1))  # fmt: skip
+
+    def field(t):  # a circular equatorial orbit of radius 7000 km, period 5655 s
+        r = 7e6 * np.stack([np.cos(t / 900), np.sin(t / 900), np.zeros_like(t)], -1)
+        return dipole_field(t, r)
+
     vs = VectorSensor(field, 1e-3).sample(truth, rng=6)
     r = vs.reference
     assert np.allclose(np.linalg.norm(r, axis=-1), 1.0)

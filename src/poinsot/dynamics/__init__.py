@@ -1,6 +1,6 @@
 """Dynamics (theory §8-§10): Euler's equations and their integrators, torque models
-and invariants, exact solutions (free body, gyrostat, Lagrange top), the heavy body, particles
-in moving frames and central forces.
+and invariants, exact solutions (free body, gyrostat, Lagrange top), the heavy body, attitude
+control and estimation (sensors, the MEKF), particles in moving frames and central forces.
 
 A new kind of motion is one module here plus one scenario adapter
 (``docs/adding-a-motion.md``); it follows the contract of ``docs/conventions.md``
@@ -42,12 +42,8 @@ from .earth import (
     normal_gravity,
     swing_plane_angles,
 )
-from .euler_equations import (
-    METHODS,
-    euler_rhs,
-    simulate,
-)
 from .estimation import (
+    GYRO_KINDS,
     MEKF,
     AttitudeSamples,
     EstimationResult,
@@ -60,6 +56,11 @@ from .estimation import (
     nees,
     nis,
     run_mekf,
+)
+from .euler_equations import (
+    METHODS,
+    euler_rhs,
+    simulate,
 )
 from .free_body import (
     NEAR_SEPARATRIX,
@@ -176,6 +177,7 @@ __all__ = [
     "BDot",
     # attitude estimation (theory §10.4)
     "Gyro",
+    "GYRO_KINDS",
     "GyroSamples",
     "StarTracker",
     "AttitudeSamples",

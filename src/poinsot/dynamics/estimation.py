@@ -22,7 +22,7 @@ in rad/s, times in s.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import _quat
 from .._typing import ArrayLike, FloatArray
-from .._validate import as_choice, as_float_array, as_rotation_quat, as_trailing
+from .._validate import as_choice, as_float_array, as_rotation_quat
 from ..errors import InvalidInputError, InvalidTypeError
 from ..rotations.rotvec import rotvec_from_quat
 from ..trajectory import Trajectory
@@ -69,7 +69,7 @@ def _cross_matrix(v: FloatArray) -> FloatArray:
 
 def _rng(rng: object) -> np.random.Generator:
     if rng is None or isinstance(rng, int | np.integer | np.random.Generator):
-        return np.random.default_rng(rng)  # type: ignore[arg-type]
+        return np.random.default_rng(rng)
     raise InvalidTypeError(
         f"Expected `rng` to be a numpy Generator, an int seed or None, got {type(rng).__name__}."
     )
