@@ -299,6 +299,32 @@ def test_updates_in_between_gyro_samples_and_the_filter_object():
     y, s = f.update_vector(b, SUN, 1e-3)
     assert np.allclose(y, 0.0, atol=1e-15) and s.shape == (2, 2)
     assert np.trace(f.covariance) < 6e-4 and "MEKF(" in repr(f)
+    y2, _ = f.update_attitude(-f.quat, [1e-3] * 3)  # -L is the same attitude
+    assert np.allclose(y2, 0.0, atol=1e-15)
+    with pytest.raises(InvalidInputError, match=r"`dt` to be >= 0, got -1.0"):
+        f.propagate([0.0, 0.0, 1.0], -1.0)
+
+
+def test_results_are_frozen_read_only_and_picklable(racket):
+    import importlib
+    import pickle
+
+    truth, tv = racket
+    g, r = _run(truth, tv, 3)
+    for obj in (g, r):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            obj.t = None
+    # the module as pickle finds it (a --doctest-modules run may import it a second time)
+    mod = importlib.import_module("poinsot.dynamics.estimation")
+    g2 = mod.Gyro(ARW, RRW).sample(truth, rng=3)
+    r2 = mod.run_mekf(g2, [mod.StarTracker(1e-4).sample(tv, rng=3)], truth.quat[0], P0)
+    for obj in (g2, r2):
+        back = pickle.loads(pickle.dumps(obj))
+        assert np.array_equal(back.t, obj.t) and np.array_equal(back.quat, obj.quat)
+    with pytest.raises(ValueError, match="read-only"):
+        r.quat[0, 0] = 2.0
+    assert r.sigma.shape == (301, 6) and r.innovation.shape == (62, 3)
+    assert np.isnan(r.innovation[:, 2]).all() and set(r.sensor.tolist()) == {0, 1}
 
 
 def test_attitude_error_is_the_body_axis_rotation_vector():

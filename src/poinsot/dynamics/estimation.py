@@ -594,7 +594,9 @@ class MEKF:
     def propagate(self, rate: ArrayLike, dt: float) -> None:
         """Propagate over ``dt`` (s, >= 0) with the measured rate ``rate`` (rad/s)."""
         w = np.asarray(rate, dtype=np.float64) - self.bias
-        if dt <= 0.0:
+        if dt < 0.0:
+            raise InvalidInputError(f"Expected `dt` to be >= 0, got {dt!r}.")
+        if dt == 0.0:
             return
         self.quat = _quat.normalize(_quat.mul(self.quat, _quat.from_rotvec(w * dt)))
         phi = _transition(w, dt)
@@ -632,7 +634,8 @@ class MEKF:
         """Update with a measured attitude ``quat`` (4,), noise ``sigma`` (3,) about the
         body axes (rad); returns the innovation (3,) and its covariance (3, 3)."""
         qm = np.asarray(quat, dtype=np.float64)
-        y = rotvec_from_quat(_quat.mul(_quat.conj(self.quat), qm))
+        d = _quat.mul(_quat.conj(self.quat), qm)
+        y = rotvec_from_quat(-d if d[0] < 0.0 else d)  # the short way: L_m and -L_m alike
         h = np.zeros((3, 6))
         h[:, :3] = _EYE3
         s = self._update(y, h, np.diag(np.asarray(sigma, dtype=np.float64) ** 2))
