@@ -242,9 +242,10 @@ def test_monte_carlo_nees_and_nis_lie_in_their_chi_square_bands(racket):
 def test_star_tracker_on_an_exact_lagrange_top():
     """Gyro + star tracker (boresight 5x worse) on an exact Lagrange top (spin 8 rad/s,
     nutating between theta = 0.50 and 0.68 rad, measured): M = 20 runs, average NEES in
-    the chi2(6M)/M 99 % band at >= 95 % of times, average NIS (3 dof) in chi2(3M)/M's band at >= 95 % of
-    updates; >= 95 % of the 60 final bias errors within 3 sigma (measured: NEES inside
-    at 100 % of times, mean 6.09; NIS at 100 %, mean 2.91; bias 59 of 60)."""
+    the chi2(6M)/M 99 % band at >= 95 % of times, average NIS (3 dof) in chi2(3M)/M's
+    band at >= 95 % of updates; >= 95 % of the 60 final bias errors within 3 sigma
+    (measured: NEES inside at 100 % of times, mean 6.09; NIS at 100 %, mean 2.91; bias
+    59 of 60)."""
     top = LagrangeTop(1.0, 0.5, 2.0, theta=0.5, spin=8.0)
     t = np.arange(0.0, 10.0 + 1e-9, 0.05)
     truth, tst = top.trajectory(t), top.trajectory(t[::4])
