@@ -51,6 +51,8 @@ INITIAL_STATE = {
     "anomaly0",  # KeplerOrbit: the true anomaly at the epoch
     "theta0",  # PitchLibration: the pitch angle at t = 0
     "rate0",  # PitchLibration: the pitch rate at t = 0
+    "bias0",  # Gyro: the true bias at the first sample; MEKF/run_mekf: its estimate
+    "covariance0",  # MEKF/run_mekf: the initial error covariance
 }
 
 #: ``0``-names that are no initial state: (function, name) -> what it is

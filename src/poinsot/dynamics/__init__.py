@@ -1,6 +1,6 @@
 """Dynamics (theory §8-§10): Euler's equations and their integrators, torque models
-and invariants, exact solutions (free body, gyrostat, Lagrange top), the heavy body, particles
-in moving frames and central forces.
+and invariants, exact solutions (free body, gyrostat, Lagrange top), the heavy body, attitude
+control and estimation (sensors, the MEKF), particles in moving frames and central forces.
 
 A new kind of motion is one module here plus one scenario adapter
 (``docs/adding-a-motion.md``); it follows the contract of ``docs/conventions.md``
@@ -41,6 +41,21 @@ from .earth import (
     foucault_precession_rate,
     normal_gravity,
     swing_plane_angles,
+)
+from .estimation import (
+    GYRO_KINDS,
+    MEKF,
+    AttitudeSamples,
+    EstimationResult,
+    Gyro,
+    GyroSamples,
+    StarTracker,
+    VectorSamples,
+    VectorSensor,
+    attitude_error,
+    nees,
+    nis,
+    run_mekf,
 )
 from .euler_equations import (
     METHODS,
@@ -160,6 +175,20 @@ __all__ = [
     "EigenaxisSlew",
     "SlewProfile",
     "BDot",
+    # attitude estimation (theory §10.4)
+    "Gyro",
+    "GYRO_KINDS",
+    "GyroSamples",
+    "StarTracker",
+    "AttitudeSamples",
+    "VectorSensor",
+    "VectorSamples",
+    "MEKF",
+    "EstimationResult",
+    "run_mekf",
+    "attitude_error",
+    "nees",
+    "nis",
     "RegularPrecession",
     "MacCullaghGeometry",
     "PoinsotGeometry",
