@@ -190,10 +190,7 @@ def test_gravity_gradient_free_motion():
     for dt in (1.0, 0.5):
         t, r_ib, w = _bsk_run(dt, t_end, q0, w0)
         tr = sat.simulate(q0, w0, t, rtol=RTOL, atol=ATOL)
-        errors.append(
-            (np.abs(r_ib - tr.rotation.as_matrix()).max(), np.abs(w - tr.omega).max())
-        )
-    print("GG", errors)
+        errors.append((np.abs(r_ib - tr.rotation.as_matrix()).max(), np.abs(w - tr.omega).max()))
     (att1, w1), (att2, w2) = errors
     assert att2 < 4e-8 and w2 < 3e-10
     assert 12.0 < att1 / att2 < 21.0
@@ -231,12 +228,11 @@ def test_mrp_feedback_to_the_hill_frame():
     assert np.degrees(4 * np.arctan(np.linalg.norm(sigma_br[-1]))) < 1e-6
 
     def diff(x):
-        return [float(np.abs(a - b).max()) for a, b in zip(x, mine)]
+        return [float(np.abs(a - b).max()) for a, b in zip(x, mine, strict=True)]
 
     coarse, fine = diff(runs[0][1:]), diff(runs[1][1:])
-    richardson = diff([2 * f - c for f, c in zip(runs[1][1:], runs[0][1:])])
-    print("FB", coarse, fine, richardson)
+    richardson = diff([2 * f - c for f, c in zip(runs[1][1:], runs[0][1:], strict=True)])
     assert fine[0] < 1e-2 and fine[1] < 6e-4 and fine[2] < 1e-3
-    for c, f in zip(coarse, fine):
+    for c, f in zip(coarse, fine, strict=True):
         assert 1.8 < c / f < 2.2
     assert richardson[0] < 2e-5 and richardson[1] < 5e-6 and richardson[2] < 5e-6
