@@ -71,7 +71,7 @@ def _svd_rotation(bmat: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     (trusted input, no checks).
 
     >>> c, s, d = _svd_rotation(np.diag([2.0, 1.0, 0.5]))
-    >>> c.round(12) + 0.0, d
+    >>> c.round(12) + 0.0, float(d)
     (array([[1., 0., 0.],
            [0., 1., 0.],
            [0., 0., 1.]]), np.float64(1.0))
