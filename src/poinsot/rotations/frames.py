@@ -74,7 +74,7 @@ def _svd_rotation(bmat: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     >>> c.round(12) + 0.0, float(d)
     (array([[1., 0., 0.],
            [0., 1., 0.],
-           [0., 0., 1.]]), np.float64(1.0))
+           [0., 0., 1.]]), 1.0)
     """
     u, sv, vt = np.linalg.svd(bmat)
     d = np.sign(np.linalg.det(u @ vt))
