@@ -31,6 +31,7 @@ import numpy as np
 from .. import _quat
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_choice, as_float_array, as_rotation_quat
+from .._vec import hat
 from ..errors import InvalidInputError, InvalidTypeError
 from ..rotations.rotvec import rotvec_from_quat
 from ..trajectory import Trajectory
@@ -60,11 +61,6 @@ GYRO_KINDS = ("integrating", "rate")
 
 _EYE3 = np.eye(3)
 _EYE6 = np.eye(6)
-
-
-def _cross_matrix(v: FloatArray) -> FloatArray:
-    """``[v x]``, the matrix with ``[v x] u = v x u``."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 def _rng(rng: object) -> np.random.Generator:
@@ -486,7 +482,7 @@ def _transition(w: FloatArray, dt: float) -> FloatArray:
         a, c, d = 1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0
     else:
         a, c, d = math.sin(th) / th, (1.0 - math.cos(th)) / th**2, (th - math.sin(th)) / th**3
-    ux = _cross_matrix(u)
+    ux = hat(u)
     ux2 = ux @ ux
     phi = np.eye(6)
     phi[:3, :3] = _EYE3 - a * ux + c * ux2
@@ -626,7 +622,7 @@ class MEKF:
         e = _perpendicular_basis(hv)
         y = e @ (b / np.linalg.norm(b) - hv)
         h = np.zeros((2, 6))
-        h[:, :3] = e @ _cross_matrix(hv)
+        h[:, :3] = e @ hat(hv)
         s = self._update(y, h, sigma * sigma * np.eye(2))
         return y, s
 
