@@ -29,6 +29,7 @@ LAYERS: list[tuple[str, ...]] = [
         "_display",
         "__version__",
         "integrators",
+        "events",
     ),
     ("rotations", "_quat", "_numba_helpers", "mass"),  # mass stands beside rotations
     ("kinematics", "trajectory"),

@@ -18,6 +18,7 @@ attitude maps body to space components. See ``docs/dynamics.md`` and
 
 from __future__ import annotations
 
+from ..events import Event, EventLog
 from .central import (
     Apsides,
     CentralOrbit,
@@ -185,6 +186,8 @@ __all__ = [
     "VectorSamples",
     "MEKF",
     "EstimationResult",
+    "Event",
+    "EventLog",
     "run_mekf",
     "attitude_error",
     "nees",

@@ -86,6 +86,7 @@ from ..rotations.rotation import Rotation
 if TYPE_CHECKING:
     from ..mass.body import RigidBody
     from .torques import TorqueModel
+from ..events import Event, EventLog, as_events, locate, solve_dense
 from ..trajectory import Trajectory
 from .integrators import (  # noqa: F401 - SOLVERS, FAILURE_REASONS: their old home
     COMPOSITIONS,
@@ -95,7 +96,7 @@ from .integrators import (  # noqa: F401 - SOLVERS, FAILURE_REASONS: their old h
     RigidProblem,
     RunOptions,
 )
-from .integrators._common import _rhs
+from .integrators._common import _rhs, batch_rhs
 from .invariants import _kinetic_space
 from .torques import ConstantBodyTorque, GravityTorque, as_torque
 
@@ -273,6 +274,7 @@ def simulate(
     solver: str | None = None,
     failures: str = "raise",
     progress: bool | Callable[[float], object] | None = None,
+    events: Any = None,
 ) -> Trajectory:
     """Integrate Euler's dynamic equations with the attitude (theory §10, §5).
 
@@ -341,6 +343,15 @@ def simulate(
         compiled ``"dop853"`` and ``"rk4"`` runs report as they go and stop within
         one step of Ctrl-C (``KeyboardInterrupt``, nothing partial returned, no
         thread left running); the other methods report when done.
+    events : callable, Event or list of them, optional
+        Functions ``g(t, y)`` of the state ``y = (q_w, q_x, q_y, q_z, w_x, w_y,
+        w_z)`` (attitude body -> space, body rates in rad/s) whose zeros are events,
+        with SciPy's ``terminal`` and ``direction`` (:class:`poinsot.dynamics.Event`).
+        Each event is located per body by root finding on a DOP853 re-integration
+        of its output interval (theory §11.6, :mod:`poinsot.events`); the
+        times and states are ``info["events"]`` (an
+        :class:`~poinsot.dynamics.EventLog`). A terminal event ends one body's run
+        at the event (its last sample); in a batch the stopped body is held there.
 
     Returns
     -------
@@ -444,6 +455,7 @@ def simulate(
         order = 2
     comp = COMPOSITIONS[as_int(order, "order", choices=tuple(COMPOSITIONS))]
     report = as_progress(progress, "simulate")
+    event_list = as_events(events)
 
     problem = RigidProblem.flatten(
         j, principal, q0, omega0, tt, batch, h_max=h_max, comp=comp, model=model,
@@ -459,6 +471,8 @@ def simulate(
         raise
     if report is not None:
         report.finish()  # the compiled runs reported as they went; the others now
+    if event_list:
+        tt, qs, ws, info["events"] = _rigid_events(event_list, problem, tt, qs, ws, batch)
     facts = runner.facts
     if not facts.adaptive:  # a fixed-step method: its order (composed, where it is)
         info["order"] = int(order) if "order" in facts.options else facts.order
@@ -491,6 +505,29 @@ def simulate(
         momentum=momentum.reshape((n,) + out + (3,)),
         info=info,
     )
+
+
+def _rigid_events(
+    events: tuple[Event, ...],
+    p: RigidProblem,
+    t: FloatArray,
+    qs: FloatArray,
+    ws: FloatArray,
+    batch: tuple[int, ...],
+) -> tuple[FloatArray, FloatArray, FloatArray, EventLog]:
+    """Locate ``events`` on the samples (theory §11.6): a body's interval is integrated
+    again alone (or with the whole batch, for a torque evaluated on the batch)."""
+
+    def flow(bodies: np.ndarray, t0: float, t1: float, y0: np.ndarray) -> Any:
+        if p.tfn is None:
+            return solve_dense(batch_rhs(p, bodies), t0, t1, y0[bodies])
+        whole = solve_dense(batch_rhs(p), t0, t1, y0)
+        return lambda s: whole(s)[bodies]
+
+    y = np.concatenate([qs, ws], axis=-1)
+    t_new, y, log = locate(events, t, y, flow, batch)
+    q = y[..., :4] / np.linalg.norm(y[..., :4], axis=-1, keepdims=True)
+    return t_new, np.ascontiguousarray(q), np.ascontiguousarray(y[..., 4:]), log
 
 
 def _system_info(model: TorqueModel | None, quat: np.ndarray) -> dict[str, Any]:

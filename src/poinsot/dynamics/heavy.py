@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -262,6 +262,7 @@ class HeavyRigidBody:
         atol: float | None = None,
         solver: str | None = None,
         progress: bool | Callable[[float], object] | None = None,
+        events: Any = None,
     ) -> Trajectory:
         """Integrate the heavy body from ``(rotation0, omega0)`` at ``t[0]``.
 
@@ -283,8 +284,9 @@ class HeavyRigidBody:
             (compiled DOP853), ``"adaptive"`` (``scipy.integrate.solve_ivp``).
         order : {2, 4, 6}, optional
             Composition order of ``"splitting"``/``"midpoint"`` (default 2).
-        max_step, rtol, atol, solver, progress : optional
-            As :func:`poinsot.dynamics.simulate`.
+        max_step, rtol, atol, solver, progress, events : optional
+            As :func:`poinsot.dynamics.simulate` (``events``: functions ``g(t, y)`` of
+            ``y = (q, omega)``, located to round-off, theory §11.6).
 
         Returns
         -------
@@ -320,6 +322,7 @@ class HeavyRigidBody:
             atol=atol,
             solver=solver,
             progress=progress,
+            events=events,
         )
 
     def __repr__(self) -> str:

@@ -39,6 +39,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validate import as_bool, as_float_array, as_times, as_vec3, batch_shape
 from .._vec import cross, dot, hat
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
+from ..events import as_events, locate, solve_dense
 from ..kinematics.fields import FrameMotion, _rivals_terms
 from ..kinematics.rates import _quat_rate
 from ..mass import RigidBody
@@ -574,6 +575,7 @@ def simulate_particle(
     max_step: float = math.inf,
     inertial: bool = False,
     progress: Progress = None,
+    events: Any = None,
 ) -> ParticleTrajectory:
     """Integrate a particle's motion relative to a moving frame (theory §9).
 
@@ -698,10 +700,12 @@ def simulate_particle(
     nfev = 0
     message = ""
     report = as_progress(progress, "simulate_particle")
-    for i in range(nb):
+    event_list = as_events(events)
+
+    def particle_rhs(i: int) -> Callable[[float, np.ndarray], np.ndarray]:
         mi = M[i]
 
-        def rhs(tn: float, y: np.ndarray, i: int = i, mi: Any = mi) -> np.ndarray:
+        def rhs(tn: float, y: np.ndarray) -> np.ndarray:
             r, v = y[:3], y[3:]
             if const:
                 w0, A, B = w0c, Ac, Bc
@@ -709,6 +713,11 @@ def simulate_particle(
                 w0, A, B = _frame_matrices(_frame_at(frame, tn))
             a = fmodel(tn, r, v, i) / mi - w0 - A @ r - B @ v
             return np.concatenate((v, a))
+
+        return rhs
+
+    for i in range(nb):
+        rhs = particle_rhs(i)
 
         y0 = np.concatenate((R0[i], V0[i]))
         if n == 1:
@@ -736,8 +745,21 @@ def simulate_particle(
         message = sol.message
     if report is not None:
         report.finish()
+    if event_list:
+
+        def flow(bodies: np.ndarray, t0: float, t1: float, y0: np.ndarray) -> Any:
+            # each particle alone: its own step control, as in the run itself
+            sols = [solve_dense(_one(particle_rhs(int(b))), t0, t1, y0[b][None]) for b in bodies]
+            return lambda s: np.concatenate([sol(s) for sol in sols], axis=0)
+
+        y_all = np.concatenate([pos, vel], axis=-1)
+        t, y_all, info_events = locate(event_list, t, y_all, flow, batch)
+        pos, vel = np.ascontiguousarray(y_all[..., :3]), np.ascontiguousarray(y_all[..., 3:])
+        n = t.size
     shape = (n, *batch, 3)
     info = {"solver": method, "rtol": rtol, "atol": atol, "evaluations": nfev, "message": message}
+    if event_list:
+        info["events"] = info_events
     extra: dict[str, Any] = {}
     if inertial:
         rot, x0, vo = _frame_path(frame, t, rtol, atol, max_step)
@@ -767,6 +789,11 @@ def simulate_particle(
         info=info,
         **extra,
     )
+
+
+def _one(rhs: Callable[[float, np.ndarray], np.ndarray]) -> Callable[..., np.ndarray]:
+    """A one-particle right-hand side as one of a batch of one: ``(t, Y (1, 6))``."""
+    return lambda tn, y: rhs(tn, y[0])[None]
 
 
 def _frame_path(

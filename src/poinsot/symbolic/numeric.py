@@ -38,6 +38,7 @@ from .._progress import Progress, as_progress, ivp_progress
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_times
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotError
+from ..events import as_events, locate, solve_dense
 from ._symbols import coordinate_unit
 
 if TYPE_CHECKING:
@@ -891,6 +892,7 @@ class NumericLagrangian:
         max_step: float = math.inf,
         units: Mapping[str, str] | Sequence[str] | None = None,
         progress: Progress = None,
+        events: Any = None,
     ) -> CoordinateTrajectory:
         """Integrate from ``q(t[0]) = q0``, ``q'(t[0]) = qdot0`` with ``solve_ivp``.
 
@@ -917,6 +919,13 @@ class NumericLagrangian:
             its channels. Default (and for a name the mapping leaves out): guessed
             from the name as the ``lagrangian`` scenario kind does (``theta1``, ``phi``
             an angle in rad; ``x``, ``r``, ``z_2`` a length in m; else ``""``).
+        events : callable, Event or list of them, optional
+            Functions ``g(t, y)`` of the state ``y = (q_1 .. q_n, q'_1 .. q'_n)`` whose
+            zeros are events, with SciPy's ``terminal`` and ``direction``
+            (:class:`poinsot.dynamics.Event`); located per initial state to round-off
+            (theory §11.6) and returned as ``info["events"]`` (an
+            :class:`~poinsot.dynamics.EventLog`). A terminal event ends the motion at
+            the event (its last sample); in a batch the stopped state is held there.
 
         Returns
         -------
@@ -1037,6 +1046,17 @@ class NumericLagrangian:
         # evaluations of the compiled right-hand side (solve_ivp's nfev plus the
         # finite-difference Jacobians of the implicit methods)
         info.update(solver=method, rtol=float(rtol), atol=float(atol), evaluations=next(counter))
+        event_list = as_events(events)
+        if event_list:
+
+            def flow(bodies: np.ndarray, t0: float, t1: float, y_start: np.ndarray) -> Any:
+                # the compiled right-hand side takes the whole batch: all ride along
+                whole = solve_dense(lambda s, y: fun(s, y).reshape(nb, 2 * self.n), t0, t1, y_start)
+                return lambda s: whole(s)[bodies]
+
+            flat = ys.reshape(tt.size, nb, 2 * self.n)
+            tt, flat, info["events"] = locate(event_list, tt, flat, flow, tuple(batch))
+            ys = flat.reshape(tt.size, *batch, 2 * self.n)
         tb = tt.reshape(tt.size, *([1] * len(batch)))
         energy = self.energy(tb, ys, pmap)
         kinetic = self.kinetic(tb, ys, pmap)

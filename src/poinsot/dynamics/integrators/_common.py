@@ -349,6 +349,26 @@ def _kernel_args(
     )
 
 
+def batch_rhs(p: RigidProblem, bodies: IntArray | None = None) -> Callable[..., FloatArray]:
+    """The right-hand side ``(t, Y (N, 7)) -> Y'`` of the bodies ``bodies`` (all: None)
+    of the problem, ``Y = (q, w)`` with ``q' = q o (0, w) / 2`` and Euler's ``w'`` (the
+    adaptive method and the events' dense re-integration). A torque evaluated from
+    Python is a function of the whole batch: then ``bodies`` must be None."""
+    j, j_inv, m_const, tfn = p.j, p.j_inv, p.m_const, p.tfn
+    if bodies is not None:
+        assert tfn is None
+        j, j_inv = j[bodies], j_inv[bodies]
+        m_const = None if m_const is None else m_const[bodies]
+
+    def fun(tn: float, y: FloatArray) -> FloatArray:
+        qq, ww = y[:, :4], y[:, 4:]
+        mt = _torque_value(m_const, tfn, tn, qq, ww)
+        dq = 0.5 * _qmul(qq, _pure(ww))
+        return np.concatenate([dq, _rhs(j, j_inv, ww, mt)], axis=1)
+
+    return fun
+
+
 def _torque_value(m_const: Any, tfn: Any, tn: float, q: FloatArray, w: FloatArray) -> Any:
     if tfn is not None:
         return tfn(tn, q, w)

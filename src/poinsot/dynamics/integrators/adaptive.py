@@ -14,10 +14,7 @@ from ._common import (
     RigidProblem,
     RunOptions,
     _normalize,
-    _pure,
-    _qmul,
-    _rhs,
-    _torque_value,
+    batch_rhs,
 )
 
 #: ``scipy.integrate.solve_ivp`` methods accepted by ``simulate(..., method="adaptive")``.
@@ -27,18 +24,14 @@ SOLVERS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 def _run_adaptive(
     p: RigidProblem, rtol: float, atol: float, solver: str
 ) -> tuple[FloatArray, FloatArray, dict[str, Any]]:
-    j, j_inv, q, w = p.j, p.j_inv, p.q, p.omega0
-    t, h_max, m_const, tfn = p.t, p.h_max, p.m_const, p.tfn
+    q, w, t, h_max = p.q, p.omega0, p.t, p.h_max
     from scipy.integrate import solve_ivp
 
     nb = q.shape[0]
+    rhs = batch_rhs(p)
 
     def fun(tn: float, y: FloatArray) -> FloatArray:
-        y = y.reshape(nb, 7)
-        qq, ww = y[:, :4], y[:, 4:]
-        mt = _torque_value(m_const, tfn, tn, qq, ww)
-        dq = 0.5 * _qmul(qq, _pure(ww))
-        return np.concatenate([dq, _rhs(j, j_inv, ww, mt)], axis=1).ravel()
+        return rhs(tn, y.reshape(nb, 7)).ravel()
 
     y0 = np.concatenate([q, w], axis=1).ravel()
     n = t.shape[0]
