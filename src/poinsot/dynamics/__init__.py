@@ -83,6 +83,7 @@ from .gyroscope import (
 )
 from .gyrostat import GYROSTAT_REGIMES, FreeGyrostat, gyrostat_rhs, gyrostat_spin_stable
 from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
+from .impacts import ImpactResult, collision_matrix, particle_impact, rigid_impact
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
 from .lagrange_top import MOTION_TYPES, LagrangeTop
 from .orbit import (
@@ -188,6 +189,10 @@ __all__ = [
     "EstimationResult",
     "Event",
     "EventLog",
+    "ImpactResult",
+    "collision_matrix",
+    "particle_impact",
+    "rigid_impact",
     "run_mekf",
     "attitude_error",
     "nees",
