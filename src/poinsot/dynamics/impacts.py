@@ -183,7 +183,7 @@ def _routh(
             def compressed(_: float, y: FloatArray) -> float:
                 return float(y[:3] @ n)
 
-            def done(s: float, y: FloatArray) -> float:
+            def done(s: float, y: FloatArray, pc: float | None = pc) -> float:
                 if pc is None:
                     return -1.0
                 if law == "poisson":
@@ -310,8 +310,8 @@ def rigid_impact(
     >>> import numpy as np
     >>> out = rigid_impact([0.4] * 3, 1.0, [1, 0, 0, 0], [2.0, 0, -3.0], [0, -10.0, 0],
     ...                    [0, 0, -1.0], restitution=0.5, friction=10.0)
-    >>> out.mode, np.round(out.velocity, 6), np.round(out.omega, 6)
-    ('slide-stick', array([-1.428571,  0.      ,  1.5     ]), array([ 0.      , -1.428571,  0.      ]))
+    >>> out.mode, np.round(out.velocity, 6).tolist(), np.round(out.omega, 6).tolist()
+    ('slide-stick', [-1.428571, 0.0, 1.5], [0.0, -1.428571, 0.0])
     """
     from .euler_equations import _as_inertia
 
