@@ -136,6 +136,7 @@ from .torques import (
     TorqueSum,
     as_torque,
 )
+from .unilateral import ContactTrajectory, Plane, Sphere, Surface, simulate_unilateral
 from .wheels import WHEEL_METHODS, ReactionWheels, WheelTrajectory, pyramid, simulate_wheels
 
 __all__ = [
@@ -193,6 +194,11 @@ __all__ = [
     "collision_matrix",
     "particle_impact",
     "rigid_impact",
+    "ContactTrajectory",
+    "Plane",
+    "Sphere",
+    "Surface",
+    "simulate_unilateral",
     "run_mekf",
     "attitude_error",
     "nees",
