@@ -30,6 +30,7 @@ PAGES = [  # every page with >>> examples (tests/test_docs_run.py checks it)
     "kinematics-fields.md",
     "kinematics-rates.md",
     "particles.md",
+    "contact.md",
 ]
 SLOW_PAGES = [  # minutes of XLA compiling: `make test-slow`
     "jax-fit.md",

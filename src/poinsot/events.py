@@ -1,4 +1,4 @@
-"""Events: the times at which a function of the state crosses zero (theory §11.6), for
+"""Events: the times at which a function of the state crosses zero (theory §11.1), for
 every integrator of poinsot (re-exported by :mod:`poinsot.dynamics`).
 
 Every integrator of poinsot takes ``events=``, as SciPy's ``solve_ivp`` does: a

@@ -73,7 +73,7 @@ INFO_KEYS = {
     "rejected": "steps rejected by the error control (adaptive methods, int)",
     "status": "solve_ivp status (adaptive propagation, int)",
     "message": "solver message (adaptive methods)",
-    "events": "the events found (poinsot.dynamics.EventLog: times, states, stops; theory §11.6)",
+    "events": "the events found (poinsot.dynamics.EventLog: times, states, stops; theory §11.1)",
     "torque_calls": "calls of a torque model evaluated in Python (int)",
     "max_newton_iterations": "most Newton iterations of one implicit step (int)",
     "regime": "motion regime of an exact solution (e.g. 'symmetric', 'rotating')",

@@ -1,4 +1,4 @@
-"""Events in every integrator (theory §11.6), against closed forms and SciPy."""
+"""Events in every integrator (theory §11.1), against closed forms and SciPy."""
 
 from __future__ import annotations
 

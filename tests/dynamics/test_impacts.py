@@ -1,4 +1,4 @@
-"""Impacts on a plane (theory §11.8): balance laws, the (1 - e^2) energy formula, stick
+"""Impacts on a plane (theory §11.3): balance laws, the (1 - e^2) energy formula, stick
 and slide against hand-derived closed forms."""
 
 from __future__ import annotations

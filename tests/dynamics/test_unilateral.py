@@ -1,4 +1,4 @@
-"""Unilateral constraints (theory §11.7) against closed forms: the particle leaving a
+"""Unilateral constraints (theory §11.2) against closed forms: the particle leaving a
 smooth sphere, a ball bouncing to rest, a pendulum whose string goes slack."""
 
 from __future__ import annotations

@@ -348,7 +348,7 @@ def simulate(
         w_z)`` (attitude body -> space, body rates in rad/s) whose zeros are events,
         with SciPy's ``terminal`` and ``direction`` (:class:`poinsot.dynamics.Event`).
         Each event is located per body by root finding on a DOP853 re-integration
-        of its output interval (theory §11.6, :mod:`poinsot.events`); the
+        of its output interval (theory §11.1, :mod:`poinsot.events`); the
         times and states are ``info["events"]`` (an
         :class:`~poinsot.dynamics.EventLog`). A terminal event ends one body's run
         at the event (its last sample); in a batch the stopped body is held there.
@@ -515,7 +515,7 @@ def _rigid_events(
     ws: FloatArray,
     batch: tuple[int, ...],
 ) -> tuple[FloatArray, FloatArray, FloatArray, EventLog]:
-    """Locate ``events`` on the samples (theory §11.6): a body's interval is integrated
+    """Locate ``events`` on the samples (theory §11.1): a body's interval is integrated
     again alone (or with the whole batch, for a torque evaluated on the batch)."""
 
     def flow(bodies: np.ndarray, t0: float, t1: float, y0: np.ndarray) -> Any:

@@ -286,7 +286,7 @@ class HeavyRigidBody:
             Composition order of ``"splitting"``/``"midpoint"`` (default 2).
         max_step, rtol, atol, solver, progress, events : optional
             As :func:`poinsot.dynamics.simulate` (``events``: functions ``g(t, y)`` of
-            ``y = (q, omega)``, located to round-off, theory §11.6).
+            ``y = (q, omega)``, located to round-off, theory §11.1).
 
         Returns
         -------

@@ -1,4 +1,4 @@
-"""Impacts of a particle or a rigid body on a plane at one point (theory §11.8).
+"""Impacts of a particle or a rigid body on a plane at one point (theory §11.3).
 
 An impact lasts no time: the velocities jump, the positions do not, and finite forces
 (gravity) give no impulse. With ``P`` the impulse of the plane on the body at the
@@ -82,7 +82,7 @@ class ImpactResult:
 
 def collision_matrix(mass: float, inertia_space: ArrayLike, offset: ArrayLike) -> FloatArray:
     """``K = E/m - [r]x J^-1 [r]x``: the jump of the contact point's velocity per unit
-    impulse, ``u+ - u- = K P`` (theory §11.8).
+    impulse, ``u+ - u- = K P`` (theory §11.3).
 
     Parameters
     ----------
@@ -137,7 +137,7 @@ def _routh(
     k: FloatArray, n: FloatArray, u0: FloatArray, e: float, mu: float, law: str
 ) -> tuple[FloatArray, float, str]:
     """The impulse ``P`` of an impact with contact velocity ``u0`` (approaching), by
-    Routh's method: ``u`` as a function of the normal impulse ``p`` (theory §11.8).
+    Routh's method: ``u`` as a function of the normal impulse ``p`` (theory §11.3).
     Returns ``(P, P_c, mode)``."""
     from scipy.integrate import solve_ivp
 
@@ -262,7 +262,7 @@ def rigid_impact(
     law: str = "newton",
 ) -> ImpactResult:
     """A rigid body hits a plane at one point: the impulse and the velocity jump
-    (theory §11.8).
+    (theory §11.3).
 
     Parameters
     ----------
@@ -366,7 +366,7 @@ def particle_impact(
     mass: float = 1.0,
 ) -> ImpactResult:
     """A particle hits a plane: ``v_n+ = -e v_n-``; Coulomb friction takes at most
-    ``mu (1 + e) |v_n-|`` off the tangential speed (theory §11.8).
+    ``mu (1 + e) |v_n-|`` off the tangential speed (theory §11.3).
 
     Parameters
     ----------

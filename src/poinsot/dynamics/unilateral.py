@@ -1,6 +1,6 @@
-"""A particle with a unilateral constraint ``f(r) <= 0`` (theory §11.7): it slides on
+"""A particle with a unilateral constraint ``f(r) <= 0`` (theory §11.2): it slides on
 the surface while the normal reaction pushes, leaves it when the reaction vanishes,
-and hits it again by an impact (Newton's restitution, theory §11.8).
+and hits it again by an impact (Newton's restitution, theory §11.3).
 
 On the surface (``f = 0``, "in contact") the reaction is ``N = -lambda grad f`` with the
 multiplier that keeps ``f'' = 0``,
@@ -50,7 +50,7 @@ _XYZ = ("x", "y", "z")
 
 
 class Surface:
-    """A unilateral constraint ``f(r) <= 0`` on a particle (theory §11.7): subclasses give
+    """A unilateral constraint ``f(r) <= 0`` on a particle (theory §11.2): subclasses give
     ``value(r)`` (m), ``gradient(r)`` and ``curvature(r, v) = v.H v`` (the Hessian's
     quadratic form, 1/s^2 m), each for ``r``, ``v`` of shape (3,)."""
 
@@ -196,7 +196,7 @@ def simulate_unilateral(
     atol: float = 1e-14,
     max_switches: int = 1000,
 ) -> ContactTrajectory:
-    """Integrate a particle with the unilateral constraint ``surface`` (theory §11.7).
+    """Integrate a particle with the unilateral constraint ``surface`` (theory §11.2).
 
     Parameters
     ----------

@@ -923,7 +923,7 @@ class NumericLagrangian:
             Functions ``g(t, y)`` of the state ``y = (q_1 .. q_n, q'_1 .. q'_n)`` whose
             zeros are events, with SciPy's ``terminal`` and ``direction``
             (:class:`poinsot.dynamics.Event`); located per initial state to round-off
-            (theory §11.6) and returned as ``info["events"]`` (an
+            (theory §11.1) and returned as ``info["events"]`` (an
             :class:`~poinsot.dynamics.EventLog`). A terminal event ends the motion at
             the event (its last sample); in a batch the stopped state is held there.
 
