@@ -83,7 +83,13 @@ from .gyroscope import (
 )
 from .gyrostat import GYROSTAT_REGIMES, FreeGyrostat, gyrostat_rhs, gyrostat_spin_stable
 from .heavy import HEAVY_METHODS, HeavyRigidBody, kovalevskaya_integral
-from .impacts import ImpactResult, collision_matrix, particle_impact, rigid_impact
+from .impacts import (
+    ImpactResult,
+    collision_matrix,
+    particle_impact,
+    rigid_impact,
+    simulate_bounces,
+)
 from .invariants import Invariants, angular_momentum, invariants, kinetic_energy
 from .lagrange_top import MOTION_TYPES, LagrangeTop
 from .orbit import (
@@ -194,6 +200,7 @@ __all__ = [
     "collision_matrix",
     "particle_impact",
     "rigid_impact",
+    "simulate_bounces",
     "ContactTrajectory",
     "Plane",
     "Sphere",
