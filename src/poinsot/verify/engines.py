@@ -275,8 +275,8 @@ _TOP_SKIP = {
     ),
     "Drake": (
         "Drake's adapter runs free bodies only: Drake's only ball joint is BallRpyJoint "
-        "(roll-pitch-yaw angles, singular at pitch +-90 deg); no quaternion ball joint "
-        "(docs/verify.md)"
+        "(roll-pitch-yaw angles, singular at pitch +-90 deg), no quaternion ball joint, "
+        "and its ball constraint needs a discrete plant (docs/verify.md)"
     ),
 }
 
