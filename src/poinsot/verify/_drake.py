@@ -74,7 +74,7 @@ def _vec(x: Any, n: int, name: str) -> np.ndarray:
 
 
 def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
-              integrator: str = "runge_kutta5", accuracy: float | None = 1e-12,
+              integrator: str = "runge_kutta5", accuracy: float | None = 1e-13,
               step: float | None = None) -> tuple[np.ndarray, np.ndarray, int]:  # fmt: skip
     """Integrate one free rigid body in Drake; states on the grid ``t``.
 

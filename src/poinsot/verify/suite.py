@@ -174,7 +174,7 @@ SWEEPS: dict[str, tuple[str, tuple[float, ...]]] = {
     "poinsot": ("step", (0.01, 0.005, 0.002, 0.001, 0.0005)),
     "mujoco": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
     "pybullet": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
-    "drake": ("accuracy", (1e-6, 1e-8, 1e-10, 1e-12)),
+    "drake": ("accuracy", (1e-8, 1e-10, 1e-12, 1e-14)),
 }
 
 
