@@ -19,6 +19,8 @@ DESCRIPTION = (
 EPILOG = """examples:
   poinsot verify scipy --method DOP853 --rtol 1e-12
   poinsot verify mujoco --method RK4 --step 0.001 --cases free-body
+  poinsot verify drake --method runge_kutta3 --rtol 1e-12 --cases free-body
+  poinsot verify pybullet --step 0.0001 --cases free-body
   poinsot verify export cases/          (then, after your engine wrote cases/*.csv)
   poinsot verify file cases/ --quat-order xyzw
 
@@ -33,17 +35,21 @@ cases). Cases, metrics, thresholds and conventions: docs/verify.md.
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("engine", choices=("scipy", "poinsot", "mujoco", "file", "export"),
-                   metavar="ENGINE", help="scipy, poinsot, mujoco, file or export")  # fmt: skip
+    p.add_argument("engine", choices=("scipy", "poinsot", "mujoco", "pybullet", "drake", "file",
+                   "export"), metavar="ENGINE",
+                   help="scipy, poinsot, mujoco, pybullet, drake, file or export")  # fmt: skip
     p.add_argument("path", nargs="?", metavar="DIR",
                    help="the directory of the files (file) or to write (export)")  # fmt: skip
     p.add_argument("--cases", metavar="NAMES", help="case names or groups, comma separated "
                    "(free-body, heavy-top, orbit, frame); default all")  # fmt: skip
-    p.add_argument("--method", help="solve_ivp method (scipy), integrator (poinsot), or "
-                   "Euler, RK4, implicitfast (mujoco)")  # fmt: skip
+    p.add_argument("--method", help="solve_ivp method (scipy), integrator (poinsot), "
+                   "Euler, RK4, implicitfast (mujoco), reduced or maximal coordinates "
+                   "(pybullet), or a Drake integrator, e.g. runge_kutta3 (drake)")  # fmt: skip
     p.add_argument("--step", type=float, metavar="SECONDS",
-                   help="step (poinsot's fixed-step methods) or timestep (mujoco)")  # fmt: skip
-    p.add_argument("--rtol", type=float, help="tolerance (scipy, poinsot's adaptive methods)")
+                   help="step (poinsot's fixed-step methods), timestep (mujoco, pybullet) or "
+                   "fixed step (drake)")  # fmt: skip
+    p.add_argument("--rtol", type=float, help="tolerance (scipy, poinsot's adaptive methods) "
+                   "or target accuracy (drake)")  # fmt: skip
     p.add_argument(
         "--order", type=int, choices=(2, 4, 6), help="order (poinsot midpoint/splitting)"
     )
@@ -87,6 +93,10 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         opts = {"method": args.method, "step": args.step, "rtol": args.rtol, "order": args.order}
     elif args.engine == "mujoco":
         opts = {"integrator": args.method, "timestep": args.step}
+    elif args.engine == "pybullet":
+        opts = {"coordinates": args.method, "timestep": args.step}
+    elif args.engine == "drake":
+        opts = {"integrator": args.method, "step": args.step, "accuracy": args.rtol}
     else:
         opts = {"directory": args.path, "quat_order": args.quat_order,
                 "omega_frame": args.omega_frame, "degrees": args.degrees or None}  # fmt: skip

@@ -2,7 +2,7 @@
 
 :func:`cases` gives named, versioned reference motions with their exact states
 (free bodies, Lagrange tops, Kepler orbits, the Foucault pendulum); an engine
-(:mod:`poinsot.verify.engines`: SciPy, poinsot, MuJoCo, files) runs them, and
+(:mod:`poinsot.verify.engines`: SciPy, poinsot, MuJoCo, PyBullet, Drake, files) runs them, and
 :func:`evaluate` scores its states against the exact ones with stated thresholds.
 :func:`export` writes the cases to files for engines in any language.
 

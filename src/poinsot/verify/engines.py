@@ -27,6 +27,11 @@ the former dict of arrays ``{"quat", "omega"}`` / ``{"position", "velocity"}``, 
   :func:`poinsot.dynamics.simulate_particle`), every registered method.
 - :class:`MuJoCoEngine`: MuJoCo (``pip install poinsot[verify]``) with a free joint
   (free bodies) or a ball joint at the fixed point (tops), no contacts.
+- :class:`PyBulletEngine`: PyBullet (``pip install poinsot[verify]``), a free base in a
+  ``DIRECT`` client, no gravity, no contact (free bodies only).
+- :class:`DrakeEngine`: Drake (``pip install poinsot[verify]``), a free body in a
+  continuous-time ``MultibodyPlant`` and Drake's ``Simulator`` with a named integrator
+  (free bodies only).
 - :class:`FileEngine`: states that any engine wrote to CSV/Parquet files, one per case
   (``CASE.csv``), with the conventions given as options and checked.
 """
@@ -43,7 +48,11 @@ import numpy as np
 from ..dynamics import METHODS, PARTICLE_SOLVERS
 from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Result
+from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
+from ._drake import INTEGRATORS as DRAKE_INTEGRATORS
+from ._drake import run_drake
 from ._mujoco import run_mujoco, sampling
+from ._pybullet import COORDINATES, run_pybullet
 from .cases import Case, cases
 from .files import FileEngine
 from .groups import _deprecated_states, as_result, point_result, quat_unit, rigid_result
@@ -55,6 +64,8 @@ __all__ = [
     "SciPyEngine",
     "PoinsotEngine",
     "MuJoCoEngine",
+    "PyBulletEngine",
+    "DrakeEngine",
     "as_result",
     "make",
     "point_result",
@@ -62,7 +73,7 @@ __all__ = [
     "run",
 ]
 
-ENGINES = ("scipy", "poinsot", "mujoco", "file")
+ENGINES = ("scipy", "poinsot", "mujoco", "pybullet", "drake", "file")
 
 
 @runtime_checkable
@@ -245,6 +256,163 @@ class MuJoCoEngine:
         return rigid_result(case, quat_unit(q), w, self.label), steps
 
 
+def _free_body_only(case: Case, engine: str) -> str | None:
+    """Why ``engine`` (an adapter of free bodies only) skips ``case``, or None."""
+    if case.kind != "rigid":
+        return (f"{engine} models rigid bodies; a point in a central field or a turning "
+                "frame is not expressed by this adapter")  # fmt: skip
+    if case.inputs["fixed_point"]:
+        return _TOP_SKIP[engine]
+    return None
+
+
+_TOP_SKIP = {
+    "PyBullet": (
+        "PyBullet's adapter runs free bodies only: a top pinned by a point-to-point "
+        "constraint (createConstraint JOINT_POINT2POINT) was tried and is first order, "
+        "0.16 rad off on top-loops at a 0.1 ms step and 0.013 rad at 0.01 ms, so it "
+        "would fail at every practical step (docs/verify.md)"
+    ),
+    "Drake": (
+        "Drake's adapter runs free bodies only: Drake's only ball joint is BallRpyJoint "
+        "(roll-pitch-yaw angles, singular at pitch +-90 deg), no quaternion ball joint, "
+        "and its ball constraint needs a discrete plant (docs/verify.md)"
+    ),
+}
+
+
+class PyBulletEngine:
+    """PyBullet (the ``pybullet`` package): a free body stepped with ``stepSimulation``.
+
+    Parameters
+    ----------
+    timestep : float, optional
+        PyBullet's step (s), ``setTimeStep``; default 1e-3. A time of the case's grid
+        between two steps is read by one shorter step from the last whole step
+        (:mod:`poinsot.verify._pybullet`).
+    coordinates : {"reduced", "maximal"}, optional
+        ``"reduced"`` (default, PyBullet's own default): a Featherstone multibody, its
+        gyroscopic term explicit in the step; ``"maximal"``: a maximal-coordinates
+        rigid body (``useMaximalCoordinates=True``), whose gyroscopic term Bullet
+        integrates implicitly in body axes.
+
+    Notes
+    -----
+    Bullet's step is semi-implicit Euler, first order: the attitude error of the
+    free-body cases falls tenfold per tenfold shorter step (1.0 rad at 0.01 s,
+    0.1 rad at 1 ms, 0.01 rad at 0.1 ms on the racket flip), so it passes no case's
+    1e-6 thresholds at a step that runs in seconds. Conventions (scalar-last
+    quaternions of the inertial frame, world-axes angular velocity) are converted by
+    :func:`poinsot.verify._pybullet.run_pybullet`. Tops and point cases are skipped
+    (their reason says why).
+    """
+
+    name = "pybullet"
+
+    def __init__(self, timestep: float = 1e-3, coordinates: str = "reduced"):
+        if coordinates not in COORDINATES:
+            raise InvalidInputError(
+                f"Expected `coordinates` to be 'reduced' or 'maximal', got {coordinates!r}."
+            )
+        self.timestep = _positive(timestep, "timestep")
+        self.coordinates = coordinates
+        self.label = f"pybullet {coordinates} coordinates timestep={self.timestep:g} s"
+
+    def skip_reason(self, case: Case) -> str | None:
+        reason = _free_body_only(case, "PyBullet")
+        if reason:
+            return reason
+        try:
+            import pybullet  # noqa: F401
+        except ImportError as exc:
+            return f"the pybullet package is not installed: pip install 'poinsot[verify]' ({exc})"
+        return None
+
+    def run(self, case: Case) -> tuple[Result, int]:
+        i = case.inputs
+        q, w = run_pybullet(inertia=i["inertia"], mass=i["mass"], q0=i["q0"],
+                            omega0=i["omega0"], gravity=i["gravity"], t=case.t,
+                            timestep=self.timestep, coordinates=self.coordinates)  # fmt: skip
+        whole, frac = sampling(case.t, self.timestep)
+        steps = int(whole[-1]) + int(np.count_nonzero(frac))
+        return rigid_result(case, quat_unit(q), w, self.label), steps
+
+
+class DrakeEngine:
+    """Drake (the ``drake`` package): a free body in a continuous-time
+    ``MultibodyPlant``, run by Drake's ``Simulator``.
+
+    Parameters
+    ----------
+    integrator : str, optional
+        A Drake integration scheme (:data:`poinsot.verify._drake.INTEGRATORS`:
+        ``"runge_kutta5"`` (default), ``"runge_kutta3"``, ``"bogacki_shampine3"``,
+        ``"radau3"``, ``"radau1"``, ``"implicit_euler"``, ``"velocity_implicit_euler"``,
+        and the fixed-step-only ``"runge_kutta2"``, ``"explicit_euler"``,
+        ``"semi_explicit_euler"``).
+    accuracy : float, optional
+        Target accuracy of an error-controlled scheme (``set_target_accuracy``);
+        default 1e-13 when no ``step`` is given. Drake's accuracy bounds each step's
+        error estimate, not the error of the run: on the racket flip (an unstable
+        motion) ``runge_kutta5`` is 2.7e-7 rad off at 1e-12 and 3.1e-8 rad at 1e-13
+        (docs/verify.md).
+    step : float, optional
+        A fixed step (s) (``set_fixed_step_mode``); required by the fixed-step-only
+        schemes.
+
+    Notes
+    -----
+    Drake's state is ``q = [qw, qx, qy, qz, x, y, z]`` (scalar first, body -> world)
+    and ``v = [w_WB, v_WBo]`` (world axes), converted by
+    :func:`poinsot.verify._drake.run_drake`. The work is Drake's count of derivative
+    evaluations. Tops and point cases are skipped (their reason says why).
+    """
+
+    name = "drake"
+
+    def __init__(self, integrator: str = "runge_kutta5", accuracy: float | None = None,
+                 step: float | None = None):  # fmt: skip
+        if integrator not in DRAKE_INTEGRATORS:
+            raise InvalidInputError(
+                f"Expected `integrator` to be one of {', '.join(DRAKE_INTEGRATORS)}, "
+                f"got {integrator!r}."
+            )
+        self.integrator = integrator
+        self.step = None if step is None else _positive(step, "step")
+        if self.step is not None and accuracy is not None:
+            raise InvalidInputError(
+                "Expected either `accuracy` (error control) or `step` (fixed step), not both."
+            )
+        if self.step is None and integrator in DRAKE_FIXED_STEP:
+            raise InvalidInputError(
+                f"Expected a fixed `step` for Drake's {integrator!r} (it has no error "
+                "estimation, so no `accuracy`)."
+            )
+        self.accuracy = None if self.step is not None else (
+            1e-13 if accuracy is None else _positive(accuracy, "accuracy"))  # fmt: skip
+        setting = f"step={self.step:g} s" if self.step else f"accuracy={self.accuracy:g}"
+        self.label = f"drake {integrator} {setting}"
+
+    def skip_reason(self, case: Case) -> str | None:
+        reason = _free_body_only(case, "Drake")
+        if reason:
+            return reason
+        try:
+            import pydrake  # noqa: F401
+        except ImportError as exc:
+            return f"the drake package is not installed: pip install 'poinsot[verify]' ({exc})"
+        return None
+
+    def run(self, case: Case) -> tuple[Result, int]:
+        i = case.inputs
+        q, w, evaluations = run_drake(
+            inertia=i["inertia"], mass=i["mass"], q0=i["q0"], omega0=i["omega0"],
+            gravity=i["gravity"], t=case.t, integrator=self.integrator,
+            accuracy=self.accuracy, step=self.step,
+        )  # fmt: skip
+        return rigid_result(case, quat_unit(q), w, self.label), evaluations
+
+
 def _nan_result(case: Case, method: str) -> Result:
     """The result of a diverged engine: NaN states, which fail every metric."""
     return case.spec.nan_result(case, method)
@@ -293,6 +461,7 @@ def make(name: str, **options: Any) -> Any:
 
     opts = {k: v for k, v in options.items() if v is not None}
     classes = {"scipy": SciPyEngine, "poinsot": PoinsotEngine, "mujoco": MuJoCoEngine,
+               "pybullet": PyBulletEngine, "drake": DrakeEngine,
                "file": FileEngine}  # fmt: skip
     if name not in classes:
         raise InvalidInputError(f"Expected an engine in {', '.join(ENGINES)}, got {name!r}.")

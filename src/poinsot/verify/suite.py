@@ -25,6 +25,7 @@ import numpy as np
 from .._files import atomic_write
 from ..errors import InvalidInputError
 from ..plotting.report import write_report
+from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
 from .cases import CASES_VERSION, Case, cases
 from .engines import make, run
 from .metrics import METRICS, CaseResult
@@ -172,6 +173,8 @@ SWEEPS: dict[str, tuple[str, tuple[float, ...]]] = {
     "scipy": ("rtol", (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)),
     "poinsot": ("step", (0.01, 0.005, 0.002, 0.001, 0.0005)),
     "mujoco": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
+    "pybullet": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
+    "drake": ("accuracy", (1e-8, 1e-10, 1e-12, 1e-14)),
 }
 
 
@@ -181,7 +184,8 @@ def sweep(engine: str, values: Sequence[float] | None = None,
     """Work-precision: run the cases at each value of the engine's setting.
 
     The setting is ``rtol`` (SciPy, and poinsot with an adaptive method), ``step``
-    (poinsot's fixed-step methods) or ``timestep`` (MuJoCo): :data:`SWEEPS`.
+    (poinsot's fixed-step methods), ``timestep`` (MuJoCo, PyBullet) or ``accuracy``
+    (Drake; ``step`` with a fixed step or a fixed-step scheme): :data:`SWEEPS`.
 
     Returns
     -------
@@ -198,6 +202,10 @@ def sweep(engine: str, values: Sequence[float] | None = None,
     key, default = SWEEPS[engine]
     if engine == "poinsot" and options.get("method") in ("dop853", "adaptive"):
         key, default = "rtol", SWEEPS["scipy"][1]
+    if engine == "drake" and (options.get("step") is not None
+                              or options.get("integrator") in DRAKE_FIXED_STEP):  # fmt: skip
+        key, default = "step", SWEEPS["mujoco"][1]
+        options = {k: v for k, v in options.items() if k != "accuracy"}
     rows: list[dict[str, Any]] = []
     for value in default if values is None else values:
         eng = make(engine, **{**options, key: float(value)})

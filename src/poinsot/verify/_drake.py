@@ -1,0 +1,188 @@
+"""Run a free rigid body in Drake and read its states in poinsot's conventions.
+
+The model: a continuous-time ``MultibodyPlant`` (``time_step=0``) with one rigid body
+(``AddRigidBody``), which Drake joins to the world by a ``QuaternionFloatingJoint`` at
+``Finalize``; no geometry (so no contact), gravity set by
+``plant.mutable_gravity_field().set_gravity_vector`` (zero for the free bodies). Its
+``SpatialInertia`` is ``SpatialInertia.MakeFromCentralInertia(mass, p_BoBcm_B,
+I_BBcm_B)``: the mass, the centre of mass from the body origin (zero: the body frame
+is at the centre of mass) and the ``RotationalInertia`` about the centre of mass in
+body axes, the full matrix (Drake takes the products of inertia as they are).
+
+Conventions of Drake (``QuaternionFloatingJoint``, ``MultibodyPlant`` docs; the plant's
+state names ``body_qw, body_qx, body_qy, body_qz, body_x, body_y, body_z`` then
+``body_wx, ...``):
+
+- the positions are ``q = [qw, qx, qy, qz, x, y, z]``: a **scalar-first** quaternion
+  of the body's orientation in the world, ``R_WB`` (body -> world): poinsot's
+  convention, normalised (Drake's integrators do not keep it unit) and made
+  sign-continuous;
+- the velocities are ``v = [w_WB, v_WBo]``, the angular velocity **expressed in the
+  world frame**: poinsot's body-axes ``omega = R_WB^T w_WB`` (and ``w_WB = R_WB
+  omega0`` to set the initial state).
+
+Integration: ``drake.systems.analysis.Simulator`` with the integrator given by
+name (``ResetIntegratorFromFlags``); an error-controlled integrator runs with
+``set_target_accuracy(accuracy)`` unless a fixed ``step`` is given
+(``set_fixed_step_mode``); one without error estimation (``explicit_euler``,
+``runge_kutta2``, ``semi_explicit_euler``) runs with a fixed step. The grid's times are
+reached by ``AdvanceTo``, which ends a step on each of them (no interpolation).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError, PoinsotError
+from ._pybullet import _rotate_back
+
+#: Drake's integration schemes (``GetIntegrationSchemes()``, Drake 1.51); "cenic"
+#: (contact-aware, for discrete convex contact) is left out
+INTEGRATORS = (
+    "runge_kutta5", "runge_kutta3", "bogacki_shampine3", "radau3", "radau1",
+    "implicit_euler", "velocity_implicit_euler", "runge_kutta2", "explicit_euler",
+    "semi_explicit_euler",
+)  # fmt: skip
+#: the schemes without error estimation: fixed step only
+FIXED_STEP = ("runge_kutta2", "explicit_euler", "semi_explicit_euler")
+
+
+class DrakeMissing(PoinsotError, ImportError):
+    """The ``drake`` package is not installed."""
+
+
+def _pydrake() -> Any:
+    try:
+        import pydrake.multibody.plant as plant
+        import pydrake.multibody.tree as tree
+        import pydrake.systems.analysis as analysis
+    except ImportError as exc:
+        raise DrakeMissing(
+            f"the Drake adapter needs the `drake` package: pip install 'poinsot[verify]' ({exc})"
+        ) from exc
+    return plant, tree, analysis
+
+
+def _vec(x: Any, n: int, name: str) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise InvalidInputError(f"Expected `{name}` to be {n} finite numbers, got {x!r}.")
+    return a
+
+
+def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
+              integrator: str = "runge_kutta5", accuracy: float | None = 1e-13,
+              step: float | None = None) -> tuple[np.ndarray, np.ndarray, int]:  # fmt: skip
+    """Integrate one free rigid body in Drake; states on the grid ``t``.
+
+    Parameters
+    ----------
+    inertia : array_like (3, 3)
+        About the centre of mass, body axes (kg m^2), symmetric positive definite.
+    mass : float
+        kg, > 0.
+    q0 : array_like (4,)
+        Initial attitude, scalar-first unit quaternion, body -> space.
+    omega0 : array_like (3,)
+        Initial angular velocity, body axes (rad/s).
+    gravity : array_like (3,)
+        m/s^2, space axes.
+    t : array_like (n,)
+        Times from 0 (s), increasing.
+    integrator : str
+        One of :data:`INTEGRATORS` (Drake's scheme names).
+    accuracy : float, optional
+        Target accuracy of an error-controlled integrator (ignored with ``step``).
+    step : float, optional
+        Fixed step (s); needed by the schemes of :data:`FIXED_STEP`. Without it an
+        error-controlled scheme runs with ``accuracy`` and a largest step of the
+        grid's spacing.
+
+    Returns
+    -------
+    q : ndarray (n, 4)
+        Scalar-first unit quaternions body -> space, sign-continuous.
+    omega : ndarray (n, 3)
+        Body-axes angular velocity (rad/s).
+    evaluations : int
+        Drake's count of derivative evaluations.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.verify._drake import run_drake
+    >>> q, w, n = run_drake(inertia=np.diag([1.0, 2.0, 3.0]), mass=1.0,
+    ...                     q0=[1.0, 0.0, 0.0, 0.0], omega0=[0.0, 0.0, 1.0],
+    ...                     gravity=np.zeros(3), t=np.linspace(0.0, 1.0, 11))
+    >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 9), w[-1].round(9).tolist()
+    (1.0, [0.0, 0.0, 1.0])
+    """
+    mplant, tree, analysis = _pydrake()
+    if integrator not in INTEGRATORS:
+        raise InvalidInputError(
+            f"Expected `integrator` to be one of {', '.join(INTEGRATORS)}, got {integrator!r}."
+        )
+    j = np.asarray(inertia, dtype=float)
+    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
+        raise InvalidInputError(
+            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
+        )
+    if np.min(np.linalg.eigvalsh(j)) <= 0:
+        raise InvalidInputError("Expected `inertia` to be positive definite.")
+    m = float(mass)
+    if not (math.isfinite(m) and m > 0):
+        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
+    g, w0 = _vec(gravity, 3, "gravity"), _vec(omega0, 3, "omega0")
+    q = _vec(q0, 4, "q0")
+    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
+        raise InvalidInputError(
+            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
+        )
+    for name, x in (("accuracy", accuracy), ("step", step)):
+        if x is not None and not (math.isfinite(float(x)) and float(x) > 0):
+            raise InvalidInputError(f"Expected `{name}` to be positive, got {x!r}.")
+    if step is None and integrator in FIXED_STEP:
+        raise InvalidInputError(
+            f"Expected a fixed `step` for Drake's {integrator!r}, which has no error "
+            "estimation (no `accuracy`)."
+        )
+    if step is None and accuracy is None:
+        raise InvalidInputError("Expected `accuracy` or `step` for Drake's integrator.")
+    tt = np.asarray(t, dtype=float)
+    if tt.ndim != 1 or tt.size < 1 or tt[0] != 0.0 or np.any(np.diff(tt) <= 0):
+        raise InvalidInputError("Expected `t` to be increasing times starting at 0 (s).")
+
+    plant = mplant.MultibodyPlant(time_step=0.0)
+    rot = tree.RotationalInertia(j[0, 0], j[1, 1], j[2, 2], j[0, 1], j[0, 2], j[1, 2])
+    try:
+        spatial = tree.SpatialInertia.MakeFromCentralInertia(m, np.zeros(3), rot)
+    except RuntimeError as exc:  # Drake's own checks (triangle inequality)
+        raise InvalidInputError(f"Drake refused the body (`inertia`, `mass`): {exc}") from None
+    plant.AddRigidBody("body", spatial)
+    plant.mutable_gravity_field().set_gravity_vector(g)
+    plant.Finalize()
+    context = plant.CreateDefaultContext()
+    conj = np.array([1.0, -1.0, -1.0, -1.0])
+    w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R_WB omega0
+    plant.SetPositionsAndVelocities(context, np.concatenate([q, np.zeros(3), w_world,
+                                                             np.zeros(3)]))  # fmt: skip
+    sim = analysis.Simulator(plant, context)
+    max_step = float(step) if step is not None else float(np.min(np.diff(tt), initial=1.0))
+    integ = analysis.ResetIntegratorFromFlags(sim, integrator, max_step)
+    if step is not None:
+        integ.set_fixed_step_mode(True)
+    else:
+        integ.set_target_accuracy(float(accuracy))  # type: ignore[arg-type]
+    sim.Initialize()
+    out = np.empty((tt.size, 13))
+    for n, time in enumerate(tt):
+        if time > 0.0:
+            sim.AdvanceTo(float(time))
+        out[n] = plant.GetPositionsAndVelocities(context)
+    q_body = out[:, :4] / np.linalg.norm(out[:, :4], axis=1, keepdims=True)
+    w_body = _rotate_back(q_body, out[:, 7:10])
+    flips = np.concatenate([[1.0], np.where(np.sum(q_body[1:] * q_body[:-1], -1) < 0, -1.0, 1.0)])
+    return q_body * np.cumprod(flips)[:, None], w_body, int(integ.get_num_derivative_evaluations())

@@ -1,0 +1,244 @@
+"""Run a free rigid body in PyBullet and read its states in poinsot's conventions.
+
+The model: one PyBullet multibody with a base and no links, in a ``DIRECT`` (no GUI)
+physics client of its own, gravity as given (zero for the free bodies), no other
+body (so no contact), linear and angular damping set to zero (PyBullet's default is
+0.04 for both, which would drain the energy).
+
+Conventions of PyBullet (PyBullet Quickstart Guide: ``createMultiBody``,
+``getBasePositionAndOrientation``, ``getBaseVelocity``, ``resetBaseVelocity``;
+bullet3 issues #2096 and #3312, answered by its author):
+
+- quaternions are **scalar-last** ``[x, y, z, w]`` and give the orientation of the
+  base in world coordinates (body -> world): reordered to poinsot's ``(w, x, y, z)``;
+- ``getBasePositionAndOrientation`` / ``resetBasePositionAndOrientation`` refer to
+  the base's **inertial frame** (its centre of mass, axes along the principal axes
+  of inertia), not to the frame it was created in; its inertia is the diagonal
+  ``localInertiaDiagonal`` in that frame. So the body is given to PyBullet in its
+  principal frame ``P`` (``J = P diag(l) P^T``, ``det P = +1``): PyBullet's attitude is
+  ``R P`` (quaternion ``q_body * q_P``) and poinsot's is read back as
+  ``q_pybullet * conj(q_P)``. A diagonal inertia has ``P = E``;
+- the angular velocity of ``getBaseVelocity`` / ``resetBaseVelocity`` is in **world**
+  axes: poinsot's body-axes ``omega = R^T w_world`` (and ``w_world = R omega0`` to set
+  the initial state).
+
+Integration: ``stepSimulation`` with ``setTimeStep(timestep)``: Bullet's
+semi-implicit (symplectic) Euler step, first order. ``coordinates="reduced"``
+(PyBullet's default) builds a Featherstone ``btMultiBody``, whose forward dynamics
+carry the gyroscopic term ``w x J w`` in the bias force, evaluated explicitly at the
+start of the step; ``"maximal"`` (``useMaximalCoordinates=True``) builds a
+``btRigidBody``, whose gyroscopic term Bullet (2.83 and later) integrates implicitly
+in body axes by default (``BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY``). PyBullet's
+Python API has no call that changes that flag. A maximal-coordinates base without a
+collision shape is static (PyBullet reports its mass as 0), so that body gets a
+sphere collision shape with its collision filter mask set to 0 (it collides with
+nothing), and its inertia is then set by ``changeDynamics`` as for the other.
+
+Sampling: as the MuJoCo adapter (:func:`poinsot.verify._mujoco.sampling`): a time
+of the grid on a whole step is read there; one between steps by one shorter step
+from the last whole step, on a saved state (``saveState``/``restoreState``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError, PoinsotError
+from ._mujoco import sampling
+
+COORDINATES = ("reduced", "maximal")
+
+
+class PyBulletMissing(PoinsotError, ImportError):
+    """The ``pybullet`` package is not installed."""
+
+
+def _pybullet() -> Any:
+    try:
+        import pybullet
+    except ImportError as exc:
+        raise PyBulletMissing(
+            "the PyBullet adapter needs the `pybullet` package: "
+            f"pip install 'poinsot[verify]' ({exc})"
+        ) from exc
+    return pybullet
+
+
+def _vec(x: Any, n: int, name: str) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise InvalidInputError(f"Expected `{name}` to be {n} finite numbers, got {x!r}.")
+    return a
+
+
+def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of scalar-first quaternions (broadcast)."""
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        axis=-1,
+    )
+
+
+def _rotate_back(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``R(q)^T v`` for scalar-first unit quaternions ``q`` (n, 4) and vectors (n, 3)."""
+    w, u = q[:, :1], q[:, 1:]
+    t = 2.0 * np.cross(v, u)  # conj(q): vector part -u
+    return v + w * t + np.cross(-u, t)
+
+
+def principal_frame(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(moments, q_P)``: the principal moments and the scalar-first quaternion of the
+    rotation ``P`` (columns: the principal axes in body axes, ``det P = +1``) with
+    ``J = P diag(moments) P^T``. A diagonal ``J`` gives ``q_P = (1, 0, 0, 0)``.
+
+    >>> m, q = principal_frame(np.diag([1.0, 2.0, 3.0]))
+    >>> m.tolist(), q.tolist()
+    ([1.0, 2.0, 3.0], [1.0, 0.0, 0.0, 0.0])
+    """
+    from ..rotations.rotation import Rotation
+
+    j = np.asarray(inertia, dtype=float)
+    if np.array_equal(j, np.diag(np.diag(j))):
+        return np.diag(j).copy(), np.array([1.0, 0.0, 0.0, 0.0])
+    moments, p = np.linalg.eigh(j)
+    if np.linalg.det(p) < 0:
+        p[:, 2] = -p[:, 2]
+    return moments, np.asarray(Rotation.from_matrix(p).as_quat(), dtype=float)
+
+
+def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
+                 timestep: float, coordinates: str = "reduced"
+                 ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Integrate one free rigid body in PyBullet; states on the grid ``t``.
+
+    Parameters
+    ----------
+    inertia : array_like (3, 3)
+        About the centre of mass, body axes (kg m^2), symmetric positive definite.
+    mass : float
+        kg, > 0.
+    q0 : array_like (4,)
+        Initial attitude, scalar-first unit quaternion, body -> space.
+    omega0 : array_like (3,)
+        Initial angular velocity, body axes (rad/s).
+    gravity : array_like (3,)
+        m/s^2, space axes (zero for a free body; the attitude does not feel it).
+    t : array_like (n,)
+        Times from 0 (s), increasing (a time between steps: see the module docstring).
+    timestep : float
+        PyBullet's step (s).
+    coordinates : {"reduced", "maximal"}
+        A Featherstone multibody (PyBullet's default) or a maximal-coordinates rigid
+        body (see the module docstring).
+
+    Returns
+    -------
+    q : ndarray (n, 4)
+        Scalar-first quaternions body -> space, sign-continuous.
+    omega : ndarray (n, 3)
+        Body-axes angular velocity (rad/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.verify._pybullet import run_pybullet
+    >>> q, w = run_pybullet(inertia=np.diag([1.0, 2.0, 3.0]), mass=1.0,
+    ...                     q0=[1.0, 0.0, 0.0, 0.0], omega0=[0.0, 0.0, 1.0],
+    ...                     gravity=np.zeros(3), t=np.linspace(0.0, 1.0, 11), timestep=0.01)
+    >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 12), w[-1].round(12).tolist()
+    (1.0, [0.0, 0.0, 1.0])
+    """
+    pb = _pybullet()
+    if coordinates not in COORDINATES:
+        raise InvalidInputError(
+            f"Expected `coordinates` to be 'reduced' or 'maximal', got {coordinates!r}."
+        )
+    j = np.asarray(inertia, dtype=float)
+    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
+        raise InvalidInputError(
+            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
+        )
+    if np.min(np.linalg.eigvalsh(j)) <= 0:
+        raise InvalidInputError("Expected `inertia` to be positive definite.")
+    m = float(mass)
+    if not (math.isfinite(m) and m > 0):
+        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
+    g, w0 = _vec(gravity, 3, "gravity"), _vec(omega0, 3, "omega0")
+    q = _vec(q0, 4, "q0")
+    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
+        raise InvalidInputError(
+            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
+        )
+    h = float(timestep)
+    if not (math.isfinite(h) and h > 0):
+        raise InvalidInputError(f"Expected `timestep` to be positive (s), got {timestep!r}.")
+    tt = np.asarray(t, dtype=float)
+    if tt.ndim != 1 or tt.size < 1 or tt[0] != 0.0 or np.any(np.diff(tt) <= 0):
+        raise InvalidInputError("Expected `t` to be increasing times starting at 0 (s).")
+    whole, frac = sampling(tt, h)
+
+    moments, q_p = principal_frame(j)
+    q_pb = _qmul(q, q_p)  # the principal frame's attitude, PyBullet's base
+    conj = np.array([1.0, -1.0, -1.0, -1.0])
+    w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R(q0) omega0
+    cid = pb.connect(pb.DIRECT)
+    try:
+        kw = {"physicsClientId": cid}
+        pb.setGravity(*g, **kw)
+        pb.setTimeStep(h, **kw)
+        maximal = coordinates == "maximal"
+        shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=0.1, **kw) if maximal else -1
+        body = pb.createMultiBody(
+            baseMass=m, baseCollisionShapeIndex=shape, baseVisualShapeIndex=-1,
+            basePosition=[0.0, 0.0, 0.0],
+            baseOrientation=[q_pb[1], q_pb[2], q_pb[3], q_pb[0]],
+            useMaximalCoordinates=maximal, **kw,
+        )  # fmt: skip
+        if maximal:
+            pb.setCollisionFilterGroupMask(body, -1, 0, 0, **kw)
+        pb.changeDynamics(body, -1, mass=m, localInertiaDiagonal=[float(x) for x in moments],
+                          linearDamping=0.0, angularDamping=0.0,
+                          activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)  # fmt: skip
+        pb.resetBaseVelocity(body, [0.0, 0.0, 0.0], [float(x) for x in w_world], **kw)
+        out_q = np.empty((tt.size, 4))
+        out_w = np.empty((tt.size, 3))
+
+        def read(n: int) -> None:
+            _, qx = pb.getBasePositionAndOrientation(body, **kw)
+            _, wx = pb.getBaseVelocity(body, **kw)
+            out_q[n] = (qx[3], qx[0], qx[1], qx[2])
+            out_w[n] = wx
+
+        done = 0
+        for n in range(tt.size):
+            while done < whole[n]:
+                pb.stepSimulation(**kw)
+                done += 1
+            if frac[n] > 0.0:  # between steps: one shorter step from a saved state
+                state = pb.saveState(**kw)
+                pb.setTimeStep(float(frac[n]), **kw)
+                pb.stepSimulation(**kw)
+                read(n)
+                pb.setTimeStep(h, **kw)
+                pb.restoreState(stateId=state, **kw)
+                pb.removeState(state, **kw)
+            else:
+                read(n)
+    finally:
+        pb.disconnect(physicsClientId=cid)
+
+    q_body = _qmul(out_q, q_p * conj)  # q_pb * conj(q_P)
+    q_body /= np.linalg.norm(q_body, axis=1, keepdims=True)
+    w_body = _rotate_back(q_body, out_w)
+    flips = np.concatenate([[1.0], np.where(np.sum(q_body[1:] * q_body[:-1], -1) < 0, -1.0, 1.0)])
+    return q_body * np.cumprod(flips)[:, None], w_body
