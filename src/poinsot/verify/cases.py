@@ -4,11 +4,21 @@ Each :class:`Case` gives its inputs in SI units, a time grid and the exact state
 it, computed by poinsot's closed-form solutions (docs/theory.md §9, §10):
 
 - ``free-body``: Euler-Poinsot motion (Jacobi elliptic functions), about the minor
-  axis, about the major axis, near the separatrix (the tennis-racket flip), and a
-  free symmetric top;
+  axis, about the major axis, near the separatrix (the tennis-racket flip), a
+  free symmetric top, and (version 2) a pair with ``1 - k^2 = 1e-6`` on either
+  side of the separatrix;
 - ``heavy-top``: the Lagrange top (elliptic solution of the nutation, precession
-  and spin) with loops, with cusps (released from rest), in regular precession, and
-  the sleeping top above and below its critical spin;
+  and spin) with loops, with cusps (released from rest), in regular precession,
+  (version 2) with waves, and the sleeping top above and below its critical spin
+  (far from it, and 2 % from it);
+- ``kovalevskaya`` (version 2): the Kovalevskaya top, a stored 32-digit Taylor
+  integration (``tools/make_kovalevskaya_reference.py``);
+- ``body-torque`` (version 2): a free axisymmetric body under a constant torque
+  along its symmetry axis, a stored 32-digit Taylor integration
+  (``tools/make_body_torque_reference.py``; the angular velocity in closed form);
+- ``gyrostat`` (version 2): a dual-spin gyrostat (:class:`FreeGyrostat`);
+- ``gravity-gradient`` (version 2): pitch libration in a circular orbit
+  (:class:`PitchLibration`);
 - ``orbit``: Kepler orbits with e = 0.5 and e = 0.95 (Kepler's equation);
 - ``frame``: the Foucault pendulum in its turning frame (Coriolis and centrifugal
   forces), linear theory, with the frame turning fast enough for the rate to show.
@@ -18,6 +28,9 @@ attitude body -> space (``v_space = R v_body``), angular velocity in body axes
 (rad/s), inertia about the centre of mass in body axes (kg m^2), the centre of
 mass from the fixed point ``O`` in body axes (m), gravity in space axes (m/s^2),
 positions and velocities in the case's own frame (m, m/s). Times start at 0 s.
+Version 2 inputs: ``body_torque`` (N m, body axes), ``rotor_momentum`` (kg m^2/s,
+body axes, relative to the body), ``mean_motion`` (rad/s, the circular orbit's
+rate; the space frame is the orbit frame at t = 0).
 """
 
 from __future__ import annotations
@@ -147,8 +160,9 @@ class Case:
 
     def model(self) -> Any:
         """The poinsot exact-solution object of this case (FreeRigidBody, LagrangeTop,
-        CentralOrbit), or None for the frame case (closed form,
-        :meth:`poinsot.verify.groups.Frame.exact`)."""
+        FreeGyrostat, PitchLibration, CentralOrbit; the HeavyRigidBody of the
+        Kovalevskaya top), or None (the frame case, closed form,
+        :meth:`poinsot.verify.groups.Frame.exact`; the body-torque case, stored)."""
         return self.spec.model(self)
 
     @property

@@ -14,6 +14,13 @@ group or kind.
 - :class:`FreeBody` (``free-body``): Euler-Poinsot motion (:class:`FreeRigidBody`);
 - :class:`HeavyTop` (``heavy-top``): the Lagrange top (:class:`LagrangeTop`), only
   ``K_z`` conserved;
+- :class:`Kovalevskaya` (``kovalevskaya``): the Kovalevskaya top, a stored
+  32-digit reference; energy and ``K_z`` scored;
+- :class:`BodyTorque` (``body-torque``): a constant torque along the symmetry axis,
+  a stored 32-digit reference; the transverse kinetic energy scored;
+- :class:`Gyrostat` (``gyrostat``): a dual-spin gyrostat (:class:`FreeGyrostat`);
+- :class:`GravityGradient` (``gravity-gradient``): pitch libration in a circular
+  orbit (:class:`PitchLibration`); the orbit frame's Jacobi integral scored;
 - :class:`Orbit` (``orbit``): Kepler orbits (:class:`CentralOrbit`);
 - :class:`Frame` (``frame``): the Foucault pendulum in its turning frame (closed
   form, the Jacobi integral conserved).
