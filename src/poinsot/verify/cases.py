@@ -536,8 +536,11 @@ def describe(case: Case) -> Mapping[str, Any]:
     }
 
 
-#: the units of each kind of case, ``kind -> {column or input: units}``
-UNITS = {g.kind: g.units for g in GROUP_TABLE.values()}
+#: the units of each kind of case, ``kind -> {column or input: units}`` (every group's)
+UNITS: dict[str, dict[str, str]] = {}
+for _g in GROUP_TABLE.values():
+    UNITS.setdefault(_g.kind, {}).update(_g.units)
+del _g
 
 CONVENTIONS = (
     "quaternions scalar first (w, x, y, z), Hamilton product, attitude body -> space "
