@@ -442,6 +442,9 @@ class Gyrostat(RigidGroup):
                             omega0=i["omega0"])  # fmt: skip
 
     def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        if case.event is not None:  # w_2 crossing the middle of its range (257 samples)
+            w2 = np.asarray(model.omega(np.linspace(0.0, float(model.period), 257)))[:, 1]
+            case.event["level"] = 0.5 * float(w2.min() + w2.max())
         return {"regime": str(model.regime), "period_s": float(model.period)}
 
     def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
