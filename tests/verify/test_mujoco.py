@@ -25,7 +25,9 @@ def test_rk4_small_step_passes_the_free_bodies():
     for case in cases("free-body"):
         res = run(make("mujoco", integrator="RK4", timestep=1e-3), case)
         assert res.status == "pass", (case.name, res.reason)
-        assert res.metrics["attitude"]["value"] < 1e-9  # observed <= 8.3e-12
+        # observed <= 8.3e-12; near the separatrix (1 - k^2 = 1e-6) 3.4e-9 and 9.7e-10
+        bound = 5e-8 if case.name.startswith("separatrix") else 1e-9
+        assert res.metrics["attitude"]["value"] < bound
 
 
 def test_rk4_passes_the_tops_at_a_tenth_of_a_millisecond():
@@ -106,7 +108,7 @@ def test_times_between_steps_are_read_by_a_shorter_step():
 def test_cli_mujoco_verdicts(capsys):
     assert main(["verify", "mujoco", "--method", "RK4", "--step", "0.001", "--cases",
                  "free-body", "--quiet"]) == 0  # fmt: skip
-    assert "4 passed" in capsys.readouterr().out
+    assert "6 passed" in capsys.readouterr().out
     assert main(["verify", "mujoco", "--method", "Euler", "--step", "0.001", "--cases",
                  "racket-flip", "--quiet"]) == 1  # fmt: skip
     # MuJoCo's default step on the tops' grid: scored and failed (before: skipped, PASS)

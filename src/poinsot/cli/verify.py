@@ -41,7 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", nargs="?", metavar="DIR",
                    help="the directory of the files (file) or to write (export)")  # fmt: skip
     p.add_argument("--cases", metavar="NAMES", help="case names or groups, comma separated "
-                   "(free-body, heavy-top, orbit, frame); default all")  # fmt: skip
+                   "(free-body, heavy-top, kovalevskaya, body-torque, gyrostat, gravity-gradient, "
+                   "orbit, frame); default all")  # fmt: skip
     p.add_argument("--method", help="solve_ivp method (scipy), integrator (poinsot), "
                    "Euler, RK4, implicitfast (mujoco), reduced or maximal coordinates "
                    "(pybullet), or a Drake integrator, e.g. runge_kutta3 (drake)")  # fmt: skip

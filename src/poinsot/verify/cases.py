@@ -4,11 +4,21 @@ Each :class:`Case` gives its inputs in SI units, a time grid and the exact state
 it, computed by poinsot's closed-form solutions (docs/theory.md §9, §10):
 
 - ``free-body``: Euler-Poinsot motion (Jacobi elliptic functions), about the minor
-  axis, about the major axis, near the separatrix (the tennis-racket flip), and a
-  free symmetric top;
+  axis, about the major axis, near the separatrix (the tennis-racket flip), a
+  free symmetric top, and (version 2) a pair with ``1 - k^2 = 1e-6`` on either
+  side of the separatrix;
 - ``heavy-top``: the Lagrange top (elliptic solution of the nutation, precession
-  and spin) with loops, with cusps (released from rest), in regular precession, and
-  the sleeping top above and below its critical spin;
+  and spin) with loops, with cusps (released from rest), in regular precession,
+  (version 2) with waves, and the sleeping top above and below its critical spin
+  (far from it, and 2 % from it);
+- ``kovalevskaya`` (version 2): the Kovalevskaya top, a stored 32-digit Taylor
+  integration (``tools/make_kovalevskaya_reference.py``);
+- ``body-torque`` (version 2): a free axisymmetric body under a constant torque
+  along its symmetry axis, a stored 32-digit Taylor integration
+  (``tools/make_body_torque_reference.py``; the angular velocity in closed form);
+- ``gyrostat`` (version 2): a dual-spin gyrostat (:class:`FreeGyrostat`);
+- ``gravity-gradient`` (version 2): pitch libration in a circular orbit
+  (:class:`PitchLibration`);
 - ``orbit``: Kepler orbits with e = 0.5 and e = 0.95 (Kepler's equation);
 - ``frame``: the Foucault pendulum in its turning frame (Coriolis and centrifugal
   forces), linear theory, with the frame turning fast enough for the rate to show.
@@ -18,6 +28,9 @@ attitude body -> space (``v_space = R v_body``), angular velocity in body axes
 (rad/s), inertia about the centre of mass in body axes (kg m^2), the centre of
 mass from the fixed point ``O`` in body axes (m), gravity in space axes (m/s^2),
 positions and velocities in the case's own frame (m, m/s). Times start at 0 s.
+Version 2 inputs: ``body_torque`` (N m, body axes), ``rotor_momentum`` (kg m^2/s,
+body axes, relative to the body), ``mean_motion`` (rad/s, the circular orbit's
+rate; the space frame is the orbit frame at t = 0).
 """
 
 from __future__ import annotations
@@ -35,7 +48,7 @@ from ..rotations.rotation import Rotation
 from .groups import GROUP_TABLE, Group
 
 #: version of the set of cases: bumped whenever a case's inputs, grid or thresholds change
-CASES_VERSION = "1"
+CASES_VERSION = "2"
 
 #: groups of cases (``--cases`` accepts a group or a case name); each is one object of
 #: :data:`poinsot.verify.groups.GROUP_TABLE`
@@ -147,8 +160,9 @@ class Case:
 
     def model(self) -> Any:
         """The poinsot exact-solution object of this case (FreeRigidBody, LagrangeTop,
-        CentralOrbit), or None for the frame case (closed form,
-        :meth:`poinsot.verify.groups.Frame.exact`)."""
+        FreeGyrostat, PitchLibration, CentralOrbit; the HeavyRigidBody of the
+        Kovalevskaya top), or None (the frame case, closed form,
+        :meth:`poinsot.verify.groups.Frame.exact`; the body-torque case, stored)."""
         return self.spec.model(self)
 
     @property
@@ -167,7 +181,8 @@ def _zxz(psi: float, theta: float, phi: float) -> np.ndarray:
     return np.asarray(Rotation.from_euler("ZXZ", [psi, theta, phi]).as_quat(), dtype=float)
 
 
-def _free(name: str, description: str, moments: Any, omega0: Any, event: Any = None) -> Case:
+def _free(name: str, description: str, moments: Any, omega0: Any, event: Any = None,
+          duration: float = 10.0) -> Case:  # fmt: skip
     return Case(
         name=name,
         group="free-body",
@@ -182,7 +197,7 @@ def _free(name: str, description: str, moments: Any, omega0: Any, event: Any = N
             "q0": np.array([1.0, 0.0, 0.0, 0.0]),
             "omega0": np.asarray(omega0, dtype=float),
         },
-        t=_grid(10.0, 0.01),
+        t=_grid(duration, 0.01),
         thresholds=dict(DEFAULT_THRESHOLDS),
         event=event,
     )
@@ -213,6 +228,122 @@ def _top(name: str, description: str, *, theta: float, spin: float, precession: 
         t=_grid(duration, 0.005),  # 5 s: 15 nutation periods
         thresholds=dict(DEFAULT_THRESHOLDS),
         event={"name": "nutation", "signal": "cos_tilt", "level": None} if event else None,
+    )
+
+
+#: the tops' critical spin ``2 sqrt(A_O m g l) / C`` (rad/s): a sleeping top is stable above it
+_CRITICAL_SPIN = 2.0 * math.sqrt(0.06 * 1.0 * 9.80665 * 0.1) / 0.02
+
+
+def kovalevskaya_case() -> Case:
+    """The Kovalevskaya top: ``A = B = 2 C`` about the fixed point, the centre of mass
+    in the equatorial plane; its exact states are a 32-digit Taylor integration
+    stored in ``poinsot/verify/data/kovalevskaya.npz``
+    (``tools/make_kovalevskaya_reference.py`` regenerates it)."""
+    # about O: diag(1/8, 1/8, 1/16) kg m^2, exactly (binary fractions): m = 1 kg,
+    # c = (1/8, 0, 0) m, so about the centre of mass diag(1/8, 7/64, 3/64)
+    return Case(
+        name="kovalevskaya",
+        group="kovalevskaya",
+        description="Kovalevskaya top (A = B = 2 C about the fixed point, centre of mass "
+        "in the equatorial plane): four integrals, a stored 32-digit reference",
+        kind="rigid",
+        inputs={
+            "inertia": np.diag([0.125, 0.109375, 0.046875]),
+            "mass": 1.0,
+            "com": np.array([0.125, 0.0, 0.0]),
+            "gravity": np.array([0.0, 0.0, -9.80665]),
+            "fixed_point": True,
+            "q0": _zxz(0.2, 0.9, 0.4),
+            "omega0": np.array([1.0, -0.5, 3.0]),
+        },
+        t=_grid(4.0, 0.01),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event={"name": "nutation", "signal": "cos_tilt", "level": 0.0},
+    )
+
+
+def body_torque_case() -> Case:
+    """A free axisymmetric body under a constant torque along its symmetry axis: the
+    spin grows linearly, the transverse rate turns in body axes at the growing rate
+    ``(C - A) / A w_3(t)``; the attitude (no elementary closed form: a Landau-Zener
+    problem) is a 32-digit Taylor integration stored in
+    ``poinsot/verify/data/body_torque.npz`` (``tools/make_body_torque_reference.py``)."""
+    return Case(
+        name="body-torque",
+        group="body-torque",
+        description="free axisymmetric body (A = 2, C = 1 kg m^2) spun up by a constant "
+        "0.5 N m about its symmetry axis",
+        kind="rigid",
+        inputs={
+            "inertia": np.diag([2.0, 2.0, 1.0]),
+            "mass": 1.0,
+            "com": np.zeros(3),
+            "gravity": np.zeros(3),
+            "fixed_point": False,
+            "q0": np.array([1.0, 0.0, 0.0, 0.0]),
+            "omega0": np.array([1.0, 0.0, 2.0]),
+            "body_torque": np.array([0.0, 0.0, 0.5]),
+        },
+        t=_grid(10.0, 0.01),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        # w_2 starts at 0: the level is off it, so that no crossing sits on t = 0
+        event={"name": "transverse turns", "signal": "omega_1", "level": 0.5},
+    )
+
+
+def _gyrostat() -> Case:
+    # dual spin: a rotor along the intermediate axis (h = 3 kg m^2/s) stabilises the
+    # rotation about that axis, which alone would tumble (the racket flip)
+    return Case(
+        name="dual-spin",
+        group="gyrostat",
+        description="dual-spin gyrostat: rotor momentum 3 kg m^2/s along the intermediate "
+        "axis, spin 1 rad/s about it, nudged: a stable wobble, no flip",
+        kind="rigid",
+        inputs={
+            "inertia": np.diag([1.0, 2.0, 3.0]),
+            "mass": 1.0,
+            "com": np.zeros(3),
+            "gravity": np.zeros(3),
+            "fixed_point": False,
+            "q0": np.array([1.0, 0.0, 0.0, 0.0]),
+            "omega0": np.array([0.1, 1.0, 0.1]),
+            "rotor_momentum": np.array([0.0, 3.0, 0.0]),
+        },
+        t=_grid(20.0, 0.01),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event={"name": "wobble", "signal": "omega_1", "level": None},
+    )
+
+
+def _pitch() -> Case:
+    # a 105-minute circular orbit (n = 1e-3 rad/s), moments (2, 3, 1) kg m^2
+    # (roll, pitch, yaw): pitch libration of 0.5 rad amplitude, period 2 pi / n
+    # times a factor 1.07; the orbit frame at t = 0 is the space frame
+    n, theta0 = 1e-3, 0.5
+    return Case(
+        name="pitch-libration",
+        group="gravity-gradient",
+        description="gravity-gradient pitch libration in a circular orbit (n = 1e-3 rad/s), "
+        "released at 0.5 rad from the local vertical at rest in the orbit frame",
+        kind="rigid",
+        inputs={
+            "inertia": np.diag([2.0, 3.0, 1.0]),
+            "mass": 1.0,
+            "com": np.zeros(3),
+            "gravity": np.zeros(3),
+            "fixed_point": False,
+            "q0": np.array([math.cos(theta0 / 2.0), 0.0, math.sin(theta0 / 2.0), 0.0]),
+            "omega0": np.array([0.0, -n, 0.0]),
+            "mean_motion": n,
+        },
+        t=_grid(20000.0, 10.0),
+        # a time scale 10^3 times the others': events to 1e-3 s (1.5e-7 of a libration
+        # period); the Jacobi integral is a quarter of its terms (n^2 I sums that
+        # cancel), its drift to 1e-7
+        thresholds={**DEFAULT_THRESHOLDS, "events": 1e-3, "energy": 1e-7},
+        event={"name": "pitch rate", "signal": "omega_1", "level": None},
     )
 
 
@@ -258,6 +389,28 @@ def _all_cases() -> list[Case]:
              theta=1e-3, spin=60.0, precession=0.0, event=False),
         _top("sleeping-unstable", "sleeping top below the critical spin, nudged: falls away",
              theta=1e-3, spin=15.0, precession=0.0, event=True, duration=4.0),
+        _top("top-waves", "Lagrange top with waves (the precession rate keeps its sign)",
+             theta=math.radians(40.0), spin=60.0, precession=0.5),
+        _top("sleeping-near-stable", "sleeping top 2 % above the critical spin, nudged: "
+             "stays up (the nutation reaches 5 mrad)", theta=1e-3, spin=1.02 * _CRITICAL_SPIN,
+             precession=0.0, duration=8.0),
+        _top("sleeping-near-unstable", "sleeping top 2 % below the critical spin, nudged: "
+             "falls to 23 degrees", theta=1e-3, spin=0.98 * _CRITICAL_SPIN, precession=0.0,
+             duration=8.0),
+        # 1 - k^2 = 1e-6 on either side of the separatrix (brentq on poinsot's
+        # complementary_parameter; its values for these doubles: 1 - 4e-15 and 1 + 2e-14)
+        _free("separatrix-minor", "just inside the separatrix (1 - k^2 = 1e-6, polhode "
+              "about the minor axis): spin near the intermediate axis, flips",
+              [1.0, 2.0, 3.0], [0.1, 4.0, 0.05768879151678138],
+              event={"name": "flip", "signal": "omega_1", "level": 0.0}, duration=20.0),
+        _free("separatrix-major", "just outside the separatrix (1 - k^2 = 1e-6, polhode "
+              "about the major axis): spin near the intermediate axis, flips",
+              [1.0, 2.0, 3.0], [0.1, 4.0, 0.05778122537067445],
+              event={"name": "flip", "signal": "omega_1", "level": 0.0}, duration=20.0),
+        kovalevskaya_case(),
+        body_torque_case(),
+        _gyrostat(),
+        _pitch(),
         _kepler("kepler-e0.5", 0.5),
         _kepler("kepler-e0.95", 0.95),
     ]  # fmt: skip
@@ -384,8 +537,11 @@ def describe(case: Case) -> Mapping[str, Any]:
     }
 
 
-#: the units of each kind of case, ``kind -> {column or input: units}``
-UNITS = {g.kind: g.units for g in GROUP_TABLE.values()}
+#: the units of each kind of case, ``kind -> {column or input: units}`` (every group's)
+UNITS: dict[str, dict[str, str]] = {}
+for _g in GROUP_TABLE.values():
+    UNITS.setdefault(_g.kind, {}).update(_g.units)
+del _g
 
 CONVENTIONS = (
     "quaternions scalar first (w, x, y, z), Hamilton product, attitude body -> space "

@@ -14,6 +14,13 @@ group or kind.
 - :class:`FreeBody` (``free-body``): Euler-Poinsot motion (:class:`FreeRigidBody`);
 - :class:`HeavyTop` (``heavy-top``): the Lagrange top (:class:`LagrangeTop`), only
   ``K_z`` conserved;
+- :class:`Kovalevskaya` (``kovalevskaya``): the Kovalevskaya top, a stored
+  32-digit reference; energy and ``K_z`` scored;
+- :class:`BodyTorque` (``body-torque``): a constant torque along the symmetry axis,
+  a stored 32-digit reference; the transverse kinetic energy scored;
+- :class:`Gyrostat` (``gyrostat``): a dual-spin gyrostat (:class:`FreeGyrostat`);
+- :class:`GravityGradient` (``gravity-gradient``): pitch libration in a circular
+  orbit (:class:`PitchLibration`); the orbit frame's Jacobi integral scored;
 - :class:`Orbit` (``orbit``): Kepler orbits (:class:`CentralOrbit`);
 - :class:`Frame` (``frame``): the Foucault pendulum in its turning frame (closed
   form, the Jacobi integral conserved).
@@ -24,6 +31,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -32,11 +40,13 @@ from ..dynamics import (
     METHODS,
     PARTICLE_SOLVERS,
     CentralOrbit,
+    FreeGyrostat,
     FreeRigidBody,
     GravityTorque,
     HeavyRigidBody,
     LagrangeTop,
     PendulumForce,
+    PitchLibration,
     euler_rhs,
     inertial_forces,
     kepler,
@@ -44,7 +54,7 @@ from ..dynamics import (
     simulate,
     simulate_particle,
 )
-from ..errors import InvalidTypeError
+from ..errors import InvalidTypeError, SingularityWarning
 from ..kinematics import FrameMotion, quat_rate
 from ..kinematics.attitude_history import _make_continuous
 from ..rotations.rotation import Rotation
@@ -188,10 +198,13 @@ class RigidGroup(Group):
         jo = case.inertia_about_origin
         g = -float(i["gravity"][2])
         torque = GravityTorque(i["mass"], i["com"], g) if i["fixed_point"] and g else None
+        extra = self.torque(case)
 
         def rhs(t: float, y: np.ndarray) -> np.ndarray:
             q, w = y[:4], y[4:]
             m = None if torque is None else torque.body_torque(t, q[None], w[None])[0]
+            if extra is not None:
+                m = extra(t, q, w) if m is None else m + extra(t, q, w)
             return np.concatenate([quat_rate(q, w), euler_rhs(jo, w, m)])
 
         def unpack(y: np.ndarray, method: str) -> Result:
@@ -214,10 +227,22 @@ class RigidGroup(Group):
                                   g=-float(i["gravity"][2]))  # fmt: skip
             tr = body.simulate(i["q0"], i["omega0"], case.t, **opts)
         else:
+            extra = self.torque(case)
+            if extra is not None:
+
+                def body_torque(t: float, rot: Any, w: Any) -> np.ndarray:
+                    return extra(t, np.asarray(rot.as_quat(), dtype=float), np.asarray(w))
+
+                opts["torque"] = body_torque
             tr = simulate(i["inertia"], i["q0"], i["omega0"], case.t, **opts)
         steps = tr.info.get("evaluations", tr.info.get("steps"))
         work = int(np.sum(steps)) if steps is not None else None
         return rigid_result(case, quat_unit(tr.quat), tr.omega, label), work
+
+    def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
+        """The external torque besides gravity, ``torque(t, q, w) -> (3,)`` in body axes
+        (N m) of one state (scalar-first ``q``, body ``w``), or None (free body, top)."""
+        return None
 
     def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         i = case.inputs
@@ -246,7 +271,9 @@ class FreeBody(RigidGroup):
 
     def model(self, case: Case) -> Any:
         i = case.inputs
-        return FreeRigidBody(i["inertia"], rotation0=i["q0"], omega0=i["omega0"])
+        with warnings.catch_warnings():  # the separatrix cases are near it on purpose
+            warnings.simplefilter("ignore", SingularityWarning)
+            return FreeRigidBody(i["inertia"], rotation0=i["q0"], omega0=i["omega0"])
 
     def facts(self, case: Case, model: Any) -> dict[str, Any]:
         facts = {"regime": str(model.regime), "period_s": float(model.period)}
@@ -287,12 +314,224 @@ class HeavyTop(RigidGroup):
             "nutation_period_s": float(model.nutation_period),
             "nutation_bounds_rad": [float(lo), float(hi)],
         }
+        i = case.inputs
+        jo = case.inertia_about_origin
+        mgl = float(i["mass"] * -i["gravity"][2] * i["com"][2])
+        crit = 2.0 * math.sqrt(jo[0, 0] * mgl) / jo[2, 2]  # C^2 w^2 = 4 A_O m g l
+        facts["critical_spin_rad_per_s"] = crit
+        facts["spin_over_critical"] = float(i["omega0"][2]) / crit
         if case.event is not None:
             case.event["level"] = 0.5 * (math.cos(lo) + math.cos(hi))
         return facts
 
     def conserved_momentum(self, k: np.ndarray) -> np.ndarray:
         return k[:, 2]  # only K_z is conserved under gravity
+
+
+def _stored(case: Case, name: str) -> dict[str, np.ndarray]:
+    """The exact states of ``case`` stored in ``poinsot/verify/data/NAME.npz`` (a
+    32-digit Taylor integration, ``tools/make_NAME_reference.py``), checked against
+    the case's grid and inputs."""
+    path = Path(__file__).parent / "data" / f"{name}.npz"
+    with np.load(path) as d:
+        data = {k: d[k] for k in d.files}
+    same = data["t"].shape == case.t.shape and np.array_equal(data["t"], case.t)
+    for k, v in case.inputs.items():
+        same = same and np.array_equal(data.get(f"input_{k}"), np.asarray(v, dtype=float))
+    if not same:
+        raise RuntimeError(
+            f"The stored reference {path} was computed for other inputs or another grid "
+            f"than the case {case.name!r}: regenerate it (tools/make_{name}_reference.py)."
+        )
+    q = _make_continuous(np.ascontiguousarray(data["quat"], dtype=float))
+    return {"t": case.t.copy(), "quat": q, "omega": np.ascontiguousarray(data["omega"])}
+
+
+class Kovalevskaya(RigidGroup):
+    """The Kovalevskaya top (``A = B = 2 C`` about the fixed point, the centre of mass
+    in the equatorial plane; docs/theory.md §10): no closed form in poinsot, the exact
+    states a stored 32-digit Taylor integration; the energy, ``K_z``, ``|gamma| = 1``
+    and Kovalevskaya's integral conserved (the first two scored)."""
+
+    name = "kovalevskaya"
+    euler_seq = "ZXZ"
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        return HeavyRigidBody(case.inertia_about_origin, i["mass"], i["com"],
+                              g=-float(i["gravity"][2]))  # fmt: skip
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        return _stored(case, "kovalevskaya")
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        i = case.inputs
+        q0, w0 = i["q0"], i["omega0"]
+        ints = self.integrals(case, {"quat": q0[None], "omega": w0[None]})
+        gamma = np.asarray(model.gamma(q0), dtype=float)
+        return {
+            "energy_J": float(ints["energy"][0]),
+            "area_integral_kg_m2_per_s": float(ints["momentum"][0, 2]),
+            "poisson_gamma_norm": float(np.linalg.norm(gamma)),
+            "kovalevskaya_K_rad4_per_s4": float(model.kovalevskaya_integral(q0, w0)),
+        }
+
+    def conserved_momentum(self, k: np.ndarray) -> np.ndarray:
+        return k[:, 2]  # the area integral K_z
+
+
+class BodyTorque(RigidGroup):
+    """A free axisymmetric body under a constant torque along its symmetry axis: the
+    exact states a stored 32-digit Taylor integration (the angular velocity also in
+    closed form, :meth:`omega`); the transverse kinetic energy conserved."""
+
+    name = "body-torque"
+    has_momentum = False
+    mujoco_skip = "constant body torque not modelled by this adapter"
+    units = {**RigidGroup.units, "body_torque": "N m"}
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        return _stored(case, "body_torque")
+
+    @staticmethod
+    def omega(case: Case, t: np.ndarray) -> np.ndarray:
+        """The closed form: ``w_3 = w_30 + M t / C``; ``w_1 + i w_2`` turns by
+        ``((C - A) / A) (w_30 t + M t^2 / (2 C))``."""
+        i = case.inputs
+        a, c = float(i["inertia"][0, 0]), float(i["inertia"][2, 2])
+        m = float(i["body_torque"][2])
+        w1, w2, w30 = (float(x) for x in i["omega0"])
+        phase = (c - a) / a * (w30 * t + 0.5 * m * t * t / c)
+        z = (w1 + 1j * w2) * np.exp(1j * phase)
+        return np.stack([z.real, z.imag, w30 + m * t / c], axis=-1)
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        i = case.inputs
+        a, c = float(i["inertia"][0, 0]), float(i["inertia"][2, 2])
+        m = float(i["body_torque"][2])
+        w0 = i["omega0"]
+        t1 = float(case.t[-1])
+        return {
+            "spin_rate_end_rad_per_s": float(w0[2] + m * t1 / c),
+            "transverse_rate_rad_per_s": float(math.hypot(w0[0], w0[1])),
+            "transverse_phase_end_rad": float((c - a) / a * (w0[2] * t1 + 0.5 * m * t1**2 / c)),
+        }
+
+    def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
+        m = np.asarray(case.inputs["body_torque"], dtype=float)
+        return lambda t, q, w: m
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        a = float(case.inputs["inertia"][0, 0])
+        w = states["omega"]
+        return {"energy": 0.5 * a * (w[:, 0] ** 2 + w[:, 1] ** 2)}
+
+
+class Gyrostat(RigidGroup):
+    """A free gyrostat with constant rotor momentum ``h`` (:class:`FreeGyrostat`,
+    docs/theory.md §10.1): ``J w' + w x (J w + h) = 0``; the energy ``w . J w / 2``
+    and ``K = R (J w + h)`` conserved."""
+
+    name = "gyrostat"
+    mujoco_skip = "a rotor of constant relative momentum is not modelled by this adapter"
+    units = {**RigidGroup.units, "rotor_momentum": "kg m^2/s"}
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        return FreeGyrostat(np.diag(i["inertia"]), i["rotor_momentum"], rotation0=i["q0"],
+                            omega0=i["omega0"])  # fmt: skip
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        if case.event is not None:  # w_2 crossing the middle of its range (257 samples)
+            w2 = np.asarray(model.omega(np.linspace(0.0, float(model.period), 257)))[:, 1]
+            case.event["level"] = 0.5 * float(w2.min() + w2.max())
+        return {"regime": str(model.regime), "period_s": float(model.period)}
+
+    def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
+        h = np.asarray(case.inputs["rotor_momentum"], dtype=float)
+        return lambda t, q, w: -np.cross(w, h)
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        out = super().integrals(case, states)
+        rmat = np.asarray(Rotation.from_quat(states["quat"]).as_matrix(), dtype=float)
+        out["momentum"] = out["momentum"] + rmat @ np.asarray(case.inputs["rotor_momentum"])
+        return out
+
+
+class GravityGradient(RigidGroup):
+    """Planar pitch libration in a circular orbit under the gravity-gradient torque
+    (:class:`PitchLibration`, docs/theory.md §10.2). The space frame is the orbit
+    frame at ``t = 0`` (``x`` along-track, ``y`` minus the orbit normal, ``z``
+    nadir), which turns at ``-n`` about ``y``; the attitude is ``R_y(theta - n t)``
+    and ``w = (0, theta' - n, 0)``. The torque is ``3 n^2 c x J c`` with ``c`` the
+    nadir in body axes; the Jacobi integral of the orbit frame is conserved."""
+
+    name = "gravity-gradient"
+    has_momentum = False
+    mujoco_skip = "the gravity-gradient torque of an orbit is not modelled by this adapter"
+    units = {**RigidGroup.units, "mean_motion": "rad/s"}
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        q0 = i["q0"]
+        theta0 = 2.0 * math.atan2(q0[2], q0[0])
+        return PitchLibration(np.diag(i["inertia"]), i["mean_motion"], theta0=theta0,
+                              rate0=float(i["omega0"][1]) + i["mean_motion"])  # fmt: skip
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        lib = case.model()
+        n = case.inputs["mean_motion"]
+        a = np.asarray(lib.theta(case.t)) - n * case.t
+        z = np.zeros_like(a)
+        q = _make_continuous(np.stack([np.cos(a / 2), z, np.sin(a / 2), z], axis=-1))
+        w = np.stack([z, np.asarray(lib.rate(case.t)) - n, z], axis=-1)
+        return {"t": case.t.copy(), "quat": q, "omega": w}
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        n = case.inputs["mean_motion"]
+        if case.event is not None:  # the pitch rate theta' crossing half its largest value
+            case.event["level"] = -n + 0.5 * model.modulus * model.omega0
+        return {"regime": model.regime, "libration_period_s": float(model.period),
+                "orbit_period_s": 2.0 * math.pi / case.inputs["mean_motion"],
+                "small_libration_rate_rad_per_s": float(model.omega0)}  # fmt: skip
+
+    def _nadir(self, case: Case, t: Any, rmat: np.ndarray) -> np.ndarray:
+        n = case.inputs["mean_motion"]
+        t = np.asarray(t, dtype=float)
+        nadir = np.stack([-np.sin(n * t), np.zeros_like(t), np.cos(n * t)], axis=-1)
+        return np.einsum("...ji,...j->...i", rmat, nadir)  # R^T nadir
+
+    def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
+        j = np.asarray(case.inputs["inertia"], dtype=float)
+        k = 3.0 * case.inputs["mean_motion"] ** 2
+
+        def gravity_gradient(t: float, q: np.ndarray, w: np.ndarray) -> np.ndarray:
+            c = self._nadir(case, t, _matrix(q))
+            return k * np.cross(c, j @ c)
+
+        return gravity_gradient
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The Jacobi integral of the orbit frame, ``w_r . J w_r / 2 - n^2 o . J o / 2
+        + 3 n^2 c . J c / 2`` (``w_r = w - n o``, ``o`` the orbit normal in body axes)."""
+        j = np.asarray(case.inputs["inertia"], dtype=float)
+        n = case.inputs["mean_motion"]
+        rmat = np.asarray(Rotation.from_quat(states["quat"]).as_matrix(), dtype=float)
+        o = -rmat[:, 1, :]  # R^T (0, -1, 0)
+        c = self._nadir(case, case.t, rmat)
+        wr = states["omega"] - n * o
+        quad = lambda u: np.einsum("ni,ij,nj->n", u, j, u)  # noqa: E731
+        return {"energy": 0.5 * quad(wr) - 0.5 * n * n * quad(o) + 1.5 * n * n * quad(c)}
+
+
+def _matrix(q: np.ndarray) -> np.ndarray:
+    """The rotation matrix of one scalar-first quaternion (normalised)."""
+    w, x, y, z = np.asarray(q, dtype=float) / math.sqrt(float(np.dot(q, q)))
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])  # fmt: skip
 
 
 class PointGroup(Group):
@@ -462,7 +701,11 @@ class Frame(PointGroup):
 
 
 #: group name -> its object (the order of :data:`poinsot.verify.GROUPS`)
-GROUP_TABLE: dict[str, Group] = {g.name: g for g in (FreeBody(), HeavyTop(), Orbit(), Frame())}
+GROUP_TABLE: dict[str, Group] = {
+    g.name: g
+    for g in (FreeBody(), HeavyTop(), Kovalevskaya(), BodyTorque(), Gyrostat(),
+              GravityGradient(), Orbit(), Frame())
+}  # fmt: skip
 
 
 def as_result(case: Any, states: Any, method: str = "") -> Result:

@@ -7,7 +7,11 @@ point: ``|r - r_exact|`` and ``|v - v_exact|`` relative to the largest exact
 magnitudes. The drift of each first integral is ``max |I(t) - I(0)|`` relative to
 ``|I(0)|`` (the energy ``T + V``, the angular momentum ``K`` in space axes for a free
 body, its vertical component ``K_z`` relative to ``|K|`` for a top; ``E`` and
-``L`` for an orbit; the Jacobi integral in the turning frame). Events are the
+``L`` for an orbit; the Jacobi integral in the turning frame; for the cases of
+version 2: the energy and ``K_z`` of the Kovalevskaya top, the energy and
+``K = R (J w + h)`` of the gyrostat, the transverse kinetic energy under a
+constant axial body torque, the orbit frame's Jacobi integral of the pitch
+libration). Events are the
 times a signal crosses a level (flips, nutation, apsides, swings), found by
 linear interpolation on the case's grid for both runs alike; their error is the
 largest time difference of matching crossings (a missing or extra crossing is an
@@ -34,7 +38,11 @@ METRICS: dict[str, tuple[str, str]] = {
     "omega": ("1", "largest |w - w_exact| / max |w_exact| (body axes)"),
     "position": ("1", "largest |r - r_exact| / max |r_exact|"),
     "velocity": ("1", "largest |v - v_exact| / max |v_exact|"),
-    "energy": ("1", "relative drift of the energy (Jacobi integral in a turning frame)"),
+    "energy": (
+        "1",
+        "relative drift of the energy (Jacobi integral in a turning frame; "
+        "transverse kinetic energy under an axial body torque)",
+    ),
     "momentum": ("1", "relative drift of the angular momentum (K_z for a top, relative to |K|)"),
     "events": ("s", "largest time error of the characteristic events"),
 }
