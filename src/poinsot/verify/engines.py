@@ -263,7 +263,8 @@ def _free_body_only(case: Case, engine: str) -> str | None:
                 "frame is not expressed by this adapter")  # fmt: skip
     if case.inputs["fixed_point"]:
         return _TOP_SKIP[engine]
-    return None
+    # a free body with a torque, a rotor or an orbit: what MuJoCo's adapter skips too
+    return case.spec.mujoco_skip
 
 
 _TOP_SKIP = {
