@@ -73,6 +73,8 @@ INFO_KEYS = {
     "rejected": "steps rejected by the error control (adaptive methods, int)",
     "status": "solve_ivp status (adaptive propagation, int)",
     "message": "solver message (adaptive methods)",
+    "impacts": "the impacts of a run, in order (poinsot.dynamics.ImpactResult; theory §11.3)",
+    "stopped": "why a run ended before its last output time (str; empty: it did not)",
     "events": "the events found (poinsot.dynamics.EventLog: times, states, stops; theory §11.1)",
     "torque_calls": "calls of a torque model evaluated in Python (int)",
     "max_newton_iterations": "most Newton iterations of one implicit step (int)",

@@ -668,7 +668,7 @@ def simulate_bounces(
         t=tt,
         rotation=rot,
         omega=omg,
-        method="exact flights, impacts by rigid_impact",
+        method="exact",
         energy=energy,
         momentum=np.einsum("nij,nj->ni", js, w_space),
         position=pos,

@@ -65,7 +65,7 @@
   }
 
   // ------------------------------------------------------------------ the 3-D scene
-  function Scene(root, S, q, qref) {
+  function Scene(root, S, q, qref, bp) {
     const legend = el("div", {class: "pv-legend", id: "poinsot-legend"}, root);
     const canvas = el("canvas", {id: "poinsot-scene", "aria-label": "3-D scene"}, root);
     el("p", {class: "pv-hint"}, root).textContent =
@@ -149,11 +149,18 @@
         if (!L.on) continue;
         const qq = L.frame === "ref" ? qref : q;
         const col = L.rgb;
+        // a body that also moves (a six-degree-of-freedom motion): its centre at bp
+        const ox = bp && L.frame !== "space" && L.frame !== "ref" ? bp[3 * f] : 0;
+        const oy = bp && L.frame !== "space" && L.frame !== "ref" ? bp[3 * f + 1] : 0;
+        const oz = bp && L.frame !== "space" && L.frame !== "ref" ? bp[3 * f + 2] : 0;
         if (L.type === "mesh") {
           const v = L.v, b = L.buf, m = v.length / 3, pts = new Array(m);
           for (let k = 0; k < m; k++) {
             if (L.frame === "space") { b[3 * k] = v[3 * k]; b[3 * k + 1] = v[3 * k + 1]; b[3 * k + 2] = v[3 * k + 2]; }
-            else qrot(qq, o, v[3 * k], v[3 * k + 1], v[3 * k + 2], b, 3 * k);
+            else {
+              qrot(qq, o, v[3 * k], v[3 * k + 1], v[3 * k + 2], b, 3 * k);
+              b[3 * k] += ox; b[3 * k + 1] += oy; b[3 * k + 2] += oz;
+            }
             pts[k] = P(b[3 * k], b[3 * k + 1], b[3 * k + 2]);
           }
           const F = L.f;
@@ -172,9 +179,13 @@
           }
         } else if (L.type === "seg" || L.type === "vec") {
           let a = L.a || [0, 0, 0], e;
-          if (L.type === "vec") e = [L.v[3 * f], L.v[3 * f + 1], L.v[3 * f + 2]];
+          if (L.type === "vec") {
+            e = [L.v[3 * f], L.v[3 * f + 1], L.v[3 * f + 2]];
+            if (bp) { a = [a[0] + ox, a[1] + oy, a[2] + oz]; e = [e[0] + ox, e[1] + oy, e[2] + oz]; }
+          }
           else { e = [0, 0, 0]; qrot(qq, o, L.b[0], L.b[1], L.b[2], e, 0); }
           if (L.type === "seg" && L.frame === "space") e = L.b;
+          else if (L.type === "seg" && bp) { a = [a[0] + ox, a[1] + oy, a[2] + oz]; e = [e[0] + ox, e[1] + oy, e[2] + oz]; }
           const n = 8;
           let p0 = P(a[0], a[1], a[2]);
           for (let k = 1; k <= n; k++) {
@@ -194,7 +205,7 @@
           let p0 = null;
           for (let k = 0; k < m; k++) {
             let x = v[3 * k], y = v[3 * k + 1], z = v[3 * k + 2];
-            if (body) { qrot(qq, o, x, y, z, tmp, 0); x = tmp[0]; y = tmp[1]; z = tmp[2]; }
+            if (body) { qrot(qq, o, x, y, z, tmp, 0); x = tmp[0] + ox; y = tmp[1] + oy; z = tmp[2] + oz; }
             const p1 = P(x, y, z);
             if (p0) prims.push({z: (p0[2] + p1[2]) / 2, t: 1, p: [p0, p1], c: L.colour, w: L.width || 2});
             p0 = p1;
@@ -520,11 +531,11 @@
   function start() {
     const P = JSON.parse(document.getElementById("poinsot-data").textContent);
     const g = document.getElementById("poinsot-figure");
-    const t = f32(P.t), q = f32(P.q), qref = f32(P.qref);
+    const t = f32(P.t), q = f32(P.q), qref = f32(P.qref), bp = P.bp ? f32(P.bp) : null;
     const n = t.length;
     const sceneCol = document.getElementById("poinsot-scene-col");
     const panelCol = document.getElementById("poinsot-panels");
-    const scene = P.scene ? Scene(sceneCol, P.scene, q, qref) : null;
+    const scene = P.scene ? Scene(sceneCol, P.scene, q, qref, bp) : null;
     if (!scene) { sceneCol.remove(); g.classList.add("pv-noscene"); }
     const charts = P.panels.map((p, k) => Chart(panelCol, p, P.t0, P.t1, k));
     const slider = document.getElementById("poinsot-slider");

@@ -1004,6 +1004,8 @@ def _build(
         "t": b64(t[frames_k]),
         "q": None if qf is None else b64(qf),
         "qref": b64(ref.quat[frames_k]) if has_ref else None,
+        # a rigid body that also moves (PoseTrajectory): the body is drawn at its centre
+        "bp": b64(pos[frames_k]) if rigid and pos is not None else None,
         "t0": float(t[0]) if n else 0.0,
         "t1": float(t[-1]) if n else 1.0,
         "scene": scene,

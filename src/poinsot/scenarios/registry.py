@@ -15,6 +15,7 @@ from ..errors import InvalidInputError
 from .kind import ScenarioKind
 from .kinds import (
     attitude,
+    bouncing,
     central_orbit,
     coning,
     free_body,
@@ -40,6 +41,7 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
             central_orbit.KIND,  # [orbit]
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]
+            bouncing.KIND,  # [floor] with a [body]: thrown onto a floor, impacts
             gyrostat.KIND,  # [rotor] or [wheels]: a body with a rotor or reaction wheels
             heavy_top.KIND,  # [torque] model = "gravity" (a body about a fixed point)
             torqued_body.KIND,  # [torque] with a model other than "none"
