@@ -29,6 +29,12 @@ from .central import (
     kepler,
     power_law,
 )
+from .charts import (
+    ChartTrajectory,
+    CoordinateChart,
+    simulate_charts,
+    spherical_pendulum_charts,
+)
 from .control import BDot, EigenaxisSlew, MRPFeedback, QuaternionPD, SlewProfile
 from .earth import (
     EARTH_ROTATION_RATE,
@@ -206,6 +212,10 @@ __all__ = [
     "Sphere",
     "Surface",
     "simulate_unilateral",
+    "ChartTrajectory",
+    "CoordinateChart",
+    "simulate_charts",
+    "spherical_pendulum_charts",
     "run_mekf",
     "attitude_error",
     "nees",
