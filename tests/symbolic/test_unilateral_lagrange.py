@@ -84,3 +84,26 @@ def test_bad_unilateral_constraints():
         ball.simulate_unilateral(-z, [-1.0], [0.0], [0, 1.0])
     with pytest.raises(InvalidInputError, match="restitution"):
         ball.simulate_unilateral(-z, [1.0], [0.0], [0, 1.0], restitution=-1)
+
+
+def test_bead_against_the_wall_of_a_spinning_hoop():
+    # a bead inside a circular channel of radius R spinning at Omega about its vertical
+    # diameter, pressed on the wall (r <= R) by the centrifugal force: on the wall it
+    # is the classic bead on a rotating hoop, theta'' = sin(theta) (Omega^2 cos(theta) -
+    # g / R), equilibrium cos(theta*) = g / (R Omega^2), the wall pushing with m R Omega^2
+    # there and small oscillations at Omega sin(theta*)
+    R, omega = 0.5, 7.0
+    r, th = sympy.Function("r")(T_), sympy.Function("theta")(T_)
+    kinetic = (r.diff() ** 2 + r**2 * th.diff() ** 2 + omega**2 * r**2 * sympy.sin(th) ** 2) / 2
+    bead = LagrangeSystem([r, th], kinetic, -G * r * sympy.cos(th))
+    eq = math.acos(G / (R * omega**2))
+    w_small = omega * math.sin(eq)
+    t = np.linspace(0, 4 * 2 * math.pi / w_small, 801)
+    amp = 1e-4
+    tr = bead.simulate_unilateral(r - R, [R, eq + amp], [0.0, 0.0], t)
+    assert len(tr.info["events"]) == 0 and np.all(tr.q[:, 0] == pytest.approx(R, abs=1e-12))
+    np.testing.assert_allclose(tr.q[:, 1] - eq, amp * np.cos(w_small * t), atol=6e-8)
+    np.testing.assert_allclose(tr.multipliers[:, 0], -R * omega**2, rtol=1e-3)
+    # too slow a spin near the top: the wall stops pushing and the bead falls off it
+    slow = bead.simulate_unilateral(r - R, [R, 2.6], [0.0, 0.0], np.linspace(0, 1, 101))
+    assert slow.info["events"].times("leave").size == 1
