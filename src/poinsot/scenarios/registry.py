@@ -18,6 +18,7 @@ from .kinds import (
     bouncing,
     central_orbit,
     coning,
+    estimation,
     free_body,
     gyrostat,
     heavy_top,
@@ -41,6 +42,7 @@ KINDS: Mapping[str, ScenarioKind] = MappingProxyType(
             central_orbit.KIND,  # [orbit]
             coning.KIND,  # [omega_profile] kind = "coning"
             attitude.KIND,  # any other [omega_profile]
+            estimation.KIND,  # [gyro] with a [body]: sensors and the MEKF on exact motion
             bouncing.KIND,  # [floor] with a [body]: thrown onto a floor, impacts
             gyrostat.KIND,  # [rotor] or [wheels]: a body with a rotor or reaction wheels
             heavy_top.KIND,  # [torque] model = "gravity" (a body about a fixed point)
