@@ -273,8 +273,9 @@ class EstimationKind(_rigid.RigidKind):
                  "<th>mean NIS (expected: dof)</th><th>fraction above the gate</th></tr>"
                  + "".join(rows) + f"</table><p>{verdict} (docs/theory.md §10.4)</p>")  # fmt: skip
         out = _rigid.rigid_report(result)
+        sections = (*out.sections, ("Innovations (NIS)", table))
         return dataclasses.replace(out, charts=tuple(charts) + tuple(out.charts),
-                                   sections=(*out.sections, ("Innovations (NIS)", table)))  # fmt: skip
+                                   sections=sections)  # fmt: skip
 
 
 KIND = EstimationKind()
