@@ -243,3 +243,13 @@ def test_docs_page_shows_what_its_block_prints_today():
     assert shown == render([generate(kind, seed=0) for kind in TYPES], "md")
     for kind in TYPES:
         assert f"`{kind}`" in page
+
+
+@pytest.mark.parametrize("kind", TYPES)
+def test_quiz_answers_are_not_a_guessable_zero(kind):
+    """The component a quiz asks for is non-zero whenever another component would
+    separate a mistake (an answer that is always 0 is a guess away from right)."""
+    for seed in SEEDS:
+        ex = generate(kind, seed)
+        if np.any(np.abs(ex.answer) > ex.tolerance):
+            assert abs(ex.answer[ex.quiz_index]) > ex.tolerance or not ex.mistakes, (kind, seed)

@@ -183,16 +183,20 @@ def generate(kind: str, seed: int = 0) -> Exercise:
         others = [answer, *kept.values()]
         if all(np.max(np.abs(wrong - o)) > 4 * tol for o in others):
             kept[name] = wrong
-    # the component that separates the most mistakes from the answer (and each other)
-    best, index = -1, 0
-    for k in range(answer.size):
+    # the component that separates the most mistakes from the answer (and each other);
+    # a component whose answer is 0 is a guess away from right: taken only when no other
+    # separates any mistake
+    def separated(k: int) -> int:
         vals = [answer[k]] + [w[k] for w in kept.values()]
-        n = sum(
+        return sum(
             all(abs(v - u) > 4 * tol for j, u in enumerate(vals) if j != i)
             for i, v in enumerate(vals)
         )
-        if n > best:
-            best, index = n, k
+
+    score = [separated(k) for k in range(answer.size)]
+    nonzero = [k for k in range(answer.size) if abs(answer[k]) > tol]
+    pool = nonzero if nonzero and max(score[k] for k in nonzero) > 0 else range(answer.size)
+    index = max(pool, key=lambda k: (score[k], -k))
     return Exercise(
         type=kind,
         seed=seed,
