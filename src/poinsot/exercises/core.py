@@ -183,6 +183,7 @@ def generate(kind: str, seed: int = 0) -> Exercise:
         others = [answer, *kept.values()]
         if all(np.max(np.abs(wrong - o)) > 4 * tol for o in others):
             kept[name] = wrong
+
     # the component that separates the most mistakes from the answer (and each other);
     # a component whose answer is 0 is a guess away from right: taken only when no other
     # separates any mistake
