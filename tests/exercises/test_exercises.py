@@ -253,3 +253,19 @@ def test_quiz_answers_are_not_a_guessable_zero(kind):
         ex = generate(kind, seed)
         if np.any(np.abs(ex.answer) > ex.tolerance):
             assert abs(ex.answer[ex.quiz_index]) > ex.tolerance or not ex.mistakes, (kind, seed)
+
+
+@pytest.mark.parametrize("kind", TYPES)
+def test_html_answers_are_mathml(kind):
+    """The HTML page writes each answer as presentation MathML (browsers render it
+    offline): well-formed XML whose <mn> values are the answer."""
+    import re
+
+    ex = generate(kind, 3)
+    page = render(ex, "html")
+    (math,) = re.findall(r"<math.*?</math>", page)
+    root = ET.fromstring(
+        math.replace('display="inline"', 'xmlns="http://www.w3.org/1998/Math/MathML"')
+    )
+    numbers = [float(n.text) for n in root.iter("{http://www.w3.org/1998/Math/MathML}mn")]
+    np.testing.assert_allclose(numbers, ex.answer, rtol=1e-5, atol=1e-6)

@@ -32,6 +32,23 @@ def _math(ex: Exercise) -> str:
     return ",\\ ".join(f"{k} = {num(v)}" for k, v in zip(names, ex.answer, strict=True))
 
 
+_GREEK = {"psi": "\u03c8", "theta": "\u03b8", "phi": "\u03c6", "omega": "\u03c9",
+          "Omega": "\u03a9"}  # fmt: skip
+
+
+def _mathml(ex: Exercise) -> str:
+    """The answer as presentation MathML (rendered by browsers offline, no script):
+    ``<math><mi>x</mi><mo>=</mo><mn>-2.12132</mn>...</math>``."""
+    e = html.escape
+    parts = []
+    for k, v in zip(ex.labels, ex.answer, strict=True):
+        name = _GREEK.get(k, k)
+        base, _, sub = name.partition("_")
+        mi = f"<msub><mi>{e(base)}</mi><mi>{e(sub)}</mi></msub>" if sub else f"<mi>{e(base)}</mi>"
+        parts.append(f"{mi}<mo>=</mo><mn>{e(num(v))}</mn>")
+    return '<math display="inline">' + '<mo>,</mo><mspace width="0.5em"/>'.join(parts) + "</math>"
+
+
 def _md(exs: list[Exercise]) -> str:
     out = []
     for n, ex in enumerate(exs, 1):
@@ -57,7 +74,7 @@ def _html(exs: list[Exercise]) -> str:
         body.append(
             f"<section><h2>Exercise {n}: {e(ex.type)} (seed {ex.seed})</h2>"
             f"<p>{e(ex.statement)}</p><h3>Solution</h3><ol>{steps}</ol>"
-            f"<p><b>Answer:</b> {e(_answer(ex))}</p>"
+            f"<p><b>Answer:</b> {_mathml(ex)} ({e(ex.units)})</p>"
             + (f"<h3>Typical mistakes</h3><ul>{wrong}</ul>" if wrong else "")
             + "</section>"
         )
