@@ -152,8 +152,9 @@ def _findings(card: EngineCard, sweeps: list[Sweep], scored: list[str],
             order_text = f" Observed {what}: {min(orders):.1f} to {max(orders):.1f}."
         if not fails:
             worst = min((d["first"] for d in mine.values()), default=None)
-            out.append(f"- **{s.integrator}** passes all {len(mine)} cases, every one from "
-                       f"{fmt_setting(s.setting, worst)} on.{order_text}")  # fmt: skip
+            out.append(f"- **{s.integrator}** passes all {len(mine)} cases, each from the "
+                       f"setting of the table on, all of them from "
+                       f"{fmt_setting(s.setting, worst)}.{order_text}")  # fmt: skip
             continue
         out.append(f"- **{s.integrator}** fails {len(fails)} of {len(mine)} cases at the "
                    f"finest setting swept.{order_text}")  # fmt: skip
@@ -163,6 +164,9 @@ def _findings(card: EngineCard, sweeps: list[Sweep], scored: list[str],
             key, err, thr = _err(dr)
             where = fmt_setting(s.setting, dr["value"])
             text = f"{s.integrator} at {where}: {_e(err)}{_unit(key)} on {case} - {d['text']}"
+            fixed = _fixed_pass(card, s, case)
+            if fixed:
+                text += f"; the same integrator at a fixed step passes from {fixed}"
             if d["energy_growth"]:
                 text += (
                     "; energy growth (the energy grows past its threshold where the "
@@ -172,6 +176,20 @@ def _findings(card: EngineCard, sweeps: list[Sweep], scored: list[str],
             text += f" (failing at {fmt_setting(s.setting, rows[-1]['value'])}: {', '.join(bad)})"
             out.append(f"  - {text}")
     return out or ["Nothing was scored."]
+
+
+def _fixed_pass(card: EngineCard, sweep: Sweep, case: str) -> str:
+    """The first passing fixed step of the same integrator on ``case`` ("" if none)."""
+    if sweep.setting in STEP_SETTINGS:
+        return ""
+    for s in card.sweeps:
+        if s.setting in STEP_SETTINGS and dict(s.options) == dict(sweep.options):
+            rows = card.series(s, case)
+            if rows:
+                d = diagnose(s.setting, rows)
+                if d["first"] is not None:
+                    return fmt_setting(s.setting, d["first"])
+    return ""
 
 
 def index_page(sc: Scorecard) -> str:

@@ -52,8 +52,9 @@ ENGINES = ("poinsot", "scipy", "mujoco", "pybullet", "drake")
 #: settings that are a step (s): the error against them is an order of convergence
 STEP_SETTINGS = ("timestep", "step")
 
-#: an error at or under this is round-off: left out of the fitted order
-ROUNDOFF = 1e-12
+#: an error at or under this (1e-4 of the thresholds) is near round-off, left out of
+#: the fitted order
+ROUNDOFF = 1e-10
 #: an error at or over this is saturated (an attitude error is at most pi rad)
 SATURATED = 0.1
 
@@ -140,6 +141,14 @@ SWEEPS: dict[str, tuple[Sweep, ...]] = {
             _TOLS + (1e-13,),
             1e-13,
         ),  # fmt: skip
+        Sweep(
+            "drake",
+            "runge_kutta5 fixed",
+            {"integrator": "runge_kutta5"},
+            "step",
+            _steps(1e-2, 3e-3, 1e-3),
+            1e-3,
+        ),  # fmt: skip
         Sweep("drake", "radau3", {"integrator": "radau3"}, "accuracy", _TOLS[:3], 1e-13),
         Sweep(
             "drake", "implicit_euler", {"integrator": "implicit_euler"}, "step", _DECADES, 1e-3
@@ -176,6 +185,10 @@ CHART_CASES = ("racket-flip", "top-loops", "kepler-e0.95", "free-minor-axis")
 
 #: the largest number of fixed steps one run of the scorecard takes (more: skipped)
 MAX_STEPS = 400_000
+#: the longest predicted wall time (s) of one run (more: skipped, the finer ones too)
+RUN_SECONDS = 40.0
+#: the growth of a run's time per step of a tolerance sweep, for the prediction
+TOL_GROWTH = 2.0
 
 
 def engine_version(engine: str) -> str | None:
@@ -212,21 +225,41 @@ def drift_period(case: Any) -> tuple[float, str]:
     return 1.0, "s"
 
 
-def _run_value(sweep: Sweep, value: float, names: list[str]) -> list[dict[str, Any]]:
-    """The rows of one setting of a sweep over the named cases (in a worker process)."""
+def _run_case(sweep: Sweep, name: str) -> list[dict[str, Any]]:
+    """The rows of one sweep on one case, coarsest setting first (in a worker process).
+
+    A setting whose run would take more than :data:`MAX_STEPS` fixed steps, or more
+    than :data:`RUN_SECONDS` predicted from the previous setting's wall time (the work
+    of a fixed step grows as 1 / step; a tolerance's by :data:`TOL_GROWTH` per step of
+    the sweep), is a ``"skip"`` row with the reason.
+    """
     rows: list[dict[str, Any]] = []
-    eng = make(sweep.engine, **{**sweep.options, sweep.setting: value})
-    for case in cases(names):
+    case = cases(name)[0]
+    duration = float(case.t[-1] - case.t[0])
+    last: tuple[float, float] | None = None  # (value, seconds) of the previous run
+    for value in sweep.values:
         row: dict[str, Any] = {"integrator": sweep.integrator, "setting": sweep.setting,
                                "value": value, "case": case.name}  # fmt: skip
-        if sweep.setting in STEP_SETTINGS:
+        fixed = sweep.setting in STEP_SETTINGS
+        if fixed:
             row["step"] = _effective_step(sweep.engine, value, float(case.t[1] - case.t[0]))
-        duration = float(case.t[-1] - case.t[0])
-        if sweep.setting in STEP_SETTINGS and duration / value > MAX_STEPS:
+        eng = make(sweep.engine, **{**sweep.options, sweep.setting: value})
+        why = eng.skip_reason(case) or ""
+        if not why and fixed and duration / value > MAX_STEPS:
             why = (f"{duration / value:.3g} steps over the case's {duration:g} s: more "
                    f"than the scorecard's {MAX_STEPS}")  # fmt: skip
-            rows.append({**row, "status": "skip", "reason": why})
-            continue
+        elif not why and last is not None:
+            grow = last[0] / value if fixed else TOL_GROWTH
+            predicted = last[1] * grow
+            if predicted > RUN_SECONDS:
+                why = (f"predicted {predicted:.0f} s from {last[1]:.1f} s at "
+                       f"{fmt_setting(sweep.setting, last[0])}: over the scorecard's "
+                       f"{RUN_SECONDS:g} s per run")  # fmt: skip
+        if why:  # this setting and every finer one: over the budget
+            k = sweep.values.index(value)
+            row.pop("step", None)
+            rows += [{**row, "value": v, "status": "skip", "reason": why} for v in sweep.values[k:]]
+            break
         t0 = time.perf_counter()
         res = run(eng, case)
         if res.status in ("skip", "missing"):
@@ -241,6 +274,8 @@ def _run_value(sweep: Sweep, value: float, names: list[str]) -> list[dict[str, A
             change = float((e[-1] - e[0]) / e0)
         metrics = {k: {"value": _num(m["value"]), "threshold": m["threshold"],
                        "passed": m["passed"]} for k, m in res.metrics.items()}  # fmt: skip
+        seconds = res.seconds or time.perf_counter() - t0
+        last = (value, seconds)
         rows.append({
             **row, "status": res.status, "reason": res.reason, "metrics": metrics,
             "energy_change": _num(change),
@@ -248,7 +283,7 @@ def _run_value(sweep: Sweep, value: float, names: list[str]) -> list[dict[str, A
             "energy_per": _num(res.metrics["energy"]["value"] / revs),
             "momentum_per": _num(res.metrics["momentum"]["value"] / revs)
             if "momentum" in res.metrics else None,
-            "work": res.work, "seconds": round(res.seconds or time.perf_counter() - t0, 4),
+            "work": res.work, "seconds": round(seconds, 4),
         })  # fmt: skip
     return rows
 
@@ -435,7 +470,7 @@ def scorecard(engines_settings: Sequence[str] | Mapping[str, Sequence[Sweep]] | 
                 raise InvalidInputError(f"Expected engines among {', '.join(ENGINES)}, got {e!r}.")
             plan[e] = list(table[e])
     cards: list[EngineCard] = []
-    tasks: list[tuple[EngineCard, Sweep, float]] = []
+    tasks: list[tuple[EngineCard, Sweep, str]] = []
     for engine, sweeps in plan.items():
         version = engine_version(engine)
         reason = "" if version else (
@@ -443,7 +478,7 @@ def scorecard(engines_settings: Sequence[str] | Mapping[str, Sequence[Sweep]] | 
         card = EngineCard(engine, version, reason, list(sweeps))
         cards.append(card)
         if version:
-            tasks += [(card, s, v) for s in sweeps for v in s.values]
+            tasks += [(card, s, n) for s in sweeps for n in names]
     jobs = min(2, os.cpu_count() or 1) if jobs is None else max(1, int(jobs))
     t0 = time.perf_counter()
     results: dict[int, list[dict[str, Any]]] = {}
@@ -451,25 +486,27 @@ def scorecard(engines_settings: Sequence[str] | Mapping[str, Sequence[Sweep]] | 
     def done(k: int, rows: list[dict[str, Any]]) -> None:
         results[k] = rows
         if progress is not None:
-            card, s, v = tasks[k]
-            progress(f"{card.engine} {s.integrator} {fmt_setting(s.setting, v)}: "
-                     f"{sum(r['status'] == 'pass' for r in rows)}/{len(rows)} pass "
-                     f"({time.perf_counter() - t0:.0f} s)")  # fmt: skip
+            card, s, n = tasks[k]
+            got = ", ".join(f"{fmt_setting(r['setting'], r['value'])} {r['status']}"
+                            for r in rows)  # fmt: skip
+            progress(f"{card.engine} {s.integrator} {n}: {got} ({time.perf_counter() - t0:.0f} s)")
 
     if jobs == 1 or len(tasks) < 2:
-        for k, (_, s, v) in enumerate(tasks):
-            done(k, _run_value(s, v, names))
+        for k, (_, s, n) in enumerate(tasks):
+            done(k, _run_case(s, n))
     else:
-        # the finest settings (the longest runs) first, so that the workers end together
-        order = sorted(range(len(tasks)), key=lambda k: -tasks[k][1].values.index(tasks[k][2]))
         with ProcessPoolExecutor(max_workers=jobs) as pool:
-            futures = {pool.submit(_run_value, tasks[k][1], tasks[k][2], names): k
-                       for k in order}  # fmt: skip
+            futures = {pool.submit(_run_case, s, n): k for k, (_, s, n) in enumerate(tasks)}
             for fut in as_completed(futures):
                 done(futures[fut], fut.result())
-    for k, (card, _, _) in enumerate(tasks):
-        card.rows += results[k]
-        card.seconds += sum(r.get("seconds", 0.0) for r in results[k])
+    for card in cards:  # the rows of each sweep by setting, then case
+        mine = [k for k in range(len(tasks)) if tasks[k][0] is card]
+        for s in card.sweeps:
+            for v in s.values:
+                for k in mine:
+                    if tasks[k][1] is s:
+                        card.rows += [r for r in results[k] if r["value"] == v]
+        card.seconds = sum(r.get("seconds", 0.0) for r in card.rows)
     return Scorecard(cards)
 
 
@@ -533,7 +570,7 @@ def _value(x: Any) -> float:
 def fmt_setting(setting: str, value: float) -> str:
     """``1 ms``, ``0.1 ms``, ``10 ms`` for a step; ``rtol=1e-08`` for a tolerance."""
     if setting in STEP_SETTINGS:
-        return f"{value * 1e3:.2g} ms"
+        return f"{value * 1e3:.2g} ms" if value >= 1e-5 else f"{value:.1e} s"
     return f"{setting}={value:.0e}"
 
 
@@ -546,8 +583,10 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
         ``first`` (the first passing setting, :func:`first_passing`), ``order``
         (:func:`observed_order` of the attitude or position error against the step
         taken, ``row["step"]``, or the setting), ``kind``: one of
-        ``"pass"``, ``"first-order"``, ``"order N"``, ``"tolerance"``,
-        ``"no convergence"``, ``"saturated"``, ``"other metric"``, and ``text``: the
+        ``"pass"``, ``"first-order"``, ``"order N"``, ``"tolerance"``, ``"unstable"``
+        (the attitude stays wrong while the energy drift converges), ``"error
+        control"`` (a tolerance sweep whose error does not fall while the energy is
+        kept), ``"no convergence"``, ``"saturated"``, ``"other metric"``, and ``text``: the
         plain sentence (e.g. ``"a first-order method"``), ``energy_growth`` (True
         when the energy grows past its threshold at a setting where the attitude is
         within 10x its threshold).
@@ -591,35 +630,40 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     usable = [e for e in errs if math.isfinite(e) and ROUNDOFF < e < SATURATED]
     finite = [e for e in errs if math.isfinite(e)]
     falls = len(finite) >= 2 and finite[-1] < 0.5 * finite[0]
-    if order is None and not falls:
-        if all(math.isfinite(e) and e >= SATURATED for e in errs) and len(errs) >= 2:
-            out.update(kind="no convergence", text=(
-                f"does not converge: the error stays over {SATURATED:g} at every setting "
-                "(wrong physics?)"))  # fmt: skip
+    # the order of the energy drift: a drift that converges while the attitude does not
+    # is a motion that is right to that order but unstable at these steps (a flip lost)
+    drifts = {float(r.get("step", r["value"])): _value(r["metrics"]["energy"]["value"])
+              for r in rows if "energy" in r["metrics"]}  # fmt: skip
+    e_order = observed_order(list(drifts), list(drifts.values())) if len(drifts) > 1 else None
+    e_last = _value(last["metrics"]["energy"]["value"]) if "energy" in last["metrics"] else None
+    stuck = order is None and not falls or (order is not None and order < 0.3 and len(usable) > 1)
+    if stuck:
+        head = (f"the {key} error stays over {SATURATED:g} at every setting"
+                if all(math.isfinite(e) and e >= SATURATED for e in errs)
+                else f"the {key} error does not fall with the setting")  # fmt: skip
+        if setting in STEP_SETTINGS and e_order is not None and e_order > 0.6:
+            out.update(kind="unstable", text=(
+                f"{head} while the energy drift falls as step^{e_order:.1f}: the motion is "
+                "unstable and the steps swept are too coarse for it (flips gained or lost), "
+                "not wrong physics"))  # fmt: skip
+        elif setting not in STEP_SETTINGS and e_last is not None and e_last < 1e-10:
+            out.update(kind="error control", text=(
+                f"{head} while the energy is kept to {e_last:.1e}: the error control, not "
+                "the physics"))  # fmt: skip
         else:
-            out.update(
-                kind="no convergence",
-                text=(
-                    "does not converge: the error does not fall with the setting (wrong physics?)"
-                ),
-            )
+            out.update(kind="no convergence", text=f"does not converge: {head} (wrong physics?)")
         return out
     if order is None:
         out.update(kind="saturated", text=(
             f"the error falls but stays over {SATURATED:g} until the finest setting "
             "(too coarse to measure an order)"))  # fmt: skip
         return out
-    if order < 0.3 and len(usable) >= 2:
-        out.update(kind="no convergence", text=(
-            f"does not converge: the error does not fall with the setting (slope "
-            f"{order:.2f}; wrong physics?)"))  # fmt: skip
-        return out
     if setting in STEP_SETTINGS:
         p = order
         if 0.6 <= p < 1.5:
             kind, text = "first-order", f"a first-order method (error ~ step^{p:.1f})"
         else:
-            kind, text = f"order {round(p)}", f"an order-{round(p)} method (error ~ step^{p:.1f})"
+            kind, text = f"order {round(p)}", f"converges at order {p:.1f} here"
         need = (
             float(last.get("step", last["value"])) * (thr / err) ** (1.0 / p) if p > 0 else math.nan
         )
