@@ -604,7 +604,7 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     ...     "energy": {"value": 0.0, "threshold": 1e-8, "passed": True}}}
     ...     for h in (1e-2, 1e-3, 1e-4)]
     >>> diagnose("timestep", rows)["text"]
-    'a first-order method (error ~ step^1.0)'
+    'a first-order method (error ~ step^1.0); would pass near 1.0e-07 s'
     """
     values = [r["value"] for r in rows]
     passed = [r["status"] == "pass" for r in rows]
