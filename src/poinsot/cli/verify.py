@@ -23,6 +23,8 @@ EPILOG = """examples:
   poinsot verify pybullet --step 0.0001 --cases free-body
   poinsot verify export cases/          (then, after your engine wrote cases/*.csv)
   poinsot verify file cases/ --quat-order xyzw
+  poinsot verify scorecard --engines mujoco,drake --quick --out scorecard/
+  poinsot verify scorecard --from-json docs/verify/scorecard/scorecard.json --out DIR
 
 Verdict: PASS when at least one case was scored and every scored case is within its
 thresholds; a missing case (no file) fails unless --allow-missing; a skipped case
@@ -36,15 +38,16 @@ cases). Cases, metrics, thresholds and conventions: docs/verify.md.
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("engine", choices=("scipy", "poinsot", "mujoco", "pybullet", "drake", "file",
-                   "export"), metavar="ENGINE",
-                   help="scipy, poinsot, mujoco, pybullet, drake, file or export")  # fmt: skip
+                   "export", "scorecard"), metavar="ENGINE",
+                   help="scipy, poinsot, mujoco, pybullet, drake, file, export, or scorecard "
+                   "(every installed engine's integrators over a sweep)")  # fmt: skip
     p.add_argument("path", nargs="?", metavar="DIR",
                    help="the directory of the files (file) or to write (export)")  # fmt: skip
     p.add_argument("--cases", metavar="NAMES", help="case names or groups, comma separated "
                    "(free-body, heavy-top, kovalevskaya, body-torque, gyrostat, gravity-gradient, "
                    "orbit, frame); default all")  # fmt: skip
     p.add_argument("--method", help="solve_ivp method (scipy), integrator (poinsot), "
-                   "Euler, RK4, implicitfast (mujoco), reduced or maximal coordinates "
+                   "Euler, RK4, implicit, implicitfast (mujoco), reduced or maximal coordinates "
                    "(pybullet), or a Drake integrator, e.g. runge_kutta3 (drake)")  # fmt: skip
     p.add_argument("--step", type=float, metavar="SECONDS",
                    help="step (poinsot's fixed-step methods), timestep (mujoco, pybullet) or "
@@ -72,10 +75,70 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="file: a case without a file does not fail the verdict (it is listed "
                    "as missing; a run that scores no case still fails)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
+    p.add_argument("--engines", metavar="NAMES",
+                   help="scorecard: engines, comma separated (poinsot, scipy, mujoco, "
+                   "pybullet, drake); default all")  # fmt: skip
+    p.add_argument(
+        "--quick",
+        action="store_true",
+        help="scorecard: two settings per integrator instead of the full sweep",
+    )
+    p.add_argument(
+        "--jobs", type=int, metavar="N", help="scorecard: worker processes (default up to 2)"
+    )
+    p.add_argument(
+        "--from-json",
+        metavar="FILE",
+        help="scorecard: write the pages of a stored scorecard.json (no engine runs)",
+    )
     p.set_defaults(func=_cmd_verify)
 
 
+def _cmd_scorecard(args: argparse.Namespace) -> int:
+    from ..verify.scorecard import ENGINES, Scorecard, scorecard
+
+    if args.from_json:
+        if not args.out:
+            raise _Usage("verify scorecard --from-json FILE needs --out DIR for the pages")
+        try:
+            card = Scorecard.from_json(args.from_json)
+        except (OSError, ValueError, KeyError) as exc:
+            raise _Usage(f"--from-json: cannot read {args.from_json}: {exc}") from None
+        files = card.write_pages(args.out)
+        if not args.quiet:
+            print(f"wrote {len(files)} files to {args.out} from {args.from_json}")
+        return 0
+    names = None
+    if args.engines:
+        names = [e.strip() for e in args.engines.split(",") if e.strip()]
+        bad = [e for e in names if e not in ENGINES]
+        if bad:
+            raise _Usage(f"--engines: expected among {', '.join(ENGINES)}, got {', '.join(bad)}")
+
+    def each(line: str) -> None:
+        if not args.quiet:
+            print(f"  {line}", file=sys.stderr, flush=True)
+
+    result = scorecard(names, args.cases, quick=args.quick, jobs=args.jobs, progress=each)
+    for c in result.cards:
+        if c.reason:
+            print(f"{c.engine}: not run: {c.reason}")
+        else:
+            n = sum(r["status"] == "pass" for r in c.rows)
+            m = sum("metrics" in r for r in c.rows)
+            print(f"{c.engine} {c.version}: {n} of {m} runs pass ({c.seconds:.0f} s)")
+    if args.out:
+        files = result.write(args.out)
+        if not args.quiet:
+            print(f"wrote {args.out}/scorecard.json and {len(files) - 1} pages and charts")
+    return 0
+
+
 def _cmd_verify(args: argparse.Namespace) -> int:
+    if args.engine == "scorecard":
+        return _cmd_scorecard(args)
+    if args.from_json or args.engines or args.quick:
+        raise _Usage("--from-json, --engines and --quick go with: poinsot verify scorecard")
     if args.engine == "export":
         if not args.path:
             raise _Usage("verify export needs the directory to write: poinsot verify export DIR")

@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import InvalidInputError, PoinsotError
 
-INTEGRATORS = ("Euler", "RK4", "implicitfast")
+INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 
 
 def _mujoco() -> Any:
@@ -118,7 +118,7 @@ def run_mujoco(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gra
     t : array_like (n,)
         Times from 0 (s), increasing; any spacing (see the module docstring: a time
         between steps is reached by one shorter step from the last whole step).
-    integrator : {"Euler", "RK4", "implicitfast"}
+    integrator : {"Euler", "RK4", "implicit", "implicitfast"}
     timestep : float
         MuJoCo's step (s).
 

@@ -51,6 +51,7 @@ from ..trajectory import Result
 from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
 from ._drake import INTEGRATORS as DRAKE_INTEGRATORS
 from ._drake import run_drake
+from ._mujoco import INTEGRATORS as MUJOCO_INTEGRATORS
 from ._mujoco import run_mujoco, sampling
 from ._pybullet import COORDINATES, run_pybullet
 from .cases import Case, cases
@@ -202,8 +203,11 @@ class MuJoCoEngine:
 
     Parameters
     ----------
-    integrator : {"Euler", "RK4", "implicitfast"}, optional
-        MuJoCo's integrator (default ``"RK4"``).
+    integrator : {"Euler", "RK4", "implicit", "implicitfast"}, optional
+        MuJoCo's integrator (default ``"RK4"``): ``mjINT_EULER`` (semi-implicit
+        Euler), ``mjINT_RK4``, ``mjINT_IMPLICIT`` and ``mjINT_IMPLICITFAST`` (implicit
+        in the velocity; ``implicit`` keeps the Coriolis and gyroscopic derivatives
+        that ``implicitfast`` drops).
     timestep : float, optional
         MuJoCo's step (s), default 1e-3. A time of the case's grid between two steps
         (e.g. the tops' 0.005 s grid at MuJoCo's default 0.002 s) is read by one
@@ -222,9 +226,10 @@ class MuJoCoEngine:
     name = "mujoco"
 
     def __init__(self, integrator: str = "RK4", timestep: float = 1e-3):
-        if integrator not in ("Euler", "RK4", "implicitfast"):
+        if integrator not in MUJOCO_INTEGRATORS:
             raise InvalidInputError(
-                f"Expected `integrator` to be 'Euler', 'RK4' or 'implicitfast', got {integrator!r}."
+                "Expected `integrator` to be 'Euler', 'RK4', 'implicit' or 'implicitfast', "
+                f"got {integrator!r}."
             )
         self.integrator = integrator
         self.timestep = _positive(timestep, "timestep")
