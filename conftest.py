@@ -12,3 +12,17 @@ import os  # noqa: E402
 # started; tests/test_cold_start.py turns interpreting on where it tests it.
 os.environ.setdefault("POINSOT_INTERPRET_FIRST", "0")
 os.environ.setdefault("POINSOT_BACKGROUND_BUILD", "0")
+
+import sys  # noqa: E402
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _close_pyplot_figures():
+    """Close the pyplot figures a test or doctest opened: a worker that runs many
+    plotting doctests otherwise passes matplotlib's 20-figure warning (an error here)."""
+    yield
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        plt.close("all")

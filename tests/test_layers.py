@@ -298,11 +298,11 @@ INNER = {
         ("output",),
     ],
     "poinsot.verify": [
-        ("_mujoco", "groups"),
+        ("_mujoco", "groups", "_pybullet", "_drake"),
         ("cases",),
         ("metrics", "files"),
         ("engines",),
-        ("suite",),
+        ("suite", "scorecard"),
     ],
 }
 

@@ -39,6 +39,11 @@ def need(engine: str) -> None:
         )
 
 
+#: the free bodies of cases version 1 (version 2 adds the near-separatrix pair, which
+#: Drake's error control does not pass: see test_drake_error_control_misses_the_separatrix)
+FREE4 = "free-minor-axis,free-major-axis,racket-flip,free-symmetric"
+
+
 def attitude_error(q: np.ndarray, exact: np.ndarray) -> float:
     return float(np.max((Rotation.from_quat(exact).inv() * Rotation.from_quat(q)).magnitude()))
 
@@ -60,7 +65,7 @@ def steady_spin(rate: float, t: np.ndarray):
 
 def test_pybullet_converges_at_first_order_to_the_exact_free_bodies():
     need("pybullet")
-    for case in cases("free-body"):
+    for case in cases(FREE4):
         coarse = run(make("pybullet", timestep=1e-3), case)
         fine = run(make("pybullet", timestep=1e-4), case)
         assert coarse.status == fine.status == "fail", case.name  # first order: 1e-6 is out
@@ -119,11 +124,20 @@ def test_pybullet_times_between_steps_leave_the_run_unchanged():
 
 def test_drake_rk5_passes_the_free_bodies():
     need("drake")
-    for case in cases("free-body"):
+    for case in cases(FREE4):
         res = run(make("drake"), case)
         assert res.status == "pass", (case.name, res.reason)
         assert res.metrics["attitude"]["value"] < 2e-7  # observed <= 3.1e-8 rad
         assert res.work and res.work > 0
+
+
+def test_drake_error_control_misses_the_separatrix():
+    """A finding of the scorecard (docs/verify.md): near the separatrix (1 - k^2 = 1e-6)
+    runge_kutta5 under error control at accuracy 1e-13 ends ~7e-5 rad off (observed
+    6.97e-05), while its energy holds; the same scheme at a fixed 1 ms step passes."""
+    need("drake")
+    res = run(make("drake"), cases("separatrix-minor")[0])
+    assert res.status == "fail" and 1e-5 < res.metrics["attitude"]["value"] < 1e-3
 
 
 def test_drake_fixed_step_rk2_fails_the_racket_flip():
@@ -183,7 +197,7 @@ def test_skips_are_explained(monkeypatch):
 def test_cli_verdicts(capsys):
     need("pybullet")
     need("drake")
-    assert main(["verify", "drake", "--cases", "free-body", "--quiet"]) == 0
+    assert main(["verify", "drake", "--cases", FREE4, "--quiet"]) == 0
     assert "4 passed" in capsys.readouterr().out
     assert main(["verify", "drake", "--method", "runge_kutta2", "--step", "0.001", "--cases",
                  "racket-flip", "--quiet"]) == 1  # fmt: skip

@@ -8,6 +8,7 @@ import sys
 from typing import Any
 
 from ..verify import cases, export, make
+from ..verify.scorecard import ENGINES, Scorecard, scorecard
 from ..verify.suite import SWEEPS, check, sweep, write
 from ._common import _Usage
 
@@ -95,8 +96,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _cmd_scorecard(args: argparse.Namespace) -> int:
-    from ..verify.scorecard import ENGINES, Scorecard, scorecard
-
     if args.from_json:
         if not args.out:
             raise _Usage("verify scorecard --from-json FILE needs --out DIR for the pages")

@@ -121,6 +121,18 @@ def simulate_charts(
     ChartTrajectory
         ``position``, ``velocity`` (space axes), ``chart`` and ``coordinates`` per
         sample; ``info["events"]`` the switches (``"switch"``, state ``(r, v)``).
+
+    Examples
+    --------
+    A pendulum released at 1 rad nears the bottom point (the first chart's pole) and is
+    handed to the second chart:
+
+    >>> import numpy as np
+    >>> atlas = spherical_pendulum_charts(1.0, g=9.81)
+    >>> tr = simulate_charts(atlas, [np.sin(1.0), 0, -np.cos(1.0)], [0, 0, 0],
+    ...                      np.linspace(0, 1.0, 101))
+    >>> len(tr.info["events"]), int(tr.chart[0]), int(tr.chart[-1])
+    (1, 0, 1)
     """
     from scipy.integrate import solve_ivp
 

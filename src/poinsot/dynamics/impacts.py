@@ -39,12 +39,17 @@ from typing import Any
 
 import numpy as np
 
+from .. import _quat
 from .._typing import ArrayLike, FloatArray
 from .._validate import as_float_array, as_rotation_quat, as_times, as_vec3
 from ..errors import InvalidInputError
 from ..events import EventLog
+from ..mass import RigidBody
 from ..rotations.quaternion import rotate
 from ..rotations.rotation import Rotation
+from ..trajectory import PoseTrajectory
+from .euler_equations import _as_inertia
+from .free_body import FreeRigidBody
 
 __all__ = [
     "ImpactResult",
@@ -322,8 +327,6 @@ def rigid_impact(
     >>> out.mode, np.round(out.velocity, 6).tolist(), np.round(out.omega, 6).tolist()
     ('slide-stick', [-1.428571, 0.0, 1.5], [0.0, -1.428571, 0.0])
     """
-    from .euler_equations import _as_inertia
-
     j, principal = _as_inertia(inertia, "inertia")
     jb = np.diag(j) if principal else np.asarray(j, dtype=float)
     if jb.shape != (3, 3):
@@ -509,11 +512,6 @@ def simulate_bounces(
     (True, 'slide-stick')
     """
     from scipy.optimize import brentq
-
-    from .. import _quat
-    from ..mass import RigidBody
-    from ..trajectory import PoseTrajectory
-    from .free_body import FreeRigidBody
 
     if not isinstance(body, RigidBody) or body.shape != ():
         raise InvalidInputError(

@@ -52,7 +52,22 @@ _XYZ = ("x", "y", "z")
 class Surface:
     """A unilateral constraint ``f(r) <= 0`` on a particle (theory §11.2): subclasses give
     ``value(r)`` (m), ``gradient(r)`` and ``curvature(r, v) = v.H v`` (the Hessian's
-    quadratic form, 1/s^2 m), each for ``r``, ``v`` of shape (3,)."""
+    quadratic form, 1/s^2 m), each for ``r``, ``v`` of shape (3,).
+
+    Examples
+    --------
+    A paraboloid bowl ``z >= (x^2 + y^2) / 2`` (``f = (x^2 + y^2) / 2 - z``):
+
+    >>> import numpy as np
+    >>> class Bowl(Surface):
+    ...     def value(self, r): return 0.5 * (r[0] ** 2 + r[1] ** 2) - r[2]
+    ...     def gradient(self, r): return np.array([r[0], r[1], -1.0])
+    ...     def curvature(self, r, v): return v[0] ** 2 + v[1] ** 2
+    >>> tr = simulate_unilateral(Bowl(), [0, 0, -9.81], [0.5, 0, 0.125], [0, 0, 0],
+    ...                          np.linspace(0, 1, 11))
+    >>> bool(np.all(tr.in_contact)), bool(abs(Bowl().value(tr.position[-1])) < 1e-9)
+    (True, True)
+    """
 
     def value(self, r: FloatArray) -> float:
         raise NotImplementedError

@@ -33,7 +33,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import InvalidInputError, InvalidTypeError, PoinsotWarning
+from .._validate import as_float_array, as_times
+from ..errors import IntegrationError, InvalidInputError, InvalidTypeError, PoinsotWarning
+from ..events import EventLog
+from ..trajectory import CoordinateTrajectory
 from ._symbols import Coordinates, as_coordinates
 from .numeric import NumericLagrangian
 
@@ -803,11 +806,6 @@ class LagrangeSystem:
         """
         import sympy
         from scipy.integrate import solve_ivp
-
-        from .._validate import as_float_array, as_times
-        from ..errors import IntegrationError
-        from ..events import EventLog
-        from ..trajectory import CoordinateTrajectory
 
         c = self._c
         f = _expr(constraint, "constraint", c)

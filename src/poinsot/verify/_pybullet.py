@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, PoinsotError
+from ..rotations.rotation import Rotation
 from ._mujoco import sampling
 
 COORDINATES = ("reduced", "maximal")
@@ -105,8 +106,6 @@ def principal_frame(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> m.tolist(), q.tolist()
     ([1.0, 2.0, 3.0], [1.0, 0.0, 0.0, 0.0])
     """
-    from ..rotations.rotation import Rotation
-
     j = np.asarray(inertia, dtype=float)
     if np.array_equal(j, np.diag(np.diag(j))):
         return np.diag(j).copy(), np.array([1.0, 0.0, 0.0, 0.0])

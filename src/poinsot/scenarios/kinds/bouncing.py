@@ -26,6 +26,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ...dynamics import simulate_bounces
+from ...mass import RigidBody
 from ..describe import fmt
 from ..kind import Chart, Check, Entry, Facts
 from ..readers import read_angular_velocity, read_body
@@ -109,9 +111,6 @@ class BouncingKind(_rigid.RigidKind):
         return {"body": body, "angular_velocity": omega, "spec": spec}
 
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
-        from ...dynamics import simulate_bounces
-        from ...mass import RigidBody
-
         s: BouncingSpec = scenario.spec
         body = RigidBody(scenario.body.mass, np.asarray(scenario.body.inertia))
         progress(0.0, "flights and impacts (exact)")

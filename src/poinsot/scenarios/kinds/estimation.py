@@ -31,6 +31,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ...dynamics import (
+    FreeRigidBody,
+    Gyro,
+    StarTracker,
+    VectorSensor,
+    attitude_error,
+    nees,
+    nis,
+    run_mekf,
+)
+from ...rotations.rotation import Rotation
+from ...trajectory import Trajectory
 from ..describe import fmt
 from ..kind import Chart, Check, Entry, Facts
 from ..readers import read_angular_velocity, read_body
@@ -94,18 +106,6 @@ def _sensor(t: Table | None, keys: tuple[str, ...], vector: bool) -> dict[str, A
 
 def estimate(scenario: Any, t: np.ndarray) -> Estimate:
     """Run the scenario's sensors and MEKF on its exact motion at the times ``t``."""
-    from ...dynamics import (
-        FreeRigidBody,
-        Gyro,
-        StarTracker,
-        VectorSensor,
-        attitude_error,
-        nees,
-        nis,
-        run_mekf,
-    )
-    from ...rotations.rotation import Rotation
-
     s: EstimationSpec = scenario.spec
     body = FreeRigidBody(np.asarray(scenario.body.inertia), rotation0=scenario.attitude.rotation,
                          omega0=np.asarray(scenario.angular_velocity.omega_body))  # fmt: skip
@@ -182,14 +182,10 @@ class EstimationKind(_rigid.RigidKind):
         return {"body": body, "angular_velocity": omega, "spec": spec}
 
     def solve(self, scenario: Scenario, method: str, t: np.ndarray, progress: Progress) -> Any:
-        from ...trajectory import Trajectory
-
         progress(0.0, "sensors and MEKF")
         est = estimate(scenario, t)
         progress(1.0, "sensors and MEKF")
         res = est.result
-        from ...rotations.rotation import Rotation
-
         info = {"solver": "MEKF (Lefferts, Markley & Shuster)"}
         if res.diverged:
             info["stopped"] = res.message
