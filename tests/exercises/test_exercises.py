@@ -269,3 +269,17 @@ def test_html_answers_are_mathml(kind):
     )
     numbers = [float(n.text) for n in root.iter("{http://www.w3.org/1998/Math/MathML}mn")]
     np.testing.assert_allclose(numbers, ex.answer, rtol=1e-5, atol=1e-6)
+
+
+def test_moodle_xml_is_valid_against_the_schema_of_the_format():
+    """Every type's quiz against tests/data/moodle_numerical.xsd (Moodle's XML format for
+    numerical questions, XSD 1.1); a broken document is refused by the same schema."""
+    xmlschema = pytest.importorskip("xmlschema", reason="the schema check needs xmlschema")
+    from pathlib import Path
+
+    xsd = xmlschema.XMLSchema11(Path(__file__).parents[1] / "data" / "moodle_numerical.xsd")
+    text = render([generate(kind, seed) for kind in TYPES for seed in range(3)], "moodle")
+    xsd.validate(text)
+    broken = text.replace('fraction="100"', 'fraction="150"', 1)
+    assert not xsd.is_valid(broken)
+    assert not xsd.is_valid(text.replace("<tolerance>", "<tolerance>-", 1))
