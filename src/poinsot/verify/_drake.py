@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, PoinsotError
+from ._mujoco import body_inputs
 from ._pybullet import _rotate_back
 
 #: Drake's integration schemes (``GetIntegrationSchemes()``, Drake 1.51); "cenic"
@@ -64,13 +65,6 @@ def _pydrake() -> Any:
             f"the Drake adapter needs the `drake` package: pip install 'poinsot[verify]' ({exc})"
         ) from exc
     return plant, tree, analysis
-
-
-def _vec(x: Any, n: int, name: str) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise InvalidInputError(f"Expected `{name}` to be {n} finite numbers, got {x!r}.")
-    return a
 
 
 def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
@@ -125,22 +119,7 @@ def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
         raise InvalidInputError(
             f"Expected `integrator` to be one of {', '.join(INTEGRATORS)}, got {integrator!r}."
         )
-    j = np.asarray(inertia, dtype=float)
-    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
-        raise InvalidInputError(
-            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
-        )
-    if np.min(np.linalg.eigvalsh(j)) <= 0:
-        raise InvalidInputError("Expected `inertia` to be positive definite.")
-    m = float(mass)
-    if not (math.isfinite(m) and m > 0):
-        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
-    g, w0 = _vec(gravity, 3, "gravity"), _vec(omega0, 3, "omega0")
-    q = _vec(q0, 4, "q0")
-    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
-        raise InvalidInputError(
-            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
-        )
+    j, m, q, w0, g = body_inputs(inertia, mass, q0, omega0, gravity)
     for name, x in (("accuracy", accuracy), ("step", step)):
         if x is not None and not (math.isfinite(float(x)) and float(x) > 0):
             raise InvalidInputError(f"Expected `{name}` to be positive, got {x!r}.")

@@ -57,6 +57,30 @@ def _vec(x: Any, n: int, name: str) -> np.ndarray:
     return a
 
 
+def body_inputs(
+    inertia: Any, mass: Any, q0: Any, omega0: Any, gravity: Any
+) -> tuple[np.ndarray, float, np.ndarray, np.ndarray, np.ndarray]:
+    """The checked inputs of an engine adapter's body: ``(J (3, 3) symmetric positive
+    definite, m > 0, q0 a unit quaternion, omega0 (3,), gravity (3,))``; a bad one raises
+    :class:`~poinsot.errors.InvalidInputError` naming it."""
+    j = np.asarray(inertia, dtype=float)
+    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
+        raise InvalidInputError(
+            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
+        )
+    if np.min(np.linalg.eigvalsh(j)) <= 0:
+        raise InvalidInputError("Expected `inertia` to be positive definite.")
+    m = float(mass)
+    if not (math.isfinite(m) and m > 0):
+        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
+    q = _vec(q0, 4, "q0")
+    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
+        raise InvalidInputError(
+            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
+        )
+    return j, m, q, _vec(omega0, 3, "omega0"), _vec(gravity, 3, "gravity")
+
+
 def sampling(t: np.ndarray, timestep: float) -> tuple[np.ndarray, np.ndarray]:
     """``(whole, frac)``: the whole MuJoCo steps before each time of ``t`` and the
     shorter step (s) from there to it (0 on a whole step, to 1e-6 of a step).
@@ -145,22 +169,8 @@ def run_mujoco(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gra
         raise InvalidInputError(
             f"Expected `integrator` to be one of {', '.join(INTEGRATORS)}, got {integrator!r}."
         )
-    j = np.asarray(inertia, dtype=float)
-    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
-        raise InvalidInputError(
-            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
-        )
-    if np.min(np.linalg.eigvalsh(j)) <= 0:
-        raise InvalidInputError("Expected `inertia` to be positive definite.")
-    m = float(mass)
-    if not (math.isfinite(m) and m > 0):
-        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
-    c, g, w0 = _vec(com, 3, "com"), _vec(gravity, 3, "gravity"), _vec(omega0, 3, "omega0")
-    q = _vec(q0, 4, "q0")
-    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
-        raise InvalidInputError(
-            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
-        )
+    j, m, q, w0, g = body_inputs(inertia, mass, q0, omega0, gravity)
+    c = _vec(com, 3, "com")
     h = float(timestep)
     if not (math.isfinite(h) and h > 0):
         raise InvalidInputError(f"Expected `timestep` to be positive (s), got {timestep!r}.")

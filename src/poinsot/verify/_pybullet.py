@@ -46,9 +46,10 @@ from typing import Any
 
 import numpy as np
 
+from .. import _quat
 from ..errors import InvalidInputError, PoinsotError
 from ..rotations.rotation import Rotation
-from ._mujoco import sampling
+from ._mujoco import body_inputs, sampling
 
 COORDINATES = ("reduced", "maximal")
 
@@ -68,33 +69,10 @@ def _pybullet() -> Any:
     return pybullet
 
 
-def _vec(x: Any, n: int, name: str) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise InvalidInputError(f"Expected `{name}` to be {n} finite numbers, got {x!r}.")
-    return a
-
-
-def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products of scalar-first quaternions (broadcast)."""
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ],
-        axis=-1,
-    )
-
-
 def _rotate_back(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``R(q)^T v`` for scalar-first unit quaternions ``q`` (n, 4) and vectors (n, 3)."""
-    w, u = q[:, :1], q[:, 1:]
-    t = 2.0 * np.cross(v, u)  # conj(q): vector part -u
-    return v + w * t + np.cross(-u, t)
+    """``R(q)^T v`` for scalar-first unit quaternions ``q`` (n, 4) and vectors (n, 3):
+    space components -> body components."""
+    return _quat.rotate(_quat.conj(q), v)
 
 
 def principal_frame(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -162,22 +140,7 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
         raise InvalidInputError(
             f"Expected `coordinates` to be 'reduced' or 'maximal', got {coordinates!r}."
         )
-    j = np.asarray(inertia, dtype=float)
-    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
-        raise InvalidInputError(
-            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
-        )
-    if np.min(np.linalg.eigvalsh(j)) <= 0:
-        raise InvalidInputError("Expected `inertia` to be positive definite.")
-    m = float(mass)
-    if not (math.isfinite(m) and m > 0):
-        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
-    g, w0 = _vec(gravity, 3, "gravity"), _vec(omega0, 3, "omega0")
-    q = _vec(q0, 4, "q0")
-    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
-        raise InvalidInputError(
-            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
-        )
+    j, m, q, w0, g = body_inputs(inertia, mass, q0, omega0, gravity)
     h = float(timestep)
     if not (math.isfinite(h) and h > 0):
         raise InvalidInputError(f"Expected `timestep` to be positive (s), got {timestep!r}.")
@@ -187,7 +150,7 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
     whole, frac = sampling(tt, h)
 
     moments, q_p = principal_frame(j)
-    q_pb = _qmul(q, q_p)  # the principal frame's attitude, PyBullet's base
+    q_pb = _quat.mul(q, q_p)  # the principal frame's attitude, PyBullet's base
     conj = np.array([1.0, -1.0, -1.0, -1.0])
     w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R(q0) omega0
     cid = pb.connect(pb.DIRECT)
@@ -236,7 +199,7 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
     finally:
         pb.disconnect(physicsClientId=cid)
 
-    q_body = _qmul(out_q, q_p * conj)  # q_pb * conj(q_P)
+    q_body = _quat.mul(out_q, q_p * conj)  # q_pb * conj(q_P)
     q_body /= np.linalg.norm(q_body, axis=1, keepdims=True)
     w_body = _rotate_back(q_body, out_w)
     flips = np.concatenate([[1.0], np.where(np.sum(q_body[1:] * q_body[:-1], -1) < 0, -1.0, 1.0)])
