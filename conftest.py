@@ -26,3 +26,17 @@ def _close_pyplot_figures():
     plt = sys.modules.get("matplotlib.pyplot")
     if plt is not None:
         plt.close("all")
+
+
+#: doctests that run an engine not in poinsot's extras (Basilisk: ``pip install bsk`` in an
+#: environment of its own): skipped, with the reason, where it is not installed
+_ENGINE_DOCTESTS = {"poinsot.verify._basilisk.run_basilisk": "Basilisk"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        module = _ENGINE_DOCTESTS.get(item.name)
+        if module and importlib.util.find_spec(module) is None:
+            item.add_marker(pytest.mark.skip(
+                reason=f"{module} is not installed (pip install bsk, in an environment of its own)"
+            ))  # fmt: skip

@@ -298,7 +298,7 @@ INNER = {
         ("output",),
     ],
     "poinsot.verify": [
-        ("_mujoco", "groups", "_pybullet", "_drake"),
+        ("_mujoco", "groups", "_pybullet", "_drake", "_basilisk"),
         ("cases",),
         ("metrics", "files"),
         ("engines",),

@@ -22,6 +22,7 @@ EPILOG = """examples:
   poinsot verify mujoco --method RK4 --step 0.001 --cases free-body
   poinsot verify drake --method runge_kutta3 --rtol 1e-12 --cases free-body
   poinsot verify pybullet --step 0.0001 --cases free-body
+  poinsot verify basilisk --method RK4 --step 0.001 --cases free-body
   poinsot verify export cases/          (then, after your engine wrote cases/*.csv)
   poinsot verify file cases/ --quat-order xyzw
   poinsot verify scorecard --engines mujoco,drake --quick --out scorecard/
@@ -38,9 +39,10 @@ cases). Cases, metrics, thresholds and conventions: docs/verify.md.
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("engine", choices=("scipy", "poinsot", "mujoco", "pybullet", "drake", "file",
-                   "export", "scorecard"), metavar="ENGINE",
-                   help="scipy, poinsot, mujoco, pybullet, drake, file, export, or scorecard "
+    p.add_argument("engine", choices=("scipy", "poinsot", "mujoco", "pybullet", "drake",
+                   "basilisk", "file", "export", "scorecard"), metavar="ENGINE",
+                   help="scipy, poinsot, mujoco, pybullet, drake, basilisk, file, export, or "
+                   "scorecard "
                    "(every installed engine's integrators over a sweep)")  # fmt: skip
     p.add_argument("path", nargs="?", metavar="DIR",
                    help="the directory of the files (file) or to write (export)")  # fmt: skip
@@ -49,12 +51,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "orbit, frame); default all")  # fmt: skip
     p.add_argument("--method", help="solve_ivp method (scipy), integrator (poinsot), "
                    "Euler, RK4, implicit, implicitfast (mujoco), reduced or maximal coordinates "
-                   "(pybullet), or a Drake integrator, e.g. runge_kutta3 (drake)")  # fmt: skip
+                   "(pybullet), a Drake integrator, e.g. runge_kutta3 (drake), or RK4, Euler, RK2, "
+                   "RKF45, RKF78 (basilisk)")  # fmt: skip
     p.add_argument("--step", type=float, metavar="SECONDS",
-                   help="step (poinsot's fixed-step methods), timestep (mujoco, pybullet) or "
-                   "fixed step (drake)")  # fmt: skip
+                   help="step (poinsot's fixed-step methods), timestep (mujoco, pybullet, "
+                   "basilisk's task period) or fixed step (drake)")  # fmt: skip
     p.add_argument("--rtol", type=float, help="tolerance (scipy, poinsot's adaptive methods) "
-                   "or target accuracy (drake)")  # fmt: skip
+                   "target accuracy (drake), or relTol of basilisk's RKF45/RKF78")  # fmt: skip
     p.add_argument(
         "--order", type=int, choices=(2, 4, 6), help="order (poinsot midpoint/splitting)"
     )
@@ -78,7 +81,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
     p.add_argument("--engines", metavar="NAMES",
                    help="scorecard: engines, comma separated (poinsot, scipy, mujoco, "
-                   "pybullet, drake); default all")  # fmt: skip
+                   "pybullet, drake, basilisk); default all")  # fmt: skip
     p.add_argument(
         "--quick",
         action="store_true",
@@ -160,6 +163,8 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         opts = {"coordinates": args.method, "timestep": args.step}
     elif args.engine == "drake":
         opts = {"integrator": args.method, "step": args.step, "accuracy": args.rtol}
+    elif args.engine == "basilisk":
+        opts = {"integrator": args.method, "timestep": args.step, "rtol": args.rtol}
     else:
         opts = {"directory": args.path, "quat_order": args.quat_order,
                 "omega_frame": args.omega_frame, "degrees": args.degrees or None}  # fmt: skip

@@ -3,7 +3,8 @@
 :func:`cases` gives named, versioned reference motions with their exact states
 (free bodies, Lagrange and Kovalevskaya tops, a body under a constant torque, a
 gyrostat, pitch libration in orbit, Kepler orbits, the Foucault pendulum); an engine
-(:mod:`poinsot.verify.engines`: SciPy, poinsot, MuJoCo, PyBullet, Drake, files) runs them, and
+(:mod:`poinsot.verify.engines`: SciPy, poinsot, MuJoCo, PyBullet, Drake, Basilisk, files) runs
+them, and
 :func:`evaluate` scores its states against the exact ones with stated thresholds.
 :func:`export` writes the cases to files for engines in any language.
 

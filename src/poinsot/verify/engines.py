@@ -32,6 +32,9 @@ the former dict of arrays ``{"quat", "omega"}`` / ``{"position", "velocity"}``, 
 - :class:`DrakeEngine`: Drake (``pip install poinsot[verify]``), a free body in a
   continuous-time ``MultibodyPlant`` and Drake's ``Simulator`` with a named integrator
   (free bodies only).
+- :class:`BasiliskEngine`: Basilisk (``pip install bsk``, in an environment of its
+  own), a ``spacecraft.Spacecraft`` hub alone with one of Basilisk's state integrators
+  (free bodies only).
 - :class:`FileEngine`: states that any engine wrote to CSV/Parquet files, one per case
   (``CASE.csv``), with the conventions given as options and checked.
 """
@@ -48,6 +51,9 @@ import numpy as np
 from ..dynamics import METHODS, PARTICLE_SOLVERS
 from ..errors import InvalidInputError, InvalidTypeError
 from ..trajectory import Result
+from ._basilisk import ADAPTIVE as BASILISK_ADAPTIVE
+from ._basilisk import INTEGRATORS as BASILISK_INTEGRATORS
+from ._basilisk import run_basilisk
 from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
 from ._drake import INTEGRATORS as DRAKE_INTEGRATORS
 from ._drake import run_drake
@@ -67,6 +73,7 @@ __all__ = [
     "MuJoCoEngine",
     "PyBulletEngine",
     "DrakeEngine",
+    "BasiliskEngine",
     "as_result",
     "make",
     "point_result",
@@ -74,7 +81,7 @@ __all__ = [
     "run",
 ]
 
-ENGINES = ("scipy", "poinsot", "mujoco", "pybullet", "drake", "file")
+ENGINES = ("scipy", "poinsot", "mujoco", "pybullet", "drake", "basilisk", "file")
 
 
 @runtime_checkable
@@ -284,6 +291,11 @@ _TOP_SKIP = {
         "(roll-pitch-yaw angles, singular at pitch +-90 deg), no quaternion ball joint, "
         "and its ball constraint needs a discrete plant (docs/verify.md)"
     ),
+    "Basilisk": (
+        "Basilisk's adapter runs free bodies only: a spacecraft.Spacecraft hub is a free "
+        "body and the spacecraft module has no joint that pins a hub at a fixed point "
+        "(a fixed-point top has no Basilisk hub model; docs/verify.md)"
+    ),
 }
 
 
@@ -419,6 +431,73 @@ class DrakeEngine:
         return rigid_result(case, quat_unit(q), w, self.label), evaluations
 
 
+class BasiliskEngine:
+    """Basilisk (the ``bsk`` package): a free body as a ``spacecraft.Spacecraft`` hub
+    with no gravity body and no effector, stepped by one of Basilisk's state integrators.
+
+    Parameters
+    ----------
+    integrator : {"RK4", "Euler", "RK2", "RKF45", "RKF78"}, optional
+        Basilisk's ``svIntegrators`` class ``svIntegrator<integrator>`` (default
+        ``"RK4"``, Basilisk's own default).
+    timestep : float, optional
+        The task period (s), default 1e-3: the step of ``RK4``/``RK2``/``Euler``, the
+        longest step of the adaptive ``RKF45``/``RKF78``. The case's grid times must be
+        whole multiples of it.
+    rtol : float, optional
+        ``relTol`` of ``RKF45``/``RKF78`` (``absTol = rtol * 1e-3``); default Basilisk's
+        (``relTol = 1e-4``, ``absTol = 1e-8``).
+
+    Notes
+    -----
+    Basilisk's attitude is ``sigma_BN``, the MRPs of ``[BN]`` (inertial -> body
+    components), and ``omega_BN_B`` in body axes; converted by
+    :func:`poinsot.verify._basilisk.run_basilisk`. Basilisk is not in poinsot's extras
+    (``bsk`` caps pandas and matplotlib): ``pip install bsk`` in an environment of its
+    own. Tops and point cases are skipped (their reason says why).
+    """
+
+    name = "basilisk"
+
+    def __init__(self, integrator: str = "RK4", timestep: float = 1e-3,
+                 rtol: float | None = None):  # fmt: skip
+        if integrator not in BASILISK_INTEGRATORS:
+            raise InvalidInputError(
+                f"Expected `integrator` to be one of {', '.join(BASILISK_INTEGRATORS)}, "
+                f"got {integrator!r}."
+            )
+        if rtol is not None and integrator not in BASILISK_ADAPTIVE:
+            raise InvalidInputError(
+                f"Expected `rtol` only with an adaptive integrator "
+                f"({', '.join(BASILISK_ADAPTIVE)}), not {integrator!r}."
+            )
+        self.integrator = integrator
+        self.timestep = _positive(timestep, "timestep")
+        self.rtol = None if rtol is None else _positive(rtol, "rtol")
+        self.label = f"basilisk {integrator} timestep={self.timestep:g} s"
+        if self.rtol is not None:
+            self.label += f" rtol={self.rtol:g}"
+
+    def skip_reason(self, case: Case) -> str | None:
+        reason = _free_body_only(case, "Basilisk")
+        if reason:
+            return reason
+        try:
+            import Basilisk  # noqa: F401
+        except ImportError as exc:
+            return (f"Basilisk is not installed: pip install bsk (in an environment of its "
+                    f"own: it caps pandas and matplotlib) ({exc})")  # fmt: skip
+        return None
+
+    def run(self, case: Case) -> tuple[Result, int]:
+        i = case.inputs
+        q, w, steps = run_basilisk(
+            inertia=i["inertia"], mass=i["mass"], q0=i["q0"], omega0=i["omega0"], t=case.t,
+            integrator=self.integrator, timestep=self.timestep, rtol=self.rtol,
+        )  # fmt: skip
+        return rigid_result(case, quat_unit(q), w, self.label), steps
+
+
 def _nan_result(case: Case, method: str) -> Result:
     """The result of a diverged engine: NaN states, which fail every metric."""
     return case.spec.nan_result(case, method)
@@ -468,7 +547,7 @@ def make(name: str, **options: Any) -> Any:
     opts = {k: v for k, v in options.items() if v is not None}
     classes = {"scipy": SciPyEngine, "poinsot": PoinsotEngine, "mujoco": MuJoCoEngine,
                "pybullet": PyBulletEngine, "drake": DrakeEngine,
-               "file": FileEngine}  # fmt: skip
+               "basilisk": BasiliskEngine, "file": FileEngine}  # fmt: skip
     if name not in classes:
         raise InvalidInputError(f"Expected an engine in {', '.join(ENGINES)}, got {name!r}.")
     try:

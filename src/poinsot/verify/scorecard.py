@@ -50,7 +50,7 @@ __all__ = [
 ]
 
 #: the engines of the scorecard, in the order of the pages
-ENGINES = ("poinsot", "scipy", "mujoco", "pybullet", "drake")
+ENGINES = ("poinsot", "scipy", "mujoco", "pybullet", "drake", "basilisk")
 
 #: settings that are a step (s): the error against them is an order of convergence
 STEP_SETTINGS = ("timestep", "step")
@@ -165,6 +165,16 @@ SWEEPS: dict[str, tuple[Sweep, ...]] = {
             1e-3,
         ),  # fmt: skip
     ),
+    "basilisk": tuple(
+        Sweep("basilisk", name, {"integrator": name}, "timestep", _DECADES, 1e-3)
+        for name in ("Euler", "RK2", "RK4")
+    )
+    + tuple(
+        Sweep(
+            "basilisk", name, {"integrator": name, "timestep": 1e-2}, "rtol", (1e-4, *_TOLS), 1e-4
+        )
+        for name in ("RKF45", "RKF78")
+    ),
 }
 
 #: a shorter scorecard (``--quick``): two settings a decade apart per integrator
@@ -196,7 +206,13 @@ TOL_GROWTH = 2.0
 
 def engine_version(engine: str) -> str | None:
     """The installed version of ``engine`` (None when it is not installed)."""
-    dist = {"mujoco": "mujoco", "pybullet": "pybullet", "drake": "drake", "scipy": "scipy"}
+    dist = {
+        "mujoco": "mujoco",
+        "pybullet": "pybullet",
+        "drake": "drake",
+        "scipy": "scipy",
+        "basilisk": "bsk",
+    }
     if engine == "poinsot":
         return __version__
     try:
@@ -794,7 +810,8 @@ def engine_page(card: EngineCard, cases_version: str) -> str:
         lines += ["", "## Work-precision", "",
                   "The largest attitude error (rad; relative position error for a point) "
                   "against the engine's own count of work (steps for MuJoCo, PyBullet and "
-                  "poinsot's fixed-step methods, derivative evaluations otherwise), "
+                  "poinsot's fixed-step methods, task updates for Basilisk, derivative "
+                  "evaluations otherwise), "
                   "log-log, the dashed line the threshold.", ""]  # fmt: skip
         for c in charts:
             lines += [f"![{c}]({card.slug}-{c}.png)", ""]

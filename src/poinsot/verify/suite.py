@@ -25,6 +25,7 @@ import numpy as np
 from .._files import atomic_write
 from ..errors import InvalidInputError
 from ..plotting.report import write_report
+from ._basilisk import ADAPTIVE as BASILISK_ADAPTIVE
 from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
 from .cases import CASES_VERSION, Case, cases
 from .engines import make, run
@@ -175,6 +176,7 @@ SWEEPS: dict[str, tuple[str, tuple[float, ...]]] = {
     "mujoco": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
     "pybullet": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
     "drake": ("accuracy", (1e-8, 1e-10, 1e-12, 1e-14)),
+    "basilisk": ("timestep", (0.01, 0.005, 0.002, 0.001, 0.0005)),
 }
 
 
@@ -185,7 +187,8 @@ def sweep(engine: str, values: Sequence[float] | None = None,
 
     The setting is ``rtol`` (SciPy, and poinsot with an adaptive method), ``step``
     (poinsot's fixed-step methods), ``timestep`` (MuJoCo, PyBullet) or ``accuracy``
-    (Drake; ``step`` with a fixed step or a fixed-step scheme): :data:`SWEEPS`.
+    (Drake; ``step`` with a fixed step or a fixed-step scheme), ``timestep`` (Basilisk;
+    ``rtol`` with its adaptive ``RKF45``/``RKF78``): :data:`SWEEPS`.
 
     Returns
     -------
@@ -206,6 +209,9 @@ def sweep(engine: str, values: Sequence[float] | None = None,
                               or options.get("integrator") in DRAKE_FIXED_STEP):  # fmt: skip
         key, default = "step", SWEEPS["mujoco"][1]
         options = {k: v for k, v in options.items() if k != "accuracy"}
+    if engine == "basilisk" and options.get("integrator") in BASILISK_ADAPTIVE:
+        key, default = "rtol", (1e-6, 1e-8, 1e-10, 1e-12)
+        options = {k: v for k, v in options.items() if k != "rtol"}
     rows: list[dict[str, Any]] = []
     for value in default if values is None else values:
         eng = make(engine, **{**options, key: float(value)})
