@@ -47,10 +47,10 @@ def finite3(x: float, y: float, z: float) -> bool:
 
 def unit(x: float, y: float, z: float) -> tuple[float, float, float]:
     """``v / |v|`` for a non-zero finite ``v``, scaled first (no overflow for 1e200)."""
-    s = max(abs(x), abs(y), abs(z))
-    x, y, z = x / s, y / s, z / s
-    n = math.sqrt(x * x + y * y + z * z)
-    return x / n, y / n, z / n
+    t = 1.0 / max(abs(x), abs(y), abs(z))
+    x, y, z = x * t, y * t, z * t
+    n = 1.0 / math.sqrt(x * x + y * y + z * z)
+    return x * n, y * n, z * n
 
 
 def sym_det(m00: float, m01: float, m02: float, m11: float, m12: float, m22: float) -> float:
@@ -144,8 +144,8 @@ def quest_raw(
 
 
 def normalised4(w: float, x: float, y: float, z: float) -> tuple[float, float, float, float]:
-    n = math.sqrt(w * w + x * x + y * y + z * z)
-    return w / n, x / n, y / n, z / n
+    n = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    return w * n, x * n, y * n, z * n
 
 
 def turned(
@@ -253,8 +253,8 @@ def esoq2(
         e0, e1, e2, ne = ya[0], ya[1], ya[2], na
     elif nb >= nc:
         e0, e1, e2, ne = yb[0], yb[1], yb[2], nb
-    n = math.sqrt(ne)
-    e0, e1, e2 = e0 / n, e1 / n, e2 / n
+    n = 1.0 / math.sqrt(ne)
+    e0, e1, e2 = e0 * n, e1 * n, e2 * n
     w, x, y, z = normalised4(z0 * e0 + z1 * e1 + z2 * e2, beta * e0, beta * e1, beta * e2)
     return turned_back(turn, w, x, y, z)
 
@@ -266,22 +266,23 @@ def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     everything else is NaN)."""
     nan = math.nan
     bad_b = bad_r = 0.0
-    for i in range(n):  # finite
+    zero_b = zero_r = 0.0
+    for i in range(n):  # finite, non-zero
         if not finite3(ob[i, 0], ob[i, 1], ob[i, 2]):
             bad_b = 1.0
         if not finite3(rf[i, 0], rf[i, 1], rf[i, 2]):
             bad_r = 1.0
+        if max(abs(ob[i, 0]), abs(ob[i, 1]), abs(ob[i, 2])) == 0.0:
+            zero_b = 1.0
+        if max(abs(rf[i, 0]), abs(rf[i, 1]), abs(rf[i, 2])) == 0.0:
+            zero_r = 1.0
     bad = bad_b * NONFINITE_OBSERVED + bad_r * NONFINITE_REFERENCE
     if bad != 0.0:
         return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, bad
-    for i in range(n):  # non-zero
-        if max(abs(ob[i, 0]), abs(ob[i, 1]), abs(ob[i, 2])) == 0.0:
-            bad_b = 1.0
-        if max(abs(rf[i, 0]), abs(rf[i, 1]), abs(rf[i, 2])) == 0.0:
-            bad_r = 1.0
-    bad = bad_b * ZERO_OBSERVED + bad_r * ZERO_REFERENCE
+    bad = zero_b * ZERO_OBSERVED + zero_r * ZERO_REFERENCE
     if bad != 0.0:
         return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, bad
+    bad_b = bad_r = 0.0
     lam0 = 0.0
     pb00 = pb01 = pb02 = pb11 = pb12 = pb22 = 0.0  # sum w b b^T
     pr00 = pr01 = pr02 = pr11 = pr12 = pr22 = 0.0  # sum w r r^T
