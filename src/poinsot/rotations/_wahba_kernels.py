@@ -45,12 +45,13 @@ _OPTS: dict[str, Any] = {"cache": True, "error_model": "numpy"}
 
 for _fn in (S.hamilton, S.to_matrix):
     overload(_fn, strict=False)(lambda *args, _fn=_fn: _fn)
-_one = njit(**_OPTS)(W.solve)
+# inlined where it is called (numba's IR inlining): each call site below sees its
+# constant n, so LLVM unrolls the loops over the observations (about 1/4 faster)
+_one = njit(inline="always", **_OPTS)(W.solve)
 
 
-@njit(inline="always", **_OPTS)  # numba's inlining: a call costs ~40% of a solve
-def _store(ob, rf, w, i, method, want_cov, q, loss, cov, status):  # pragma: no cover
-    n = ob.shape[1]
+@njit(inline="always", **_OPTS)
+def _row(ob, rf, w, i, n, method, want_cov, q, loss, cov, status):  # pragma: no cover
     k = np.int64(i)  # prange's index may be unsigned: i if ... else 0 would be a float
     zero = np.int64(0)
     io = k if ob.shape[0] > 1 else zero
@@ -66,16 +67,36 @@ def _store(ob, rf, w, i, method, want_cov, q, loss, cov, status):  # pragma: no 
         cov[i, 2, 0], cov[i, 2, 1], cov[i, 2, 2] = r[7], r[9], r[10]
 
 
+@njit(**_OPTS)
+def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma: no cover
+    """Sets ``lo`` to ``hi``: one loop for n = 2, one for n = 3, one for the others."""
+    n = ob.shape[1]
+    if n == 2:
+        for i in range(lo, hi):
+            _row(ob, rf, w, i, 2, method, want_cov, q, loss, cov, status)
+    elif n == 3:
+        for i in range(lo, hi):
+            _row(ob, rf, w, i, 3, method, want_cov, q, loss, cov, status)
+    else:
+        for i in range(lo, hi):
+            _row(ob, rf, w, i, n, method, want_cov, q, loss, cov, status)
+
+
+#: Sets per chunk of :func:`solve_flat` (the chunks, not the sets, go to the threads).
+CHUNK = 2048
+
+
 @njit(parallel=True, **_OPTS)
 def solve_flat(ob, rf, w, method, want_cov, q, loss, cov, status):  # pragma: no cover
-    """Every set, split over numba's threads (each set runs the same code whatever
-    the thread count: bit-identical results)."""
-    for i in prange(q.shape[0]):
-        _store(ob, rf, w, i, method, want_cov, q, loss, cov, status)
+    """Every set, in chunks split over numba's threads (each set runs the same code
+    whatever the thread count: bit-identical results)."""
+    size = q.shape[0]
+    for c in prange((size + CHUNK - 1) // CHUNK):
+        lo = c * CHUNK
+        _rows(ob, rf, w, lo, min(size, lo + CHUNK), method, want_cov, q, loss, cov, status)
 
 
 @njit(**_OPTS)
 def solve_serial(ob, rf, w, method, want_cov, q, loss, cov, status):  # pragma: no cover
     """Every set on the calling thread (small batches: no threads to wake)."""
-    for i in range(q.shape[0]):
-        _store(ob, rf, w, i, method, want_cov, q, loss, cov, status)
+    _rows(ob, rf, w, 0, q.shape[0], method, want_cov, q, loss, cov, status)
