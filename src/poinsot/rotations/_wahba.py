@@ -163,7 +163,9 @@ def turned(
     )  # fmt: skip
 
 
-def turned_back(turn: int, w: float, x: float, y: float, z: float) -> tuple[float, ...]:
+def turned_back(
+    turn: int, w: float, x: float, y: float, z: float
+) -> tuple[float, float, float, float]:
     """``L = i_k o L'`` for the solution ``L'`` in the frame turned by ``turn``
     (``i_k`` the basis quaternion of axis ``k = turn - 1``; ``turn = 0``: ``L'``)."""
     return hamilton(

@@ -43,8 +43,8 @@ for _fn in (
 # checks come first), which lets the loops vectorise
 _OPTS: dict[str, Any] = {"cache": True, "error_model": "numpy"}
 
-for _fn in (S.hamilton, S.to_matrix):
-    overload(_fn, strict=False)(lambda *args, _fn=_fn: _fn)
+for _scalar_fn in (S.hamilton, S.to_matrix):
+    overload(_scalar_fn, strict=False)(lambda *args, _f=_scalar_fn: _f)
 # inlined where it is called (numba's IR inlining): each call site below sees its
 # constant n, so LLVM unrolls the loops over the observations (about 1/4 faster)
 _one = njit(inline="always", **_OPTS)(W.solve)

@@ -271,7 +271,7 @@ def _solve_sets(
     else:
         cols = [np.moveaxis(np.broadcast_to(a, (size,) + a.shape[1:]), 0, -1) for a in sets]
         if size == 0:
-            res: tuple = (np.empty(0),) * 12
+            res: tuple[np.ndarray, ...] = (np.empty(0),) * 12
         else:
             with np.errstate(all="ignore"):  # as compiled: the failed sets give NaN, no warning
                 res = _jit.lanes(_W.solve, size, *cols, n, code, want_cov)
