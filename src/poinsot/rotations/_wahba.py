@@ -183,7 +183,8 @@ def quest(
 ) -> tuple[float, float, float, float]:  # fmt: skip
     """QUEST (Shuster & Oh 1981) for ``B = sum_i w_i b_i r_i^T`` with ``sum w_i = 1``;
     where ``|l0| < 0.3`` (``gamma = f'(lambda_max) l0^2``) the reference frame is
-    turned by the half-turn of the largest diagonal of ``K`` and the result turned back."""
+    turned by the half-turn about x, y or z that gives the largest ``|l0'|`` and the
+    result turned back."""
     s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
         b00, b01, b02, b10, b11, b12, b20, b21, b22
     )
@@ -191,18 +192,34 @@ def quest(
     g, x0, x1, x2 = quest_raw(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2, lam)
     if g >= QUEST_ROTATION_THRESHOLD * QUEST_ROTATION_THRESHOLD * fp:
         return normalised4(g, x0, x1, x2)
-    turn = 3  # the largest of S_kk - sigma, the first on ties (numpy.argmax)
-    if s00 >= s11 and s00 >= s22:
-        turn = 1
-    elif s11 >= s22:
-        turn = 2
+    # sequential rotations: the half-turn whose frame has the largest |l0'|, read from
+    # the three turned solutions (l0'^2 = gamma^2 / |(gamma, x)|^2); the largest diagonal
+    # of K alone picks a poor one for two observations (1e-9 rad instead of 1e-14)
+    g1, a1, b1, c1 = quest_turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, 1, lam)
+    g2, a2, b2, c2 = quest_turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, 2, lam)
+    g3, a3, b3, c3 = quest_turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, 3, lam)
+    f1 = g1 * g1 / (g1 * g1 + a1 * a1 + b1 * b1 + c1 * c1)
+    f2 = g2 * g2 / (g2 * g2 + a2 * a2 + b2 * b2 + c2 * c2)
+    f3 = g3 * g3 / (g3 * g3 + a3 * a3 + b3 * b3 + c3 * c3)
+    turn, g, x0, x1, x2 = 3, g3, a3, b3, c3
+    if f1 >= f2 and f1 >= f3:
+        turn, g, x0, x1, x2 = 1, g1, a1, b1, c1
+    elif f2 >= f3:
+        turn, g, x0, x1, x2 = 2, g2, a2, b2, c2
+    w, x, y, z = normalised4(g, x0, x1, x2)
+    return turned_back(turn, w, x, y, z)
+
+
+def quest_turned(
+    b00: float, b01: float, b02: float, b10: float, b11: float, b12: float,
+    b20: float, b21: float, b22: float, turn: int, lam: float,
+) -> tuple[float, float, float, float]:  # fmt: skip
+    """:func:`quest_raw` in the reference frame turned by ``turn`` (same ``lambda``)."""
     t = turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, turn)
     s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
         t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8]
     )
-    g, x0, x1, x2 = quest_raw(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2, lam)
-    w, x, y, z = normalised4(g, x0, x1, x2)
-    return turned_back(turn, w, x, y, z)
+    return quest_raw(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2, lam)
 
 
 def cross(

@@ -34,6 +34,7 @@ for _fn in (
     W.turned,
     W.turned_back,
     W.quest,
+    W.quest_turned,
     W.cross,
     W.esoq2,
 ):  # callable from compiled code (numba compiles the plain function; LLVM inlines it)

@@ -334,9 +334,10 @@ def determine_attitude(
         (Shuster): Newton's iteration on the characteristic polynomial of ``K`` from
         ``lambda0``, then the Gibbs vector ``x / gamma``; where ``|l0| < 0.3`` (read
         from the Gibbs denominator, ``gamma = f'(lambda_max) l0^2``) the
-        reference frame is turned by a half-turn about x, y or z (the one with the
-        largest diagonal entry of ``K``: Shuster's method of sequential rotations) and
-        the quaternion turned back, so rotations near 180 deg lose nothing.
+        reference frame is turned by a half-turn about x, y or z (Shuster's method
+        of sequential rotations: of the three turned solutions, the one with the
+        largest ``|l0'|``) and the quaternion turned back, so rotations near 180 deg
+        lose nothing.
         ``"esoq2"`` (Mortari): the same ``lambda_max``; the rotation axis ``e`` is
         the null vector of ``M = (lambda - sigma)(S - (lambda + sigma) E) + z z^T``
         (the largest cross product of two of its columns), and
