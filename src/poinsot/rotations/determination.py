@@ -16,10 +16,12 @@ attitude error covariance.
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _jit
 from .._typing import ArrayLike
 from .._validate import as_choice, as_trailing, batch_shape
 from ..errors import InvalidInputError
@@ -240,8 +242,6 @@ def _solve_sets(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """QUEST / ESOQ2 with validation, loss and covariance in one pass per set: the
     formulas of :mod:`._wahba`, compiled (a parallel loop) or run on NumPy columns."""
-    from .. import _jit
-
     code = _W.QUEST if method == "quest" else _W.ESOQ2
     size = int(np.prod(shape, dtype=np.int64))
     sets = [
@@ -251,8 +251,6 @@ def _solve_sets(
     ]
     _jit.njit  # noqa: B018  (binds the executor: is numba there and importing?)
     if _jit.NUMBA:
-        import importlib
-
         q = np.empty((size, 4))
         loss = np.empty(size)
         cov = np.empty((size, 3, 3) if want_cov else (1, 3, 3))
