@@ -26,7 +26,7 @@ from ..dynamics import (
     LagrangeTop,
     simulate,
 )
-from ..rotations import PARALLEL_MIN_SIZE
+from ..rotations import PARALLEL_MIN_SIZE, determine_attitude
 from ..rotations.rotation import Rotation
 
 DESCRIPTION = (
@@ -69,6 +69,11 @@ def exercise() -> None:
         Rotation.from_matrix(r.as_matrix())
         Rotation.from_rotvec(r.as_rotvec())
         (r * r.inv()).magnitude()
+        obs = r.as_matrix()[:, :2, :]  # b_i = C^T e_i, the rows of C
+        for method in ("quest", "esoq2"):  # one catalogue for the batch, and one per set
+            determine_attitude(obs, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], method=method)
+            determine_attitude(obs, np.broadcast_to([[1.0, 0, 0], [0, 1.0, 0]], obs.shape),
+                               [1.0, 2.0], method=method)  # fmt: skip
     t = np.linspace(0.0, 0.2, 3)
     for n in (1, 9):
         j = np.tile([1.0, 2.0, 2.5], (n, 1))

@@ -16,14 +16,17 @@ attitude error covariance.
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _jit
 from .._typing import ArrayLike
 from .._validate import as_choice, as_trailing, batch_shape
 from ..errors import InvalidInputError
-from ._lazy import kernels
+from . import _wahba as _W
+from ._lazy import PARALLEL_MIN_SIZE, threaded
 from .dcm import matrix_from_quat, quat_from_matrix
 from .frames import _svd_rotation
 from .rotation import Rotation
@@ -35,20 +38,12 @@ ATTITUDE_METHODS = ("quest", "svd", "q-method", "esoq2", "triad")
 
 #: Observations count as parallel when ``det(sum w_i (E - u_i u_i^T)) <= 1e-12 lambda0^3``
 #: (two unit vectors about ``2e-6`` rad apart), the analogue of ``align_vectors``' bound.
-PARALLEL_RTOL = 1e-12
+PARALLEL_RTOL = _W.PARALLEL_RTOL
 
 #: QUEST rotates the reference frame when the solved ``|l0|`` is below this.
-QUEST_ROTATION_THRESHOLD = 0.3
-
-#: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
-_NEWTON_TOL = 1e-15
-_NEWTON_MAX = 50
+QUEST_ROTATION_THRESHOLD = _W.QUEST_ROTATION_THRESHOLD
 
 _EYE = np.eye(3)
-#: ``D_k = diag(...)``: the half-turns about x, y, z; quaternion ``i_k``.
-_HALF_TURNS = np.array([np.diag([1.0, -1.0, -1.0]), np.diag([-1.0, 1.0, -1.0]),
-                        np.diag([-1.0, -1.0, 1.0])])  # fmt: skip
-_BASIS_QUATS = np.eye(4)[1:]
 
 
 @dataclass(frozen=True, repr=False)
@@ -62,11 +57,12 @@ class AttitudeSolution:
     loss : ndarray, shape (...)
         Wahba's loss at the solution, ``1/2 sum_i w_i |r_i - C_nb b_i|^2`` for the unit
         directions (units of ``weights``; dimensionless for ``1/sigma^2`` in rad^-2).
-    covariance : ndarray, shape (..., 3, 3)
+    covariance : ndarray, shape (..., 3, 3), or None
         Attitude error covariance in body axes (rad^2 when ``weights`` are
         ``1/sigma_i^2`` in rad^-2): ``P = (sum_i w_i (E - b_i b_i^T))^-1`` (Shuster's
         QUEST measurement model), the covariance of ``dtheta`` in
-        ``L_est = L_true o exp(dtheta/2)``.
+        ``L_est = L_true o exp(dtheta/2)``. ``None`` when solved with
+        ``covariance=False``.
     method : str
         The method that solved it.
 
@@ -87,7 +83,7 @@ class AttitudeSolution:
 
     quat: np.ndarray
     loss: np.ndarray
-    covariance: np.ndarray
+    covariance: np.ndarray | None
     method: str
 
     @property
@@ -162,118 +158,8 @@ def _k_matrix(b: np.ndarray) -> np.ndarray:
     return k
 
 
-def _dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    out: np.ndarray = np.einsum("...i,...i->...", x, y)
-    return out
-
-
-def _mv(m: np.ndarray, v: np.ndarray) -> np.ndarray:
-    out: np.ndarray = np.einsum("...ij,...j->...i", m, v)
-    return out
-
-
-def _kappa(s: np.ndarray) -> np.ndarray:
-    """``kappa = tr adj S``: the sum of the principal 2x2 minors of ``S``."""
-    out: np.ndarray = (
-        s[..., 1, 1] * s[..., 2, 2] - s[..., 1, 2] * s[..., 2, 1]
-        + s[..., 0, 0] * s[..., 2, 2] - s[..., 0, 2] * s[..., 2, 0]
-        + s[..., 0, 0] * s[..., 1, 1] - s[..., 0, 1] * s[..., 1, 0]
-    )  # fmt: skip
-    return out
-
-
-def _lambda_max(b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Largest eigenvalue of ``K`` by Newton on its characteristic polynomial from 1,
-    and ``f'(lambda_max) = prod_(j != max) (lambda_max - lambda_j)``.
-
-    ``f(l) = (l^2 - a)(l^2 - b) - c l + c sigma - d`` with ``a = sigma^2 - kappa``,
-    ``b = sigma^2 + z.z``, ``c = Delta + z.S z``, ``d = z.S^2 z``, ``kappa = tr adj S``,
-    ``Delta = det S`` (Shuster & Oh 1981); the weights sum to 1 here.
-    """
-    s, sigma, z = _k_parts(b)
-    sz = _mv(s, z)
-    kappa = _kappa(s)
-    delta = np.linalg.det(s)
-    a = sigma**2 - kappa
-    bb = sigma**2 + _dot(z, z)
-    c = delta + _dot(z, sz)
-    d = _dot(sz, sz)
-    lam = np.ones_like(sigma)
-    for _ in range(_NEWTON_MAX):
-        l2 = lam * lam
-        f = (l2 - a) * (l2 - bb) - c * lam + c * sigma - d
-        fp = 2.0 * lam * (2.0 * l2 - a - bb) - c
-        step = np.divide(f, fp, out=np.zeros_like(f), where=fp != 0.0)
-        lam = lam - step
-        if not np.any(np.abs(step) > _NEWTON_TOL):
-            break
-    l2 = lam * lam
-    return lam, 2.0 * lam * (2.0 * l2 - a - bb) - c
-
-
-def _quest_raw(b: np.ndarray, lam: np.ndarray) -> np.ndarray:
-    """Unnormalised QUEST quaternion ``(gamma, x)`` (Shuster & Oh 1981).
-
-    ``alpha = l^2 - sigma^2 + kappa``, ``beta = l - sigma``,
-    ``gamma = (l + sigma) alpha - Delta``, ``x = (alpha E + beta S + S^2) z``: the Gibbs
-    vector is ``x / gamma``.
-    """
-    s, sigma, z = _k_parts(b)
-    kappa = _kappa(s)
-    alpha = lam * lam - sigma * sigma + kappa
-    beta = lam - sigma
-    gamma = (lam + sigma) * alpha - np.linalg.det(s)
-    sz = _mv(s, z)
-    x = alpha[..., None] * z + beta[..., None] * sz + _mv(s, sz)
-    return np.concatenate([gamma[..., None], x], axis=-1)
-
-
 def _normalised(q: np.ndarray) -> np.ndarray:
-    out: np.ndarray = q / np.sqrt(_dot(q, q))[..., None]
-    return out
-
-
-def _rotated_back(q_rot: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """``L = i_k o L'`` for the solution ``L'`` in the reference frame turned about axis ``k``."""
-    out: np.ndarray = kernels().qmul(_BASIS_QUATS[k], q_rot)
-    return out
-
-
-def _quest(b: np.ndarray) -> np.ndarray:
-    lam, fp = _lambda_max(b)
-    raw = _quest_raw(b, lam)
-    # (gamma, x) = adj(lambda E - K) e_0 = f'(lambda) l0 L: the Gibbs denominator is
-    # gamma = f'(lambda) l0^2, so l0^2 = gamma / f' even when (gamma, x) is round-off
-    bad = ~(raw[..., 0] >= QUEST_ROTATION_THRESHOLD**2 * fp)
-    q = _normalised(np.where(bad[..., None], 1.0, raw))
-    if np.any(bad):  # sequential rotations: B' = B D_k for the best half-turn k
-        bk = b[bad]
-        diag = np.diagonal(_k_matrix(bk), axis1=-2, axis2=-1)[..., 1:]
-        k = np.argmax(diag, axis=-1)
-        q_rot = _normalised(_quest_raw(bk @ _HALF_TURNS[k], lam[bad]))
-        q[bad] = _rotated_back(q_rot, k)
-    return q
-
-
-def _esoq2(b: np.ndarray) -> np.ndarray:
-    lam, _ = _lambda_max(b)
-    # frame turned so that the rotation is far from identity: the smallest diagonal of K
-    k4 = np.argmin(np.diagonal(_k_matrix(b), axis1=-2, axis2=-1), axis=-1)
-    turns = np.concatenate([_EYE[None], _HALF_TURNS])
-    s, sigma, z = _k_parts(b @ turns[k4])
-    beta = lam - sigma
-    m = beta[..., None, None] * (s - (lam + sigma)[..., None, None] * _EYE) + np.einsum(
-        "...i,...j->...ij", z, z
-    )
-    cols = [m[..., :, 0], m[..., :, 1], m[..., :, 2]]
-    ys = np.stack([np.cross(cols[0], cols[1]), np.cross(cols[1], cols[2]),
-                   np.cross(cols[2], cols[0])], axis=-2)  # fmt: skip
-    pick = np.argmax(np.einsum("...ij,...ij->...i", ys, ys), axis=-1)
-    e = np.take_along_axis(ys, pick[..., None, None], axis=-2)[..., 0, :]
-    e = _normalised(e)
-    q = _normalised(np.concatenate([_dot(z, e)[..., None], beta[..., None] * e], axis=-1))
-    q_turned = kernels().qmul(np.concatenate([[[1.0, 0, 0, 0]], _BASIS_QUATS])[k4], q)
-    out: np.ndarray = q_turned
+    out: np.ndarray = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
     return out
 
 
@@ -298,12 +184,119 @@ def _triad(bu: np.ndarray, ru: np.ndarray) -> np.ndarray:
     return quat_from_matrix(np.ascontiguousarray(c))
 
 
+#: Status bits of the solving loop, in the order they are checked (as the NumPy path's).
+_STATUS = (
+    (_W.NONFINITE_OBSERVED, "finite", "observed"),
+    (_W.NONFINITE_REFERENCE, "finite", "reference"),
+    (_W.ZERO_OBSERVED, "zero", "observed"),
+    (_W.ZERO_REFERENCE, "zero", "reference"),
+    (_W.PARALLEL_OBSERVED, "parallel", "observed"),
+    (_W.PARALLEL_REFERENCE, "parallel", "reference"),
+)
+_WAHBA_KERNELS = "poinsot.rotations._wahba_kernels"
+_CALLED: set[str] = set()
+
+
+def _raise_status(
+    status: np.ndarray, shape: tuple[int, ...], arrays: dict[str, np.ndarray]
+) -> None:
+    """Raise the error of the first status bit set (the NumPy path's error and message;
+    a zero vector is located in ``arrays[name]`` as given)."""
+    bits = int(np.bitwise_or.reduce(status))
+    for bit, kind, name in _STATUS:
+        if not bits & bit:
+            continue
+        if kind == "finite":
+            raise InvalidInputError(
+                f"Expected `{name}` to contain only finite values (no NaN/inf)."
+            )
+        if kind == "zero":
+            _unit_dirs(arrays[name], name)  # raises, with the index of the vector
+        bad = ((status & bit) != 0).reshape(shape)
+        raise InvalidInputError(
+            f"Expected `{name}` to contain at least two non-parallel directions with "
+            f"non-zero weight{_first(bad)}; the rotation about a common direction is not "
+            "determined."
+        )
+
+
+def _flat_sets(a: np.ndarray, shape: tuple[int, ...], core: tuple[int, ...]) -> np.ndarray:
+    """``a`` (batch shape broadcasting to ``shape``) as ``(N, *core)``, or ``(1, *core)``
+    when it is one set for the whole batch (no copy of a contiguous input)."""
+    lead = a.shape[: a.ndim - len(core)]
+    if int(np.prod(lead, dtype=np.int64)) == 1:
+        return np.ascontiguousarray(a).reshape((1,) + core)
+    if lead != shape:
+        a = np.broadcast_to(a, shape + core)
+    return np.ascontiguousarray(a).reshape((-1,) + core)
+
+
+def _solve_sets(
+    ob: np.ndarray,
+    ref: np.ndarray,
+    w: np.ndarray,
+    shape: tuple[int, ...],
+    n: int,
+    method: str,
+    want_cov: bool,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """QUEST / ESOQ2 with validation, loss and covariance in one pass per set: the
+    formulas of :mod:`._wahba`, compiled (a parallel loop) or run on NumPy columns."""
+    code = _W.QUEST if method == "quest" else _W.ESOQ2
+    size = int(np.prod(shape, dtype=np.int64))
+    sets = [
+        _flat_sets(ob, shape, (n, 3)),
+        _flat_sets(ref, shape, (n, 3)),
+        _flat_sets(w, shape, (n,)),
+    ]
+    _jit.njit  # noqa: B018  (binds the executor: is numba there and importing?)
+    if _jit.NUMBA:
+        q = np.empty((size, 4))
+        loss = np.empty(size)
+        cov = np.empty((size, 3, 3) if want_cov else (1, 3, 3))
+        status = np.empty(size, dtype=np.uint8)
+        big = size >= PARALLEL_MIN_SIZE
+        name = "solve_flat" if big else "solve_serial"
+        args = (*sets, code, want_cov, q, loss, cov, status)
+        if name in _CALLED:
+            kernel = getattr(importlib.import_module(_WAHBA_KERNELS), name)
+            threaded(kernel, *args) if big else kernel(*args)
+        else:  # the first call compiles (or loads from numba's cache): one process at a time
+            with _jit.compile_lock("wahba"):
+                kernel = getattr(importlib.import_module(_WAHBA_KERNELS), name)
+                threaded(kernel, *args) if big else kernel(*args)
+            _CALLED.add(name)
+    else:
+        cols = [np.moveaxis(np.broadcast_to(a, (size,) + a.shape[1:]), 0, -1) for a in sets]
+        if size == 0:
+            res: tuple[np.ndarray, ...] = (np.empty(0),) * 12
+        else:
+            with np.errstate(all="ignore"):  # as compiled: the failed sets give NaN, no warning
+                res = _jit.lanes(_W.solve, size, *cols, n, code, want_cov)
+        res = tuple(np.broadcast_to(np.asarray(r, dtype=float), (size,)) for r in res)
+        q = np.stack(res[:4], axis=-1)
+        loss = np.array(res[4])
+        status = res[11].astype(np.uint8)
+        if want_cov:
+            c00, c01, c02, c11, c12, c22 = res[5:11]
+            cov = np.stack([c00, c01, c02, c01, c11, c12, c02, c12, c22], axis=-1)
+            cov = cov.reshape(size, 3, 3)
+    if status.any():
+        _raise_status(status, shape, {"observed": ob, "reference": ref})
+    return (
+        q.reshape(shape + (4,)),
+        loss.reshape(shape),
+        cov.reshape(shape + (3, 3)) if want_cov else None,
+    )
+
+
 def determine_attitude(
     observed: ArrayLike,
     reference: ArrayLike,
     weights: ArrayLike | None = None,
     *,
     method: str = "quest",
+    covariance: bool = True,
 ) -> AttitudeSolution:
     """The attitude that best maps body-frame observations onto reference directions.
 
@@ -339,9 +332,10 @@ def determine_attitude(
         (Shuster): Newton's iteration on the characteristic polynomial of ``K`` from
         ``lambda0``, then the Gibbs vector ``x / gamma``; where ``|l0| < 0.3`` (read
         from the Gibbs denominator, ``gamma = f'(lambda_max) l0^2``) the
-        reference frame is turned by a half-turn about x, y or z (the one with the
-        largest diagonal entry of ``K``: Shuster's method of sequential rotations) and
-        the quaternion turned back, so rotations near 180 deg lose nothing.
+        reference frame is turned by a half-turn about x, y or z (Shuster's method
+        of sequential rotations: of the three turned solutions, the one with the
+        largest ``|l0'|``) and the quaternion turned back, so rotations near 180 deg
+        lose nothing.
         ``"esoq2"`` (Mortari): the same ``lambda_max``; the rotation axis ``e`` is
         the null vector of ``M = (lambda - sigma)(S - (lambda + sigma) E) + z z^T``
         (the largest cross product of two of its columns), and
@@ -350,13 +344,18 @@ def determine_attitude(
         ``"triad"``: exactly two observations, weights ignored; the first pair is
         matched exactly, the second only fixes the rotation about it:
         ``C_nb = [r1, r1 x r2 /|.|, ...] [b1, b1 x b2 /|.|, ...]^T``.
+    covariance : bool, keyword-only
+        Whether to return the covariance (default ``True``). ``False`` skips its
+        inverse and its ``(..., 3, 3)`` array (for QUEST and ESOQ2 on 1e6 sets, the
+        largest part of the memory written): ``AttitudeSolution.covariance`` is then
+        ``None``.
 
     Returns
     -------
     AttitudeSolution
         ``quat`` (..., 4) scalar first with ``l0 >= 0``, ``loss`` (...),
         ``covariance`` (..., 3, 3) = ``(sum_i w_i (E - b_i b_i^T))^-1`` (rad^2, body
-        axes), ``method``.
+        axes; ``None`` with ``covariance=False``), ``method``.
 
     Raises
     ------
@@ -373,10 +372,15 @@ def determine_attitude(
     ``Rotation.apply(b) ~ r``, and ``Rotation.align_vectors(reference, observed)``
     gives the same rotation. docs/theory.md §2.4, docs/conventions.md.
 
-    All methods are vectorised over the batch (no Python loop over it). Measured on
-    1e5 sets of three observations (two observations for TRIAD), NumPy on a shared
-    2-core machine, validation, loss and covariance included: svd 1.0e5 solves/s,
-    q-method 1.2e5, quest 1.6e5, esoq2 1.7e5, triad 1.9e5.
+    All methods are vectorised over the batch (no Python loop over it). ``"quest"``
+    and ``"esoq2"`` solve each set in one pass (validation, the solution, the loss and
+    the covariance) by formulas written once (``poinsot.rotations._wahba``): compiled
+    by numba into a loop over the batch, split over the idle cores from
+    ``PARALLEL_MIN_SIZE`` sets (:func:`~poinsot.rotations.set_num_threads`; the
+    results do not depend on the thread count), or, under ``POINSOT_NUMBA=0``, run on
+    NumPy columns of the whole batch (the same operations). ``"svd"``, ``"q-method"``
+    and ``"triad"`` are NumPy (LAPACK). Throughput: docs/performance.md, "Attitude
+    determination".
 
     References
     ----------
@@ -401,8 +405,9 @@ def determine_attitude(
     (True, array([1. , 0.5, 1. ]))
     """
     method = as_choice(method, "method", ATTITUDE_METHODS)
-    ob = as_trailing(observed, "observed", (None, 3))
-    ref = as_trailing(reference, "reference", (None, 3))
+    fused = method in ("quest", "esoq2")  # finiteness checked in the solving loop
+    ob = as_trailing(observed, "observed", (None, 3), finite=not fused)
+    ref = as_trailing(reference, "reference", (None, 3), finite=not fused)
     n = ob.shape[-2]
     if ref.shape[-2] != n:
         raise InvalidInputError(
@@ -432,6 +437,12 @@ def determine_attitude(
                 f"Expected `weights` to be non-negative, got {float(w[w < 0].ravel()[0])!r}."
             )
     shape = batch_shape(observed=(ob, 2), reference=(ref, 2), weights=(w, 1))
+    if fused:
+        q, loss, cov = _solve_sets(ob, ref, w, shape, n, method, covariance)
+        for a in (q, loss, cov):
+            if a is not None:
+                a.setflags(write=False)
+        return AttitudeSolution(quat=q, loss=loss, covariance=cov, method=method)
     bu = np.broadcast_to(_unit_dirs(ob, "observed"), shape + (n, 3))
     ru = np.broadcast_to(_unit_dirs(ref, "reference"), shape + (n, 3))
     w = np.broadcast_to(w, shape + (n,))
@@ -445,17 +456,14 @@ def determine_attitude(
         q = _svd(bmat)
     elif method == "q-method":
         q = _q_method(bmat)
-    elif method == "quest":
-        q = _quest(bmat)
-    elif method == "esoq2":
-        q = _esoq2(bmat)
     else:
         q = _triad(bu, ru)
     q = np.where(q[..., :1] < 0.0, -q, q)
     c = matrix_from_quat(np.ascontiguousarray(q))
     resid = ru - np.einsum("...jk,...ik->...ij", c, bu)
     loss = np.asarray(0.5 * np.sum(w * np.einsum("...i,...i->...", resid, resid), axis=-1))
-    cov = np.linalg.inv(spread_b)
+    cov = np.linalg.inv(spread_b) if covariance else None
     for a in (q, loss, cov):
-        a.setflags(write=False)
+        if a is not None:
+            a.setflags(write=False)
     return AttitudeSolution(quat=q, loss=loss, covariance=cov, method=method)

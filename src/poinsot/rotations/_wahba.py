@@ -1,0 +1,379 @@
+"""QUEST and ESOQ2 on one observation set, written once (docs/conventions.md, "Writing a
+formula"): compiled by numba for :func:`poinsot.rotations.determine_attitude` (a
+parallel loop over the batch, :mod:`poinsot.rotations._wahba_kernels`) and run by the
+NumPy executor (``POINSOT_NUMBA=0``) on whole columns of the batch
+(:func:`poinsot._jit.lanes`): the same operations either way.
+
+:func:`solve` takes one set's observations ``ob`` and references ``rf`` (``(n, 3)``,
+any non-zero length) and weights ``w`` (``(n,)``), validates them (finite, non-zero,
+not all parallel: the status bits below) and returns the quaternion ``L`` of ``C_nb``
+(``l0 >= 0``), Wahba's loss and, when asked, the six entries of the QUEST covariance
+``(sum_i w_i (E - b_i b_i^T))^-1``. Convention and formulas: the docstring of
+:func:`~poinsot.rotations.determine_attitude`, docs/theory.md §2.4.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .._jit import going
+from ._scalar import hamilton, to_matrix
+
+#: Observations count as parallel when ``det(sum w_i (E - u_i u_i^T)) <= 1e-12 lambda0^3``.
+PARALLEL_RTOL = 1e-12
+#: QUEST rotates the reference frame when the solved ``|l0|`` is below this.
+QUEST_ROTATION_THRESHOLD = 0.3
+#: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
+NEWTON_TOL = 1e-15
+NEWTON_MAX = 50
+
+#: ``method`` codes of :func:`solve`
+QUEST = 0
+ESOQ2 = 1
+
+#: Status bits of :func:`solve` (0: solved), in the order the errors are raised.
+NONFINITE_OBSERVED = 1
+NONFINITE_REFERENCE = 2
+ZERO_OBSERVED = 4
+ZERO_REFERENCE = 8
+PARALLEL_OBSERVED = 16
+PARALLEL_REFERENCE = 32
+
+
+def finite3(x: float, y: float, z: float) -> bool:
+    """Whether ``x, y, z`` are all finite (``v - v`` is NaN for NaN and inf)."""
+    return (x - x) + (y - y) + (z - z) == 0.0
+
+
+def unit(x: float, y: float, z: float) -> tuple[float, float, float]:
+    """``v / |v|`` for a non-zero finite ``v``, scaled first (no overflow for 1e200)."""
+    t = 1.0 / max(abs(x), abs(y), abs(z))
+    x, y, z = x * t, y * t, z * t
+    n = 1.0 / math.sqrt(x * x + y * y + z * z)
+    return x * n, y * n, z * n
+
+
+def sym_det(m00: float, m01: float, m02: float, m11: float, m12: float, m22: float) -> float:
+    """``det`` of the symmetric ``[[m00, m01, m02], [m01, m11, m12], [m02, m12, m22]]``."""
+    return (
+        m00 * (m11 * m22 - m12 * m12)
+        - m01 * (m01 * m22 - m12 * m02)
+        + m02 * (m01 * m12 - m11 * m02)
+    )
+
+
+def k_parts(
+    b00: float, b01: float, b02: float, b10: float, b11: float, b12: float,
+    b20: float, b21: float, b22: float,
+) -> tuple[float, ...]:  # fmt: skip
+    """``S = B + B^T`` (``s00, s01, s02, s11, s12, s22``), ``sigma = tr B`` and
+    ``z = (B12 - B21, B20 - B02, B01 - B10)``: Davenport's
+    ``K = [[sigma, z^T], [z, S - sigma E]]``."""
+    return (
+        2.0 * b00, b01 + b10, b02 + b20, 2.0 * b11, b12 + b21, 2.0 * b22,
+        b00 + b11 + b22, b12 - b21, b20 - b02, b01 - b10,
+    )  # fmt: skip
+
+
+def sym_mv(
+    s00: float, s01: float, s02: float, s11: float, s12: float, s22: float,
+    x: float, y: float, z: float,
+) -> tuple[float, float, float]:  # fmt: skip
+    """``S v`` for the symmetric ``S``."""
+    return (
+        s00 * x + s01 * y + s02 * z,
+        s01 * x + s11 * y + s12 * z,
+        s02 * x + s12 * y + s22 * z,
+    )
+
+
+def lambda_max(
+    s00: float, s01: float, s02: float, s11: float, s12: float, s22: float,
+    sigma: float, z0: float, z1: float, z2: float,
+) -> tuple[float, float]:  # fmt: skip
+    """Largest eigenvalue of ``K`` by Newton on its characteristic polynomial from 1,
+    and ``f'(lambda_max) = prod_(j != max) (lambda_max - lambda_j)``.
+
+    ``f(l) = (l^2 - a)(l^2 - b) - c l + c sigma - d`` with ``a = sigma^2 - kappa``,
+    ``b = sigma^2 + z.z``, ``c = Delta + z.S z``, ``d = z.S^2 z``, ``kappa = tr adj S``,
+    ``Delta = det S`` (Shuster & Oh 1981); the weights sum to 1 here.
+    """
+    sz0, sz1, sz2 = sym_mv(s00, s01, s02, s11, s12, s22, z0, z1, z2)
+    kappa = s11 * s22 - s12 * s12 + s00 * s22 - s02 * s02 + s00 * s11 - s01 * s01
+    a = sigma * sigma - kappa
+    bb = sigma * sigma + z0 * z0 + z1 * z1 + z2 * z2
+    c = sym_det(s00, s01, s02, s11, s12, s22) + z0 * sz0 + z1 * sz1 + z2 * sz2
+    d = sz0 * sz0 + sz1 * sz1 + sz2 * sz2
+    lam = 1.0
+    for _ in range(NEWTON_MAX):
+        l2 = lam * lam
+        f = (l2 - a) * (l2 - bb) - c * lam + c * sigma - d
+        fp = 2.0 * lam * (2.0 * l2 - a - bb) - c
+        step = 0.0
+        if fp != 0.0:
+            step = f / fp
+        lam = lam - step
+        if not going(abs(step) > NEWTON_TOL):
+            break
+    l2 = lam * lam
+    return lam, 2.0 * lam * (2.0 * l2 - a - bb) - c
+
+
+def quest_raw(
+    s00: float, s01: float, s02: float, s11: float, s12: float, s22: float,
+    sigma: float, z0: float, z1: float, z2: float, lam: float,
+) -> tuple[float, float, float, float]:  # fmt: skip
+    """Unnormalised QUEST quaternion ``(gamma, x)`` (Shuster & Oh 1981).
+
+    ``alpha = l^2 - sigma^2 + kappa``, ``beta = l - sigma``,
+    ``gamma = (l + sigma) alpha - Delta``, ``x = (alpha E + beta S + S^2) z``: the Gibbs
+    vector is ``x / gamma``.
+    """
+    kappa = s11 * s22 - s12 * s12 + s00 * s22 - s02 * s02 + s00 * s11 - s01 * s01
+    alpha = lam * lam - sigma * sigma + kappa
+    beta = lam - sigma
+    gamma = (lam + sigma) * alpha - sym_det(s00, s01, s02, s11, s12, s22)
+    sz0, sz1, sz2 = sym_mv(s00, s01, s02, s11, s12, s22, z0, z1, z2)
+    ssz0, ssz1, ssz2 = sym_mv(s00, s01, s02, s11, s12, s22, sz0, sz1, sz2)
+    return (
+        gamma,
+        alpha * z0 + beta * sz0 + ssz0,
+        alpha * z1 + beta * sz1 + ssz1,
+        alpha * z2 + beta * sz2 + ssz2,
+    )
+
+
+def normalised4(w: float, x: float, y: float, z: float) -> tuple[float, float, float, float]:
+    n = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+    return w * n, x * n, y * n, z * n
+
+
+def turned(
+    b00: float, b01: float, b02: float, b10: float, b11: float, b12: float,
+    b20: float, b21: float, b22: float, turn: int,
+) -> tuple[float, ...]:  # fmt: skip
+    """``B D`` for ``D`` the half-turn about axis ``turn - 1`` (``diag(1, -1, -1)``...;
+    ``turn = 0``: ``B``): the reference frame turned (Shuster's sequential rotations)."""
+    c0 = 1.0 if turn == 0 or turn == 1 else -1.0
+    c1 = 1.0 if turn == 0 or turn == 2 else -1.0
+    c2 = 1.0 if turn == 0 or turn == 3 else -1.0
+    return (
+        b00 * c0, b01 * c1, b02 * c2, b10 * c0, b11 * c1, b12 * c2,
+        b20 * c0, b21 * c1, b22 * c2,
+    )  # fmt: skip
+
+
+def turned_back(
+    turn: int, w: float, x: float, y: float, z: float
+) -> tuple[float, float, float, float]:
+    """``L = i_k o L'`` for the solution ``L'`` in the frame turned by ``turn``
+    (``i_k`` the basis quaternion of axis ``k = turn - 1``; ``turn = 0``: ``L'``)."""
+    return hamilton(
+        1.0 if turn == 0 else 0.0,
+        1.0 if turn == 1 else 0.0,
+        1.0 if turn == 2 else 0.0,
+        1.0 if turn == 3 else 0.0,
+        w, x, y, z,
+    )  # fmt: skip
+
+
+def quest(
+    b00: float, b01: float, b02: float, b10: float, b11: float, b12: float,
+    b20: float, b21: float, b22: float,
+) -> tuple[float, float, float, float]:  # fmt: skip
+    """QUEST (Shuster & Oh 1981) for ``B = sum_i w_i b_i r_i^T`` with ``sum w_i = 1``;
+    where ``|l0| < 0.3`` (``gamma = f'(lambda_max) l0^2``) the reference frame is
+    turned by the half-turn about x, y or z that gives the largest ``|l0'|`` and the
+    result turned back."""
+    s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
+        b00, b01, b02, b10, b11, b12, b20, b21, b22
+    )
+    lam, fp = lambda_max(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2)
+    g, x0, x1, x2 = quest_raw(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2, lam)
+    if g >= QUEST_ROTATION_THRESHOLD * QUEST_ROTATION_THRESHOLD * fp:
+        return normalised4(g, x0, x1, x2)
+    # sequential rotations: the half-turn whose frame has the largest |l0'|, read from
+    # the three turned solutions (l0'^2 = gamma^2 / |(gamma, x)|^2); the largest diagonal
+    # of K alone picks a poor one for two observations (1e-9 rad instead of 1e-14)
+    g1, a1, b1, c1 = quest_turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, 1, lam)
+    g2, a2, b2, c2 = quest_turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, 2, lam)
+    g3, a3, b3, c3 = quest_turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, 3, lam)
+    f1 = g1 * g1 / (g1 * g1 + a1 * a1 + b1 * b1 + c1 * c1)
+    f2 = g2 * g2 / (g2 * g2 + a2 * a2 + b2 * b2 + c2 * c2)
+    f3 = g3 * g3 / (g3 * g3 + a3 * a3 + b3 * b3 + c3 * c3)
+    turn, g, x0, x1, x2 = 3, g3, a3, b3, c3
+    if f1 >= f2 and f1 >= f3:
+        turn, g, x0, x1, x2 = 1, g1, a1, b1, c1
+    elif f2 >= f3:
+        turn, g, x0, x1, x2 = 2, g2, a2, b2, c2
+    w, x, y, z = normalised4(g, x0, x1, x2)
+    return turned_back(turn, w, x, y, z)
+
+
+def quest_turned(
+    b00: float, b01: float, b02: float, b10: float, b11: float, b12: float,
+    b20: float, b21: float, b22: float, turn: int, lam: float,
+) -> tuple[float, float, float, float]:  # fmt: skip
+    """:func:`quest_raw` in the reference frame turned by ``turn`` (same ``lambda``)."""
+    t = turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, turn)
+    s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
+        t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8]
+    )
+    return quest_raw(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2, lam)
+
+
+def cross(
+    ax: float, ay: float, az: float, bx: float, by: float, bz: float
+) -> tuple[float, float, float]:
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+def esoq2(
+    b00: float, b01: float, b02: float, b10: float, b11: float, b12: float,
+    b20: float, b21: float, b22: float,
+) -> tuple[float, float, float, float]:  # fmt: skip
+    """ESOQ2 (Mortari 1997): QUEST's ``lambda_max``; the axis ``e`` is the null vector of
+    ``M = (lambda - sigma)(S - (lambda + sigma) E) + z z^T`` (the largest cross product of
+    two of its columns), ``L ~ (z.e, (lambda - sigma) e)``, in the frame turned by the
+    half-turn of the smallest diagonal of ``K`` (ESOQ2 is singular at the identity)."""
+    s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
+        b00, b01, b02, b10, b11, b12, b20, b21, b22
+    )
+    lam, _ = lambda_max(s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2)
+    k0, k1, k2, k3 = sigma, s00 - sigma, s11 - sigma, s22 - sigma
+    turn = 3  # the smallest diagonal of K, the first on ties (numpy.argmin)
+    if k0 <= k1 and k0 <= k2 and k0 <= k3:
+        turn = 0
+    elif k1 <= k2 and k1 <= k3:
+        turn = 1
+    elif k2 <= k3:
+        turn = 2
+    t = turned(b00, b01, b02, b10, b11, b12, b20, b21, b22, turn)
+    s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
+        t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8]
+    )
+    beta = lam - sigma
+    ls = lam + sigma
+    m00 = beta * (s00 - ls) + z0 * z0
+    m01 = beta * s01 + z0 * z1
+    m02 = beta * s02 + z0 * z2
+    m11 = beta * (s11 - ls) + z1 * z1
+    m12 = beta * s12 + z1 * z2
+    m22 = beta * (s22 - ls) + z2 * z2
+    # columns of the symmetric M: (m00, m01, m02), (m01, m11, m12), (m02, m12, m22)
+    ya = cross(m00, m01, m02, m01, m11, m12)
+    yb = cross(m01, m11, m12, m02, m12, m22)
+    yc = cross(m02, m12, m22, m00, m01, m02)
+    na = ya[0] * ya[0] + ya[1] * ya[1] + ya[2] * ya[2]
+    nb = yb[0] * yb[0] + yb[1] * yb[1] + yb[2] * yb[2]
+    nc = yc[0] * yc[0] + yc[1] * yc[1] + yc[2] * yc[2]
+    e0, e1, e2, ne = yc[0], yc[1], yc[2], nc
+    if na >= nb and na >= nc:  # the first of the largest (numpy.argmax)
+        e0, e1, e2, ne = ya[0], ya[1], ya[2], na
+    elif nb >= nc:
+        e0, e1, e2, ne = yb[0], yb[1], yb[2], nb
+    n = 1.0 / math.sqrt(ne)
+    e0, e1, e2 = e0 * n, e1 * n, e2 * n
+    w, x, y, z = normalised4(z0 * e0 + z1 * e1 + z2 * e2, beta * e0, beta * e1, beta * e2)
+    return turned_back(turn, w, x, y, z)
+
+
+def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
+    """One observation set: ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22,
+    status)``: the quaternion of ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance
+    entries (NaN unless ``want_cov``) and the status bits (``0.0``: solved; else
+    everything else is NaN)."""
+    nan = math.nan
+    bad_b = bad_r = 0.0
+    zero_b = zero_r = 0.0
+    for i in range(n):  # finite, non-zero
+        if not finite3(ob[i, 0], ob[i, 1], ob[i, 2]):
+            bad_b = 1.0
+        if not finite3(rf[i, 0], rf[i, 1], rf[i, 2]):
+            bad_r = 1.0
+        if max(abs(ob[i, 0]), abs(ob[i, 1]), abs(ob[i, 2])) == 0.0:
+            zero_b = 1.0
+        if max(abs(rf[i, 0]), abs(rf[i, 1]), abs(rf[i, 2])) == 0.0:
+            zero_r = 1.0
+    bad = bad_b * NONFINITE_OBSERVED + bad_r * NONFINITE_REFERENCE
+    if bad != 0.0:
+        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, bad
+    bad = zero_b * ZERO_OBSERVED + zero_r * ZERO_REFERENCE
+    if bad != 0.0:
+        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, bad
+    bad_b = bad_r = 0.0
+    lam0 = 0.0
+    pb00 = pb01 = pb02 = pb11 = pb12 = pb22 = 0.0  # sum w b b^T
+    pr00 = pr01 = pr02 = pr11 = pr12 = pr22 = 0.0  # sum w r r^T
+    b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0  # sum w b r^T
+    for i in range(n):
+        wi = w[i]
+        bx, by, bz = unit(ob[i, 0], ob[i, 1], ob[i, 2])
+        rx, ry, rz = unit(rf[i, 0], rf[i, 1], rf[i, 2])
+        lam0 += wi
+        pb00 += wi * bx * bx
+        pb01 += wi * bx * by
+        pb02 += wi * bx * bz
+        pb11 += wi * by * by
+        pb12 += wi * by * bz
+        pb22 += wi * bz * bz
+        pr00 += wi * rx * rx
+        pr01 += wi * rx * ry
+        pr02 += wi * rx * rz
+        pr11 += wi * ry * ry
+        pr12 += wi * ry * rz
+        pr22 += wi * rz * rz
+        b00 += wi * bx * rx
+        b01 += wi * bx * ry
+        b02 += wi * bx * rz
+        b10 += wi * by * rx
+        b11 += wi * by * ry
+        b12 += wi * by * rz
+        b20 += wi * bz * rx
+        b21 += wi * bz * ry
+        b22 += wi * bz * rz
+    # the spreads sum w (E - u u^T): not all parallel (nor all weight on one direction)
+    m00, m01, m02, m11, m12, m22 = lam0 - pb00, -pb01, -pb02, lam0 - pb11, -pb12, lam0 - pb22
+    det_b = sym_det(m00, m01, m02, m11, m12, m22)
+    bound = PARALLEL_RTOL * lam0 * lam0 * lam0
+    if not det_b > bound:
+        bad_b = 1.0
+    det_r = sym_det(lam0 - pr00, -pr01, -pr02, lam0 - pr11, -pr12, lam0 - pr22)
+    if not det_r > bound:
+        bad_r = 1.0
+    bad = bad_b * PARALLEL_OBSERVED + bad_r * PARALLEL_REFERENCE
+    if bad != 0.0:
+        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, bad
+    s = 1.0 / lam0  # lambda0 = 1 inside: the polynomial's scale is fixed
+    b00, b01, b02, b10, b11, b12 = b00 * s, b01 * s, b02 * s, b10 * s, b11 * s, b12 * s
+    b20, b21, b22 = b20 * s, b21 * s, b22 * s
+    if method == QUEST:
+        q0, q1, q2, q3 = quest(b00, b01, b02, b10, b11, b12, b20, b21, b22)
+    else:
+        q0, q1, q2, q3 = esoq2(b00, b01, b02, b10, b11, b12, b20, b21, b22)
+    if q0 < 0.0:
+        q0, q1, q2, q3 = -q0, -q1, -q2, -q3
+    c = to_matrix(q0, q1, q2, q3)  # C_nb: r ~ C b
+    loss = 0.0
+    for i in range(n):
+        bx, by, bz = unit(ob[i, 0], ob[i, 1], ob[i, 2])
+        rx, ry, rz = unit(rf[i, 0], rf[i, 1], rf[i, 2])
+        dx = rx - (c[0] * bx + c[1] * by + c[2] * bz)
+        dy = ry - (c[3] * bx + c[4] * by + c[5] * bz)
+        dz = rz - (c[6] * bx + c[7] * by + c[8] * bz)
+        loss += w[i] * (dx * dx + dy * dy + dz * dz)
+    loss = 0.5 * loss
+    if not want_cov:
+        return q0, q1, q2, q3, loss, nan, nan, nan, nan, nan, nan, 0.0
+    # (sum w (E - b b^T))^-1 = adj / det: symmetric
+    inv = 1.0 / det_b
+    return (
+        q0, q1, q2, q3, loss,
+        (m11 * m22 - m12 * m12) * inv,
+        (m02 * m12 - m01 * m22) * inv,
+        (m01 * m12 - m02 * m11) * inv,
+        (m00 * m22 - m02 * m02) * inv,
+        (m01 * m02 - m00 * m12) * inv,
+        (m00 * m11 - m01 * m01) * inv,
+        0.0,
+    )  # fmt: skip
