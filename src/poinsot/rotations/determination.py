@@ -25,7 +25,7 @@ from .. import _jit
 from .._typing import ArrayLike
 from .._validate import as_choice, as_trailing, batch_shape
 from ..errors import InvalidInputError
-from . import _wahba as _W
+from . import _wahba_codes as _C
 from ._lazy import PARALLEL_MIN_SIZE, threaded
 from .dcm import matrix_from_quat, quat_from_matrix
 from .frames import _svd_rotation
@@ -38,10 +38,10 @@ ATTITUDE_METHODS = ("quest", "svd", "q-method", "esoq2", "triad")
 
 #: Observations count as parallel when ``det(sum w_i (E - u_i u_i^T)) <= 1e-12 lambda0^3``
 #: (two unit vectors about ``2e-6`` rad apart), the analogue of ``align_vectors``' bound.
-PARALLEL_RTOL = _W.PARALLEL_RTOL
+PARALLEL_RTOL = _C.PARALLEL_RTOL
 
 #: QUEST rotates the reference frame when the solved ``|l0|`` is below this.
-QUEST_ROTATION_THRESHOLD = _W.QUEST_ROTATION_THRESHOLD
+QUEST_ROTATION_THRESHOLD = _C.QUEST_ROTATION_THRESHOLD
 
 _EYE = np.eye(3)
 
@@ -186,14 +186,15 @@ def _triad(bu: np.ndarray, ru: np.ndarray) -> np.ndarray:
 
 #: Status bits of the solving loop, in the order they are checked (as the NumPy path's).
 _STATUS = (
-    (_W.NONFINITE_OBSERVED, "finite", "observed"),
-    (_W.NONFINITE_REFERENCE, "finite", "reference"),
-    (_W.ZERO_OBSERVED, "zero", "observed"),
-    (_W.ZERO_REFERENCE, "zero", "reference"),
-    (_W.PARALLEL_OBSERVED, "parallel", "observed"),
-    (_W.PARALLEL_REFERENCE, "parallel", "reference"),
+    (_C.NONFINITE_OBSERVED, "finite", "observed"),
+    (_C.NONFINITE_REFERENCE, "finite", "reference"),
+    (_C.ZERO_OBSERVED, "zero", "observed"),
+    (_C.ZERO_REFERENCE, "zero", "reference"),
+    (_C.PARALLEL_OBSERVED, "parallel", "observed"),
+    (_C.PARALLEL_REFERENCE, "parallel", "reference"),
 )
 _WAHBA_KERNELS = "poinsot.rotations._wahba_kernels"
+_WAHBA = "poinsot.rotations._wahba"
 _CALLED: set[str] = set()
 
 
@@ -242,7 +243,7 @@ def _solve_sets(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """QUEST / ESOQ2 with validation, loss and covariance in one pass per set: the
     formulas of :mod:`._wahba`, compiled (a parallel loop) or run on NumPy columns."""
-    code = _W.QUEST if method == "quest" else _W.ESOQ2
+    code = _C.QUEST if method == "quest" else _C.ESOQ2
     size = int(np.prod(shape, dtype=np.int64))
     sets = [
         _flat_sets(ob, shape, (n, 3)),
@@ -272,7 +273,9 @@ def _solve_sets(
             res: tuple[np.ndarray, ...] = (np.empty(0),) * 12
         else:
             with np.errstate(all="ignore"):  # as compiled: the failed sets give NaN, no warning
-                res = _jit.lanes(_W.solve, size, *cols, n, code, want_cov)
+                # the formula source binds the executor's names (numba): loaded on use
+                solve = importlib.import_module(_WAHBA).solve
+                res = _jit.lanes(solve, size, *cols, n, code, want_cov)
         res = tuple(np.broadcast_to(np.asarray(r, dtype=float), (size,)) for r in res)
         q = np.stack(res[:4], axis=-1)
         loss = np.array(res[4])

@@ -1,0 +1,24 @@
+"""The constants of :mod:`poinsot.rotations._wahba` (tolerances, method codes and status
+bits), apart from its formulas: :mod:`poinsot.rotations.determination` reads them at
+import, while the formula source (which binds the compiled executor's names, and so
+numba) is imported only when a set is solved."""
+
+#: Observations count as parallel when ``det(sum w_i (E - u_i u_i^T)) <= 1e-12 lambda0^3``.
+PARALLEL_RTOL = 1e-12
+#: QUEST rotates the reference frame when the solved ``|l0|`` is below this.
+QUEST_ROTATION_THRESHOLD = 0.3
+#: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
+NEWTON_TOL = 1e-15
+NEWTON_MAX = 50
+
+#: ``method`` codes of :func:`solve`
+QUEST = 0
+ESOQ2 = 1
+
+#: Status bits of :func:`solve` (0: solved), in the order the errors are raised.
+NONFINITE_OBSERVED = 1
+NONFINITE_REFERENCE = 2
+ZERO_OBSERVED = 4
+ZERO_REFERENCE = 8
+PARALLEL_OBSERVED = 16
+PARALLEL_REFERENCE = 32
