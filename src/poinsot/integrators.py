@@ -115,6 +115,16 @@ INTEGRATORS: dict[str, Integrator] = {
             cost={"rigid": 6e-07},
         ),
         Integrator(
+            "mekf",
+            "the multiplicative EKF: the attitude propagated exactly at the measured rate "
+            "between sensor samples and updated by them (an estimator)",
+            None,
+            False,
+            ("attitude",),
+            "poinsot (NumPy)",
+            "§10.4",
+        ),
+        Integrator(
             "magnus4",
             "fourth-order Magnus expansion of the rotation over a step",
             4,
