@@ -39,7 +39,7 @@ __all__ = [
 ]
 
 #: The kinds of equations a method may integrate (see the module notes).
-SYSTEMS = ("attitude", "rigid", "particle", "lagrangian")
+SYSTEMS = ("attitude", "rigid", "particle", "lagrangian", "estimation")
 
 
 @dataclass(frozen=True)
@@ -120,7 +120,7 @@ INTEGRATORS: dict[str, Integrator] = {
             "between sensor samples and updated by them (an estimator)",
             None,
             False,
-            ("attitude",),
+            ("estimation",),
             "poinsot (NumPy)",
             "§10.4",
         ),
