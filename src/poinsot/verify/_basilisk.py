@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, PoinsotError
+from ._mujoco import body_inputs
 
 #: Basilisk's state integrators (``Basilisk.simulation.svIntegrators``), by the name
 #: of the adapter's option: class names ``svIntegrator<NAME>``
@@ -85,13 +86,6 @@ def mrp_to_quat(sigma: Any) -> np.ndarray:
     s = np.asarray(sigma, dtype=float)
     s2 = np.sum(s * s, axis=-1, keepdims=True)
     return np.concatenate([1.0 - s2, 2.0 * s], axis=-1) / (1.0 + s2)
-
-
-def _vec(x: Any, n: int, name: str) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise InvalidInputError(f"Expected `{name}` to be {n} finite numbers, got {x!r}.")
-    return a
 
 
 def run_basilisk(*, inertia: Any, mass: float, q0: Any, omega0: Any, t: Any,
@@ -144,22 +138,7 @@ def run_basilisk(*, inertia: Any, mass: float, q0: Any, omega0: Any, t: Any,
         raise InvalidInputError(
             f"Expected `integrator` to be one of {', '.join(INTEGRATORS)}, got {integrator!r}."
         )
-    j = np.asarray(inertia, dtype=float)
-    if j.shape != (3, 3) or not np.all(np.isfinite(j)) or not np.allclose(j, j.T, rtol=1e-12):
-        raise InvalidInputError(
-            f"Expected `inertia` to be a symmetric 3x3 matrix, got {inertia!r}."
-        )
-    if np.min(np.linalg.eigvalsh(j)) <= 0:
-        raise InvalidInputError("Expected `inertia` to be positive definite.")
-    m = float(mass)
-    if not (math.isfinite(m) and m > 0):
-        raise InvalidInputError(f"Expected `mass` to be positive (kg), got {mass!r}.")
-    w0 = _vec(omega0, 3, "omega0")
-    q = _vec(q0, 4, "q0")
-    if abs(np.linalg.norm(q) - 1.0) > 1e-9:
-        raise InvalidInputError(
-            f"Expected `q0` to be a unit quaternion, got |q0| = {np.linalg.norm(q)}."
-        )
+    j, m, q, w0, _ = body_inputs(inertia, mass, q0, omega0, np.zeros(3))  # no gravity here
     h = float(timestep)
     if not (math.isfinite(h) and h > 0):
         raise InvalidInputError(f"Expected `timestep` to be positive (s), got {timestep!r}.")
