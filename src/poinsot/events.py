@@ -261,6 +261,31 @@ class EventLog:
     def __len__(self) -> int:
         return int(self.t.size)
 
+    @classmethod
+    def of_one_body(
+        cls,
+        names: tuple[str, ...],
+        rows: list[tuple[float, int, np.ndarray, float]],
+        width: int,
+        t_stop: float = math.inf,
+    ) -> EventLog:
+        """The log of one body's run from its rows ``(t, event index, state (width,),
+        direction)``, in time order (the switching integrators build it this way).
+
+        >>> EventLog.of_one_body(("hit",), [(1.5, 0, np.zeros(2), -1.0)], 2).times()
+        array([1.5])
+        """
+        return cls(
+            names=tuple(names),
+            event=np.array([r[1] for r in rows], dtype=np.int64),
+            body=np.zeros(len(rows), dtype=np.int64),
+            t=np.array([r[0] for r in rows], dtype=float),
+            state=np.array([r[2] for r in rows], dtype=float).reshape(len(rows), width),
+            direction=np.array([r[3] for r in rows], dtype=float),
+            t_stop=np.array(t_stop),
+            batch=(),
+        )
+
     def __repr__(self) -> str:
         counts = ", ".join(
             f"{n}: {int(np.count_nonzero(self.event == i))}" for i, n in enumerate(self.names)

@@ -157,7 +157,7 @@ def simulate_charts(
     chart_of, coords = np.empty(n, dtype=np.int64), np.empty((n, width))
     pos[0], vel[0] = r, v
     chart_of[0], coords[0] = k_chart, y
-    switches: list[tuple[float, FloatArray]] = []
+    switches: list[tuple[float, int, FloatArray, float]] = []
     t_now, k = float(tt[0]), 1
     for _ in range(max_switches):
         if t_now >= tt[-1]:
@@ -183,7 +183,7 @@ def simulate_charts(
             break
         t_now = t_end
         r, v = c.to_space(sol.y[:, -1])
-        switches.append((t_now, np.concatenate([r, v])))
+        switches.append((t_now, 0, np.concatenate([r, v]), -1.0))
         k_new, y = best(r, v)
         if k_new == k_chart:
             raise IntegrationError(
@@ -193,16 +193,7 @@ def simulate_charts(
         k_chart = k_new
     else:
         raise IntegrationError(f"more than max_switches = {max_switches} chart switches")
-    log = EventLog(
-        names=("switch",),
-        event=np.zeros(len(switches), dtype=np.int64),
-        body=np.zeros(len(switches), dtype=np.int64),
-        t=np.array([s[0] for s in switches], dtype=float),
-        state=np.array([s[1] for s in switches], dtype=float).reshape(len(switches), 6),
-        direction=-np.ones(len(switches)),
-        t_stop=np.array(math.inf),
-        batch=(),
-    )
+    log = EventLog.of_one_body(("switch",), switches, 6)
     return ChartTrajectory(
         t=tt, position=pos, velocity=vel, method="DOP853 (atlas)", frame_name="inertial",
         chart=chart_of, coordinates=coords,

@@ -554,7 +554,7 @@ def simulate_bounces(
     n_out = tt.size
     pos, vel = np.empty((n_out, 3)), np.empty((n_out, 3))
     quat, omg = np.empty((n_out, 4)), np.empty((n_out, 3))
-    rows: list[tuple[float, FloatArray]] = []
+    rows: list[tuple[float, int, FloatArray, float]] = []
     impacts: list[ImpactResult] = []
     t_a = float(tt[0])
     k = 0
@@ -621,7 +621,7 @@ def simulate_bounces(
         v = v - down * s_hit
         q = fb.rotation(np.array([s_hit])).as_quat()[0]
         w = fb.omega(np.array([s_hit]))[0]
-        rows.append((t_a, np.concatenate([r, v, q, w])))
+        rows.append((t_a, 0, np.concatenate([r, v, q, w]), -1.0))
         offset = -rad * n_hat if pts is None else _quat.rotate(q, pts[i_hit])
         u_n = float(v[2] + np.cross(_rotation_matrix(q) @ w, offset)[2])
         if u_n >= 0.0:  # grazing, or a contact that never rises: it rests
@@ -647,16 +647,7 @@ def simulate_bounces(
         vel = np.concatenate([vel[:keep], v[None]])
         quat = np.concatenate([quat[:keep], q[None]])
         omg = np.concatenate([omg[:keep], w[None]])
-    log = EventLog(
-        names=("impact",),
-        event=np.zeros(len(rows), dtype=np.int64),
-        body=np.zeros(len(rows), dtype=np.int64),
-        t=np.array([x[0] for x in rows], dtype=float),
-        state=np.array([x[1] for x in rows], dtype=float).reshape(len(rows), 13),
-        direction=-np.ones(len(rows)),
-        t_stop=np.array(t_a if stopped else math.inf),
-        batch=(),
-    )
+    log = EventLog.of_one_body(("impact",), rows, 13, t_a if stopped else math.inf)
     rot = Rotation.from_quat(quat)
     js = np.einsum("nij,jk,nlk->nil", rot.as_matrix(), inertia, rot.as_matrix())
     w_space = np.einsum("nij,nj->ni", rot.as_matrix(), omg)

@@ -31,7 +31,6 @@ A particle released at the top of a smooth sphere of radius 1 m leaves it where
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -370,16 +369,7 @@ def simulate_unilateral(
             f"simulate_unilateral: more than max_switches = {max_switches} phase changes "
             f"before t = {float(tt[-1]):.6g} s (chattering?)."
         )
-    log = EventLog(
-        names=names,
-        event=np.array([r[1] for r in rows], dtype=np.int64),
-        body=np.zeros(len(rows), dtype=np.int64),
-        t=np.array([r[0] for r in rows], dtype=float),
-        state=np.array([r[2] for r in rows], dtype=float).reshape(len(rows), 6),
-        direction=np.array([r[3] for r in rows], dtype=float),
-        t_stop=np.array(math.inf),
-        batch=(),
-    )
+    log = EventLog.of_one_body(names, rows, 6)
     return ContactTrajectory(
         t=tt,
         position=pos,

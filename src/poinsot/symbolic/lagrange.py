@@ -922,16 +922,7 @@ class LagrangeSystem:
                     rows.append((t_now, 2, y.copy(), 1.0))
         else:
             raise IntegrationError(f"more than max_switches = {max_switches} phase changes")
-        log = EventLog(
-            names=("leave", "impact", "land"),
-            event=np.array([r[1] for r in rows], dtype=np.int64),
-            body=np.zeros(len(rows), dtype=np.int64),
-            t=np.array([r[0] for r in rows], dtype=float),
-            state=np.array([r[2] for r in rows], dtype=float).reshape(len(rows), 2 * n),
-            direction=np.array([r[3] for r in rows], dtype=float),
-            t_stop=np.array(math.inf),
-            batch=(),
-        )
+        log = EventLog.of_one_body(("leave", "impact", "land"), rows, 2 * n)
         tb = tt
         return CoordinateTrajectory(
             t=tt, method="DOP853 (phases)", units=free_n._units(None), q=ys[:, :n],
