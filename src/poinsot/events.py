@@ -379,15 +379,17 @@ def locate(
     kept: list[tuple[float, int, int, FloatArray, float]] = []
     counts: dict[tuple[int, int], int] = {}
     for r in rows:
-        ts, body, i, state, sign = r
-        if ts > t_stop[body]:
+        ts, who, i, state, sign = r
+        owner = int(who)
+        if ts > t_stop[owner]:
             continue
         kept.append(r)
         term = events[i].terminal
         if term:
-            counts[(body, i)] = counts.get((body, i), 0) + 1
-            if counts[(body, i)] >= term:
-                t_stop[body] = ts
+            key = (owner, int(i))
+            counts[key] = counts.get(key, 0) + 1
+            if counts[key] >= term:
+                t_stop[owner] = ts
     log = EventLog(
         names=names,
         event=np.array([r[2] for r in kept], dtype=np.int64),

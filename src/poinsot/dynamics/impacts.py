@@ -204,8 +204,9 @@ def _routh(
                     return s - (1.0 + e) * pc
                 return float(y[:3] @ n) + e * un0
 
-            for ev in (slip, compressed, done):
-                ev.terminal = True  # type: ignore[attr-defined]
+            slip.terminal = True  # type: ignore[attr-defined]
+            compressed.terminal = True  # type: ignore[attr-defined]
+            done.terminal = True  # type: ignore[attr-defined]
             slip.direction = -1  # type: ignore[attr-defined]
             compressed.direction = 1  # type: ignore[attr-defined]
             done.direction = 1  # type: ignore[attr-defined]
@@ -542,7 +543,7 @@ def simulate_bounces(
     law = _law(law)
     down = np.array([0.0, 0.0, grav])
 
-    def heights(fb: Any, s: FloatArray, r_a: FloatArray, v_a: FloatArray) -> FloatArray:
+    def heights(fb: Any, s: np.ndarray, r_a: np.ndarray, v_a: np.ndarray) -> np.ndarray:
         z = r_a[2] + v_a[2] * s - 0.5 * grav * s * s
         if pts is None:
             return (z - rad)[:, None]
@@ -630,6 +631,7 @@ def simulate_bounces(
         out = rigid_impact(inertia, m, q, v, w, offset, n_hat, restitution=e, friction=mu,
                            law=law)  # fmt: skip
         impacts.append(out)
+        assert out.omega is not None  # a rigid body's impact
         v, w = out.velocity, out.omega
         if float(out.contact_velocity[1] @ n_hat) < rest_speed:
             stopped = (

@@ -112,7 +112,7 @@ def estimate(scenario: Any, t: np.ndarray) -> Estimate:
     truth = body.trajectory(t)
     g = s.gyro
     gyro = Gyro(g["arw"], g["rrw"], bias0=g["bias0"], kind=g["kind"]).sample(truth, rng=g["seed"])
-    measurements = []
+    measurements: list[Any] = []
     if s.tracker is not None:
         k = s.tracker["every"]
         sub = body.trajectory(t[::k])
