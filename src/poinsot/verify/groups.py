@@ -61,6 +61,8 @@ from ..rotations.rotation import Rotation
 from ..trajectory import PointTrajectory, Result, Trajectory
 
 if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
     from .cases import Case
 
 RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
@@ -337,7 +339,8 @@ def _stored(case: Case, name: str) -> dict[str, np.ndarray]:
         data = {k: d[k] for k in d.files}
     same = data["t"].shape == case.t.shape and np.array_equal(data["t"], case.t)
     for k, v in case.inputs.items():
-        same = same and np.array_equal(data.get(f"input_{k}"), np.asarray(v, dtype=float))
+        stored = data.get(f"input_{k}")
+        same = same and stored is not None and np.array_equal(stored, np.asarray(v, dtype=float))
     if not same:
         raise RuntimeError(
             f"The stored reference {path} was computed for other inputs or another grid "
@@ -520,7 +523,10 @@ class GravityGradient(RigidGroup):
         o = -rmat[:, 1, :]  # R^T (0, -1, 0)
         c = self._nadir(case, case.t, rmat)
         wr = states["omega"] - n * o
-        quad = lambda u: np.einsum("ni,ij,nj->n", u, j, u)  # noqa: E731
+
+        def quad(u: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.einsum("ni,ij,nj->n", u, j, u)
+
         return {"energy": 0.5 * quad(wr) - 0.5 * n * n * quad(o) + 1.5 * n * n * quad(c)}
 
 

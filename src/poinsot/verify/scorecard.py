@@ -17,6 +17,7 @@ back, so the pages are regenerated without any engine (``poinsot verify scorecar
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import time
@@ -587,6 +588,10 @@ def _value(x: Any) -> float:
     return float(x) if not isinstance(x, str) else float(x)
 
 
+def _write_text(fh: Any, text: str) -> None:
+    fh.write(text)
+
+
 def fmt_setting(setting: str, value: float) -> str:
     """``1 ms``, ``0.1 ms``, ``10 ms`` for a step; ``rtol=1e-08`` for a tolerance."""
     if setting in STEP_SETTINGS:
@@ -848,7 +853,7 @@ def _findings(card: EngineCard, sweeps: list[Sweep], scored: list[str],
             what = "order" if s.setting in STEP_SETTINGS else f"slope against {s.setting}"
             order_text = f" Observed {what}: {min(orders):.1f} to {max(orders):.1f}."
         if not fails:
-            worst = min((d["first"] for d in mine.values()), default=None)
+            worst = min(d["first"] for d in mine.values())  # `mine` is not empty
             out.append(f"- **{s.integrator}** passes all {len(mine)} cases, each from the "
                        f"setting of the table on, all of them from "
                        f"{fmt_setting(s.setting, worst)}.{order_text}")  # fmt: skip
@@ -964,7 +969,7 @@ def write_pages(sc: Scorecard, out: Path, *, charts: bool = True) -> list[Path]:
         if card.reason:
             continue
         page = engine_page(card, sc.cases_version)
-        atomic_write(out / f"{card.slug}.md", lambda fh, page=page: fh.write(page))
+        atomic_write(out / f"{card.slug}.md", functools.partial(_write_text, text=page))
         files.append(out / f"{card.slug}.md")
         if charts:
             for c in _chart_cases(card):
