@@ -21,7 +21,10 @@ it, computed by poinsot's closed-form solutions (docs/theory.md §9, §10):
   (:class:`PitchLibration`);
 - ``orbit``: Kepler orbits with e = 0.5 and e = 0.95 (Kepler's equation);
 - ``frame``: the Foucault pendulum in its turning frame (Coriolis and centrifugal
-  forces), linear theory, with the frame turning fast enough for the rate to show.
+  forces), linear theory, with the frame turning fast enough for the rate to show;
+- ``free-flight`` (version 3): a homogeneous box thrown spinning near its
+  intermediate axis in uniform gravity, six degrees of freedom: the centre of mass on
+  its parabola, the attitude Euler-Poinsot motion (two flips in flight).
 
 **Conventions** (docs/conventions.md): quaternions scalar first ``(w, x, y, z)``,
 attitude body -> space (``v_space = R v_body``), angular velocity in body axes
@@ -30,7 +33,8 @@ mass from the fixed point ``O`` in body axes (m), gravity in space axes (m/s^2),
 positions and velocities in the case's own frame (m, m/s). Times start at 0 s.
 Version 2 inputs: ``body_torque`` (N m, body axes), ``rotor_momentum`` (kg m^2/s,
 body axes, relative to the body), ``mean_motion`` (rad/s, the circular orbit's
-rate; the space frame is the orbit frame at t = 0).
+rate; the space frame is the orbit frame at t = 0). Version 3 inputs:
+``position0``, ``velocity0`` of a body's centre of mass (m, m/s, space axes).
 """
 
 from __future__ import annotations
@@ -43,12 +47,13 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, InvalidTypeError
+from ..mass.solids import box
 from ..mass.tensor import parallel_axis
 from ..rotations.rotation import Rotation
 from .groups import GROUP_TABLE, Group
 
 #: version of the set of cases: bumped whenever a case's inputs, grid or thresholds change
-CASES_VERSION = "2"
+CASES_VERSION = "3"
 
 #: groups of cases (``--cases`` accepts a group or a case name); each is one object of
 #: :data:`poinsot.verify.groups.GROUP_TABLE`
@@ -80,15 +85,19 @@ class Case:
         One of :data:`GROUPS`.
     description : str
         One line for people.
-    kind : {"rigid", "point"}
-        A rigid body (states ``quat`` (n, 4), ``omega`` (n, 3) in body axes) or a
-        point (states ``position``, ``velocity`` (n, 3)).
+    kind : {"rigid", "point", "pose"}
+        A rigid body (states ``quat`` (n, 4), ``omega`` (n, 3) in body axes), a
+        point (states ``position``, ``velocity`` (n, 3)), or a rigid body in six
+        degrees of freedom (states ``position``, ``velocity`` of the centre of mass,
+        space axes, then ``quat``, ``omega``).
     inputs : dict
         SI inputs. Rigid: ``inertia`` (3, 3) about the centre of mass (kg m^2),
         ``mass`` (kg), ``com`` (3,) centre of mass from the fixed point (m, zero for
         a free body), ``gravity`` (3,) (m/s^2, space axes), ``fixed_point`` (bool),
         ``q0`` (4,) and ``omega0`` (3,) (rad/s, body axes). Orbit: ``mu``
-        (m^3/s^2), ``position0``, ``velocity0``. Frame: ``frame_rate`` (3,) (rad/s,
+        (m^3/s^2), ``position0``, ``velocity0``. Pose: the rigid inputs (a free
+        body, ``gravity`` uniform) and the centre of mass's ``position0``,
+        ``velocity0`` (m, m/s, space axes). Frame: ``frame_rate`` (3,) (rad/s,
         the frame's angular velocity in its own axes), ``length`` (m), ``g``
         (m/s^2), ``position0``, ``velocity0`` (relative to the frame).
     t : ndarray, shape (n,)
@@ -137,7 +146,7 @@ class Case:
         dict
             ``{"t", "quat", "omega"}`` for a rigid body (scalar-first quaternions
             body -> space, sign-continuous; body-axes rad/s), ``{"t", "position",
-            "velocity"}`` for a point (m, m/s).
+            "velocity"}`` for a point (m, m/s), all four for a pose.
         """
         cache = self.__dict__.setdefault("_exact", {})
         if not cache:
@@ -149,12 +158,11 @@ class Case:
     def reference(self) -> Any:
         """The exact motion on :attr:`t` as a poinsot result (computed once, then cached):
         a :class:`poinsot.Trajectory` for a rigid body, a :class:`poinsot.PointTrajectory`
-        for a point, ``method="exact"``; the states of :meth:`exact`, bit for bit."""
+        for a point, a :class:`poinsot.PoseTrajectory` for a pose, ``method="exact"``; the
+        states of :meth:`exact`, bit for bit."""
         ref = self.__dict__.get("_reference")
         if ref is None:
-            ex = self.exact()
-            a, b = (ex[k] for k in self.spec.states)
-            ref = self.spec.result(self, a, b, "exact")
+            ref = self.spec.of_states(self, self.exact(), "exact")
             self.__dict__["_reference"] = ref
         return ref
 
@@ -415,6 +423,7 @@ def _all_cases() -> list[Case]:
         _kepler("kepler-e0.95", 0.95),
     ]  # fmt: skip
     cases.append(_frame_case())
+    cases.append(thrown_box_case())
     return [_finish(c) for c in cases]
 
 
@@ -437,6 +446,50 @@ def _frame_case() -> Case:
         t=_grid(40.0, 0.01),
         thresholds=dict(DEFAULT_THRESHOLDS),
         event={"name": "swings", "signal": "radius", "level": 0.5},
+    )
+
+
+def thrown_box_case() -> Case:
+    """A homogeneous box thrown spinning in uniform gravity (six degrees of freedom).
+
+    Edges 0.3, 0.2, 0.1 m along the body axes ``x, y, z`` and 1.5 kg: the inertia
+    ``m/12 diag(b^2 + c^2, a^2 + c^2, a^2 + b^2)`` (:func:`poinsot.mass.box`),
+    ``diag(0.00625, 0.0125, 0.01625)`` kg m^2, its axis ``y`` the intermediate one.
+    Released 1.5 m up at ``(4, 1, 15)`` m/s, tilted, spinning at 15 rad/s about ``y``
+    with a nudge of 0.1 rad/s about the others, under ``g = 9.81`` m/s^2 along
+    ``-z``: the centre of mass flies its parabola (apex 12.97 m at 1.53 s) while the
+    box flips twice (the tennis-racket flip, at 1.06 s and 2.88 s) in 3 s (no
+    ground). Exact: the parabola and :class:`poinsot.dynamics.FreeRigidBody`
+    (docs/theory.md §9, §10).
+
+    Examples
+    --------
+    >>> case = thrown_box_case()
+    >>> case.inputs["inertia"].diagonal().round(6).tolist()
+    [0.00625, 0.0125, 0.01625]
+    >>> case.exact()["position"][-1].round(9).tolist()
+    [12.0, 3.0, 2.355]
+    """
+    return Case(
+        name="thrown-box",
+        group="free-flight",
+        description="box (0.3 x 0.2 x 0.1 m, 1.5 kg) thrown in uniform gravity, spinning "
+        "near its intermediate axis: a parabola and two tennis-racket flips",
+        kind="pose",
+        inputs={
+            "inertia": np.asarray(box(1.5, 0.3, 0.2, 0.1), dtype=float),
+            "mass": 1.5,
+            "com": np.zeros(3),
+            "gravity": np.array([0.0, 0.0, -9.81]),
+            "fixed_point": False,
+            "q0": np.asarray(Rotation.from_euler("ZYX", [0.3, -0.2, 0.1]).as_quat(), dtype=float),
+            "omega0": np.array([0.1, 15.0, 0.1]),
+            "position0": np.array([0.0, 0.0, 1.5]),
+            "velocity0": np.array([4.0, 1.0, 15.0]),
+        },
+        t=_grid(3.0, 0.01),
+        thresholds=dict(DEFAULT_THRESHOLDS),
+        event={"name": "flip", "signal": "omega_1", "level": 0.0},
     )
 
 
@@ -547,5 +600,6 @@ CONVENTIONS = (
     "quaternions scalar first (w, x, y, z), Hamilton product, attitude body -> space "
     "(v_space = R v_body); angular velocity in body axes; inertia about the centre of "
     "mass in body axes; com from the fixed point in body axes; gravity in space axes; "
+    "a pose's position and velocity those of the centre of mass in space axes; "
     "SI units, radians (docs/conventions.md, docs/verify.md)"
 )

@@ -23,7 +23,10 @@ group or kind.
   orbit (:class:`PitchLibration`); the orbit frame's Jacobi integral scored;
 - :class:`Orbit` (``orbit``): Kepler orbits (:class:`CentralOrbit`);
 - :class:`Frame` (``frame``): the Foucault pendulum in its turning frame (closed
-  form, the Jacobi integral conserved).
+  form, the Jacobi integral conserved);
+- :class:`FreeFlight` (``free-flight``, version 3): a rigid body thrown in uniform
+  gravity, six degrees of freedom (result :class:`poinsot.PoseTrajectory`): the
+  centre of mass on its parabola, the attitude Euler-Poinsot motion about it.
 """
 
 from __future__ import annotations
@@ -52,13 +55,15 @@ from ..dynamics import (
     kepler,
     regular_precession_rates,
     simulate,
+    simulate_free_motion,
     simulate_particle,
 )
 from ..errors import InvalidTypeError, SingularityWarning
 from ..kinematics import FrameMotion, quat_rate
 from ..kinematics.attitude_history import _make_continuous
+from ..mass import RigidBody
 from ..rotations.rotation import Rotation
-from ..trajectory import PointTrajectory, Result, Trajectory
+from ..trajectory import PointTrajectory, PoseTrajectory, Result, Trajectory
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
@@ -67,6 +72,7 @@ if TYPE_CHECKING:
 
 RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
 POINT_COLUMNS = ("t", "x", "y", "z", "vx", "vy", "vz")
+POSE_COLUMNS = POINT_COLUMNS + RIGID_COLUMNS[1:]
 
 Equations = tuple[Callable[[float, np.ndarray], np.ndarray], np.ndarray,
                   Callable[[np.ndarray, str], Result]]  # fmt: skip
@@ -96,20 +102,22 @@ class Group:
 
     #: the group's name, one of :data:`poinsot.verify.GROUPS`
     name = ""
-    #: ``"rigid"`` or ``"point"`` (the ``kind`` of its cases)
+    #: ``"rigid"``, ``"point"`` or ``"pose"`` (the ``kind`` of its cases)
     kind = ""
     #: the state arrays of its results, in file order
-    states: tuple[str, str] = ("", "")
+    states: tuple[str, ...] = ("", "")
     #: the columns of its files (:func:`poinsot.verify.files.export`)
     columns: tuple[str, ...] = ()
     #: the units of its files and inputs (:func:`poinsot.verify.cases.describe`)
     units: dict[str, str] = {}
     #: the error metrics of its state (:data:`poinsot.verify.METRICS`)
-    errors: tuple[str, str] = ("", "")
+    errors: tuple[str, ...] = ("", "")
     #: whether a first integral besides the energy is conserved (``"momentum"``)
     has_momentum = True
     #: why MuJoCo's adapter cannot run its cases, or None
     mujoco_skip: str | None = None
+    #: why Basilisk's adapter cannot run its cases (besides MuJoCo's reason), or None
+    basilisk_skip: str | None = None
     #: what poinsot's engine integrates when its method skips this group
     poinsot_other = ""
 
@@ -141,10 +149,14 @@ class Group:
         """The state arrays of a result, ``name -> array`` (:attr:`states`)."""
         raise NotImplementedError
 
+    def of_states(self, case: Case, states: dict[str, np.ndarray], method: str) -> Result:
+        """The result of the state arrays ``states`` (``name -> array``, :attr:`states`)."""
+        a, b = (states[k] for k in self.states)
+        return self.result(case, a, b, method)
+
     def nan_result(self, case: Case, method: str) -> Result:
         """The result of a diverged engine: NaN states, which fail every metric."""
-        a, b = self.nan_states(case).values()
-        return self.result(case, a, b, method)
+        return self.of_states(case, self.nan_states(case), method)
 
     def equations(self, case: Case) -> Equations:
         """``(rhs(t, y), y0, unpack(y, method) -> result)`` for a generic ODE solver."""
@@ -706,11 +718,120 @@ class Frame(PointGroup):
         return {"energy": jacobi}
 
 
+def pose_result(case: Case, position: Any, velocity: Any, quat: Any, omega: Any,
+                method: str) -> PoseTrajectory:  # fmt: skip
+    """A :class:`poinsot.PoseTrajectory` of ``case`` on its grid: the centre of mass's
+    position and velocity (m, m/s, space axes), scalar-first quaternions (body -> space,
+    kept bit for bit) and body-axes angular velocities (rad/s)."""
+    q = np.ascontiguousarray(quat, dtype=float)
+    return PoseTrajectory(case.t, Rotation._wrap(q), np.asarray(omega, dtype=float), method,
+                          position=np.asarray(position, dtype=float),
+                          velocity=np.asarray(velocity, dtype=float))  # fmt: skip
+
+
+class FreeFlight(FreeBody):
+    """A rigid body thrown in uniform gravity, six degrees of freedom (docs/theory.md
+    §9, §10): the centre of mass moves on the parabola ``r0 + v0 t + g t^2 / 2``
+    (``m r'' = m g``); gravity has no moment about the centre of mass, so the
+    attitude is Euler-Poinsot motion (:class:`FreeRigidBody`). The mechanical energy
+    ``m |v|^2 / 2 + w . J w / 2 - m g . r`` and the angular momentum about the
+    centre of mass ``K = R J w`` (space axes) are conserved. Results are
+    :class:`poinsot.PoseTrajectory` (states ``position``, ``velocity``, ``quat``,
+    ``omega``)."""
+
+    name = "free-flight"
+    kind = "pose"
+    states = ("position", "velocity", "quat", "omega")
+    errors = ("position", "velocity", "attitude", "omega")
+    columns = POSE_COLUMNS
+    units = {**RigidGroup.units, "x,y,z": "m", "vx,vy,vz": "m/s", "position0": "m",
+             "velocity0": "m/s"}  # fmt: skip
+    poinsot_other = ("the rotation alone: poinsot's six-degree-of-freedom motion "
+                     "(simulate_free_motion) is SciPy's DOP853, method 'dop853'")  # fmt: skip
+    basilisk_skip = ("Basilisk's gravity is a planet's field (gravityEffector), not a uniform "
+                     "one, and this adapter runs the attitude of a hub alone")  # fmt: skip
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        i = case.inputs
+        t = case.t[:, None]
+        g = np.asarray(i["gravity"], dtype=float)
+        r = i["position0"] + i["velocity0"] * t + 0.5 * g * t * t
+        v = i["velocity0"] + g * t
+        return {**super().exact(case), "position": r, "velocity": v}
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        i = case.inputs
+        g = -float(i["gravity"][2])
+        vz = float(i["velocity0"][2])
+        ints = self.integrals(case, {k: v[:1] for k, v in self.exact(case).items()})
+        return {
+            **super().facts(case, model),
+            "apex_time_s": vz / g,
+            "apex_height_m": float(i["position0"][2]) + 0.5 * vz * vz / g,
+            "mechanical_energy_J": float(ints["energy"][0]),
+            "angular_momentum_about_com_kg_m2_per_s": float(np.linalg.norm(ints["momentum"][0])),
+        }
+
+    def result(self, case: Case, a: Any, b: Any, method: str) -> Result:
+        raise NotImplementedError("a pose has four state arrays: use of_states")
+
+    def of_states(self, case: Case, states: dict[str, np.ndarray], method: str) -> Result:
+        r, v, q, w = (states[k] for k in self.states)
+        return pose_result(case, r, v, q, w, method)
+
+    def arrays(self, result: Result) -> dict[str, np.ndarray]:
+        assert isinstance(result, PoseTrajectory)
+        assert result.position is not None and result.velocity is not None
+        return {"position": np.asarray(result.position), "velocity": np.asarray(result.velocity),
+                "quat": result.quat, "omega": np.asarray(result.omega)}  # fmt: skip
+
+    def equations(self, case: Case) -> Equations:
+        """The 13 states ``(r, v, q, w)``: ``r' = v``, ``v' = g``, the attitude and
+        Euler's equations of the free body (the rigid groups' right-hand side)."""
+        i = case.inputs
+        rot_rhs, rot0, _ = super().equations(case)  # no torque: Euler-Poinsot
+        g = np.asarray(i["gravity"], dtype=float)
+
+        def rhs(t: float, y: np.ndarray) -> np.ndarray:
+            return np.concatenate([y[3:6], g, rot_rhs(t, y[6:])])
+
+        def unpack(y: np.ndarray, method: str) -> Result:
+            return pose_result(case, y[:, :3].copy(), y[:, 3:6].copy(), quat_unit(y[:, 6:10]),
+                               y[:, 10:].copy(), method)  # fmt: skip
+
+        return rhs, np.concatenate([i["position0"], i["velocity0"], rot0]), unpack
+
+    def poinsot_method(self, method: str | None) -> str | None:
+        return "dop853" if method in (None, "dop853") else None
+
+    def poinsot_run(self, case: Case, method: str, step: float | None, rtol: float | None,
+                    order: int | None, label: str) -> tuple[Any, Any]:  # fmt: skip
+        """:func:`poinsot.dynamics.simulate_free_motion` with the weight ``m g`` at the
+        centre of mass (``rtol`` default 1e-12, ``atol = rtol * 1e-3``; no step option)."""
+        i = case.inputs
+        rtol = 1e-12 if rtol is None else rtol
+        body = RigidBody(i["mass"], i["inertia"])
+        tr = simulate_free_motion(body, i["position0"], i["velocity0"], i["q0"], i["omega0"],
+                                  case.t, force=i["mass"] * np.asarray(i["gravity"]), rtol=rtol,
+                                  atol=rtol * 1e-3)  # fmt: skip
+        assert tr.position is not None and tr.velocity is not None
+        return pose_result(case, tr.position, tr.velocity, quat_unit(tr.quat), tr.omega,
+                           label), None  # fmt: skip
+
+    def integrals(self, case: Case, states: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        i = case.inputs
+        out = super().integrals(case, states)  # w . J w / 2 and K = R J w
+        v = states["velocity"]
+        g = np.asarray(i["gravity"], dtype=float)
+        translation = i["mass"] * (0.5 * np.einsum("ni,ni->n", v, v) - states["position"] @ g)
+        return {"energy": out["energy"] + translation, "momentum": out["momentum"]}
+
+
 #: group name -> its object (the order of :data:`poinsot.verify.GROUPS`)
 GROUP_TABLE: dict[str, Group] = {
     g.name: g
     for g in (FreeBody(), HeavyTop(), Kovalevskaya(), BodyTorque(), Gyrostat(),
-              GravityGradient(), Orbit(), Frame())
+              GravityGradient(), Orbit(), Frame(), FreeFlight())
 }  # fmt: skip
 
 
@@ -724,9 +845,7 @@ def as_result(case: Any, states: Any, method: str = "") -> Result:
             "Expected an engine's states to be a poinsot Trajectory or PointTrajectory, got "
             f"{type(states).__name__}."
         )
-    spec = case.spec
-    a, b = (states[k] for k in spec.states)
-    return spec.result(case, a, b, method)
+    return case.spec.of_states(case, states, method)
 
 
 def _deprecated_states() -> None:
