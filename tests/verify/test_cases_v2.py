@@ -92,7 +92,7 @@ RESIDUAL = {
 
 def test_version_2_adds_nine_cases():
     names = [c.name for c in cases()]
-    assert CASES_VERSION == "2" and len(names) == 21 and set(NEW) <= set(names)
+    assert int(CASES_VERSION) >= 2 and len(names) >= 21 and set(NEW) <= set(names)
     assert cases("top-waves")[0].facts["motion_type"] == "waves"
 
 

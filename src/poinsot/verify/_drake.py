@@ -19,7 +19,11 @@ state names ``body_qw, body_qx, body_qy, body_qz, body_x, body_y, body_z`` then
   sign-continuous;
 - the velocities are ``v = [w_WB, v_WBo]``, the angular velocity **expressed in the
   world frame**: poinsot's body-axes ``omega = R_WB^T w_WB`` (and ``w_WB = R_WB
-  omega0`` to set the initial state).
+  omega0`` to set the initial state);
+- ``[x, y, z]`` and ``v_WBo`` are the position and velocity of the body origin, the
+  centre of mass here, in **world** axes: poinsot's ``position`` and ``velocity``
+  of a pose, taken as they are (:func:`run_drake_pose`; zero at the start of a rigid
+  case).
 
 Integration: ``drake.systems.analysis.Simulator`` with the integrator given by
 name (``ResetIntegratorFromFlags``); an error-controlled integrator runs with
@@ -37,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, PoinsotError
-from ._mujoco import body_inputs
+from ._mujoco import _vec, body_inputs
 from ._pybullet import _rotate_back
 
 #: Drake's integration schemes (``GetIntegrationSchemes()``, Drake 1.51); "cenic"
@@ -114,12 +118,62 @@ def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
     >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 9), w[-1].round(9).tolist()
     (1.0, [0.0, 0.0, 1.0])
     """
+    q, w, _, _, n = _simulate(inertia=inertia, mass=mass, q0=q0, omega0=omega0,
+                              gravity=gravity, t=t, integrator=integrator, accuracy=accuracy,
+                              step=step)  # fmt: skip
+    return q, w, n
+
+
+def run_drake_pose(*, inertia: Any, mass: float, position0: Any, velocity0: Any, q0: Any,
+                   omega0: Any, gravity: Any, t: Any, integrator: str = "runge_kutta5",
+                   accuracy: float | None = 1e-13, step: float | None = None
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:  # fmt: skip
+    """Integrate one free rigid body in Drake in six degrees of freedom (docs/theory.md
+    §9, §10): the body's origin, its centre of mass, moves too, gravity as given.
+
+    Parameters
+    ----------
+    inertia, mass, q0, omega0, gravity, t, integrator, accuracy, step
+        As :func:`run_drake`.
+    position0, velocity0 : array_like (3,)
+        The centre of mass's initial position and velocity (m, m/s, world axes).
+
+    Returns
+    -------
+    position, velocity : ndarray (n, 3)
+        The centre of mass (m, m/s, world axes).
+    q, omega, evaluations
+        As :func:`run_drake`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r, v, q, w, n = run_drake_pose(inertia=np.eye(3), mass=1.0, position0=[0.0, 0.0, 1.0],
+    ...                                velocity0=[1.0, 0.0, 0.0], q0=[1.0, 0.0, 0.0, 0.0],
+    ...                                omega0=[0.0, 0.0, 1.0], gravity=[0.0, 0.0, -10.0],
+    ...                                t=np.linspace(0.0, 1.0, 11))
+    >>> r[-1].round(9).tolist(), v[-1].round(9).tolist()
+    ([1.0, 0.0, -4.0], [1.0, 0.0, -10.0])
+    """
+    q, w, r, v, n = _simulate(inertia=inertia, mass=mass, q0=q0, omega0=omega0,
+                              gravity=gravity, t=t, integrator=integrator, accuracy=accuracy,
+                              step=step, position0=position0, velocity0=velocity0)  # fmt: skip
+    return r, v, q, w, n
+
+
+def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
+              integrator: str, accuracy: float | None, step: float | None,
+              position0: Any = (0.0, 0.0, 0.0), velocity0: Any = (0.0, 0.0, 0.0)
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:  # fmt: skip
+    """The run of :func:`run_drake` and :func:`run_drake_pose`: ``(q, omega, position,
+    velocity, evaluations)`` (the centre of mass's, world axes)."""
     mplant, tree, analysis = _pydrake()
     if integrator not in INTEGRATORS:
         raise InvalidInputError(
             f"Expected `integrator` to be one of {', '.join(INTEGRATORS)}, got {integrator!r}."
         )
     j, m, q, w0, g = body_inputs(inertia, mass, q0, omega0, gravity)
+    r0, v0 = _vec(position0, 3, "position0"), _vec(velocity0, 3, "velocity0")
     for name, x in (("accuracy", accuracy), ("step", step)):
         if x is not None and not (math.isfinite(float(x)) and float(x) > 0):
             raise InvalidInputError(f"Expected `{name}` to be positive, got {x!r}.")
@@ -146,8 +200,7 @@ def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
     context = plant.CreateDefaultContext()
     conj = np.array([1.0, -1.0, -1.0, -1.0])
     w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R_WB omega0
-    plant.SetPositionsAndVelocities(context, np.concatenate([q, np.zeros(3), w_world,
-                                                             np.zeros(3)]))  # fmt: skip
+    plant.SetPositionsAndVelocities(context, np.concatenate([q, r0, w_world, v0]))
     sim = analysis.Simulator(plant, context)
     max_step = float(step) if step is not None else float(np.min(np.diff(tt), initial=1.0))
     integ = analysis.ResetIntegratorFromFlags(sim, integrator, max_step)
@@ -164,4 +217,5 @@ def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
     q_body = out[:, :4] / np.linalg.norm(out[:, :4], axis=1, keepdims=True)
     w_body = _rotate_back(q_body, out[:, 7:10])
     flips = np.concatenate([[1.0], np.where(np.sum(q_body[1:] * q_body[:-1], -1) < 0, -1.0, 1.0)])
-    return q_body * np.cumprod(flips)[:, None], w_body, int(integ.get_num_derivative_evaluations())
+    evaluations = int(integ.get_num_derivative_evaluations())
+    return q_body * np.cumprod(flips)[:, None], w_body, out[:, 4:7], out[:, 10:13], evaluations

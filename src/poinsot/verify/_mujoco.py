@@ -13,8 +13,14 @@ Conversions (MuJoCo's documentation, "Floating objects" / ``qpos``/``qvel``):
   as it is (made sign-continuous along the run);
 - the angular velocity in ``qvel`` (the last three components of a free joint, the
   three of a ball joint) is in the body's **local** frame: poinsot's body-axes
-  ``omega``, taken as it is. (The linear velocity of a free joint is in world axes;
-  it stays zero here.)
+  ``omega``, taken as it is;
+- a free joint's ``qpos`` starts with the position of the body origin and its
+  ``qvel`` with the origin's linear velocity, both in **world** axes (checked: a
+  body turned 90 degrees about ``z`` and given ``qvel = (1, 0, 0, ...)`` moves
+  along world ``x``). The body origin is the centre of mass of a free body here
+  (``com`` zero), so these are poinsot's centre-of-mass ``position`` and
+  ``velocity`` of a pose (:func:`run_mujoco_pose`); a rigid case starts them at
+  zero.
 
 Sampling: the run steps MuJoCo from ``t[0] = 0`` with ``timestep``. A time of the
 grid that falls on a whole step is read there; one that falls between steps (the
@@ -164,6 +170,55 @@ def run_mujoco(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gra
     >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 12), w[-1].round(12).tolist()
     (1.0, [0.0, 0.0, 1.0])
     """
+    q, w, _, _ = _simulate(inertia=inertia, mass=mass, com=com, q0=q0, omega0=omega0,
+                           gravity=gravity, fixed_point=fixed_point, t=t, integrator=integrator,
+                           timestep=timestep)  # fmt: skip
+    return q, w
+
+
+def run_mujoco_pose(*, inertia: Any, mass: float, position0: Any, velocity0: Any, q0: Any,
+                    omega0: Any, gravity: Any, t: Any, integrator: str, timestep: float
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """Integrate one free rigid body in MuJoCo in six degrees of freedom (docs/theory.md
+    §9, §10): a free joint at the centre of mass, gravity as given.
+
+    Parameters
+    ----------
+    inertia, mass, q0, omega0, gravity, t, integrator, timestep
+        As :func:`run_mujoco`.
+    position0, velocity0 : array_like (3,)
+        The centre of mass's initial position and velocity (m, m/s, world axes).
+
+    Returns
+    -------
+    position, velocity : ndarray (n, 3)
+        The centre of mass (m, m/s, world axes).
+    q, omega : ndarray (n, 4), (n, 3)
+        As :func:`run_mujoco`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r, v, q, w = run_mujoco_pose(inertia=np.eye(3), mass=1.0, position0=[0.0, 0.0, 1.0],
+    ...                              velocity0=[1.0, 0.0, 0.0], q0=[1.0, 0.0, 0.0, 0.0],
+    ...                              omega0=[0.0, 0.0, 1.0], gravity=[0.0, 0.0, -10.0],
+    ...                              t=np.linspace(0.0, 1.0, 11), integrator="RK4",
+    ...                              timestep=0.01)
+    >>> r[-1].round(12).tolist(), v[-1].round(12).tolist()
+    ([1.0, 0.0, -4.0], [1.0, 0.0, -10.0])
+    """
+    q, w, r, v = _simulate(inertia=inertia, mass=mass, com=np.zeros(3), q0=q0, omega0=omega0,
+                           gravity=gravity, fixed_point=False, t=t, integrator=integrator,
+                           timestep=timestep, position0=position0, velocity0=velocity0)  # fmt: skip
+    return r, v, q, w
+
+
+def _simulate(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gravity: Any,
+              fixed_point: bool, t: Any, integrator: str, timestep: float,
+              position0: Any = (0.0, 0.0, 0.0), velocity0: Any = (0.0, 0.0, 0.0)
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """The run of :func:`run_mujoco` and :func:`run_mujoco_pose`: ``(q, omega, position,
+    velocity)`` (the last two of a free joint's origin; zero for a ball joint)."""
     mujoco = _mujoco()
     if integrator not in INTEGRATORS:
         raise InvalidInputError(
@@ -191,9 +246,13 @@ def run_mujoco(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gra
     wa = 0 if fixed_point else 3  # where the angular velocity starts in qvel
     data.qpos[qa : qa + 4] = q
     data.qvel[wa : wa + 3] = w0
+    if not fixed_point:
+        data.qpos[:3] = _vec(position0, 3, "position0")
+        data.qvel[:3] = _vec(velocity0, 3, "velocity0")
     mujoco.mj_forward(model, data)
     out_q = np.empty((tt.size, 4))
     out_w = np.empty((tt.size, 3))
+    out_rv = np.zeros((tt.size, 6))
     scratch = mujoco.MjData(model)
     done = 0
     for n in range(tt.size):
@@ -210,5 +269,7 @@ def run_mujoco(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gra
                 model.opt.timestep = h
             src = scratch
         out_q[n], out_w[n] = src.qpos[qa : qa + 4], src.qvel[wa : wa + 3]
+        if not fixed_point:
+            out_rv[n] = (*src.qpos[:3], *src.qvel[:3])
     flips = np.concatenate([[1.0], np.where(np.sum(out_q[1:] * out_q[:-1], -1) < 0, -1.0, 1.0)])
-    return out_q * np.cumprod(flips)[:, None], out_w
+    return out_q * np.cumprod(flips)[:, None], out_w, out_rv[:, :3], out_rv[:, 3:]

@@ -49,7 +49,7 @@ import numpy as np
 from .. import _quat
 from ..errors import InvalidInputError, PoinsotError
 from ..rotations.rotation import Rotation
-from ._mujoco import body_inputs, sampling
+from ._mujoco import _vec, body_inputs, sampling
 
 COORDINATES = ("reduced", "maximal")
 
@@ -135,12 +135,62 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
     >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 12), w[-1].round(12).tolist()
     (1.0, [0.0, 0.0, 1.0])
     """
+    q, w, _, _ = _simulate(inertia=inertia, mass=mass, q0=q0, omega0=omega0, gravity=gravity,
+                           t=t, timestep=timestep, coordinates=coordinates)  # fmt: skip
+    return q, w
+
+
+def run_pybullet_pose(*, inertia: Any, mass: float, position0: Any, velocity0: Any, q0: Any,
+                      omega0: Any, gravity: Any, t: Any, timestep: float,
+                      coordinates: str = "reduced"
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """Integrate one free rigid body in PyBullet in six degrees of freedom (docs/theory.md
+    §9, §10): the base's centre of mass moves too, gravity as given.
+
+    Parameters
+    ----------
+    inertia, mass, q0, omega0, gravity, t, timestep, coordinates
+        As :func:`run_pybullet`.
+    position0, velocity0 : array_like (3,)
+        The centre of mass's initial position and velocity (m, m/s, world axes).
+
+    Returns
+    -------
+    position, velocity : ndarray (n, 3)
+        The centre of mass (m, m/s, world axes).
+    q, omega : ndarray (n, 4), (n, 3)
+        As :func:`run_pybullet`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r, v, q, w = run_pybullet_pose(inertia=np.eye(3), mass=1.0, position0=[0.0, 0.0, 1.0],
+    ...                                velocity0=[1.0, 0.0, 0.0], q0=[1.0, 0.0, 0.0, 0.0],
+    ...                                omega0=[0.0, 0.0, 1.0], gravity=[0.0, 0.0, -10.0],
+    ...                                t=np.linspace(0.0, 1.0, 11), timestep=0.01)
+    >>> r[-1].round(9).tolist(), v[-1].round(9).tolist()  # semi-implicit Euler: z off by g h t / 2
+    ([1.0, 0.0, -4.05], [1.0, 0.0, -10.0])
+    """
+    q, w, r, v = _simulate(inertia=inertia, mass=mass, q0=q0, omega0=omega0, gravity=gravity,
+                           t=t, timestep=timestep, coordinates=coordinates,
+                           position0=position0, velocity0=velocity0)  # fmt: skip
+    return r, v, q, w
+
+
+def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
+              timestep: float, coordinates: str, position0: Any = (0.0, 0.0, 0.0),
+              velocity0: Any = (0.0, 0.0, 0.0)
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """The run of :func:`run_pybullet` and :func:`run_pybullet_pose`: ``(q, omega,
+    position, velocity)`` (the centre of mass's, world axes)."""
     pb = _pybullet()
     if coordinates not in COORDINATES:
         raise InvalidInputError(
             f"Expected `coordinates` to be 'reduced' or 'maximal', got {coordinates!r}."
         )
     j, m, q, w0, g = body_inputs(inertia, mass, q0, omega0, gravity)
+    r0 = [float(x) for x in _vec(position0, 3, "position0")]
+    v0 = [float(x) for x in _vec(velocity0, 3, "velocity0")]
     h = float(timestep)
     if not (math.isfinite(h) and h > 0):
         raise InvalidInputError(f"Expected `timestep` to be positive (s), got {timestep!r}.")
@@ -162,7 +212,7 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
         shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=0.1, **kw) if maximal else -1
         body = pb.createMultiBody(
             baseMass=m, baseCollisionShapeIndex=shape, baseVisualShapeIndex=-1,
-            basePosition=[0.0, 0.0, 0.0],
+            basePosition=r0,
             baseOrientation=[q_pb[1], q_pb[2], q_pb[3], q_pb[0]],
             useMaximalCoordinates=maximal, **kw,
         )  # fmt: skip
@@ -171,15 +221,17 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
         pb.changeDynamics(body, -1, mass=m, localInertiaDiagonal=[float(x) for x in moments],
                           linearDamping=0.0, angularDamping=0.0,
                           activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)  # fmt: skip
-        pb.resetBaseVelocity(body, [0.0, 0.0, 0.0], [float(x) for x in w_world], **kw)
+        pb.resetBaseVelocity(body, v0, [float(x) for x in w_world], **kw)
         out_q = np.empty((tt.size, 4))
         out_w = np.empty((tt.size, 3))
+        out_rv = np.empty((tt.size, 6))
 
         def read(n: int) -> None:
-            _, qx = pb.getBasePositionAndOrientation(body, **kw)
-            _, wx = pb.getBaseVelocity(body, **kw)
+            rx, qx = pb.getBasePositionAndOrientation(body, **kw)
+            vx, wx = pb.getBaseVelocity(body, **kw)
             out_q[n] = (qx[3], qx[0], qx[1], qx[2])
             out_w[n] = wx
+            out_rv[n] = (*rx, *vx)
 
         done = 0
         for n in range(tt.size):
@@ -203,4 +255,4 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
     q_body /= np.linalg.norm(q_body, axis=1, keepdims=True)
     w_body = _rotate_back(q_body, out_w)
     flips = np.concatenate([[1.0], np.where(np.sum(q_body[1:] * q_body[:-1], -1) < 0, -1.0, 1.0)])
-    return q_body * np.cumprod(flips)[:, None], w_body
+    return q_body * np.cumprod(flips)[:, None], w_body, out_rv[:, :3], out_rv[:, 3:]

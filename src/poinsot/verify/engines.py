@@ -56,10 +56,10 @@ from ._basilisk import INTEGRATORS as BASILISK_INTEGRATORS
 from ._basilisk import run_basilisk
 from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
 from ._drake import INTEGRATORS as DRAKE_INTEGRATORS
-from ._drake import run_drake
+from ._drake import run_drake, run_drake_pose
 from ._mujoco import INTEGRATORS as MUJOCO_INTEGRATORS
-from ._mujoco import run_mujoco, sampling
-from ._pybullet import COORDINATES, run_pybullet
+from ._mujoco import run_mujoco, run_mujoco_pose, sampling
+from ._pybullet import COORDINATES, run_pybullet, run_pybullet_pose
 from .cases import Case, cases
 from .files import FileEngine
 from .groups import _deprecated_states, as_result, point_result, quat_unit, rigid_result
@@ -257,20 +257,32 @@ class MuJoCoEngine:
 
     def run(self, case: Case) -> tuple[Result, int]:
         i = case.inputs
+        whole, frac = sampling(case.t, self.timestep)
+        steps = int(whole[-1]) + int(np.count_nonzero(frac))  # whole and shorter steps
+        if case.kind == "pose":  # a free joint at the centre of mass, gravity on
+            r, v, q, w = run_mujoco_pose(
+                inertia=i["inertia"], mass=i["mass"], position0=i["position0"],
+                velocity0=i["velocity0"], q0=i["q0"], omega0=i["omega0"], gravity=i["gravity"],
+                t=case.t, integrator=self.integrator, timestep=self.timestep,
+            )  # fmt: skip
+            return _pose(case, r, v, q, w, self.label), steps
         q, w = run_mujoco(
             inertia=i["inertia"], mass=i["mass"], com=i["com"], q0=i["q0"], omega0=i["omega0"],
             gravity=i["gravity"], fixed_point=i["fixed_point"], t=case.t,
             integrator=self.integrator, timestep=self.timestep,
         )  # fmt: skip
-
-        whole, frac = sampling(case.t, self.timestep)
-        steps = int(whole[-1]) + int(np.count_nonzero(frac))  # whole and shorter steps
         return rigid_result(case, quat_unit(q), w, self.label), steps
+
+
+def _pose(case: Case, r: Any, v: Any, q: Any, w: Any, label: str) -> Result:
+    """The :class:`poinsot.PoseTrajectory` of an adapter's six-degree-of-freedom run."""
+    states = {"position": r, "velocity": v, "quat": quat_unit(q), "omega": w}
+    return case.spec.of_states(case, states, label)
 
 
 def _free_body_only(case: Case, engine: str) -> str | None:
     """Why ``engine`` (an adapter of free bodies only) skips ``case``, or None."""
-    if case.kind != "rigid":
+    if case.kind == "point":
         return (f"{engine} models rigid bodies; a point in a central field or a turning "
                 "frame is not expressed by this adapter")  # fmt: skip
     if case.inputs["fixed_point"]:
@@ -348,11 +360,18 @@ class PyBulletEngine:
 
     def run(self, case: Case) -> tuple[Result, int]:
         i = case.inputs
+        whole, frac = sampling(case.t, self.timestep)
+        steps = int(whole[-1]) + int(np.count_nonzero(frac))
+        if case.kind == "pose":  # the base's centre of mass moves, gravity on
+            r, v, q, w = run_pybullet_pose(
+                inertia=i["inertia"], mass=i["mass"], position0=i["position0"],
+                velocity0=i["velocity0"], q0=i["q0"], omega0=i["omega0"], gravity=i["gravity"],
+                t=case.t, timestep=self.timestep, coordinates=self.coordinates,
+            )  # fmt: skip
+            return _pose(case, r, v, q, w, self.label), steps
         q, w = run_pybullet(inertia=i["inertia"], mass=i["mass"], q0=i["q0"],
                             omega0=i["omega0"], gravity=i["gravity"], t=case.t,
                             timestep=self.timestep, coordinates=self.coordinates)  # fmt: skip
-        whole, frac = sampling(case.t, self.timestep)
-        steps = int(whole[-1]) + int(np.count_nonzero(frac))
         return rigid_result(case, quat_unit(q), w, self.label), steps
 
 
@@ -423,6 +442,13 @@ class DrakeEngine:
 
     def run(self, case: Case) -> tuple[Result, int]:
         i = case.inputs
+        if case.kind == "pose":  # the body origin, its centre of mass, moves; gravity on
+            r, v, q, w, n = run_drake_pose(
+                inertia=i["inertia"], mass=i["mass"], position0=i["position0"],
+                velocity0=i["velocity0"], q0=i["q0"], omega0=i["omega0"], gravity=i["gravity"],
+                t=case.t, integrator=self.integrator, accuracy=self.accuracy, step=self.step,
+            )  # fmt: skip
+            return _pose(case, r, v, q, w, self.label), n
         q, w, evaluations = run_drake(
             inertia=i["inertia"], mass=i["mass"], q0=i["q0"], omega0=i["omega0"],
             gravity=i["gravity"], t=case.t, integrator=self.integrator,
@@ -479,7 +505,7 @@ class BasiliskEngine:
             self.label += f" rtol={self.rtol:g}"
 
     def skip_reason(self, case: Case) -> str | None:
-        reason = _free_body_only(case, "Basilisk")
+        reason = _free_body_only(case, "Basilisk") or case.spec.basilisk_skip
         if reason:
             return reason
         try:

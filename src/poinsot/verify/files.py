@@ -5,7 +5,10 @@ one row per sample of its grid, with a plain header row:
 
 - rigid body: ``t, qw, qx, qy, qz, wx, wy, wz`` (s; scalar-first unit quaternion,
   body -> space; angular velocity in body axes, rad/s);
-- point: ``t, x, y, z, vx, vy, vz`` (s, m, m/s),
+- point: ``t, x, y, z, vx, vy, vz`` (s, m, m/s);
+- pose (a rigid body in six degrees of freedom, version 3): ``t, x, y, z, vx, vy,
+  vz, qw, qx, qy, qz, wx, wy, wz``: the centre of mass's position and velocity (m,
+  m/s, space axes), then the rigid columns,
 
 and ``CASE.json``: the inputs (SI), the grid, the thresholds, units and conventions
 (:func:`poinsot.verify.cases.describe`), with ``index.json`` listing the cases and
@@ -30,7 +33,7 @@ from ..kinematics.attitude_history import _make_continuous
 from ..rotations.rotation import Rotation
 from ..trajectory import Result
 from .cases import CASES_VERSION, Case, cases, describe
-from .groups import POINT_COLUMNS, PointGroup, as_result, point_result, quat_unit
+from .groups import POINT_COLUMNS, as_result, point_result, quat_unit
 
 MATRIX_COLUMNS = tuple(f"r{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
 
@@ -283,7 +286,7 @@ class FileEngine:
                 f"{k + 1} where the grid has {float(case.t[k])!r} s ({bad.size} samples off by "
                 "more than 1e-9 s)."
             )
-        if isinstance(case.spec, PointGroup):
+        if case.kind in ("point", "pose"):
             need = POINT_COLUMNS[1:]
             missing = [c for c in need if c not in cols]
             if missing:
@@ -292,11 +295,18 @@ class FileEngine:
                 )
             pos = np.column_stack([cols[c] for c in need[:3]])
             vel = np.column_stack([cols[c] for c in need[3:]])
-            return point_result(case, pos, vel, self.label), None, []
+            if case.kind == "point":
+                return point_result(case, pos, vel, self.label), None, []
         states = _rigid_from_columns(
             path, case, cols, self.quat_order, self.omega_frame, self.degrees
         )
         defects = list(states.pop("defects"))
+        if case.kind == "pose":  # the centre of mass's columns, then the rigid ones
+            if all(np.all(np.isfinite(a)) for a in (pos, vel)):
+                states.update(position=pos, velocity=vel)
+            else:  # a diverged engine: NaN states that fail every metric
+                states = _diverged(path, case, cols)
+                defects = list(states.pop("defects"))
         return as_result(case, states, self.label), None, defects
 
 
