@@ -13,8 +13,8 @@ from ..verify.suite import SWEEPS, check, sweep, write
 from ._common import _Usage
 
 DESCRIPTION = (
-    "Run the reference cases (exact free-body, Lagrange-top, Kepler and "
-    "Foucault motions) in an engine and score its states against the exact ones, or "
+    "Run the reference cases (exact free-body, Lagrange-top, Kepler, Foucault and "
+    "thrown-box motions) in an engine and score its states against the exact ones, or "
     "export the cases to files."
 )
 EPILOG = """examples:
@@ -48,7 +48,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the directory of the files (file) or to write (export)")  # fmt: skip
     p.add_argument("--cases", metavar="NAMES", help="case names or groups, comma separated "
                    "(free-body, heavy-top, kovalevskaya, body-torque, gyrostat, gravity-gradient, "
-                   "orbit, frame); default all")  # fmt: skip
+                   "orbit, frame, free-flight); default all")  # fmt: skip
     p.add_argument("--method", help="solve_ivp method (scipy), integrator (poinsot), "
                    "Euler, RK4, implicit, implicitfast (mujoco), reduced or maximal coordinates "
                    "(pybullet), a Drake integrator, e.g. runge_kutta3 (drake), or RK4, Euler, RK2, "

@@ -2,7 +2,8 @@
 
 :func:`cases` gives named, versioned reference motions with their exact states
 (free bodies, Lagrange and Kovalevskaya tops, a body under a constant torque, a
-gyrostat, pitch libration in orbit, Kepler orbits, the Foucault pendulum); an engine
+gyrostat, pitch libration in orbit, Kepler orbits, the Foucault pendulum, a thrown
+spinning box in six degrees of freedom); an engine
 (:mod:`poinsot.verify.engines`: SciPy, poinsot, MuJoCo, PyBullet, Drake, Basilisk, files) runs
 them, and
 :func:`evaluate` scores its states against the exact ones with stated thresholds.

@@ -62,7 +62,14 @@ from ._mujoco import run_mujoco, run_mujoco_pose, sampling
 from ._pybullet import COORDINATES, run_pybullet, run_pybullet_pose
 from .cases import Case, cases
 from .files import FileEngine
-from .groups import _deprecated_states, as_result, point_result, quat_unit, rigid_result
+from .groups import (
+    _deprecated_states,
+    as_result,
+    point_result,
+    pose_result,
+    quat_unit,
+    rigid_result,
+)
 from .metrics import CaseResult, evaluate
 
 __all__ = [
@@ -77,6 +84,7 @@ __all__ = [
     "as_result",
     "make",
     "point_result",
+    "pose_result",
     "rigid_result",
     "run",
 ]
