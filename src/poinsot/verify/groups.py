@@ -189,8 +189,10 @@ class Group:
 class RigidGroup(Group):
     """A rigid body: attitude and body angular velocity (docs/theory.md §5, §10)."""
 
-    kind, states, errors = "rigid", ("quat", "omega"), ("attitude", "omega")
-    columns, poinsot_other = RIGID_COLUMNS, "points, not rigid bodies"
+    kind, poinsot_other = "rigid", "points, not rigid bodies"
+    states: tuple[str, ...] = ("quat", "omega")
+    errors: tuple[str, ...] = ("attitude", "omega")
+    columns: tuple[str, ...] = RIGID_COLUMNS
     units = {"t": "s", "qw,qx,qy,qz": "1", "wx,wy,wz": "rad/s", "inertia": "kg m^2",
              "mass": "kg", "com": "m", "gravity": "m/s^2"}  # fmt: skip
     euler_seq = "ZYX"
@@ -741,9 +743,9 @@ class FreeFlight(FreeBody):
 
     name = "free-flight"
     kind = "pose"
-    states = ("position", "velocity", "quat", "omega")
-    errors = ("position", "velocity", "attitude", "omega")
-    columns = POSE_COLUMNS
+    states: tuple[str, ...] = ("position", "velocity", "quat", "omega")
+    errors: tuple[str, ...] = ("position", "velocity", "attitude", "omega")
+    columns: tuple[str, ...] = POSE_COLUMNS
     units = {**RigidGroup.units, "x,y,z": "m", "vx,vy,vz": "m/s", "position0": "m",
              "velocity0": "m/s"}  # fmt: skip
     poinsot_other = ("the rotation alone: poinsot's six-degree-of-freedom motion "
