@@ -722,9 +722,19 @@ class Frame(PointGroup):
 
 def pose_result(case: Case, position: Any, velocity: Any, quat: Any, omega: Any,
                 method: str) -> PoseTrajectory:  # fmt: skip
-    """A :class:`poinsot.PoseTrajectory` of ``case`` on its grid: the centre of mass's
-    position and velocity (m, m/s, space axes), scalar-first quaternions (body -> space,
-    kept bit for bit) and body-axes angular velocities (rad/s)."""
+    """A :class:`poinsot.PoseTrajectory` of ``case`` on its grid (docs/theory.md §9,
+    §10): the centre of mass's position and velocity (m, m/s, space axes), scalar-first
+    quaternions (body -> space, kept bit for bit) and body-axes angular velocities (rad/s).
+
+    Examples
+    --------
+    >>> from poinsot.verify import cases
+    >>> case = cases("thrown-box")[0]
+    >>> ex = case.exact()
+    >>> tr = pose_result(case, ex["position"], ex["velocity"], ex["quat"], ex["omega"], "x")
+    >>> list(tr.state_channels()), tr.position.shape
+    (['position', 'velocity', 'attitude', 'omega'], (301, 3))
+    """
     q = np.ascontiguousarray(quat, dtype=float)
     return PoseTrajectory(case.t, Rotation._wrap(q), np.asarray(omega, dtype=float), method,
                           position=np.asarray(position, dtype=float),
