@@ -758,8 +758,8 @@ class FreeFlight(FreeBody):
     columns: tuple[str, ...] = POSE_COLUMNS
     units = {**RigidGroup.units, "x,y,z": "m", "vx,vy,vz": "m/s", "position0": "m",
              "velocity0": "m/s"}  # fmt: skip
-    poinsot_other = ("the rotation alone: poinsot's six-degree-of-freedom motion "
-                     "(simulate_free_motion) is SciPy's DOP853, method 'dop853'")  # fmt: skip
+    poinsot_other = ("a rotation or a point, not a pose: poinsot's six-degree-of-freedom "
+                     "motion (simulate_free_motion) is method 'dop853'")  # fmt: skip
     basilisk_skip = ("Basilisk's gravity is a planet's field (gravityEffector), not a uniform "
                      "one, and this adapter runs the attitude of a hub alone")  # fmt: skip
 
