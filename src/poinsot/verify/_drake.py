@@ -31,6 +31,14 @@ name (``ResetIntegratorFromFlags``); an error-controlled integrator runs with
 (``set_fixed_step_mode``); one without error estimation (``explicit_euler``,
 ``runge_kutta2``, ``semi_explicit_euler``) runs with a fixed step. The grid's times are
 reached by ``AdvanceTo``, which ends a step on each of them (no interpolation).
+
+**A gyrostat** (``rotor_momentum`` given, docs/theory.md §10.1): a second rigid body,
+the rotor, joined to the body (the platform) by a ``RevoluteJoint`` along
+``a = h / |h|`` through the centre of mass, with zero damping; the mapping of the
+case to the two bodies (inertias, mass shares, initial hinge rate) is
+:func:`poinsot.verify._mujoco.rotor_inputs`. The platform's floating joint is found by
+``floating_positions_start`` / ``floating_velocities_start_in_v`` (the hinge's
+coordinates come after or before it as Drake orders them).
 """
 
 from __future__ import annotations
@@ -41,7 +49,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidInputError, PoinsotError
-from ._mujoco import _vec, body_inputs
+from ._mujoco import ROTOR_MASS_SHARE, _vec, body_inputs, rotor_inputs
 from ._pybullet import _rotate_back
 
 #: Drake's integration schemes (``GetIntegrationSchemes()``, Drake 1.51); "cenic"
@@ -73,7 +81,8 @@ def _pydrake() -> Any:
 
 def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
               integrator: str = "runge_kutta5", accuracy: float | None = 1e-13,
-              step: float | None = None) -> tuple[np.ndarray, np.ndarray, int]:  # fmt: skip
+              step: float | None = None, rotor_momentum: Any = None
+              ) -> tuple[np.ndarray, np.ndarray, int]:  # fmt: skip
     """Integrate one free rigid body in Drake; states on the grid ``t``.
 
     Parameters
@@ -98,11 +107,16 @@ def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
         Fixed step (s); needed by the schemes of :data:`FIXED_STEP`. Without it an
         error-controlled scheme runs with ``accuracy`` and a largest step of the
         grid's spacing.
+    rotor_momentum : array_like (3,), optional
+        A gyrostat's constant rotor momentum ``h`` relative to the body (kg m^2/s, body
+        axes; docs/theory.md §10.1): the rotor is a second body on a revolute joint,
+        ``inertia`` the gyrostat's ``J`` (see the module docstring).
 
     Returns
     -------
     q : ndarray (n, 4)
-        Scalar-first unit quaternions body -> space, sign-continuous.
+        Scalar-first unit quaternions body -> space, sign-continuous (the platform's
+        for a gyrostat).
     omega : ndarray (n, 3)
         Body-axes angular velocity (rad/s).
     evaluations : int
@@ -117,10 +131,19 @@ def run_drake(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
     ...                     gravity=np.zeros(3), t=np.linspace(0.0, 1.0, 11))
     >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 9), w[-1].round(9).tolist()
     (1.0, [0.0, 0.0, 1.0])
+
+    A gyrostat spinning steadily about its rotor's axis keeps its angular velocity:
+
+    >>> q, w, n = run_drake(inertia=np.diag([1.0, 2.0, 3.0]), mass=1.0,
+    ...                     q0=[1.0, 0.0, 0.0, 0.0], omega0=[0.0, 1.0, 0.0],
+    ...                     gravity=np.zeros(3), t=np.linspace(0.0, 1.0, 11),
+    ...                     rotor_momentum=[0.0, 3.0, 0.0])
+    >>> w[-1].round(9).tolist()
+    [0.0, 1.0, 0.0]
     """
     q, w, _, _, n = _simulate(inertia=inertia, mass=mass, q0=q0, omega0=omega0,
                               gravity=gravity, t=t, integrator=integrator, accuracy=accuracy,
-                              step=step)  # fmt: skip
+                              step=step, rotor_momentum=rotor_momentum)  # fmt: skip
     return q, w, n
 
 
@@ -163,7 +186,8 @@ def run_drake_pose(*, inertia: Any, mass: float, position0: Any, velocity0: Any,
 
 def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
               integrator: str, accuracy: float | None, step: float | None,
-              position0: Any = (0.0, 0.0, 0.0), velocity0: Any = (0.0, 0.0, 0.0)
+              position0: Any = (0.0, 0.0, 0.0), velocity0: Any = (0.0, 0.0, 0.0),
+              rotor_momentum: Any = None
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:  # fmt: skip
     """The run of :func:`run_drake` and :func:`run_drake_pose`: ``(q, omega, position,
     velocity, evaluations)`` (the centre of mass's, world axes)."""
@@ -188,19 +212,7 @@ def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
     if tt.ndim != 1 or tt.size < 1 or tt[0] != 0.0 or np.any(np.diff(tt) <= 0):
         raise InvalidInputError("Expected `t` to be increasing times starting at 0 (s).")
 
-    plant = mplant.MultibodyPlant(time_step=0.0)
-    rot = tree.RotationalInertia(j[0, 0], j[1, 1], j[2, 2], j[0, 1], j[0, 2], j[1, 2])
-    try:
-        spatial = tree.SpatialInertia.MakeFromCentralInertia(m, np.zeros(3), rot)
-    except RuntimeError as exc:  # Drake's own checks (triangle inequality)
-        raise InvalidInputError(f"Drake refused the body (`inertia`, `mass`): {exc}") from None
-    plant.AddRigidBody("body", spatial)
-    plant.mutable_gravity_field().set_gravity_vector(g)
-    plant.Finalize()
-    context = plant.CreateDefaultContext()
-    conj = np.array([1.0, -1.0, -1.0, -1.0])
-    w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R_WB omega0
-    plant.SetPositionsAndVelocities(context, np.concatenate([q, r0, w_world, v0]))
+    plant, context, (qs, vs) = build(tree, mplant, j, m, q, w0, g, r0, v0, rotor_momentum)
     sim = analysis.Simulator(plant, context)
     max_step = float(step) if step is not None else float(np.min(np.diff(tt), initial=1.0))
     integ = analysis.ResetIntegratorFromFlags(sim, integrator, max_step)
@@ -210,12 +222,56 @@ def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
         integ.set_target_accuracy(float(accuracy))  # type: ignore[arg-type]
     sim.Initialize()
     out = np.empty((tt.size, 13))
+    nq = plant.num_positions()
     for n, time in enumerate(tt):
         if time > 0.0:
             sim.AdvanceTo(float(time))
-        out[n] = plant.GetPositionsAndVelocities(context)
+        x = plant.GetPositionsAndVelocities(context)
+        out[n] = (*x[qs : qs + 7], *x[nq + vs : nq + vs + 6])
     q_body = out[:, :4] / np.linalg.norm(out[:, :4], axis=1, keepdims=True)
     w_body = _rotate_back(q_body, out[:, 7:10])
     flips = np.concatenate([[1.0], np.where(np.sum(q_body[1:] * q_body[:-1], -1) < 0, -1.0, 1.0)])
     evaluations = int(integ.get_num_derivative_evaluations())
     return q_body * np.cumprod(flips)[:, None], w_body, out[:, 4:7], out[:, 10:13], evaluations
+
+
+def build(tree: Any, mplant: Any, j: np.ndarray, m: float, q: np.ndarray, w0: np.ndarray,
+          g: np.ndarray, r0: np.ndarray, v0: np.ndarray, rotor_momentum: Any = None
+          ) -> tuple[Any, Any, tuple[int, int]]:  # fmt: skip
+    """The finalised plant and its context at ``t = 0`` and ``(qs, vs)``, where the
+    body's floating coordinates start in ``q`` and in ``v`` (a gyrostat's rotor on a
+    revolute joint when ``rotor_momentum`` is given; the module docstring)."""
+    if rotor_momentum is not None:
+        j, jr, a, rate0 = rotor_inputs(j, rotor_momentum, w0)
+        m, mr = (1.0 - ROTOR_MASS_SHARE) * m, ROTOR_MASS_SHARE * m
+    plant = mplant.MultibodyPlant(time_step=0.0)
+    try:
+        body = plant.AddRigidBody("body", _spatial(tree, m, j))
+        if rotor_momentum is not None:
+            rotor = plant.AddRigidBody("rotor", _spatial(tree, mr, jr))
+    except RuntimeError as exc:  # Drake's own checks (triangle inequality)
+        raise InvalidInputError(f"Drake refused the body (`inertia`, `mass`): {exc}") from None
+    hinge = None
+    if rotor_momentum is not None:
+        hinge = plant.AddJoint(tree.RevoluteJoint("hinge", body.body_frame(), rotor.body_frame(),
+                                                  a, 0.0))  # fmt: skip
+    plant.mutable_gravity_field().set_gravity_vector(g)
+    plant.Finalize()
+    context = plant.CreateDefaultContext()
+    conj = np.array([1.0, -1.0, -1.0, -1.0])
+    w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R_WB omega0
+    qs, vs = int(body.floating_positions_start()), int(body.floating_velocities_start_in_v())
+    x = plant.GetPositionsAndVelocities(context)
+    nq = plant.num_positions()
+    x[qs : qs + 7] = (*q, *r0)
+    x[nq + vs : nq + vs + 6] = (*w_world, *v0)
+    plant.SetPositionsAndVelocities(context, x)
+    if hinge is not None:
+        hinge.set_angular_rate(context, rate0)
+    return plant, context, (qs, vs)
+
+
+def _spatial(tree: Any, m: float, j: np.ndarray) -> Any:
+    """Drake's ``SpatialInertia`` of mass ``m`` with central inertia ``j`` at the origin."""
+    rot = tree.RotationalInertia(j[0, 0], j[1, 1], j[2, 2], j[0, 1], j[0, 2], j[1, 2])
+    return tree.SpatialInertia.MakeFromCentralInertia(m, np.zeros(3), rot)

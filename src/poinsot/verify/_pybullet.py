@@ -37,6 +37,18 @@ nothing), and its inertia is then set by ``changeDynamics`` as for the other.
 Sampling: as the MuJoCo adapter (:func:`poinsot.verify._mujoco.sampling`): a time
 of the grid on a whole step is read there; one between steps by one shorter step
 from the last whole step, on a saved state (``saveState``/``restoreState``).
+
+**A gyrostat** (``rotor_momentum`` given, docs/theory.md §10.1; reduced coordinates):
+the rotor is a link of the multibody on a ``JOINT_REVOLUTE`` along ``a = h / |h|``
+through the centre of mass, its motor switched off (``setJointMotorControl2``
+``VELOCITY_CONTROL`` with ``force=0``; PyBullet motorises revolute joints by default)
+and no joint damping; the two bodies are those of
+:func:`poinsot.verify._mujoco.rotor_inputs`. The joint axis and the rotor's inertial
+frame are given in the base's (the platform's principal) frame.
+
+**An external torque** (``torque(t, q, w)`` given, body axes): ``applyExternalTorque``
+in world axes (``R`` times it) before every step, from the state at its start (Bullet
+clears applied forces after each step): first order, like the step itself.
 """
 
 from __future__ import annotations
@@ -49,9 +61,17 @@ import numpy as np
 from .. import _quat
 from ..errors import InvalidInputError, PoinsotError
 from ..rotations.rotation import Rotation
-from ._mujoco import _vec, body_inputs, sampling
+from ._mujoco import ROTOR_MASS_SHARE, Torque, _vec, body_inputs, rotor_inputs, sampling
 
 COORDINATES = ("reduced", "maximal")
+
+#: why maximal coordinates take no rotor and no external torque here
+MAXIMAL_SKIP = (
+    "PyBullet's maximal-coordinates adapter takes no rotor link (a rigid body has no "
+    "joint of its own) and its applyExternalTorque was measured wrong: a constant 3 N m "
+    "on a 3 kg m^2 axis from rest gives 0.85 rad/s after 0.1 s at a 1 ms step, not "
+    "0.1 rad/s (reduced coordinates: 0.1)"
+)
 
 
 class PyBulletMissing(PoinsotError, ImportError):
@@ -94,8 +114,8 @@ def principal_frame(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
-                 timestep: float, coordinates: str = "reduced"
-                 ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+                 timestep: float, coordinates: str = "reduced", rotor_momentum: Any = None,
+                 torque: Torque | None = None) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
     """Integrate one free rigid body in PyBullet; states on the grid ``t``.
 
     Parameters
@@ -117,11 +137,19 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
     coordinates : {"reduced", "maximal"}
         A Featherstone multibody (PyBullet's default) or a maximal-coordinates rigid
         body (see the module docstring).
+    rotor_momentum : array_like (3,), optional
+        A gyrostat's constant rotor momentum ``h`` relative to the body (kg m^2/s, body
+        axes; docs/theory.md §10.1): the rotor is a link on a revolute joint (reduced
+        coordinates only), ``inertia`` the gyrostat's ``J``.
+    torque : callable, optional
+        ``torque(t, q, w) -> (3,)``, an external torque (N m, body axes), applied
+        before every step from the state at its start.
 
     Returns
     -------
     q : ndarray (n, 4)
-        Scalar-first quaternions body -> space, sign-continuous.
+        Scalar-first quaternions body -> space, sign-continuous (the platform's for a
+        gyrostat).
     omega : ndarray (n, 3)
         Body-axes angular velocity (rad/s).
 
@@ -134,9 +162,19 @@ def run_pybullet(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: An
     ...                     gravity=np.zeros(3), t=np.linspace(0.0, 1.0, 11), timestep=0.01)
     >>> round(2.0 * float(np.arctan2(q[-1, 3], q[-1, 0])), 12), w[-1].round(12).tolist()
     (1.0, [0.0, 0.0, 1.0])
+
+    A gyrostat spinning steadily about its rotor's axis keeps its angular velocity:
+
+    >>> q, w = run_pybullet(inertia=np.diag([1.0, 2.0, 3.0]), mass=1.0,
+    ...                     q0=[1.0, 0.0, 0.0, 0.0], omega0=[0.0, 1.0, 0.0],
+    ...                     gravity=np.zeros(3), t=np.linspace(0.0, 1.0, 11), timestep=0.01,
+    ...                     rotor_momentum=[0.0, 3.0, 0.0])
+    >>> w[-1].round(9).tolist()
+    [0.0, 1.0, 0.0]
     """
     q, w, _, _ = _simulate(inertia=inertia, mass=mass, q0=q0, omega0=omega0, gravity=gravity,
-                           t=t, timestep=timestep, coordinates=coordinates)  # fmt: skip
+                           t=t, timestep=timestep, coordinates=coordinates,
+                           rotor_momentum=rotor_momentum, torque=torque)  # fmt: skip
     return q, w
 
 
@@ -179,7 +217,8 @@ def run_pybullet_pose(*, inertia: Any, mass: float, position0: Any, velocity0: A
 
 def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, t: Any,
               timestep: float, coordinates: str, position0: Any = (0.0, 0.0, 0.0),
-              velocity0: Any = (0.0, 0.0, 0.0)
+              velocity0: Any = (0.0, 0.0, 0.0), rotor_momentum: Any = None,
+              torque: Torque | None = None
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
     """The run of :func:`run_pybullet` and :func:`run_pybullet_pose`: ``(q, omega,
     position, velocity)`` (the centre of mass's, world axes)."""
@@ -198,11 +237,37 @@ def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
     if tt.ndim != 1 or tt.size < 1 or tt[0] != 0.0 or np.any(np.diff(tt) <= 0):
         raise InvalidInputError("Expected `t` to be increasing times starting at 0 (s).")
     whole, frac = sampling(tt, h)
+    if torque is not None and (coordinates != "reduced" or not callable(torque)):
+        raise InvalidInputError(
+            "Expected `torque` to be a callable (t, q, w) -> (3,), with `coordinates` "
+            f"'reduced': {MAXIMAL_SKIP}."
+        )
+    link: dict[str, Any] = {}
+    rate0 = 0.0
+    if rotor_momentum is not None:
+        if coordinates != "reduced":
+            raise InvalidInputError(
+                "Expected `coordinates` 'reduced' for a `rotor_momentum` (the rotor is a "
+                "link of a Featherstone multibody)."
+            )
+        j, jr, a, rate0 = rotor_inputs(j, rotor_momentum, w0)
+        m, mr = (1.0 - ROTOR_MASS_SHARE) * m, ROTOR_MASS_SHARE * m
 
     moments, q_p = principal_frame(j)
     q_pb = _quat.mul(q, q_p)  # the principal frame's attitude, PyBullet's base
     conj = np.array([1.0, -1.0, -1.0, -1.0])
     w_world = _rotate_back((q * conj)[None, :], w0[None, :])[0]  # R(q0) omega0
+    if rotor_momentum is not None:  # the rotor link, in the base's (principal) frame
+        rotor_moments, q_r = principal_frame(jr)
+        a_p = _rotate_back(q_p[None, :], a[None, :])[0]  # P^T a
+        q_rp = _quat.mul(q_p * conj, q_r)  # the rotor's principal frame in the base's
+        link = {"linkMasses": [mr], "linkCollisionShapeIndices": [-1],
+                "linkVisualShapeIndices": [-1], "linkPositions": [[0.0, 0.0, 0.0]],
+                "linkOrientations": [[0.0, 0.0, 0.0, 1.0]],
+                "linkInertialFramePositions": [[0.0, 0.0, 0.0]],
+                "linkInertialFrameOrientations": [[q_rp[1], q_rp[2], q_rp[3], q_rp[0]]],
+                "linkParentIndices": [0], "linkJointTypes": [pb.JOINT_REVOLUTE],
+                "linkJointAxis": [[float(x) for x in a_p]]}  # fmt: skip
     cid = pb.connect(pb.DIRECT)
     try:
         kw = {"physicsClientId": cid}
@@ -214,7 +279,7 @@ def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
             baseMass=m, baseCollisionShapeIndex=shape, baseVisualShapeIndex=-1,
             basePosition=r0,
             baseOrientation=[q_pb[1], q_pb[2], q_pb[3], q_pb[0]],
-            useMaximalCoordinates=maximal, **kw,
+            useMaximalCoordinates=maximal, **link, **kw,
         )  # fmt: skip
         if maximal:
             pb.setCollisionFilterGroupMask(body, -1, 0, 0, **kw)
@@ -222,6 +287,23 @@ def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
                           linearDamping=0.0, angularDamping=0.0,
                           activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)  # fmt: skip
         pb.resetBaseVelocity(body, v0, [float(x) for x in w_world], **kw)
+        if link:
+            pb.changeDynamics(body, 0, mass=mr, localInertiaDiagonal=[float(x) for x in
+                              rotor_moments], jointDamping=0.0, **kw)  # fmt: skip
+            pb.setJointMotorControl2(body, 0, pb.VELOCITY_CONTROL, force=0.0, **kw)
+            pb.resetJointState(body, 0, targetValue=0.0, targetVelocity=rate0, **kw)
+
+        def step(time: float) -> None:
+            if torque is not None:  # the body torque of the state at the step's start
+                _, qx = pb.getBasePositionAndOrientation(body, **kw)
+                _, wx = pb.getBaseVelocity(body, **kw)
+                qb = _quat.mul(np.array([qx[3], qx[0], qx[1], qx[2]]), q_p * conj)
+                qb = qb / np.linalg.norm(qb)
+                wb = _rotate_back(qb[None, :], np.asarray(wx, dtype=float)[None, :])[0]
+                mw = _rotate_back((qb * conj)[None, :], torque(time, qb, wb)[None, :])[0]
+                pb.applyExternalTorque(body, -1, [float(x) for x in mw], pb.WORLD_FRAME, **kw)
+            pb.stepSimulation(**kw)
+
         out_q = np.empty((tt.size, 4))
         out_w = np.empty((tt.size, 3))
         out_rv = np.empty((tt.size, 6))
@@ -236,12 +318,12 @@ def _simulate(*, inertia: Any, mass: float, q0: Any, omega0: Any, gravity: Any, 
         done = 0
         for n in range(tt.size):
             while done < whole[n]:
-                pb.stepSimulation(**kw)
+                step(done * h)
                 done += 1
             if frac[n] > 0.0:  # between steps: one shorter step from a saved state
                 state = pb.saveState(**kw)
                 pb.setTimeStep(float(frac[n]), **kw)
-                pb.stepSimulation(**kw)
+                step(done * h)
                 read(n)
                 pb.setTimeStep(h, **kw)
                 pb.restoreState(stateId=state, **kw)

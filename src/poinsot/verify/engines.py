@@ -59,7 +59,7 @@ from ._drake import INTEGRATORS as DRAKE_INTEGRATORS
 from ._drake import run_drake, run_drake_pose
 from ._mujoco import INTEGRATORS as MUJOCO_INTEGRATORS
 from ._mujoco import run_mujoco, run_mujoco_pose, sampling
-from ._pybullet import COORDINATES, run_pybullet, run_pybullet_pose
+from ._pybullet import COORDINATES, MAXIMAL_SKIP, run_pybullet, run_pybullet_pose
 from .cases import Case, cases
 from .files import FileEngine
 from .groups import (
@@ -277,7 +277,7 @@ class MuJoCoEngine:
         q, w = run_mujoco(
             inertia=i["inertia"], mass=i["mass"], com=i["com"], q0=i["q0"], omega0=i["omega0"],
             gravity=i["gravity"], fixed_point=i["fixed_point"], t=case.t,
-            integrator=self.integrator, timestep=self.timestep,
+            integrator=self.integrator, timestep=self.timestep, **case.spec.engine_loads(case),
         )  # fmt: skip
         return rigid_result(case, quat_unit(q), w, self.label), steps
 
@@ -295,8 +295,9 @@ def _free_body_only(case: Case, engine: str) -> str | None:
                 "frame is not expressed by this adapter")  # fmt: skip
     if case.inputs["fixed_point"]:
         return _TOP_SKIP[engine]
-    # a free body with a torque, a rotor or an orbit: what MuJoCo's adapter skips too
-    return case.spec.mujoco_skip
+    # a free body with a torque, a rotor or an orbit: what MuJoCo's adapter skips too,
+    # and what this adapter does not model
+    return case.spec.mujoco_skip or case.spec.adapter_skip.get(engine)
 
 
 _TOP_SKIP = {
@@ -360,6 +361,10 @@ class PyBulletEngine:
         reason = _free_body_only(case, "PyBullet")
         if reason:
             return reason
+        if self.coordinates == "maximal" and any(
+            v is not None for v in case.spec.engine_loads(case).values()
+        ):
+            return MAXIMAL_SKIP
         try:
             import pybullet  # noqa: F401
         except ImportError as exc:
@@ -379,7 +384,8 @@ class PyBulletEngine:
             return _pose(case, r, v, q, w, self.label), steps
         q, w = run_pybullet(inertia=i["inertia"], mass=i["mass"], q0=i["q0"],
                             omega0=i["omega0"], gravity=i["gravity"], t=case.t,
-                            timestep=self.timestep, coordinates=self.coordinates)  # fmt: skip
+                            timestep=self.timestep, coordinates=self.coordinates,
+                            **case.spec.engine_loads(case))  # fmt: skip
         return rigid_result(case, quat_unit(q), w, self.label), steps
 
 
@@ -457,10 +463,11 @@ class DrakeEngine:
                 t=case.t, integrator=self.integrator, accuracy=self.accuracy, step=self.step,
             )  # fmt: skip
             return _pose(case, r, v, q, w, self.label), n
+        loads = case.spec.engine_loads(case)  # a torque: skipped (skip_reason)
         q, w, evaluations = run_drake(
             inertia=i["inertia"], mass=i["mass"], q0=i["q0"], omega0=i["omega0"],
             gravity=i["gravity"], t=case.t, integrator=self.integrator,
-            accuracy=self.accuracy, step=self.step,
+            accuracy=self.accuracy, step=self.step, rotor_momentum=loads["rotor_momentum"],
         )  # fmt: skip
         return rigid_result(case, quat_unit(q), w, self.label), evaluations
 

@@ -118,6 +118,9 @@ class Group:
     mujoco_skip: str | None = None
     #: why Basilisk's adapter cannot run its cases (besides MuJoCo's reason), or None
     basilisk_skip: str | None = None
+    #: why the PyBullet and Drake adapters cannot run its cases (besides MuJoCo's
+    #: reason), by the engine's name ("PyBullet", "Drake")
+    adapter_skip: dict[str, str] = {}
     #: what poinsot's engine integrates when its method skips this group
     poinsot_other = ""
 
@@ -254,6 +257,13 @@ class RigidGroup(Group):
         steps = tr.info.get("evaluations", tr.info.get("steps"))
         work = int(np.sum(steps)) if steps is not None else None
         return rigid_result(case, quat_unit(tr.quat), tr.omega, label), work
+
+    def engine_loads(self, case: Case) -> dict[str, Any]:
+        """What an engine adapter adds to the free body (docs/verify.md):
+        ``{"rotor_momentum": h (3,) or None, "torque": torque(t, q, w) or None}``, a
+        gyrostat's rotor (a second body on a hinge) or an external torque (of
+        :meth:`torque`) applied at each evaluation of the dynamics."""
+        return {"rotor_momentum": None, "torque": None}
 
     def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
         """The external torque besides gravity, ``torque(t, q, w) -> (3,)`` in body axes
@@ -450,8 +460,14 @@ class Gyrostat(RigidGroup):
     and ``K = R (J w + h)`` conserved."""
 
     name = "gyrostat"
-    mujoco_skip = "a rotor of constant relative momentum is not modelled by this adapter"
     units = {**RigidGroup.units, "rotor_momentum": "kg m^2/s"}
+    basilisk_skip = ("Basilisk's adapter runs a spacecraft hub alone, without the reaction "
+                     "wheel effector a rotor would need (docs/verify.md)")  # fmt: skip
+
+    def engine_loads(self, case: Case) -> dict[str, Any]:
+        """The rotor: a second body on a hinge (:func:`poinsot.verify._mujoco.rotor_inputs`)."""
+        return {"rotor_momentum": np.asarray(case.inputs["rotor_momentum"], dtype=float),
+                "torque": None}  # fmt: skip
 
     def model(self, case: Case) -> Any:
         i = case.inputs
@@ -485,8 +501,19 @@ class GravityGradient(RigidGroup):
 
     name = "gravity-gradient"
     has_momentum = False
-    mujoco_skip = "the gravity-gradient torque of an orbit is not modelled by this adapter"
     units = {**RigidGroup.units, "mean_motion": "rad/s"}
+    adapter_skip = {
+        "Drake": ("Drake's adapter applies no state-dependent external torque: the "
+                  "gravity-gradient torque would need a LeafSystem wired to the plant's "
+                  "applied-force port, not built here (docs/verify.md)"),
+    }  # fmt: skip
+    basilisk_skip = ("Basilisk's adapter runs a spacecraft hub alone, without the gravity "
+                     "body and gravity-gradient effector an orbit would need "
+                     "(docs/verify.md)")  # fmt: skip
+
+    def engine_loads(self, case: Case) -> dict[str, Any]:
+        """The gravity-gradient torque of :meth:`torque`, re-evaluated at each stage."""
+        return {"rotor_momentum": None, "torque": self.torque(case)}
 
     def model(self, case: Case) -> Any:
         i = case.inputs
