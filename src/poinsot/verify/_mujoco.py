@@ -412,28 +412,39 @@ def _simulate(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, grav
         raise InvalidInputError("Expected `t` to be increasing times starting at 0 (s).")
     if torque is not None and (fixed_point or not callable(torque)):
         raise InvalidInputError("Expected `torque` to be a callable, on a free body.")
-    model, data = build(inertia=inertia, mass=mass, com=com, q0=q0, omega0=omega0,
-                        gravity=gravity, fixed_point=fixed_point, integrator=integrator,
-                        timestep=timestep, position0=position0, velocity0=velocity0,
-                        rotor_momentum=rotor_momentum)  # fmt: skip
+    # a Python passive callback (ours, or one installed before) breaks MuJoCo's model
+    # compilation ("Python exception raised"): none while building, the previous one
+    # restored at the end
+    previous = mujoco.get_mjcb_passive()
+    mujoco.set_mjcb_passive(None)
+    try:
+        model, data = build(inertia=inertia, mass=mass, com=com, q0=q0, omega0=omega0,
+                            gravity=gravity, fixed_point=fixed_point, integrator=integrator,
+                            timestep=timestep, position0=position0, velocity0=velocity0,
+                            rotor_momentum=rotor_momentum)  # fmt: skip
+    except BaseException:
+        mujoco.set_mjcb_passive(previous)
+        raise
+    if torque is None:
+        mujoco.set_mjcb_passive(previous)
     h = float(timestep)
     whole, frac = sampling(tt, h)
     qa = 0 if fixed_point else 3  # where the quaternion starts in qpos
     wa = 0 if fixed_point else 3  # where the angular velocity starts in qvel
-    previous = mujoco.get_mjcb_passive()
-    if torque is not None:
-
-        def passive(m: Any, d: Any) -> None:  # every evaluation of the dynamics
-            d.qfrc_passive[3:6] += torque(float(d.time), d.qpos[3:7].copy(), d.qvel[3:6].copy())
-
-        mujoco.set_mjcb_passive(passive)
-        mujoco.mj_forward(model, data)
     out_q = np.empty((tt.size, 4))
     out_w = np.empty((tt.size, 3))
     out_rv = np.zeros((tt.size, 6))
     scratch = mujoco.MjData(model)
     done = 0
     try:
+        if torque is not None:
+
+            def passive(m: Any, d: Any) -> None:  # every evaluation of the dynamics
+                d.qfrc_passive[3:6] += torque(float(d.time), d.qpos[3:7].copy(),
+                                              d.qvel[3:6].copy())  # fmt: skip
+
+            mujoco.set_mjcb_passive(passive)
+            mujoco.mj_forward(model, data)
         for n in range(tt.size):
             if whole[n] > done:
                 mujoco.mj_step(model, data, nstep=int(whole[n] - done))

@@ -161,6 +161,13 @@ class Group:
         """The result of a diverged engine: NaN states, which fail every metric."""
         return self.of_states(case, self.nan_states(case), method)
 
+    def engine_loads(self, case: Case) -> dict[str, Any]:
+        """What an engine adapter adds to the free body (docs/verify.md):
+        ``{"rotor_momentum": h (3,) or None, "torque": torque(t, q, w) or None}``, a
+        gyrostat's rotor (a second body on a hinge) or an external torque (of
+        :meth:`torque`) applied at each evaluation of the dynamics."""
+        return {"rotor_momentum": None, "torque": None}
+
     def equations(self, case: Case) -> Equations:
         """``(rhs(t, y), y0, unpack(y, method) -> result)`` for a generic ODE solver."""
         raise NotImplementedError
@@ -257,13 +264,6 @@ class RigidGroup(Group):
         steps = tr.info.get("evaluations", tr.info.get("steps"))
         work = int(np.sum(steps)) if steps is not None else None
         return rigid_result(case, quat_unit(tr.quat), tr.omega, label), work
-
-    def engine_loads(self, case: Case) -> dict[str, Any]:
-        """What an engine adapter adds to the free body (docs/verify.md):
-        ``{"rotor_momentum": h (3,) or None, "torque": torque(t, q, w) or None}``, a
-        gyrostat's rotor (a second body on a hinge) or an external torque (of
-        :meth:`torque`) applied at each evaluation of the dynamics."""
-        return {"rotor_momentum": None, "torque": None}
 
     def torque(self, case: Case) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
         """The external torque besides gravity, ``torque(t, q, w) -> (3,)`` in body axes
