@@ -13,8 +13,8 @@ Observed (mujoco 4.0.0, pybullet 3.2.7, drake 1.51.1), attitude errors (rad):
 - dual-spin: MuJoCo RK4 1.49e-9 at 10 ms, 1.59e-13 at 1 ms (order 4: ratio 9.4e3);
   Euler 3.14e-2 at 10 ms, 2.76e-3 at 1 ms (order 1: ratio 11.4); implicit 2.63e-3 and
   implicitfast 2.76e-3 at 1 ms. Drake runge_kutta5 at accuracy 1e-13 5.1e-13 (pass);
-  runge_kutta2 at a fixed 2 ms and 1 ms 1.58e-5 and 3.94e-6 (fail, order 2). PyBullet (reduced) 2.76e-3 at 1 ms,
-  2.73e-4 at 0.1 ms (order 1).
+  runge_kutta2 at a fixed 2 ms and 1 ms 1.58e-5 and 3.94e-6 (fail, order 2).
+  PyBullet (reduced) 2.76e-3 at 1 ms, 2.73e-4 at 0.1 ms (order 1).
 - pitch-libration (a 1e3 times longer time scale): MuJoCo RK4 5.0e-10 at 10 s,
   3.15e-11 at 5 s (ratio 15.9 = 2^4: each RK4 stage sees its own torque), 4.4e-14 at
   1 s; Euler 2.42e-3 at 10 s, 4.8e-4 at 2 s, 2.4e-4 at 1 s (order 1). PyBullet
@@ -36,8 +36,8 @@ from poinsot import Rotation
 from poinsot.dynamics import euler_rhs
 from poinsot.errors import InvalidInputError
 from poinsot.kinematics import quat_rate
-from poinsot.verify import cases, make, run
 from poinsot.verify import _mujoco as mj
+from poinsot.verify import cases, make, run
 
 HAVE = {name: importlib.util.find_spec(module) is not None
         for name, module in (("mujoco", "mujoco"), ("pybullet", "pybullet"),
@@ -298,6 +298,26 @@ def test_pybullet_maximal_coordinates_skip_with_the_reason():
     eng = make("pybullet", coordinates="maximal")
     for name in ("dual-spin", "pitch-libration"):
         assert "maximal-coordinates" in eng.skip_reason(cases(name)[0])
+
+
+def test_a_python_torque_at_a_tiny_step_is_skipped_with_the_step_to_use(capsys):
+    """The engines' default 1 ms step on the 20000 s pitch libration would be 2e7 steps
+    with the torque evaluated in Python (hours): skipped, naming the step that runs."""
+    from poinsot.cli import main
+
+    case = cases("pitch-libration")[0]
+    for name in ("mujoco", "pybullet"):
+        reason = make(name).skip_reason(case)
+        assert reason and "2e+07 steps" in reason and "0.2 s or more" in reason
+        assert make(name, timestep=0.2).skip_reason(case) in (None, "") or not HAVE[name]
+    assert make("mujoco").skip_reason(cases("dual-spin")[0]) in (None, "") or not HAVE["mujoco"]
+    need("mujoco")
+    # dual-spin fails at a 10 s step (its wobble period is 3.8 s)
+    assert main(["verify", "mujoco", "--step", "10", "--cases", "gyrostat,gravity-gradient",
+                 "--quiet"]) == 1  # fmt: skip
+    assert main(["verify", "mujoco", "--step", "10", "--cases", "pitch-libration",
+                 "--quiet"]) == 0  # fmt: skip
+    assert "1 passed" in capsys.readouterr().out
 
 
 def test_basilisk_skips_both_with_reasons():

@@ -257,6 +257,9 @@ class MuJoCoEngine:
     def skip_reason(self, case: Case) -> str | None:
         if case.spec.mujoco_skip is not None:
             return case.spec.mujoco_skip
+        reason = _torque_steps(case, self.timestep, "MuJoCo")
+        if reason:
+            return reason
         try:
             import mujoco  # noqa: F401
         except ImportError as exc:
@@ -298,6 +301,26 @@ def _free_body_only(case: Case, engine: str) -> str | None:
     # a free body with a torque, a rotor or an orbit: what MuJoCo's adapter skips too,
     # and what this adapter does not model
     return case.spec.mujoco_skip or case.spec.adapter_skip.get(engine)
+
+
+#: the most steps of a run whose torque is evaluated in Python (about 0.2 ms a call,
+#: once per MuJoCo RK4 stage or PyBullet step): more is skipped with the reason
+TORQUE_MAX_STEPS = 100_000
+
+
+def _torque_steps(case: Case, timestep: float, engine: str) -> str | None:
+    """Why a run of ``case`` with an external torque (``engine_loads``) at ``timestep``
+    is skipped: too many steps with a Python torque; None when it is not."""
+    if case.spec.engine_loads(case)["torque"] is None:
+        return None
+    duration = float(case.t[-1] - case.t[0])
+    steps = duration / timestep
+    if steps <= TORQUE_MAX_STEPS:
+        return None
+    return (f"{engine} at a {timestep:g} s step takes {steps:.3g} steps over the case's "
+            f"{duration:g} s, each with the torque evaluated in Python: more than "
+            f"{TORQUE_MAX_STEPS}; run it with a step of {duration / TORQUE_MAX_STEPS:g} s "
+            "or more (--step)")  # fmt: skip
 
 
 _TOP_SKIP = {
@@ -365,6 +388,9 @@ class PyBulletEngine:
             v is not None for v in case.spec.engine_loads(case).values()
         ):
             return MAXIMAL_SKIP
+        reason = _torque_steps(case, self.timestep, "PyBullet")
+        if reason:
+            return reason
         try:
             import pybullet  # noqa: F401
         except ImportError as exc:
