@@ -26,12 +26,15 @@ the former dict of arrays ``{"quat", "omega"}`` / ``{"position", "velocity"}``, 
   :meth:`poinsot.dynamics.HeavyRigidBody.simulate`,
   :func:`poinsot.dynamics.simulate_particle`), every registered method.
 - :class:`MuJoCoEngine`: MuJoCo (``pip install poinsot[verify]``) with a free joint
-  (free bodies) or a ball joint at the fixed point (tops), no contacts.
+  (free bodies) or a ball joint at the fixed point (tops), no contacts; a gyrostat's
+  rotor as a second body on a hinge, the gravity-gradient torque at every stage
+  (``Group.engine_loads``).
 - :class:`PyBulletEngine`: PyBullet (``pip install poinsot[verify]``), a free base in a
-  ``DIRECT`` client, no gravity, no contact (free bodies only).
+  ``DIRECT`` client, no gravity, no contact (free bodies, and in reduced coordinates
+  the gyrostat's rotor link and the gravity-gradient torque).
 - :class:`DrakeEngine`: Drake (``pip install poinsot[verify]``), a free body in a
   continuous-time ``MultibodyPlant`` and Drake's ``Simulator`` with a named integrator
-  (free bodies only).
+  (free bodies and the gyrostat's rotor on a revolute joint).
 - :class:`BasiliskEngine`: Basilisk (``pip install bsk``, in an environment of its
   own), a ``spacecraft.Spacecraft`` hub alone with one of Basilisk's state integrators
   (free bodies only).
@@ -232,7 +235,11 @@ class MuJoCoEngine:
     Notes
     -----
     Free bodies are a body with a free joint and no gravity; tops a body with a
-    ball joint at the fixed point. Contacts are disabled. The conversion of
+    ball joint at the fixed point; a gyrostat a free body with its rotor on a hinge
+    (:func:`poinsot.verify._mujoco.rotor_inputs`); the pitch libration a free body
+    with the gravity-gradient torque added at every stage (``mjcb_passive``): run it
+    at a step of seconds (a run with a Python torque of more than
+    :data:`TORQUE_MAX_STEPS` steps is skipped). Contacts are disabled. The conversion of
     MuJoCo's ``qpos``/``qvel`` to poinsot's conventions is in
     :func:`poinsot.verify._mujoco.run_mujoco`. A point case (orbit, turning frame)
     has no MuJoCo model here and is skipped.
