@@ -164,8 +164,8 @@ class Group:
     def engine_loads(self, case: Case) -> dict[str, Any]:
         """What an engine adapter adds to the free body (docs/verify.md):
         ``{"rotor_momentum": h (3,) or None, "torque": torque(t, q, w) or None}``, a
-        gyrostat's rotor (a second body on a hinge) or an external torque (of
-        :meth:`torque`) applied at each evaluation of the dynamics."""
+        gyrostat's rotor (a second body on a hinge) or an external torque (the rigid
+        group's ``torque``) applied at each evaluation of the dynamics."""
         return {"rotor_momentum": None, "torque": None}
 
     def equations(self, case: Case) -> Equations:
