@@ -240,7 +240,18 @@ def build(tree: Any, mplant: Any, j: np.ndarray, m: float, q: np.ndarray, w0: np
           ) -> tuple[Any, Any, tuple[int, int]]:  # fmt: skip
     """The finalised plant and its context at ``t = 0`` and ``(qs, vs)``, where the
     body's floating coordinates start in ``q`` and in ``v`` (a gyrostat's rotor on a
-    revolute joint when ``rotor_momentum`` is given; the module docstring)."""
+    revolute joint when ``rotor_momentum`` is given; the module docstring,
+    docs/theory.md §10.1).
+
+    >>> mplant, tree, _ = _pydrake()
+    >>> z = np.zeros(3)
+    >>> plant, context, starts = build(tree, mplant, np.diag([1.0, 2.0, 3.0]), 1.0,
+    ...                                np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]),
+    ...                                z, z, z, [0.0, 3.0, 0.0])
+    >>> k = plant.CalcSpatialMomentumInWorldAboutPoint(context, z).rotational()
+    >>> plant.num_velocities(), k.round(12).tolist()
+    (7, [0.0, 5.0, 0.0])
+    """
     if rotor_momentum is not None:
         j, jr, a, rate0 = rotor_inputs(j, rotor_momentum, w0)
         m, mr = (1.0 - ROTOR_MASS_SHARE) * m, ROTOR_MASS_SHARE * m

@@ -357,8 +357,17 @@ def build(*, inertia: Any, mass: float, com: Any, q0: Any, omega0: Any, gravity:
           position0: Any = (0.0, 0.0, 0.0), velocity0: Any = (0.0, 0.0, 0.0),
           rotor_momentum: Any = None) -> tuple[Any, Any]:  # fmt: skip
     """The MuJoCo ``(model, data)`` of :func:`run_mujoco` at ``t = 0`` (after
-    ``mj_forward``); the arguments as there. The free joint (or ball joint) comes first
-    in ``qpos``/``qvel``, a gyrostat's hinge after it."""
+    ``mj_forward``); the arguments as there (docs/theory.md §10.1 for the rotor). The
+    free joint (or ball joint) comes first in ``qpos``/``qvel``, a gyrostat's hinge
+    after it.
+
+    >>> model, data = build(inertia=np.diag([1.0, 2.0, 3.0]), mass=1.0, com=np.zeros(3),
+    ...                     q0=[1.0, 0.0, 0.0, 0.0], omega0=[0.1, 1.0, 0.1],
+    ...                     gravity=np.zeros(3), fixed_point=False, integrator="RK4",
+    ...                     timestep=1e-3, rotor_momentum=[0.0, 3.0, 0.0])
+    >>> model.nv, float(data.qvel[6])
+    (7, 11.0)
+    """
     mujoco = _mujoco()
     if integrator not in INTEGRATORS:
         raise InvalidInputError(
