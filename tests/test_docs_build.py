@@ -24,7 +24,8 @@ def site(tmp_path_factory):
     out = tmp_path_factory.mktemp("docs")
     cmd = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html"]
     cmd += ["-d", str(out / "doctrees"), str(DOCS), str(out / "html")]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)  # ~1 min alone; minutes on a loaded machine
+    # ~1 min alone; it took over 300 s on a loaded machine
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     assert proc.returncode == 0, f"sphinx -W failed:\n{proc.stdout}\n{proc.stderr}"
     return out / "html"
 
