@@ -271,9 +271,11 @@ def main() -> None:
     print(table(rows, ["solver", f"median of {args.repeat}", "attitude err (rad)",
                        "omega err (rad/s)", "time / poinsot"]))  # fmt: skip
     ps = runs[next(iter(runs))].steps  # type: ignore[attr-defined]
-    print(f"  (accepted steps per body at rtol {args.rtol:g}: poinsot median "
-          f"{np.median(ps):.0f}, max {ps.max()}; diffrax median {np.median(dfx_steps):.0f}, "
-          f"max {dfx_steps.max()}: a vmapped while loop runs until its slowest body ends)")
+    print(
+        f"  (accepted steps per body at rtol {args.rtol:g}: poinsot median "
+        f"{np.median(ps):.0f}, max {ps.max()}; diffrax median {np.median(dfx_steps):.0f}, "
+        f"max {dfx_steps.max()}: a vmapped while loop runs until its slowest body ends)"
+    )
     print(load())
 
 

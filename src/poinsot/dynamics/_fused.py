@@ -150,9 +150,7 @@ def _rhs_formula(t, y, J, Ji, kind, par, f):
             J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0], J[2, 1], J[2, 2],
             w0, w1, w2,
         )  # fmt: skip
-    t0, t1, t2 = _torque(
-        q0, q1, q2, q3, w0, w1, w2, J, kind - DIAGONAL if diagonal else kind, par
-    )
+    t0, t1, t2 = _torque(q0, q1, q2, q3, w0, w1, w2, J, kind - DIAGONAL if diagonal else kind, par)
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
     if diagonal:
         f[4], f[5], f[6] = Ji[0, 0] * m0, Ji[1, 1] * m1, Ji[2, 2] * m2
