@@ -252,9 +252,13 @@ def main() -> None:
     print(f"  (diffrax compile + first run: {time.perf_counter() - t0:.1f} s, excluded)")
     errs = {name: errors(*run(args.rtol), q_ref, w_ref) for name, run in runs.items()}
     dfx_steps = dfx.steps[0]
+    for name, (ea, ew) in errs.items():
+        print(f"  {name}: attitude error {ea:.1e} rad, omega error {ew:.1e} rad/s", flush=True)
     target = errs[next(iter(runs))][0]
     tol_eq, err_eq = equal_accuracy(dfx, q_ref, w_ref, target, args.rtol)
     eq_name = f"diffrax at equal accuracy (rtol {tol_eq:.2e})"
+    print(f"  (equal accuracy: diffrax at rtol {tol_eq:.2e}, errors {err_eq[0]:.1e} rad, "
+          f"{err_eq[1]:.1e} rad/s)", flush=True)  # fmt: skip
     fns: dict[str, Callable[[], object]] = {
         name: (lambda run=run: run(args.rtol)) for name, run in runs.items()
     }
