@@ -62,6 +62,13 @@ _SCRIPT = textwrap.dedent(
         batch = simulate([[1.0, 2.0, 3.0], [2.0, 2.5, 1.0]], Rotation.identity(),
                          [[0.3, 0.2, 0.9], [1.0, -0.5, 0.2]], t, method=m, **opts)
         out["batch_" + m] = batch.omega
+    # issue 41: the gyrostatic torque (kind 5) in the fused kernels of both executors
+    from poinsot.dynamics import GyrostaticTorque
+    gyro = GyrostaticTorque([[0.0, 0.0, 0.8], [0.3, -0.4, 0.2]])
+    for m, opts in (("dop853", {}), ("rk4", {"max_step": 0.01}), ("midpoint", {"max_step": 0.01})):
+        tr = simulate([[1.0, 2.0, 3.0], [2.0, 2.5, 1.0]], Rotation.identity(),
+                      [[0.3, 0.2, 0.9], [1.0, -0.5, 0.2]], t, torque=gyro, method=m, **opts)
+        out["sim_gyro_" + m] = np.concatenate([tr.omega, tr.rotation.as_quat()], axis=-1)
     from poinsot.dynamics import HeavyRigidBody
     top = HeavyRigidBody([1.0, 1.0, 0.5], mass=1.0, center_of_mass=[0.0, 0.0, 0.1])
     tr = top.simulate(Rotation.from_rotvec([0.3, 0.0, 0.0]), [0.1, 0.0, 5.0], t, method="dop853")

@@ -19,6 +19,7 @@ from poinsot.dynamics import (
     FreeRigidBody,
     GravityGradientTorque,
     GravityTorque,
+    GyrostaticTorque,
     invariants,
     simulate,
 )
@@ -92,8 +93,11 @@ def test_measured_order_is_eight_with_projection():
         ConstantSpaceTorque([0.1, 0.0, -0.05]),
         GravityTorque(2.0, [0.01, -0.02, 0.1]),
         "gradient",
+        GyrostaticTorque(
+            [[0.0, 0.0, 0.8], [0.3, -0.4, 0.2], [0.0, 1.5, 0.0], [0.1, 0.1, 0.1], [-0.6, 0.0, 0.3]]
+        ),  # fmt: skip
     ],
-    ids=["body", "space", "gravity", "gravity-gradient"],
+    ids=["body", "space", "gravity", "gravity-gradient", "gyrostat"],
 )
 def test_fused_torques_match_solve_ivp(torque):
     moments, quat, omega = _bodies(5, seed=7)

@@ -20,6 +20,7 @@ from poinsot.dynamics import (
     ConstantSpaceTorque,
     GravityGradientTorque,
     GravityTorque,
+    GyrostaticTorque,
     simulate,
 )
 
@@ -78,8 +79,9 @@ def test_generated_stages_up_to_date():
         ConstantSpaceTorque([0.1, 0.0, -0.05]),
         GravityTorque(2.0, [0.01, -0.02, 0.1]),
         "gradient",
+        "gyrostat",
     ],
-    ids=["free", "body", "space", "gravity", "gravity-gradient"],
+    ids=["free", "body", "space", "gravity", "gravity-gradient", "gyrostat"],
 )
 def test_bit_identical_to_one_body_kernel(torque):
     n = 4 * 4 * _fused_lanes.L + 7  # chunks, the last one not a multiple of the lanes
@@ -87,14 +89,19 @@ def test_bit_identical_to_one_body_kernel(torque):
     if torque == "gradient":  # the field sees the same inertia as the integrator
         moments = np.broadcast_to(moments[0], moments.shape)
         torque = GravityGradientTorque(moments[0], 7.0e6, [0.3, -0.4, 0.8], mu=3.986e14 * 1e5)
+    if torque == "gyrostat":  # a rotor momentum per body (kind 5, the torque h x w)
+        torque = GyrostaticTorque(np.random.default_rng(4).normal(size=(n, 3)))
     for t in (np.array([0.0, 3.0]), np.linspace(0.0, 3.0, 41)):  # end only; dense output
         a, b = _both(moments, quat, omega, t, torque, rtol=1e-9, atol=1e-11, max_step=np.inf)
         _assert_same(a, b)
         assert np.ptp(a[2][:, 0]) > 5  # the lanes took different numbers of steps
 
 
-@pytest.mark.parametrize("torque", [None, GravityTorque(2.0, [0.01, -0.02, 0.1])],
-                         ids=["free", "gravity"])  # fmt: skip
+@pytest.mark.parametrize(
+    "torque",
+    [None, GravityTorque(2.0, [0.01, -0.02, 0.1]), GyrostaticTorque([0.3, -0.5, 0.4])],
+    ids=["free", "gravity", "gyrostat"],
+)
 def test_bit_identical_with_full_inertia_tensors(torque):
     """Tensors off their principal axes: the right-hand side with 3x3 products (a batch
     of diagonal tensors takes the diagonal form, checked above)."""

@@ -28,7 +28,10 @@ Built-in torques are fused into the right-hand side (``kind``):
    axes (the Euler-Poisson equations of the heavy body);
 4. gravity gradient, ``par = (3 mu / R^3, nx, ny, nz)`` with ``n`` the unit
    space direction of the orbit radius: ``M_b = k (n_b x J n_b)``,
-   ``n_b = R^T n``.
+   ``n_b = R^T n``;
+5. the gyrostatic torque of rotors of constant relative momentum, ``par = (hx, hy,
+   hz, 0)`` in body axes: ``M_b = h x w`` (theory §10.1), the only kind that depends
+   on the angular velocity ``w`` (the other kinds ignore it).
 
 ``kind + DIAGONAL`` (kinds 0 and 3) marks a batch whose inertia tensors are all
 diagonal (principal axes): the right-hand side then multiplies by the moments instead
@@ -80,14 +83,18 @@ OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE, CANCELLED = 0, 1, 2, 3, 4
 
 @njit(cache=True, inline="always")
 def _torque_s(
-    q0, q1, q2, q3, j00, j01, j02, j10, j11, j12, j20, j21, j22, kind, p0, p1, p2, p3
-):  # pragma: no cover
+    q0, q1, q2, q3, w0, w1, w2, j00, j01, j02, j10, j11, j12, j20, j21, j22, kind,
+    p0, p1, p2, p3,
+):  # fmt: skip  # pragma: no cover
     """The body torque of a built-in model (``kind``, ``par = (p0, p1, p2, p3)``: see the
-    module notes) at attitude ``q``, for inertia ``J`` given by rows; shared by the DOP853
-    right-hand sides (one body, lanes) and the midpoint rule."""
+    module notes) at attitude ``q`` and angular velocity ``w``, for inertia ``J`` given by
+    rows; shared by the DOP853 right-hand sides (one body, lanes), RK4 and the midpoint
+    rule."""
     t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
         t0, t1, t2 = p0, p1, p2
+    elif kind == 5:  # the rotors' reaction h x w (gyrostat, theory §10.1)
+        t0, t1, t2 = nh.cross(p0, p1, p2, w0, w1, w2)
     elif kind == 3:  # gravity about the pin: gamma x (m g c), gamma = R^T e_z
         # R^T e_z directly (the sandwich with e_z is mostly products with 0, which the
         # compiler must keep), scaled by 1 / |L|^2 as the sandwich is. The scale m g /
@@ -98,7 +105,7 @@ def _torque_s(
         s = p0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
         t0, t1, t2 = nh.cross(g0, g1, g2, p1, p2, p3)
         t0, t1, t2 = s * t0, s * t1, s * t2
-    elif kind >= 2:
+    elif kind == 2 or kind == 4:
         # body components of a space vector: the torque or the orbit radius
         if kind == 2:
             v0, v1, v2 = p0, p1, p2
@@ -115,11 +122,11 @@ def _torque_s(
 
 
 @njit(cache=True, inline="always")
-def _torque(q0, q1, q2, q3, J, kind, par):
+def _torque(q0, q1, q2, q3, w0, w1, w2, J, kind, par):
     """:func:`_torque_s` with ``J`` (3, 3) and ``par`` (4,) arrays."""
     return _torque_s(
-        q0, q1, q2, q3, J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0],
-        J[2, 1], J[2, 2], kind, par[0], par[1], par[2], par[3],
+        q0, q1, q2, q3, w0, w1, w2, J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
+        J[2, 0], J[2, 1], J[2, 2], kind, par[0], par[1], par[2], par[3],
     )  # fmt: skip
 
 
@@ -143,7 +150,7 @@ def _rhs_formula(t, y, J, Ji, kind, par, f):
             J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0], J[2, 1], J[2, 2],
             w0, w1, w2,
         )  # fmt: skip
-    t0, t1, t2 = _torque(q0, q1, q2, q3, J, kind - DIAGONAL if diagonal else kind, par)
+    t0, t1, t2 = _torque(q0, q1, q2, q3, w0, w1, w2, J, kind - DIAGONAL if diagonal else kind, par)
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
     if diagonal:
         f[4], f[5], f[6] = Ji[0, 0] * m0, Ji[1, 1] * m1, Ji[2, 2] * m2
@@ -503,7 +510,8 @@ def midpoint_body(
     q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, cancel, done
 ):  # pragma: no cover
     """The implicit Lie-Poisson midpoint rule of ``simulate(method="midpoint")`` for one
-    body under a built-in torque that depends on the attitude (kinds 2-4): the NumPy
+    body under a built-in torque that depends on the attitude or on ``w`` (kinds 2-5,
+    the torque taken at the midpoint attitude and angular velocity ``W x``): the NumPy
     path's step (``integrators.midpoint._midpoint_step_numpy``), the same operations per
     body, compiled. ``q`` (4,) unit, ``m = J w`` (3,); ``coef`` the composition
     coefficients. Newton on the midpoint momentum ``x``, the torque taken at the midpoint
@@ -524,8 +532,9 @@ def midpoint_body(
     nc = coef.shape[0]
     worst = 0
     # the first step's predictor uses the torque at the start, later ones the previous
-    # step's midpoint torque (as the NumPy path)
-    t0, t1, t2 = _torque(q0, q1, q2, q3, J, kind, par)
+    # step's midpoint torque (as the NumPy path); the torque at w = W m (kind 5 takes it)
+    o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, m0, m1, m2)
+    t0, t1, t2 = _torque(q0, q1, q2, q3, o0, o1, o2, J, kind, par)
     for k in range(t_out.shape[0] - 1):
         done[0] = k
         hk = (t_out[k + 1] - t_out[k]) / nsub[k]
@@ -546,7 +555,7 @@ def midpoint_body(
                 d = 1.0 + math.sqrt(1.0 + a0 * a0 + a1 * a1 + a2 * a2)
                 p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0 / d, a1 / d, a2 / d)
                 p0, p1, p2, p3 = nh.qnormalize(p0, p1, p2, p3)
-                t0, t1, t2 = _torque(p0, p1, p2, p3, J, kind, par)
+                t0, t1, t2 = _torque(p0, p1, p2, p3, o0, o1, o2, J, kind, par)
                 f0, f1, f2 = nh.euler_momentum_rate(x0, x1, x2, o0, o1, o2, t0, t1, t2)
                 r0 = x0 - m0 - h2 * f0
                 r1 = x1 - m1 - h2 * f1

@@ -531,7 +531,7 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
     else:
         k0, k1, k2 = nh.matvec(a00, a01, a02, a10, a11, a12, a20, a21, a22, w0, w1, w2)
     t0, t1, t2 = _torque_s(
-        q0, q1, q2, q3, a00, a01, a02, a10, a11, a12, a20, a21, a22,
+        q0, q1, q2, q3, w0, w1, w2, a00, a01, a02, a10, a11, a12, a20, a21, a22,
         kind - DIAGONAL if diagonal else kind, p0, p1, p2, p3,
     )  # fmt: skip
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
@@ -569,6 +569,9 @@ def _rhs_lanes(W, kind):  # pragma: no cover
     elif kind == 4:
         for l in range(L):
             _rhs_lane(W, l, 4)
+    elif kind == 5:
+        for l in range(L):
+            _rhs_lane(W, l, 5)
     elif kind == DIAGONAL:
         for l in range(L):
             _rhs_lane(W, l, DIAGONAL)

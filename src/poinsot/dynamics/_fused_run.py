@@ -56,6 +56,9 @@ def torque_kernel(torque, batch: tuple[int, ...], par=None):
         par[..., 0] = 1.0
         par[..., 1:] = torque.moment
         return 3, par
+    if isinstance(torque, _tq.GyrostaticTorque):
+        par[..., :3] = torque.h
+        return 5, par
     gradient = getattr(_tq, "GravityGradientTorque", None)
     if gradient is not None and isinstance(torque, gradient):
         par[..., 0] = torque.coefficient

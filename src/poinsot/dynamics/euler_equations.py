@@ -98,7 +98,7 @@ from .integrators import (  # noqa: F401 - SOLVERS, FAILURE_REASONS: their old h
 )
 from .integrators._common import _rhs, batch_rhs
 from .invariants import _kinetic_space
-from .torques import ConstantBodyTorque, GravityTorque, as_torque
+from .torques import ConstantBodyTorque, GravityTorque, GyrostaticTorque, as_torque
 
 __all__ = ["euler_rhs", "simulate", "METHODS"]
 
@@ -543,6 +543,8 @@ def _system_info(model: TorqueModel | None, quat: np.ndarray) -> dict[str, Any]:
     if isinstance(model, GravityTorque):
         info["gravity_moment"] = model.moment
         info["conserved"] = ("total_energy", "momentum_z")
+    elif isinstance(model, GyrostaticTorque):  # h x w does no work (theory §10.1)
+        info["conserved"] = ("energy",)
     elif model.conservative:
         try:  # a user's potential_function may not take the (n, ..., 4) samples at once
             v = model.potential(quat)

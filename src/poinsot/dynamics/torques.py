@@ -18,6 +18,10 @@ Models
     turning about a fixed point ``O``, with centre of mass at ``c`` (body axes,
     from ``O``). With ``gamma = R^T e_z`` the upward vertical in body axes,
     ``M_b = m g (gamma x c)`` and ``V = m g (R c)_z = m g c . gamma``.
+:class:`GyrostaticTorque`
+    ``h x w``, the reaction of rotors of constant relative momentum ``h`` (body
+    axes) on the body: a gyrostat (theory §10.1). No potential, no work
+    (``T = w . J w / 2`` is conserved).
 :class:`TorqueSum`
     Several models at once, written ``a + b``.
 :class:`OrbitGravityGradientTorque`
@@ -61,6 +65,7 @@ __all__ = [
     "ConstantBodyTorque",
     "ConstantSpaceTorque",
     "GravityTorque",
+    "GyrostaticTorque",
     "GravityGradientTorque",
     "OrbitGravityGradientTorque",
     "MagneticTorque",
@@ -244,6 +249,68 @@ class GravityTorque(TorqueModel):
 
     def potential(self, quat: np.ndarray) -> np.ndarray:
         return gravity_potential(np.asarray(quat, dtype=float), self.moment)
+
+
+@dataclass(frozen=True, eq=False)
+class GyrostaticTorque(TorqueModel):
+    """The reaction of rotors of constant relative momentum on their body (theory §10.1).
+
+    A gyrostat is a rigid body carrying rotors that spin relative to it about axes
+    fixed in it; with ``h`` their angular momentum relative to the body (body axes,
+    constant) and ``J`` the inertia of the whole system with the rotors locked, the
+    Euler-Zhukovsky equations ``J w' + w x (J w + h) = M`` (docs/theory.md §10.1) are
+    Euler's equations of a rigid body under the extra body torque
+
+    ``M_b = h x w``.
+
+    So ``simulate(J, rotation0, omega0, t, torque=GyrostaticTorque(h))`` integrates the
+    gyrostat (:class:`poinsot.dynamics.FreeGyrostat` is its exact torque-free motion);
+    the compiled integrators (``method="dop853"``, ``"rk4"``, ``"midpoint"``) run it
+    inside their loops. The torque does no work (``(h x w) . w = 0``): the kinetic
+    energy ``T = w . J w / 2`` and the space vector ``K = R (J w + h)`` are conserved
+    when it acts alone; it has no potential of the attitude. Add other models with
+    ``+`` (:class:`TorqueSum`, then evaluated from Python).
+
+    Parameters
+    ----------
+    h : array_like, shape (..., 3)
+        The rotors' angular momentum relative to the body, in body axes (kg m^2/s);
+        a leading shape gives one per body of a batch.
+
+    Raises
+    ------
+    InvalidInputError
+        If ``h`` is not finite or not of shape (..., 3).
+
+    Notes
+    -----
+    **Convention:** ``h`` and ``omega`` in body axes (kg m^2/s, rad/s), torque in body
+    axes (N m); ``J`` in ``simulate`` is the inertia of the body with the rotors locked.
+    Rotors accelerated by motors (``h'`` not zero): :func:`poinsot.dynamics.simulate_wheels`
+    or :func:`poinsot.dynamics.gyrostat_rhs` with ``h_rate``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.dynamics import FreeGyrostat, GyrostaticTorque, simulate
+    >>> GyrostaticTorque([0.0, 0.0, 2.0]).body_torque(0.0, [1.0, 0, 0, 0], [1.0, 0.0, 0.0])
+    array([0., 2., 0.])
+    >>> J, h, w0 = [1.0, 2.0, 3.0], [0.0, 0.5, 0.0], [0.1, 1.0, 0.1]
+    >>> t = np.linspace(0.0, 10.0, 11)
+    >>> tr = simulate(J, [1.0, 0, 0, 0], w0, t, torque=GyrostaticTorque(h), rtol=1e-12)
+    >>> exact = FreeGyrostat(J, h, omega0=w0)
+    >>> bool(np.abs(tr.omega - exact.omega(t)).max() < 1e-9)
+    True
+    """
+
+    h: Any
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "h", _readonly(as_vec3(self.h, "h")))
+
+    def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        shape = batch_shape(h=(self.h, 1), quat=(np.shape(quat), 1), omega=(np.shape(omega), 1))
+        return np.broadcast_to(cross(self.h, np.asarray(omega, dtype=float)), shape + (3,))
 
 
 @dataclass(frozen=True, eq=False)
