@@ -113,6 +113,31 @@ ROTOR_AXIAL, ROTOR_TRANSVERSE = 0.25, 0.125
 ROTOR_MASS_SHARE = 0.25
 
 
+def rotor_axis(inertia: Any, rotor_momentum: Any, omega0: Any, axial: float = ROTOR_AXIAL
+               ) -> tuple[np.ndarray, np.ndarray, float]:  # fmt: skip
+    """The part of :func:`rotor_inputs` that does not depend on the rotor's transverse
+    inertia: ``(J_L, a, W0)``, the locked inertia ``J_L = J + I_r a a^T``, the axis
+    ``a = h / |h|`` and the initial rate of the rotor relative to the body
+    ``W0 = |h| / I_r - a . w0`` (``I_r = axial``; the derivation there). An engine whose
+    rotor adds no inertia of its own (Basilisk's balanced reaction wheel) gives its body
+    ``J_L``.
+
+    >>> jl, a, w = rotor_axis(np.diag([1.0, 2.0, 3.0]), [0.0, 3.0, 0.0], [0.1, 1.0, 0.1])
+    >>> np.diag(jl).tolist(), a.tolist(), w
+    ([1.0, 2.25, 3.0], [0.0, 1.0, 0.0], 11.0)
+    """
+    j, _, _, w0, _ = body_inputs(inertia, 1.0, (1.0, 0.0, 0.0, 0.0), omega0, np.zeros(3))
+    h = _vec(rotor_momentum, 3, "rotor_momentum")
+    size = float(np.linalg.norm(h))
+    if size == 0.0:
+        raise InvalidInputError("Expected `rotor_momentum` to be nonzero (kg m^2/s).")
+    ir = float(axial)
+    if not (math.isfinite(ir) and ir > 0):
+        raise InvalidInputError(f"Expected `axial` > 0 (kg m^2), got {axial!r}.")
+    a = h / size
+    return j + ir * np.outer(a, a), a, size / ir - float(a @ w0)
+
+
 def rotor_inputs(inertia: Any, rotor_momentum: Any, omega0: Any,
                  axial: float = ROTOR_AXIAL, transverse: float = ROTOR_TRANSVERSE
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:  # fmt: skip
@@ -165,18 +190,14 @@ def rotor_inputs(inertia: Any, rotor_momentum: Any, omega0: Any,
     >>> np.diag(jp).tolist(), np.diag(jr).tolist(), a.tolist(), w
     ([0.875, 2.0, 2.875], [0.125, 0.25, 0.125], [0.0, 1.0, 0.0], 11.0)
     """
-    j, _, _, w0, _ = body_inputs(inertia, 1.0, (1.0, 0.0, 0.0, 0.0), omega0, np.zeros(3))
-    h = _vec(rotor_momentum, 3, "rotor_momentum")
-    size = float(np.linalg.norm(h))
-    if size == 0.0:
-        raise InvalidInputError("Expected `rotor_momentum` to be nonzero (kg m^2/s).")
+    _, a, rate0 = rotor_axis(inertia, rotor_momentum, omega0, axial)
+    j = np.asarray(inertia, dtype=float)
     ir, it = float(axial), float(transverse)
-    if not (math.isfinite(ir) and ir > 0 and math.isfinite(it) and 2.0 * it >= ir):
+    if not (math.isfinite(it) and 2.0 * it >= ir):
         raise InvalidInputError(
             f"Expected `axial` > 0 and `transverse` >= axial / 2 (kg m^2), got {axial!r}, "
             f"{transverse!r}."
         )
-    a = h / size
     across = np.eye(3) - np.outer(a, a)
     rotor = it * across + ir * np.outer(a, a)
     platform = j - it * across
@@ -186,7 +207,7 @@ def rotor_inputs(inertia: Any, rotor_momentum: Any, omega0: Any,
             f"Expected `inertia` to leave the platform a valid inertia with a rotor of "
             f"transverse inertia {it} kg m^2; its moments would be {moments.tolist()}."
         )
-    return platform, rotor, a, size / ir - float(a @ w0)
+    return platform, rotor, a, rate0
 
 
 def sampling(t: np.ndarray, timestep: float) -> tuple[np.ndarray, np.ndarray]:

@@ -27,17 +27,18 @@ the former dict of arrays ``{"quat", "omega"}`` / ``{"position", "velocity"}``, 
   :func:`poinsot.dynamics.simulate_particle`), every registered method.
 - :class:`MuJoCoEngine`: MuJoCo (``pip install poinsot[verify]``) with a free joint
   (free bodies) or a ball joint at the fixed point (tops), no contacts; a gyrostat's
-  rotor as a second body on a hinge, the gravity-gradient torque at every stage
-  (``Group.engine_loads``).
+  rotor as a second body on a hinge, the gravity-gradient torque and the constant body
+  torque at every stage (``Group.engine_loads``).
 - :class:`PyBulletEngine`: PyBullet (``pip install poinsot[verify]``), a free base in a
   ``DIRECT`` client, no gravity, no contact (free bodies, and in reduced coordinates
-  the gyrostat's rotor link and the gravity-gradient torque).
+  the gyrostat's rotor link, the gravity-gradient torque and the constant body torque).
 - :class:`DrakeEngine`: Drake (``pip install poinsot[verify]``), a free body in a
   continuous-time ``MultibodyPlant`` and Drake's ``Simulator`` with a named integrator
   (free bodies and the gyrostat's rotor on a revolute joint).
 - :class:`BasiliskEngine`: Basilisk (``pip install bsk``, in an environment of its
-  own), a ``spacecraft.Spacecraft`` hub alone with one of Basilisk's state integrators
-  (free bodies only).
+  own), a ``spacecraft.Spacecraft`` hub with one of Basilisk's state integrators (free
+  bodies; the gyrostat's rotor a balanced reaction wheel, the constant body torque an
+  ``extForceTorque`` effector).
 - :class:`FileEngine`: states that any engine wrote to CSV/Parquet files, one per case
   (``CASE.csv``), with the conventions given as options and checked.
 """
@@ -237,7 +238,8 @@ class MuJoCoEngine:
     Free bodies are a body with a free joint and no gravity; tops a body with a
     ball joint at the fixed point; a gyrostat a free body with its rotor on a hinge
     (:func:`poinsot.verify._mujoco.rotor_inputs`); the pitch libration a free body
-    with the gravity-gradient torque added at every stage (``mjcb_passive``): run it
+    with the gravity-gradient torque added at every stage (``mjcb_passive``), the
+    body-torque case likewise with its constant body-axes torque: run the pitch libration
     at a step of seconds (a run with a Python torque of more than
     :data:`TORQUE_MAX_STEPS` steps is skipped). Contacts are disabled. The conversion of
     MuJoCo's ``qpos``/``qvel`` to poinsot's conventions is in
@@ -507,7 +509,9 @@ class DrakeEngine:
 
 class BasiliskEngine:
     """Basilisk (the ``bsk`` package): a free body as a ``spacecraft.Spacecraft`` hub
-    with no gravity body and no effector, stepped by one of Basilisk's state integrators.
+    with no gravity body, stepped by one of Basilisk's state integrators; a gyrostat's
+    rotor a balanced ``reactionWheelStateEffector`` with no motor torque, a constant body
+    torque an ``extForceTorque`` effector (:mod:`poinsot.verify._basilisk`).
 
     Parameters
     ----------
@@ -565,9 +569,11 @@ class BasiliskEngine:
 
     def run(self, case: Case) -> tuple[Result, int]:
         i = case.inputs
+        loads = case.spec.engine_loads(case)  # a torque not constant: skipped (skip_reason)
         q, w, steps = run_basilisk(
             inertia=i["inertia"], mass=i["mass"], q0=i["q0"], omega0=i["omega0"], t=case.t,
             integrator=self.integrator, timestep=self.timestep, rtol=self.rtol,
+            rotor_momentum=loads["rotor_momentum"], torque=case.spec.constant_torque(case),
         )  # fmt: skip
         return rigid_result(case, quat_unit(q), w, self.label), steps
 

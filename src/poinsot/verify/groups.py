@@ -168,6 +168,12 @@ class Group:
         group's ``torque``) applied at each evaluation of the dynamics."""
         return {"rotor_momentum": None, "torque": None}
 
+    def constant_torque(self, case: Case) -> np.ndarray | None:
+        """The external torque of :meth:`engine_loads` when it is constant in body axes
+        (N m, (3,); an engine effector holding a fixed body torque, Basilisk's
+        ``extForceTorque``), or None."""
+        return None
+
     def equations(self, case: Case) -> Equations:
         """``(rhs(t, y), y0, unpack(y, method) -> result)`` for a generic ODE solver."""
         raise NotImplementedError
@@ -414,8 +420,20 @@ class BodyTorque(RigidGroup):
 
     name = "body-torque"
     has_momentum = False
-    mujoco_skip = "constant body torque not modelled by this adapter"
     units = {**RigidGroup.units, "body_torque": "N m"}
+    adapter_skip = {
+        "Drake": ("Drake's adapter applies no external torque: a torque fixed in body axes "
+                  "would need a LeafSystem wired to the plant's applied-force port, not "
+                  "built here (docs/verify.md)"),
+    }  # fmt: skip
+
+    def engine_loads(self, case: Case) -> dict[str, Any]:
+        """The constant body-axes torque of :meth:`torque`, applied at each stage
+        (MuJoCo ``mjcb_passive``, PyBullet ``applyExternalTorque`` turned to world axes)."""
+        return {"rotor_momentum": None, "torque": self.torque(case)}
+
+    def constant_torque(self, case: Case) -> np.ndarray | None:
+        return np.asarray(case.inputs["body_torque"], dtype=float)
 
     def exact(self, case: Case) -> dict[str, np.ndarray]:
         return _stored(case, "body_torque")
@@ -461,8 +479,6 @@ class Gyrostat(RigidGroup):
 
     name = "gyrostat"
     units = {**RigidGroup.units, "rotor_momentum": "kg m^2/s"}
-    basilisk_skip = ("Basilisk's adapter runs a spacecraft hub alone, without the reaction "
-                     "wheel effector a rotor would need (docs/verify.md)")  # fmt: skip
 
     def engine_loads(self, case: Case) -> dict[str, Any]:
         """The rotor: a second body on a hinge (:func:`poinsot.verify._mujoco.rotor_inputs`)."""
