@@ -527,7 +527,9 @@ def scorecard(engines_settings: Sequence[str] | Mapping[str, Sequence[Sweep]] | 
                 for k in mine:
                     if tasks[k][1] is s:
                         card.rows += [r for r in results[k] if r["value"] == v]
-        card.seconds = sum(r.get("seconds", 0.0) for r in card.rows)
+        # rounded as the JSON stores it, so that the pages of a fresh run and of its JSON
+        # agree (0.5012 s printed "1" here and "0" from the stored 0.50)
+        card.seconds = round(sum(r.get("seconds", 0.0) for r in card.rows), 2)
     return Scorecard(cards)
 
 
