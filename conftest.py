@@ -44,7 +44,10 @@ def _close_pyplot_figures():
 
 #: doctests that run an engine not in poinsot's extras (Basilisk: ``pip install bsk`` in an
 #: environment of its own): skipped, with the reason, where it is not installed
-_ENGINE_DOCTESTS = {"poinsot.verify._basilisk.run_basilisk": "Basilisk"}
+_ENGINE_DOCTESTS = {
+    "poinsot.verify._basilisk.run_basilisk": "Basilisk",
+    "poinsot.verify._basilisk.build_basilisk": "Basilisk",
+}
 
 
 def pytest_collection_modifyitems(config, items):
