@@ -93,11 +93,15 @@ $(STAMP_MIN): $(STAMP_MIN_CORE)
 min-versions-banner:
 	@$(PY_MIN) -c "import numpy, scipy, numba; print('minimum versions: numpy', numpy.__version__, 'scipy', scipy.__version__, 'numba', numba.__version__)"
 
+# numba's cache of its own: kernels that `make test` cached with the current numba in
+# the source tree's __pycache__ segfaulted numba 0.60's gufunc calls (CI, 2026-11-30).
+NUMBA_CACHE_MIN := $(VENV_MIN)/numba-cache
+
 test-min-core: $(STAMP_MIN_CORE) min-versions-banner
-	$(PY_MIN) -m pytest $(XDIST) $(CORE_TESTS)
+	NUMBA_CACHE_DIR=$(NUMBA_CACHE_MIN) $(PY_MIN) -m pytest $(XDIST) $(CORE_TESTS)
 
 test-min: $(STAMP_MIN) browser min-versions-banner
-	$(PY_MIN) -m pytest
+	NUMBA_CACHE_DIR=$(NUMBA_CACHE_MIN) $(PY_MIN) -m pytest
 
 bench: venv
 	$(PY) -m pip install --quiet -e ".[bench]" || echo "peer libraries unavailable; benchmarking against SciPy only"
