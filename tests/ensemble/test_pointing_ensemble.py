@@ -126,8 +126,9 @@ def test_dask_gives_the_local_table():
                   ("omega0", Normal(sigma=0.1 * N))], METRICS)  # fmt: skip
     local = run(p, 12, chunk_size=4, client="serial", seed=8)
     with (
-        LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                     dashboard_address=None) as cluster,  # fmt: skip
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,  # fmt: skip
         Client(cluster) as client,
     ):
         dask = run(p, 12, chunk_size=4, client=client, seed=8)

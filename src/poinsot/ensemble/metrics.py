@@ -242,7 +242,9 @@ class Metric:
             return "deg"
         if self.kind == "energy_drift":
             return "1"
-        return {"nutation": "deg", "pointing_error": "deg", "kinetic_energy": "J"}.get(self.component or "", "rad/s")
+        return {"nutation": "deg", "pointing_error": "deg", "kinetic_energy": "J"}.get(
+            self.component or "", "rad/s"
+        )
 
     def evaluate(
         self,
