@@ -129,7 +129,7 @@ class EnsembleProblem:
     ``torque`` vector), ``"gravity"`` (``g`` along ``-z`` of space, the body
     turning about the origin of its axes, ``center_of_mass`` from there) or
     ``"gravity-gradient"``: the gravity-gradient torque along the Kepler ``orbit``
-    (:class:`~poinsot.dynamics.OrbitGravityGradientTorque`, theory §10.2) with each
+    (:class:`~poinsot.dynamics.OrbitGravityGradientTorque`, docs/theory.md §10.2) with each
     sample's own inertia, so a dispersed inertia changes the torque too.
     ``dispersions`` maps names of :data:`QUANTITIES` to
     :class:`~poinsot.ensemble.dispersion.Dispersion` objects.
@@ -261,7 +261,7 @@ class EnsembleProblem:
 def orbit_elements(orbit: Any) -> tuple[tuple[str, float], ...]:
     """The orbit of torque model ``"gravity-gradient"`` as ``((element, value), ...)`` in
     the order of :data:`ORBIT_ELEMENTS` (rad, SI units), checked by
-    :class:`~poinsot.dynamics.KeplerOrbit` (theory §10.2).
+    :class:`~poinsot.dynamics.KeplerOrbit` (docs/theory.md §10.2).
 
     ``orbit`` is a mapping of the elements (``mu`` optional: the Earth's) or a
     :class:`~poinsot.dynamics.KeplerOrbit` (its epoch must be 0). An unknown,
@@ -280,7 +280,7 @@ def orbit_elements(orbit: Any) -> tuple[tuple[str, float], ...]:
     ...     orbit_elements({"a": 7.0e6, "e": 0.0, "inclination": 0.9, "raan": 0.0,
     ...                     "argp": 0.0, "anomaly": 0.0})
     ... except InvalidInputError as exc:
-    ...     print(str(exc)[:26])
+    ...     print(str(exc)[:27])
     Unknown key `orbit.anomaly`
     """
     if isinstance(orbit, KeplerOrbit):

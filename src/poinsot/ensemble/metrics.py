@@ -264,7 +264,7 @@ class Metric:
             ``final_attitude_error``.
         spacecraft : Spacecraft, optional
             The orbit and its LVLH frame the ``pointing_error`` is measured against
-            (:meth:`~poinsot.dynamics.Spacecraft.pointing_error`, theory §10.2).
+            (:meth:`~poinsot.dynamics.Spacecraft.pointing_error`, docs/theory.md §10.2).
 
         Examples
         --------
