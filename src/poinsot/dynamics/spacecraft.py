@@ -171,8 +171,14 @@ class Spacecraft:
 
     def relative(self, trajectory: Trajectory) -> Rotation:
         """``R_ob(t) = R_io(t)^T R_ib(t)``: the attitude relative to the orbit frame
-        along ``trajectory``."""
-        return self.orbit_attitude(trajectory.t).inv() * trajectory.rotation
+        along ``trajectory`` (time first; a batch of bodies after time, shape (n, M),
+        is judged against the one orbit frame at each time)."""
+        ref = self.orbit_attitude(trajectory.t)
+        rot = trajectory.rotation
+        extra = len(rot.shape) - len(ref.shape)  # the batch axes after time
+        if extra > 0:
+            ref = ref.reshape(*ref.shape, *(1,) * extra)
+        return ref.inv() * rot
 
     def pointing_error(
         self, trajectory: Trajectory, offset: Rotation | ArrayLike | None = None

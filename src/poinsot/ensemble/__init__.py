@@ -19,15 +19,18 @@ from .dispersion import (
     UniformRotation,
 )
 from .engine import (
+    ORBIT_ELEMENTS,
     QUANTITIES,
+    TORQUE_MODELS,
     EnsembleError,
     EnsembleInterrupted,
     EnsembleProblem,
     EnsembleResult,
+    orbit_elements,
     run,
     run_chunk,
 )
-from .metrics import COMPONENTS, METRICS, Metric
+from .metrics import COMPONENTS, METRICS, STATISTICS, Metric
 from .scenario import load_ensemble, problem_from_scenario, run_scenario_ensemble
 
 __all__ = [
@@ -38,9 +41,13 @@ __all__ = [
     "EnsembleError",
     "EnsembleInterrupted",
     "QUANTITIES",
+    "TORQUE_MODELS",
+    "ORBIT_ELEMENTS",
+    "orbit_elements",
     "Metric",
     "METRICS",
     "COMPONENTS",
+    "STATISTICS",
     "Dispersion",
     "Normal",
     "TruncatedNormal",

@@ -41,7 +41,15 @@ from .._jit import NUMBA
 from .._progress import Progress, as_progress
 from .._validate import as_rotation_quat
 from ..dynamics import simulate
-from ..dynamics.torques import ConstantBodyTorque, ConstantSpaceTorque, GravityTorque
+from ..dynamics.orbit import KeplerOrbit
+from ..dynamics.spacecraft import Spacecraft
+from ..dynamics.torques import (
+    ConstantBodyTorque,
+    ConstantSpaceTorque,
+    GravityTorque,
+    OrbitGravityGradientTorque,
+    TorqueModel,
+)
 from ..errors import InvalidInputError, InvalidTypeError
 from ..mass import parallel_axis
 from ..rotations.rotation import Rotation
@@ -57,22 +65,36 @@ __all__ = [
     "run",
     "run_chunk",
     "QUANTITIES",
+    "TORQUE_MODELS",
+    "ORBIT_ELEMENTS",
+    "orbit_elements",
 ]
 
 #: Quantities a ``[dispersion]`` table may name, with their units and shapes.
 QUANTITIES = {
-    "omega0": ("rad/s", (3,), "initial angular velocity, body axes"),
+    "omega0": (
+        "rad/s",
+        (3,),
+        "initial angular velocity, body axes (gravity-gradient: relative to LVLH)",
+    ),
     "attitude": (
         "1",
         (4,),
-        "initial attitude, a unit quaternion (w, x, y, z) body -> space (dispersed by "
-        "small_rotation, sigma in deg, or uniform_rotation only)",
+        "initial attitude, a unit quaternion (w, x, y, z) body -> space (gravity-gradient: "
+        "body -> LVLH) (dispersed by small_rotation, sigma in deg, or uniform_rotation only)",
     ),
     "inertia": ("kg m^2", (3,), "diagonal of the inertia tensor about the centre of mass"),
     "mass": ("kg", (), "mass"),
     "center_of_mass": ("m", (3,), "centre of mass from the fixed point, body axes"),
     "torque": ("N m", (3,), "constant torque vector ([torque] model body or space)"),
 }
+
+#: Torque models of an :class:`EnsembleProblem`.
+TORQUE_MODELS = ("none", "body", "space", "gravity", "gravity-gradient")
+
+#: Elements of the Kepler orbit of torque model ``"gravity-gradient"`` (SI units, rad):
+#: ``mu`` may be left out (the Earth's), the others are required.
+ORBIT_ELEMENTS = ("a", "e", "inclination", "raan", "argp", "anomaly0", "mu")
 
 CHUNK_DIR = "chunks"
 MANIFEST = "ensemble.json"
@@ -104,10 +126,37 @@ class EnsembleProblem:
     Parameters are in SI units and body axes; ``rotation0`` (body -> space) is a
     poinsot or SciPy ``Rotation`` or a scalar-first quaternion. ``torque_model``
     is ``"none"``, ``"body"``, ``"space"`` (a constant
-    ``torque`` vector) or ``"gravity"`` (``g`` along ``-z`` of space, the body
-    turning about the origin of its axes, ``center_of_mass`` from there).
+    ``torque`` vector), ``"gravity"`` (``g`` along ``-z`` of space, the body
+    turning about the origin of its axes, ``center_of_mass`` from there) or
+    ``"gravity-gradient"``: the gravity-gradient torque along the Kepler ``orbit``
+    (:class:`~poinsot.dynamics.OrbitGravityGradientTorque`, docs/theory.md §10.2) with each
+    sample's own inertia, so a dispersed inertia changes the torque too.
     ``dispersions`` maps names of :data:`QUANTITIES` to
     :class:`~poinsot.ensemble.dispersion.Dispersion` objects.
+
+    **Frames under "gravity-gradient".** ``orbit`` holds the elements
+    :data:`ORBIT_ELEMENTS` (a mapping, or a :class:`~poinsot.dynamics.KeplerOrbit`):
+    ``a`` (m), ``e``, ``inclination``, ``raan``, ``argp``, ``anomaly0`` (the true
+    anomaly at t = 0; rad) and optionally ``mu`` (m^3/s^2). ``rotation0`` and
+    ``omega0`` (and their dispersions) are then **relative to the LVLH frame** at
+    ``t[0]``, as the ``spacecraft`` scenario kind reads them: ``rotation0`` is
+    ``R_ob`` (body -> LVLH), ``omega0`` the body's rate relative to LVLH in body
+    axes, so the inertial start is ``R_ib = R_io R_ob``, ``w_b = omega0 + R_ib^T R_io
+    w_o`` (:meth:`~poinsot.dynamics.Spacecraft.orbit_attitude`,
+    :meth:`~poinsot.dynamics.Spacecraft.orbit_rate`). The metric ``pointing_error``
+    reads the attitude against that frame.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot.ensemble import EnsembleProblem, Metric
+    >>> orbit = {"a": 6.878e6, "e": 0.0, "inclination": 0.9, "raan": 0.0, "argp": 0.0,
+    ...          "anomaly0": 0.0}
+    >>> p = EnsembleProblem("gg", np.diag([80.0, 100.0, 40.0]), [1.0, 0, 0, 0], np.zeros(3),
+    ...     np.linspace(0.0, 5700.0, 20), torque_model="gravity-gradient", orbit=orbit,
+    ...     metrics=(Metric("err", "pointing_error"),))
+    >>> dict(p.orbit)["mu"]                       # the Earth's, as KeplerOrbit's
+    398600441800000.0
     """
 
     name: str
@@ -124,12 +173,44 @@ class EnsembleProblem:
     atol: float = 1e-12
     dispersions: tuple[tuple[str, Dispersion], ...] = ()
     metrics: tuple[Metric, ...] = ()
+    orbit: Any = None  # torque_model "gravity-gradient": ((element, value), ...)
 
     def __post_init__(self) -> None:
         q = as_rotation_quat(self.rotation0, "rotation0")
         if q.shape != (4,):
             raise InvalidInputError(f"Expected one `rotation0`, got shape {q.shape[:-1]}.")
         object.__setattr__(self, "rotation0", q)
+        if self.torque_model not in TORQUE_MODELS:
+            raise InvalidInputError(
+                f"Unknown `torque_model` {self.torque_model!r}; expected one of "
+                + ", ".join(TORQUE_MODELS)
+                + "."
+            )
+        orbital = self.torque_model == "gravity-gradient"
+        if orbital:
+            if self.orbit is None:
+                raise InvalidInputError(
+                    "The torque model 'gravity-gradient' needs an `orbit` (elements "
+                    + ", ".join(ORBIT_ELEMENTS)
+                    + ")."
+                )
+            object.__setattr__(self, "orbit", orbit_elements(self.orbit))
+        elif self.orbit is not None:
+            raise InvalidInputError(
+                f"`orbit` is read by the torque model 'gravity-gradient' only, this "
+                f"problem's is {self.torque_model!r}."
+            )
+        for m in self.metrics:
+            if isinstance(m, Metric) and m.orbital and not orbital:
+                raise InvalidInputError(
+                    f"Metric {m.name!r} reads the pointing error relative to LVLH: it needs "
+                    f"the torque model 'gravity-gradient' (an orbit), not {self.torque_model!r}."
+                )
+            if isinstance(m, Metric) and orbital and m.kind == "energy_drift":
+                raise InvalidInputError(
+                    f"Metric {m.name!r} (energy_drift): the gravity gradient along an orbit "
+                    "conserves no energy of the attitude alone (theory §10.2)."
+                )
         for name, d in self.dispersions:
             if name not in QUANTITIES:
                 raise InvalidInputError(
@@ -175,6 +256,70 @@ class EnsembleProblem:
 
         blob = json.dumps({k: enc(v) for k, v in vars(self).items()}, sort_keys=True)
         return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def orbit_elements(orbit: Any) -> tuple[tuple[str, float], ...]:
+    """The orbit of torque model ``"gravity-gradient"`` as ``((element, value), ...)`` in
+    the order of :data:`ORBIT_ELEMENTS` (rad, SI units), checked by
+    :class:`~poinsot.dynamics.KeplerOrbit` (docs/theory.md §10.2).
+
+    ``orbit`` is a mapping of the elements (``mu`` optional: the Earth's) or a
+    :class:`~poinsot.dynamics.KeplerOrbit` (its epoch must be 0). An unknown,
+    missing or bad element raises :class:`~poinsot.errors.InvalidInputError`
+    naming it.
+
+    Examples
+    --------
+    >>> from poinsot.ensemble import orbit_elements
+    >>> el = orbit_elements({"a": 7.0e6, "e": 0.01, "inclination": 0.9, "raan": 0.0,
+    ...                      "argp": 0.0, "anomaly0": 0.0, "mu": 3.986e14})
+    >>> [k for k, _ in el]
+    ['a', 'e', 'inclination', 'raan', 'argp', 'anomaly0', 'mu']
+    >>> from poinsot.errors import InvalidInputError
+    >>> try:
+    ...     orbit_elements({"a": 7.0e6, "e": 0.0, "inclination": 0.9, "raan": 0.0,
+    ...                     "argp": 0.0, "anomaly": 0.0})
+    ... except InvalidInputError as exc:
+    ...     print(str(exc)[:27])
+    Unknown key `orbit.anomaly`
+    """
+    if isinstance(orbit, KeplerOrbit):
+        if orbit.epoch != 0.0:
+            raise InvalidInputError(
+                f"Expected an `orbit` with its epoch at t = 0, got epoch {orbit.epoch!r} s."
+            )
+        values = {k: getattr(orbit, k) for k in ORBIT_ELEMENTS}
+    else:
+        if isinstance(orbit, tuple) and all(isinstance(p, tuple) and len(p) == 2 for p in orbit):
+            orbit = dict(orbit)
+        if not isinstance(orbit, dict):
+            raise InvalidTypeError(
+                "Expected `orbit` to be a mapping of the elements "
+                f"{', '.join(ORBIT_ELEMENTS)} or a KeplerOrbit, got {type(orbit).__name__}."
+            )
+        for key in orbit:
+            if key not in ORBIT_ELEMENTS:
+                raise InvalidInputError(
+                    f"Unknown key `orbit.{key}`; expected the elements "
+                    f"{', '.join(ORBIT_ELEMENTS)} (rad, SI units)."
+                )
+        for key in ORBIT_ELEMENTS[:-1]:
+            if key not in orbit:
+                raise InvalidInputError(f"Missing key `orbit.{key}` (the orbit's {key}).")
+        values = dict(orbit)
+        for key, v in values.items():
+            if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
+                raise InvalidInputError(f"Expected `orbit.{key}` to be a number, got {v!r}.")
+        try:
+            checked = KeplerOrbit(**values)  # its errors name the element
+        except InvalidInputError as exc:
+            raise type(exc)(f"`orbit`: {exc}") from None
+        values = {k: getattr(checked, k) for k in ORBIT_ELEMENTS}
+    return tuple((k, float(values[k])) for k in ORBIT_ELEMENTS)
+
+
+def _kepler(problem: EnsembleProblem) -> KeplerOrbit:
+    return KeplerOrbit(**dict(problem.orbit))
 
 
 def _nominal(problem: EnsembleProblem, name: str) -> np.ndarray:
@@ -261,24 +406,37 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
     }
     j_cm = np.broadcast_to(problem.inertia, (size + 1, 3, 3)).copy()
     j_cm[:, [0, 1, 2], [0, 1, 2]] = arr["inertia"]
-    model: GravityTorque | ConstantBodyTorque | ConstantSpaceTorque | None
+    model: TorqueModel | None
+    sat: Spacecraft | None = None
+    q0 = arr["attitude"] / np.linalg.norm(arr["attitude"], axis=1, keepdims=True)
+    w0 = arr["omega0"]
     if problem.torque_model == "gravity":
         j = parallel_axis(j_cm, arr["mass"], arr["center_of_mass"])
         model = GravityTorque(arr["mass"], arr["center_of_mass"], g=problem.g)
+    elif problem.torque_model == "gravity-gradient":
+        # every sample's own J in the torque; the start relative to LVLH at t[0] made
+        # inertial as the spacecraft kind does: R_ib = R_io R_ob, w_b = w_rel + R_ib^T R_io w_o
+        j = j_cm
+        orbit = _kepler(problem)
+        sat = Spacecraft(problem.inertia, orbit)
+        t0 = float(problem.t[0])
+        r_ib = sat.orbit_attitude(t0) * Rotation.from_quat(q0)
+        q0 = r_ib.as_quat()
+        w0 = w0 + sat.orbit_rate(r_ib, t0)
+        model = OrbitGravityGradientTorque(j, orbit)
     else:
         j = j_cm
         kind = {"none": None, "body": ConstantBodyTorque, "space": ConstantSpaceTorque}[
             problem.torque_model
         ]
         model = None if kind is None else kind(arr["torque"])
-    q0 = arr["attitude"] / np.linalg.norm(arr["attitude"], axis=1, keepdims=True)
     with np.errstate(all="ignore"):
         # the public batch integrator (poinsot's compiled DOP853); a failing sample is
         # data here, not an error: marked, its reason kept, its metrics dropped below
         tr = simulate(
             j,
             q0,
-            arr["omega0"],
+            w0,
             problem.t,
             torque=model,
             method="dop853",
@@ -319,11 +477,14 @@ def run_chunk(problem: EnsembleProblem, index: int, size: int, seed: int) -> dic
         for name, _d in problem.dispersions:
             cols.update(_columns_of(name, inputs[name]))
         for metric in problem.metrics:
-            v = np.asarray(metric.evaluate(motion, nominal_final), dtype=float)
+            v = np.asarray(metric.evaluate(motion, nominal_final, spacecraft=sat), dtype=float)
             cols[metric.name] = np.where(failed, np.nan, v)
     cols["failed"] = failed
     cols["reason"] = reason.astype(str)
-    cols["steps"] = np.where(failed, 0, np.asarray(tr.info["steps"])[1:]).astype(np.int64)
+    # steps per sample (-1: not counted per sample, a torque evaluated in Python
+    # integrates the chunk as one system)
+    steps = np.asarray(tr.info["steps"])[1:] if "steps" in tr.info else np.full(size, -1)
+    cols["steps"] = np.where(failed, 0, steps).astype(np.int64)
     return cols
 
 

@@ -23,10 +23,18 @@ documented per metric).
 ``energy_drift``           ``max |E(t) - E(0)| / |E(0)|`` with ``E = T + V``
                            (kinetic plus the torque model's potential, if it
                            has one): the integration's accuracy
+``pointing_error``         angle (deg) of the body attitude relative to the
+                           LVLH attitude along the orbit,
+                           ``|log(R_io(t)^T R_ib(t))|``
+                           (:meth:`poinsot.dynamics.Spacecraft.pointing_error`),
+                           reduced over time by ``statistic``: ``"max"``
+                           (default), ``"final"`` or ``"rms"``; torque model
+                           ``"gravity-gradient"`` only (theory §10.2)
 =========================  ===================================================
 
 Components: ``omega_x``, ``omega_y``, ``omega_z`` (rad/s, body axes),
-``omega_norm`` (rad/s), ``nutation`` (deg), ``kinetic_energy`` (J).
+``omega_norm`` (rad/s), ``nutation`` (deg), ``kinetic_energy`` (J),
+``pointing_error`` (deg; torque model ``"gravity-gradient"`` only).
 """
 
 from __future__ import annotations
@@ -39,13 +47,22 @@ import numpy as np
 
 from .._drift import relative_change
 from .._quat import attitude_distance
+from ..dynamics.spacecraft import Spacecraft
 from ..errors import InvalidInputError, InvalidTypeError
 from ..rotations._scalar import vertical
 from ..trajectory import Trajectory
 
-__all__ = ["Metric", "METRICS", "COMPONENTS", "Motion", "from_table"]
+__all__ = ["Metric", "METRICS", "COMPONENTS", "STATISTICS", "Motion", "from_table"]
 
-COMPONENTS = ("omega_x", "omega_y", "omega_z", "omega_norm", "nutation", "kinetic_energy")
+COMPONENTS = (
+    "omega_x",
+    "omega_y",
+    "omega_z",
+    "omega_norm",
+    "nutation",
+    "kinetic_energy",
+    "pointing_error",
+)
 METRICS = (
     "first_flip_time",
     "first_time",
@@ -55,7 +72,12 @@ METRICS = (
     "min",
     "final_attitude_error",
     "energy_drift",
+    "pointing_error",
 )
+#: Reductions over time of the ``pointing_error`` metric.
+STATISTICS = ("max", "final", "rms")
+#: Metric kinds and components that read the orbit frame (torque model "gravity-gradient").
+ORBIT_METRICS = ("pointing_error",)
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
@@ -85,9 +107,12 @@ class _Series:
     kinetic: np.ndarray
     total: Any  # () -> T + V (n, M), computed only when a metric asks
     nominal_final: np.ndarray | None
+    pointing: Any = None  # () -> pointing error (rad, (n, M)), or None: no orbit frame
 
 
-def _series(motion: Trajectory | Motion, nominal_final: Any) -> _Series:
+def _series(
+    motion: Trajectory | Motion, nominal_final: Any, spacecraft: Spacecraft | None = None
+) -> _Series:
     if isinstance(motion, Motion):
         warnings.warn(
             "poinsot.ensemble.metrics.Motion is deprecated: pass a poinsot.Trajectory "
@@ -103,8 +128,9 @@ def _series(motion: Trajectory | Motion, nominal_final: Any) -> _Series:
             "Expected a poinsot.Trajectory with its kinetic energy (time first, then samples), "
             f"got {type(motion).__name__}."
         )
+    pointing = None if spacecraft is None else lambda: spacecraft.pointing_error(motion)
     return _Series(motion.t, motion.quat, np.asarray(motion.omega), motion.energy,
-                   lambda: total_energy(motion), nominal_final)  # fmt: skip
+                   lambda: total_energy(motion), nominal_final, pointing)  # fmt: skip
 
 
 def total_energy(tr: Trajectory) -> np.ndarray:
@@ -133,7 +159,19 @@ def _component(motion: _Series, name: str | None) -> np.ndarray:
         return _nutation(motion.quat)
     if name == "kinetic_energy":
         return motion.kinetic
+    if name == "pointing_error":
+        return np.degrees(_pointing(motion))
     raise InvalidInputError(f"Unknown component {name!r}; expected one of {', '.join(COMPONENTS)}.")
+
+
+def _pointing(motion: _Series) -> np.ndarray:
+    """The pointing error (rad, (n, M)) of the chunk against its orbit frame."""
+    if motion.pointing is None:
+        raise InvalidInputError(
+            "The pointing error needs the orbit frame: `spacecraft` (torque model "
+            "'gravity-gradient')."
+        )
+    return np.asarray(motion.pointing())
 
 
 def _first(t: np.ndarray, hit: np.ndarray) -> np.ndarray:
@@ -159,6 +197,7 @@ class Metric:
     axis: str = "z"
     below: float | None = None
     above: float | None = None
+    statistic: str = "max"
 
     def __post_init__(self) -> None:
         if self.kind not in METRICS:
@@ -180,19 +219,38 @@ class Metric:
             )
         if self.axis not in _AXES:
             raise InvalidInputError(f"Expected `axis` of metric {self.name!r} in x, y, z.")
+        if self.statistic not in STATISTICS:
+            raise InvalidInputError(
+                f"Unknown `statistic` {self.statistic!r} of metric {self.name!r}; expected "
+                f"one of {', '.join(STATISTICS)}."
+            )
+        if self.statistic != "max" and self.kind != "pointing_error":
+            raise InvalidInputError(
+                f"Metric {self.name!r} ({self.kind}) takes no `statistic` (pointing_error does)."
+            )
+
+    @property
+    def orbital(self) -> bool:
+        """Whether the metric reads the orbit frame (torque model ``"gravity-gradient"``)."""
+        return self.kind in ORBIT_METRICS or self.component in ORBIT_METRICS
 
     @property
     def unit(self) -> str:
         if self.kind in ("first_flip_time", "first_time"):
             return "s"
-        if self.kind in ("nutation_min", "nutation_max", "final_attitude_error"):
+        if self.kind in ("nutation_min", "nutation_max", "final_attitude_error", "pointing_error"):
             return "deg"
         if self.kind == "energy_drift":
             return "1"
-        return {"nutation": "deg", "kinetic_energy": "J"}.get(self.component or "", "rad/s")
+        return {"nutation": "deg", "pointing_error": "deg", "kinetic_energy": "J"}.get(
+            self.component or "", "rad/s"
+        )
 
     def evaluate(
-        self, motion: Trajectory | Motion, nominal_final: np.ndarray | None = None
+        self,
+        motion: Trajectory | Motion,
+        nominal_final: np.ndarray | None = None,
+        spacecraft: Spacecraft | None = None,
     ) -> np.ndarray:
         """One value per sample, shape (M,).
 
@@ -204,8 +262,24 @@ class Metric:
         nominal_final : ndarray, shape (4,), optional
             The final quaternion of the nominal (undispersed) sample; needed by
             ``final_attitude_error``.
+        spacecraft : Spacecraft, optional
+            The orbit and its LVLH frame the ``pointing_error`` is measured against
+            (:meth:`~poinsot.dynamics.Spacecraft.pointing_error`, docs/theory.md §10.2).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot.dynamics import KeplerOrbit, Spacecraft
+        >>> sat = Spacecraft([80.0, 100.0, 40.0], KeplerOrbit(7.0e6, 0.0, 0.9, 0.0, 0.0, 0.0))
+        >>> q0 = sat.orbit_attitude(0.0)                      # LVLH-aligned, at rest in it
+        >>> tr = sat.simulate(q0, sat.orbit_rate(q0, 0.0), np.linspace(0.0, 600.0, 4))
+        >>> err = Metric("err", "pointing_error", statistic="rms").evaluate(tr, spacecraft=sat)
+        >>> bool(err < 1e-6)                                  # an equilibrium (theory §10.2)
+        True
         """
-        m = _series(motion, nominal_final)
+        if isinstance(motion, Trajectory) and np.ndim(motion.quat) == 2:  # one body
+            motion = _batched(motion)
+        m = _series(motion, nominal_final, spacecraft)
         k = self.kind
         if k == "first_flip_time":
             c = _component(m, self.component or "omega_y")
@@ -226,16 +300,31 @@ class Metric:
                     f"Metric {self.name!r} (final_attitude_error) needs `nominal_final`."
                 )
             return np.degrees(attitude_distance(m.nominal_final, m.quat[-1]))
+        if k == "pointing_error":
+            # the angle relative to the orbit frame (one definition: Spacecraft.pointing_error)
+            err = np.degrees(_pointing(m))
+            if self.statistic == "final":
+                return err[-1]
+            if self.statistic == "rms":
+                return np.sqrt(np.mean(err**2, axis=0))
+            return err.max(axis=0)
         # relative drift of T + V (one definition: poinsot._drift)
         change = relative_change(m.total(), floor=np.finfo(float).tiny)
         return np.max(np.abs(change), axis=0)
+
+
+def _batched(tr: Trajectory) -> Trajectory:
+    """A one-body trajectory as a batch of one (time first, then one sample)."""
+    energy = None if tr.energy is None else np.asarray(tr.energy)[:, None]
+    return Trajectory(tr.t, tr.rotation.reshape(-1, 1), np.asarray(tr.omega)[:, None],
+                      tr.method, energy=energy)  # fmt: skip
 
 
 def from_table(table: dict[str, Any], index: int) -> Metric:
     """A :class:`Metric` from one ``[[metric]]`` TOML table."""
     if not isinstance(table, dict):
         raise InvalidInputError(f"Expected `metric[{index}]` to be a table.")
-    known = {"name", "kind", "component", "axis", "below", "above"}
+    known = {"name", "kind", "component", "axis", "below", "above", "statistic"}
     extra = sorted(set(table) - known)
     if extra:
         raise InvalidInputError(
@@ -247,5 +336,9 @@ def from_table(table: dict[str, Any], index: int) -> Metric:
         raise InvalidInputError(f"`metric[{index}]` needs a `kind` (one of {', '.join(METRICS)}).")
     return Metric(
         name=str(table.get("name", table["kind"])),
-        **{k: table[k] for k in ("kind", "component", "axis", "below", "above") if k in table},
+        **{
+            k: table[k]
+            for k in ("kind", "component", "axis", "below", "above", "statistic")
+            if k in table
+        },
     )

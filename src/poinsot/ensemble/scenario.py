@@ -1,8 +1,10 @@
 """Ensembles from scenario files: ``[dispersion]``, ``[[metric]]`` and the outputs.
 
 A rigid-body scenario file (kinds ``free-body``, ``torqued-body``, ``heavy-top``: a
-free body, a constant body/space torque, or gravity about a fixed point) gains
-two tables that ``poinsot run`` passes over::
+free body, a constant body/space torque, or gravity about a fixed point; or kind
+``spacecraft`` with the gravity gradient alone along its ``[orbit]``, read by that
+kind's own reader, the attitude and rates relative to LVLH) gains two tables that
+``poinsot run`` passes over::
 
     [dispersion.omega0]            # one table per dispersed quantity
     distribution = "normal"        # about the nominal value of the file
@@ -47,7 +49,16 @@ from ..scenarios._toml import locate_keys
 from ..scenarios.solve import MAX_MEMORY_BYTES, _bytes, _seconds, estimate_cost
 from . import dispersion as _disp
 from . import metrics as _metrics
-from .engine import QUANTITIES, EnsembleError, EnsembleProblem, EnsembleResult, _draw, _nominal, run
+from .engine import (
+    QUANTITIES,
+    EnsembleError,
+    EnsembleProblem,
+    EnsembleResult,
+    _draw,
+    _nominal,
+    orbit_elements,
+    run,
+)
 
 if TYPE_CHECKING:
     from ..scenarios.schema import Scenario
@@ -60,7 +71,7 @@ __all__ = [
     "sensitivity",
 ]
 
-_KINDS = ("free-body", "torqued-body", "heavy-top")
+_KINDS = ("free-body", "torqued-body", "heavy-top", "spacecraft")
 
 
 def problem_from_scenario(
@@ -136,6 +147,11 @@ def problem_from_scenario(
     body, spin = scenario.body, scenario.angular_velocity
     if body is None or spin is None:  # the rigid-body kinds always read both
         raise EnsembleError(f"{where}: an ensemble needs a [body] and an [angular_velocity].")
+    orbit = None
+    if scenario.kind == "spacecraft":
+        # the [orbit] as the spacecraft kind read it (one reader of the orbit keys); the
+        # attitude and rate relative to LVLH, as that kind reads them
+        model, orbit = "gravity-gradient", _gravity_gradient_orbit(scenario, at)
     try:
         problem = EnsembleProblem(
             name=scenario.name,
@@ -146,12 +162,15 @@ def problem_from_scenario(
             mass=float(body.mass),
             center_of_mass=np.asarray(body.center_of_mass, dtype=float),
             torque_model=model,
-            torque=np.zeros(3) if tq.vector is None else np.asarray(tq.vector, dtype=float),
-            g=9.80665 if tq.g is None else float(tq.g),
+            torque=np.zeros(3)
+            if tq is None or tq.vector is None
+            else np.asarray(tq.vector, dtype=float),
+            g=9.80665 if tq is None or tq.g is None else float(tq.g),
             rtol=rtol,
             atol=atol,
             dispersions=tuple(disps),
             metrics=metrics,
+            orbit=orbit,
         )
     except InvalidInputError as exc:
         raise EnsembleError(f"{where}: {exc}") from None
@@ -171,6 +190,24 @@ def problem_from_scenario(
             f"the same run. Give a spread (docs/ensembles.md); for one run use `poinsot run`."
         )
     return problem
+
+
+def _gravity_gradient_orbit(scenario: Scenario, at: Callable[..., EnsembleError]) -> Any:
+    """The orbit elements of a ``spacecraft`` scenario an ensemble runs: the gravity
+    gradient alone, judged in LVLH (what else the kind reads is refused, by key)."""
+    spec = scenario.spec
+    if spec.frame != "lvlh":
+        raise at("orbit.frame", 'ensembles judge the pointing in "lvlh" only.')
+    if not spec.gravity_gradient:
+        raise at("environment.gravity_gradient", "ensembles of a spacecraft run the gravity "
+                 "gradient: it must be true.")  # fmt: skip
+    if spec.dipole is not None:
+        raise at("environment.dipole", "ensembles of a spacecraft run the gravity gradient "
+                 "alone (no magnetic dipole).")  # fmt: skip
+    if spec.law != "none" or spec.wheels is not None:
+        raise at("control", "ensembles of a spacecraft run the free attitude under the "
+                 "gravity gradient (no control law, no wheels).")  # fmt: skip
+    return orbit_elements(spec.orbit)
 
 
 #: Most samples of one ensemble (a hard limit, as ``run``'s output samples).
