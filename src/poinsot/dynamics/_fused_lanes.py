@@ -36,9 +36,9 @@ from .._numba_cache import depends_on
 from . import _fused
 from . import _fused_stages as G
 from ._fused import (
-    CANCELLED,
     _C,
     _CX,
+    CANCELLED,
     DIAGONAL,
     KEPLER,
     MAX_FACTOR,

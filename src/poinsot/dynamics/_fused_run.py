@@ -24,7 +24,6 @@ from ..rotations import Rotation
 from ..rotations._lazy import threaded
 from . import _fused_lanes
 from . import torques as _tq
-from .orbit import KeplerOrbit
 from ._fused import (
     DIAGONAL,
     KEPLER,
@@ -33,6 +32,7 @@ from ._fused import (
     midpoint_batch,
     rk4_batch,
 )
+from .orbit import KeplerOrbit
 
 #: Whether :func:`integrate` runs the lane-blocked kernels (:mod:`._fused_lanes`, the same
 #: results bit for bit) rather than :func:`integrate_batch`'s one body per iteration;
@@ -65,7 +65,9 @@ def _same_inertia(torque, j, batch) -> bool:
     (kind 6 takes ``J`` from the body; another inertia takes the Python path)."""
     mine = np.asarray(torque.inertia, dtype=float)
     try:
-        return bool(np.array_equal(np.broadcast_to(mine, batch + (3, 3)), j.reshape(batch + (3, 3))))
+        return bool(
+            np.array_equal(np.broadcast_to(mine, batch + (3, 3)), j.reshape(batch + (3, 3)))
+        )
     except ValueError:
         return False
 
