@@ -19,8 +19,9 @@ loop to convergence would cost diffrax a batched while loop). diffrax runs ``--n
 bodies (default 2000) and its time is scaled by ``n / n_peer`` (its vmapped steps cost
 in proportion to the batch; the scaling is stated in the output).
 
-Accuracy: the largest final attitude error (rad) and angular velocity error (rad/s) over
-the first ``--n-ref`` bodies against poinsot at ``rtol 1e-12`` (``atol 1e-12 n``). At each
+Accuracy: the median over the first ``--n-ref`` bodies of the final attitude error (rad)
+and angular velocity error (rad/s) against poinsot at ``rtol 1e-12`` (``atol 1e-12 n``);
+the median, as the tumbling bodies' motion is chaotic (:func:`errors`). At each
 ``--rtol``, each diffrax solver's ``rtol`` is searched (half-decade grid, then refined,
 as ``bench_gyrostat.equal_accuracy``) for the loosest one whose attitude error is at
 most poinsot's; the faster of the two solvers at equal accuracy is the ratio's peer.
@@ -51,7 +52,19 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 from _timing import table  # noqa: E402
-from bench_gyrostat import equal_accuracy, errors, interleaved, load  # noqa: E402
+from bench_gyrostat import equal_accuracy, interleaved, load  # noqa: E402
+
+
+def errors(q, w, q_ref, w_ref) -> tuple[float, float]:
+    """Median over the bodies of the final attitude error (rad) and of the largest
+    component of the angular velocity error (rad/s). The median, not the largest: a
+    tumbling body's motion here is chaotic (errors grow exponentially), so that the
+    tail of the batch measures chaos, not the integrators (the reference at rtol 1e-12
+    itself differs from one at 1e-13 by up to ~2 rad on a few bodies, by 1e-9 rad on
+    the median one)."""
+    dq = np.minimum(np.linalg.norm(q - q_ref, axis=-1), np.linalg.norm(q + q_ref, axis=-1))
+    angle = 4.0 * np.arcsin(np.clip(dq / 2.0, 0.0, 1.0))  # |q - p| = 2 sin(angle / 4)
+    return float(np.median(angle)), float(np.median(np.abs(w - w_ref).max(axis=-1)))
 
 
 def leo_orbit(a_km: float = 7000.0, e: float = 0.01, inc_deg: float = 50.0):
@@ -177,7 +190,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=10_000)
     ap.add_argument("--n-peer", type=int, default=2000)
-    ap.add_argument("--n-ref", type=int, default=500)
+    ap.add_argument("--n-ref", type=int, default=1000)
     ap.add_argument("--orbits", type=float, default=10.0)
     ap.add_argument("--rtol", type=float, nargs="+", default=[1e-6, 1e-9])
     ap.add_argument("--repeat", type=int, default=3)
@@ -231,7 +244,7 @@ def main() -> None:
         }
         errs = {"poinsot dop853 (kind 6, lanes)": err}
         for name, run in peers.items():
-            tol, e = equal_accuracy(on_subset(run), q_ref, w_ref, err[0], rtol)
+            tol, e = equal_accuracy(on_subset(run), q_ref, w_ref, err[0], rtol, errors)
             print(f"  diffrax {name}: equal accuracy at rtol {tol:.2e}: errors {e[0]:.1e} rad, "
                   f"{e[1]:.1e} rad/s", flush=True)  # fmt: skip
             if math.isnan(tol):
@@ -249,8 +262,8 @@ def main() -> None:
              f"{times[label] / base:.2f}x"]
             for label in fns
         ]  # fmt: skip
-        head = [f"solver ({args.n} bodies)", f"median of {args.repeat}", "attitude err (rad)",
-                "omega err (rad/s)", "time / poinsot"]  # fmt: skip
+        head = [f"solver ({args.n} bodies)", f"median of {args.repeat}"]
+        head += ["median attitude err (rad)", "median omega err (rad/s)", "time / poinsot"]
         print(table(rows, head))
         ps = ours.steps  # type: ignore[attr-defined]
         line = f"  (accepted steps per body: poinsot median {np.median(ps):.0f}, max {ps.max()}"

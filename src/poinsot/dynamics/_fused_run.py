@@ -92,7 +92,7 @@ def torque_kernel(torque, batch: tuple[int, ...], par=None):
         return (1 if isinstance(torque, _tq.ConstantBodyTorque) else 2), par
     if isinstance(torque, _tq.GravityTorque):
         par[..., 0] = 1.0
-        par[..., 1:] = torque.moment
+        par[..., 1:4] = torque.moment
         return 3, par
     if isinstance(torque, _tq.GyrostaticTorque):
         par[..., :3] = torque.h
@@ -106,7 +106,7 @@ def torque_kernel(torque, batch: tuple[int, ...], par=None):
     gradient = getattr(_tq, "GravityGradientTorque", None)
     if gradient is not None and isinstance(torque, gradient):
         par[..., 0] = torque.coefficient
-        par[..., 1:] = torque.direction
+        par[..., 1:4] = torque.direction
         return 4, par
     return None
 
