@@ -260,8 +260,9 @@ _rotate = njit(**_INLINE)(_S.rotate)
 #: (scaled by ``|L|^2`` otherwise; :func:`poinsot.rotations._scalar.rotate`)
 qrot = _rotate
 
-#: Most Newton iterations of :func:`kepler` (from ``M + e sin M`` it takes 2-3 at
-#: ``e = 0.01``, at most 9 at ``e = 0.95`` over ``M`` in [-pi, pi), measured).
+#: Most Newton iterations of :func:`kepler` (from ``M + e sin M`` it takes 2 at
+#: ``e = 0.01``, at most 4 at 0.5, 7 at 0.95 and 9 at 0.99, over 20001 ``M`` in
+#: [-pi, pi), measured).
 KEPLER_MAXIT = 50
 
 
@@ -278,7 +279,14 @@ def kepler(mean, e):  # pragma: no cover - compiled
     ``1e-17`` and ``|d| <= 1e-6``, the last step is taken and ``cos E``, ``sin E`` are
     carried to the new ``E`` by their Taylor series to second order (error ``d^3 / 6``)
     instead of two more library calls: 2 sine-cosine pairs at ``e = 0.01`` rather than
-    3. ``e = 0`` returns at once; at most :data:`KEPLER_MAXIT` steps."""
+    3. ``e = 0`` returns at once; at most :data:`KEPLER_MAXIT` steps.
+
+    >>> import math
+    >>> from poinsot._numba_helpers import kepler
+    >>> E, c, s = kepler(1.0, 0.5)  # E - e sin E = M (docs/theory.md §10.2)
+    >>> abs(E - 0.5 * math.sin(E) - 1.0) < 1e-15, abs(c - math.cos(E)) < 1e-15
+    (True, True)
+    """
     if e == 0.0:
         return mean, math.cos(mean), math.sin(mean)
     E = mean + e * math.sin(mean)
