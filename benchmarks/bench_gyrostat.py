@@ -178,9 +178,11 @@ def diffrax_solver(moments, h, quat, omega, t_end):
     return run
 
 
-def equal_accuracy(run, q_ref, w_ref, target, start):
+def equal_accuracy(run, q_ref, w_ref, target, start, measure=None):
     """The loosest ``rtol`` on a half-decade grid from ``start`` (refined once, log-log)
-    whose attitude error is at most ``target``: ``(rtol, errors)``."""
+    whose attitude error is at most ``target``: ``(rtol, errors)``; ``measure(q, w, q_ref,
+    w_ref)`` the errors (default :func:`errors`, the largest over the batch)."""
+    errors = globals()["errors"] if measure is None else measure
     tol = start
     err = errors(*run(tol), q_ref, w_ref)
     if err[0] <= target:  # looser while it stays within the target

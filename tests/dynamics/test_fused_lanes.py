@@ -205,7 +205,7 @@ def test_cancel_flag_stops_every_lane():
     cancel = np.ones(1, dtype=np.int64)
     done = np.zeros(9, dtype=np.int64)
     _fused_lanes.integrate_batch(
-        y0, jj, ji, 0, np.zeros((9, 4)), t, 1e-8, 1e-10, np.inf, 10**6, oq, ow, stats,
+        y0, jj, ji, 0, np.zeros((9, _fused.NPAR)), t, 1e-8, 1e-10, np.inf, 10**6, oq, ow, stats,
         cancel, done,
     )  # fmt: skip
     assert np.all(stats[:, 3] == _fused.CANCELLED)
@@ -249,8 +249,8 @@ def test_first_steps_of_the_lanes_are_the_one_body_initial_step(kind):
     for span, max_step, rtol, atol in cases:
         first = np.empty((n - 3, 8))
         W = np.full(_fused_lanes.N_WORK, np.nan)  # rows it does not load are never read
-        _fused_lanes._first_steps(3, n, W, y0, jj, ji, kind, par, span, rtol, atol, max_step,
-                                  first)  # fmt: skip
+        _fused_lanes._first_steps(3, n, W, y0, jj, ji, kind, par, 0.0, span, rtol, atol,
+                                  max_step, first)  # fmt: skip
         for b in range(3, n):
             f, tmp, k1, scale = np.empty(7), np.empty(7), np.empty(7), np.empty(7)
             _fused._rhs(0.0, y0[b], jj[b], ji[b], kind, par[b], f)

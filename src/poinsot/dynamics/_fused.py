@@ -31,7 +31,16 @@ Built-in torques are fused into the right-hand side (``kind``):
    ``n_b = R^T n``;
 5. the gyrostatic torque of rotors of constant relative momentum, ``par = (hx, hy,
    hz, 0)`` in body axes: ``M_b = h x w`` (theory §10.1), the only kind that depends
-   on the angular velocity ``w`` (the other kinds ignore it).
+   on the angular velocity ``w`` (the other kinds ignore it);
+6. gravity gradient along a Kepler orbit (theory §10.2), the only kind that depends on
+   the time ``t``: ``par = (n, e, M_0, sqrt(1 - e^2), p0, p1, p2, p3)`` with ``n`` the
+   mean motion, ``M_0`` the mean anomaly at ``t = 0`` and ``p`` the unit quaternion of
+   the perifocal axes ``[P Q W]`` (:func:`_orbit_direction`): Kepler's equation is
+   solved at every evaluation (:func:`poinsot._numba_helpers.kepler`) and the torque
+   is kind 4's with ``n = R(p) (cos f, sin f, 0)``, ``3 mu / r^3 = 3 n^2 / (1 - e cos
+   E)^3``.
+
+``par`` has :data:`NPAR` columns (the unused ones zero).
 
 ``kind + DIAGONAL`` (kinds 0 and 3) marks a batch whose inertia tensors are all
 diagonal (principal axes): the right-hand side then multiplies by the moments instead
@@ -77,19 +86,44 @@ EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 #: zero products.
 DIAGONAL = 8
 
+#: Columns of the torque parameters ``par`` (kind 6 uses all of them).
+NPAR = 8
+
+#: The torque kind of gravity gradient along a Kepler orbit (the one that reads ``t``).
+KEPLER = 6
+
 #: ``stats`` columns: accepted steps, rejected steps, evaluations, status.
 OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE, CANCELLED = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, inline="always")
+def _orbit_direction(t, n, e, m0, b, p0, p1, p2, p3):  # pragma: no cover
+    """Kind 6: the unit direction from the centre to the body on a Kepler orbit at time
+    ``t``, inertial axes, and ``3 mu / r^3`` (theory §10.2), from ``par = (n, e, M_0,
+    b = sqrt(1 - e^2), p)``: ``M = M_0 + n t`` reduced to ``[-pi, pi)``, ``E`` from
+    Kepler's equation (:func:`poinsot._numba_helpers.kepler`; in NumPy
+    ``poinsot.dynamics.orbit.KeplerOrbit.eccentric_anomaly``), the true anomaly's
+    ``cos f = (cos E - e) / (1 - e cos E)``, ``sin f = b sin E / (1 - e cos E)``, turned
+    by the perifocal quaternion ``p``; ``3 mu / r^3 = 3 n^2 / (1 - e cos E)^3``
+    (``r = a (1 - e cos E)``, ``mu = n^2 a^3``)."""
+    m = m0 + n * t
+    m -= 2.0 * math.pi * math.floor((m + math.pi) / (2.0 * math.pi))
+    _, c, s = nh.kepler(m, e)
+    g = 1.0 - e * c
+    ig = 1.0 / g
+    v0, v1, v2 = nh.qrot(p0, p1, p2, p3, (c - e) * ig, b * s * ig, 0.0)
+    return v0, v1, v2, 3.0 * n * n * ig * ig * ig
+
+
+@njit(cache=True, inline="always")
 def _torque_s(
-    q0, q1, q2, q3, w0, w1, w2, j00, j01, j02, j10, j11, j12, j20, j21, j22, kind,
-    p0, p1, p2, p3,
+    t, q0, q1, q2, q3, w0, w1, w2, j00, j01, j02, j10, j11, j12, j20, j21, j22, kind,
+    p0, p1, p2, p3, p4, p5, p6, p7,
 ):  # fmt: skip  # pragma: no cover
-    """The body torque of a built-in model (``kind``, ``par = (p0, p1, p2, p3)``: see the
-    module notes) at attitude ``q`` and angular velocity ``w``, for inertia ``J`` given by
-    rows; shared by the DOP853 right-hand sides (one body, lanes), RK4 and the midpoint
-    rule."""
+    """The body torque of a built-in model (``kind``, ``par = (p0, ..., p7)``: see the
+    module notes) at time ``t``, attitude ``q`` and angular velocity ``w``, for inertia
+    ``J`` given by rows; shared by the DOP853 right-hand sides (one body, lanes), RK4 and
+    the midpoint rule."""
     t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
         t0, t1, t2 = p0, p1, p2
@@ -105,28 +139,32 @@ def _torque_s(
         s = p0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
         t0, t1, t2 = nh.cross(g0, g1, g2, p1, p2, p3)
         t0, t1, t2 = s * t0, s * t1, s * t2
-    elif kind == 2 or kind == 4:
-        # body components of a space vector: the torque or the orbit radius
+    elif kind == 2 or kind == 4 or kind == KEPLER:
+        # body components of a space vector: the torque or the direction to the body
+        # (fixed, or on the orbit at t), with the gravity-gradient coefficient k
         if kind == 2:
-            v0, v1, v2 = p0, p1, p2
+            v0, v1, v2, k = p0, p1, p2, 1.0
+        elif kind == 4:
+            v0, v1, v2, k = p1, p2, p3, p0
         else:
-            v0, v1, v2 = p1, p2, p3
+            v0, v1, v2, k = _orbit_direction(t, p0, p1, p2, p3, p4, p5, p6, p7)
         b0, b1, b2 = nh.qrot_inverse(q0, q1, q2, q3, v0, v1, v2)
         if kind == 2:
             t0, t1, t2 = b0, b1, b2
         else:  # gravity gradient: k n_b x J n_b
             j0, j1, j2 = nh.matvec(j00, j01, j02, j10, j11, j12, j20, j21, j22, b0, b1, b2)
             t0, t1, t2 = nh.cross(b0, b1, b2, j0, j1, j2)
-            t0, t1, t2 = p0 * t0, p0 * t1, p0 * t2
+            t0, t1, t2 = k * t0, k * t1, k * t2
     return t0, t1, t2
 
 
 @njit(cache=True, inline="always")
-def _torque(q0, q1, q2, q3, w0, w1, w2, J, kind, par):
-    """:func:`_torque_s` with ``J`` (3, 3) and ``par`` (4,) arrays."""
+def _torque(t, q0, q1, q2, q3, w0, w1, w2, J, kind, par):
+    """:func:`_torque_s` with ``J`` (3, 3) and ``par`` (:data:`NPAR`,) arrays."""
     return _torque_s(
-        q0, q1, q2, q3, w0, w1, w2, J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
-        J[2, 0], J[2, 1], J[2, 2], kind, par[0], par[1], par[2], par[3],
+        t, q0, q1, q2, q3, w0, w1, w2, J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2],
+        J[2, 0], J[2, 1], J[2, 2], kind, par[0], par[1], par[2], par[3], par[4], par[5],
+        par[6], par[7],
     )  # fmt: skip
 
 
@@ -150,7 +188,9 @@ def _rhs_formula(t, y, J, Ji, kind, par, f):
             J[0, 0], J[0, 1], J[0, 2], J[1, 0], J[1, 1], J[1, 2], J[2, 0], J[2, 1], J[2, 2],
             w0, w1, w2,
         )  # fmt: skip
-    t0, t1, t2 = _torque(q0, q1, q2, q3, w0, w1, w2, J, kind - DIAGONAL if diagonal else kind, par)
+    t0, t1, t2 = _torque(
+        t, q0, q1, q2, q3, w0, w1, w2, J, kind - DIAGONAL if diagonal else kind, par
+    )
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
     if diagonal:
         f[4], f[5], f[6] = Ji[0, 0] * m0, Ji[1, 1] * m1, Ji[2, 2] * m2
@@ -409,7 +449,7 @@ def integrate_batch(
 ):
     """Integrate ``N`` independent bodies in parallel.
 
-    ``y0`` (N, 7) = (q, w); ``J``, ``Ji`` (N, 3, 3); ``par`` (N, 4); outputs
+    ``y0`` (N, 7) = (q, w); ``J``, ``Ji`` (N, 3, 3); ``par`` (N, :data:`NPAR`); outputs
     ``oq`` (n, N, 4), ``ow`` (n, N, 3), ``stats`` (N, 4) int64; ``cancel`` (1,) and
     ``done`` (N,) int64 (see :func:`one_body`). Without the GIL, so that the calling
     thread can take Ctrl-C (``poinsot._progress.run_compiled``).
@@ -510,8 +550,8 @@ def midpoint_body(
     q, m, J, Ji, kind, par, t_out, nsub, coef, oq, om, cancel, done
 ):  # pragma: no cover
     """The implicit Lie-Poisson midpoint rule of ``simulate(method="midpoint")`` for one
-    body under a built-in torque that depends on the attitude or on ``w`` (kinds 2-5,
-    the torque taken at the midpoint attitude and angular velocity ``W x``): the NumPy
+    body under a built-in torque that depends on the attitude, ``w`` or ``t`` (kinds 2-6,
+    the torque taken at the midpoint time, attitude and angular velocity ``W x``): the NumPy
     path's step (``integrators.midpoint._midpoint_step_numpy``), the same operations per
     body, compiled. ``q`` (4,) unit, ``m = J w`` (3,); ``coef`` the composition
     coefficients. Newton on the midpoint momentum ``x``, the torque taken at the midpoint
@@ -534,15 +574,20 @@ def midpoint_body(
     # the first step's predictor uses the torque at the start, later ones the previous
     # step's midpoint torque (as the NumPy path); the torque at w = W m (kind 5 takes it)
     o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, m0, m1, m2)
-    t0, t1, t2 = _torque(q0, q1, q2, q3, o0, o1, o2, J, kind, par)
+    t0, t1, t2 = _torque(t_out[0], q0, q1, q2, q3, o0, o1, o2, J, kind, par)
     for k in range(t_out.shape[0] - 1):
         done[0] = k
         hk = (t_out[k + 1] - t_out[k]) / nsub[k]
+        tn = t_out[k]
         for s_ in range(nsub[k] * nc):
             if nh.cancelled(cancel):  # at every step: one interval may hold them all
                 return 3, k, worst
+            if s_ % nc == 0:  # the step's start time, as integrators._common._stages
+                tn = t_out[k] + (s_ // nc) * hk
             h = hk * coef[s_ % nc]
             h2 = 0.5 * h
+            tm = tn + h2  # the midpoint time (kind 6 takes it)
+            tn += h
             o0, o1, o2 = nh.matvec(w00, w01, w02, w10, w11, w12, w20, w21, w22, m0, m1, m2)
             f0, f1, f2 = nh.euler_momentum_rate(m0, m1, m2, o0, o1, o2, t0, t1, t2)
             x0, x1, x2 = m0 + h2 * f0, m1 + h2 * f1, m2 + h2 * f2
@@ -555,7 +600,7 @@ def midpoint_body(
                 d = 1.0 + math.sqrt(1.0 + a0 * a0 + a1 * a1 + a2 * a2)
                 p0, p1, p2, p3 = nh.qmul_gibbs(q0, q1, q2, q3, a0 / d, a1 / d, a2 / d)
                 p0, p1, p2, p3 = nh.qnormalize(p0, p1, p2, p3)
-                t0, t1, t2 = _torque(p0, p1, p2, p3, o0, o1, o2, J, kind, par)
+                t0, t1, t2 = _torque(tm, p0, p1, p2, p3, o0, o1, o2, J, kind, par)
                 f0, f1, f2 = nh.euler_momentum_rate(x0, x1, x2, o0, o1, o2, t0, t1, t2)
                 r0 = x0 - m0 - h2 * f0
                 r1 = x1 - m1 - h2 * f1

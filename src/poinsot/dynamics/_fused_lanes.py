@@ -18,9 +18,10 @@ every lane is idle.
 
 Work-array layout (float64 offsets): ``y`` (7 x L), the 16 stages ``K_s`` (7 x L
 each, ``K_0 = f(y)``), ``y_new``, the dense-output coefficients ``F`` (7 x 7 x L),
-``J`` and ``J^-1`` (9 x L, row-major), the torque parameters (4 x L), the step
+``J`` and ``J^-1`` (9 x L, row-major), the torque parameters (``NPAR`` x L), the step
 ``h`` and the error norm ``err`` (L each), the stage argument ``z`` and value, then the
-lane state (``S_*`` rows of L).
+lane state (``S_*`` rows of L), the last of them the time of the stage being evaluated
+(``S_TZ``, written before each evaluation for the one torque that reads it, kind 6).
 """
 
 from __future__ import annotations
@@ -35,11 +36,15 @@ from .._numba_cache import depends_on
 from . import _fused
 from . import _fused_stages as G
 from ._fused import (
+    _C,
+    _CX,
     CANCELLED,
     DIAGONAL,
+    KEPLER,
     MAX_FACTOR,
     MIN_FACTOR,
     NONFINITE,
+    NPAR,
     OK,
     SAFETY,
     STEP_TOO_SMALL,
@@ -100,7 +105,7 @@ OFF_F = OFF_YN + 7 * L
 OFF_J = OFF_F + 7 * 7 * L
 OFF_JI = OFF_J + 9 * L
 OFF_P = OFF_JI + 9 * L
-OFF_H = OFF_P + 4 * L
+OFF_H = OFF_P + NPAR * L
 OFF_ERR = OFF_H + L
 OFF_Z = OFF_ERR + L
 OFF_KOUT = OFF_Z + 7 * L
@@ -127,7 +132,8 @@ S_DENSE = OFF_S + 13 * L  # 1: outputs inside the accepted step
 S_READY = OFF_S + 14 * L  # 1: prepared for the next attempt
 S_END = OFF_S + 15 * L  # the status that ends the lane's body, -1 if none
 S_EVENT = OFF_S + 16 * L  # 1: the accepted step needs scalar work (outputs, non-finite)
-N_WORK = OFF_S + 17 * L
+S_TZ = OFF_S + 17 * L  # time of the stage evaluated next (kind 6 only)
+N_WORK = OFF_S + 18 * L
 
 _bits: Any
 _from_bits: Any
@@ -174,15 +180,34 @@ def _next_up(t):  # pragma: no cover
     return 5e-324 if t == 0.0 else _from_bits(b)
 
 
+@njit(cache=True, inline="always")
+def _stage_times(W, kind, c):  # pragma: no cover
+    """``S_TZ = t + c h`` of every lane, the time of the stage about to be evaluated
+    (``one_body``'s ``t + _C[s] * h``), for the one torque kind that reads it."""
+    if kind == KEPLER:
+        for l in range(L):
+            W[S_TZ + l] = W[S_T + l] + c * W[OFF_H + l]
+
+
+@njit(cache=True, inline="always")
+def _end_times(W, kind):  # pragma: no cover
+    """``S_TZ = t_new`` of every lane, the time of the FSAL stage (``one_body``'s)."""
+    if kind == KEPLER:
+        for l in range(L):
+            W[S_TZ + l] = W[S_TNEW + l]
+
+
 @njit(cache=True, error_model="numpy")
-def lane_first_steps(W, kind, span, rtol, atol, max_step):  # pragma: no cover
-    """Every lane's derivative ``f = K_0`` at its state ``y`` and its first step (into the
-    ``h`` row): :func:`poinsot.dynamics._fused._initial_step`'s operations, in its order,
-    lane by lane, vectorised across the lanes (the ``y``, ``J``, ``J^-1`` and parameter
-    rows of ``W`` loaded; the other rows are scratch here)."""
+def lane_first_steps(W, kind, t0, span, rtol, atol, max_step):  # pragma: no cover
+    """Every lane's derivative ``f = K_0`` at its state ``y`` (time ``t0``) and its first
+    step (into the ``h`` row): :func:`poinsot.dynamics._fused._initial_step`'s operations,
+    in its order, lane by lane, vectorised across the lanes (the ``y``, ``J``, ``J^-1``
+    and parameter rows of ``W`` loaded; the other rows are scratch here)."""
     for c in range(7):
         for l in range(L):
             W[OFF_Z + c * L + l] = W[OFF_Y + c * L + l]
+    for l in range(L):
+        W[S_TZ + l] = t0
     _rhs_lanes(W, kind)
     for l in range(L):
         a0 = 0.0
@@ -203,6 +228,7 @@ def lane_first_steps(W, kind, span, rtol, atol, max_step):  # pragma: no cover
         h0 = min(h0, span)
         W[OFF_H + l] = h0
         W[OFF_ERR + l] = d1
+        W[S_TZ + l] = t0 + h0
         for c in range(7):
             W[OFF_Z + c * L + l] = W[OFF_Y + c * L + l] + h0 * W[OFF_K + c * L + l]
     _rhs_lanes(W, kind)
@@ -233,19 +259,19 @@ def _lane_body(W, l, b, y0, J, Ji, par):  # pragma: no cover
         for c in range(3):
             W[OFF_J + (3 * r + c) * L + l] = J[b, r, c]
             W[OFF_JI + (3 * r + c) * L + l] = Ji[b, r, c]
-    for i in range(4):
+    for i in range(NPAR):
         W[OFF_P + i * L + l] = par[b, i]
 
 
 @njit(cache=True)
-def _first_steps(lo, hi, W, y0, J, Ji, kind, par, span, rtol, atol, max_step, first):
-    """``first[b - lo] = (f, h)`` of the bodies ``lo`` to ``hi - 1``: their derivatives
-    and first steps, ``L`` bodies at a time (:func:`lane_first_steps`, in ``W``); a short
-    last block repeats the last body."""
+def _first_steps(lo, hi, W, y0, J, Ji, kind, par, t0, span, rtol, atol, max_step, first):
+    """``first[b - lo] = (f, h)`` of the bodies ``lo`` to ``hi - 1`` starting at time
+    ``t0``: their derivatives and first steps, ``L`` bodies at a time
+    (:func:`lane_first_steps`, in ``W``); a short last block repeats the last body."""
     for b0 in range(lo, hi, L):
         for l in range(L):
             _lane_body(W, l, min(b0 + l, hi - 1), y0, J, Ji, par)
-        lane_first_steps(W, kind, span, rtol, atol, max_step)
+        lane_first_steps(W, kind, t0, span, rtol, atol, max_step)
         for l in range(min(L, hi - b0)):
             for c in range(7):
                 first[b0 - lo + l, c] = W[OFF_K + c * L + l]
@@ -524,6 +550,8 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
     i10, i11, i12 = W[OFF_JI + 3 * L + l], W[OFF_JI + 4 * L + l], W[OFF_JI + 5 * L + l]
     i20, i21, i22 = W[OFF_JI + 6 * L + l], W[OFF_JI + 7 * L + l], W[OFF_JI + 8 * L + l]
     p0, p1, p2, p3 = W[OFF_P + l], W[OFF_P + L + l], W[OFF_P + 2 * L + l], W[OFF_P + 3 * L + l]
+    p4, p5 = W[OFF_P + 4 * L + l], W[OFF_P + 5 * L + l]
+    p6, p7 = W[OFF_P + 6 * L + l], W[OFF_P + 7 * L + l]
     d0, d1, d2, d3 = nh.qmul(q0, q1, q2, q3, 0.0, w0, w1, w2)
     diagonal = kind >= DIAGONAL
     if diagonal:
@@ -531,8 +559,8 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
     else:
         k0, k1, k2 = nh.matvec(a00, a01, a02, a10, a11, a12, a20, a21, a22, w0, w1, w2)
     t0, t1, t2 = _torque_s(
-        q0, q1, q2, q3, w0, w1, w2, a00, a01, a02, a10, a11, a12, a20, a21, a22,
-        kind - DIAGONAL if diagonal else kind, p0, p1, p2, p3,
+        W[S_TZ + l], q0, q1, q2, q3, w0, w1, w2, a00, a01, a02, a10, a11, a12, a20, a21,
+        a22, kind - DIAGONAL if diagonal else kind, p0, p1, p2, p3, p4, p5, p6, p7,
     )  # fmt: skip
     m0, m1, m2 = nh.euler_momentum_rate(k0, k1, k2, w0, w1, w2, t0, t1, t2)
     if diagonal:
@@ -572,6 +600,9 @@ def _rhs_lanes(W, kind):  # pragma: no cover
     elif kind == 5:
         for l in range(L):
             _rhs_lane(W, l, 5)
+    elif kind == KEPLER:  # (no diagonal form: Kepler's equation dominates its cost)
+        for l in range(L):
+            _rhs_lane(W, l, KEPLER)
     elif kind == DIAGONAL:
         for l in range(L):
             _rhs_lane(W, l, DIAGONAL)
@@ -585,28 +616,40 @@ def _attempt(W, kind, rtol, atol):  # pragma: no cover
     """One step attempt of every lane: stages 1-11, ``y_new``, the FSAL stage 12 and the
     error norm ``err`` (``one_body``'s operations, lane by lane)."""
     G._stage1(W)
+    _stage_times(W, kind, _C[1])
     _rhs_lanes(W, kind)
     G._stage2(W)
+    _stage_times(W, kind, _C[2])
     _rhs_lanes(W, kind)
     G._stage3(W)
+    _stage_times(W, kind, _C[3])
     _rhs_lanes(W, kind)
     G._stage4(W)
+    _stage_times(W, kind, _C[4])
     _rhs_lanes(W, kind)
     G._stage5(W)
+    _stage_times(W, kind, _C[5])
     _rhs_lanes(W, kind)
     G._stage6(W)
+    _stage_times(W, kind, _C[6])
     _rhs_lanes(W, kind)
     G._stage7(W)
+    _stage_times(W, kind, _C[7])
     _rhs_lanes(W, kind)
     G._stage8(W)
+    _stage_times(W, kind, _C[8])
     _rhs_lanes(W, kind)
     G._stage9(W)
+    _stage_times(W, kind, _C[9])
     _rhs_lanes(W, kind)
     G._stage10(W)
+    _stage_times(W, kind, _C[10])
     _rhs_lanes(W, kind)
     G._stage11(W)
+    _stage_times(W, kind, _C[11])
     _rhs_lanes(W, kind)
     G._ynew(W)
+    _end_times(W, kind)
     _rhs_lanes(W, kind)
     G._err(W, rtol, atol)
 
@@ -616,10 +659,13 @@ def _dense(W, kind):  # pragma: no cover
     """The 7th-order dense output of the step just taken, every lane: the extra stages
     13-15 and the interpolant's coefficients ``F``."""
     G._stage13(W)
+    _stage_times(W, kind, _CX[0])
     _rhs_lanes(W, kind)
     G._stage14(W)
+    _stage_times(W, kind, _CX[1])
     _rhs_lanes(W, kind)
     G._stage15(W)
+    _stage_times(W, kind, _CX[2])
     _rhs_lanes(W, kind)
     G._fcoef(W)
 
@@ -643,8 +689,8 @@ def _chunk(
     # every body's derivative and first step up front, L bodies at a time: one at a time,
     # as the lanes free up, they took 150-180 ns per body (a third of a one-step body)
     first = np.empty((hi - lo, 8))
-    _first_steps(lo, hi, W, y0, J, Ji, kind, par, t_end - t_out[0], rtol, atol, max_step,
-                 first)  # fmt: skip
+    _first_steps(lo, hi, W, y0, J, Ji, kind, par, t_out[0], t_end - t_out[0], rtol, atol,
+                 max_step, first)  # fmt: skip
     W[:] = 0.0  # (the first steps used it as scratch)
     W[S_BODY : S_BODY + L] = -1.0
     W[S_END : S_END + L] = -1.0

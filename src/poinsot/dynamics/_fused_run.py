@@ -12,6 +12,7 @@ modules): the integrators import it when they first run.
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -19,15 +20,19 @@ from .._jit import NUMBA, first_call
 from .._progress import run_compiled
 from .._scratch import hold
 from .._vec import all_diagonal3, diagonal3, inverse3
+from ..rotations import Rotation
 from ..rotations._lazy import threaded
 from . import _fused_lanes
 from . import torques as _tq
 from ._fused import (
     DIAGONAL,
+    KEPLER,
+    NPAR,
     integrate_batch,
     midpoint_batch,
     rk4_batch,
 )
+from .orbit import KeplerOrbit
 
 #: Whether :func:`integrate` runs the lane-blocked kernels (:mod:`._fused_lanes`, the same
 #: results bit for bit) rather than :func:`integrate_batch`'s one body per iteration;
@@ -35,16 +40,49 @@ from ._fused import (
 LANES = True
 
 
+def _kepler_par(torque):
+    """Kind 6's parameters ``(n, e, M_0, sqrt(1 - e^2), p)`` (:mod:`._fused`) of an
+    :class:`~poinsot.dynamics.OrbitGravityGradientTorque` on a
+    :class:`~poinsot.dynamics.KeplerOrbit` of the same ``mu``, else ``None`` (another
+    orbit, a subclass that may change the formulas, another ``mu``: the Python path).
+    ``M_0 = M(epoch) - n epoch`` reduced to ``[-pi, pi)``; ``p`` the unit quaternion of
+    the perifocal axes ``[P Q W]``."""
+    orbit = torque.orbit
+    if type(torque) is not _tq.OrbitGravityGradientTorque or type(orbit) is not KeplerOrbit:
+        return None
+    if torque.mu != orbit.mu:
+        return None
+    n = orbit.mean_motion
+    m0 = math.remainder(orbit._mean0 - n * orbit.epoch, 2.0 * math.pi)
+    m0 = -math.pi if m0 >= math.pi else m0
+    p = Rotation.from_matrix(orbit.perifocal).as_quat()
+    e = orbit.e
+    return np.array([n, e, m0, math.sqrt((1.0 - e) * (1.0 + e)), *p])
+
+
+def _same_inertia(torque, j, batch) -> bool:
+    """Whether a gravity-gradient model's own inertia is the integrated body's ``J``
+    (kind 6 takes ``J`` from the body; another inertia takes the Python path)."""
+    mine = np.asarray(torque.inertia, dtype=float)
+    try:
+        return bool(
+            np.array_equal(np.broadcast_to(mine, batch + (3, 3)), j.reshape(batch + (3, 3)))
+        )
+    except ValueError:
+        return False
+
+
 def torque_kernel(torque, batch: tuple[int, ...], par=None):
-    """``(kind, par (batch + (4,)))`` for a built-in torque model, else ``None``.
+    """``(kind, par (batch + (NPAR,)))`` for a built-in torque model, else ``None``.
 
     ``None`` (no torque) is kind 0. A torque the kernel does not know (a Python
     callable) returns ``None``: the caller takes its slower path. ``par``: an array of
-    that shape to fill (else a new one).
+    that shape to fill (else a new one). Kind 6 (the orbit's gravity gradient) takes the
+    body's inertia: the caller checks that it is the model's (:func:`_same_inertia`).
     """
 
     if par is None:
-        par = np.zeros(batch + (4,))
+        par = np.zeros(batch + (NPAR,))
     else:
         par.fill(0.0)
     if torque is None:
@@ -54,15 +92,21 @@ def torque_kernel(torque, batch: tuple[int, ...], par=None):
         return (1 if isinstance(torque, _tq.ConstantBodyTorque) else 2), par
     if isinstance(torque, _tq.GravityTorque):
         par[..., 0] = 1.0
-        par[..., 1:] = torque.moment
+        par[..., 1:4] = torque.moment
         return 3, par
     if isinstance(torque, _tq.GyrostaticTorque):
         par[..., :3] = torque.h
         return 5, par
+    if isinstance(torque, _tq.OrbitGravityGradientTorque):
+        kp = _kepler_par(torque)
+        if kp is None:
+            return None
+        par[...] = kp
+        return KEPLER, par
     gradient = getattr(_tq, "GravityGradientTorque", None)
     if gradient is not None and isinstance(torque, gradient):
         par[..., 0] = torque.coefficient
-        par[..., 1:] = torque.direction
+        par[..., 1:4] = torque.direction
         return 4, par
     return None
 
@@ -80,12 +124,14 @@ def _flat_problem(j, q0, omega0, torque, diagonal=None, scratch=None, principal=
     batch = np.broadcast_shapes(j.shape[:-2], q0.shape[:-1], omega0.shape[:-1])
     n_body = int(np.prod(batch, dtype=np.int64))
     kp = torque_kernel(
-        torque, batch, None if scratch is None else scratch.empty("par", batch + (4,))
+        torque, batch, None if scratch is None else scratch.empty("par", batch + (NPAR,))
     )
     if kp is None:
         return None
     kind, par = kp
     jj = np.ascontiguousarray(np.broadcast_to(j, batch + (3, 3)).reshape(n_body, 3, 3))
+    if kind == KEPLER and not _same_inertia(torque, jj, batch):
+        return None
     if scratch is None:
         ji = inverse3(jj, diagonal)
         y0 = np.empty((n_body, 7))
@@ -94,7 +140,7 @@ def _flat_problem(j, q0, omega0, torque, diagonal=None, scratch=None, principal=
         y0 = scratch.empty("y0", (n_body, 7))
     y0[:, :4] = np.broadcast_to(q0, batch + (4,)).reshape(n_body, 4)
     y0[:, 4:] = np.broadcast_to(omega0, batch + (3,)).reshape(n_body, 3)
-    par = np.ascontiguousarray(par.reshape(n_body, 4))
+    par = np.ascontiguousarray(par.reshape(n_body, NPAR))
     return batch, kind, par, jj, ji, y0
 
 
@@ -207,11 +253,14 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
     done = scratch.zeros("done", (n_body,), dtype=np.int64)
     if kind in (0, 3) and diagonal:  # the lane kernel's diagonal forms
         kind += DIAGONAL
+    seconds = _adaptive_seconds(y0, t, rtol)
+    kernel = None
     if NUMBA and LANES and n_body >= _fused_lanes.L:  # L at a time, SIMD across bodies
-        kernel = _fused_lanes.integrate_batch  # (fewer: the same bits, one compile less)
-    else:  # one body per loop iteration (and the NumPy executor, as Python)
-        kernel = integrate_batch
-    kernel = first_call(kernel, _adaptive_seconds(y0, t, rtol))
+        kernel = first_call(_fused_lanes.integrate_batch, seconds)  # (fewer: one compile less)
+        if getattr(kernel, "interpreted", False):  # its intrinsics (_borrow) run compiled
+            kernel = None  # only: interpret the one-body kernel (the same operations)
+    if kernel is None:  # one body per loop iteration (and the NumPy executor, as Python)
+        kernel = first_call(integrate_batch, seconds)
     run_compiled(
         functools.partial(threaded, kernel),
         (
@@ -255,7 +304,10 @@ def midpoint(j, j_inv, q, m, t, nsub, comp, torque, batch, progress=None):
         return None
     kind, par = kp
     n_body = q.shape[0]
-    par = np.ascontiguousarray(np.broadcast_to(par, batch + (4,)).reshape(n_body, 4))
+    jb = np.broadcast_to(j, (n_body, 3, 3))
+    if kind == KEPLER and not _same_inertia(torque, jb, batch):
+        return None
+    par = np.ascontiguousarray(np.broadcast_to(par, batch + (NPAR,)).reshape(n_body, NPAR))
     t = np.ascontiguousarray(t, dtype=float)
     oq = np.empty((t.size, n_body, 4))
     om = np.empty((t.size, n_body, 3))
