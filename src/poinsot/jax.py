@@ -931,13 +931,15 @@ def free_body_exact(
             q0 = rotation0
         else:
             q0 = as_rotation_quat(rotation0, "rotation0")
+    if q0 is None:  # one compiled program with or without q0 (the same shapes)
+        q0 = jnp.array([1.0, 0.0, 0.0, 0.0])
     return _free_body_exact(moments, omega0, q0)
 
 
 @jax.jit
 def _free_body_exact(moments: Any, omega0: Any, q0: Any) -> FreeBodyMotion:
     j, w = _vec3(moments, "moments"), _vec3(omega0, "omega0")
-    q = jnp.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else _quat4(q0, "q0")
+    q = _quat4(q0, "q0")
     shape = jnp.broadcast_shapes(j.shape[:-1], w.shape[:-1], q.shape[:-1])
     j, w = jnp.broadcast_to(j, shape + (3,)), jnp.broadcast_to(w, shape + (3,))
     q = jnp.broadcast_to(q, shape + (4,))
@@ -952,14 +954,17 @@ def _free_body_exact(moments: Any, omega0: Any, q0: Any) -> FreeBodyMotion:
     return FreeBodyMotion(ws, c, ms, wsc, q)
 
 
-@jax.jit
 def free_body_omega_exact(moments: Any, omega0: Any, t: Any) -> Any:
     """Body angular velocity ``shape + t.shape + (3,)`` of the exact torque-free motion:
     ``free_body_exact(moments, omega0).omega(t)`` (:func:`free_body_exact`, theory §10:
     ``w_i = a_i dn(u)``, ``w_m = a_m sn(u)``, ``w_j = a_j cn(u)``, ``u = lam t + u0``).
+    Its two halves are compiled separately, as :func:`free_body_state_exact`'s (the
+    constants, then the evaluation at ``t``: programs that :func:`free_body_exact`'s
+    ``omega`` shares; one program for both took 2-3 times as long to compile); wrap it
+    in ``jax.jit`` inside a larger function as usual.
 
     >>> w = free_body_omega_exact(jnp.array([1.0, 2, 3]), jnp.array([0.0, 0, 1]),
-    ...                           jnp.linspace(0, 1, 3))
+    ...                           jnp.array([0.0, 1.0]))
     >>> w[-1].tolist()                     # a steady spin about a principal axis
     [0.0, 0.0, 1.0]
     """
