@@ -30,11 +30,14 @@ from .engine import (
     run,
     run_chunk,
 )
+from .filters import FilterConsistency, filter_monte_carlo
 from .metrics import COMPONENTS, METRICS, STATISTICS, Metric
 from .scenario import load_ensemble, problem_from_scenario, run_scenario_ensemble
 
 __all__ = [
     "run",
+    "filter_monte_carlo",
+    "FilterConsistency",
     "run_chunk",
     "EnsembleProblem",
     "EnsembleResult",
