@@ -1217,10 +1217,6 @@ class Estimation(Group):
     def of_states(self, case: Case, states: dict[str, np.ndarray], method: str) -> Any:
         return Estimate(case.t, states["quat"], states.get("bias"), states.get("sigma"), method)
 
-    def report_options(self, case: Case, errors: dict[str, np.ndarray]) -> dict[str, Any]:
-        return {"series": [("attitude error of the estimate", "rad",
-                            {"attitude": np.asarray(errors["attitude"])})]}  # fmt: skip
-
 
 def _worst(x: float) -> float:
     return x if math.isfinite(x) else math.inf
