@@ -34,7 +34,9 @@ def main() -> None:
     data = draw_sensors(case)
     inputs = {f"input_{k}": np.asarray(v, dtype=float) for k, v in case.inputs.items()}
     np.savez_compressed(DATA / "mekf_racket.npz", t=case.t, **data, **inputs)
-    print(f"wrote {DATA / 'mekf_racket.npz'}: " + ", ".join(f"{k} {v.shape}" for k, v in data.items()))
+    print(
+        f"wrote {DATA / 'mekf_racket.npz'}: " + ", ".join(f"{k} {v.shape}" for k, v in data.items())
+    )
 
 
 if __name__ == "__main__":

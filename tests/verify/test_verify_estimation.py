@@ -145,7 +145,10 @@ def test_an_estimate_with_the_attitude_alone_is_scored_on_it(tmp_path):
     "edit, match",
     [
         (lambda df: df.drop(columns="qz"), "missing `qz`"),
-        (lambda df: df.drop(columns=["by", "bz"]), r"gyro bias columns bx, by, bz \(all or none\); missing `by`, `bz`"),
+        (
+            lambda df: df.drop(columns=["by", "bz"]),
+            r"bx, by, bz \(all or none\); missing `by`, `bz`",
+        ),
         (lambda df: df.assign(sy=0.0), "column `sy` to hold positive"),
         (lambda df: df.assign(sx="x"), "column `sx` to hold numbers"),
         (lambda df: df.assign(qw=2.0), "unit quaternions in columns qw, qx, qy, qz"),

@@ -155,10 +155,15 @@ def write_estimate(directory: str | Path, case: Case, estimate: Estimate) -> Pat
     ('mekf-racket.csv', 't,qw,qx,qy,qz,bx,by,bz,sx,sy,sz')
     """
     if not isinstance(estimate, Estimate):
-        raise InvalidTypeError(f"Expected `estimate` to be an Estimate, got {type(estimate).__name__}.")
+        raise InvalidTypeError(
+            f"Expected `estimate` to be an Estimate, got {type(estimate).__name__}."
+        )
     names = list(ESTIMATE_COLUMNS[:5])
     parts = [case.t, estimate.quat]
-    for cols, arr in ((ESTIMATE_COLUMNS[5:8], estimate.bias), (ESTIMATE_COLUMNS[8:], estimate.sigma)):
+    for cols, arr in (
+        (ESTIMATE_COLUMNS[5:8], estimate.bias),
+        (ESTIMATE_COLUMNS[8:], estimate.sigma),
+    ):
         if arr is not None:
             names += cols
             parts.append(arr)

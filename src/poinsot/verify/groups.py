@@ -917,7 +917,8 @@ class FreeFlight(FreeBody):
 
 
 class Estimate:
-    """An attitude estimate on an estimation case's grid, as scored (docs/verify.md).
+    """An attitude estimate on an estimation case's grid, as scored (docs/verify.md;
+    the attitude-error convention of docs/theory.md §10.4).
 
     Parameters
     ----------

@@ -34,7 +34,7 @@ from .._drift import relative_drift
 from .._quat import attitude_distance
 from ..trajectory import Result, compare
 from .cases import Case
-from .groups import _deprecated_states, as_result
+from .groups import Estimate, _deprecated_states, as_result
 
 #: metric name -> (units, what it measures)
 METRICS: dict[str, tuple[str, str]] = {
@@ -49,7 +49,7 @@ METRICS: dict[str, tuple[str, str]] = {
     ),
     "momentum": ("1", "relative drift of the angular momentum (K_z for a top, relative to |K|)"),
     "events": ("s", "largest time error of the characteristic events"),
-    "attitude_rms": ("rad", "RMS geodesic attitude error of an estimate over the run's second half"),
+    "attitude_rms": ("rad", "RMS attitude error of an estimate over the run's second half"),
     "bias": ("rad/s", "|b - b_exact| of an estimate's gyro bias at the end of the run"),
     "nees": (
         "1",
@@ -161,7 +161,7 @@ def crossings(t: np.ndarray, s: np.ndarray, level: float) -> np.ndarray:
 
 def evaluate(
     case: Case,
-    result: Result | dict[str, np.ndarray],
+    result: Result | Estimate | dict[str, np.ndarray],
     *,
     seconds: float = 0.0,
     work: int | None = None,
@@ -172,10 +172,11 @@ def evaluate(
     Parameters
     ----------
     case : Case
-    result : Trajectory or PointTrajectory
+    result : Trajectory, PointTrajectory or Estimate
         The engine's motion on ``case.t``: a :class:`poinsot.Trajectory` (attitude
         body -> space, angular velocity in body axes, rad/s) for a rigid body, a
-        :class:`poinsot.PointTrajectory` (m, m/s) for a point. The former dict of
+        :class:`poinsot.PointTrajectory` (m, m/s) for a point; an
+        :class:`poinsot.verify.groups.Estimate` for an estimation case. The former dict of
         arrays (``quat`` (n, 4) scalar first and ``omega`` (n, 3), or ``position``
         and ``velocity`` (n, 3)) is still read, with a DeprecationWarning.
     seconds, work : optional
@@ -208,13 +209,10 @@ def evaluate(
     """
     if isinstance(result, dict):
         _deprecated_states()
-    result = as_result(case, result)
-    own = case.spec.score(case, result)
-    if own is not None:
-        values, errors, states = own
-    else:
-        values, errors, states = _compare(case, result)
-    return _verdict(case, result, values, errors, states, seconds, work, defects)
+    got = as_result(case, result)
+    own = case.spec.score(case, got)
+    values, errors, states = own if own is not None else _compare(case, got)
+    return _verdict(case, got, values, errors, states, seconds, work, defects)
 
 
 def _compare(
