@@ -279,8 +279,9 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
 
 def _thresholds(results: list[CaseResult], name: str) -> str:
     """The threshold(s) of metric ``name`` over the scored cases (e.g. ``"1.0e-06"``)."""
-    values = sorted({r.metrics[name]["threshold"] for r in results if name in r.metrics})
-    return " / ".join(f"{v:.1e}" for v in values)
+    values = sorted({(r.metrics[name].get("minimum"), r.metrics[name]["threshold"])
+                     for r in results if name in r.metrics}, key=lambda b: b[1])  # fmt: skip
+    return " / ".join(f"{v:.1e}" if lo is None else f"{lo:.1e}..{v:.1e}" for lo, v in values)
 
 
 def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
