@@ -36,7 +36,8 @@ CASE = cases("thrown-box")[0]
 
 
 def test_the_case_is_version_3_and_a_pose():
-    assert CASES_VERSION == "3" and [c.name for c in cases()][-1] == "thrown-box"
+    names = [c.name for c in cases()]  # version 4 appended the estimation case after it
+    assert int(CASES_VERSION) >= 3 and names[names.index("thrown-box") - 1] == "foucault"
     assert CASE.group == "free-flight" and CASE.kind == "pose"
     assert [c.name for c in cases("free-flight")] == ["thrown-box"]
     # a homogeneous 0.3 x 0.2 x 0.1 m box of 1.5 kg: m (b^2 + c^2) / 12 ... by hand

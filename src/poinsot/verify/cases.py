@@ -35,6 +35,10 @@ Version 2 inputs: ``body_torque`` (N m, body axes), ``rotor_momentum`` (kg m^2/s
 body axes, relative to the body), ``mean_motion`` (rad/s, the circular orbit's
 rate; the space frame is the orbit frame at t = 0). Version 3 inputs:
 ``position0``, ``velocity0`` of a body's centre of mass (m, m/s, space axes).
+Version 4 inputs (estimation): the gyro's ``gyro_arw`` (rad/s^0.5), ``gyro_rrw``
+(rad/s^1.5), ``gyro_bias0`` (rad/s), the star tracker's ``star_tracker_period`` (s)
+and ``star_tracker_sigma`` (rad, about body x, y, z), the ``seed`` of the samples,
+the estimator's ``bias_estimate0`` (rad/s) and diagonal ``covariance0``.
 """
 
 from __future__ import annotations
@@ -53,7 +57,7 @@ from ..rotations.rotation import Rotation
 from .groups import GROUP_TABLE, Group
 
 #: version of the set of cases: bumped whenever a case's inputs, grid or thresholds change
-CASES_VERSION = "3"
+CASES_VERSION = "4"
 
 #: groups of cases (``--cases`` accepts a group or a case name); each is one object of
 #: :data:`poinsot.verify.groups.GROUP_TABLE`
@@ -85,11 +89,12 @@ class Case:
         One of :data:`GROUPS`.
     description : str
         One line for people.
-    kind : {"rigid", "point", "pose"}
+    kind : {"rigid", "point", "pose", "estimate"}
         A rigid body (states ``quat`` (n, 4), ``omega`` (n, 3) in body axes), a
         point (states ``position``, ``velocity`` (n, 3)), or a rigid body in six
         degrees of freedom (states ``position``, ``velocity`` of the centre of mass,
-        space axes, then ``quat``, ``omega``).
+        space axes, then ``quat``, ``omega``), or an attitude estimate (states
+        ``quat`` and, optionally, ``bias`` and ``sigma``; the truth ``quat``, ``bias``).
     inputs : dict
         SI inputs. Rigid: ``inertia`` (3, 3) about the centre of mass (kg m^2),
         ``mass`` (kg), ``com`` (3,) centre of mass from the fixed point (m, zero for
@@ -424,6 +429,7 @@ def _all_cases() -> list[Case]:
     ]  # fmt: skip
     cases.append(_frame_case())
     cases.append(thrown_box_case())
+    cases.append(mekf_racket_case())
     return [_finish(c) for c in cases]
 
 
@@ -490,6 +496,66 @@ def thrown_box_case() -> Case:
         t=_grid(3.0, 0.01),
         thresholds=dict(DEFAULT_THRESHOLDS),
         event={"name": "flip", "signal": "omega_1", "level": 0.0},
+    )
+
+
+#: the thresholds of the estimation cases: attitude error (rad, largest over the second
+#: half of the run, and RMS over it), bias error at the end (rad/s), and the band of the
+#: time-averaged NEES (``nees_min`` to ``nees``: chi-square, 3 dof, two-sided 95 %)
+ESTIMATION_THRESHOLDS: dict[str, float] = {
+    "attitude": 1.5e-3,
+    "attitude_rms": 5e-4,
+    "bias": 1e-4,
+    "nees": 9.348403604496148,
+    "nees_min": 0.21579528262389797,
+}
+
+
+def mekf_racket_case() -> Case:
+    """Attitude estimation on the tumbling of a racket-like body (version 4).
+
+    The truth: the free body ``diag(1, 2, 3)`` kg m^2 spun at ``(0.1, 1, 0.1)`` rad/s,
+    near its intermediate axis (it flips every 11.5 s), exact
+    (:class:`poinsot.dynamics.FreeRigidBody`, docs/theory.md §10), on a 10 Hz grid over
+    200 s. A rate-integrating gyro (Farrenkopf: ARW 1e-4 rad/s^0.5, RRW 1e-6
+    rad/s^1.5, initial bias ``(1, -2, 0.5) 1e-3`` rad/s) on the grid and a star tracker
+    at 1 Hz (1e-4 rad about x and y, 5e-4 rad about its boresight z), drawn once from
+    the seed and stored (``poinsot/verify/data/mekf_racket.npz``,
+    ``tools/make_estimation_reference.py``). An estimator starts from the first
+    star-tracker sample, a zero bias and the diagonal covariance ``covariance0``
+    (docs/theory.md §10.4).
+
+    Examples
+    --------
+    >>> case = mekf_racket_case()
+    >>> case.t.size, case.inputs["star_tracker_sigma"].tolist()
+    (2001, [0.0001, 0.0001, 0.0005])
+    """
+    return Case(
+        name="mekf-racket",
+        group="estimation",
+        description="attitude estimation: gyro (10 Hz) and star tracker (1 Hz) on a body "
+        "tumbling near its intermediate axis, 200 s; attitude, bias and NEES consistency",
+        kind="estimate",
+        inputs={
+            "inertia": np.diag([1.0, 2.0, 3.0]),
+            "mass": 1.0,
+            "com": np.zeros(3),
+            "gravity": np.zeros(3),
+            "fixed_point": False,
+            "q0": np.array([1.0, 0.0, 0.0, 0.0]),
+            "omega0": np.array([0.1, 1.0, 0.1]),
+            "gyro_arw": 1e-4,
+            "gyro_rrw": 1e-6,
+            "gyro_bias0": np.array([1e-3, -2e-3, 5e-4]),
+            "star_tracker_period": 1.0,
+            "star_tracker_sigma": np.array([1e-4, 1e-4, 5e-4]),
+            "seed": 20261130,
+            "bias_estimate0": np.zeros(3),
+            "covariance0": np.array([1e-8, 1e-8, 2.5e-7, 9e-6, 9e-6, 9e-6]),
+        },
+        t=_grid(200.0, 0.1),
+        thresholds=dict(ESTIMATION_THRESHOLDS),
     )
 
 
@@ -587,6 +653,7 @@ def describe(case: Case) -> Mapping[str, Any]:
         "facts": dict(case.facts),
         "units": case.spec.units,
         "conventions": CONVENTIONS,
+        **case.spec.describe(case),
     }
 
 

@@ -154,7 +154,7 @@ class SciPyEngine:
         self.label = f"scipy {method} rtol={self.rtol:g}"
 
     def skip_reason(self, case: Case) -> str | None:
-        return None
+        return case.spec.scipy_skip
 
     def run(self, case: Case) -> tuple[Result, int]:
         from scipy.integrate import solve_ivp

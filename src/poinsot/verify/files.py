@@ -8,7 +8,14 @@ one row per sample of its grid, with a plain header row:
 - point: ``t, x, y, z, vx, vy, vz`` (s, m, m/s);
 - pose (a rigid body in six degrees of freedom, version 3): ``t, x, y, z, vx, vy,
   vz, qw, qx, qy, qz, wx, wy, wz``: the centre of mass's position and velocity (m,
-  m/s, space axes), then the rigid columns,
+  m/s, space axes), then the rigid columns;
+- attitude estimate (the ``estimation`` cases, version 4): ``t, qw, qx, qy, qz, bx,
+  by, bz`` (the truth: attitude, gyro bias in rad/s), and the sensor samples an
+  estimator runs on, ``CASE.gyro.csv`` (``t, wx, wy, wz``: s, rad/s, body axes) and
+  ``CASE.star_tracker.csv`` (``t, qw, qx, qy, qz``); an estimator's file
+  ``CASE.csv`` holds ``t, qw, qx, qy, qz`` and optionally ``bx, by, bz`` (rad/s) and
+  ``sx, sy, sz`` (1-sigma attitude errors about the body axes, rad)
+  (:func:`write_estimate`),
 
 and ``CASE.json``: the inputs (SI), the grid, the thresholds, units and conventions
 (:func:`poinsot.verify.cases.describe`), with ``index.json`` listing the cases and
@@ -33,7 +40,7 @@ from ..kinematics.attitude_history import _make_continuous
 from ..rotations.rotation import Rotation
 from ..trajectory import Result
 from .cases import CASES_VERSION, Case, cases, describe
-from .groups import POINT_COLUMNS, as_result, point_result, quat_unit
+from .groups import ESTIMATE_COLUMNS, POINT_COLUMNS, Estimate, as_result, point_result, quat_unit
 
 MATRIX_COLUMNS = tuple(f"r{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
 
@@ -116,6 +123,10 @@ def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
             arrow = pa.table({c: table[:, k] for k, c in enumerate(columns)})
             atomic_write(out / f"{case.name}.parquet", functools.partial(_parquet, pq, arrow), "b")
             written.append(out / f"{case.name}.parquet")
+        for suffix, (cols, tab) in case.spec.sensor_files(case).items():
+            extra = out / f"{case.name}.{suffix}.csv"
+            atomic_write(extra, _csv_writer(tab, ",".join(cols)))
+            written.append(extra)
         desc = out / f"{case.name}.json"
         atomic_write(desc, _text_writer(json.dumps(describe(case), indent=2) + "\n"))
         written.append(desc)
@@ -125,6 +136,42 @@ def export(directory: str | Path, select: str | Iterable[str] | None = None, *,
     atomic_write(index, _text_writer(listing))
     written.append(index)
     return sorted(written)
+
+
+def write_estimate(directory: str | Path, case: Case, estimate: Estimate) -> Path:
+    """Write an attitude estimate of an estimation case as the file engine reads it:
+    ``DIRECTORY/CASE.csv``, columns ``t, qw, qx, qy, qz`` then, when the estimate has
+    them, ``bx, by, bz`` (rad/s) and ``sx, sy, sz`` (rad), 17 significant digits (read
+    back bit for bit; docs/verify.md, docs/theory.md §10.4).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from poinsot.verify import cases
+    >>> from poinsot.verify.groups import mekf_estimate
+    >>> case = cases("mekf-racket")[0]
+    >>> path = write_estimate(tempfile.mkdtemp(), case, mekf_estimate(case))
+    >>> path.name, path.read_text().splitlines()[0]
+    ('mekf-racket.csv', 't,qw,qx,qy,qz,bx,by,bz,sx,sy,sz')
+    """
+    if not isinstance(estimate, Estimate):
+        raise InvalidTypeError(
+            f"Expected `estimate` to be an Estimate, got {type(estimate).__name__}."
+        )
+    names = list(ESTIMATE_COLUMNS[:5])
+    parts = [case.t, estimate.quat]
+    for cols, arr in (
+        (ESTIMATE_COLUMNS[5:8], estimate.bias),
+        (ESTIMATE_COLUMNS[8:], estimate.sigma),
+    ):
+        if arr is not None:
+            names += cols
+            parts.append(arr)
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / f"{case.name}.csv"
+    atomic_write(path, _csv_writer(np.column_stack(parts), ",".join(names)))
+    return path
 
 
 def read_table(path: Path) -> dict[str, np.ndarray]:
@@ -286,6 +333,9 @@ class FileEngine:
                 f"{k + 1} where the grid has {float(case.t[k])!r} s ({bad.size} samples off by "
                 "more than 1e-9 s)."
             )
+        own = case.spec.read_columns(path, case, cols, self.label)
+        if own is not None:  # an estimate (the estimation cases)
+            return own[0], None, own[1]
         if case.kind in ("point", "pose"):
             need = POINT_COLUMNS[1:]
             missing = [c for c in need if c not in cols]

@@ -26,7 +26,10 @@ group or kind.
   form, the Jacobi integral conserved);
 - :class:`FreeFlight` (``free-flight``, version 3): a rigid body thrown in uniform
   gravity, six degrees of freedom (result :class:`poinsot.PoseTrajectory`): the
-  centre of mass on its parabola, the attitude Euler-Poinsot motion about it.
+  centre of mass on its parabola, the attitude Euler-Poinsot motion about it;
+- :class:`Estimation` (``estimation``, version 4): an attitude estimator run on stored
+  gyro and star-tracker samples of an exact tumbling motion (result :class:`Estimate`):
+  attitude and bias errors against the truth and a NEES consistency verdict.
 """
 
 from __future__ import annotations
@@ -58,7 +61,8 @@ from ..dynamics import (
     simulate_free_motion,
     simulate_particle,
 )
-from ..errors import InvalidTypeError, SingularityWarning
+from ..dynamics.estimation import AttitudeSamples, Gyro, GyroSamples, StarTracker, run_mekf
+from ..errors import InvalidInputError, InvalidTypeError, SingularityWarning
 from ..kinematics import FrameMotion, quat_rate
 from ..kinematics.attitude_history import _make_continuous
 from ..mass import RigidBody
@@ -71,6 +75,9 @@ if TYPE_CHECKING:
     from .cases import Case
 
 RIGID_COLUMNS = ("t", "qw", "qx", "qy", "qz", "wx", "wy", "wz")
+#: an estimate's columns: the attitude, then (optional) the gyro bias and the 1-sigma
+#: attitude errors about the body axes
+ESTIMATE_COLUMNS = ("t", "qw", "qx", "qy", "qz", "bx", "by", "bz", "sx", "sy", "sz")
 POINT_COLUMNS = ("t", "x", "y", "z", "vx", "vy", "vz")
 POSE_COLUMNS = POINT_COLUMNS + RIGID_COLUMNS[1:]
 
@@ -123,6 +130,33 @@ class Group:
     adapter_skip: dict[str, str] = {}
     #: what poinsot's engine integrates when its method skips this group
     poinsot_other = ""
+    #: why the SciPy engine (a generic ODE solver) cannot run its cases, or None
+    scipy_skip: str | None = None
+    #: the types an engine's result may have for its cases
+    result_types: tuple[type, ...] = (Result,)
+
+    def score(self, case: Case, result: Any) -> tuple[dict[str, float], dict[str, np.ndarray],
+                                                       dict[str, np.ndarray]] | None:  # fmt: skip
+        """``(values, errors, states)`` when the group scores its results itself (the
+        metric values, the per-sample errors for the charts, the state arrays as
+        scored), or None: :func:`poinsot.verify.metrics.evaluate`'s comparison with the
+        exact motion."""
+        return None
+
+    def sensor_files(self, case: Case) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """Extra input files of ``poinsot verify export``: ``suffix -> (columns,
+        table)``, written as ``CASE.SUFFIX.csv`` (none but for the estimation cases)."""
+        return {}
+
+    def describe(self, case: Case) -> dict[str, Any]:
+        """What ``CASE.json`` adds for this group (:func:`poinsot.verify.cases.describe`)."""
+        return {}
+
+    def read_columns(self, path: Path, case: Case, cols: dict[str, np.ndarray],
+                     label: str) -> tuple[Any, list[str]] | None:  # fmt: skip
+        """``(result, defects)`` of a file's columns (on the case's grid, checked) when
+        the group reads its files itself, or None (the file engine's states)."""
+        return None
 
     def model(self, case: Case) -> Any:
         """The poinsot exact-solution object of the case, or None."""
@@ -882,18 +916,383 @@ class FreeFlight(FreeBody):
         return {"energy": out["energy"] + translation, "momentum": out["momentum"]}
 
 
+class Estimate:
+    """An attitude estimate on an estimation case's grid, as scored (docs/verify.md;
+    the attitude-error convention of docs/theory.md §10.4).
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        The case's grid (s).
+    quat : array_like, shape (n, 4)
+        Estimated attitude, scalar-first quaternions body -> space (any norm, either
+        sign).
+    bias : array_like, shape (n, 3), optional
+        Estimated gyro bias (rad/s, body axes); None when the estimator gives none.
+    sigma : array_like, shape (n, 3), optional
+        The estimator's 1-sigma attitude error about the body axes (rad), the square
+        roots of the diagonal of its attitude-error covariance; None when not given.
+    method : str
+        The estimator's label.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> est = Estimate(np.arange(3.0), np.tile([1.0, 0.0, 0.0, 0.0], (3, 1)))
+    >>> est.quat.shape, est.bias is None, est.sigma is None
+    ((3, 4), True, True)
+    """
+
+    def __init__(self, t: Any, quat: Any, bias: Any = None, sigma: Any = None,
+                 method: str = ""):  # fmt: skip
+        self.t = np.asarray(t, dtype=float)
+        self.quat = np.asarray(quat, dtype=float)
+        self.bias = None if bias is None else np.asarray(bias, dtype=float)
+        self.sigma = None if sigma is None else np.asarray(sigma, dtype=float)
+        self.method = method
+
+    def __repr__(self) -> str:
+        given = [k for k in ("bias", "sigma") if getattr(self, k) is not None]
+        return f"Estimate({self.t.size} samples, {', '.join(['quat', *given])}, {self.method!r})"
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The given arrays, ``quat`` and (when given) ``bias``, ``sigma``."""
+        out = {"quat": self.quat}
+        if self.bias is not None:
+            out["bias"] = self.bias
+        if self.sigma is not None:
+            out["sigma"] = self.sigma
+        return out
+
+
+def attitude_error_vectors(q_exact: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The attitude errors ``log(q_exact~ o q)`` (n, 3) in body axes (rad): the rotation
+    vector that carries the exact attitude to ``q``, whatever the norm or sign of ``q``
+    (NaN for a NaN ``q``; docs/theory.md §4, §10.4).
+
+    >>> import numpy as np
+    >>> q = [np.cos(0.005), 0.0, 0.0, -np.sin(0.005)]
+    >>> attitude_error_vectors(np.array([[1.0, 0, 0, 0]]), np.array([q])).round(12) + 0.0
+    array([[ 0.  ,  0.  , -0.01]])
+    """
+    qt = np.asarray(q_exact, dtype=float)
+    qe = np.asarray(q, dtype=float)
+    qe = qe / np.linalg.norm(qe, axis=-1, keepdims=True)
+    tw, tv = qt[:, 0], -qt[:, 1:]
+    ew, ev = qe[:, 0], qe[:, 1:]
+    w = tw * ew - np.einsum("ni,ni->n", tv, ev)
+    v = tw[:, None] * ev + ew[:, None] * tv + np.cross(tv, ev)
+    sign = np.where(w < 0.0, -1.0, 1.0)
+    w, v = w * sign, v * sign[:, None]
+    nv = np.linalg.norm(v, axis=-1)
+    angle = 2.0 * np.arctan2(nv, w)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(nv > 0.0, angle / np.where(nv > 0.0, nv, 1.0), 2.0)
+    return v * scale[:, None]
+
+
+#: the stored sensor data of the estimation cases: case name -> file stem in data/
+_SENSOR_DATA = {"mekf-racket": "mekf_racket"}
+
+_ESTIMATE_SKIP = (
+    "an attitude-estimation case (sensor data in, an attitude estimate out): run an "
+    "estimator on the exported sensor files (poinsot verify export) and score its "
+    "estimate with the file engine, or poinsot's MEKF (the poinsot engine)"
+)
+
+
+def draw_sensors(case: Case) -> dict[str, np.ndarray]:
+    """Draw the sensor samples of an estimation case from its seed (the stored data
+    come from this; ``tools/make_estimation_reference.py``).
+
+    The truth is :meth:`Case.model`'s exact motion; the gyro (:class:`poinsot.dynamics.Gyro`,
+    rate-integrating, the case's ``gyro_arw``, ``gyro_rrw``, ``gyro_bias0``) samples
+    it on the case's grid, the star tracker (:class:`poinsot.dynamics.StarTracker`,
+    ``star_tracker_sigma`` about x, y, z) every ``star_tracker_period``, each from its
+    own PCG64 stream of ``numpy.random.SeedSequence(seed).spawn(2)`` (docs/theory.md
+    §10.4).
+
+    >>> from poinsot.verify import cases
+    >>> d = draw_sensors(cases("mekf-racket")[0])
+    >>> d["gyro_rate"].shape, d["star_tracker_quat"].shape
+    ((2001, 3), (201, 4))
+    """
+    i = case.inputs
+    model = case.model()
+    streams = np.random.SeedSequence(int(i["seed"])).spawn(2)
+    g_rng, s_rng = (np.random.Generator(np.random.PCG64(s)) for s in streams)
+    gyro = Gyro(float(i["gyro_arw"]), float(i["gyro_rrw"]), bias0=i["gyro_bias0"])
+    g = gyro.sample(model.trajectory(case.t), rng=g_rng)
+    every = _tracker_every(case)
+    sig = np.asarray(i["star_tracker_sigma"], dtype=float)
+    if sig[0] != sig[1]:
+        raise InvalidInputError("Expected equal star-tracker sigmas about x and y.")
+    st = StarTracker(float(sig[0]), boresight_sigma=float(sig[2]))
+    s = st.sample(model.trajectory(case.t[::every]), rng=s_rng)
+    return {"gyro_rate": np.asarray(g.rate), "gyro_bias": np.asarray(g.bias),
+            "star_tracker_t": np.asarray(s.t), "star_tracker_quat": np.asarray(s.quat)}  # fmt: skip
+
+
+def _tracker_every(case: Case) -> int:
+    """The star tracker samples every this many points of the grid."""
+    return int(round(float(case.inputs["star_tracker_period"]) / float(case.t[1] - case.t[0])))
+
+
+class Estimation(Group):
+    """Attitude estimation against exact truth (docs/theory.md §10.4, docs/verify.md):
+    a free body tumbling near its intermediate axis (:class:`FreeRigidBody`, exact)
+    sampled by a gyro and a star tracker (stored, seeded samples); an estimator's
+    attitude (and optionally bias and 1-sigma attitude errors) scored against the
+    truth, with a NEES consistency verdict. Results are :class:`Estimate`; poinsot's
+    engine runs :func:`poinsot.dynamics.run_mekf`, the integrators skip the group."""
+
+    name = "estimation"
+    kind = "estimate"
+    states: tuple[str, ...] = ("quat", "bias")
+    errors: tuple[str, ...] = ("attitude", "attitude_rms", "bias", "nees")
+    columns: tuple[str, ...] = ESTIMATE_COLUMNS[:8]
+    units = {"t": "s", "qw,qx,qy,qz": "1", "bx,by,bz": "rad/s", "sx,sy,sz": "rad",
+             "wx,wy,wz": "rad/s", "inertia": "kg m^2", "mass": "kg", "com": "m",
+             "gravity": "m/s^2", "gyro_arw": "rad/s^0.5", "gyro_rrw": "rad/s^1.5",
+             "gyro_bias0": "rad/s", "star_tracker_period": "s", "star_tracker_sigma": "rad",
+             "bias_estimate0": "rad/s", "covariance0": "rad^2 (attitude), rad^2/s^2 (bias)",
+             "seed": "1"}  # fmt: skip
+    has_momentum = False
+    mujoco_skip = _ESTIMATE_SKIP
+    basilisk_skip = _ESTIMATE_SKIP
+    scipy_skip = _ESTIMATE_SKIP
+    poinsot_other = ("rigid-body or point motion, not an attitude estimate: poinsot's engine "
+                     "runs its MEKF (run_mekf) with the default method")  # fmt: skip
+    result_types = (Estimate,)
+
+    def model(self, case: Case) -> Any:
+        i = case.inputs
+        return FreeRigidBody(i["inertia"], rotation0=i["q0"], omega0=i["omega0"])
+
+    def stored(self, case: Case) -> dict[str, np.ndarray]:
+        """The stored sensor samples of the case (``poinsot/verify/data/NAME.npz``),
+        checked against its grid and inputs (cached)."""
+        cache = case.__dict__.setdefault("_sensors", {})
+        if cache:
+            return dict(cache)
+        name = _SENSOR_DATA[case.name]
+        path = Path(__file__).parent / "data" / f"{name}.npz"
+        with np.load(path) as d:
+            data = {k: d[k] for k in d.files}
+        same = data["t"].shape == case.t.shape and np.array_equal(data["t"], case.t)
+        for k, v in case.inputs.items():
+            got = data.get(f"input_{k}")
+            same = same and got is not None and np.array_equal(got, np.asarray(v, dtype=float))
+        if not same:
+            raise RuntimeError(
+                f"The stored sensor data {path} were drawn for other inputs or another grid "
+                f"than the case {case.name!r}: regenerate them "
+                "(tools/make_estimation_reference.py)."
+            )
+        for k in ("gyro_rate", "gyro_bias", "star_tracker_t", "star_tracker_quat"):
+            data[k].setflags(write=False)
+            cache[k] = data[k]
+        return dict(cache)
+
+    def exact(self, case: Case) -> dict[str, np.ndarray]:
+        omega, rot = case.model().state(case.t)
+        q = _make_continuous(np.asarray(rot.as_quat(), dtype=float))
+        return {"t": case.t.copy(), "quat": q, "bias": np.array(self.stored(case)["gyro_bias"]),
+                "omega": np.asarray(omega, dtype=float)}  # fmt: skip
+
+    def facts(self, case: Case, model: Any) -> dict[str, Any]:
+        lo, hi = nees_band(case)
+        return {"regime": str(model.regime), "period_s": float(model.period),
+                "flip_period_s": float(model.period) / 2.0,
+                "nees_dof": 3, "nees_band_95": [lo, hi],
+                "star_tracker_samples": int(case.t[::_tracker_every(case)].size)}  # fmt: skip
+
+    def sensors(self, case: Case) -> tuple[GyroSamples, AttitudeSamples]:
+        """The case's gyro and star-tracker samples as :func:`poinsot.dynamics.run_mekf`
+        reads them (with the truth they were drawn from)."""
+        i, d, ex = case.inputs, self.stored(case), case.exact()
+        every = _tracker_every(case)
+        gyro = GyroSamples(case.t.copy(), np.array(d["gyro_rate"]), np.array(ex["omega"]),
+                           np.array(d["gyro_bias"]), np.array(ex["quat"]), float(i["gyro_arw"]),
+                           float(i["gyro_rrw"]), "integrating")  # fmt: skip
+        st = AttitudeSamples(np.array(d["star_tracker_t"]), np.array(d["star_tracker_quat"]),
+                             np.array(ex["quat"][::every]),
+                             np.asarray(i["star_tracker_sigma"], dtype=float))  # fmt: skip
+        return gyro, st
+
+    def sensor_files(self, case: Case) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        d = self.stored(case)
+        return {
+            "gyro": (("t", "wx", "wy", "wz"), np.column_stack([case.t, d["gyro_rate"]])),
+            "star_tracker": (("t", "qw", "qx", "qy", "qz"),
+                             np.column_stack([d["star_tracker_t"], d["star_tracker_quat"]])),
+        }  # fmt: skip
+
+    def describe(self, case: Case) -> dict[str, Any]:
+        lo, hi = nees_band(case)
+        return {
+            "sensor_files": {
+                f"{case.name}.gyro.csv": "t (s), wx, wy, wz (rad/s, body axes): a "
+                "rate-integrating gyro, the row at t_k (k >= 1) the mean rate over "
+                "(t_{k-1}, t_k] plus bias and noise; the row at t = 0 the rate at 0",
+                f"{case.name}.star_tracker.csv": "t (s), qw, qx, qy, qz: measured attitude "
+                "L o exp(nu / 2), scalar first, body -> space, nu ~ N(0, diag(sigma^2)) in "
+                "body axes (star_tracker_sigma)",
+            },
+            "estimate_file": {
+                "name": f"{case.name}.csv",
+                "columns": list(ESTIMATE_COLUMNS),
+                "required": ["t", "qw", "qx", "qy", "qz"],
+                "meaning": "attitude estimate (scalar first, body -> space); optional gyro "
+                "bias bx, by, bz (rad/s) and 1-sigma attitude errors sx, sy, sz (rad, about "
+                "the body axes), each group all or none",
+            },
+            "initial_estimate": "the first star-tracker sample, bias_estimate0 and covariance0 "
+            "(diagonal: attitude about x, y, z, then bias)",
+            "verdict": f"the time average over the grid of NEES = sum_i (e_i / s_i)^2 (e the "
+            f"attitude error in body axes) within [{lo:.4g}, {hi:.4g}], the two-sided 95 % "
+            "interval of chi-square with 3 dof: one run, its samples taken as fully "
+            "correlated (docs/verify.md)",
+        }
+
+    def poinsot_method(self, method: str | None) -> str | None:
+        return "mekf" if method in (None, "mekf") else None
+
+    def poinsot_run(self, case: Case, method: str, step: float | None, rtol: float | None,
+                    order: int | None, label: str) -> tuple[Any, Any]:  # fmt: skip
+        """:func:`poinsot.dynamics.run_mekf` with the case's noise model, started at the
+        first star-tracker sample, ``bias_estimate0`` and ``covariance0``."""
+        return mekf_estimate(case, label=label), None
+
+    def score(self, case: Case, result: Any) -> tuple[dict[str, float], dict[str, np.ndarray],
+                                                       dict[str, np.ndarray]] | None:  # fmt: skip
+        assert isinstance(result, Estimate)
+        ex = case.exact()
+        err = attitude_error_vectors(ex["quat"], result.quat)
+        angle = np.linalg.norm(err, axis=-1)
+        half = case.t >= 0.5 * case.t[-1]
+        values = {"attitude": _worst(float(np.max(angle[half]))),
+                  "attitude_rms": _worst(float(np.sqrt(np.mean(angle[half] ** 2))))}  # fmt: skip
+        errors = {"t": case.t, "attitude": angle}
+        if result.bias is not None:
+            values["bias"] = _worst(float(np.linalg.norm(result.bias[-1] - ex["bias"][-1])))
+        if result.sigma is not None:
+            nees = np.sum((err / result.sigma) ** 2, axis=-1)
+            errors["nees"] = nees
+            values["nees"] = float(np.mean(nees)) if np.all(np.isfinite(nees)) else math.nan
+        return values, errors, result.arrays()
+
+    def read_columns(self, path: Path, case: Case, cols: dict[str, np.ndarray],
+                     label: str) -> tuple[Any, list[str]] | None:  # fmt: skip
+        q = _columns(path, cols, ("qw", "qx", "qy", "qz"), required=True, what="attitude")
+        assert q is not None
+        bias = _columns(path, cols, ("bx", "by", "bz"), required=False, what="gyro bias")
+        sigma = _columns(path, cols, ("sx", "sy", "sz"), required=False, what="1-sigma")
+        defects = []
+        bad = [c for c in ESTIMATE_COLUMNS[1:] if c in cols and not np.all(np.isfinite(cols[c]))]
+        if bad:
+            defects.append(f"non-finite values in column(s) {', '.join(bad)} of {path.name}")
+        else:
+            norm = np.linalg.norm(q, axis=-1)
+            if np.max(np.abs(norm - 1.0)) > 1e-6:
+                raise InvalidInputError(
+                    f"{path}: expected unit quaternions in columns qw, qx, qy, qz, found |q| "
+                    f"from {np.min(norm):.6g} to {np.max(norm):.6g}."
+                )
+            if sigma is not None and not np.all(sigma > 0.0):
+                k = int(np.nonzero(~np.all(sigma > 0.0, axis=-1))[0][0])
+                c = ("sx", "sy", "sz")[int(np.argmin(sigma[k] > 0.0))]
+                raise InvalidInputError(
+                    f"{path}: expected column `{c}` to hold positive 1-sigma attitude errors "
+                    f"(rad), found {float(sigma[k, 'xyz'.index(c[1])])!r} in data row {k + 1}."
+                )
+        return Estimate(case.t, q, bias, sigma, label), defects
+
+    def nan_states(self, case: Case) -> dict[str, np.ndarray]:
+        return {"quat": np.full((case.t.size, 4), np.nan)}
+
+    def arrays(self, result: Any) -> dict[str, np.ndarray]:
+        assert isinstance(result, Estimate)
+        return result.arrays()
+
+    def of_states(self, case: Case, states: dict[str, np.ndarray], method: str) -> Any:
+        return Estimate(case.t, states["quat"], states.get("bias"), states.get("sigma"), method)
+
+
+def _worst(x: float) -> float:
+    return x if math.isfinite(x) else math.inf
+
+
+def _columns(path: Path, cols: dict[str, np.ndarray], names: tuple[str, ...], *,
+             required: bool, what: str) -> np.ndarray | None:  # fmt: skip
+    """The columns ``names`` stacked (n, k): all of them, or (not ``required``) none."""
+    present = [c for c in names if c in cols]
+    if not present and not required:
+        return None
+    if len(present) < len(names):
+        missing = [c for c in names if c not in cols]
+        raise InvalidInputError(
+            f"{path}: expected the {what} columns {', '.join(names)}"
+            + ("" if required else " (all or none)")
+            + f"; missing {', '.join(f'`{c}`' for c in missing)}."
+        )
+    return np.column_stack([cols[c] for c in names])
+
+
+def nees_band(case: Case, probability: float = 0.95) -> tuple[float, float]:
+    """The pass band of the time-averaged NEES of an estimation case: the two-sided
+    ``probability`` interval of chi-square with 3 degrees of freedom (docs/verify.md).
+
+    One run's NEES samples are correlated in time (the filter remembers); in the
+    limit of full correlation their average is one chi-square(3) draw, and with any
+    less correlation it is more concentrated about its mean 3, so the interval of a
+    single draw holds the average of a consistent estimator with at least about that
+    probability. (Independent samples would give ``chi2(3 n) / n``, far too narrow for
+    one correlated run.) ``scipy.stats.chi2``; docs/theory.md §10.4.
+
+    >>> from poinsot.verify import cases
+    >>> [round(x, 4) for x in nees_band(cases("mekf-racket")[0])]
+    [0.2158, 9.3484]
+    """
+    from scipy.stats import chi2
+
+    a = 0.5 * (1.0 - probability)
+    lo, hi = chi2.ppf([a, 1.0 - a], 3)
+    return float(lo), float(hi)
+
+
+def mekf_estimate(case: Case, *, arw: float | None = None, rrw: float | None = None,
+                  label: str = "poinsot mekf") -> Estimate:  # fmt: skip
+    """poinsot's MEKF (:func:`poinsot.dynamics.run_mekf`) on an estimation case's
+    sensor data: started at the first star-tracker sample with ``bias_estimate0`` and
+    ``covariance0``, the gyro noise the case's (or ``arw``, ``rrw``: a mis-stated
+    model); the estimate with its bias and 1-sigma attitude errors (docs/theory.md §10.4).
+
+    >>> from poinsot.verify import cases
+    >>> est = mekf_estimate(cases("mekf-racket")[0])
+    >>> est.quat.shape, est.sigma.shape
+    ((2001, 4), (2001, 3))
+    """
+    i = case.inputs
+    gyro, st = case.spec.sensors(case)  # type: ignore[attr-defined]
+    res = run_mekf(gyro, [st], st.quat[0], np.asarray(i["covariance0"], dtype=float),
+                   bias0=i["bias_estimate0"], arw=arw, rrw=rrw)  # fmt: skip
+    return Estimate(case.t, np.asarray(res.quat), np.asarray(res.bias),
+                    np.asarray(res.sigma)[:, :3], label)  # fmt: skip
+
+
 #: group name -> its object (the order of :data:`poinsot.verify.GROUPS`)
 GROUP_TABLE: dict[str, Group] = {
     g.name: g
     for g in (FreeBody(), HeavyTop(), Kovalevskaya(), BodyTorque(), Gyrostat(),
-              GravityGradient(), Orbit(), Frame(), FreeFlight())
+              GravityGradient(), Orbit(), Frame(), FreeFlight(), Estimation())
 }  # fmt: skip
 
 
-def as_result(case: Any, states: Any, method: str = "") -> Result:
+def as_result(case: Any, states: Any, method: str = "") -> Any:
     """``states`` as a result: a result as it is, a dict of arrays (the form of
     poinsot 1.x engines, deprecated) converted."""
-    if isinstance(states, Result):
+    if isinstance(states, case.spec.result_types):
         return states
     if not isinstance(states, dict):
         raise InvalidTypeError(

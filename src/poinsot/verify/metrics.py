@@ -11,7 +11,11 @@ body, its vertical component ``K_z`` relative to ``|K|`` for a top; ``E`` and
 version 2: the energy and ``K_z`` of the Kovalevskaya top, the energy and
 ``K = R (J w + h)`` of the gyrostat, the transverse kinetic energy under a
 constant axial body torque, the orbit frame's Jacobi integral of the pitch
-libration). Events are the
+libration). An attitude estimate (the ``estimation`` cases, version 4) is scored by its
+group (:meth:`poinsot.verify.groups.Estimation.score`): the attitude error over the
+run's second half (largest and RMS), the bias error at the end, and the time-averaged
+NEES, which passes within a two-sided band (``thresholds["nees_min"]`` to
+``thresholds["nees"]``). Events are the
 times a signal crosses a level (flips, nutation, apsides, swings), found by
 linear interpolation on the case's grid for both runs alike; their error is the
 largest time difference of matching crossings (a missing or extra crossing is an
@@ -30,7 +34,7 @@ from .._drift import relative_drift
 from .._quat import attitude_distance
 from ..trajectory import Result, compare
 from .cases import Case
-from .groups import _deprecated_states, as_result
+from .groups import Estimate, _deprecated_states, as_result
 
 #: metric name -> (units, what it measures)
 METRICS: dict[str, tuple[str, str]] = {
@@ -45,6 +49,13 @@ METRICS: dict[str, tuple[str, str]] = {
     ),
     "momentum": ("1", "relative drift of the angular momentum (K_z for a top, relative to |K|)"),
     "events": ("s", "largest time error of the characteristic events"),
+    "attitude_rms": ("rad", "RMS attitude error of an estimate over the run's second half"),
+    "bias": ("rad/s", "|b - b_exact| of an estimate's gyro bias at the end of the run"),
+    "nees": (
+        "1",
+        "time-averaged NEES sum_i (e_i / s_i)^2 of an estimate's attitude error (3 dof); "
+        "passes within [nees_min, nees], chi-square 3 dof two-sided 95 %",
+    ),
 }
 
 
@@ -150,7 +161,7 @@ def crossings(t: np.ndarray, s: np.ndarray, level: float) -> np.ndarray:
 
 def evaluate(
     case: Case,
-    result: Result | dict[str, np.ndarray],
+    result: Result | Estimate | dict[str, np.ndarray],
     *,
     seconds: float = 0.0,
     work: int | None = None,
@@ -161,10 +172,11 @@ def evaluate(
     Parameters
     ----------
     case : Case
-    result : Trajectory or PointTrajectory
+    result : Trajectory, PointTrajectory or Estimate
         The engine's motion on ``case.t``: a :class:`poinsot.Trajectory` (attitude
         body -> space, angular velocity in body axes, rad/s) for a rigid body, a
-        :class:`poinsot.PointTrajectory` (m, m/s) for a point. The former dict of
+        :class:`poinsot.PointTrajectory` (m, m/s) for a point; an
+        :class:`poinsot.verify.groups.Estimate` for an estimation case. The former dict of
         arrays (``quat`` (n, 4) scalar first and ``omega`` (n, 3), or ``position``
         and ``velocity`` (n, 3)) is still read, with a DeprecationWarning.
     seconds, work : optional
@@ -197,7 +209,17 @@ def evaluate(
     """
     if isinstance(result, dict):
         _deprecated_states()
-    result = as_result(case, result)
+    got = as_result(case, result)
+    own = case.spec.score(case, got)
+    values, errors, states = own if own is not None else _compare(case, got)
+    return _verdict(case, got, values, errors, states, seconds, work, defects)
+
+
+def _compare(
+    case: Case, result: Result
+) -> tuple[dict[str, float], dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """The metric values, per-sample errors and state arrays of ``result`` against the
+    exact motion (see :func:`evaluate`)."""
     reference = case.reference()
     exact = case.exact()
     states = case.spec.arrays(result)
@@ -236,20 +258,32 @@ def evaluate(
             values["events"] = (
                 float(np.max(np.abs(tg - te), initial=0.0)) if tg.size == te.size else math.inf
             )
+    return values, errors, states
+
+
+def _verdict(case: Case, result: Any, values: dict[str, float], errors: dict[str, np.ndarray],
+             states: dict[str, np.ndarray], seconds: float, work: int | None,
+             defects: list[str] | None) -> CaseResult:  # fmt: skip
+    """Each metric against its threshold (and, for ``name``, a lower bound
+    ``thresholds[name + "_min"]`` when the case has one)."""
     metrics = {}
     failed = []
     for name, value in values.items():
         thr = float(case.thresholds[name])
-        passed = bool(math.isfinite(value) and value <= thr)
+        low = case.thresholds.get(f"{name}_min")
+        passed = bool(math.isfinite(value) and value <= thr and (low is None or value >= low))
         metrics[name] = {
             "value": value,
             "threshold": thr,
             "units": METRICS[name][0],
             "passed": passed,
         }
+        if low is not None:
+            metrics[name]["minimum"] = float(low)
         if not passed:
             unit = METRICS[name][0]
-            failed.append(f"{name} {value:.3g} > {thr:.3g}" + ("" if unit == "1" else f" {unit}"))
+            what = f"> {thr:.3g}" if low is None else f"outside [{low:.3g}, {thr:.3g}]"
+            failed.append(f"{name} {value:.3g} {what}" + ("" if unit == "1" else f" {unit}"))
     failed.extend(defects or ())
     return CaseResult(
         case=case.name,

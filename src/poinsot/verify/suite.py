@@ -25,6 +25,7 @@ import numpy as np
 from .._files import atomic_write
 from ..errors import InvalidInputError
 from ..plotting.report import write_report
+from ..trajectory import Result
 from ._basilisk import ADAPTIVE as BASILISK_ADAPTIVE
 from ._drake import FIXED_STEP as DRAKE_FIXED_STEP
 from .cases import CASES_VERSION, Case, cases
@@ -266,6 +267,8 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
     states = res.states
     if not states or not all(np.all(np.isfinite(v)) for v in states.values()):
         return None  # nothing to draw (a diverged engine): the index page has its figures
+    if not isinstance(res.result, Result):
+        return None  # an attitude estimate (the estimation cases): no motion to draw
     title = f"poinsot verify: {case.name} in {verdict.label}"
     summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
                "thresholds": {k: v["threshold"] for k, v in res.metrics.items()}}  # fmt: skip
@@ -276,8 +279,9 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
 
 def _thresholds(results: list[CaseResult], name: str) -> str:
     """The threshold(s) of metric ``name`` over the scored cases (e.g. ``"1.0e-06"``)."""
-    values = sorted({r.metrics[name]["threshold"] for r in results if name in r.metrics})
-    return " / ".join(f"{v:.1e}" for v in values)
+    values = sorted({(r.metrics[name].get("minimum"), r.metrics[name]["threshold"])
+                     for r in results if name in r.metrics}, key=lambda b: b[1])  # fmt: skip
+    return " / ".join(f"{v:.1e}" if lo is None else f"{lo:.1e}..{v:.1e}" for lo, v in values)
 
 
 def _index_page(verdict: Verdict, links: dict[str, str]) -> str:
