@@ -778,27 +778,50 @@ def simulate_wheels(
 
     ``J_f = J - sum_i I_i a_i a_i^T``, ``h_f = sum_i I_i (Omega_i + a_i . w) a_i``.
 
+    **Constant motor torques (the compiled, batched path).** When ``command`` is an
+    array (constant torques ``u_i``, clipped at ``max_torque``), the wheels have no
+    friction (``viscous`` and ``coulomb`` zero), ``torque`` is ``None`` and ``method`` is
+    ``"dop853"``, the wheels' absolute momenta are known in closed form,
+    ``h_i(t) = h_i(t0) + u_i (t - t0)``, so ``h_f(t) = h_f(t0) + U (t - t0)`` with
+    ``U = sum_i u_i a_i``, and the body obeys Euler's equations of ``J_f`` under
+
+    ``M_b = h_f(t) x w - U``,
+
+    integrated by the compiled DOP853 (:func:`~poinsot.dynamics.simulate` with
+    :class:`~poinsot.dynamics.GyrostaticTorque` ``(h_f(t0) - U t0, rate=U)``, torque
+    kind 5) for a whole batch at once; then ``Omega_i(t) = h_i(t) / I_i - a_i . w(t)``
+    exactly. The step control then sees ``(q, w)`` only (not ``Omega``). If a wheel's
+    ``|Omega_i|`` exceeds ``max_speed`` at an output time (the hold makes the torque
+    piecewise), one body is integrated again on the Python path and a batch raises
+    :class:`~poinsot.InvalidInputError`; between output times the speeds are not
+    checked (``h_i`` is linear in ``t``, so the speeds move monotonically but for
+    ``a_i . w``). Everything else (a callable ``command``, friction, ``torque``,
+    ``"rk4"``) takes the Python path: one body, the state ``(q, w, Omega)`` in SciPy's
+    DOP853 (``info["solver"] == "DOP853"``) or the RK4 here.
+
     Parameters
     ----------
-    inertia : array_like, shape (3,) or (3, 3), or RigidBody
+    inertia : array_like, shape (..., 3) or (..., 3, 3), or RigidBody
         Inertia ``J`` of body and wheels with the wheels **locked** (axial moments
         included), about the centre of mass in body axes (kg m^2); principal moments
-        when the body axes are principal. One body (no batches).
+        when the body axes are principal. A leading shape (a batch) only on the
+        compiled path.
     wheels : ReactionWheels
-        The wheels (axes, axial inertias, limits, friction).
-    rotation0 : Rotation or array_like, shape (4,)
+        The wheels (axes, axial inertias, limits, friction), shared by the batch.
+    rotation0 : Rotation or array_like, shape (..., 4)
         Initial attitude, body -> space.
-    omega0 : array_like, shape (3,)
+    omega0 : array_like, shape (..., 3)
         Initial body angular velocity in body axes (rad/s).
-    wheel_speed0 : array_like, shape (N,)
+    wheel_speed0 : array_like, shape (..., N)
         Initial wheel speeds relative to the body (rad/s), ``|Omega_i| <= Omega_max``.
     t : array_like, shape (n,)
         Output times, strictly increasing; the motion starts at ``t[0]``.
-    command : callable, optional
+    command : callable or array_like, shape (..., N), optional
         ``command(t, q, w, Omega) -> (N,)``: the motor torques (N m) asked for, from
         the time (s), the scalar-first quaternion ``q`` (4,), ``w`` (3,) (rad/s, body
-        axes) and the wheel speeds (N,) (rad/s); clipped at ``max_torque``. Default:
-        no motor torque.
+        axes) and the wheel speeds (N,) (rad/s); or an array: constant motor torques
+        (N m), one row per body of a batch. Clipped at ``max_torque``. Default: no
+        motor torque.
     torque : None, TorqueModel, array_like (3,) or callable, optional
         External torque in body axes (N m), as :func:`~poinsot.dynamics.simulate`
         takes it (a callable gets ``(t, rotation, omega)``).
@@ -815,21 +838,26 @@ def simulate_wheels(
     Returns
     -------
     WheelTrajectory
-        ``rotation`` (n,), ``omega`` (n, 3), ``wheel_speed`` (n, N) (rad/s),
-        ``wheel_momentum`` ``h`` (n, 3) (N m s, body axes), ``motor_torque`` (n, N)
-        (N m, applied), ``energy`` (n,) the kinetic energy of body and wheels (J),
-        ``momentum`` ``K = R (J w + h)`` (n, 3, space axes); ``info``: ``solver``,
-        ``rtol``, ``atol``, ``evaluations``, ``message`` (dop853) or ``steps``,
-        ``step_size``, ``order`` (rk4), and ``torque``, ``conserved``.
+        ``rotation`` (n, ...), ``omega`` (n, ..., 3), ``wheel_speed`` (n, ..., N)
+        (rad/s), ``wheel_momentum`` ``h`` (n, ..., 3) (N m s, body axes),
+        ``motor_torque`` (n, ..., N) (N m, applied), ``energy`` (n, ...) the kinetic
+        energy of body and wheels (J), ``momentum`` ``K = R (J w + h)`` (n, ..., 3,
+        space axes): the batch axes after the time axis, as
+        :func:`~poinsot.dynamics.simulate`'s. ``info``: ``solver``, ``rtol``, ``atol``,
+        ``evaluations``, ``message`` (SciPy's dop853), ``steps`` (per body), ``rejected``
+        (compiled dop853) or ``steps``, ``step_size``, ``order`` (rk4), and ``torque``,
+        ``conserved``.
 
     Raises
     ------
     InvalidInputError
         Bad values or shapes (the message names the argument); a ``J`` that does not
         contain the wheels (``J - sum_i I_i a_i a_i^T`` not positive definite); a wheel
-        speed beyond its limit; a command of the wrong shape.
+        speed beyond its limit; a command of the wrong shape; a batch off the compiled
+        path; a batch whose constant ``command`` drives a wheel past ``max_speed``.
     InvalidTypeError
-        ``wheels`` not a :class:`ReactionWheels`, ``command`` not callable, a bad type.
+        ``wheels`` not a :class:`ReactionWheels`, ``command`` neither callable nor an
+        array, a bad type.
     IntegrationError
         A non-finite state or command.
 
@@ -859,6 +887,20 @@ def simulate_wheels(
     >>> tr.motor_torque[0], round(float(tr.omega[-1, 2]), 10)   # clipped; w3' = -u / (1 - 0.1)
     (array([0.05]), 0.3888888889)
     >>> bool(tr.momentum_vector_drift < 1e-12)
+    True
+
+    A batch of three bodies with a four-wheel pyramid under constant motor torques
+    (the compiled path); the total momentum ``K`` stays put, the motors being internal:
+
+    >>> from poinsot.dynamics import pyramid
+    >>> rw4 = pyramid(np.arccos(1 / np.sqrt(3)), 0.02, max_torque=0.05, max_speed=600.0)
+    >>> J = [[10.0, 12.0, 8.0], [20.0, 15.0, 9.0], [7.0, 7.5, 6.0]]
+    >>> u = [[0.01, -0.01, 0.0, 0.02], [0.0, 0.0, 0.05, 0.0], [-0.02, 0.01, 0.01, 0.0]]
+    >>> tr = simulate_wheels(J, rw4, [1.0, 0, 0, 0], [0.01, 0.0, -0.02], [50.0, 0, 0, -50.0],
+    ...                      np.linspace(0.0, 60.0, 7), command=u)
+    >>> tr.wheel_speed.shape, tr.info["solver"].startswith("DOP853 (compiled")
+    ((7, 3, 4), True)
+    >>> bool(np.abs(tr.momentum - tr.momentum[0]).max() < 1e-10)
     True
     """
     if not isinstance(wheels, ReactionWheels):
