@@ -652,11 +652,11 @@ def _constant_command(command: object, wheels: ReactionWheels) -> np.ndarray:
 
 
 def _run_constant(
-    inertia: object,
+    inertia: ArrayLike,
     wheels: ReactionWheels,
-    rotation0: object,
-    omega0: object,
-    wheel_speed0: object,
+    rotation0: Rotation | ArrayLike,
+    omega0: ArrayLike,
+    wheel_speed0: ArrayLike,
     tt: np.ndarray,
     u: np.ndarray,
     rtol: float,
