@@ -29,10 +29,13 @@ Built-in torques are fused into the right-hand side (``kind``):
 4. gravity gradient, ``par = (3 mu / R^3, nx, ny, nz)`` with ``n`` the unit
    space direction of the orbit radius: ``M_b = k (n_b x J n_b)``,
    ``n_b = R^T n``;
-5. the gyrostatic torque of rotors of constant relative momentum, ``par = (hx, hy,
-   hz, 0)`` in body axes: ``M_b = h x w`` (theory §10.1), the only kind that depends
-   on the angular velocity ``w`` (the other kinds ignore it);
-6. gravity gradient along a Kepler orbit (theory §10.2), the only kind that depends on
+5. the gyrostatic torque of rotors whose momentum changes at a constant rate (constant
+   motor torques, no friction), ``par = (h0x, h0y, h0z, Ux, Uy, Uz, 0, 0)`` in body
+   axes: ``M_b = (h0 + U t) x w - U`` (theory §10.1) with ``h0`` the rotors' momentum
+   at ``t = 0`` and ``U = h'``; ``U = 0`` is the gyrostat of constant ``h``,
+   ``M_b = h x w``. The only kind that depends on the angular velocity ``w`` (the
+   other kinds ignore it), and with kind 6 the kinds that read the time ``t``;
+6. gravity gradient along a Kepler orbit (theory §10.2), which depends on
    the time ``t``: ``par = (n, e, M_0, sqrt(1 - e^2), p0, p1, p2, p3)`` with ``n`` the
    mean motion, ``M_0`` the mean anomaly at ``t = 0`` and ``p`` the unit quaternion of
    the perifocal axes ``[P Q W]`` (:func:`_orbit_direction`): Kepler's equation is
@@ -89,8 +92,11 @@ DIAGONAL = 8
 #: Columns of the torque parameters ``par`` (kind 6 uses all of them).
 NPAR = 8
 
-#: The torque kind of gravity gradient along a Kepler orbit (the one that reads ``t``).
+#: The torque kind of gravity gradient along a Kepler orbit (reads ``t``).
 KEPLER = 6
+
+#: The torque kind of the gyrostat's rotors, ``(h0 + U t) x w - U`` (reads ``t`` and ``w``).
+GYROSTAT = 5
 
 #: ``stats`` columns: accepted steps, rejected steps, evaluations, status.
 OK, STEP_TOO_SMALL, TOO_MANY_STEPS, NONFINITE, CANCELLED = 0, 1, 2, 3, 4
@@ -127,8 +133,11 @@ def _torque_s(
     t0, t1, t2 = 0.0, 0.0, 0.0
     if kind == 1:
         t0, t1, t2 = p0, p1, p2
-    elif kind == 5:  # the rotors' reaction h x w (gyrostat, theory §10.1)
-        t0, t1, t2 = nh.cross(p0, p1, p2, w0, w1, w2)
+    elif kind == 5:  # the rotors' reaction (h0 + U t) x w - U (gyrostat, theory §10.1)
+        # U = 0 (rotors of constant momentum): h0 + 0 t = h0 and x - 0 = x, the bits of
+        # h x w (but for the sign of a zero component of h0 when t >= 0)
+        t0, t1, t2 = nh.cross(p0 + p3 * t, p1 + p4 * t, p2 + p5 * t, w0, w1, w2)
+        t0, t1, t2 = t0 - p3, t1 - p4, t2 - p5
     elif kind == 3:  # gravity about the pin: gamma x (m g c), gamma = R^T e_z
         # R^T e_z directly (the sandwich with e_z is mostly products with 0, which the
         # compiler must keep), scaled by 1 / |L|^2 as the sandwich is. The scale m g /

@@ -21,7 +21,7 @@ each, ``K_0 = f(y)``), ``y_new``, the dense-output coefficients ``F`` (7 x 7 x L
 ``J`` and ``J^-1`` (9 x L, row-major), the torque parameters (``NPAR`` x L), the step
 ``h`` and the error norm ``err`` (L each), the stage argument ``z`` and value, then the
 lane state (``S_*`` rows of L), the last of them the time of the stage being evaluated
-(``S_TZ``, written before each evaluation for the one torque that reads it, kind 6).
+(``S_TZ``, written before each evaluation for the torques that read it, kinds 5 and 6).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ from ._fused import (
     _CX,
     CANCELLED,
     DIAGONAL,
+    GYROSTAT,
     KEPLER,
     MAX_FACTOR,
     MIN_FACTOR,
@@ -132,7 +133,7 @@ S_DENSE = OFF_S + 13 * L  # 1: outputs inside the accepted step
 S_READY = OFF_S + 14 * L  # 1: prepared for the next attempt
 S_END = OFF_S + 15 * L  # the status that ends the lane's body, -1 if none
 S_EVENT = OFF_S + 16 * L  # 1: the accepted step needs scalar work (outputs, non-finite)
-S_TZ = OFF_S + 17 * L  # time of the stage evaluated next (kind 6 only)
+S_TZ = OFF_S + 17 * L  # time of the stage evaluated next (kinds 5 and 6 only)
 N_WORK = OFF_S + 18 * L
 
 _bits: Any
@@ -183,8 +184,8 @@ def _next_up(t):  # pragma: no cover
 @njit(cache=True, inline="always")
 def _stage_times(W, kind, c):  # pragma: no cover
     """``S_TZ = t + c h`` of every lane, the time of the stage about to be evaluated
-    (``one_body``'s ``t + _C[s] * h``), for the one torque kind that reads it."""
-    if kind == KEPLER:
+    (``one_body``'s ``t + _C[s] * h``), for the torque kinds that read it."""
+    if kind == KEPLER or kind == GYROSTAT:
         for l in range(L):
             W[S_TZ + l] = W[S_T + l] + c * W[OFF_H + l]
 
@@ -192,7 +193,7 @@ def _stage_times(W, kind, c):  # pragma: no cover
 @njit(cache=True, inline="always")
 def _end_times(W, kind):  # pragma: no cover
     """``S_TZ = t_new`` of every lane, the time of the FSAL stage (``one_body``'s)."""
-    if kind == KEPLER:
+    if kind == KEPLER or kind == GYROSTAT:
         for l in range(L):
             W[S_TZ + l] = W[S_TNEW + l]
 

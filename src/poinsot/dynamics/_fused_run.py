@@ -96,6 +96,8 @@ def torque_kernel(torque, batch: tuple[int, ...], par=None):
         return 3, par
     if isinstance(torque, _tq.GyrostaticTorque):
         par[..., :3] = torque.h
+        if torque.rate is not None:
+            par[..., 3:6] = torque.rate
         return 5, par
     if isinstance(torque, _tq.OrbitGravityGradientTorque):
         kp = _kepler_par(torque)

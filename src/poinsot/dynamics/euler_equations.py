@@ -544,7 +544,8 @@ def _system_info(model: TorqueModel | None, quat: np.ndarray) -> dict[str, Any]:
         info["gravity_moment"] = model.moment
         info["conserved"] = ("total_energy", "momentum_z")
     elif isinstance(model, GyrostaticTorque):  # h x w does no work (theory §10.1)
-        info["conserved"] = ("energy",)
+        if model.rate is None or not np.any(model.rate):  # (- U does)
+            info["conserved"] = ("energy",)
     elif model.conservative:
         try:  # a user's potential_function may not take the (n, ..., 4) samples at once
             v = model.potential(quat)

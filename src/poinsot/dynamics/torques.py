@@ -253,7 +253,8 @@ class GravityTorque(TorqueModel):
 
 @dataclass(frozen=True, eq=False)
 class GyrostaticTorque(TorqueModel):
-    """The reaction of rotors of constant relative momentum on their body (theory §10.1).
+    """The reaction of rotors on their body (theory §10.1): of constant relative momentum,
+    or driven by constant motor torques.
 
     A gyrostat is a rigid body carrying rotors that spin relative to it about axes
     fixed in it; with ``h`` their angular momentum relative to the body (body axes,
@@ -263,24 +264,42 @@ class GyrostaticTorque(TorqueModel):
 
     ``M_b = h x w``.
 
+    With ``rate`` (``U = h'``, constant, body axes) the rotors' momentum grows linearly,
+    ``h(t) = h + U t`` (``h`` its value at ``t = 0``), and the equations
+    ``J w' + w x (J w + h(t)) = M - U`` are Euler's under
+
+    ``M_b = (h + U t) x w - U``.
+
+    That is a body with reaction wheels under constant motor torques ``u_i`` and no
+    friction, ``J`` then the inertia with the wheels' axial moments taken out (``J_f``),
+    ``h`` their absolute axial momenta and ``U = sum_i u_i a_i``
+    (:func:`poinsot.dynamics.simulate_wheels` runs it so).
+
     So ``simulate(J, rotation0, omega0, t, torque=GyrostaticTorque(h))`` integrates the
     gyrostat (:class:`poinsot.dynamics.FreeGyrostat` is its exact torque-free motion);
     the compiled integrators (``method="dop853"``, ``"rk4"``, ``"midpoint"``) run it
     inside their loops. The torque does no work (``(h x w) . w = 0``): the kinetic
     energy ``T = w . J w / 2`` and the space vector ``K = R (J w + h)`` are conserved
-    when it acts alone; it has no potential of the attitude. Add other models with
+    when it acts alone; it has no potential of the attitude. With ``rate`` the motors
+    do work on the body, ``T' = -U . w``, and ``K = R (J w + h + U t)`` is still
+    conserved (the motors are internal). Add other models with
     ``+`` (:class:`TorqueSum`, then evaluated from Python).
 
     Parameters
     ----------
     h : array_like, shape (..., 3)
-        The rotors' angular momentum relative to the body, in body axes (kg m^2/s);
-        a leading shape gives one per body of a batch.
+        The rotors' angular momentum relative to the body, in body axes (kg m^2/s),
+        at ``t = 0`` when ``rate`` is given; a leading shape gives one per body of a
+        batch.
+    rate : array_like, shape (..., 3), optional
+        ``U = h'``, the constant rate of the rotors' momentum in body axes (N m): the
+        sum of the motor torques along the rotors' axes. Default ``None``: constant
+        ``h`` (``M_b = h x w``, bit for bit).
 
     Raises
     ------
     InvalidInputError
-        If ``h`` is not finite or not of shape (..., 3).
+        If ``h`` or ``rate`` is not finite or not of shape (..., 3).
 
     Notes
     -----
@@ -301,16 +320,44 @@ class GyrostaticTorque(TorqueModel):
     >>> exact = FreeGyrostat(J, h, omega0=w0)
     >>> bool(np.abs(tr.omega - exact.omega(t)).max() < 1e-9)
     True
+
+    Motors spinning the rotors up about z at 0.1 N m: ``M_b = (h + U t) x w - U``.
+
+    >>> GyrostaticTorque([0.0, 0.0, 2.0], rate=[0.0, 0.0, 0.1]).body_torque(
+    ...     10.0, [1.0, 0, 0, 0], [1.0, 0.0, 0.0])
+    array([ 0. ,  3. , -0.1])
     """
 
     h: Any
+    rate: Any = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "h", _readonly(as_vec3(self.h, "h")))
+        if self.rate is not None:
+            object.__setattr__(self, "rate", _readonly(as_vec3(self.rate, "rate")))
+
+    def momentum(self, t: float) -> np.ndarray:
+        """The rotors' momentum at time ``t``, ``h + U t`` (body axes, kg m^2/s).
+
+        Examples
+        --------
+        >>> from poinsot.dynamics import GyrostaticTorque
+        >>> GyrostaticTorque([0.0, 0.0, 2.0], rate=[0.0, 0.0, 0.1]).momentum(10.0)
+        array([0., 0., 3.])
+        """
+        if self.rate is None:
+            return self.h
+        return self.h + self.rate * t
 
     def body_torque(self, t: float, quat: np.ndarray, omega: np.ndarray) -> np.ndarray:
-        shape = batch_shape(h=(self.h, 1), quat=(np.shape(quat), 1), omega=(np.shape(omega), 1))
-        return np.broadcast_to(cross(self.h, np.asarray(omega, dtype=float)), shape + (3,))
+        shape = batch_shape(
+            h=(self.h, 1), rate=(np.zeros(3) if self.rate is None else self.rate, 1),
+            quat=(np.shape(quat), 1), omega=(np.shape(omega), 1),
+        )  # fmt: skip
+        w = np.asarray(omega, dtype=float)
+        if self.rate is None:
+            return np.broadcast_to(cross(self.h, w), shape + (3,))
+        return np.broadcast_to(cross(self.h + self.rate * t, w) - self.rate, shape + (3,))
 
 
 @dataclass(frozen=True, eq=False)

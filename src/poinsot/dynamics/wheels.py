@@ -59,16 +59,23 @@ import numpy as np
 
 from .. import _quat
 from .._typing import ArrayLike, FloatArray
-from .._validate import as_choice, as_float_array, as_rotation_quat, as_times, as_vec3
+from .._validate import (
+    as_choice,
+    as_float_array,
+    as_rotation_quat,
+    as_times,
+    as_vec3,
+    batch_shape,
+)
 from .._vec import diagonal3, inverse3
 from ..errors import IntegrationError, InvalidInputError, InvalidTypeError
 from ..mass.tensor import _kinetic
 from ..rotations.rotation import Rotation
 from ..trajectory import Channel, Trajectory, _readonly
-from .euler_equations import _body_inertia, _max_step, _tolerances
+from .euler_equations import _body_inertia, _max_step, _tolerances, simulate
 from .gyrostat import _gyro_rhs
 from .integrators._common import _fixed_step_info, _normalize, _stages, _substeps
-from .torques import TorqueModel, as_torque
+from .torques import GyrostaticTorque, TorqueModel, as_torque
 
 __all__ = ["ReactionWheels", "pyramid", "simulate_wheels", "WheelTrajectory", "WHEEL_METHODS"]
 
@@ -465,7 +472,8 @@ def _tensor(inertia: object) -> np.ndarray:
     j, principal = _body_inertia(inertia)
     if j.shape != ((3,) if principal else (3, 3)):
         raise InvalidInputError(
-            f"Expected `inertia` for one body, (3,) or (3, 3), got {j.shape} (no batches)."
+            f"Expected `inertia` for one body, (3,) or (3, 3), got {j.shape} (batches run only "
+            "with a constant `command` array, no friction, no `torque` and method='dop853')."
         )
     return diagonal3(j) if principal else j
 
@@ -624,6 +632,127 @@ def _run_rk4(
     return ys, info
 
 
+#: The end of the messages refusing a batch on the Python path.
+_BATCH_ONLY = (
+    " (batches run only with a constant `command` array, no friction, no `torque` and "
+    "method='dop853')"
+)
+
+
+def _constant_command(command: object, wheels: ReactionWheels) -> np.ndarray:
+    """A constant ``command`` (..., N), clipped to ``[-u_max, u_max]``."""
+    c = as_float_array(command, "command")
+    if c.ndim == 0 or c.shape[-1] != wheels.n:
+        error = InvalidTypeError if c.ndim == 0 else InvalidInputError
+        raise error(
+            f"Expected `command` to be callable or an array of shape (..., {wheels.n}) "
+            f"(constant motor torques), got shape {c.shape}."
+        )
+    return np.clip(c, -wheels.max_torque, wheels.max_torque)
+
+
+def _run_constant(
+    inertia: ArrayLike,
+    wheels: ReactionWheels,
+    rotation0: Rotation | ArrayLike,
+    omega0: ArrayLike,
+    wheel_speed0: ArrayLike,
+    tt: np.ndarray,
+    u: np.ndarray,
+    rtol: float,
+    atol: float,
+    max_step: float | None,
+) -> WheelTrajectory | None:
+    """Constant motor torques ``u`` (..., N), no friction, no external torque: Euler's
+    equations of ``J_f`` under :class:`GyrostaticTorque` ``(h_f(0), rate=U)`` in the
+    compiled DOP853 (:func:`simulate`), ``h_i(t) = h_i(t0) + u_i (t - t0)`` and
+    ``Omega_i = h_i / I_i - a_i . w`` after it (module notes). ``None`` when one body's
+    wheel passes ``max_speed`` on the output grid (the caller takes the Python path);
+    a batch's raises."""
+    j, principal = _body_inertia(inertia)
+    jt = diagonal3(j) if principal else j
+    q0 = as_rotation_quat(rotation0, "rotation0")
+    w0 = as_vec3(omega0, "omega0")
+    om0 = wheels._wheel_array(wheel_speed0, "wheel_speed0")
+    batch = batch_shape(
+        inertia=(jt, 2), rotation0=(q0, 1), omega0=(w0, 1), wheel_speed0=(om0, 1),
+        command=(u, 1),
+    )  # fmt: skip
+    n = wheels.n
+    om0 = np.broadcast_to(om0, batch + (n,))
+    _check_start(om0, wheels)
+    jf = jt - wheels.axial_inertia
+    _check_free(jf)
+    jf = np.broadcast_to(jf, batch + (3, 3))
+    q0 = np.broadcast_to(q0, batch + (4,))
+    w0 = np.broadcast_to(w0, batch + (3,))
+    u = np.broadcast_to(u, batch + (n,))
+    axes, moments = wheels.axes, wheels.inertia
+    h_abs0 = moments * (om0 + w0 @ axes.T)  # the wheels' absolute axial momenta at t0
+    rate = u @ axes  # U = sum_i u_i a_i
+    t0 = float(tt[0])
+    h0 = h_abs0 @ axes - rate * t0  # h_f(t) = h0 + U t
+    tr = simulate(
+        jf, q0, w0, tt, torque=GyrostaticTorque(h0, rate=rate), method="dop853", rtol=rtol,
+        atol=atol, max_step=max_step,
+    )  # fmt: skip
+    q = tr.rotation.as_quat()
+    w = tr.omega
+    dt = (tt - t0).reshape((-1,) + (1,) * (len(batch) + 1))
+    om = (h_abs0 + u * dt) / moments - w @ axes.T
+    over = np.abs(om) > wheels.max_speed
+    if np.any(over):
+        if batch == ():
+            return None
+        k, *b, i = (int(x[0]) for x in np.nonzero(over))
+        raise InvalidInputError(
+            f"Expected the constant `command` to keep every wheel within `max_speed` on the "
+            f"output grid (a batch has no speed hold), got wheel {i} of body {tuple(b)} at "
+            f"{float(om[(k, *b, i)])!r} rad/s at t = {float(tt[k]):.6g} (limit "
+            f"{float(wheels.max_speed[i])!r}): reduce `command` or integrate that body alone."
+        )
+    h = (moments * om) @ axes
+    k_space = _quat.rotate(q, np.einsum("...ij,...j->...i", jt, w) + h)
+    info = dict(tr.info)
+    info.update(_conserved(None, u, wheels))
+    return WheelTrajectory(
+        tt,
+        tr.rotation,
+        tr.omega,
+        "dop853",
+        energy=_energy(wheels, jt, w, om),
+        momentum=k_space,
+        info=info,
+        wheel_speed=np.ascontiguousarray(om),
+        wheel_momentum=h,
+        motor_torque=np.ascontiguousarray(np.broadcast_to(u, om.shape)),
+    )
+
+
+def _check_start(om0: np.ndarray, wheels: ReactionWheels) -> None:
+    """Every initial wheel speed within its limit."""
+    over = np.abs(om0) > wheels.max_speed
+    if np.any(over):
+        *b, i = (int(x[0]) for x in np.nonzero(over))
+        where = f" of body {tuple(b)}" if b else ""
+        raise InvalidInputError(
+            f"Expected `wheel_speed0` within `max_speed`, got {float(om0[(*b, i)])!r} for "
+            f"wheel {i}{where} (limit {float(wheels.max_speed[i])!r})."
+        )
+
+
+def _check_free(jf: np.ndarray) -> None:
+    """``J_f = J - sum_i I_i a_i a_i^T`` positive definite (every body)."""
+    eig = np.linalg.eigvalsh(jf)
+    if np.any(eig <= 0.0):
+        bad = eig.reshape(-1, 3)[np.flatnonzero(np.any(eig.reshape(-1, 3) <= 0.0, axis=1))[0]]
+        raise InvalidInputError(
+            "Expected `inertia` to contain the wheels locked: J - sum_i I_i a_i a_i^T must be "
+            f"positive definite, got eigenvalues {bad.tolist()} (`wheels` inertia too large "
+            "for `inertia`?)."
+        )
+
+
 def simulate_wheels(
     inertia: ArrayLike,
     wheels: ReactionWheels,
@@ -632,7 +761,7 @@ def simulate_wheels(
     wheel_speed0: ArrayLike,
     t: ArrayLike,
     *,
-    command: Callable[..., ArrayLike] | None = None,
+    command: Callable[..., ArrayLike] | ArrayLike | None = None,
     torque: TorqueModel | ArrayLike | Callable[..., ArrayLike] | None = None,
     method: str = "dop853",
     rtol: float | None = None,
@@ -649,27 +778,50 @@ def simulate_wheels(
 
     ``J_f = J - sum_i I_i a_i a_i^T``, ``h_f = sum_i I_i (Omega_i + a_i . w) a_i``.
 
+    **Constant motor torques (the compiled, batched path).** When ``command`` is an
+    array (constant torques ``u_i``, clipped at ``max_torque``), the wheels have no
+    friction (``viscous`` and ``coulomb`` zero), ``torque`` is ``None`` and ``method`` is
+    ``"dop853"``, the wheels' absolute momenta are known in closed form,
+    ``h_i(t) = h_i(t0) + u_i (t - t0)``, so ``h_f(t) = h_f(t0) + U (t - t0)`` with
+    ``U = sum_i u_i a_i``, and the body obeys Euler's equations of ``J_f`` under
+
+    ``M_b = h_f(t) x w - U``,
+
+    integrated by the compiled DOP853 (:func:`~poinsot.dynamics.simulate` with
+    :class:`~poinsot.dynamics.GyrostaticTorque` ``(h_f(t0) - U t0, rate=U)``, torque
+    kind 5) for a whole batch at once; then ``Omega_i(t) = h_i(t) / I_i - a_i . w(t)``
+    exactly. The step control then sees ``(q, w)`` only (not ``Omega``). If a wheel's
+    ``|Omega_i|`` exceeds ``max_speed`` at an output time (the hold makes the torque
+    piecewise), one body is integrated again on the Python path and a batch raises
+    :class:`~poinsot.InvalidInputError`; between output times the speeds are not
+    checked (``h_i`` is linear in ``t``, so the speeds move monotonically but for
+    ``a_i . w``). Everything else (a callable ``command``, friction, ``torque``,
+    ``"rk4"``) takes the Python path: one body, the state ``(q, w, Omega)`` in SciPy's
+    DOP853 (``info["solver"] == "DOP853"``) or the RK4 here.
+
     Parameters
     ----------
-    inertia : array_like, shape (3,) or (3, 3), or RigidBody
+    inertia : array_like, shape (..., 3) or (..., 3, 3), or RigidBody
         Inertia ``J`` of body and wheels with the wheels **locked** (axial moments
         included), about the centre of mass in body axes (kg m^2); principal moments
-        when the body axes are principal. One body (no batches).
+        when the body axes are principal. A leading shape (a batch) only on the
+        compiled path.
     wheels : ReactionWheels
-        The wheels (axes, axial inertias, limits, friction).
-    rotation0 : Rotation or array_like, shape (4,)
+        The wheels (axes, axial inertias, limits, friction), shared by the batch.
+    rotation0 : Rotation or array_like, shape (..., 4)
         Initial attitude, body -> space.
-    omega0 : array_like, shape (3,)
+    omega0 : array_like, shape (..., 3)
         Initial body angular velocity in body axes (rad/s).
-    wheel_speed0 : array_like, shape (N,)
+    wheel_speed0 : array_like, shape (..., N)
         Initial wheel speeds relative to the body (rad/s), ``|Omega_i| <= Omega_max``.
     t : array_like, shape (n,)
         Output times, strictly increasing; the motion starts at ``t[0]``.
-    command : callable, optional
+    command : callable or array_like, shape (..., N), optional
         ``command(t, q, w, Omega) -> (N,)``: the motor torques (N m) asked for, from
         the time (s), the scalar-first quaternion ``q`` (4,), ``w`` (3,) (rad/s, body
-        axes) and the wheel speeds (N,) (rad/s); clipped at ``max_torque``. Default:
-        no motor torque.
+        axes) and the wheel speeds (N,) (rad/s); or an array: constant motor torques
+        (N m), one row per body of a batch. Clipped at ``max_torque``. Default: no
+        motor torque.
     torque : None, TorqueModel, array_like (3,) or callable, optional
         External torque in body axes (N m), as :func:`~poinsot.dynamics.simulate`
         takes it (a callable gets ``(t, rotation, omega)``).
@@ -686,21 +838,26 @@ def simulate_wheels(
     Returns
     -------
     WheelTrajectory
-        ``rotation`` (n,), ``omega`` (n, 3), ``wheel_speed`` (n, N) (rad/s),
-        ``wheel_momentum`` ``h`` (n, 3) (N m s, body axes), ``motor_torque`` (n, N)
-        (N m, applied), ``energy`` (n,) the kinetic energy of body and wheels (J),
-        ``momentum`` ``K = R (J w + h)`` (n, 3, space axes); ``info``: ``solver``,
-        ``rtol``, ``atol``, ``evaluations``, ``message`` (dop853) or ``steps``,
-        ``step_size``, ``order`` (rk4), and ``torque``, ``conserved``.
+        ``rotation`` (n, ...), ``omega`` (n, ..., 3), ``wheel_speed`` (n, ..., N)
+        (rad/s), ``wheel_momentum`` ``h`` (n, ..., 3) (N m s, body axes),
+        ``motor_torque`` (n, ..., N) (N m, applied), ``energy`` (n, ...) the kinetic
+        energy of body and wheels (J), ``momentum`` ``K = R (J w + h)`` (n, ..., 3,
+        space axes): the batch axes after the time axis, as
+        :func:`~poinsot.dynamics.simulate`'s. ``info``: ``solver``, ``rtol``, ``atol``,
+        ``evaluations``, ``message`` (SciPy's dop853), ``steps`` (per body), ``rejected``
+        (compiled dop853) or ``steps``, ``step_size``, ``order`` (rk4), and ``torque``,
+        ``conserved``.
 
     Raises
     ------
     InvalidInputError
         Bad values or shapes (the message names the argument); a ``J`` that does not
         contain the wheels (``J - sum_i I_i a_i a_i^T`` not positive definite); a wheel
-        speed beyond its limit; a command of the wrong shape.
+        speed beyond its limit; a command of the wrong shape; a batch off the compiled
+        path; a batch whose constant ``command`` drives a wheel past ``max_speed``.
     InvalidTypeError
-        ``wheels`` not a :class:`ReactionWheels`, ``command`` not callable, a bad type.
+        ``wheels`` not a :class:`ReactionWheels`, ``command`` neither callable nor an
+        array, a bad type.
     IntegrationError
         A non-finite state or command.
 
@@ -731,6 +888,20 @@ def simulate_wheels(
     (array([0.05]), 0.3888888889)
     >>> bool(tr.momentum_vector_drift < 1e-12)
     True
+
+    A batch of three bodies with a four-wheel pyramid under constant motor torques
+    (the compiled path); the total momentum ``K`` stays put, the motors being internal:
+
+    >>> from poinsot.dynamics import pyramid
+    >>> rw4 = pyramid(np.arccos(1 / np.sqrt(3)), 0.02, max_torque=0.05, max_speed=600.0)
+    >>> J = [[10.0, 12.0, 8.0], [20.0, 15.0, 9.0], [7.0, 7.5, 6.0]]
+    >>> u = [[0.01, -0.01, 0.0, 0.02], [0.0, 0.0, 0.05, 0.0], [-0.02, 0.01, 0.01, 0.0]]
+    >>> tr = simulate_wheels(J, rw4, [1.0, 0, 0, 0], [0.01, 0.0, -0.02], [50.0, 0, 0, -50.0],
+    ...                      np.linspace(0.0, 60.0, 7), command=u)
+    >>> tr.wheel_speed.shape, tr.info["solver"].startswith("DOP853 (compiled")
+    ((7, 3, 4), True)
+    >>> bool(np.abs(tr.momentum - tr.momentum[0]).max() < 1e-10)
+    True
     """
     if not isinstance(wheels, ReactionWheels):
         raise InvalidTypeError(
@@ -741,41 +912,53 @@ def simulate_wheels(
         raise InvalidInputError(
             "Expected no `rtol`/`atol` with method='rk4' (a fixed-step method); use `max_step`."
         )
+    tt = as_times(t, "t")
+    model = as_torque(torque)
+    h_max = _max_step(max_step)
+    rt, at = _tolerances(1e-10 if rtol is None else rtol, 1e-12 if atol is None else atol)
+    law: Callable[..., ArrayLike] | None
+    if command is None or callable(command):
+        law = command
+    else:  # constant motor torques
+        u = _constant_command(command, wheels)
+        friction = bool(np.any(wheels.viscous) or np.any(wheels.coulomb))
+        if model is None and method == "dop853" and not friction:
+            out = _run_constant(
+                inertia, wheels, rotation0, omega0, wheel_speed0, tt, u, rt, at, max_step
+            )
+            if out is not None:
+                return out
+        if u.shape != (wheels.n,):
+            raise InvalidInputError(
+                f"Expected `command` of shape ({wheels.n},) (one body), got {u.shape}"
+                + _BATCH_ONLY
+                + "."
+            )
+        u.setflags(write=False)
+        law = lambda t, q, w, om: u  # noqa: E731
     j = _tensor(inertia)
     q0 = as_rotation_quat(rotation0, "rotation0")
     if q0.shape != (4,):
         raise InvalidInputError(
-            f"Expected `rotation0` to have shape (4,) (one body), got {q0.shape}."
+            f"Expected `rotation0` to have shape (4,) (one body), got {q0.shape}"
+            + _BATCH_ONLY
+            + "."
         )
     w0 = as_vec3(omega0, "omega0")
     if w0.shape != (3,):
-        raise InvalidInputError(f"Expected `omega0` to have shape (3,) (one body), got {w0.shape}.")
+        raise InvalidInputError(
+            f"Expected `omega0` to have shape (3,) (one body), got {w0.shape}" + _BATCH_ONLY + "."
+        )
     om0 = as_float_array(wheel_speed0, "wheel_speed0")
     if om0.shape != (wheels.n,):
         raise InvalidInputError(
-            f"Expected `wheel_speed0` to have shape ({wheels.n},), got {om0.shape}."
+            f"Expected `wheel_speed0` to have shape ({wheels.n},) (one body), got {om0.shape}"
+            + _BATCH_ONLY
+            + "."
         )
-    over = np.abs(om0) > wheels.max_speed
-    if np.any(over):
-        i = int(np.flatnonzero(over)[0])
-        raise InvalidInputError(
-            f"Expected `wheel_speed0` within `max_speed`, got {float(om0[i])!r} for wheel {i} "
-            f"(limit {float(wheels.max_speed[i])!r})."
-        )
-    tt = as_times(t, "t")
-    if command is not None and not callable(command):
-        raise InvalidTypeError(f"Expected `command` to be callable, got {type(command).__name__}.")
-    model = as_torque(torque)
-    h_max = _max_step(max_step)
-    rt, at = _tolerances(1e-10 if rtol is None else rtol, 1e-12 if atol is None else atol)
-    eig = np.linalg.eigvalsh(j - wheels.axial_inertia)
-    if np.any(eig <= 0.0):
-        raise InvalidInputError(
-            "Expected `inertia` to contain the wheels locked: J - sum_i I_i a_i a_i^T must be "
-            f"positive definite, got eigenvalues {eig.tolist()} (`wheels` inertia too large "
-            "for `inertia`?)."
-        )
-    sys_ = _WheelSystem(j, wheels, command, model)
+    _check_start(om0, wheels)
+    _check_free(j - wheels.axial_inertia)
+    sys_ = _WheelSystem(j, wheels, law, model)
     y0 = np.concatenate([q0, w0, om0])
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         if method == "dop853":
@@ -787,7 +970,7 @@ def simulate_wheels(
     u = np.array([sys_.motion(float(tk), q[k], w[k], om[k])[2] for k, tk in enumerate(tt)])
     h = _along(wheels.axes, wheels.inertia * om)
     k_space = _quat.rotate(q, np.einsum("ij,nj->ni", j, w) + h)
-    info.update(_conserved(model, command, wheels))
+    info.update(_conserved(model, law, wheels))
     return WheelTrajectory(
         tt,
         Rotation.from_quat(q),
@@ -810,7 +993,7 @@ def _conserved(
     if model is not None:
         return {"torque": type(model).__name__, "conserved": ()}
     quiet = (
-        command is None
+        (command is None or (isinstance(command, np.ndarray) and not np.any(command)))
         and not np.any(wheels.viscous)
         and not np.any(wheels.coulomb)
         and np.all(np.isinf(wheels.max_speed))
