@@ -230,9 +230,9 @@ def filter_monte_carlo(
             f"Expected `runs` >= 2, `chunk_size` >= 1 and `seed` >= 0, got {runs}, "
             f"{chunk_size}, {seed}."
         )
-    for name, value in (("attitude_sigma", attitude_sigma), ("bias_sigma", bias_sigma)):
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-            raise InvalidInputError(f"Expected `{name}` to be a positive number, got {value!r}.")
+    for label, sigma in (("attitude_sigma", attitude_sigma), ("bias_sigma", bias_sigma)):
+        if not (isinstance(sigma, int | float) and math.isfinite(sigma) and sigma > 0):
+            raise InvalidInputError(f"Expected `{label}` to be a positive number, got {sigma!r}.")
     if not (isinstance(level, float) and 0.0 < level < 1.0):
         raise InvalidInputError(f"Expected `level` to be a probability in (0, 1), got {level!r}.")
 
