@@ -889,18 +889,19 @@ def simulate_wheels(
     >>> bool(tr.momentum_vector_drift < 1e-12)
     True
 
-    A batch of three bodies with a four-wheel pyramid under constant motor torques
-    (the compiled path); the total momentum ``K`` stays put, the motors being internal:
+    A batch of two bodies (principal moments, shape (2, 3); a (3, 3) array would be one
+    tensor) with a four-wheel pyramid under constant motor torques (the compiled path);
+    the total momentum ``K`` stays put, the motors being internal:
 
     >>> from poinsot.dynamics import pyramid
     >>> rw4 = pyramid(np.arccos(1 / np.sqrt(3)), 0.02, max_torque=0.05, max_speed=600.0)
-    >>> J = [[10.0, 12.0, 8.0], [20.0, 15.0, 9.0], [7.0, 7.5, 6.0]]
-    >>> u = [[0.01, -0.01, 0.0, 0.02], [0.0, 0.0, 0.05, 0.0], [-0.02, 0.01, 0.01, 0.0]]
+    >>> J = [[10.0, 12.0, 8.0], [20.0, 15.0, 9.0]]
+    >>> u = [[0.01, -0.01, 0.0, 0.02], [0.0, 0.0, 0.05, 0.0]]
     >>> tr = simulate_wheels(J, rw4, [1.0, 0, 0, 0], [0.01, 0.0, -0.02], [50.0, 0, 0, -50.0],
     ...                      np.linspace(0.0, 60.0, 7), command=u)
     >>> tr.wheel_speed.shape, tr.info["solver"].startswith("DOP853 (compiled")
-    ((7, 3, 4), True)
-    >>> bool(np.abs(tr.momentum - tr.momentum[0]).max() < 1e-10)
+    ((7, 2, 4), True)
+    >>> bool(np.abs(tr.momentum - tr.momentum[0]).max() < 1e-8)   # |K| ~ 1, rtol 1e-10
     True
     """
     if not isinstance(wheels, ReactionWheels):
