@@ -95,7 +95,7 @@ min-versions-banner:
 
 # numba's cache of its own: kernels that `make test` cached with the current numba in
 # the source tree's __pycache__ segfaulted numba 0.60's gufunc calls (CI, 2026-11-30).
-NUMBA_CACHE_MIN := $(VENV_MIN)/numba-cache
+NUMBA_CACHE_MIN := $(CURDIR)/$(VENV_MIN)/numba-cache
 
 test-min-core: $(STAMP_MIN_CORE) min-versions-banner
 	NUMBA_CACHE_DIR=$(NUMBA_CACHE_MIN) $(PY_MIN) -m pytest $(XDIST) $(CORE_TESTS)
