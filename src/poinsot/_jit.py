@@ -983,4 +983,44 @@ def install_safe_saves() -> None:
             original(self, key, data)  # type: ignore[no-untyped-call]
 
     caching.IndexDataCacheFile.save = save  # type: ignore[method-assign]
+    _key_gufunc_wrappers_by_kernel()
     _SAVES_SAFE = True
+
+
+def _key_gufunc_wrappers_by_kernel() -> None:
+    """Cache a poinsot gufunc's wrapper under its kernel's symbol name, not only its
+    signature.
+
+    numba caches a gufunc as two entries keyed by the signature alone: the kernel, and
+    the wrapper that calls it by the kernel's symbol, numbered in the order of the
+    compiling process's compilations (``...euler_to_quatB3v25...``). Two processes that
+    compile the same gufunc at once (xdist workers on a cold cache, a program and its
+    background warmup, an import outside :func:`compile_lock`) can each save both
+    entries, and the cache may end with one process's kernel and the other's wrapper:
+    every later process that loads them calls a symbol that is not there and segfaults
+    (seen on CI with numba 0.60, and here with 0.68: kernel ``v25``, wrapper calling
+    ``v28``). Keyed by the kernel's symbol, a wrapper can only be loaded beside the
+    kernel it calls; a mismatch is a cache miss, and the small wrapper is compiled
+    again."""
+    from numba.np.ufunc import wrappers
+
+    cls = wrappers._GufuncWrapper
+    if getattr(cls._compile_wrapper, "_poinsot", False):
+        return
+    original = cls._compile_wrapper
+
+    def _compile_wrapper(self: Any, wrapper_name: str) -> Any:
+        module = getattr(self.py_func, "__module__", "") or ""
+        if self.is_parfors or not module.startswith("poinsot"):
+            return original(self, wrapper_name)
+        key = (self.cres.signature, self.fndesc.mangled_name)
+        wrapperlib = self.cache.load_overload(key, self.cres.target_context)
+        if wrapperlib is None:
+            wrapperlib = self.context.codegen().create_library(str(self))
+            wrapperlib.enable_object_caching()
+            self._build_wrapper(wrapperlib, wrapper_name)
+            self.cache.save_overload(key, wrapperlib)
+        return wrapperlib
+
+    _compile_wrapper._poinsot = True  # type: ignore[attr-defined]
+    cls._compile_wrapper = _compile_wrapper
