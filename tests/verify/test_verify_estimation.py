@@ -5,6 +5,8 @@ against the truth with a NEES consistency verdict (docs/verify.md)."""
 from __future__ import annotations
 
 import json
+import re
+from xml.etree import ElementTree
 
 import numpy as np
 import pandas as pd
@@ -18,6 +20,7 @@ from poinsot.verify import CASES_VERSION, FileEngine, cases, engines, evaluate, 
 from poinsot.verify.cases import ESTIMATION_THRESHOLDS
 from poinsot.verify.files import write_estimate
 from poinsot.verify.groups import Estimate, draw_sensors, mekf_estimate, nees_band
+from poinsot.verify.suite import Verdict, _time_svg, write
 
 CASE = cases("mekf-racket")[0]
 
@@ -172,3 +175,40 @@ def test_a_diverged_estimate_fails(tmp_path):
     write_estimate(tmp_path, CASE, Estimate(CASE.t, q))
     res = run(FileEngine(tmp_path), CASE)
     assert res.status == "fail" and "non-finite values in column(s) qw, qx, qy, qz" in res.reason
+
+
+def test_the_case_page_draws_the_errors_against_their_limits(tmp_path, mekf):
+    # the run is labelled by the method it ran (the MEKF), the engine by its default
+    assert mekf.result.method == "poinsot mekf"
+    assert engines.PoinsotEngine().label == "poinsot (each case's default method)"
+    verdict = Verdict("poinsot", engines.PoinsotEngine().label, [mekf])
+    files = write(verdict, tmp_path)
+    page = tmp_path / "cases" / "mekf-racket.html"
+    assert page in files
+    text = page.read_text(encoding="utf-8")
+    root = ElementTree.fromstring(text[text.index("<svg") : text.index("</svg>") + 6])
+    assert root.tag.endswith("svg")
+    # the two charts, each with its limits written as the metrics state them
+    assert text.count("<svg") == 2
+    nees = mekf.metrics["nees"]
+    assert f"band, upper {nees['threshold']:.3g}" in text
+    assert f"band, lower {nees['minimum']:.3g}" in text
+    assert f"time average {nees['value']:.3g}" in text
+    assert f"threshold (second half) {mekf.metrics['attitude']['threshold']:.3g}" in text
+    index = (tmp_path / "verify.html").read_text(encoding="utf-8")
+    assert 'href="cases/mekf-racket.html"' in index
+
+
+def test_a_long_series_keeps_its_spike_when_thinned():
+    t = np.linspace(0.0, 100.0, 50001)
+    y = np.full(t.size, 1e-3)
+    y[25001] = 1e3  # one sample in 50001: 2500 bins of 21 samples must keep it
+    svg = _time_svg(t, y, "error", [])
+    pts = re.search(r'polyline[^>]*points="([^"]+)"', svg).group(1).split()
+    ys = np.array([float(p.split(",")[1]) for p in pts])
+    assert 2000 <= ys.size <= 2500
+    ticks = {
+        m.group(2): float(m.group(1)) - 4 for m in re.finditer(r'y="([\d.]+)"[^>]*>1e(-?\d+)<', svg)
+    }
+    assert ys.min() == pytest.approx(ticks["3"], abs=0.05)  # the top of the chart: 1e3
+    assert ys.max() == pytest.approx(ticks["-3"], abs=0.05)

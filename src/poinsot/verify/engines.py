@@ -200,11 +200,13 @@ class PoinsotEngine:
         self.step = None if step is None else _positive(step, "step")
         self.rtol = None if rtol is None else _positive(rtol, "rtol")
         self.order = order
-        parts = [f"poinsot {method or 'dop853/DOP853'}"]
-        parts += [f"step={self.step:g} s"] if self.step else []
-        parts += [f"rtol={self.rtol:g}"] if self.rtol else []
-        parts += [f"order={order}"] if order else []
-        self.label = " ".join(parts)
+        settings = [f"step={self.step:g} s"] if self.step else []
+        settings += [f"rtol={self.rtol:g}"] if self.rtol else []
+        settings += [f"order={order}"] if order else []
+        self._settings = settings
+        # without a method each case runs its group's default, named in its own result
+        head = f"poinsot {method}" if method else "poinsot (each case's default method)"
+        self.label = " ".join([head, *settings])
 
     def skip_reason(self, case: Case) -> str | None:
         if case.spec.poinsot_method(self.method) is None:
@@ -214,7 +216,8 @@ class PoinsotEngine:
     def run(self, case: Case) -> tuple[Result, int | None]:
         method = case.spec.poinsot_method(self.method)
         assert method is not None
-        return case.spec.poinsot_run(case, method, self.step, self.rtol, self.order, self.label)
+        label = " ".join([f"poinsot {method}", *self._settings])
+        return case.spec.poinsot_run(case, method, self.step, self.rtol, self.order, label)
 
 
 class MuJoCoEngine:

@@ -267,14 +267,109 @@ def _case_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
     states = res.states
     if not states or not all(np.all(np.isfinite(v)) for v in states.values()):
         return None  # nothing to draw (a diverged engine): the index page has its figures
-    if not isinstance(res.result, Result):
-        return None  # an attitude estimate (the estimation cases): no motion to draw
+    if not isinstance(res.result, Result):  # an attitude estimate: its errors, not a motion
+        return _estimate_page(verdict, res, path)
     title = f"poinsot verify: {case.name} in {verdict.label}"
     summary = {"verdict": {k: v["value"] for k, v in res.metrics.items()} | {"status": res.status},
                "thresholds": {k: v["threshold"] for k, v in res.metrics.items()}}  # fmt: skip
     got = dataclasses.replace(res.result, method=verdict.label)  # type: ignore[type-var]
     return write_report(path, trajectory=got, title=title, summary=summary,
                         **case.spec.report_options(case, res.errors))  # fmt: skip
+
+
+def _estimate_page(verdict: Verdict, res: CaseResult, path: Path) -> Path | None:
+    """The page of an estimation case: its metrics, the attitude error and the NEES
+    against time with their thresholds and the NEES band (docs/verify.md)."""
+    esc = html.escape
+    t = res.errors.get("t")
+    if t is None or "attitude" not in res.errors:
+        return None
+    rows = []
+    for name, m in res.metrics.items():
+        limit = f"{m['threshold']:.3g}"
+        if m.get("minimum") is not None:
+            limit = f"{m['minimum']:.3g} .. {limit}"
+        cls = "ok" if m["passed"] else "bad"
+        rows.append(
+            f"<tr><td>{esc(name)}</td><td>{esc(METRICS[name][0])}</td>"
+            f'<td class="{cls}">{m["value"]:.3g}</td><td>{esc(limit)}</td></tr>'
+        )
+    att = res.metrics.get("attitude")
+    limits = [(att["threshold"], "threshold (second half)")] if att else []
+    charts = [_time_svg(t, res.errors["attitude"], "attitude error (rad)", limits)]
+    nees = res.metrics.get("nees")
+    if "nees" in res.errors and nees is not None:
+        lines = [(nees["threshold"], "band, upper"), (nees["value"], "time average")]
+        lines += [(nees["minimum"], "band, lower")] if nees.get("minimum") else []
+        charts.append(_time_svg(t, res.errors["nees"], "NEES (3 dof)", lines))
+    title = f"poinsot verify: {res.case} in {getattr(res.result, 'method', verdict.label)}"
+    text = f"""<!doctype html><html><head><meta charset="utf-8"><title>{esc(title)}</title>
+<style>body{{font-family:system-ui,sans-serif;margin:2em;max-width:60em}}
+table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:.25em .5em}}
+.ok{{background:#e8f5e9}}.bad{{background:#ffebee}}</style>
+</head><body><h1>{esc(title)}</h1><p>Status: <b>{esc(res.status)}</b>. {esc(res.reason)}</p>
+<table><tr><th>metric</th><th>units</th><th>value</th><th>threshold</th></tr>
+{"".join(rows)}</table>
+{"".join(charts)}
+<p>The attitude error is the rotation angle between the exact attitude and the estimate;
+NEES = sum_i (e_i / s_i)^2 over body axes, e the attitude error vector and s the estimator's
+1-sigma. Metrics, thresholds and the NEES band: docs/verify.md (poinsot's documentation); the
+exact motion: docs/theory.md §9.</p></body></html>
+"""
+    atomic_write(path, lambda fh: fh.write(text))
+    return path
+
+
+def _time_svg(t: np.ndarray, y: np.ndarray, label: str,
+              lines: Sequence[tuple[float, str]]) -> str:  # fmt: skip
+    """A chart of ``y`` (log scale) against time ``t`` (s), with labelled horizontal lines.
+
+    Series longer than 2500 samples are drawn as the largest value of each of at most
+    2500 bins, so that no spike of the error is lost to the thinning."""
+    t = np.asarray(t, dtype=float)
+    y = np.maximum(np.asarray(y, dtype=float), 1e-17)
+    ok = np.isfinite(y)
+    t, y = t[ok], y[ok]
+    if t.size == 0:
+        return ""
+    t0 = float(t[0])
+    t1 = float(t[-1]) if t[-1] > t[0] else t0 + 1.0
+    k = -(-t.size // 2500)  # samples per bin
+    starts = np.arange(0, t.size, k)
+    t, y = t[starts], np.maximum.reduceat(y, starts)
+    w, h, pad = 640, 280, 40
+    ly = np.log10(np.concatenate([y, [v for v, _ in lines if v > 0]]))
+    y0, y1 = math.floor(ly.min()), math.ceil(ly.max()) + (ly.min() == ly.max())
+
+    def sx(v: float) -> float:
+        return pad + (v - t0) / (t1 - t0) * (w - 2 * pad)
+
+    def sy(v: float) -> float:
+        return h - pad - (math.log10(v) - y0) / (y1 - y0) * (h - 2 * pad)
+
+    parts = [f'<h2>{html.escape(label)}</h2><svg xmlns="http://www.w3.org/2000/svg" '
+             f'width="{w}" height="{h}" role="img">']  # fmt: skip
+    for e in range(y0, y1 + 1):
+        ye = sy(10.0**e)
+        parts.append(
+            f'<line x1="{pad}" x2="{w - pad}" y1="{ye:.1f}" y2="{ye:.1f}" stroke="#eee"/>'
+            f'<text x="{pad - 6}" y="{ye + 4:.1f}" font-size="11" text-anchor="end">1e{e}</text>'
+        )
+    for v in np.linspace(t0, t1, 5):
+        parts.append(f'<text x="{sx(v):.1f}" y="{h - pad + 14}" font-size="11" '
+                     f'text-anchor="middle">{v:.3g}</text>')  # fmt: skip
+    xy = " ".join(f"{sx(a):.1f},{sy(b):.1f}" for a, b in zip(t, y, strict=True))
+    parts.append(f'<polyline fill="none" stroke="#1f77b4" points="{xy}"/>')
+    for v, name in lines:
+        if v > 0:
+            parts.append(f'<line x1="{pad}" x2="{w - pad}" y1="{sy(v):.1f}" y2="{sy(v):.1f}" '
+                         f'stroke="#000" stroke-dasharray="6 4"/><text x="{w - pad - 4}" '
+                         f'y="{sy(v) - 4:.1f}" font-size="11" text-anchor="end">'
+                         f"{html.escape(name)} {v:.3g}</text>")  # fmt: skip
+    parts.append(
+        f'<text x="{w / 2}" y="{h - 6}" font-size="11" text-anchor="middle">time (s)</text></svg>'
+    )
+    return "".join(parts)
 
 
 def _thresholds(results: list[CaseResult], name: str) -> str:
