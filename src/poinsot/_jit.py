@@ -1012,7 +1012,7 @@ def _key_gufunc_wrappers_by_kernel() -> None:
     def _compile_wrapper(self: Any, wrapper_name: str) -> Any:
         module = getattr(self.py_func, "__module__", "") or ""
         if self.is_parfors or not module.startswith("poinsot"):
-            return original(self, wrapper_name)
+            return original(self, wrapper_name)  # type: ignore[no-untyped-call]
         key = (self.cres.signature, self.fndesc.mangled_name)
         wrapperlib = self.cache.load_overload(key, self.cres.target_context)
         if wrapperlib is None:
@@ -1023,4 +1023,4 @@ def _key_gufunc_wrappers_by_kernel() -> None:
         return wrapperlib
 
     _compile_wrapper._poinsot = True  # type: ignore[attr-defined]
-    cls._compile_wrapper = _compile_wrapper
+    cls._compile_wrapper = _compile_wrapper  # type: ignore[method-assign]
