@@ -29,6 +29,8 @@ from ._wahba_codes import (  # noqa: F401 - read as W.<NAME> by the callers
     PARALLEL_RTOL,
     QUEST,
     QUEST_ROTATION_THRESHOLD,
+    UNIT_MAX,
+    UNIT_MIN,
     ZERO_OBSERVED,
     ZERO_REFERENCE,
 )
@@ -40,10 +42,14 @@ def finite3(x: float, y: float, z: float) -> bool:
 
 
 def unit(x: float, y: float, z: float) -> tuple[float, float, float]:
-    """``v / |v|`` for a non-zero finite ``v``, scaled first (no overflow for 1e200)."""
-    t = 1.0 / max(abs(x), abs(y), abs(z))
-    x, y, z = x * t, y * t, z * t
-    n = 1.0 / math.sqrt(x * x + y * y + z * z)
+    """``v / |v|`` for a non-zero finite ``v``, scaled first when ``|v|^2`` would
+    overflow or lose digits (no overflow for 1e200, none lost for 1e-200)."""
+    n2 = x * x + y * y + z * z
+    if not (n2 > UNIT_MIN and n2 < UNIT_MAX):  # rare: one division saved otherwise
+        t = 1.0 / max(abs(x), abs(y), abs(z))
+        x, y, z = x * t, y * t, z * t
+        n2 = x * x + y * y + z * z
+    n = 1.0 / math.sqrt(n2)
     return x * n, y * n, z * n
 
 
@@ -107,7 +113,10 @@ def lambda_max(
         if fp != 0.0:
             step = f / fp
         lam = lam - step
-        if not going(abs(step) > NEWTON_TOL):
+        # the next step would be about f'' step^2 / (2 f') (quadratic convergence):
+        # below NEWTON_TOL / 2 it changes nothing, so it is not taken (2 steps, not 3)
+        fpp = 12.0 * l2 - 2.0 * (a + bb)
+        if not going(abs(step) > NEWTON_TOL and abs(fpp) * step * step >= NEWTON_TOL * abs(fp)):
             break
     l2 = lam * lam
     return lam, 2.0 * lam * (2.0 * l2 - a - bb) - c
@@ -272,22 +281,23 @@ def esoq2(
     return turned_back(turn, w, x, y, z)
 
 
-def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
-    """One observation set: ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22,
-    status)``: the quaternion of ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance
-    entries (NaN unless ``want_cov``) and the status bits (``0.0``: solved; else
-    everything else is NaN)."""
+def solve(ob, rf, w, io, ir, iw, n, method, want_cov):  # type: ignore[no-untyped-def]
+    """One observation set, ``ob[io]``, ``rf[ir]``, ``w[iw]`` (indexed here, not
+    sliced by the caller: a compiled slice is a new array, reference-counted per set):
+    ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22, status)``: the quaternion of
+    ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance entries (NaN unless
+    ``want_cov``) and the status bits (``0.0``: solved; else everything else is NaN)."""
     nan = math.nan
     bad_b = bad_r = 0.0
     zero_b = zero_r = 0.0
     for i in range(n):  # finite, non-zero
-        if not finite3(ob[i, 0], ob[i, 1], ob[i, 2]):
+        if not finite3(ob[io, i, 0], ob[io, i, 1], ob[io, i, 2]):
             bad_b = 1.0
-        if not finite3(rf[i, 0], rf[i, 1], rf[i, 2]):
+        if not finite3(rf[ir, i, 0], rf[ir, i, 1], rf[ir, i, 2]):
             bad_r = 1.0
-        if max(abs(ob[i, 0]), abs(ob[i, 1]), abs(ob[i, 2])) == 0.0:
+        if max(abs(ob[io, i, 0]), abs(ob[io, i, 1]), abs(ob[io, i, 2])) == 0.0:
             zero_b = 1.0
-        if max(abs(rf[i, 0]), abs(rf[i, 1]), abs(rf[i, 2])) == 0.0:
+        if max(abs(rf[ir, i, 0]), abs(rf[ir, i, 1]), abs(rf[ir, i, 2])) == 0.0:
             zero_r = 1.0
     bad = bad_b * NONFINITE_OBSERVED + bad_r * NONFINITE_REFERENCE
     if bad != 0.0:
@@ -301,9 +311,9 @@ def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     pr00 = pr01 = pr02 = pr11 = pr12 = pr22 = 0.0  # sum w r r^T
     b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0  # sum w b r^T
     for i in range(n):
-        wi = w[i]
-        bx, by, bz = unit(ob[i, 0], ob[i, 1], ob[i, 2])
-        rx, ry, rz = unit(rf[i, 0], rf[i, 1], rf[i, 2])
+        wi = w[iw, i]
+        bx, by, bz = unit(ob[io, i, 0], ob[io, i, 1], ob[io, i, 2])
+        rx, ry, rz = unit(rf[ir, i, 0], rf[ir, i, 1], rf[ir, i, 2])
         lam0 += wi
         pb00 += wi * bx * bx
         pb01 += wi * bx * by
@@ -350,12 +360,12 @@ def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     c = to_matrix(q0, q1, q2, q3)  # C_nb: r ~ C b
     loss = 0.0
     for i in range(n):
-        bx, by, bz = unit(ob[i, 0], ob[i, 1], ob[i, 2])
-        rx, ry, rz = unit(rf[i, 0], rf[i, 1], rf[i, 2])
+        bx, by, bz = unit(ob[io, i, 0], ob[io, i, 1], ob[io, i, 2])
+        rx, ry, rz = unit(rf[ir, i, 0], rf[ir, i, 1], rf[ir, i, 2])
         dx = rx - (c[0] * bx + c[1] * by + c[2] * bz)
         dy = ry - (c[3] * bx + c[4] * by + c[5] * bz)
         dz = rz - (c[6] * bx + c[7] * by + c[8] * bz)
-        loss += w[i] * (dx * dx + dy * dy + dz * dz)
+        loss += w[iw, i] * (dx * dx + dy * dy + dz * dz)
     loss = 0.5 * loss
     if not want_cov:
         return q0, q1, q2, q3, loss, nan, nan, nan, nan, nan, nan, 0.0

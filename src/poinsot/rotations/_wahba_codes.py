@@ -10,6 +10,10 @@ QUEST_ROTATION_THRESHOLD = 0.3
 #: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
 NEWTON_TOL = 1e-15
 NEWTON_MAX = 50
+#: ``|v|^2`` of an observation normalised without rescaling first: squares of normal
+#: numbers, no overflow and no subnormal terms that matter (``unit``).
+UNIT_MIN = 1e-290
+UNIT_MAX = 1e290
 
 #: ``method`` codes of :func:`solve`
 QUEST = 0
