@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import going
+from .._jit import going, pick
 from ._scalar import hamilton, to_matrix
 from ._wahba_codes import (  # noqa: F401 - read as W.<NAME> by the callers
     ESOQ2,
@@ -29,8 +29,10 @@ from ._wahba_codes import (  # noqa: F401 - read as W.<NAME> by the callers
     PARALLEL_RTOL,
     QUEST,
     QUEST_ROTATION_THRESHOLD,
+    UNIT_DOWN,
     UNIT_MAX,
     UNIT_MIN,
+    UNIT_UP,
     ZERO_OBSERVED,
     ZERO_REFERENCE,
 )
@@ -42,14 +44,14 @@ def finite3(x: float, y: float, z: float) -> bool:
 
 
 def unit(x: float, y: float, z: float) -> tuple[float, float, float]:
-    """``v / |v|`` for a non-zero finite ``v``, scaled first when ``|v|^2`` would
-    overflow or lose digits (no overflow for 1e200, none lost for 1e-200)."""
+    """``v / |v|`` for a non-zero finite ``v``, scaled first by a power of two (exact)
+    where ``|v|^2`` would overflow or lose digits (1e200, 1e-200). No branch and no
+    division for the scale: the loss's second pass over the observations repeats
+    these same operations, which the compiler then shares with the first."""
     n2 = x * x + y * y + z * z
-    if not (n2 > UNIT_MIN and n2 < UNIT_MAX):  # rare: one division saved otherwise
-        t = 1.0 / max(abs(x), abs(y), abs(z))
-        x, y, z = x * t, y * t, z * t
-        n2 = x * x + y * y + z * z
-    n = 1.0 / math.sqrt(n2)
+    t = pick(n2 < UNIT_MIN, UNIT_UP, pick(n2 > UNIT_MAX, UNIT_DOWN, 1.0))
+    x, y, z = x * t, y * t, z * t
+    n = 1.0 / math.sqrt(x * x + y * y + z * z)
     return x * n, y * n, z * n
 
 
