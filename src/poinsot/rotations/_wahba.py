@@ -283,9 +283,9 @@ def esoq2(
     return turned_back(turn, w, x, y, z)
 
 
-def solve(ob, rf, w, io, ir, iw, n, method, want_cov):  # type: ignore[no-untyped-def]
-    """One observation set, ``ob[io]``, ``rf[ir]``, ``w[iw]`` (indexed here, not
-    sliced by the caller: a compiled slice is a new array, reference-counted per set):
+def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
+    """One observation set, read as ``ob[i][k]``, ``rf[i][k]``, ``w[i]`` (arrays, or
+    tuples of floats in the compiled loops: no array, no reference count per set):
     ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22, status)``: the quaternion of
     ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance entries (NaN unless
     ``want_cov``) and the status bits (``0.0``: solved; else everything else is NaN)."""
@@ -293,13 +293,13 @@ def solve(ob, rf, w, io, ir, iw, n, method, want_cov):  # type: ignore[no-untype
     bad_b = bad_r = 0.0
     zero_b = zero_r = 0.0
     for i in range(n):  # finite, non-zero
-        if not finite3(ob[io, i, 0], ob[io, i, 1], ob[io, i, 2]):
+        if not finite3(ob[i][0], ob[i][1], ob[i][2]):
             bad_b = 1.0
-        if not finite3(rf[ir, i, 0], rf[ir, i, 1], rf[ir, i, 2]):
+        if not finite3(rf[i][0], rf[i][1], rf[i][2]):
             bad_r = 1.0
-        if max(abs(ob[io, i, 0]), abs(ob[io, i, 1]), abs(ob[io, i, 2])) == 0.0:
+        if max(abs(ob[i][0]), abs(ob[i][1]), abs(ob[i][2])) == 0.0:
             zero_b = 1.0
-        if max(abs(rf[ir, i, 0]), abs(rf[ir, i, 1]), abs(rf[ir, i, 2])) == 0.0:
+        if max(abs(rf[i][0]), abs(rf[i][1]), abs(rf[i][2])) == 0.0:
             zero_r = 1.0
     bad = bad_b * NONFINITE_OBSERVED + bad_r * NONFINITE_REFERENCE
     if bad != 0.0:
@@ -313,9 +313,9 @@ def solve(ob, rf, w, io, ir, iw, n, method, want_cov):  # type: ignore[no-untype
     pr00 = pr01 = pr02 = pr11 = pr12 = pr22 = 0.0  # sum w r r^T
     b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0  # sum w b r^T
     for i in range(n):
-        wi = w[iw, i]
-        bx, by, bz = unit(ob[io, i, 0], ob[io, i, 1], ob[io, i, 2])
-        rx, ry, rz = unit(rf[ir, i, 0], rf[ir, i, 1], rf[ir, i, 2])
+        wi = w[i]
+        bx, by, bz = unit(ob[i][0], ob[i][1], ob[i][2])
+        rx, ry, rz = unit(rf[i][0], rf[i][1], rf[i][2])
         lam0 += wi
         pb00 += wi * bx * bx
         pb01 += wi * bx * by
@@ -362,12 +362,12 @@ def solve(ob, rf, w, io, ir, iw, n, method, want_cov):  # type: ignore[no-untype
     c = to_matrix(q0, q1, q2, q3)  # C_nb: r ~ C b
     loss = 0.0
     for i in range(n):
-        bx, by, bz = unit(ob[io, i, 0], ob[io, i, 1], ob[io, i, 2])
-        rx, ry, rz = unit(rf[ir, i, 0], rf[ir, i, 1], rf[ir, i, 2])
+        bx, by, bz = unit(ob[i][0], ob[i][1], ob[i][2])
+        rx, ry, rz = unit(rf[i][0], rf[i][1], rf[i][2])
         dx = rx - (c[0] * bx + c[1] * by + c[2] * bz)
         dy = ry - (c[3] * bx + c[4] * by + c[5] * bz)
         dz = rz - (c[6] * bx + c[7] * by + c[8] * bz)
-        loss += w[iw, i] * (dx * dx + dy * dy + dz * dz)
+        loss += w[i] * (dx * dx + dy * dy + dz * dz)
     loss = 0.5 * loss
     if not want_cov:
         return q0, q1, q2, q3, loss, nan, nan, nan, nan, nan, nan, 0.0

@@ -62,12 +62,26 @@ def _store(i, r, want_cov, q, loss, cov, status):  # pragma: no cover
         cov[i, 2, 0], cov[i, 2, 1], cov[i, 2, 2] = r[7], r[9], r[10]
 
 
+@njit(inline="always", **_OPTS)
+def _two(a, k):  # pragma: no cover
+    return (a[k, 0, 0], a[k, 0, 1], a[k, 0, 2]), (a[k, 1, 0], a[k, 1, 1], a[k, 1, 2])
+
+
+@njit(inline="always", **_OPTS)
+def _three(a, k):  # pragma: no cover
+    return (
+        (a[k, 0, 0], a[k, 0, 1], a[k, 0, 2]),
+        (a[k, 1, 0], a[k, 1, 1], a[k, 1, 2]),
+        (a[k, 2, 0], a[k, 2, 1], a[k, 2, 2]),
+    )
+
+
 @njit(**_OPTS)
 def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma: no cover
     """Sets ``lo`` to ``hi``: one loop for n = 2, one for n = 3, one for the others.
-    A set is indexed in place (``_one`` takes its row numbers): a slice ``ob[i]``, or
-    an inlined helper taking the arrays, costs atomic reference counts on the shared
-    arrays per set (7 of them, contended between the threads)."""
+    For n = 2 and 3 a set goes to ``_one`` as tuples of floats: an array argument
+    (a slice ``ob[i]`` or the whole batch) is reference-counted per set by the
+    inlined code, an atomic add on a counter the threads share."""
     n = ob.shape[1]
     # 0 for a batch-wide catalogue or weight vector (int64: prange's index may be
     # unsigned, and i if ... else 0 would then be a float)
@@ -77,17 +91,21 @@ def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma:
     if n == 2:
         for i in range(lo, hi):
             k = np.int64(i)
-            r = _one(ob, rf, w, k * so, k * sr, k * sw, 2, method, want_cov)
+            kw = k * sw
+            r = _one(_two(ob, k * so), _two(rf, k * sr), (w[kw, 0], w[kw, 1]), 2,
+                     method, want_cov)  # fmt: skip
             _store(i, r, want_cov, q, loss, cov, status)
     elif n == 3:
         for i in range(lo, hi):
             k = np.int64(i)
-            r = _one(ob, rf, w, k * so, k * sr, k * sw, 3, method, want_cov)
+            kw = k * sw
+            r = _one(_three(ob, k * so), _three(rf, k * sr), (w[kw, 0], w[kw, 1], w[kw, 2]),
+                     3, method, want_cov)  # fmt: skip
             _store(i, r, want_cov, q, loss, cov, status)
     else:
         for i in range(lo, hi):
             k = np.int64(i)
-            r = _one(ob, rf, w, k * so, k * sr, k * sw, n, method, want_cov)
+            r = _one(ob[k * so], rf[k * sr], w[k * sw], n, method, want_cov)
             _store(i, r, want_cov, q, loss, cov, status)
 
 

@@ -268,15 +268,14 @@ def _solve_sets(
                 threaded(kernel, *args) if big else kernel(*args)
             _CALLED.add(name)
     else:
-        # one set of lanes (the lanes last), indexed by solve as set 0
-        cols = [np.moveaxis(np.broadcast_to(a, (size,) + a.shape[1:]), 0, -1)[None] for a in sets]
+        cols = [np.moveaxis(np.broadcast_to(a, (size,) + a.shape[1:]), 0, -1) for a in sets]
         if size == 0:
             res: tuple[np.ndarray, ...] = (np.empty(0),) * 12
         else:
             with np.errstate(all="ignore"):  # as compiled: the failed sets give NaN, no warning
                 # the formula source binds the executor's names (numba): loaded on use
                 solve = importlib.import_module(_WAHBA).solve
-                res = _jit.lanes(solve, size, *cols, 0, 0, 0, n, code, want_cov)
+                res = _jit.lanes(solve, size, *cols, n, code, want_cov)
         res = tuple(np.broadcast_to(np.asarray(r, dtype=float), (size,)) for r in res)
         q = np.stack(res[:4], axis=-1)
         loss = np.array(res[4])
