@@ -115,10 +115,7 @@ def lambda_max(
         if fp != 0.0:
             step = f / fp
         lam = lam - step
-        # the next step would be about f'' step^2 / (2 f') (quadratic convergence):
-        # below NEWTON_TOL / 2 it changes nothing, so it is not taken (2 steps, not 3)
-        fpp = 12.0 * l2 - 2.0 * (a + bb)
-        if not going(abs(step) > NEWTON_TOL and abs(fpp) * step * step >= NEWTON_TOL * abs(fp)):
+        if not going(abs(step) > NEWTON_TOL):
             break
     l2 = lam * lam
     return lam, 2.0 * lam * (2.0 * l2 - a - bb) - c
