@@ -93,8 +93,8 @@ $(STAMP_MIN): $(STAMP_MIN_CORE)
 min-versions-banner:
 	@$(PY_MIN) -c "import numpy, scipy, numba; print('minimum versions: numpy', numpy.__version__, 'scipy', scipy.__version__, 'numba', numba.__version__)"
 
-# numba's cache of its own: kernels that `make test` cached with the current numba in
-# the source tree's __pycache__ segfaulted numba 0.60's gufunc calls (CI, 2026-11-30).
+# numba's cache of its own, apart from the one `make test` fills with the current numba
+# in the source tree's __pycache__ (docs/testing.md).
 NUMBA_CACHE_MIN := $(CURDIR)/$(VENV_MIN)/numba-cache
 
 test-min-core: $(STAMP_MIN_CORE) min-versions-banner

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import going
+from .._jit import going, pick
 from ._scalar import hamilton, to_matrix
 from ._wahba_codes import (  # noqa: F401 - read as W.<NAME> by the callers
     ESOQ2,
@@ -29,6 +29,10 @@ from ._wahba_codes import (  # noqa: F401 - read as W.<NAME> by the callers
     PARALLEL_RTOL,
     QUEST,
     QUEST_ROTATION_THRESHOLD,
+    UNIT_DOWN,
+    UNIT_MAX,
+    UNIT_MIN,
+    UNIT_UP,
     ZERO_OBSERVED,
     ZERO_REFERENCE,
 )
@@ -40,8 +44,12 @@ def finite3(x: float, y: float, z: float) -> bool:
 
 
 def unit(x: float, y: float, z: float) -> tuple[float, float, float]:
-    """``v / |v|`` for a non-zero finite ``v``, scaled first (no overflow for 1e200)."""
-    t = 1.0 / max(abs(x), abs(y), abs(z))
+    """``v / |v|`` for a non-zero finite ``v``, scaled first by a power of two (exact)
+    where ``|v|^2`` would overflow or lose digits (1e200, 1e-200). No branch and no
+    division for the scale: the loss's second pass over the observations repeats
+    these same operations, which the compiler then shares with the first."""
+    n2 = x * x + y * y + z * z
+    t = pick(n2 < UNIT_MIN, UNIT_UP, pick(n2 > UNIT_MAX, UNIT_DOWN, 1.0))
     x, y, z = x * t, y * t, z * t
     n = 1.0 / math.sqrt(x * x + y * y + z * z)
     return x * n, y * n, z * n
@@ -273,21 +281,22 @@ def esoq2(
 
 
 def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
-    """One observation set: ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22,
-    status)``: the quaternion of ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance
-    entries (NaN unless ``want_cov``) and the status bits (``0.0``: solved; else
-    everything else is NaN)."""
+    """One observation set, read as ``ob[i][k]``, ``rf[i][k]``, ``w[i]`` (arrays, or
+    tuples of floats in the compiled loops: no array, no reference count per set):
+    ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22, status)``: the quaternion of
+    ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance entries (NaN unless
+    ``want_cov``) and the status bits (``0.0``: solved; else everything else is NaN)."""
     nan = math.nan
     bad_b = bad_r = 0.0
     zero_b = zero_r = 0.0
     for i in range(n):  # finite, non-zero
-        if not finite3(ob[i, 0], ob[i, 1], ob[i, 2]):
+        if not finite3(ob[i][0], ob[i][1], ob[i][2]):
             bad_b = 1.0
-        if not finite3(rf[i, 0], rf[i, 1], rf[i, 2]):
+        if not finite3(rf[i][0], rf[i][1], rf[i][2]):
             bad_r = 1.0
-        if max(abs(ob[i, 0]), abs(ob[i, 1]), abs(ob[i, 2])) == 0.0:
+        if max(abs(ob[i][0]), abs(ob[i][1]), abs(ob[i][2])) == 0.0:
             zero_b = 1.0
-        if max(abs(rf[i, 0]), abs(rf[i, 1]), abs(rf[i, 2])) == 0.0:
+        if max(abs(rf[i][0]), abs(rf[i][1]), abs(rf[i][2])) == 0.0:
             zero_r = 1.0
     bad = bad_b * NONFINITE_OBSERVED + bad_r * NONFINITE_REFERENCE
     if bad != 0.0:
@@ -302,8 +311,8 @@ def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0  # sum w b r^T
     for i in range(n):
         wi = w[i]
-        bx, by, bz = unit(ob[i, 0], ob[i, 1], ob[i, 2])
-        rx, ry, rz = unit(rf[i, 0], rf[i, 1], rf[i, 2])
+        bx, by, bz = unit(ob[i][0], ob[i][1], ob[i][2])
+        rx, ry, rz = unit(rf[i][0], rf[i][1], rf[i][2])
         lam0 += wi
         pb00 += wi * bx * bx
         pb01 += wi * bx * by
@@ -350,8 +359,8 @@ def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     c = to_matrix(q0, q1, q2, q3)  # C_nb: r ~ C b
     loss = 0.0
     for i in range(n):
-        bx, by, bz = unit(ob[i, 0], ob[i, 1], ob[i, 2])
-        rx, ry, rz = unit(rf[i, 0], rf[i, 1], rf[i, 2])
+        bx, by, bz = unit(ob[i][0], ob[i][1], ob[i][2])
+        rx, ry, rz = unit(rf[i][0], rf[i][1], rf[i][2])
         dx = rx - (c[0] * bx + c[1] * by + c[2] * bz)
         dy = ry - (c[3] * bx + c[4] * by + c[5] * bz)
         dz = rz - (c[6] * bx + c[7] * by + c[8] * bz)

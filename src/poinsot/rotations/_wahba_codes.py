@@ -10,6 +10,13 @@ QUEST_ROTATION_THRESHOLD = 0.3
 #: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
 NEWTON_TOL = 1e-15
 NEWTON_MAX = 50
+#: ``|v|^2`` of an observation normalised as it is (``_wahba.unit``): squares of
+#: normal numbers, no overflow; outside, ``v`` is first scaled by ``UNIT_UP`` (below
+#: ``UNIT_MIN``) or ``UNIT_DOWN`` (above ``UNIT_MAX``), powers of two.
+UNIT_MIN = 1e-290
+UNIT_MAX = 1e290
+UNIT_UP = 2.0**600
+UNIT_DOWN = 2.0**-600
 
 #: ``method`` codes of :func:`solve`
 QUEST = 0

@@ -52,13 +52,7 @@ _one = njit(inline="always", **_OPTS)(W.solve)
 
 
 @njit(inline="always", **_OPTS)
-def _row(ob, rf, w, i, n, method, want_cov, q, loss, cov, status):  # pragma: no cover
-    k = np.int64(i)  # prange's index may be unsigned: i if ... else 0 would be a float
-    zero = np.int64(0)
-    io = k if ob.shape[0] > 1 else zero
-    ir = k if rf.shape[0] > 1 else zero
-    iw = k if w.shape[0] > 1 else zero
-    r = _one(ob[io], rf[ir], w[iw], n, method, want_cov)
+def _store(i, r, want_cov, q, loss, cov, status):  # pragma: no cover
     q[i, 0], q[i, 1], q[i, 2], q[i, 3] = r[0], r[1], r[2], r[3]
     loss[i] = r[4]
     status[i] = np.uint8(r[11])
@@ -68,19 +62,51 @@ def _row(ob, rf, w, i, n, method, want_cov, q, loss, cov, status):  # pragma: no
         cov[i, 2, 0], cov[i, 2, 1], cov[i, 2, 2] = r[7], r[9], r[10]
 
 
+@njit(inline="always", **_OPTS)
+def _two(a, k):  # pragma: no cover
+    return (a[k, 0, 0], a[k, 0, 1], a[k, 0, 2]), (a[k, 1, 0], a[k, 1, 1], a[k, 1, 2])
+
+
+@njit(inline="always", **_OPTS)
+def _three(a, k):  # pragma: no cover
+    return (
+        (a[k, 0, 0], a[k, 0, 1], a[k, 0, 2]),
+        (a[k, 1, 0], a[k, 1, 1], a[k, 1, 2]),
+        (a[k, 2, 0], a[k, 2, 1], a[k, 2, 2]),
+    )
+
+
 @njit(**_OPTS)
 def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma: no cover
-    """Sets ``lo`` to ``hi``: one loop for n = 2, one for n = 3, one for the others."""
+    """Sets ``lo`` to ``hi``: one loop for n = 2, one for n = 3, one for the others.
+    For n = 2 and 3 a set goes to ``_one`` as tuples of floats: an array argument
+    (a slice ``ob[i]`` or the whole batch) is reference-counted per set by the
+    inlined code, an atomic add on a counter the threads share."""
     n = ob.shape[1]
+    # 0 for a batch-wide catalogue or weight vector (int64: prange's index may be
+    # unsigned, and i if ... else 0 would then be a float)
+    so = np.int64(1 if ob.shape[0] > 1 else 0)
+    sr = np.int64(1 if rf.shape[0] > 1 else 0)
+    sw = np.int64(1 if w.shape[0] > 1 else 0)
     if n == 2:
         for i in range(lo, hi):
-            _row(ob, rf, w, i, 2, method, want_cov, q, loss, cov, status)
+            k = np.int64(i)
+            kw = k * sw
+            r = _one(_two(ob, k * so), _two(rf, k * sr), (w[kw, 0], w[kw, 1]), 2,
+                     method, want_cov)  # fmt: skip
+            _store(i, r, want_cov, q, loss, cov, status)
     elif n == 3:
         for i in range(lo, hi):
-            _row(ob, rf, w, i, 3, method, want_cov, q, loss, cov, status)
+            k = np.int64(i)
+            kw = k * sw
+            r = _one(_three(ob, k * so), _three(rf, k * sr), (w[kw, 0], w[kw, 1], w[kw, 2]),
+                     3, method, want_cov)  # fmt: skip
+            _store(i, r, want_cov, q, loss, cov, status)
     else:
         for i in range(lo, hi):
-            _row(ob, rf, w, i, n, method, want_cov, q, loss, cov, status)
+            k = np.int64(i)
+            r = _one(ob[k * so], rf[k * sr], w[k * sw], n, method, want_cov)
+            _store(i, r, want_cov, q, loss, cov, status)
 
 
 #: Sets per chunk of :func:`solve_flat` (the chunks, not the sets, go to the threads).
