@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import textwrap
 
 import numba
+import pytest
 
 NUMBA = tuple(int(x) for x in numba.__version__.split(".")[:2])
 
@@ -257,3 +259,62 @@ def test_gufunc_module_imports_wait_for_another_process_compiling_it():
         holder.kill()
         holder.wait()
     assert float(out.stdout.split()[-1]) >= released
+
+
+# ------------------------------ a gufunc's kernel and wrapper from two processes
+_PROBE = """
+import os
+import numba
+from poinsot._jit import guvectorize
+
+if os.environ.get("PROBE_PLAIN"):  # numba's own wrapper cache, keyed by the signature alone
+    from numba.np.ufunc import wrappers
+    cls = wrappers._GufuncWrapper
+    cls._compile_wrapper = cls._compile_wrapper.__wrapped__
+for k in range(int(os.environ.get("PROBE_SHIFT", "0"))):  # moves the kernel's symbol number
+    numba.njit(lambda x, k=k: x + k)(1.0)
+
+
+@guvectorize(["void(float64[:], float64[:])"], "(n)->(n)", nopython=True, cache=True)
+def twice(x, out):
+    for i in range(x.shape[0]):
+        out[i] = 2.0 * x[i]
+"""
+
+
+def _probe(src, cache, plain, shift=0):
+    path = os.pathsep.join([str(src), *sys.path])
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), POINSOT_COMPILE_NOTICE="0",
+               PROBE_SHIFT=str(shift), PYTHONPATH=path)  # fmt: skip
+    env.pop("PROBE_PLAIN", None)
+    if plain:
+        env["PROBE_PLAIN"] = "1"
+    code = "import numpy as np, poinsot_gufunc_probe as p; print(p.twice(np.arange(3.0)).tolist())"
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                          timeout=300)  # fmt: skip
+
+
+@pytest.mark.parametrize("plain", [True, False], ids=["numba-key", "poinsot-key"])
+def test_a_kernel_beside_another_process_wrapper_is_a_cache_miss(tmp_path, plain):
+    """Two processes compile one gufunc; the cache ends with the kernel of one (symbol
+    ``...v6``) and the wrapper of the other (calling ``...v1``): the race that crashed
+    CI. Keyed by the signature alone (numba's own) the next process calls a symbol
+    that is not there and segfaults; keyed by the kernel's symbol (poinsot's) the
+    wrapper is a miss, built again, and the answer is right."""
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "poinsot_gufunc_probe.py").write_text(_PROBE)
+    a, b = tmp_path / "a", tmp_path / "b"
+    for cache, shift in ((a, 5), (b, 0)):
+        out = _probe(src, cache, plain, shift)
+        assert out.returncode == 0 and out.stdout.strip() == "[0.0, 2.0, 4.0]", out.stderr
+    kernels = sorted(a.rglob("poinsot_gufunc_probe.twice-*"))  # the kernel, not guf-...
+    assert kernels and all(not k.name.startswith("guf-") for k in kernels)
+    target = next(b.rglob("poinsot_gufunc_probe.twice-*.nbi")).parent
+    for k in kernels:  # A's kernel beside B's wrapper
+        shutil.copy2(k, target / k.name)
+    out = _probe(src, b, plain)
+    if plain:
+        assert out.returncode != 0  # numba 0.60 and 0.68 alike: SIGSEGV
+    else:
+        assert out.returncode == 0 and out.stdout.strip() == "[0.0, 2.0, 4.0]", out.stderr

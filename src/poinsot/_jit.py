@@ -1009,6 +1009,7 @@ def _key_gufunc_wrappers_by_kernel() -> None:
         return
     original = cls._compile_wrapper
 
+    @functools.wraps(original)  # numba's own stays reachable (``__wrapped__``)
     def _compile_wrapper(self: Any, wrapper_name: str) -> Any:
         module = getattr(self.py_func, "__module__", "") or ""
         if self.is_parfors or not module.startswith("poinsot"):
