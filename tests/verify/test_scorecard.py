@@ -188,3 +188,14 @@ def test_cli_from_json_writes_the_pages(tmp_path, card):
     path = card.to_json(tmp_path / "s.json")
     assert main(["verify", "scorecard", "--from-json", str(path), "--out", str(tmp_path)]) == 0
     assert (tmp_path / "index.md").read_text() == card.to_markdown()
+
+
+def test_a_fitted_slope_of_zero_is_written_without_a_sign():
+    # the least-squares slope of a flat error comes out as +-1e-17, its sign set by the
+    # machine's LAPACK: the committed pages must be the same on every machine
+    from poinsot.verify.scorecard import _f1
+
+    assert _f1(-1e-17) == _f1(1e-17) == _f1(0.0) == "0.0"
+    assert _f1(-0.04) == "0.0"
+    assert _f1(-0.06) == "-0.1"
+    assert _f1(7.96) == "8.0"

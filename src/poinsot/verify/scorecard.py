@@ -675,7 +675,7 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
                 else f"the {key} error does not fall with the setting")  # fmt: skip
         if setting in STEP_SETTINGS and e_order is not None and e_order > 0.6:
             out.update(kind="unstable", text=(
-                f"{head} while the energy drift falls as step^{e_order:.1f}: the motion is "
+                f"{head} while the energy drift falls as step^{_f1(e_order)}: the motion is "
                 "unstable and the steps swept are too coarse for it (flips gained or lost), "
                 "not wrong physics"))  # fmt: skip
         elif setting not in STEP_SETTINGS and e_last is not None and e_last < 1e-10:
@@ -684,7 +684,7 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
                 "the physics"))  # fmt: skip
         elif setting not in STEP_SETTINGS and e_order is not None and e_order > 0.3:
             out.update(kind="error control", text=(
-                f"{head} while the energy drift falls as {setting}^{e_order:.1f}: the error "
+                f"{head} while the energy drift falls as {setting}^{_f1(e_order)}: the error "
                 "control on an unstable motion, not the physics"))  # fmt: skip
         else:
             out.update(kind="no convergence", text=f"does not converge: {head} (wrong physics?)")
@@ -697,9 +697,9 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     if setting in STEP_SETTINGS:
         p = order
         if 0.6 <= p < 1.5:
-            kind, text = "first-order", f"a first-order method (error ~ step^{p:.1f})"
+            kind, text = "first-order", f"a first-order method (error ~ step^{_f1(p)})"
         else:
-            kind, text = f"order {round(p)}", f"converges at order {p:.1f} here"
+            kind, text = f"order {round(p)}", f"converges at order {_f1(p)} here"
         need = (
             float(last.get("step", last["value"])) * (thr / err) ** (1.0 / p) if p > 0 else math.nan
         )
@@ -707,7 +707,7 @@ def diagnose(setting: str, rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
             text += f"; would pass near {fmt_setting(setting, need)}"
     else:
         kind = "tolerance"
-        text = (f"error ~ {setting}^{order:.1f}; the finest {setting} swept is not tight "
+        text = (f"error ~ {setting}^{_f1(order)}; the finest {setting} swept is not tight "
                 "enough")  # fmt: skip
     out.update(kind=kind, text=text)
     return out
@@ -723,6 +723,13 @@ COMMAND = (
     "poinsot verify scorecard --from-json docs/verify/scorecard/scorecard.json "
     "--out docs/verify/scorecard   # the pages only, no engine"
 )
+
+
+def _f1(x: float) -> str:
+    """A fitted order or slope to one decimal, never ``-0.0``: a slope that is zero up to
+    rounding comes out of the least-squares fit as +-1e-17 with a sign that depends on
+    the machine's LAPACK, and the pages must not."""
+    return f"{round(float(x), 1) + 0.0:.1f}"
 
 
 def _e(x: Any) -> str:
@@ -853,7 +860,7 @@ def _findings(card: EngineCard, sweeps: list[Sweep], scored: list[str],
         order_text = ""
         if orders:
             what = "order" if s.setting in STEP_SETTINGS else f"slope against {s.setting}"
-            order_text = f" Observed {what}: {min(orders):.1f} to {max(orders):.1f}."
+            order_text = f" Observed {what}: {_f1(min(orders))} to {_f1(max(orders))}."
         if not fails:
             worst = min(d["first"] for d in mine.values())  # `mine` is not empty
             out.append(f"- **{s.integrator}** passes all {len(mine)} cases, each from the "
