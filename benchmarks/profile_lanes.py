@@ -74,6 +74,7 @@ def main() -> None:
         W[FL.OFF_P : FL.OFF_P + 4 * FL.L] = [1.0] * FL.L + [0.0] * (2 * FL.L) + [2.9] * FL.L
         W[FL.OFF_H : FL.OFF_H + FL.L] = 1e-3
         W[FL.OFF_K : FL.OFF_K + 7 * FL.L] = 0.1
+        kind = FL.Kind(kind)  # the lane kernels are compiled per kind
         att = _best(lambda W=W, kind=kind: _attempts(W, kind, loops), a.repeat)
         att /= loops * FL.L * 12
         rhs = _best(lambda W=W, kind=kind: _rhss(W, kind, loops), a.repeat) / (loops * FL.L)
@@ -175,6 +176,7 @@ def _control(moments, quat, omega, repeat):
           "body's step attempt):")  # fmt: skip
     for name, (tq, rtol) in cases.items():
         _, kind, par, jj, ji, y0 = _flat_problem(moments, quat, omega, tq)
+        kind = FL.Kind(kind)  # the lane kernels are compiled per kind
         best = None
         for _ in range(repeat + 1):
             oq, ow = np.empty((2, n, 4)), np.empty((2, n, 3))

@@ -610,29 +610,41 @@ def interpret_first() -> bool:
     return NUMBA and flag not in ("0", "false", "no", "off")
 
 
-def ready(fn: Any) -> bool:
+def ready(fn: Any, match: Callable[[tuple[Any, ...]], bool] | None = None) -> bool:
     """Whether calling the compiled kernel ``fn`` now compiles nothing: it is compiled in
     this process, or numba's cache holds a fresh compilation of it (its index matches
-    the source). True for anything that is not a numba dispatcher."""
-    if getattr(fn, "overloads", None):
+    the source); with ``match``, a compilation whose argument types pass ``match`` (a
+    kernel compiled per constant argument: :class:`poinsot.dynamics._fused_lanes.Kind`).
+    True for anything that is not a numba dispatcher."""
+    if match is None:
+        match = _any_signature
+    overloads = getattr(fn, "overloads", None)
+    if overloads and any(match(tuple(sig)) for sig in overloads):
         return True
     cache = getattr(fn, "_cache", None)
     if cache is None or not hasattr(fn, "py_func"):
         return True
-    try:
-        return bool(cache._cache_file._load_index())
+    try:  # the index's keys: (argument types, the codegen's magic, the source's hashes)
+        return any(match(tuple(key[0])) for key in cache._cache_file._load_index())
     except Exception:  # an unreadable index: numba recompiles, so it is not ready
         return False
 
 
-def first_call(fn: Any, seconds: float) -> Any:
+def _any_signature(sig: tuple[Any, ...]) -> bool:
+    return True
+
+
+def first_call(
+    fn: Any, seconds: float, match: Callable[[tuple[Any, ...]], bool] | None = None
+) -> Any:
     """The kernel to call: ``fn`` itself when that compiles nothing (:func:`ready`), or
     when interpreting is off or would take long; else ``fn``'s own source run by the
     interpreter (the ``"python"`` executor: the same operations, results equal to the
     compiled ones up to the rounding of fused multiply-adds), when the estimated
     ``seconds`` of the interpreted call stay under :data:`INTERPRET_MAX_S` and this
-    process's interpreting of ``fn`` under :data:`INTERPRET_TOTAL_S`."""
-    if not interpret_first() or ready(fn):
+    process's interpreting of ``fn`` under :data:`INTERPRET_TOTAL_S`. ``match``: as
+    :func:`ready`'s."""
+    if not interpret_first() or ready(fn, match):
         return fn
     key = f"{source(fn).__module__}.{source(fn).__qualname__}"
     if seconds > INTERPRET_MAX_S or _INTERPRETED.get(key, 0.0) + seconds > INTERPRET_TOTAL_S:

@@ -131,8 +131,8 @@ def test_diagonal_form_equals_the_full_products(kind):
         oq, ow = np.empty((5, n, 4)), np.empty((5, n, 3))
         stats = np.zeros((n, 4), dtype=np.int64)
         cancel, done = np.zeros(1, dtype=np.int64), np.zeros(n, dtype=np.int64)
-        _fused_lanes.integrate_batch(y0, jj, ji, kd, par, t, 1e-9, 1e-11, np.inf, 10**6,
-                                     oq, ow, stats, cancel, done)  # fmt: skip
+        _fused_lanes.integrate_batch(y0, jj, ji, _fused_lanes.Kind(kd), par, t, 1e-9, 1e-11,
+                                     np.inf, 10**6, oq, ow, stats, cancel, done)  # fmt: skip
         out.append((oq, ow, stats))
     _assert_same(*out)
     assert np.all(out[0][2][:, 3] == _fused.OK)
@@ -205,8 +205,8 @@ def test_cancel_flag_stops_every_lane():
     cancel = np.ones(1, dtype=np.int64)
     done = np.zeros(9, dtype=np.int64)
     _fused_lanes.integrate_batch(
-        y0, jj, ji, 0, np.zeros((9, _fused.NPAR)), t, 1e-8, 1e-10, np.inf, 10**6, oq, ow, stats,
-        cancel, done,
+        y0, jj, ji, _fused_lanes.Kind(0), np.zeros((9, _fused.NPAR)), t, 1e-8, 1e-10, np.inf,
+        10**6, oq, ow, stats, cancel, done,
     )  # fmt: skip
     assert np.all(stats[:, 3] == _fused.CANCELLED)
     assert np.isfinite(oq[0]).all() and np.isnan(oq[1:]).all()
@@ -249,8 +249,8 @@ def test_first_steps_of_the_lanes_are_the_one_body_initial_step(kind):
     for span, max_step, rtol, atol in cases:
         first = np.empty((n - 3, 8))
         W = np.full(_fused_lanes.N_WORK, np.nan)  # rows it does not load are never read
-        _fused_lanes._first_steps(3, n, W, y0, jj, ji, kind, par, 0.0, span, rtol, atol,
-                                  max_step, first)  # fmt: skip
+        _fused_lanes._first_steps(3, n, W, y0, jj, ji, _fused_lanes.Kind(kind), par, 0.0, span,
+                                  rtol, atol, max_step, first)  # fmt: skip
         for b in range(3, n):
             f, tmp, k1, scale = np.empty(7), np.empty(7), np.empty(7), np.empty(7)
             _fused._rhs(0.0, y0[b], jj[b], ji[b], kind, par[b], f)
@@ -279,3 +279,19 @@ def test_zero_atol_with_an_exact_zero_in_the_state_is_an_integration_error(lanes
                  rtol=1e-8, atol=0.0)  # fmt: skip
     finally:
         _fused_run.LANES = True
+
+
+def test_the_lane_kernel_is_compiled_per_kind(monkeypatch):
+    """A call compiles the lanes of its own torque kind only (issue 40: a first call
+    compiles one right-hand side, not nine), and the first-call test of readiness asks
+    for that kind."""
+    from poinsot import _jit
+
+    monkeypatch.setenv("POINSOT_INTERPRET_FIRST", "0")  # compile, do not interpret
+    moments, quat, omega = _bodies(_fused_lanes.L + 1, seed=5)
+    simulate(moments, quat, omega, np.linspace(0.0, 0.5, 3), rtol=1e-8)  # kind 0, diagonal
+    kinds = [sig[3] for sig in _fused_lanes.integrate_batch.signatures]
+    assert kinds and all(hasattr(k, "literal_value") for k in kinds), kinds
+    assert _fused.DIAGONAL in [k.literal_value for k in kinds]
+    assert _jit.ready(_fused_lanes.integrate_batch, _fused_lanes.compiled(_fused.DIAGONAL))
+    assert not _jit.ready(_fused_lanes.integrate_batch, _fused_lanes.compiled(7))  # no kind 7

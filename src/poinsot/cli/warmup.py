@@ -20,10 +20,15 @@ import numpy as np
 from .. import _jit
 from ..dynamics import (
     ConstantBodyTorque,
+    ConstantSpaceTorque,
     FreeRigidBody,
+    GravityGradientTorque,
     GravityTorque,
+    GyrostaticTorque,
     HeavyRigidBody,
+    KeplerOrbit,
     LagrangeTop,
+    OrbitGravityGradientTorque,
     simulate,
 )
 from ..rotations import PARALLEL_MIN_SIZE, determine_attitude
@@ -57,8 +62,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def exercise() -> None:
     """Call every compiled path once on small inputs (the same argument types as any
     call): rotations (small and threaded batches), simulate with each method and
-    built-in torque (one body, and a batch wide enough for the SIMD lanes), the heavy
-    top, the exact free body and the Lagrange top."""
+    built-in torque (one body, and a batch wide enough for the SIMD lanes, whose kernel
+    is compiled per torque kind and inertia form: every one of them), the heavy top,
+    the exact free body and the Lagrange top."""
 
     rng = np.random.default_rng(0)
     for n in (3, PARALLEL_MIN_SIZE):
@@ -83,6 +89,19 @@ def exercise() -> None:
             simulate(j, q, w, t, torque=torque, rtol=1e-8)
             for method in ("midpoint", "splitting", "rk4"):
                 simulate(j, q, w, t, torque=torque, method=method, max_step=0.1)
+    # the SIMD lanes are compiled per torque kind and inertia form: every other one
+    j, q, w = j[0], np.tile([1.0, 0.0, 0.0, 0.0], (9, 1)), np.tile([0.1, 1.0, 0.1], (9, 1))
+    orbit = KeplerOrbit(7.0e6, 0.01, 0.9, 0.4, 0.0, 0.3)
+    for torque in (
+        ConstantSpaceTorque([0.0, 0.1, 0.0]),
+        GravityGradientTorque(j, 7.0e6, [0.3, -0.4, 0.8]),
+        GyrostaticTorque([0.0, 0.0, 0.5]),
+        OrbitGravityGradientTorque(j, orbit),
+    ):
+        simulate(j, q, w, t, torque=torque, rtol=1e-8)
+    tensor = np.array([[1.0, 0.1, 0.0], [0.1, 2.0, 0.0], [0.0, 0.0, 2.5]])  # not principal
+    for torque in (None, GravityTorque(1.0, [0, 0, 0.1])):
+        simulate(tensor, q, w, t, torque=torque, rtol=1e-8)
     top = HeavyRigidBody([1.0, 1.0, 0.4], 2.0, [0.0, 0.0, 0.3])
     top.simulate([1.0, 0.0, 0.0, 0.0], [0.0, 0.5, 15.0], t)
     FreeRigidBody([1.0, 2.0, 3.0], omega0=[0.1, 2.0, 0.1]).trajectory(t)

@@ -57,9 +57,23 @@ from ._fused import (
 
 depends_on(__file__, nh, _fused, G)
 
+
+class Kind(int):
+    """A torque kind (with the inertia form, :data:`~poinsot.dynamics._fused.DIAGONAL`)
+    that numba types as a compile-time constant (``Literal[int]``): the lane kernel is
+    compiled, and cached, once per kind actually called, each with one right-hand side
+    whose torque branch is folded away (so the loop over the lanes has no branch and
+    vectorises). The lane kernel does not take a plain ``int`` kind."""
+
+
 _borrow: Any
 if NUMBA:
-    from numba.extending import intrinsic
+    from numba import types as _nbtypes
+    from numba.extending import intrinsic, overload, typeof_impl
+
+    @typeof_impl.register(Kind)
+    def _typeof_kind(val: Kind, c: Any) -> Any:
+        return _nbtypes.IntegerLiteral(int(val))
 
     @intrinsic
     def _borrow_intrinsic(typingctx, arr):  # pragma: no cover - compiled
@@ -577,39 +591,34 @@ def _rhs_lane(W, l, kind):  # pragma: no cover
     W[OFF_KOUT + 6 * L + l] = f6
 
 
+def _rhs_kinds(W, kind):  # pragma: no cover
+    """``K_out = f(z)`` for every lane (the plain-Python form; compiled: the overload)."""
+    for l in range(L):
+        _rhs_lane(W, l, kind)
+
+
+if NUMBA:
+
+    @overload(_rhs_kinds, prefer_literal=True, jit_options={"error_model": "numpy"})
+    def _rhs_kinds_compiled(W, kind):  # pragma: no cover - compiled
+        """One loop over the lanes with the right-hand side of ``kind``, a :class:`Kind`
+        (``Literal[int]``): its torque branch folded away."""
+        if not isinstance(kind, _nbtypes.IntegerLiteral):
+            raise TypeError("the lane kernel takes kind as Kind(kind), a compile-time constant")
+
+        def one(W, kind):
+            for l in range(L):
+                _rhs_lane(W, l, kind)
+
+        return one
+
+
 @njit(cache=True, error_model="numpy")
 def _rhs_lanes(W, kind):  # pragma: no cover
-    """``K_out = f(z)`` for every lane; one loop per torque kind and inertia form (the
-    kind a constant in each, so that the loop body has no branch and vectorises). The
-    diagonal forms only for the batches people run by the thousand, free bodies and
-    heavy tops (each form costs seconds of compiling)."""
-    if kind == 0:
-        for l in range(L):
-            _rhs_lane(W, l, 0)
-    elif kind == 1:
-        for l in range(L):
-            _rhs_lane(W, l, 1)
-    elif kind == 2:
-        for l in range(L):
-            _rhs_lane(W, l, 2)
-    elif kind == 3:
-        for l in range(L):
-            _rhs_lane(W, l, 3)
-    elif kind == 4:
-        for l in range(L):
-            _rhs_lane(W, l, 4)
-    elif kind == 5:
-        for l in range(L):
-            _rhs_lane(W, l, 5)
-    elif kind == KEPLER:  # (no diagonal form: Kepler's equation dominates its cost)
-        for l in range(L):
-            _rhs_lane(W, l, KEPLER)
-    elif kind == DIAGONAL:
-        for l in range(L):
-            _rhs_lane(W, l, DIAGONAL)
-    else:
-        for l in range(L):
-            _rhs_lane(W, l, DIAGONAL + 3)
+    """``K_out = f(z)`` for every lane (:func:`_rhs_kinds`). Compiled per :class:`Kind`:
+    a first call compiles the right-hand side of its kind only (cold, about 2 s; the
+    whole lane kernel about 20 s, where the nine forms compiled at once took 35 s)."""
+    _rhs_kinds(W, kind)
 
 
 @njit(cache=True, error_model="numpy")
@@ -712,12 +721,23 @@ def _chunk(
             lane_events(W, scratch, t_out, oq, ow, stats, done)
 
 
+def compiled(kind: int) -> Any:
+    """The test of :func:`poinsot._jit.ready` for the lane kernel of ``kind``: whether a
+    compilation's argument types are those of that kind (``Literal[int](kind)``)."""
+
+    def match(sig: tuple[Any, ...]) -> bool:
+        return len(sig) > 3 and getattr(sig[3], "literal_value", None) == kind
+
+    return match
+
+
 @njit(cache=True, parallel=True, nogil=True)
 def integrate_batch(
     y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
 ):  # pragma: no cover
-    """:func:`poinsot.dynamics._fused.integrate_batch` (same arguments, same results bit
-    for bit), in chunks of bodies stepped ``L`` at a time."""
+    """:func:`poinsot.dynamics._fused.integrate_batch` (same arguments, ``kind`` as a
+    :class:`Kind`; same results bit for bit), in chunks of bodies stepped ``L`` at a
+    time. Compiled per kind."""
     n = y0.shape[0]
     # at least 16 chunks (of 4 L to CHUNK bodies) to share among the threads; a lane idles
     # only at the end of its chunk. A body's results do not depend on its lane or chunk.

@@ -258,9 +258,11 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
     seconds = _adaptive_seconds(y0, t, rtol)
     kernel = None
     if NUMBA and LANES and n_body >= _fused_lanes.L:  # L at a time, SIMD across bodies
-        kernel = first_call(_fused_lanes.integrate_batch, seconds)  # (fewer: one compile less)
+        kernel = first_call(_fused_lanes.integrate_batch, seconds, _fused_lanes.compiled(kind))
         if getattr(kernel, "interpreted", False):  # its intrinsics (_borrow) run compiled
             kernel = None  # only: interpret the one-body kernel (the same operations)
+        else:  # compiled (and cached) for this kind only
+            kind = _fused_lanes.Kind(kind)
     if kernel is None:  # one body per loop iteration (and the NumPy executor, as Python)
         kernel = first_call(integrate_batch, seconds)
     run_compiled(
