@@ -29,6 +29,7 @@ from ..dynamics import (
     KeplerOrbit,
     LagrangeTop,
     OrbitGravityGradientTorque,
+    TorqueModel,
     simulate,
 )
 from ..rotations import PARALLEL_MIN_SIZE, determine_attitude
@@ -92,13 +93,14 @@ def exercise() -> None:
     # the SIMD lanes are compiled per torque kind and inertia form: every other one
     j, q, w = j[0], np.tile([1.0, 0.0, 0.0, 0.0], (9, 1)), np.tile([0.1, 1.0, 0.1], (9, 1))
     orbit = KeplerOrbit(7.0e6, 0.01, 0.9, 0.4, 0.0, 0.3)
-    for torque in (
+    others: tuple[TorqueModel, ...] = (
         ConstantSpaceTorque([0.0, 0.1, 0.0]),
         GravityGradientTorque(j, 7.0e6, [0.3, -0.4, 0.8]),
         GyrostaticTorque([0.0, 0.0, 0.5]),
         OrbitGravityGradientTorque(j, orbit),
-    ):
-        simulate(j, q, w, t, torque=torque, rtol=1e-8)
+    )
+    for other in others:
+        simulate(j, q, w, t, torque=other, rtol=1e-8)
     tensor = np.array([[1.0, 0.1, 0.0], [0.1, 2.0, 0.0], [0.0, 0.0, 2.5]])  # not principal
     for torque in (None, GravityTorque(1.0, [0, 0, 0.1])):
         simulate(tensor, q, w, t, torque=torque, rtol=1e-8)
