@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -295,3 +297,12 @@ def test_the_lane_kernel_is_compiled_per_kind(monkeypatch):
     assert _fused.DIAGONAL in [k.literal_value for k in kinds]
     assert _jit.ready(_fused_lanes.integrate_batch, _fused_lanes.compiled(_fused.DIAGONAL))
     assert not _jit.ready(_fused_lanes.integrate_batch, _fused_lanes.compiled(7))  # no kind 7
+    # a new process reads the kinds off numba's cache index (nothing compiled in it yet)
+    code = (
+        "from poinsot import _jit\n"
+        "from poinsot.dynamics import _fused_lanes as FL\n"
+        "print(_jit.ready(FL.integrate_batch, FL.compiled(8)),"
+        " _jit.ready(FL.integrate_batch, FL.compiled(7)), len(FL.integrate_batch.overloads))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["True", "False", "0"], out
