@@ -10,6 +10,13 @@ not all parallel: the status bits below) and returns the quaternion ``L`` of ``C
 (``l0 >= 0``), Wahba's loss and, when asked, the six entries of the QUEST covariance
 ``(sum_i w_i (E - b_i b_i^T))^-1``. Convention and formulas: the docstring of
 :func:`~poinsot.rotations.determine_attitude`, docs/theory.md §2.4.
+
+:func:`solve` is :func:`solve_fast` (no branch on the data: selects, a fixed number of
+Newton steps, QUEST's four frames all formed) and, for the sets it flags (a status bit,
+or Newton not stopped), :func:`solve_slow` (the checks and Newton's loop with their
+branches): the compiled loops run the first on blocks of sets at once (vectorised by
+LLVM across the sets) and the second set by set, the same operations in both places,
+so the results are those of :func:`solve` bit for bit.
 """
 
 from __future__ import annotations

@@ -4,6 +4,8 @@ The formulas are those of :mod:`poinsot.rotations._wahba` (plain Python), compil
 here inline; this file's cache is stamped with that file and with
 :mod:`poinsot.rotations._scalar` (:func:`poinsot._numba_cache.depends_on`). Imported
 lazily, only with numba (the NumPy executor runs :func:`~._wahba.solve` on columns).
+The helpers are inlined by LLVM (``forceinline``), not by numba's IR inlining (much
+slower to compile here): a call left in a loop stops its vectorising.
 
 Inputs ``(No, n, 3)``, ``(Nr, n, 3)``, ``(Nw, n)`` with each of ``No``, ``Nr``, ``Nw``
 either ``N`` or 1 (one catalogue or one weight vector for the whole batch).
@@ -22,6 +24,8 @@ from . import _wahba as W
 
 depends_on(__file__, W, S)
 
+# error_model="numpy" (as _OPTS below): a division by zero gives inf or NaN, no test
+_INLINE: dict[str, Any] = {"forceinline": True, "error_model": "numpy"}
 for _fn in (
     W.finite3,
     W.unit,
@@ -47,9 +51,9 @@ for _fn in (
     W.polynomial,
     W.solve_fast,
     W.solve_slow,
-):  # callable from compiled code, inlined by numba where called: the block loop of
-    # _pass must see no call to vectorise (LLVM leaves the larger ones as calls)
-    overload(_fn, strict=False, jit_options={"forceinline": True})(lambda *args, _fn=_fn: _fn)
+):  # callable from compiled code, inlined by LLVM where called: the block loop of _pass
+    # must see no call to vectorise (LLVM's own inliner leaves the larger ones as calls)
+    overload(_fn, strict=False, jit_options=_INLINE)(lambda *args, _fn=_fn: _fn)
 
 # error_model="numpy": a division needs no zero test (there are none left: the status
 # checks come first), which lets the loops vectorise
