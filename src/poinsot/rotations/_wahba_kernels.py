@@ -61,11 +61,13 @@ _OPTS: dict[str, Any] = {"cache": True, "error_model": "numpy"}
 
 for _scalar_fn in (S.hamilton, S.to_matrix):
     overload(_scalar_fn, strict=False)(lambda *args, _f=_scalar_fn: _f)
-# inlined where it is called (numba's IR inlining): each call site below sees its
-# constant n, so LLVM unrolls the loops over the observations (about 1/4 faster)
-_one = njit(inline="always", **_OPTS)(W.solve)
+# solve_fast is inlined where it is called: each call site below sees its constant n,
+# so LLVM unrolls the loops over the observations, and the block loop vectorises.
+# solve is solve_fast, or solve_slow where it flags the set, and the two agree bit for
+# bit: the loops run solve_fast on blocks (inlined) and solve_slow, a function of its
+# own (one copy per tuple type, not one per loop: the cold compile), set by set
 _fast = njit(forceinline=True, **_OPTS)(W.solve_fast)
-_slow = njit(inline="always", **_OPTS)(W.solve_slow)
+_slow = njit(**_OPTS)(W.solve_slow)
 
 
 @njit(inline="always", **_OPTS)
@@ -200,7 +202,7 @@ def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma:
     else:
         for i in range(lo, hi):
             k = np.int64(i)
-            r = _one(ob[k * so], rf[k * sr], w[k * sw], n, method, want_cov)
+            r = _slow(ob[k * so], rf[k * sr], w[k * sw], n, method, want_cov)
             _store(i, r, want_cov, q, loss, cov, status)
 
 
