@@ -11,12 +11,12 @@ not all parallel: the status bits below) and returns the quaternion ``L`` of ``C
 ``(sum_i w_i (E - b_i b_i^T))^-1``. Convention and formulas: the docstring of
 :func:`~poinsot.rotations.determine_attitude`, docs/theory.md §2.4.
 
-:func:`solve` is :func:`solve_fast` (no branch on the data: selects, a fixed number of
-Newton steps, QUEST's four frames all formed) and, for the sets it flags (a status bit,
-or Newton not stopped), :func:`solve_slow` (the checks and Newton's loop with their
-branches): the compiled loops run the first on blocks of sets at once (vectorised by
-LLVM across the sets) and the second set by set, the same operations in both places,
-so the results are those of :func:`solve` bit for bit.
+Two forms of :func:`solve`, from the same helpers and with the same operations, so
+the same results bit for bit: :func:`solve_slow` (the checks and Newton's loop with
+their branches; what :func:`solve` runs) and :func:`solve_fast` (no branch on the
+data: selects, a fixed number of Newton steps, QUEST's four frames all formed), which
+the compiled loops run on blocks of sets at once (vectorised by LLVM across the sets),
+running :func:`solve_slow` on the sets it flags (a status bit, or Newton not stopped).
 """
 
 from __future__ import annotations
@@ -481,9 +481,6 @@ def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22, status)``: the quaternion of
     ``C_nb`` with ``l0 >= 0``, Wahba's loss, the covariance entries (NaN unless
     ``want_cov``) and the status bits (``0.0``: solved; else everything else is NaN).
-    :func:`solve_fast`, and :func:`solve_slow` where it asks for it: the compiled batch
-    loops run the first on blocks of sets, the second on the sets it leaves."""
-    r = solve_fast(ob, rf, w, n, method, want_cov)
-    if r[12] == 0.0:
-        return r[:12]
+    :func:`solve_slow`; the compiled batch loops run :func:`solve_fast` on blocks of
+    sets and :func:`solve_slow` on the sets it flags (the same results)."""
     return solve_slow(ob, rf, w, n, method, want_cov)
