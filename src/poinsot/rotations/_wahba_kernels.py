@@ -66,8 +66,17 @@ for _scalar_fn in (S.hamilton, S.to_matrix):
 # solve is solve_fast, or solve_slow where it flags the set, and the two agree bit for
 # bit: the loops run solve_fast on blocks (inlined) and solve_slow, a function of its
 # own (one copy per tuple type, not one per loop: the cold compile), set by set
-_fast = njit(forceinline=True, **_OPTS)(W.solve_fast)
-_slow = njit(**_OPTS)(W.solve_slow)
+# (no cache of their own: a cached function is stamped with its own source file,
+# _wahba.py, and not with _scalar.py; compiled into the kernels below, they are cached
+# with this file's stamp, which covers both)
+_fast = njit(forceinline=True, error_model="numpy")(W.solve_fast)
+_slow_body = njit(forceinline=True, error_model="numpy")(W.solve_slow)
+
+
+@njit(**_OPTS)
+def _slow(ob, rf, w, n, method, want_cov):  # pragma: no cover
+    """:func:`~._wahba.solve_slow` as a function of its own (one copy per type)."""
+    return _slow_body(ob, rf, w, n, method, want_cov)
 
 
 @njit(inline="always", **_OPTS)
