@@ -61,14 +61,13 @@ _OPTS: dict[str, Any] = {"cache": True, "error_model": "numpy"}
 
 for _scalar_fn in (S.hamilton, S.to_matrix):
     overload(_scalar_fn, strict=False)(lambda *args, _f=_scalar_fn: _f)
-# solve_fast is inlined where it is called: each call site below sees its constant n,
-# so LLVM unrolls the loops over the observations, and the block loop vectorises.
-# solve is solve_fast, or solve_slow where it flags the set, and the two agree bit for
-# bit: the loops run solve_fast on blocks (inlined) and solve_slow, a function of its
-# own (one copy per tuple type, not one per loop: the cold compile), set by set
-# (no cache of their own: a cached function is stamped with its own source file,
-# _wahba.py, and not with _scalar.py; compiled into the kernels below, they are cached
-# with this file's stamp, which covers both)
+# solve is solve_slow, and solve_fast agrees with it bit for bit where it does not flag
+# the set. The loops run solve_fast on blocks, inlined where called (each call site
+# sees its constant n: LLVM unrolls the loops over the observations and vectorises the
+# block loop), and solve_slow set by set as a function of its own (one copy per tuple
+# type, not one per block loop: the cold compile). Neither has a numba cache of its own
+# (it would be stamped with _wahba.py only, not _scalar.py): compiled into the kernels
+# below, they are cached with this file's stamp, which covers both.
 _fast = njit(forceinline=True, error_model="numpy")(W.solve_fast)
 _slow_body = njit(forceinline=True, error_model="numpy")(W.solve_slow)
 
@@ -190,7 +189,7 @@ def _blocks(
 @njit(**_OPTS)
 def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma: no cover
     """Sets ``lo`` to ``hi``: for n = 2 and 3, :func:`_blocks` (one copy per method and
-    n, each with its constants); for the others, :func:`~._wahba.solve` set by set.
+    n, each with its constants); for the others, :func:`~._wahba.solve_slow` set by set.
     A set reaches the formulas as tuples of floats: an array argument (a slice
     ``ob[i]`` or the whole batch) is reference-counted per set by the inlined code, an
     atomic add on a counter the threads share."""
