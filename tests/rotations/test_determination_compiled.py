@@ -161,3 +161,29 @@ def test_degenerate_sets_raise_the_numpy_paths_errors(monkeypatch, case, method)
 def test_empty_batch():
     sol = determine_attitude(np.zeros((0, 3, 3)), np.zeros((0, 3, 3)))
     assert sol.quat.shape == (0, 4) and sol.covariance.shape == (0, 3, 3)
+
+
+@pytest.mark.skipif(not _jit.NUMBA, reason="the block pass: numba only")
+@pytest.mark.parametrize("n", [2, 3])
+@pytest.mark.parametrize("method", FAST)
+def test_block_pass_is_solve_bit_for_bit(monkeypatch, method, n):
+    # the compiled loops solve sets of 2 and 3 observations a block at a time without a
+    # branch (_wahba.solve_fast), the NumPy executor set by set with branches
+    # (solve_slow): the same operations, so the same bits; near half-turns, near the
+    # identity, noise as large as the signal (Newton past the block's fixed steps, the
+    # sets solved again) and a set in a block that fails
+    rng = np.random.default_rng(11)
+    axes = _unit(rng.normal(size=(300, 3)))
+    angles = np.concatenate([np.pi - np.geomspace(1e-9, 1.0, 150), np.geomspace(1e-9, 1.0, 150)])
+    b, r, w = _sets(
+        300, n, seed=5, noise=1e-4, rotvec=SciRotation.from_rotvec(axes * angles[:, None])
+    )
+    b[::3] = _unit(b[::3] + rng.normal(size=b[::3].shape))
+    fast = determine_attitude(b, r, w, method=method)
+    slow = _numpy(monkeypatch, b, r, w, method=method)
+    np.testing.assert_array_equal(fast.quat, slow.quat)
+    np.testing.assert_array_equal(fast.loss, slow.loss)
+    np.testing.assert_array_equal(fast.covariance, slow.covariance)
+    b[7, :] = b[7, 0]  # all parallel: the same error from either path
+    with pytest.raises(InvalidInputError, match=r"observed.*non-parallel"):
+        determine_attitude(b, r, w, method=method)

@@ -10,6 +10,9 @@ QUEST_ROTATION_THRESHOLD = 0.3
 #: Newton's iterations on the characteristic polynomial stop at this step (lambda0 = 1).
 NEWTON_TOL = 1e-15
 NEWTON_MAX = 50
+#: ... of which the batch loops take this many on every set of a block at once (no
+#: branch); a set whose iteration has not stopped by then is solved again on its own.
+NEWTON_FAST = 5
 #: ``|v|^2`` of an observation normalised as it is (``_wahba.unit``): squares of
 #: normal numbers, no overflow; outside, ``v`` is first scaled by ``UNIT_UP`` (below
 #: ``UNIT_MIN``) or ``UNIT_DOWN`` (above ``UNIT_MAX``), powers of two.
