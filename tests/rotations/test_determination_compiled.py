@@ -64,18 +64,24 @@ def test_compiled_numpy_and_svd_agree(monkeypatch, method, n, m):
     assert np.all(fast.quat[..., 0] >= 0.0)
 
 
+def _turn_sets(m, n, seed, rng):
+    """``m`` sets of ``n`` observations: half of them within 1e-9 to 1 rad of a half
+    turn, half within 1e-9 to 1 rad of the identity, about random axes."""
+    axes = _unit(rng.normal(size=(m, 3)))
+    k = m // 2
+    angles = np.concatenate([np.pi - np.geomspace(1e-9, 1.0, k), np.geomspace(1e-9, 1.0, m - k)])
+    return _sets(
+        m, n, seed=seed, noise=1e-4, rotvec=SciRotation.from_rotvec(axes * angles[:, None])
+    )
+
+
 @pytest.mark.parametrize("n", [2, 3])
 @pytest.mark.parametrize("method", FAST)
 def test_near_half_turns_and_identity(monkeypatch, method, n):
     # QUEST's frame turns (|l0| < 0.3) and ESOQ2's (near the identity): every branch;
     # (choosing the turn by the largest diagonal of K left 1.9e-9 rad on 1e6 sets of
     # two observations, benchmarks/bench_determination.py; the largest l0': 8e-15)
-    rng = np.random.default_rng(4)
-    axes = _unit(rng.normal(size=(400, 3)))
-    angles = np.concatenate([np.pi - np.geomspace(1e-9, 1.0, 200), np.geomspace(1e-9, 1.0, 200)])
-    b, r, w = _sets(
-        400, n, seed=4, noise=1e-4, rotvec=SciRotation.from_rotvec(axes * angles[:, None])
-    )
+    b, r, w = _turn_sets(400, n, seed=4, rng=np.random.default_rng(4))
     fast = determine_attitude(b, r, w, method=method)
     _agree(fast, determine_attitude(b, r, w, method="svd"), tol=1e-11)
     _agree(_numpy(monkeypatch, b, r, w, method=method), fast)
@@ -173,11 +179,7 @@ def test_block_pass_is_solve_bit_for_bit(monkeypatch, method, n):
     # identity, noise as large as the signal (Newton past the block's fixed steps, the
     # sets solved again) and a set in a block that fails
     rng = np.random.default_rng(11)
-    axes = _unit(rng.normal(size=(300, 3)))
-    angles = np.concatenate([np.pi - np.geomspace(1e-9, 1.0, 150), np.geomspace(1e-9, 1.0, 150)])
-    b, r, w = _sets(
-        300, n, seed=5, noise=1e-4, rotvec=SciRotation.from_rotvec(axes * angles[:, None])
-    )
+    b, r, w = _turn_sets(300, n, seed=5, rng=rng)
     b[::3] = _unit(b[::3] + rng.normal(size=b[::3].shape))
     fast = determine_attitude(b, r, w, method=method)
     slow = _numpy(monkeypatch, b, r, w, method=method)
