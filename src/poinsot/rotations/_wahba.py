@@ -22,6 +22,7 @@ running :func:`solve_slow` on the sets it flags (a status bit, or Newton not sto
 from __future__ import annotations
 
 import math
+from typing import Any
 
 from .._jit import going, pick
 from ._scalar import hamilton, to_matrix
@@ -321,7 +322,7 @@ def esoq2(
     return turned_back(i0, i1, i2, i3, w, x, y, z)
 
 
-def accumulate(ob, rf, w, n):  # type: ignore[no-untyped-def]
+def accumulate(ob: Any, rf: Any, w: Any, n: Any) -> Any:
     """``lambda0 = sum w``, ``sum w b b^T`` (6), ``sum w r r^T`` (6) and ``sum w b r^T``
     (9) of the unit directions."""
     lam0 = 0.0
@@ -360,7 +361,9 @@ def accumulate(ob, rf, w, n):  # type: ignore[no-untyped-def]
     )  # fmt: skip
 
 
-def attitude(ob, rf, w, n, method, want_cov, p, lam, fp):  # type: ignore[no-untyped-def]
+def attitude(
+    ob: Any, rf: Any, w: Any, n: Any, method: Any, want_cov: Any, p: Any, lam: Any, fp: Any
+) -> Any:
     """From the sums ``p`` (:func:`accumulate`) and ``lambda_max``: the 12 results of
     :func:`solve` (``status`` 0.0)."""
     nan = math.nan
@@ -401,7 +404,7 @@ def attitude(ob, rf, w, n, method, want_cov, p, lam, fp):  # type: ignore[no-unt
     )  # fmt: skip
 
 
-def spreads(p):  # type: ignore[no-untyped-def]
+def spreads(p: Any) -> Any:
     """``det sum w (E - u u^T)`` for the observations and the references, and the bound
     they must exceed (not all parallel, nor all weight on one direction)."""
     lam0 = p[0]
@@ -410,7 +413,7 @@ def spreads(p):  # type: ignore[no-untyped-def]
     return det_b, det_r, PARALLEL_RTOL * lam0 * lam0 * lam0
 
 
-def polynomial(p):  # type: ignore[no-untyped-def]
+def polynomial(p: Any) -> Any:
     """``a, b, c, d, sigma`` of ``K``'s characteristic polynomial for the sums ``p``."""
     s = 1.0 / p[0]
     s00, s01, s02, s11, s12, s22, sigma, z0, z1, z2 = k_parts(
@@ -421,7 +424,7 @@ def polynomial(p):  # type: ignore[no-untyped-def]
     return a, bb, c, d, sigma
 
 
-def solve_fast(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
+def solve_fast(ob: Any, rf: Any, w: Any, n: Any, method: Any, want_cov: Any) -> Any:
     """:func:`solve` without a branch on the data, for a block of sets at once (the
     compiled batch loops): its 12 results and a 13th value, 0.0 where they are
     :func:`solve`'s, 1.0 where :func:`solve_slow` must be run instead (a status bit, or
@@ -442,7 +445,7 @@ def solve_fast(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     return (*r, pick(good, 0.0, 1.0))
 
 
-def solve_slow(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
+def solve_slow(ob: Any, rf: Any, w: Any, n: Any, method: Any, want_cov: Any) -> Any:
     """:func:`solve` one set at a time, with branches: the status checks first, Newton's
     loop until it stops."""
     nan = math.nan
@@ -475,7 +478,7 @@ def solve_slow(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
     return attitude(ob, rf, w, n, method, want_cov, p, lam, fprime(lam, a, bb, c))
 
 
-def solve(ob, rf, w, n, method, want_cov):  # type: ignore[no-untyped-def]
+def solve(ob: Any, rf: Any, w: Any, n: Any, method: Any, want_cov: Any) -> Any:
     """One observation set, read as ``ob[i][k]``, ``rf[i][k]``, ``w[i]`` (arrays, or
     tuples of floats in the compiled loops: no array, no reference count per set):
     ``(l0, l1, l2, l3, loss, c00, c01, c02, c11, c12, c22, status)``: the quaternion of

@@ -21,8 +21,9 @@ from .._jit import njit, overload, prange
 from .._numba_cache import depends_on
 from . import _scalar as S
 from . import _wahba as W
+from . import _wahba_codes as C
 
-depends_on(__file__, W, S)
+depends_on(__file__, W, S, C)
 
 # error_model="numpy" (as _OPTS below): a division by zero gives inf or NaN, no test
 _INLINE: dict[str, Any] = {"forceinline": True, "error_model": "numpy"}
@@ -142,10 +143,10 @@ def _pass(ob, rf, w, lo, hi, so, sr, sw, n, method, out):  # pragma: no cover
             rr = (_vec(out, 19, j), _vec(out, 22, j))
             r = _fast(bb, rr, (_at(out, 25, j), _at(out, 26, j)), 2, method, True)
         else:
-            bb = (_vec(out, 13, j), _vec(out, 16, j), _vec(out, 19, j))
-            rr = (_vec(out, 22, j), _vec(out, 25, j), _vec(out, 28, j))
-            ww = (_at(out, 31, j), _at(out, 32, j), _at(out, 33, j))
-            r = _fast(bb, rr, ww, 3, method, True)
+            b3 = (_vec(out, 13, j), _vec(out, 16, j), _vec(out, 19, j))
+            r3 = (_vec(out, 22, j), _vec(out, 25, j), _vec(out, 28, j))
+            w3 = (_at(out, 31, j), _at(out, 32, j), _at(out, 33, j))
+            r = _fast(b3, r3, w3, 3, method, True)
         for x in range(13):
             out[x * BLOCK + j] = r[x]
 
@@ -199,14 +200,14 @@ def _rows(ob, rf, w, lo, hi, method, want_cov, q, loss, cov, status):  # pragma:
     so = np.int64(1 if ob.shape[0] > 1 else 0)
     sr = np.int64(1 if rf.shape[0] > 1 else 0)
     sw = np.int64(1 if w.shape[0] > 1 else 0)
-    if n == 2 and method == W.QUEST:
-        _blocks(ob, rf, w, lo, hi, so, sr, sw, 2, W.QUEST, want_cov, q, loss, cov, status)
+    if n == 2 and method == C.QUEST:
+        _blocks(ob, rf, w, lo, hi, so, sr, sw, 2, C.QUEST, want_cov, q, loss, cov, status)
     elif n == 2:
-        _blocks(ob, rf, w, lo, hi, so, sr, sw, 2, W.ESOQ2, want_cov, q, loss, cov, status)
-    elif n == 3 and method == W.QUEST:
-        _blocks(ob, rf, w, lo, hi, so, sr, sw, 3, W.QUEST, want_cov, q, loss, cov, status)
+        _blocks(ob, rf, w, lo, hi, so, sr, sw, 2, C.ESOQ2, want_cov, q, loss, cov, status)
+    elif n == 3 and method == C.QUEST:
+        _blocks(ob, rf, w, lo, hi, so, sr, sw, 3, C.QUEST, want_cov, q, loss, cov, status)
     elif n == 3:
-        _blocks(ob, rf, w, lo, hi, so, sr, sw, 3, W.ESOQ2, want_cov, q, loss, cov, status)
+        _blocks(ob, rf, w, lo, hi, so, sr, sw, 3, C.ESOQ2, want_cov, q, loss, cov, status)
     else:
         for i in range(lo, hi):
             k = np.int64(i)
