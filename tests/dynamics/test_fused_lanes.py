@@ -306,3 +306,10 @@ def test_the_lane_kernel_is_compiled_per_kind(monkeypatch):
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["True", "False", "0"], out
+
+
+def test_a_plain_int_kind_is_refused_by_name():
+    """The lanes compile per constant kind: a plain ``int`` would make numba type the
+    whole kernel again on every call, so it is refused, naming what to pass instead."""
+    with pytest.raises(TypeError, match=r"Kind\(kind\)"):
+        _fused_lanes._rhs_lanes(np.zeros(_fused_lanes.N_WORK), 8)

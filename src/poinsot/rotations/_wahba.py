@@ -116,11 +116,17 @@ def lambda_coeffs(
     return a, bb, c, d
 
 
+def fprime(lam: float, a: float, bb: float, c: float) -> float:
+    """``f'(lam)`` of :func:`lambda_coeffs`' polynomial."""
+    l2 = lam * lam
+    return 2.0 * lam * (2.0 * l2 - a - bb) - c
+
+
 def newton_step(lam: float, a: float, bb: float, c: float, sigma: float, d: float) -> float:
     """Newton's step ``f / f'`` at ``lam`` (0 where ``f' = 0``)."""
     l2 = lam * lam
     f = (l2 - a) * (l2 - bb) - c * lam + c * sigma - d
-    fp = 2.0 * lam * (2.0 * l2 - a - bb) - c
+    fp = fprime(lam, a, bb, c)
     return pick(fp != 0.0, f / fp, 0.0)
 
 
@@ -135,12 +141,6 @@ def newton_fast(a: float, bb: float, c: float, d: float, sigma: float) -> tuple[
         lam = pick(on != 0.0, lam - step, lam)
         on = pick(abs(step) > NEWTON_TOL, on, 0.0)
     return lam, on
-
-
-def fprime(lam: float, a: float, bb: float, c: float) -> float:
-    """``f'(lam)``."""
-    l2 = lam * lam
-    return 2.0 * lam * (2.0 * l2 - a - bb) - c
 
 
 def lambda_max(a: float, bb: float, c: float, d: float, sigma: float) -> float:
