@@ -61,7 +61,6 @@ _COMPILE_LOCK = threading.Lock()
 _F64 = np.dtype(np.float64)
 _NP_F64 = np.float64
 _NDARRAY = np.ndarray
-_EMPTY = np.empty
 
 _SOLVER = None
 _SOLVER_INLINE = None
@@ -152,13 +151,15 @@ def _batch(t, y, p, out, lam):
 
 
 @njit(cache=CACHE)
-def _one(t, y, W, out):
-    # one state, every array given, no allocation: False if the augmented mass matrix
-    # is singular or y is not of length 2n (the caller's general path says which). W: the scratch K (rows :size), b (row size) and the parameters (row
-    # size + 1), one 2-D array: one argument rather than three (numba's entry point
-    # takes about 45 ns to unbox each array argument) and plain slices of it (a reshape
-    # took 20-30 ns more, measured). The GIL is kept: releasing and taking it again cost
-    # about 45 ns of a call of 0.3 us, and W is the caller's, shared by its threads.
+def _one(t, y, W):
+    # one state, in place: y (a fresh copy of the caller's state, C-contiguous) becomes
+    # its rate; False if the augmented mass matrix is singular or y is not of length 2n
+    # (the caller's general path says which). W: the scratch K (rows :size), b (row
+    # size) and the parameters (row size + 1). Two array arguments, not four (numba's
+    # entry point takes about 30 ns to unbox each), plain slices of W (a reshape of a
+    # flat W took 20-30 ns more) and the GIL kept (releasing and taking it again cost
+    # about 45 ns; and W is shared by the caller's threads): measured, in a 2-link call
+    # of about 0.3 us.
     n = NQ
     m = NC
     size = n + m
@@ -167,12 +168,12 @@ def _one(t, y, W, out):
     K = W[:size, :size]
     b = W[size, :size]
     p = W[size + 1]
-    _system(t, y, p, K, b)
+    _system(t, y, p, K, b)  # reads y before anything is written to it
     if not _solve_inline(K, b, size):
         return False
     for k in range(n):
-        out[k] = y[n + k]
-        out[n + k] = b[k]
+        y[k] = y[n + k]
+        y[n + k] = b[k]
     return True
 
 
@@ -423,15 +424,13 @@ class NumericLagrangian:
         self._ns: dict[str, Any] | None = None
         self._one: Any = None  # see _one_entry
         self._work = np.empty(0)
-        self._len1 = 2 * self.n
         self._aux: dict[str, Any] = {}
         self._sympy = sympy
 
     # -------------------------------------------------------------- pickling
     #: What a pickle leaves out: the compiled kernels, their scratch and the lambdified
-    #: functions (rebuilt on first use, from the generated source), the sympy module and
-    #: the length of a state (set again from n).
-    _TRANSIENT = ("_ns", "_one", "_work", "_len1", "_aux", "_sympy")
+    #: functions (rebuilt on first use, from the generated source), and the sympy module.
+    _TRANSIENT = ("_ns", "_one", "_work", "_aux", "_sympy")
 
     def __getstate__(self) -> dict[str, Any]:
         """The system, the parameters and the generated source: picklable (e.g. for
@@ -446,7 +445,6 @@ class NumericLagrangian:
         self._ns = None
         self._one = None
         self._work = np.empty(0)
-        self._len1 = 2 * self.n
         self._aux = {}
         self._sympy = sympy
 
@@ -509,8 +507,8 @@ class NumericLagrangian:
     def _one_entry(self) -> Any:
         """The one-state kernel compiled for ``(float64, float64 arrays)``: its entry
         point trusts its arguments' types, so :meth:`__call__` checks them first (``y``
-        a 1-D float64 array, ``t`` a float; the other arrays are its own; the kernel
-        checks the length of ``y``)."""
+        a 1-D float64 array, handed over as a copy the kernel overwrites with the rate;
+        ``t`` a float; the scratch is its own; the kernel checks the length of ``y``)."""
 
         ns = self._kernels()
         size = self.n + self.n_constraints
@@ -524,11 +522,10 @@ class NumericLagrangian:
             return self._one
         from numba import types
 
+        # y: the caller's copy (C-contiguous, writable); W: the scratch and parameters
         a1 = types.Array(types.float64, 1, "C")
         a2 = types.Array(types.float64, 2, "C")
-        # y: any layout (a strided or read-only y is only read through its strides)
-        y1 = types.Array(types.float64, 1, "A")
-        sig = (types.float64, y1, a2, a1)
+        sig = (types.float64, a1, a2)
         self._one = ns["_one"].compile(sig)
         return self._one
 
@@ -772,12 +769,13 @@ class NumericLagrangian:
         ):
             # one state as solve_ivp passes it: numba's entry point compiled for exactly
             # these types (no dispatcher type matching; the kernel checks the length), the
-            # scratch kept (no allocation but the result's). Set up by the first such
-            # call (below). Every test here is a type, an identity or a small int: a
-            # tuple comparison (y.shape == (2n,)) took 40 ns of a 0.6 us call, measured.
-            out = _EMPTY(self._len1)
+            # scratch kept (no allocation but the result's: the copy of y, overwritten).
+            # Set up by the first such call (below). Every test here is a type, an
+            # identity or a small int: a tuple comparison (y.shape == (2n,)) took 40 ns
+            # of a 0.55 us call, measured.
+            out = y.copy()
             try:
-                if one(t, y, self._work, out):
+                if one(t, out, self._work):
                     return out
             except _UNDEFINED as exc:
                 self._raise_undefined(exc, t, y, parameters)
