@@ -122,3 +122,48 @@ def test_prefetch_emits_the_instruction_and_changes_no_value():
     if platform.machine().lower() in ("x86_64", "amd64"):
         asm = _sum_prefetching.inspect_asm(_sum_prefetching.signatures[0])
         assert "prefetcht0" in asm
+
+
+@numba.njit
+def _stream(dst, src, neg):
+    for i in range(src.shape[0]):
+        nh.store_nt(dst, i, -src[i] if neg else src[i])
+    nh.fence()
+
+
+def test_streaming_stores_write_the_same_bits_and_stream_on_x86():
+    """``store_nt`` writes a float's bits exactly (signed zeros, infinities, NaN
+    payloads, float32 and int64 arrays); on x86 every store of the compiled loop is a
+    streaming one (``movnti``: a float goes through its integer bits). Before, a float
+    taken from a vector register was stored plainly on Intel (x86 has no streaming
+    store for it there): mixed with streamed stores into the same lines, 10^6 inverses
+    took 600 ns per rotation instead of 5."""
+    bits = np.array([0, 1 << 63, 0x7FF0000000000000, 0x7FF8000000000123, 0x3FF0000000000001])
+    for src in (bits.view(np.float64), RNG.normal(size=37), RNG.normal(size=5).astype(np.float32)):
+        for neg in (False, True):
+            dst = np.full_like(src, 7.0)
+            _stream(dst, src, neg)
+            want = -src if neg else src
+            assert dst.tobytes() == want.tobytes()
+    ints = np.arange(-3, 9, dtype=np.int64)
+    dst_i = np.zeros_like(ints)
+    _stream(dst_i, ints, False)
+    assert dst_i.tolist() == ints.tolist()
+    if platform.machine().lower() in ("x86_64", "amd64"):
+        for sig in _stream.signatures:
+            asm = _stream.inspect_asm(sig)
+            # stores: a mov whose destination (after the first comma) is in memory,
+            # the stack excepted
+            stores = [
+                ln.split()[0]
+                for ln in asm.splitlines()
+                if ln.strip().startswith(("mov", "vmov"))
+                and "(" in ln.split(",", 1)[-1]
+                and "%rsp" not in ln.split(",", 1)[-1]
+            ]
+            assert any(op.startswith("movnti") for op in stores), (sig, stores)
+            # no plain store of a float alongside the streamed ones
+            assert not [op for op in stores if op in ("vmovsd", "vmovss", "movsd", "movss")], (
+                sig,
+                stores,
+            )

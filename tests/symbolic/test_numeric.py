@@ -119,6 +119,21 @@ def test_one_state_entry_point_equals_the_batch_kernel(f):
     assert f(0.0, ys[5]) is not f(0.0, ys[5])  # a fresh result array each call
 
 
+def test_the_one_state_path_leaves_y_alone_and_refers_other_inputs_to_the_general_one(f):
+    # the entry point overwrites a copy of y and checks only its length; a wrong length,
+    # another dtype or a 2-D state get the general path's answers
+    f.compile()
+    y = np.array([0.1, -0.2, 0.3, 0.4])
+    before = y.copy()
+    np.testing.assert_allclose(f(0.0, y), _exact_rhs(y), rtol=1e-13, atol=1e-14)
+    np.testing.assert_array_equal(y, before)
+    for bad in (np.zeros(3), np.zeros(5)):
+        with pytest.raises(InvalidInputError, match=r"Expected `y` to have shape \(\.\.\., 4\)"):
+            f(0.0, bad)
+    np.testing.assert_array_equal(f(0.0, np.array([1, 2, 0, -1])), f(0.0, [1.0, 2.0, 0.0, -1.0]))
+    np.testing.assert_array_equal(f(0.0, y[None]), f(0.0, y)[None])
+
+
 def test_singular_mass_matrix_is_reported_by_the_one_state_path():
     x = dynamicsymbols("x")
     s = LagrangeSystem([x], m * x.diff() ** 2 / 2, k * x**2 / 2)
