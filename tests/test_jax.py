@@ -18,6 +18,7 @@ jnp = pytest.importorskip("jax.numpy")
 pj = pytest.importorskip("poinsot.jax")
 
 from poinsot import Rotation  # noqa: E402
+from poinsot._jit import upto  # noqa: E402
 from poinsot.dynamics import euler_rhs  # noqa: E402
 
 Q = all_quaternions()
@@ -209,3 +210,103 @@ def test_quaternion_rates_equal_the_numpy_path_and_have_true_gradients(frame):
     _close(pj.omega_from_quat_rate(q, qd, frame=frame), omega_from_quat_rate(q, qd, frame=frame))
     _check_grad(lambda x: pj.quat_rate(x, w[0], frame=frame), q[0])
     _check_grad(lambda x: pj.omega_from_quat_rate(q[0], x, frame=frame), qd[0])
+
+
+# ------------------------------------------------- table loops as one loop (issue 40)
+def _eqns(jaxpr, names=None):
+    """The number of equations of ``jaxpr`` with its inner ones (``names`` collects
+    the primitives' names)."""
+    n = 0
+    for e in jaxpr.eqns:
+        n += 1
+        if names is not None:
+            names.add(e.primitive.name)
+        for p in e.params.values():
+            inner = getattr(p, "jaxpr", p)
+            if hasattr(inner, "eqns"):
+                n += _eqns(inner, names)
+    return n
+
+
+def test_carlson_loops_are_one_loop_and_equal_the_numba_path():
+    # Carlson's duplication (24 steps on JAX) is one lax loop, not 24 traced copies:
+    # R_J's program was 5,759 equations unrolled
+    from poinsot.dynamics import _elliptic as E
+
+    rng = np.random.default_rng(40)
+    x, y, z = rng.uniform(0.0, 2.0, (3, 50))
+    p = rng.uniform(0.1, 3.0, 50)
+    x[:5] = 0.0  # an argument at zero (the complete integrals' form)
+    rj = pj.selects(E.carlson_rj)
+    jaxpr = jax.make_jaxpr(lambda *a: rj(*a))(x, y, z, p).jaxpr
+    names = set()
+    assert _eqns(jaxpr, names) < 1500
+    assert names & {"while", "scan"}
+    want = np.array([E.carlson_rj(*a) for a in zip(x, y, z, p, strict=True)])
+    _close(jax.jit(rj)(x, y, z, p), want, rtol=1e-14)
+
+
+def test_a_constant_zero_in_a_rolled_loop_keeps_derivatives_finite():
+    # R_J(0, y, z, p): sqrt(x) at x = 0 has an infinite derivative; the constant 0 has
+    # none. The loop's first step is traced apart, so 0 * inf never forms (NaN before)
+    from poinsot.dynamics import _elliptic as E
+
+    rj = pj.selects(E.carlson_rj)
+    a = np.array([0.6, 1.0, 1.3])
+
+    def f(v):
+        return rj(0.0, v[0], v[1], v[2])
+
+    got = np.asarray(jax.jacfwd(f)(jnp.asarray(a)))
+    back = np.asarray(jax.grad(f)(jnp.asarray(a)))
+    h = 1e-6
+    want = np.array(
+        [(E.carlson_rj(0.0, *(a + h * e)) - E.carlson_rj(0.0, *(a - h * e))) / (2 * h)
+         for e in np.eye(3)]
+    )  # fmt: skip
+    np.testing.assert_allclose(got, want, rtol=1e-7)
+    np.testing.assert_allclose(back, want, rtol=1e-7)
+
+
+def _rollable(x):
+    s = 0.0
+    for k in range(upto(8, 8)):
+        t = x * k
+        s = s + t
+    return s
+
+
+def _temporary_read_after(x):
+    s = 0.0
+    for k in range(upto(8, 8)):
+        t = x * k
+        s = s + t
+    return s + t
+
+
+def _early_return(x):
+    s = 0.0
+    for k in range(upto(8, 8)):
+        s = s + x
+        if k == 3:
+            return s
+    return s
+
+
+def _plain_range(x):
+    s = 0.0
+    for k in range(8):
+        s = s + x * k
+    return s
+
+
+def test_only_loops_that_can_be_one_call_are_rewritten():
+    from poinsot._rolled import rolled_code
+
+    code = rolled_code(_rollable)
+    assert code is not None and "_poinsot_loop_" in code.co_names
+    for fn in (_temporary_read_after, _early_return, _plain_range):
+        assert rolled_code(fn) is None, fn.__name__
+    # the rewritten function computes what the loop did (the JAX executor's loop)
+    g = pj.rebind(_rollable, "jax")
+    assert float(g(jnp.asarray(1.5))) == 1.5 * sum(range(8))

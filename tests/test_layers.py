@@ -20,6 +20,7 @@ LAYERS: list[tuple[str, ...]] = [
         "_vec",
         "_validate",
         "_jit",
+        "_rolled",
         "_numba_cache",
         "_progress",
         "_scratch",

@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _rolled
 from .errors import PoinsotWarning
 
 __all__ = [
@@ -214,6 +215,13 @@ class Executor:
     #: whether the poinsot modules a formula reaches as names (``nh.fma``) are re-bound
     #: too (the plain-Python executor: a compiled module's functions are dispatchers)
     modules: bool = False
+    #: ``loop(range, body, carry)``: a ``for i in range(upto(n, nmax))`` loop of a
+    #: formula as one call (its body a function ``body(i, carry) -> carry`` of the
+    #: carried names; :mod:`poinsot._rolled` rewrites the executor's copy of the
+    #: source), for an executor that traces; ``None``: the loop runs as written
+    loop: Callable[..., Any] | None = None
+    #: ``item(table, i)``: a table read at the loop index inside such a loop
+    item: Callable[[Any, Any], Any] | None = None
 
 
 #: name -> executor: every way the one formula source runs (``"jax"`` is added by
@@ -283,6 +291,8 @@ def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
         new = dict(g)
         _GLOBALS[(id(g), ns)] = new  # before filling: functions of one module call each other
         new.update(ex.namespace)
+        if ex.loop is not None:
+            new[_rolled.LOOP], new[_rolled.ITEM] = ex.loop, ex.item
         for k, v in g.items():
             if k in ex.namespace:
                 continue
@@ -363,7 +373,10 @@ def rebind(fn: Callable[..., Any], ns: str) -> Callable[..., Any]:
         g = _globals_for(f.__globals__, ns)  # may re-bind fn itself (its module's functions)
         out = _REBOUND.get((fn, ns))
         if out is None:
-            out = _pytypes.FunctionType(f.__code__, g, f.__name__, f.__defaults__, f.__closure__)
+            code = f.__code__
+            if EXECUTORS[ns].loop is not None:
+                code = _rolled.rolled_code(f) or code
+            out = _pytypes.FunctionType(code, g, f.__name__, f.__defaults__, f.__closure__)
             _REBOUND[(fn, ns)] = out
     return out
 

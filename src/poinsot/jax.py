@@ -147,6 +147,9 @@ class _Paths:
         self.calls = 0
 
     def decide(self, cond: Any) -> bool:
+        for c, t in self.met:  # the same tracer again (``if e01 ...`` twice): one decision
+            if c is cond:
+                return t
         i = len(self.met)
         take = self.prefix[i] if i < len(self.prefix) else True
         self.met.append((cond, take))
@@ -262,9 +265,12 @@ def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
         # one path (no data branch for these static arguments): JAX's own derivatives
         sig = (tree, tuple(_static(x) for x in flat))
         if sig not in npaths:
+            loops = _LOOPS[0]
             leaves = _explore(g, args, [], {})
-            npaths[sig] = len(leaves)
-            if len(leaves) == 1:
+            # a rolled loop (:func:`_loop`) merges its step's paths inside the loop,
+            # where JAX's own reverse mode would meet the untaken paths: the rule below
+            npaths[sig] = len(leaves) if _LOOPS[0] == loops else 2
+            if npaths[sig] == 1:
                 return leaves[0][1]
         if npaths[sig] == 1:
             return merged(*args)
@@ -284,8 +290,6 @@ def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
 
         @fj.defjvp
         def f_jvp(primals: Any, tangents: Any) -> Any:
-            out = f(*primals)
-
             def g(*fa: Any) -> Any:  # of the float arguments
                 a = list(primals)
                 for p, x in zip(pos, fa, strict=True):
@@ -295,8 +299,11 @@ def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
             fprim = [primals[p] for p in pos]
             n = len(pos)
             units = [jnp.zeros((n,) + jnp.shape(x)).at[k].set(1.0) for k, x in enumerate(fprim)]
-            # d result / d argument k, lane by lane, for every k at once
-            parts = jax.vmap(lambda *u: jax.jvp(g, tuple(fprim), u)[1])(*units)
+            # d result / d argument k, lane by lane, for every k at once (and the
+            # result itself, traced once: it does not depend on the unit tangent)
+            out, parts = jax.vmap(lambda *u: jax.jvp(g, tuple(fprim), u), out_axes=(None, 0))(
+                *units
+            )
             tan = []
             for o, d in zip(out, parts, strict=True):
                 acc = jnp.zeros(jnp.shape(o))
@@ -350,6 +357,54 @@ class _Vec(list):  # type: ignore[type-arg]
 jax.tree_util.register_pytree_node(_Vec, lambda v: (list(v), None), lambda _, c: _Vec(c))
 
 EXECUTORS["jax"].wrap = _nested
+
+
+#: how many loops :func:`_loop` has traced (read by :func:`selects`)
+_LOOPS = [0]
+
+
+def _loop(steps: range, body: Callable[..., Any], carry: tuple[Any, ...]) -> Any:
+    """A formula's table loop (:mod:`poinsot._rolled`) as one ``jax.lax.fori_loop``:
+    its body traced once, its branches merged as selects within the step (the
+    :func:`_nested` rule), instead of one traced copy per step."""
+    _LOOPS[0] += 1
+    n, start, stride = len(steps), steps.start, steps.step
+    step = _merged(lambda k, c: body(start + k * stride, c))
+    if n == 0:
+        return carry
+    # the first step on its own: a constant of the formula (x = 0 in R_J(0, y, z, p))
+    # keeps its symbolic zero tangent there, where sqrt(x)'s infinite derivative
+    # would meet it; in the loop every carried value has a tangent (0 * inf = NaN)
+    carry = step(0, carry)
+    if n == 1:
+        return carry
+    return jax.lax.fori_loop(1, n, step, _carry_types(step, carry))
+
+
+def _carry_types(step: Callable[..., Any], carry: tuple[Any, ...]) -> tuple[Any, ...]:
+    """``carry`` broadcast to the shapes and types a step returns (a Python float that
+    a step makes a lane array): a loop's carry keeps one type through its steps."""
+    k = jnp.asarray(0)
+    for _ in range(4):
+        out = jax.eval_shape(step, k, carry)
+        carry = tuple(
+            jnp.broadcast_to(
+                jnp.asarray(c, dtype=o.dtype), jnp.broadcast_shapes(jnp.shape(c), o.shape)
+            )
+            for c, o in zip(carry, out, strict=True)
+        )
+        if all(jnp.shape(c) == o.shape for c, o in zip(carry, out, strict=True)):
+            return carry
+    raise TypeError("a loop's carried values change shape from step to step")  # pragma: no cover
+
+
+def _item(table: Any, k: Any) -> Any:
+    """``table[k]`` at a traced loop index ``k`` (a select among the table's lanes)."""
+    return _Vec(table)[k]
+
+
+EXECUTORS["jax"].loop = _loop
+EXECUTORS["jax"].item = _item
 
 
 def _cols(a: Any, k: int) -> list[Any]:
@@ -908,8 +963,8 @@ def free_body_exact(
     a spin about the middle axis: ``w`` constant. The attitude: :meth:`FreeBodyMotion.attitude`.
     ``omega`` is differentiable w.r.t. ``moments`` and ``omega0`` (each path's
     derivative; NaN exactly at a spin about a principal axis, where ``k^2 = 0`` enters
-    through a square root, and on the separatrix itself); the attitude's derivative
-    programs do not yet compile within 18 GB on a CPU (docs/jax.md).
+    through a square root, and on the separatrix itself), and so is the attitude
+    (forward mode compiles fastest: docs/jax.md).
 
     >>> m = free_body_exact(jnp.array([1.0, 2.0, 3.0]), jnp.array([0.1, 1.0, 0.1]))
     >>> int(m.regime)                      # 4: "major", near the middle axis

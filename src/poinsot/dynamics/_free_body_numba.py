@@ -258,9 +258,10 @@ def axis_permutation(j):  # pragma: no cover - compiled
 @njit(cache=True, inline="always")
 def _place(i, m, wi, wm, wj):  # pragma: no cover - compiled
     """``(w_0, w_1, w_2)`` from the components along axes ``i``, ``m`` and the third."""
-    out0 = wi if i == 0 else (wm if m == 0 else wj)
-    out1 = wi if i == 1 else (wm if m == 1 else wj)
-    out2 = wi if i == 2 else (wm if m == 2 else wj)
+    # selects (cheap, all defined): on JAX branches would make 27 traced paths
+    out0 = pick(i == 0, wi, pick(m == 0, wm, wj))
+    out1 = pick(i == 1, wi, pick(m == 1, wm, wj))
+    out2 = pick(i == 2, wi, pick(m == 2, wm, wj))
     return out0, out1, out2
 
 
@@ -350,9 +351,10 @@ def classify(im, w):  # pragma: no cover - compiled
     ka0, ka1, ka2 = im[0] * w[0], im[1] * w[1], im[2] * w[2]
     kmom = math.sqrt(ka0 * ka0 + ka1 * ka1 + ka2 * ka2)
     e01, e12, e20 = im[0] == im[1], im[1] == im[2], im[2] == im[0]
-    if kmom == 0.0 or (e01 and e12):
+    # | and &, not or/and: one decision each (on JAX each operand would be a branch)
+    if (kmom == 0.0) | (e01 & e12):
         return pick(kmom == 0.0, R_REST, R_SPHERICAL), 0, 1, 2, 0.0, math.nan, kmom
-    if e01 or e12 or e20:
+    if e01 | e12 | e20:
         s = pick(e01, 2, pick(e12, 0, 1))
         return R_SYMMETRIC, s, (s + 1) % 3, (s + 2) % 3, 0.0, math.nan, kmom
     # distinct moments: a = major, c = minor, bm = middle axis
@@ -376,8 +378,9 @@ def classify(im, w):  # pragma: no cover - compiled
 @njit(cache=True)
 def _extremes(a0, a1, a2):  # pragma: no cover - compiled
     """``(argmax, argmin)`` of three distinct numbers."""
-    ia = 0 if (a0 > a1 and a0 > a2) else (1 if a1 > a2 else 2)
-    ic = 0 if (a0 < a1 and a0 < a2) else (1 if a1 < a2 else 2)
+    # selects, not branches: on JAX each branch would double the traced paths
+    ia = pick((a0 > a1) & (a0 > a2), 0, pick(a1 > a2, 1, 2))
+    ic = pick((a0 < a1) & (a0 < a2), 0, pick(a1 < a2, 1, 2))
     return ia, ic
 
 

@@ -1,0 +1,209 @@
+"""A formula's table loops as one call, for an executor that traces (private).
+
+An executor that traces the formula source (``poinsot.jax``) would otherwise unroll
+every ``for _ in range(upto(n, nmax)):`` to its static bound: Carlson's duplication
+(24 steps), the AGM, the Landen tables, each step a copy in the traced program. The
+copies, not the arithmetic, cost its compile time (XLA compiles each fused piece of a
+straight-line program apart). :func:`rolled_code` rewrites such a loop, in the
+executor's copy of the function only, as
+
+.. code-block:: python
+
+    def _body(i, _carry):
+        a, b = _carry
+        ...                      # the loop's body, as written
+        return a, b
+    a, b = _poinsot_loop_(range(...), _body, (a, b))
+
+where ``a, b`` are the names the body assigns that the function had before the loop
+(the carried state), and ``_poinsot_loop_`` is the executor's loop
+(:attr:`poinsot._jit.Executor.loop`: ``jax.lax.fori_loop`` on JAX). A table read by
+the loop index (``ks[lv]``) becomes ``_poinsot_item_(ks, lv)``, the executor's read
+at a traced index. ``if not going(cond): break`` is dropped: on the executors that
+trace, ``going`` is ``True`` (every step runs; the steps past convergence leave the
+values unchanged to rounding). A loop this cannot express (another ``break``, a
+``return`` inside, a name first assigned in the body and read after it) is left as it
+is, unrolled: the rewrite changes how many copies are traced, never what is computed.
+Numba, NumPy and the interpreter run the source as written.
+"""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import sys
+import textwrap
+import types as _pytypes
+
+__all__ = ["rolled_code", "LOOP", "ITEM"]
+
+#: the global names the rewritten code calls (set by :func:`poinsot._jit.rebind`)
+LOOP = "_poinsot_loop_"
+ITEM = "_poinsot_item_"
+
+
+def _stored(nodes: list[ast.stmt]) -> set[str]:
+    out: set[str] = set()
+    for st in nodes:
+        for n in ast.walk(st):
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
+                out.add(n.id)
+    return out
+
+
+def _loaded(nodes: list[ast.stmt]) -> set[str]:
+    out: set[str] = set()
+    for st in nodes:
+        for n in ast.walk(st):
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
+                out.add(n.id)
+    return out
+
+
+def _is_upto_range(it: ast.expr) -> bool:
+    if not (isinstance(it, ast.Call) and isinstance(it.func, ast.Name) and it.func.id == "range"):
+        return False
+    return any(
+        isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "upto"
+        for a in it.args
+        for n in ast.walk(a)
+    )
+
+
+def _is_going_break(st: ast.stmt) -> bool:
+    """``if not going(...): break``"""
+    return (
+        isinstance(st, ast.If)
+        and not st.orelse
+        and len(st.body) == 1
+        and isinstance(st.body[0], ast.Break)
+        and isinstance(st.test, ast.UnaryOp)
+        and isinstance(st.test.op, ast.Not)
+        and isinstance(st.test.operand, ast.Call)
+        and isinstance(st.test.operand.func, ast.Name)
+        and st.test.operand.func.id == "going"
+    )
+
+
+def _escapes(body: list[ast.stmt]) -> bool:
+    """A ``break``/``continue``/``return``/``yield`` of the loop itself."""
+    for st in body:
+        for n in ast.walk(st):
+            if isinstance(n, (ast.Break, ast.Continue, ast.Return, ast.Yield, ast.YieldFrom)):
+                return True
+            if isinstance(n, (ast.FunctionDef, ast.Lambda, ast.While, ast.For)):
+                return True  # nested scopes and loops: not rewritten
+    return False
+
+
+class _Items(ast.NodeTransformer):
+    """``t[i]`` (a load, ``i`` the loop index, ``t`` not assigned in the body) ->
+    ``_poinsot_item_(t, i)``."""
+
+    def __init__(self, index: str, assigned: set[str]) -> None:
+        self.index, self.assigned = index, assigned
+
+    def visit_Subscript(self, node: ast.Subscript) -> ast.AST:
+        self.generic_visit(node)
+        if (
+            isinstance(node.ctx, ast.Load)
+            and isinstance(node.slice, ast.Name)
+            and node.slice.id == self.index
+            and isinstance(node.value, ast.Name)
+            and node.value.id not in self.assigned
+        ):
+            call = ast.Call(ast.Name(ITEM, ast.Load()), [node.value, node.slice], [])
+            return ast.copy_location(call, node)
+        return node
+
+
+class _Rewrite:
+    def __init__(self, fdef: ast.FunctionDef) -> None:
+        self.fdef = fdef
+        self.params = {a.arg for a in fdef.args.args}
+        self.count = 0
+
+    def block(self, stmts: list[ast.stmt], before: set[str]) -> list[ast.stmt]:
+        """``stmts`` with their table loops rewritten; ``before``: names bound so far."""
+        out: list[ast.stmt] = []
+        bound = set(before)
+        for k, st in enumerate(stmts):
+            if isinstance(st, ast.For):
+                new = self.loop(st, bound, stmts[k + 1 :])
+                if new is not None:
+                    out += new
+                    bound |= _stored([st])
+                    continue
+            elif isinstance(st, ast.If):
+                st.body = self.block(st.body, bound)
+                st.orelse = self.block(st.orelse, bound)
+            out.append(st)
+            bound |= _stored([st])
+        return out
+
+    def loop(self, st: ast.For, bound: set[str], after: list[ast.stmt]) -> list[ast.stmt] | None:
+        if st.orelse or not isinstance(st.target, ast.Name) or not _is_upto_range(st.iter):
+            return None
+        body = [s for s in st.body if not _is_going_break(s)]
+        if not body or _escapes(body):
+            return None
+        index = st.target.id
+        assigned = _stored(body)
+        carried = sorted((assigned & bound) - {index})
+        temporaries = assigned - set(carried) - {index}
+        if not carried or temporaries & _loaded(after) or index in _loaded(after):
+            return None
+        body = [_Items(index, assigned).visit(s) for s in body]
+        self.count += 1
+        name, carry = f"_poinsot_body_{self.count}", f"_poinsot_carry_{self.count}"
+
+        def names(ctx: ast.expr_context) -> ast.Tuple:
+            return ast.Tuple([ast.Name(c, ctx) for c in carried], ctx)
+
+        fdef = ast.FunctionDef(
+            name=name,
+            args=ast.arguments(
+                posonlyargs=[],
+                args=[ast.arg(index), ast.arg(carry)],
+                kwonlyargs=[],
+                kw_defaults=[],
+                defaults=[],
+            ),
+            body=[ast.Assign([names(ast.Store())], ast.Name(carry, ast.Load()))]
+            + body
+            + [ast.Return(names(ast.Load()))],
+            decorator_list=[],
+            returns=None,
+        )
+        if sys.version_info >= (3, 12):  # a field of Python 3.12's AST
+            fdef.type_params = []
+        call = ast.Call(
+            ast.Name(LOOP, ast.Load()), [st.iter, ast.Name(name, ast.Load()), names(ast.Load())], []
+        )
+        assign = ast.Assign([names(ast.Store())], call)
+        return [ast.copy_location(fdef, st), ast.copy_location(assign, st)]
+
+
+def rolled_code(fn: _pytypes.FunctionType) -> _pytypes.CodeType | None:
+    """The code of ``fn`` with its table loops as calls of ``_poinsot_loop_`` (module
+    notes), or ``None`` when it has none that can be so written."""
+    try:
+        src = textwrap.dedent(inspect.getsource(fn))
+    except (OSError, TypeError):
+        return None
+    tree = ast.parse(src)
+    fdef = tree.body[0]
+    if not isinstance(fdef, ast.FunctionDef) or fn.__code__.co_freevars:
+        return None
+    fdef.decorator_list = []
+    rw = _Rewrite(fdef)
+    fdef.body = rw.block(fdef.body, set(rw.params))
+    if not rw.count:
+        return None
+    ast.fix_missing_locations(tree)
+    ast.increment_lineno(tree, fn.__code__.co_firstlineno - 1)
+    module = compile(tree, fn.__code__.co_filename, "exec")
+    for const in module.co_consts:
+        if isinstance(const, _pytypes.CodeType) and const.co_name == fn.__name__:
+            return const
+    return None  # pragma: no cover - compile() always holds the function's code
