@@ -13,15 +13,17 @@ executor's copy of the function only, as
         a, b = _carry
         ...                      # the loop's body, as written
         return a, b
-    a, b = _poinsot_loop_(range(...), _body, (a, b))
+    a, b = _poinsot_loop_(range(...), _body, (a, b), _going)
 
 where ``a, b`` are the names the body assigns that the function had before the loop
 (the carried state), and ``_poinsot_loop_`` is the executor's loop
 (:attr:`poinsot._jit.Executor.loop`: ``jax.lax.fori_loop`` on JAX). A table read by
 the loop index (``ks[lv]``) becomes ``_poinsot_item_(ks, lv)``, the executor's read
-at a traced index. ``if not going(cond): break`` is dropped: on the executors that
-trace, ``going`` is ``True`` (every step runs; the steps past convergence leave the
-values unchanged to rounding). A loop this cannot express (another ``break``, a
+at a traced index. An ``if not going(cond): break`` that opens the body becomes
+``_going(i, carry) -> cond`` (``None`` if there is none), which the executor may test
+for the whole batch (JAX stops once no lane is still going; the lanes that converged
+first run the remaining steps, which leave their values unchanged to rounding); one
+elsewhere in the body is dropped (every step runs). A loop this cannot express (another ``break``, a
 ``return`` inside, a name first assigned in the body and read after it) is left as it
 is, unrolled: the rewrite changes how many copies are traced, never what is computed.
 Numba, NumPy and the interpreter run the source as written.
@@ -144,6 +146,10 @@ class _Rewrite:
     def loop(self, st: ast.For, bound: set[str], after: list[ast.stmt]) -> list[ast.stmt] | None:
         if st.orelse or not isinstance(st.target, ast.Name) or not _is_upto_range(st.iter):
             return None
+        # a convergence test first in the body: the loop may stop once every lane
+        # has met it (the executor's choice); elsewhere it is dropped (all steps run)
+        first = st.body[0] if st.body else None
+        test = first.test.operand.args[0] if first and _is_going_break(first) else None  # type: ignore[attr-defined]
         body = [s for s in st.body if not _is_going_break(s)]
         if not body or _escapes(body):
             return None
@@ -153,6 +159,10 @@ class _Rewrite:
         temporaries = assigned - set(carried) - {index}
         if not carried or temporaries & _loaded(after) or index in _loaded(after):
             return None
+        if test is not None and temporaries & {
+            n.id for n in ast.walk(test) if isinstance(n, ast.Name)
+        }:
+            test = None  # it reads a value of the previous step's body: all steps run
         body = [_Items(index, assigned).visit(s) for s in body]
         self.count += 1
         name, carry = f"_poinsot_body_{self.count}", f"_poinsot_carry_{self.count}"
@@ -177,11 +187,37 @@ class _Rewrite:
         )
         if sys.version_info >= (3, 12):  # a field of Python 3.12's AST
             fdef.type_params = []
+        out: list[ast.stmt] = [ast.copy_location(fdef, st)]
+        going: ast.expr = ast.Constant(None)
+        if test is not None:
+            tname = f"_poinsot_going_{self.count}"
+            tdef = ast.FunctionDef(
+                name=tname,
+                args=ast.arguments(
+                    posonlyargs=[],
+                    args=[ast.arg(index), ast.arg(carry)],
+                    kwonlyargs=[],
+                    kw_defaults=[],
+                    defaults=[],
+                ),
+                body=[
+                    ast.Assign([names(ast.Store())], ast.Name(carry, ast.Load())),
+                    ast.Return(_Items(index, assigned).visit(test)),
+                ],
+                decorator_list=[],
+                returns=None,
+            )
+            if sys.version_info >= (3, 12):
+                tdef.type_params = []
+            out.append(ast.copy_location(tdef, st))
+            going = ast.Name(tname, ast.Load())
         call = ast.Call(
-            ast.Name(LOOP, ast.Load()), [st.iter, ast.Name(name, ast.Load()), names(ast.Load())], []
+            ast.Name(LOOP, ast.Load()),
+            [st.iter, ast.Name(name, ast.Load()), names(ast.Load()), going],
+            [],
         )
-        assign = ast.Assign([names(ast.Store())], call)
-        return [ast.copy_location(fdef, st), ast.copy_location(assign, st)]
+        out.append(ast.copy_location(ast.Assign([names(ast.Store())], call), st))
+        return out
 
 
 def rolled_code(fn: _pytypes.FunctionType) -> _pytypes.CodeType | None:

@@ -363,10 +363,18 @@ EXECUTORS["jax"].wrap = _nested
 _LOOPS = [0]
 
 
-def _loop(steps: range, body: Callable[..., Any], carry: tuple[Any, ...]) -> Any:
-    """A formula's table loop (:mod:`poinsot._rolled`) as one ``jax.lax.fori_loop``:
-    its body traced once, its branches merged as selects within the step (the
-    :func:`_nested` rule), instead of one traced copy per step."""
+def _loop(
+    steps: range,
+    body: Callable[..., Any],
+    carry: tuple[Any, ...],
+    going: Callable[..., Any] | None = None,
+) -> Any:
+    """A formula's table loop (:mod:`poinsot._rolled`) as one ``jax.lax.fori_loop``
+    (a ``while_loop`` that stops once no lane is ``going``, when the loop has a
+    convergence test): its body traced once, its branches merged as selects within the
+    step (the :func:`_nested` rule), instead of one traced copy per step. Forward mode
+    differentiates it; reverse mode goes through the forward-mode rule of
+    :func:`selects`."""
     _LOOPS[0] += 1
     n, start, stride = len(steps), steps.start, steps.step
     step = _merged(lambda k, c: body(start + k * stride, c))
@@ -378,7 +386,19 @@ def _loop(steps: range, body: Callable[..., Any], carry: tuple[Any, ...]) -> Any
     carry = step(0, carry)
     if n == 1:
         return carry
-    return jax.lax.fori_loop(1, n, step, _carry_types(step, carry))
+    carry = _carry_types(step, carry)
+    if going is None:
+        return jax.lax.fori_loop(1, n, step, carry)
+
+    def more(state: tuple[Any, Any]) -> Any:
+        k, c = state
+        return (k < n) & jnp.any(going(start + k * stride, c))
+
+    def advance(state: tuple[Any, Any]) -> tuple[Any, Any]:
+        k, c = state
+        return k + 1, step(k, c)
+
+    return jax.lax.while_loop(more, advance, (jnp.asarray(1), carry))[1]
 
 
 def _carry_types(step: Callable[..., Any], carry: tuple[Any, ...]) -> tuple[Any, ...]:
