@@ -222,6 +222,8 @@ class Executor:
     loop: Callable[..., Any] | None = None
     #: ``item(table, i)``: a table read at the loop index inside such a loop
     item: Callable[[Any, Any], Any] | None = None
+    #: ``put(table, i, v)``: the table with entry ``i`` set to ``v`` (a write in such a loop)
+    put: Callable[[Any, Any, Any], Any] | None = None
 
 
 #: name -> executor: every way the one formula source runs (``"jax"`` is added by
@@ -292,7 +294,7 @@ def _globals_for(g: dict[str, Any], ns: str) -> dict[str, Any]:
         _GLOBALS[(id(g), ns)] = new  # before filling: functions of one module call each other
         new.update(ex.namespace)
         if ex.loop is not None:
-            new[_rolled.LOOP], new[_rolled.ITEM] = ex.loop, ex.item
+            new[_rolled.LOOP], new[_rolled.ITEM], new[_rolled.PUT] = ex.loop, ex.item, ex.put
         for k, v in g.items():
             if k in ex.namespace:
                 continue

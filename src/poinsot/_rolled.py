@@ -19,7 +19,9 @@ where ``a, b`` are the names the body assigns that the function had before the l
 (the carried state), and ``_poinsot_loop_`` is the executor's loop
 (:attr:`poinsot._jit.Executor.loop`: ``jax.lax.fori_loop`` on JAX). A table read by
 the loop index (``ks[lv]``) becomes ``_poinsot_item_(ks, lv)``, the executor's read
-at a traced index. An ``if not going(cond): break`` that opens the body becomes
+at a traced index, and a table written at one (``ks[lv] = k``, ``ks`` a table of the
+caller's) becomes ``ks = _poinsot_put_(ks, lv, k)``, carried by the loop and written
+back into the caller's table after it. An ``if not going(cond): break`` that opens the body becomes
 ``_going(i, carry) -> cond`` (``None`` if there is none), which the executor may test
 for the whole batch (JAX stops once no lane is still going; the lanes that converged
 first run the remaining steps, which leave their values unchanged to rounding); one
@@ -37,11 +39,12 @@ import sys
 import textwrap
 import types as _pytypes
 
-__all__ = ["rolled_code", "LOOP", "ITEM"]
+__all__ = ["rolled_code", "LOOP", "ITEM", "PUT"]
 
 #: the global names the rewritten code calls (set by :func:`poinsot._jit.rebind`)
 LOOP = "_poinsot_loop_"
 ITEM = "_poinsot_item_"
+PUT = "_poinsot_put_"
 
 
 def _stored(nodes: list[ast.stmt]) -> set[str]:
@@ -96,6 +99,33 @@ def _escapes(body: list[ast.stmt]) -> bool:
             if isinstance(n, (ast.FunctionDef, ast.Lambda, ast.While, ast.For)):
                 return True  # nested scopes and loops: not rewritten
     return False
+
+
+def _puts(body: list[ast.stmt], bound: set[str]) -> tuple[list[ast.stmt] | None, set[str]]:
+    """``t[i] = v`` (``t`` bound before the loop) -> ``t = _poinsot_put_(t, i, v)``: the
+    table is carried; ``(None, ...)`` if the body writes into anything else."""
+    out: list[ast.stmt] = []
+    tables: set[str] = set()
+    for st in body:
+        target = st.targets[0] if isinstance(st, ast.Assign) and len(st.targets) == 1 else None
+        if (
+            isinstance(st, ast.Assign)
+            and isinstance(target, ast.Subscript)
+            and isinstance(target.value, ast.Name)
+            and target.value.id in bound
+        ):
+            t = target.value.id
+            tables.add(t)
+            put = ast.Call(
+                ast.Name(PUT, ast.Load()), [ast.Name(t, ast.Load()), target.slice, st.value], []
+            )
+            out.append(ast.copy_location(ast.Assign([ast.Name(t, ast.Store())], put), st))
+            continue
+        for n in ast.walk(st):
+            if isinstance(n, (ast.Subscript, ast.Attribute)) and isinstance(n.ctx, ast.Store):
+                return None, tables
+        out.append(st)
+    return out, tables
 
 
 class _Items(ast.NodeTransformer):
@@ -153,6 +183,10 @@ class _Rewrite:
         body = [s for s in st.body if not _is_going_break(s)]
         if not body or _escapes(body):
             return None
+        written, tables = _puts(body, bound)
+        if written is None:
+            return None
+        body = written
         index = st.target.id
         assigned = _stored(body)
         carried = sorted((assigned & bound) - {index})
@@ -216,7 +250,13 @@ class _Rewrite:
             [st.iter, ast.Name(name, ast.Load()), names(ast.Load()), going],
             [],
         )
-        out.append(ast.copy_location(ast.Assign([names(ast.Store())], call), st))
+        # a table written by the loop is written back into the caller's table
+        fresh = {t: f"_poinsot_{t}_{self.count}" for t in tables}
+        targets = ast.Tuple([ast.Name(fresh.get(c, c), ast.Store()) for c in carried], ast.Store())
+        out.append(ast.copy_location(ast.Assign([targets], call), st))
+        for t, f in fresh.items():
+            whole = ast.Subscript(ast.Name(t, ast.Load()), ast.Slice(), ast.Store())
+            out.append(ast.copy_location(ast.Assign([whole], ast.Name(f, ast.Load())), st))
         return out
 
 

@@ -405,15 +405,16 @@ def _carry_types(step: Callable[..., Any], carry: tuple[Any, ...]) -> tuple[Any,
     """``carry`` broadcast to the shapes and types a step returns (a Python float that
     a step makes a lane array): a loop's carry keeps one type through its steps."""
     k = jnp.asarray(0)
+
+    def fit(c: Any, o: Any) -> Any:
+        shape = jnp.broadcast_shapes(jnp.shape(c), o.shape)
+        return jnp.broadcast_to(jnp.asarray(c, dtype=o.dtype), shape)
+
     for _ in range(4):
         out = jax.eval_shape(step, k, carry)
-        carry = tuple(
-            jnp.broadcast_to(
-                jnp.asarray(c, dtype=o.dtype), jnp.broadcast_shapes(jnp.shape(c), o.shape)
-            )
-            for c, o in zip(carry, out, strict=True)
-        )
-        if all(jnp.shape(c) == o.shape for c, o in zip(carry, out, strict=True)):
+        carry = jax.tree_util.tree_map(fit, carry, out)
+        same = jax.tree_util.tree_map(lambda c, o: jnp.shape(c) == o.shape, carry, out)
+        if all(jax.tree_util.tree_leaves(same)):
             return carry
     raise TypeError("a loop's carried values change shape from step to step")  # pragma: no cover
 
@@ -423,8 +424,14 @@ def _item(table: Any, k: Any) -> Any:
     return _Vec(table)[k]
 
 
+def _put(table: Any, k: Any, value: Any) -> Any:
+    """``table`` with entry ``k`` (a traced loop index) set to ``value`` (selects)."""
+    return [jnp.where(k == i, value, x) for i, x in enumerate(table)]
+
+
 EXECUTORS["jax"].loop = _loop
 EXECUTORS["jax"].item = _item
+EXECUTORS["jax"].put = _put
 
 
 def _cols(a: Any, k: int) -> list[Any]:

@@ -316,7 +316,10 @@ def landen_fill(m, m1, ks, kps):  # pragma: no cover - compiled
     kps[0] = kp
     lv = 0
     scale = 1.0
-    while going(k >= 1e-9) and lv < len(ks) - 1:
+    # a table loop (on JAX one rolled loop: poinsot._rolled), at most len(ks) - 1 levels
+    for _ in range(upto(len(ks) - 1, len(ks) - 1)):
+        if not going(k >= 1e-9):
+            break
         k, kp = _landen_down(k, kp)
         lv += 1
         ks[lv] = k
