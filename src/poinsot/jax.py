@@ -440,7 +440,15 @@ def _cols(a: Any, k: int) -> list[Any]:
 
 
 def _stack(t: Any) -> Any:
-    return jnp.stack(jnp.broadcast_arrays(*t), axis=-1)
+    """The components ``t`` as the last axis, written one by one (in-place updates): a
+    stack fused with the components' computation made XLA's CPU code evaluate their
+    shared terms once per component and element by element, unvectorised (the exact
+    attitude: 2.3 us per body and time in that one fusion; 0.47 us written so)."""
+    parts = jnp.broadcast_arrays(*t)
+    out = jnp.zeros(parts[0].shape + (len(parts),), jnp.result_type(*parts))
+    for i, p in enumerate(parts):
+        out = out.at[..., i].set(p)
+    return out
 
 
 _hamilton = selects(S.hamilton)
