@@ -47,22 +47,22 @@ ITEM = "_poinsot_item_"
 PUT = "_poinsot_put_"
 
 
+def _names(nodes: list[ast.stmt], ctx: type[ast.expr_context]) -> set[str]:
+    """The names ``nodes`` store (``ast.Store``) or read (``ast.Load``)."""
+    return {
+        n.id
+        for st in nodes
+        for n in ast.walk(st)
+        if isinstance(n, ast.Name) and isinstance(n.ctx, ctx)
+    }
+
+
 def _stored(nodes: list[ast.stmt]) -> set[str]:
-    out: set[str] = set()
-    for st in nodes:
-        for n in ast.walk(st):
-            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
-                out.add(n.id)
-    return out
+    return _names(nodes, ast.Store)
 
 
 def _loaded(nodes: list[ast.stmt]) -> set[str]:
-    out: set[str] = set()
-    for st in nodes:
-        for n in ast.walk(st):
-            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
-                out.add(n.id)
-    return out
+    return _names(nodes, ast.Load)
 
 
 def _is_upto_range(it: ast.expr) -> bool:
@@ -204,46 +204,27 @@ class _Rewrite:
         def names(ctx: ast.expr_context) -> ast.Tuple:
             return ast.Tuple([ast.Name(c, ctx) for c in carried], ctx)
 
-        fdef = ast.FunctionDef(
-            name=name,
-            args=ast.arguments(
-                posonlyargs=[],
-                args=[ast.arg(index), ast.arg(carry)],
-                kwonlyargs=[],
-                kw_defaults=[],
-                defaults=[],
-            ),
-            body=[ast.Assign([names(ast.Store())], ast.Name(carry, ast.Load()))]
-            + body
-            + [ast.Return(names(ast.Load()))],
-            decorator_list=[],
-            returns=None,
-        )
-        if sys.version_info >= (3, 12):  # a field of Python 3.12's AST
-            fdef.type_params = []
-        out: list[ast.stmt] = [ast.copy_location(fdef, st)]
-        going: ast.expr = ast.Constant(None)
-        if test is not None:
-            tname = f"_poinsot_going_{self.count}"
-            tdef = ast.FunctionDef(
-                name=tname,
+        def step_function(fname: str, tail: list[ast.stmt]) -> ast.stmt:
+            """``def fname(index, carry): <carried names> = carry; <tail>``"""
+            args = [ast.arg(index), ast.arg(carry)]
+            fdef = ast.FunctionDef(
+                name=fname,
                 args=ast.arguments(
-                    posonlyargs=[],
-                    args=[ast.arg(index), ast.arg(carry)],
-                    kwonlyargs=[],
-                    kw_defaults=[],
-                    defaults=[],
+                    posonlyargs=[], args=args, kwonlyargs=[], kw_defaults=[], defaults=[]
                 ),
-                body=[
-                    ast.Assign([names(ast.Store())], ast.Name(carry, ast.Load())),
-                    ast.Return(_Items(index, assigned).visit(test)),
-                ],
+                body=[ast.Assign([names(ast.Store())], ast.Name(carry, ast.Load()))] + tail,
                 decorator_list=[],
                 returns=None,
             )
-            if sys.version_info >= (3, 12):
-                tdef.type_params = []
-            out.append(ast.copy_location(tdef, st))
+            if sys.version_info >= (3, 12):  # a field of Python 3.12's AST
+                fdef.type_params = []
+            return ast.copy_location(fdef, st)
+
+        out = [step_function(name, body + [ast.Return(names(ast.Load()))])]
+        going: ast.expr = ast.Constant(None)
+        if test is not None:
+            tname = f"_poinsot_going_{self.count}"
+            out.append(step_function(tname, [ast.Return(_Items(index, assigned).visit(test))]))
             going = ast.Name(tname, ast.Load())
         call = ast.Call(
             ast.Name(LOOP, ast.Load()),
