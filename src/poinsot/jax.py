@@ -386,7 +386,21 @@ def _loop(
     carry = step(0, carry)
     if n == 1:
         return carry
-    carry = _carry_types(step, carry)
+    try:  # the first step's results are the loop's types, as a rule
+        return _rest(step, carry, n, start, stride, going)
+    except TypeError:  # a carried value that a later step widens (rare): fitted first
+        return _rest(step, _carry_types(step, carry), n, start, stride, going)
+
+
+def _rest(
+    step: Callable[..., Any],
+    carry: Any,
+    n: int,
+    start: int,
+    stride: int,
+    going: Callable[..., Any] | None,
+) -> Any:
+    """Steps ``1 .. n - 1`` of :func:`_loop`."""
     if going is None:
         return jax.lax.fori_loop(1, n, step, carry)
 
