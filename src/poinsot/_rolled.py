@@ -151,7 +151,6 @@ class _Items(ast.NodeTransformer):
 
 class _Rewrite:
     def __init__(self, fdef: ast.FunctionDef) -> None:
-        self.fdef = fdef
         self.params = {a.arg for a in fdef.args.args}
         self.count = 0
 
