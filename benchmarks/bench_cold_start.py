@@ -1,6 +1,7 @@
 """Time to first result (issue 40): each figure in a fresh process.
 
     python benchmarks/bench_cold_start.py [--only NAME ...] [--repeat N] [--before]
+    python benchmarks/bench_cold_start.py --examples [EXAMPLE ...]
 
 Columns: **cold** (an empty ``NUMBA_CACHE_DIR``: first use after an install; small
 calls interpreted, no background build), **before** (with ``--before``: cold with
@@ -9,6 +10,10 @@ calls interpreted, no background build), **before** (with ``--before``: cold wit
 the wall time of one ``python -c`` process from start to exit (import included), the
 median of ``--repeat`` runs (each cold run with a new empty cache). The machine's load
 is printed first (``os.getloadavg``): quote it with the figures.
+
+``--examples`` runs each shipped example (``examples/*.toml``, or those named) once
+with an empty cache instead: ``poinsot run`` from start to exit, and the seconds its
+``summary.json`` reports compiling (``run.compile_time_s``; target <= 10 s each).
 """
 
 from __future__ import annotations
@@ -86,13 +91,46 @@ def run_once(code: str, cache: str, interpret: str = "1") -> float:
     return dt
 
 
+def examples(names: list[str]) -> None:
+    """Each example's first run with an empty cache: wall seconds and compile seconds."""
+    import json
+
+    paths = sorted((ROOT / "examples").glob("*.toml"))
+    if names:
+        paths = [p for p in paths if p.stem in names or p.name in names]
+    print(f"{'example':32s} {'wall s':>8s} {'compile s':>10s}")
+    worst = 0.0
+    for path in paths:
+        cache = tempfile.mkdtemp(prefix="poinsot-cold-")
+        out = tempfile.mkdtemp(prefix="poinsot-out-")
+        try:
+            code = (
+                "import sys\nfrom poinsot.cli import main\n"
+                f"sys.exit(main(['run', {str(path)!r}, '--out', {out!r}, '--quiet']))"
+            )
+            wall = run_once(code, cache)
+            run = json.loads((Path(out) / "summary.json").read_text())["run"]
+            comp = float(run.get("compile_time_s", float("nan")))
+        finally:
+            shutil.rmtree(cache, ignore_errors=True)
+            shutil.rmtree(out, ignore_errors=True)
+        worst = max(worst, comp)
+        flag = "" if comp <= 10.0 else "  (over 10 s)"
+        print(f"{path.stem:32s} {wall:8.2f} {comp:10.2f}{flag}", flush=True)
+    print(f"most compiling in one example: {worst:.2f} s (target 10 s)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", nargs="*", default=None)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--before", action="store_true", help="also cold with interpreting off")
+    ap.add_argument("--examples", nargs="*", default=None, help="each example's first run")
     args = ap.parse_args()
     print(f"load average (1, 5, 15 min): {os.getloadavg()}; {os.cpu_count()} CPUs")
+    if args.examples is not None:
+        examples(args.examples)
+        return
     warm_cache = tempfile.mkdtemp(prefix="poinsot-warm-")
     t0 = time.perf_counter()
     code = "import sys\nfrom poinsot.cli import main\nsys.exit(main(['warmup', '--quiet']))"

@@ -209,3 +209,37 @@ out = {'twin': _lazy._TWIN}
     assert fill["twin"] is False
     again = _cold(code, tmp_path)
     assert again["twin"] is False and again["compiled_s"] == 0.0
+
+
+@pytest.mark.parametrize("max_step", [None, 1e-2, 2e-4])
+def test_the_first_call_estimate_counts_the_steps_taken(monkeypatch, max_step):
+    # a first call is interpreted when its estimate is small: the estimate must count at
+    # least the steps the kernel takes, those a max_step forces included (a Kovalevskaya
+    # top's chunks at max_step 5e-5 were estimated at ~70 steps, took 10,000 each, and
+    # were interpreted for 14 s before compiling)
+    from poinsot.dynamics import _fused_run, torques
+
+    seen = []
+
+    def record(fn, seconds, match=None):
+        seen.append(seconds)
+        return fn
+
+    monkeypatch.setattr(_fused_run, "first_call", record)
+    monkeypatch.setattr(_fused_run, "LANES", False)
+    rng = np.random.default_rng(4)
+    j = rng.uniform(1.0, 3.0, (3, 3))
+    q0 = rng.normal(size=(3, 4))
+    q0 /= np.linalg.norm(q0, axis=-1, keepdims=True)
+    w0 = rng.normal(scale=4.0, size=(3, 3))
+    gravity = torques.GravityTorque(1.0, [0.0, 0.0, 0.1])
+    for torque in (None, gravity):
+        seen.clear()
+        _, _, stats = _fused_run.integrate(
+            j, q0, w0, np.linspace(0.0, 2.0, 11), torque,
+            rtol=1e-10, atol=1e-12, max_step=max_step, principal=True,
+        )  # fmt: skip
+        assert np.all(stats[:, 3] == 0)
+        (seconds,) = seen
+        taken = stats[:, 0].sum()
+        assert seconds >= taken * _fused_run._INTERPRETED_STEP_S, (torque, taken, seconds)

@@ -157,6 +157,20 @@ def test_results_bit_identical_for_any_thread_count():
     assert np.array_equal(one.omega, many.omega)
 
 
+@pytest.mark.parametrize("torque", [None, GravityTorque(1.0, [0.02, 0.0, 0.1])])
+def test_one_body_on_the_calling_thread_equals_it_in_a_batch(torque):
+    # one body runs the serial kernel (no parallel region to compile cold); it must give
+    # the batch kernel's results bit for bit, the body's own step control unchanged
+    moments, quat, omega = _bodies(4, seed=7)  # fewer than the lanes take
+    t = np.linspace(0.0, 2.0, 9)
+    batch = simulate(moments, quat, omega, t, torque=torque, rtol=1e-10)
+    for b in range(4):
+        one = simulate(moments[b], quat[b], omega[b], t, torque=torque, rtol=1e-10)
+        assert np.array_equal(one.quat, batch.quat[:, b])
+        assert np.array_equal(one.omega, batch.omega[:, b])
+        assert one.info["steps"] == batch.info["steps"][b]
+
+
 def test_default_method_follows_the_request():
     args = ([1.0, 2.0, 3.0], [1.0, 0, 0, 0], [0.1, 2.0, 0.1], [0.0, 1.0])
     assert simulate(*args, rtol=1e-8).method == "dop853"

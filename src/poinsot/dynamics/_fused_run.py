@@ -29,6 +29,7 @@ from ._fused import (
     KEPLER,
     NPAR,
     integrate_batch,
+    integrate_serial,
     midpoint_batch,
     rk4_batch,
 )
@@ -162,13 +163,23 @@ def _long(y0, t, steps=0):
 _INTERPRETED_STEP_S = 1e-3
 
 
-def _adaptive_seconds(y0, t, rtol):
+def _forced_steps(t, max_step):
+    """The steps a ``max_step`` imposes over the span of ``t`` (0 with none), plus one
+    an output interval may cut short."""
+    if max_step is None or not t.size or not np.isfinite(max_step) or max_step <= 0:
+        return 0.0
+    return float(abs(t[-1] - t[0])) / float(max_step) + t.size
+
+
+def _adaptive_seconds(y0, t, rtol, max_step=None):
     """Estimated interpreted seconds of DOP853 on ``y0``: ~3 steps per radian turned at
     rtol 1e-10 (measured 2.3-2.7 on free bodies and tops), times ``(1e-10/rtol)^(1/8)``
-    (an 8th-order method's steps)."""
+    (an 8th-order method's steps), and at least the steps ``max_step`` imposes (a
+    Kovalevskaya top's 20 s at ``max_step = 5e-5``: 400,000 steps, not ~400)."""
     w = np.abs(y0[:, 4:]).max(axis=-1)
     span = float(abs(t[-1] - t[0])) if t.size else 0.0
     steps = 3.0 * (1e-10 / max(float(rtol), 1e-16)) ** 0.125 * w * span + 10.0 + t.size
+    steps = np.maximum(steps, _forced_steps(t, max_step))
     return float(steps.sum()) * _INTERPRETED_STEP_S
 
 
@@ -255,7 +266,7 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
     done = scratch.zeros("done", (n_body,), dtype=np.int64)
     if kind in (0, 3) and diagonal:  # the lane kernel's diagonal forms
         kind += DIAGONAL
-    seconds = _adaptive_seconds(y0, t, rtol)
+    seconds = _adaptive_seconds(y0, t, rtol, max_step)
     kernel = None
     if NUMBA and LANES and n_body >= _fused_lanes.L:  # L at a time, SIMD across bodies
         kernel = first_call(_fused_lanes.integrate_batch, seconds, _fused_lanes.compiled(kind))
@@ -264,7 +275,7 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
         else:  # compiled (and cached) for this kind only
             kind = _fused_lanes.Kind(kind)
     if kernel is None:  # one body per loop iteration (and the NumPy executor, as Python)
-        kernel = first_call(integrate_batch, seconds)
+        kernel = first_call(integrate_serial if n_body == 1 else integrate_batch, seconds)
     run_compiled(
         functools.partial(threaded, kernel),
         (
@@ -288,7 +299,7 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
         done=done,
         total=max(n_body * (t.size - 1), 1),
         progress=progress,
-        background=_long(y0, t),
+        background=_long(y0, t, _forced_steps(t, max_step)),
     )
     return (
         oq.reshape((t.size,) + batch + (4,)),
