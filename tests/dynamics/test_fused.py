@@ -158,17 +158,22 @@ def test_results_bit_identical_for_any_thread_count():
 
 
 @pytest.mark.parametrize("torque", [None, GravityTorque(1.0, [0.02, 0.0, 0.1])])
-def test_one_body_on_the_calling_thread_equals_it_in_a_batch(torque):
-    # one body runs the serial kernel (no parallel region to compile cold); it must give
-    # the batch kernel's results bit for bit, the body's own step control unchanged
+def test_one_body_on_the_calling_thread_equals_it_in_a_batch(monkeypatch, torque):
+    # on a cold cache one body runs the serial kernel (no parallel region to compile); it
+    # must give the batch kernel's results bit for bit, the body's own step control
+    # unchanged
+    from poinsot.dynamics import _fused, _fused_run
+
     moments, quat, omega = _bodies(4, seed=7)  # fewer than the lanes take
     t = np.linspace(0.0, 2.0, 9)
     batch = simulate(moments, quat, omega, t, torque=torque, rtol=1e-10)
+    monkeypatch.setattr(_fused_run, "ready", lambda fn, match=None: False)  # "cold"
     for b in range(4):
         one = simulate(moments[b], quat[b], omega[b], t, torque=torque, rtol=1e-10)
         assert np.array_equal(one.quat, batch.quat[:, b])
         assert np.array_equal(one.omega, batch.omega[:, b])
         assert one.info["steps"] == batch.info["steps"][b]
+    assert _fused.integrate_serial.signatures  # the serial kernel ran
 
 
 def test_default_method_follows_the_request():

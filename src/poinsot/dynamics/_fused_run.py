@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .._jit import NUMBA, first_call
+from .._jit import NUMBA, first_call, ready
 from .._progress import run_compiled
 from .._scratch import hold
 from .._vec import all_diagonal3, diagonal3, inverse3
@@ -275,7 +275,10 @@ def _integrate(flat, t, rtol, atol, max_step, max_steps, progress, diagonal, scr
         else:  # compiled (and cached) for this kind only
             kind = _fused_lanes.Kind(kind)
     if kernel is None:  # one body per loop iteration (and the NumPy executor, as Python)
-        kernel = first_call(integrate_serial if n_body == 1 else integrate_batch, seconds)
+        kernel = integrate_batch
+        if n_body == 1 and not ready(integrate_batch):  # cold: no parallel region to compile
+            kernel = integrate_serial
+        kernel = first_call(kernel, seconds)
     run_compiled(
         functools.partial(threaded, kernel),
         (
