@@ -304,13 +304,20 @@ def selects(fn: Callable[..., Any]) -> Callable[..., Any]:
             out, parts = jax.vmap(lambda *u: jax.jvp(g, tuple(fprim), u), out_axes=(None, 0))(
                 *units
             )
+            # one product with the stacked tangents per result: in reverse mode the
+            # derivatives ``d`` are then one saved array per result, not one per result
+            # and argument (JAX's linearisation saves what the tangent side reads; the
+            # attitude's many saved slices made XLA compile its program for 156 s)
             tan = []
             for o, d in zip(out, parts, strict=True):
-                acc = jnp.zeros(jnp.shape(o))
-                for k in range(n):
-                    term = d[k] * tangents[pos[k]]
-                    acc = acc + (term if jnp.shape(term) == jnp.shape(o) else 0.0)
-                tan.append(acc)
+                shape = jnp.shape(o)
+                cols = [
+                    jnp.broadcast_to(tangents[pos[k]], shape)
+                    if jnp.broadcast_shapes(jnp.shape(d[k]), jnp.shape(tangents[pos[k]])) == shape
+                    else jnp.zeros(shape)
+                    for k in range(n)
+                ]
+                tan.append(jnp.sum(d * jnp.stack(cols), axis=0))
             return out, tan
 
         res = fj(*[flat[k] for k in arr])
