@@ -840,6 +840,52 @@ _NOTICE: dict[str, float] = {"muted": 0, "last": -math.inf}
 _NOTICE_EVERY_S = 60.0
 
 
+#: Seconds a cold compile of poinsot's larger kernels took (``poinsot warmup`` into an
+#: empty cache, one process, 2-core Intel Xeon, numba 0.68; docs/performance.md, "Cold
+#: start"): the estimate the compile notices quote (:func:`compile_estimate`). The SIMD
+#: lane kernel compiles per torque kind: 23 s for the first, 8-9 s for each other.
+COMPILE_S = {
+    "poinsot.dynamics._fused_lanes.integrate_batch": 23.0,
+    "poinsot.rotations._wahba_kernels.solve_serial": 12.0,
+    "poinsot.rotations._wahba_kernels.solve_flat": 10.0,
+    "poinsot.dynamics._fused.integrate_batch": 9.0,
+    "poinsot.dynamics._fused.integrate_serial": 7.0,
+    "poinsot.dynamics._free_body_numba.setup": 7.0,
+    "poinsot.dynamics._fused.midpoint_batch": 5.0,
+    "poinsot.rotations._kernels.from_matrix_flat": 3.0,
+    "poinsot.dynamics._free_body_numba.evaluate": 2.6,
+    "poinsot.dynamics._fused.rk4_batch": 1.8,
+    "poinsot.rotations._kernels.to_matrix_flat": 1.7,
+    "poinsot.dynamics._euler_numba.midpoint": 1.5,
+    "poinsot.rotations._kernels.to_euler_flat": 1.4,
+}
+#: what a kernel not in :data:`COMPILE_S` takes, at most (s): measured 0.04-1.1 s
+COMPILE_OTHER_S = 1.0
+#: the compiled equations of a Lagrangian system (:mod:`poinsot.symbolic.numeric`),
+#: measured 0.8-1.4 s for the examples' systems
+COMPILE_GENERATED_S = 1.5
+
+
+def compile_estimate(dispatcher: Any) -> float:
+    """Estimated seconds numba takes to compile ``dispatcher`` cold on a 2-core machine
+    (:data:`COMPILE_S`; a lane kernel already compiled for another kind: 9 s)."""
+    fn = getattr(dispatcher, "py_func", None)
+    module = getattr(fn, "__module__", None) or ""
+    if module.startswith("poinsot_rhs"):
+        return COMPILE_GENERATED_S
+    name = f"{module}.{getattr(fn, '__qualname__', '')}"
+    if name == "poinsot.dynamics._fused_lanes.integrate_batch" and getattr(
+        dispatcher, "overloads", None
+    ):
+        return 9.0
+    return COMPILE_S.get(name, COMPILE_OTHER_S)
+
+
+def say_seconds(seconds: float) -> str:
+    """``about 7 s`` (``about 1 s or less`` from 1 s down): an estimate as the notices say it."""
+    return "about 1 s or less" if seconds <= 1.0 else f"about {seconds:.0f} s"
+
+
 #: seconds spent in outermost numba compilations so far (all threads), and the start time
 #: of the one running in each thread
 _COMPILE_TIME: dict[str, float] = {"total": 0.0}
@@ -875,7 +921,7 @@ class mute_compile_notice:
         _NOTICE["muted"] -= 1
 
 
-def _notice(name: str) -> None:
+def _notice(name: str, seconds: float) -> None:
     import sys
     import time
 
@@ -886,8 +932,9 @@ def _notice(name: str) -> None:
         return
     _NOTICE["last"] = now
     print(
-        f"poinsot: compiling {name} for this machine (first use after an install or upgrade, "
-        "then cached; can take a minute; Ctrl-C stops it; docs/performance.md, 'Cold start')",
+        f"poinsot: compiling {name} for this machine ({say_seconds(seconds)} on 2 cores; "
+        "first use after an install or upgrade, then cached; Ctrl-C stops it; "
+        "docs/performance.md, 'Cold start')",
         file=sys.stderr,
         flush=True,
     )
@@ -915,9 +962,9 @@ def _install_compile_watch() -> None:
                 fn: Any = getattr(disp, "py_func", None)
                 module = getattr(fn, "__module__", None) or ""
                 if module.startswith("poinsot_rhs"):  # generated: poinsot.symbolic.numeric
-                    _notice("the equations of motion of a Lagrangian system")
+                    _notice("the equations of motion of a Lagrangian system", COMPILE_GENERATED_S)
                 elif fn is not None and module.startswith("poinsot"):
-                    _notice(f"{module}.{fn.__name__}")
+                    _notice(f"{module}.{fn.__name__}", compile_estimate(disp))
 
         def on_end(self, ev: Any) -> None:
             ident = threading.get_ident()

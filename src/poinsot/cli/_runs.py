@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .._jit import NUMBA, mute_compile_notice
+from .._jit import NUMBA, compile_estimate, mute_compile_notice, say_seconds
 from ..scenarios import run_scenario
 from ..scenarios.describe import describe
 from ..scenarios.solve import check_cost
@@ -116,7 +116,9 @@ class _compile_note:
             def on_start(self, ev: Any) -> None:
                 if not _compile_note.said:
                     _compile_note.said = True
-                    print(f"\r{PROG}: compiling (first run only) ...", file=sys.stderr, flush=True)
+                    est = say_seconds(compile_estimate((ev.data or {}).get("dispatcher")))
+                    print(f"\r{PROG}: compiling (first run only; {est} for the first kernel) ...",
+                          file=sys.stderr, flush=True)  # fmt: skip
 
             def on_end(self, ev: Any) -> None:
                 pass

@@ -461,10 +461,16 @@ def _named(fn, name):
     return out
 
 
-def _batch_formula(
+def integrate_batch(
     y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
 ):
-    """Integrate ``N`` independent bodies (:func:`integrate_batch`)."""
+    """Integrate ``N`` independent bodies in parallel.
+
+    ``y0`` (N, 7) = (q, w); ``J``, ``Ji`` (N, 3, 3); ``par`` (N, :data:`NPAR`); outputs
+    ``oq`` (n, N, 4), ``ow`` (n, N, 3), ``stats`` (N, 4) int64; ``cancel`` (1,) and
+    ``done`` (N,) int64 (see :func:`one_body`). Without the GIL, so that the calling
+    thread can take Ctrl-C (``poinsot._progress.run_compiled``).
+    """
     for b in prange(y0.shape[0]):
         one_body(
             y0[b],
@@ -485,13 +491,6 @@ def _batch_formula(
         )
 
 
-#: Integrate ``N`` independent bodies in parallel.
-#:
-#: ``y0`` (N, 7) = (q, w); ``J``, ``Ji`` (N, 3, 3); ``par`` (N, :data:`NPAR`); outputs
-#: ``oq`` (n, N, 4), ``ow`` (n, N, 3), ``stats`` (N, 4) int64; ``cancel`` (1,) and
-#: ``done`` (N,) int64 (see :func:`one_body`). Without the GIL, so that the calling
-#: thread can take Ctrl-C (``poinsot._progress.run_compiled``).
-integrate_batch = njit(cache=True, parallel=True, nogil=True)(_batch_formula)
 #: :func:`integrate_batch` on the calling thread: the same results bit for bit, and no
 #: parallel region to compile (a one-body DOP853 compile in 7 s instead of 8.6 s, cold,
 #: measured). :func:`poinsot.dynamics._fused_run.integrate` runs it for one body while
@@ -499,7 +498,8 @@ integrate_batch = njit(cache=True, parallel=True, nogil=True)(_batch_formula)
 #: (the same machine code but for stack slots). A copy of the function under its own
 #: name, which numba's cache files go by (the same name would share the parallel
 #: kernel's entries).
-integrate_serial = njit(cache=True, nogil=True)(_named(_batch_formula, "integrate_serial"))
+integrate_serial = njit(cache=True, nogil=True)(_named(integrate_batch, "integrate_serial"))
+integrate_batch = njit(cache=True, parallel=True, nogil=True)(integrate_batch)
 
 
 @njit(cache=True)
