@@ -174,6 +174,10 @@ def test_one_body_on_the_calling_thread_equals_it_in_a_batch(monkeypatch, torque
         assert np.array_equal(one.quat, batch.quat[:, b])
         assert np.array_equal(one.omega, batch.omega[:, b])
         assert one.info["steps"] == batch.info["steps"][b]
+        if torque is None:  # and the exact solution (observed <= 2.2e-10 at rtol 1e-10)
+            q_ex, w_ex = _exact(moments[b : b + 1], quat[b : b + 1], omega[b : b + 1], t)
+            assert _attitude_error(one.quat, q_ex[:, 0]).max() < 1e-8
+            assert np.abs(one.omega - w_ex[:, 0]).max() < 1e-8
     if _jit.NUMBA:  # (the NumPy executor runs the same source as Python)
         assert _fused.integrate_serial.signatures  # the serial kernel ran
 

@@ -59,12 +59,11 @@ This module holds only the kernels; :func:`poinsot.dynamics.simulate`
 from __future__ import annotations
 
 import math
-import types
 
 import numpy as np
 
 from .. import _numba_helpers as nh
-from .._jit import njit, prange
+from .._jit import named_copy, njit, prange
 from .._numba_cache import depends_on
 from . import _dop853_tableau as _tab
 
@@ -453,14 +452,6 @@ def one_body(
     stats[2] = nfev
 
 
-def _named(fn, name):
-    """``fn``'s code as a function called ``name``."""
-    out = types.FunctionType(fn.__code__, fn.__globals__, name, fn.__defaults__)
-    out.__qualname__ = name
-    out.__doc__ = fn.__doc__
-    return out
-
-
 def integrate_batch(
     y0, J, Ji, kind, par, t_out, rtol, atol, max_step, max_steps, oq, ow, stats, cancel, done
 ):
@@ -495,10 +486,8 @@ def integrate_batch(
 #: parallel region to compile (a one-body DOP853 compile in 7 s instead of 8.6 s, cold,
 #: measured). :func:`poinsot.dynamics._fused_run.integrate` runs it for one body while
 #: numba's cache does not hold :func:`integrate_batch`, whose one body ran 16% faster here
-#: (the same machine code but for stack slots). A copy of the function under its own
-#: name, which numba's cache files go by (the same name would share the parallel
-#: kernel's entries).
-integrate_serial = njit(cache=True, nogil=True)(_named(integrate_batch, "integrate_serial"))
+#: (the same machine code but for stack slots).
+integrate_serial = njit(cache=True, nogil=True)(named_copy(integrate_batch, "integrate_serial"))
 integrate_batch = njit(cache=True, parallel=True, nogil=True)(integrate_batch)
 
 
